@@ -1,0 +1,35 @@
+# reel: the two commands of the README.
+#   make demo   installs what is missing, builds Release, renders the default scenes into render_out/
+#   make test   installs what is missing, builds Release, runs every test through ctest
+PRESET ?= release
+JOBS   ?= $(shell nproc)
+BUILD  := build/$(PRESET)
+REEL   := $(BUILD)/reel
+DEMO_SCENES := scenes/rope.json scenes/net.json scenes/jelly.json
+
+.PHONY: all deps configure build demo test clean
+
+all: build
+
+deps:
+	@bash scripts/install-deps.sh
+
+configure: deps
+	@cmake --preset $(PRESET) >/dev/null
+
+build: configure
+	@cmake --build --preset $(PRESET) -j $(JOBS)
+
+demo: build
+	@mkdir -p render_out
+	@for s in $(DEMO_SCENES); do \
+	  n=$$(basename $$s .json); \
+	  echo "reel simulate $$s --dump render_out/$$n.dump.json"; \
+	  $(REEL) simulate $$s --dump render_out/$$n.dump.json --dump-every 10 || exit $$?; \
+	done
+
+test: build
+	@cd $(BUILD) && ctest -j $(JOBS) --output-on-failure
+
+clean:
+	rm -rf build

@@ -1,0 +1,12 @@
+# One INTERFACE target carries reel's warnings and determinism flags; every reel target links it.
+add_library(reel_options INTERFACE)
+target_compile_options(reel_options INTERFACE
+  -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion -Wnon-virtual-dtor
+  # Determinism (DESIGN 6): no fused multiply-add contraction, no fast-math.
+  -ffp-contract=off -fno-fast-math)
+if(REEL_SANITIZE)
+  target_compile_options(reel_options INTERFACE -fsanitize=${REEL_SANITIZE} -fno-omit-frame-pointer)
+  target_link_options(reel_options INTERFACE -fsanitize=${REEL_SANITIZE})
+endif()
+target_compile_definitions(reel_options INTERFACE
+  REEL_VERSION="${PROJECT_VERSION}" REEL_BUILD_TYPE="${CMAKE_BUILD_TYPE}")

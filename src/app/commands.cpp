@@ -1,0 +1,129 @@
+#include "app/commands.h"
+
+#include <unistd.h>
+
+#include <CLI/Version.hpp>
+#include <Eigen/Core>
+#include <chrono>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "core/parallel.h"
+#include "io/dump.h"
+#include "io/scene_loader.h"
+#include "sim/world.h"
+
+namespace reel::app {
+
+int report(const Error& e) {
+  for (const auto& line : e.messages) std::fprintf(stderr, "reel: %s\n", line.c_str());
+  if (e.messages.size() > 1) std::fprintf(stderr, "reel: %zu errors\n", e.messages.size());
+  return static_cast<int>(e.kind);
+}
+
+namespace {
+
+// Progress on stderr, only when it is a terminal (quiet in pipes and CI).
+class Progress {
+ public:
+  explicit Progress(int total) : total_(total), on_(isatty(STDERR_FILENO) != 0), t0_(Clock::now()) {}
+  void update(int done) {
+    if (!on_) return;
+    const double s = std::chrono::duration<double>(Clock::now() - t0_).count();
+    const double rate = s > 0 ? done / s : 0.0;
+    const double left = rate > 0 ? (total_ - done) / rate : 0.0;
+    std::fprintf(stderr, "\r  frame %d/%d  %.1f frames/s  %.0f s left   ", done, total_, rate, left);
+    if (done == total_) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  int total_;
+  bool on_;
+  Clock::time_point t0_;
+};
+
+}  // namespace
+
+int simulate(const SimulateOptions& opt) {
+  auto scene = io::loadScene(opt.scene);
+  if (!scene.ok()) return report(scene.error());
+  const SceneDesc& s = scene.value();
+  auto world_r = World::create(s);
+  if (!world_r.ok()) return report(world_r.error());
+  World& world = world_r.value();
+
+  io::DumpWriter dump;
+  FrameSnapshot snap;
+  const bool dumping = !opt.dump.empty();
+  if (dumping) {
+    if (Status st = dump.open(opt.dump, s.name, s.fps, s.substeps); !st) return report(st.error());
+    world.snapshot(snap);
+    if (Status st = dump.write(snap); !st) return report(st.error());
+  }
+  // Frames 0..N-1 show times k/fps, as in a film of the scene (DESIGN 3).
+  const int last = s.frameCount() - 1;
+  const auto t0 = std::chrono::steady_clock::now();
+  Progress progress(last);
+  for (int k = 1; k <= last; ++k) {
+    if (Status st = world.advanceFrame(); !st) {
+      if (dumping) {
+        // Keep what was simulated: the dump ends at the last good frame.
+        if (Status fin = dump.finish(); fin)
+          std::fprintf(stderr, "reel: the dump %s holds frames up to %d\n", opt.dump.c_str(), k - 1);
+      }
+      return report(st.error());
+    }
+    if (dumping && (k % opt.dump_every == 0 || k == last)) {
+      world.snapshot(snap);
+      if (Status st = dump.write(snap); !st) return report(st.error());
+    }
+    progress.update(k);
+  }
+  if (dumping)
+    if (Status st = dump.finish(); !st) return report(st.error());
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("%s: %d frames (%.3f s of scene time, %d steps of %.3g s) in %.3f s%s%s\n",
+              s.name.c_str(), last + 1, last / static_cast<double>(s.fps),
+              last * world.stepsPerFrame(), world.stepSize(), secs,
+              dumping ? ", dump: " : "", dumping ? opt.dump.c_str() : "");
+  return 0;
+}
+
+int check(const std::vector<std::string>& scenes) {
+  int worst = 0;
+  for (const auto& path : scenes) {
+    auto scene = io::loadScene(path);
+    Error err;
+    if (scene.ok()) {
+      auto world = World::create(scene.value());  // also refuses unstable steps
+      if (world.ok()) {
+        std::printf("%s: ok (%zu bodies, %zu objects, %d frames)\n", path.c_str(),
+                    scene.value().bodies.size(), scene.value().objects.size(), scene.value().frameCount());
+        continue;
+      }
+      err = world.error();
+    } else {
+      err = scene.error();
+    }
+    worst = std::max(worst, report(err));
+  }
+  return worst;
+}
+
+int info() {
+  std::printf("reel %s (%s build)\n", REEL_VERSION, REEL_BUILD_TYPE);
+  std::printf("compiler: g++ %d.%d.%d, C++%ld\n", __GNUC__, __GNUC_MINOR__, __GNUC_PATCHLEVEL__,
+              __cplusplus / 100 % 100);
+  std::printf("threads: %d (OpenMP %d)\n", threadCount(), _OPENMP);
+  std::printf("libraries: Eigen %d.%d.%d, nlohmann-json %d.%d.%d, CLI11 %s\n", EIGEN_WORLD_VERSION,
+              EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION, NLOHMANN_JSON_VERSION_MAJOR,
+              NLOHMANN_JSON_VERSION_MINOR, NLOHMANN_JSON_VERSION_PATCH, CLI11_VERSION);
+  std::printf("integrators:");
+  for (auto n : kIntegratorNames) std::printf(" %.*s", static_cast<int>(n.size()), n.data());
+  std::printf("\nbodies: mass_spring rope net lattice\nobjects: plane sphere box capsule\n");
+  std::printf("renderer: not built yet (simulate writes state dumps)\n");
+  return 0;
+}
+
+}  // namespace reel::app

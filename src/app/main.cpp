@@ -1,0 +1,67 @@
+// reel: the command line (DESIGN 3).
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "app/commands.h"
+#include "core/parallel.h"
+
+int main(int argc, char** argv) {
+  CLI::App cli{"reel: physically based animation, simulated and rendered headlessly", "reel"};
+  cli.require_subcommand(1);
+  cli.set_version_flag("--version", std::string(REEL_VERSION));
+  int threads = 0;
+  auto add_threads = [&](CLI::App* sub) {
+    sub->add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+  };
+
+  reel::app::SimulateOptions sim;
+  auto* simulate = cli.add_subcommand("simulate", "simulate a scene, optionally dumping its state");
+  simulate->add_option("scene", sim.scene, "scene file (reel/1 JSON)")->required();
+  simulate->add_option("--dump", sim.dump, "write the state dump (reel-dump/1 JSON) here");
+  simulate->add_option("--dump-every", sim.dump_every, "dump every K-th frame (first and last always)")
+      ->check(CLI::Range(1, 1 << 30));
+  add_threads(simulate);
+
+  std::vector<std::string> scenes;
+  auto* check = cli.add_subcommand("check", "validate scene files without simulating");
+  check->add_option("scenes", scenes, "scene files")->required();
+
+  auto* info = cli.add_subcommand("info", "versions, build type, threads");
+
+  std::vector<std::string> bench_names;
+  double bench_seconds = 1.0;
+  auto* bench = cli.add_subcommand("bench", "run benchmarks, one JSON line each");
+  bench->add_option("names", bench_names, "benchmarks to run (default: all): springs");
+  bench->add_option("--seconds", bench_seconds, "time spent on each measurement")->check(CLI::Range(0.01, 600.0));
+  add_threads(bench);
+
+  try {
+    cli.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return cli.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return cli.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return cli.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "reel: %s\n", e.what());
+    std::fprintf(stderr, "run 'reel --help' for usage\n");
+    return 2;
+  }
+
+  try {
+    if (threads > 0) reel::setThreadCount(threads);
+    if (*simulate) return reel::app::simulate(sim);
+    if (*check) return reel::app::check(scenes);
+    if (*info) return reel::app::info();
+    if (*bench) return reel::app::bench(bench_names, bench_seconds);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "reel: out of memory\n");
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "reel: internal error: %s\n", e.what());
+    return 1;
+  }
+  return 1;
+}

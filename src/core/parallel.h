@@ -1,0 +1,49 @@
+// Deterministic parallel loops (DESIGN 6). Element-wise loops write disjoint outputs, so any
+// schedule gives the same bits. Reductions cut [0, n) into chunks of a fixed size that does not
+// depend on the thread count, sum each chunk in index order, then add the chunk sums in order:
+// the result is bit-identical for 1, 2 or 64 threads.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace reel {
+
+// Below this many elements a loop runs on the calling thread: a parallel region costs microseconds.
+inline constexpr std::ptrdiff_t kParallelMin = 2048;
+// Reduction chunk size: fixed, independent of the thread count.
+inline constexpr std::ptrdiff_t kReduceChunk = 1024;
+
+template <class F>
+void parallelFor(std::ptrdiff_t n, F&& body) {
+#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+  for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
+}
+
+// Sum of term(i) for i in [0, n) in a fixed order of operations.
+template <class F>
+double deterministicSum(std::ptrdiff_t n, F&& term) {
+  const std::ptrdiff_t chunks = (n + kReduceChunk - 1) / kReduceChunk;
+  if (chunks <= 1) {
+    double s = 0.0;
+    for (std::ptrdiff_t i = 0; i < n; ++i) s += term(i);
+    return s;
+  }
+  std::vector<double> partial(static_cast<std::size_t>(chunks), 0.0);
+#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+  for (std::ptrdiff_t c = 0; c < chunks; ++c) {
+    const std::ptrdiff_t end = (c + 1) * kReduceChunk < n ? (c + 1) * kReduceChunk : n;
+    double s = 0.0;
+    for (std::ptrdiff_t i = c * kReduceChunk; i < end; ++i) s += term(i);
+    partial[static_cast<std::size_t>(c)] = s;
+  }
+  double s = 0.0;
+  for (double p : partial) s += p;
+  return s;
+}
+
+// Threads used by parallel loops (what OpenMP will use); set once by the app.
+int threadCount();
+void setThreadCount(int n);
+
+}  // namespace reel

@@ -1,0 +1,28 @@
+// A read-only view of one frame's simulated state, filled by sim and written by io (dumps).
+// The spans point into the World and stay valid until it next steps.
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+
+namespace reel {
+
+struct BodySnapshot {
+  std::string name;
+  std::string type;       // dump type: "mass_spring"
+  std::string generator;  // scene type that built it: mass_spring, rope, net, lattice
+  std::span<const Vec3> positions;   // m (nodes)
+  std::span<const Vec3> velocities;  // m/s (nodes)
+  std::span<const int> spring_a, spring_b;  // intact springs as index pairs (springs)
+};
+
+struct FrameSnapshot {
+  int frame = 0;
+  double time = 0.0;  // s, = frame / fps
+  std::vector<BodySnapshot> bodies;
+};
+
+}  // namespace reel

@@ -1,0 +1,80 @@
+#include "io/dump.h"
+
+#include <charconv>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+namespace reel::io {
+namespace {
+
+void putNumber(std::string& out, double x) {
+  char buf[32];
+  auto r = std::to_chars(buf, buf + sizeof buf, x);  // shortest round-trip form
+  out.append(buf, r.ptr);
+}
+
+void putVec3s(std::string& out, std::span<const Vec3> vs) {
+  out += '[';
+  for (std::size_t i = 0; i < vs.size(); ++i) {
+    if (i) out += ',';
+    out += '[';
+    putNumber(out, vs[i].x());
+    out += ',';
+    putNumber(out, vs[i].y());
+    out += ',';
+    putNumber(out, vs[i].z());
+    out += ']';
+  }
+  out += ']';
+}
+
+std::string jsonString(const std::string& s) { return nlohmann::json(s).dump(); }
+
+}  // namespace
+
+Status DumpWriter::open(const std::string& path, const std::string& scene, int fps, int substeps) {
+  if (Status st = file_.open(path); !st) return st;
+  first_ = true;
+  buf_ = "{\"format\":\"reel-dump/1\",\"scene\":" + jsonString(scene) + ",\"fps\":" +
+         std::to_string(fps) + ",\"substeps\":" + std::to_string(substeps) + ",\"frames\":[\n";
+  return {};
+}
+
+Status DumpWriter::write(const FrameSnapshot& f) {
+  if (!first_) buf_ += ",\n";
+  first_ = false;
+  buf_ += "{\"frame\":" + std::to_string(f.frame) + ",\"time\":";
+  putNumber(buf_, f.time);
+  buf_ += ",\"bodies\":[";
+  for (std::size_t b = 0; b < f.bodies.size(); ++b) {
+    const BodySnapshot& s = f.bodies[b];
+    if (b) buf_ += ',';
+    buf_ += "\n {\"name\":" + jsonString(s.name) + ",\"type\":" + jsonString(s.type) +
+            ",\"generator\":" + jsonString(s.generator) + ",\n  \"positions\":";
+    putVec3s(buf_, s.positions);
+    buf_ += ",\n  \"velocities\":";
+    putVec3s(buf_, s.velocities);
+    buf_ += ",\n  \"springs\":[";
+    for (std::size_t k = 0; k < s.spring_a.size(); ++k) {
+      if (k) buf_ += ',';
+      buf_ += '[' + std::to_string(s.spring_a[k]) + ',' + std::to_string(s.spring_b[k]) + ']';
+    }
+    buf_ += "]}";
+  }
+  buf_ += "]}";
+  if (std::fwrite(buf_.data(), 1, buf_.size(), file_.get()) != buf_.size())
+    return Error(ErrorKind::Output, "dump: write failed (disk full?)");
+  buf_.clear();
+  return {};
+}
+
+Status DumpWriter::finish() {
+  buf_ += "\n]}\n";
+  if (std::fwrite(buf_.data(), 1, buf_.size(), file_.get()) != buf_.size())
+    return Error(ErrorKind::Output, "dump: write failed (disk full?)");
+  buf_.clear();
+  return file_.commit();
+}
+
+}  // namespace reel::io

@@ -1,0 +1,111 @@
+#include "io/files.h"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace reel::io {
+
+namespace fs = std::filesystem;
+
+Result<std::string> readFile(const std::string& path, std::size_t max_bytes) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    return Error(ErrorKind::BadInput, path + ": " + (fs::exists(path, ec) ? "not a regular file" : "no such file"));
+  const auto size = fs::file_size(path, ec);
+  if (ec) return Error(ErrorKind::BadInput, path + ": cannot read: " + ec.message());
+  if (size > max_bytes)
+    return Error(ErrorKind::BadInput, path + ": file is " + std::to_string(size) +
+                                          " bytes, more than the limit of " + std::to_string(max_bytes));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Error(ErrorKind::BadInput, path + ": cannot open: " + std::strerror(errno));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (!in && !in.eof()) return Error(ErrorKind::BadInput, path + ": read error");
+  return ss.str();
+}
+
+namespace {
+
+bool within(const fs::path& p, const fs::path& root) {
+  auto rel = p.lexically_relative(root);
+  return !rel.empty() && *rel.begin() != "..";
+}
+
+}  // namespace
+
+Result<std::string> resolveAsset(const std::string& scene_file, const std::string& path,
+                                 const std::vector<std::string>& extensions, std::size_t max_bytes) {
+  std::error_code ec;
+  std::vector<fs::path> roots;
+  roots.push_back(fs::weakly_canonical(fs::absolute(scene_file, ec).parent_path(), ec));
+  roots.push_back(fs::weakly_canonical(fs::current_path(ec) / "assets", ec));
+#ifdef REEL_ASSET_DIR
+  roots.push_back(fs::weakly_canonical(fs::path(REEL_ASSET_DIR), ec));
+#endif
+  std::string ext = fs::path(path).extension().string();
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  bool ext_ok = false;
+  std::string ext_list;
+  for (const auto& e : extensions) {
+    ext_ok = ext_ok || e == ext;
+    ext_list += (ext_list.empty() ? "" : ", ") + e;
+  }
+  if (!ext_ok) return Error(ErrorKind::BadInput, "\"" + path + "\": unsupported file type (supported: " + ext_list + ")");
+  for (const auto& root : roots) {
+    const fs::path candidate = fs::weakly_canonical(root / path, ec);
+    if (ec || !fs::exists(candidate, ec)) continue;
+    if (!within(candidate, root))
+      return Error(ErrorKind::BadInput, "\"" + path + "\": path escapes the allowed folders (the scene's folder and assets/)");
+    if (!fs::is_regular_file(candidate, ec))
+      return Error(ErrorKind::BadInput, "\"" + path + "\": not a regular file");
+    const auto size = fs::file_size(candidate, ec);
+    if (ec || size > max_bytes)
+      return Error(ErrorKind::BadInput, "\"" + path + "\": file is larger than the limit of " +
+                                            std::to_string(max_bytes) + " bytes");
+    return candidate.string();
+  }
+  return Error(ErrorKind::BadInput, "\"" + path + "\": no such file in the scene's folder or assets/");
+}
+
+AtomicFile::~AtomicFile() { abandon(); }
+
+Status AtomicFile::open(const std::string& path) {
+  abandon();
+  path_ = path;
+  part_ = path + ".part";
+  f_ = std::fopen(part_.c_str(), "wb");
+  if (!f_) return Error(ErrorKind::Output, part_ + ": cannot write: " + std::strerror(errno));
+  return {};
+}
+
+Status AtomicFile::commit() {
+  if (!f_) return Error(ErrorKind::Output, path_ + ": not open");
+  const bool bad = std::ferror(f_) != 0;
+  const int err_flush = std::fflush(f_);
+  const int saved = errno;
+  const int err_close = std::fclose(f_);
+  f_ = nullptr;
+  if (bad || err_flush != 0 || err_close != 0) {
+    std::remove(part_.c_str());
+    return Error(ErrorKind::Output, path_ + ": write failed: " + std::strerror(saved ? saved : EIO));
+  }
+  if (std::rename(part_.c_str(), path_.c_str()) != 0) {
+    const int e = errno;
+    std::remove(part_.c_str());
+    return Error(ErrorKind::Output, path_ + ": cannot rename from .part: " + std::strerror(e));
+  }
+  return {};
+}
+
+void AtomicFile::abandon() {
+  if (f_) {
+    std::fclose(f_);
+    f_ = nullptr;
+    std::remove(part_.c_str());
+  }
+}
+
+}  // namespace reel::io

@@ -1,0 +1,41 @@
+// File helpers: bounded reads, asset resolution within allowed roots, and atomic writes
+// (write NAME.part, then rename onto NAME: a reader never sees a half-written final file).
+#pragma once
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+
+namespace reel::io {
+
+// Reads a whole file of at most max_bytes.
+Result<std::string> readFile(const std::string& path, std::size_t max_bytes);
+
+// Resolves an asset path from a scene: relative to the scene's folder, then to the `assets/`
+// folders (the current directory's and the installed/source one). The resolved file must exist,
+// stay inside one of those roots, have one of the given extensions and be at most max_bytes.
+// The error is one line: the path and the reason.
+Result<std::string> resolveAsset(const std::string& scene_file, const std::string& path,
+                                 const std::vector<std::string>& extensions, std::size_t max_bytes);
+
+class AtomicFile {
+ public:
+  AtomicFile() = default;
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+  ~AtomicFile();  // an uncommitted file is removed
+  // Opens PATH.part for writing (exit-4 kind of error when it cannot).
+  Status open(const std::string& path);
+  std::FILE* get() const { return f_; }
+  // Flushes, closes and renames PATH.part onto PATH; removes the part file on failure.
+  Status commit();
+  void abandon();
+
+ private:
+  std::FILE* f_ = nullptr;
+  std::string path_, part_;
+};
+
+}  // namespace reel::io

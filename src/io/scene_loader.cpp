@@ -1,0 +1,462 @@
+#include "io/scene_loader.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <regex>
+#include <set>
+
+#include "io/files.h"
+#include "io/json_reader.h"
+
+namespace reel::io {
+namespace {
+
+const Range kPos = Range::positive();
+const Range kNonNeg = Range::nonNegative();
+const Range kUnit = Range::closed(0.0, 1.0);
+
+// --- appearance (stored for the renderer) ---------------------------------------------------
+void readMaterial(Obj& o, Material& m) {
+  m.color = o.vec3("color", m.color, kNonNeg);
+  if (auto tex = o.string("texture")) {
+    auto r = resolveAsset(o.diag().file(), *tex, {".png"}, kMaxTextureBytes);
+    if (r.ok())
+      m.texture = r.value();
+    else
+      o.diag().error(childPath(o.path(), "texture"), r.error().headline());
+  }
+  m.specular = o.number("specular", m.specular, kUnit);
+  m.shininess = o.number("shininess", m.shininess, kPos);
+  m.opacity = o.number("opacity", m.opacity, kUnit);
+}
+
+void readRender(const Json& j, RenderDesc& r, Diagnostics& d) {
+  Obj o(j, "/render", d);
+  r.width = o.integer("width", r.width, 16, 16384);
+  r.height = o.integer("height", r.height, 16, 16384);
+  if (auto s = o.integer("samples", 1, 4)) {
+    if (*s == 3)
+      d.error("/render/samples", "must be 1, 2 or 4, got 3");
+    else
+      r.samples = static_cast<int>(*s);
+  }
+  if (const Json* bg = o.raw("background")) {
+    if (bg->is_object()) {
+      Obj g(*bg, "/render/background", d);
+      r.background_top = g.vec3("top", r.background_top, kNonNeg);
+      r.background_bottom = g.vec3("bottom", r.background_bottom, kNonNeg);
+      g.finish();
+    } else if (auto c = readVec3(*bg, "/render/background", d, kNonNeg)) {
+      r.background_top = r.background_bottom = *c;
+    }
+  }
+  r.tonemap = o.choice("tonemap", r.tonemap, {"none", "aces"});
+  if (const Json* f = o.raw("fog")) {
+    Obj g(*f, "/render/fog", d);
+    r.fog_color = g.vec3("color", r.fog_color, kNonNeg);
+    r.fog_density = g.number("density", r.fog_density, kNonNeg);
+    g.finish();
+  }
+  o.finish();
+}
+
+void readCamera(const Json& j, CameraDesc& c, Diagnostics& d) {
+  Obj o(j, "/camera", d);
+  c.position = o.vec3("position", c.position);
+  c.target = o.vec3("target", c.target);
+  c.up = o.vec3("up", c.up);
+  c.fov_deg = o.number("fov_deg", c.fov_deg, Range{0.0, 180.0, true, true});
+  if (c.up.norm() == 0) d.error("/camera/up", "must not be the zero vector");
+  if ((c.position - c.target).norm() == 0) d.error("/camera/target", "must differ from the camera position");
+  if (const Json* keys = o.raw("keys")) {
+    if (!keys->is_array()) {
+      d.error("/camera/keys", "expected a list of keyframes, got " + typeName(*keys));
+    } else {
+      for (std::size_t i = 0; i < keys->size(); ++i) {
+        const std::string p = childPath("/camera/keys", i);
+        Obj k((*keys)[i], p, d);
+        CameraKey key;
+        key.time = k.number("time", kNonNeg, true).value_or(0.0);
+        key.position = k.vec3("position", c.position);
+        key.target = k.vec3("target", c.target);
+        key.fov_deg = k.number("fov_deg", c.fov_deg, Range{0.0, 180.0, true, true});
+        k.finish();
+        if (!c.keys.empty() && key.time <= c.keys.back().time)
+          d.error(childPath(p, "time"), "keyframe times must increase");
+        c.keys.push_back(key);
+      }
+    }
+  }
+  o.finish();
+}
+
+void readLights(const Json& j, std::vector<LightDesc>& lights, Diagnostics& d) {
+  if (!j.is_array()) {
+    d.error("/lights", "expected a list of lights, got " + typeName(j));
+    return;
+  }
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const std::string p = childPath("/lights", i);
+    Obj o(j[i], p, d);
+    LightDesc l;
+    const std::string type = o.choice("type", "", {"directional", "point", "ambient"});
+    if (!o.has("type") && o.ok()) d.error(childPath(p, "type"), "missing required key");
+    l.color = o.vec3("color", l.color, kNonNeg);
+    l.intensity = o.number("intensity", l.intensity, kNonNeg);
+    if (type == "directional") {
+      l.kind = LightKind::Directional;
+      l.direction = o.vec3("direction", l.direction);
+      if (l.direction.norm() == 0) d.error(childPath(p, "direction"), "must not be the zero vector");
+      l.shadows = o.boolean("shadows", false);
+    } else if (type == "point") {
+      l.kind = LightKind::Point;
+      l.position = o.vec3("position", Range::any(), true).value_or(l.position);
+      l.shadows = o.boolean("shadows", false);
+    } else if (type == "ambient") {
+      l.kind = LightKind::Ambient;
+    }
+    if (!type.empty()) o.finish();
+    lights.push_back(l);
+  }
+}
+
+// --- objects: colliders and props ------------------------------------------------------------
+void readObject(Obj& o, ObjectDesc& ob, const std::string& type) {
+  Diagnostics& d = o.diag();
+  const std::string& p = o.path();
+  if (type == "plane") {
+    ob.kind = ObjectKind::Plane;
+    ob.point = o.vec3("point", ob.point);
+    ob.normal = o.vec3("normal", ob.normal);
+    if (ob.normal.norm() == 0) d.error(childPath(p, "normal"), "must not be the zero vector");
+    else ob.normal.normalize();
+    if (auto s = o.numbers<2>("size", kPos)) ob.extent = *s;
+    ob.checker = o.boolean("checker", false);
+  } else if (type == "sphere") {
+    ob.kind = ObjectKind::Sphere;
+    ob.center = o.vec3("center", ob.center);
+    ob.radius = o.number("radius", kPos, true).value_or(ob.radius);
+  } else if (type == "box") {
+    ob.kind = ObjectKind::Box;
+    ob.center = o.vec3("center", ob.center);
+    ob.size = o.vec3("size", Range::positive(), true).value_or(ob.size);
+    ob.rotation_deg = o.vec3("rotation_deg", ob.rotation_deg);
+  } else if (type == "capsule") {
+    ob.kind = ObjectKind::Capsule;
+    ob.a = o.vec3("start", Range::any(), true).value_or(ob.a);
+    ob.b = o.vec3("end", Range::any(), true).value_or(ob.b);
+    ob.radius = o.number("radius", kPos, true).value_or(ob.radius);
+  }
+  ob.thickness = o.number("thickness", 0.0, kNonNeg);
+  if (const Json* s = o.raw("surface")) {
+    Obj so(*s, childPath(p, "surface"), d);
+    ob.surface.friction = so.number("friction", ob.surface.friction, kNonNeg);
+    ob.surface.restitution = so.number("restitution", ob.surface.restitution, kUnit);
+    so.finish();
+  }
+  readMaterial(o, ob.material);
+}
+
+// --- bodies ------------------------------------------------------------------------------------
+// Reads a `pinned` list: each entry a node index (negative counts from the end), a grid
+// coordinate list of `dims` indices, or one of the named ends. Writes resolved node indices.
+void readPins(Obj& o, const std::vector<long long>& dims, long long nodes,
+              const std::vector<std::pair<std::string, long long>>& names, std::vector<int>& out) {
+  const Json* j = o.raw("pinned");
+  if (!j) return;
+  Diagnostics& d = o.diag();
+  const std::string p = childPath(o.path(), "pinned");
+  if (!j->is_array()) {
+    d.error(p, "expected a list of nodes, got " + typeName(*j));
+    return;
+  }
+  for (std::size_t k = 0; k < j->size(); ++k) {
+    const Json& e = (*j)[k];
+    const std::string ep = childPath(p, k);
+    if (e.is_string()) {
+      const std::string s = e.get<std::string>();
+      auto it = std::find_if(names.begin(), names.end(), [&](auto& n) { return n.first == s; });
+      if (it != names.end()) {
+        out.push_back(static_cast<int>(it->second));
+        continue;
+      }
+      std::vector<std::string> opts;
+      for (auto& n : names) opts.push_back(n.first);
+      const std::string near = nearest(s, opts);
+      d.error(ep, "unknown node name \"" + s + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
+    } else if (e.is_array()) {
+      if (e.size() != dims.size()) {
+        d.error(ep, "expected " + std::to_string(dims.size()) + " grid indices, got " + typeName(e));
+        continue;
+      }
+      long long idx = 0, stride = 1;
+      bool good = true;
+      for (std::size_t a = 0; a < dims.size(); ++a) {
+        auto v = readInteger(e[a], childPath(ep, a), d, -dims[a], dims[a] - 1);
+        if (!v) { good = false; continue; }
+        idx += (*v < 0 ? *v + dims[a] : *v) * stride;
+        stride *= dims[a];
+      }
+      if (good) out.push_back(static_cast<int>(idx));
+    } else if (e.is_number()) {
+      if (auto v = readInteger(e, ep, d, -nodes, nodes - 1))
+        out.push_back(static_cast<int>(*v < 0 ? *v + nodes : *v));
+      else if (e.is_number_integer())
+        d.error(ep, "the body has " + std::to_string(nodes) + " nodes (indices 0.." +
+                        std::to_string(nodes - 1) + ", or negative from the end)");
+    } else {
+      d.error(ep, "expected a node index, grid indices or a name, got " + typeName(e));
+    }
+  }
+}
+
+void readMassSpring(Obj& o, MassSpringDesc& ms) {
+  Diagnostics& d = o.diag();
+  const std::string& p = o.path();
+  const Json* nodes = o.raw("nodes");
+  if (!nodes) {
+    if (o.ok()) d.error(childPath(p, "nodes"), "missing required key");
+  } else if (!nodes->is_array() || nodes->empty()) {
+    d.error(childPath(p, "nodes"), "expected a non-empty list of nodes, got " + typeName(*nodes));
+  } else if (static_cast<long long>(nodes->size()) > kMaxBodyNodes) {
+    d.error(childPath(p, "nodes"), "more than " + std::to_string(kMaxBodyNodes) + " nodes");
+  } else {
+    for (std::size_t i = 0; i < nodes->size(); ++i) {
+      Obj n((*nodes)[i], childPath(childPath(p, "nodes"), i), d);
+      NodeDesc nd;
+      nd.position = n.vec3("position", Range::any(), true).value_or(nd.position);
+      nd.velocity = n.vec3("velocity", nd.velocity);
+      nd.mass = n.number("mass", kPos, true).value_or(nd.mass);
+      nd.damping = n.number("damping", 0.0, kNonNeg);
+      nd.fixed = n.boolean("fixed", false);
+      n.finish();
+      ms.nodes.push_back(nd);
+    }
+  }
+  const long long nn = static_cast<long long>(ms.nodes.size());
+  const Json* springs = o.raw("springs");
+  if (!springs) return;
+  const std::string sp = childPath(p, "springs");
+  if (!springs->is_array()) {
+    d.error(sp, "expected a list of springs, got " + typeName(*springs));
+    return;
+  }
+  for (std::size_t k = 0; k < springs->size(); ++k) {
+    const std::string kp = childPath(sp, k);
+    Obj s((*springs)[k], kp, d);
+    SpringDesc sd;
+    auto ends = s.integers<2>("nodes", 0, std::max(0ll, nn - 1), true);
+    sd.stiffness = s.number("stiffness", kNonNeg, true).value_or(0.0);
+    sd.damping = s.number("damping", 0.0, kNonNeg);
+    sd.rest_length = s.number("rest_length", -1.0, kPos);
+    s.finish();
+    if (!ends) continue;
+    sd.a = static_cast<int>((*ends)[0]);
+    sd.b = static_cast<int>((*ends)[1]);
+    if (sd.a == sd.b) {
+      d.error(childPath(kp, "nodes"), "a spring needs two different nodes");
+      continue;
+    }
+    if (sd.rest_length < 0 && nn > 0 &&
+        (ms.nodes[static_cast<std::size_t>(sd.a)].position - ms.nodes[static_cast<std::size_t>(sd.b)].position).norm() == 0) {
+      d.error(kp, "nodes " + std::to_string(sd.a) + " and " + std::to_string(sd.b) +
+                      " start at the same point, so the default rest length would be 0; give rest_length");
+      continue;
+    }
+    ms.springs.push_back(sd);
+  }
+}
+
+SpringParams readSpring(Obj& o, const std::string& stiff_key, const std::string& damp_key,
+                        const SpringParams* fallback) {
+  SpringParams s;
+  if (fallback) {
+    s.stiffness = o.number(stiff_key, fallback->stiffness, kNonNeg);
+    s.damping = o.number(damp_key, fallback->damping, kNonNeg);
+  } else {
+    s.stiffness = o.number(stiff_key, kNonNeg, true).value_or(0.0);
+    s.damping = o.number(damp_key, 0.0, kNonNeg);
+  }
+  return s;
+}
+
+void readRope(Obj& o, RopeDesc& r) {
+  r.start = o.vec3("start", Range::any(), true).value_or(r.start);
+  r.end = o.vec3("end", Range::any(), true).value_or(r.end);
+  r.segments = static_cast<int>(o.integer("segments", 1, kMaxBodyNodes - 1).value_or(r.segments));
+  r.length = o.number("length", -1.0, kPos);
+  r.mass = o.number("mass", r.mass, kPos);
+  r.spring = readSpring(o, "stiffness", "damping", nullptr);
+  r.node_damping = o.number("node_damping", 0.0, kNonNeg);
+  r.velocity = o.vec3("velocity", r.velocity);
+  if (r.length < 0 && (r.end - r.start).norm() == 0)
+    o.diag().error(childPath(o.path(), "end"), "must differ from start (or give length)");
+  const long long n = r.segments + 1;
+  readPins(o, {n}, n, {{"start", 0}, {"end", n - 1}}, r.pinned);
+}
+
+void readNet(Obj& o, NetDesc& net) {
+  net.position = o.vec3("position", net.position);
+  net.rotation_deg = o.vec3("rotation_deg", net.rotation_deg);
+  if (auto s = o.numbers<2>("size", kPos)) net.size = *s;
+  if (auto r = o.integers<2>("resolution", 2, 1 << 16)) net.resolution = {static_cast<int>((*r)[0]), static_cast<int>((*r)[1])};
+  const long long nx = net.resolution[0], ny = net.resolution[1];
+  if (nx * ny > kMaxBodyNodes)
+    o.diag().error(childPath(o.path(), "resolution"), std::to_string(nx * ny) + " nodes, more than the limit of " + std::to_string(kMaxBodyNodes));
+  net.mass = o.number("mass", net.mass, kPos);
+  net.structural = readSpring(o, "stiffness", "damping", nullptr);
+  net.shear = readSpring(o, "shear_stiffness", "shear_damping", &net.structural);
+  net.node_damping = o.number("node_damping", 0.0, kNonNeg);
+  net.velocity = o.vec3("velocity", net.velocity);
+  readPins(o, {nx, ny}, nx * ny,
+           {{"corner_00", 0}, {"corner_10", nx - 1}, {"corner_01", (ny - 1) * nx}, {"corner_11", nx * ny - 1}},
+           net.pinned);
+}
+
+void readLattice(Obj& o, LatticeDesc& l) {
+  l.position = o.vec3("position", l.position);
+  l.rotation_deg = o.vec3("rotation_deg", l.rotation_deg);
+  l.size = o.vec3("size", l.size, kPos);
+  if (auto r = o.integers<3>("resolution", 2, 1 << 12))
+    l.resolution = {static_cast<int>((*r)[0]), static_cast<int>((*r)[1]), static_cast<int>((*r)[2])};
+  const long long nx = l.resolution[0], ny = l.resolution[1], nz = l.resolution[2];
+  if (nx * ny * nz > kMaxBodyNodes)
+    o.diag().error(childPath(o.path(), "resolution"), std::to_string(nx * ny * nz) + " nodes, more than the limit of " + std::to_string(kMaxBodyNodes));
+  l.mass = o.number("mass", l.mass, kPos);
+  l.edge = readSpring(o, "stiffness", "damping", nullptr);
+  l.face = readSpring(o, "face_stiffness", "face_damping", &l.edge);
+  l.body = readSpring(o, "body_stiffness", "body_damping", &l.edge);
+  l.node_damping = o.number("node_damping", 0.0, kNonNeg);
+  l.velocity = o.vec3("velocity", l.velocity);
+  readPins(o, {nx, ny, nz}, nx * ny * nz, {}, l.pinned);
+}
+
+const std::vector<std::string> kObjectTypes = {"plane", "sphere", "box", "capsule"};
+const std::vector<std::string> kBodyTypes = {"mass_spring", "rope", "net", "lattice"};
+
+// Reads `name` and `type` of an object or body; checks the name is unique.
+std::pair<std::string, std::string> readIdentity(Obj& o, const std::vector<std::string>& types,
+                                                 std::size_t index, std::set<std::string>& names) {
+  std::string type = o.choice("type", "", types);
+  if (o.ok() && !o.has("type")) o.diag().error(childPath(o.path(), "type"), "missing required key");
+  std::string name = o.string("name").value_or((type.empty() ? "item" : type) + "_" + std::to_string(index));
+  if (name.empty()) o.diag().error(childPath(o.path(), "name"), "must not be empty");
+  else if (!names.insert(name).second)
+    o.diag().error(childPath(o.path(), "name"), "duplicate name \"" + name + "\" (every object and body needs its own)");
+  return {name, type};
+}
+
+}  // namespace
+
+Result<SceneDesc> parseScene(const std::string& text, const std::string& file) {
+  Json root;
+  try {
+    root = Json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+  } catch (const Json::parse_error& e) {
+    // nlohmann: "[json.exception.parse_error.101] parse error at line L, column C: what"
+    std::string what = e.what();
+    std::smatch m;
+    std::string loc = file + ":";
+    if (std::regex_search(what, m, std::regex(R"(at line (\d+), column (\d+): (.*))")))
+      return Error(ErrorKind::BadInput, file + ":" + m[1].str() + ":" + m[2].str() + ": " + m[3].str());
+    return Error(ErrorKind::BadInput, file + ":1:1: " + what);
+  }
+
+  Diagnostics d(file);
+  SceneDesc s;
+  s.file = file;
+  Obj o(root, "", d);
+  if (!o.ok()) return Error(ErrorKind::BadInput, d.lines());
+
+  if (auto f = o.string("format", true); f && *f != "reel/1")
+    d.error("/format", "unsupported format \"" + *f + "\" (this reel reads \"reel/1\")");
+  s.name = o.string("name").value_or(std::filesystem::path(file).stem().string());
+  s.duration = o.number("duration", Range{0.0, 1e6, true, false}, true).value_or(s.duration);
+  s.fps = o.integer("fps", s.fps, 1, 1000);
+  s.substeps = o.integer("substeps", s.substeps, 1, 1000000);
+  if (auto seed = o.integer("seed", 0, 9007199254740991ll)) s.seed = static_cast<std::uint64_t>(*seed);
+  s.gravity = o.vec3("gravity", s.gravity);
+  std::vector<std::string> integrators(kIntegratorNames.begin(), kIntegratorNames.end());
+  s.integrator = *integratorFromName(o.choice("integrator", "symplectic_euler", integrators));
+  s.auto_substeps = o.boolean("auto_substeps", false);
+  if (const Json* im = o.raw("implicit")) {
+    Obj io(*im, "/implicit", d);
+    s.implicit.cg_tolerance = io.number("cg_tolerance", s.implicit.cg_tolerance, Range{0.0, 1.0, true, true});
+    s.implicit.cg_max_iterations = io.integer("cg_max_iterations", s.implicit.cg_max_iterations, 1, 100000);
+    io.finish();
+  }
+  if (s.frameCount() < 1) d.error("/duration", "too short for one frame at this fps");
+
+  if (const Json* r = o.raw("render")) readRender(*r, s.render, d);
+  if (const Json* c = o.raw("camera")) readCamera(*c, s.camera, d);
+  if (const Json* l = o.raw("lights")) {
+    s.has_lights = true;
+    readLights(*l, s.lights, d);
+  }
+
+  std::set<std::string> names;
+  if (const Json* objs = o.raw("objects")) {
+    if (!objs->is_array()) {
+      d.error("/objects", "expected a list of objects, got " + typeName(*objs));
+    } else {
+      for (std::size_t i = 0; i < objs->size(); ++i) {
+        Obj ob(objs->at(i), childPath("/objects", i), d);
+        ObjectDesc od;
+        od.path = ob.path();
+        auto [name, type] = readIdentity(ob, kObjectTypes, i, names);
+        od.name = name;
+        if (type.empty()) continue;  // unknown type: its keys cannot be checked
+        readObject(ob, od, type);
+        ob.finish();
+        s.objects.push_back(std::move(od));
+      }
+    }
+  }
+  if (const Json* bodies = o.raw("bodies")) {
+    if (!bodies->is_array()) {
+      d.error("/bodies", "expected a list of bodies, got " + typeName(*bodies));
+    } else {
+      for (std::size_t i = 0; i < bodies->size(); ++i) {
+        Obj bo(bodies->at(i), childPath("/bodies", i), d);
+        BodyDesc bd;
+        bd.path = bo.path();
+        auto [name, type] = readIdentity(bo, kBodyTypes, i, names);
+        bd.name = name;
+        bd.type = type;
+        if (type.empty()) continue;
+        if (type == "mass_spring") {
+          MassSpringDesc ms;
+          readMassSpring(bo, ms);
+          bd.shape = std::move(ms);
+        } else if (type == "rope") {
+          RopeDesc r;
+          readRope(bo, r);
+          bd.shape = std::move(r);
+        } else if (type == "net") {
+          NetDesc n;
+          readNet(bo, n);
+          bd.shape = std::move(n);
+        } else if (type == "lattice") {
+          LatticeDesc l;
+          readLattice(bo, l);
+          bd.shape = std::move(l);
+        }
+        readMaterial(bo, bd.material);
+        bd.node_radius = bo.number("node_radius", bd.node_radius, kPos);
+        bo.finish();
+        s.bodies.push_back(std::move(bd));
+      }
+    }
+  }
+  o.finish();
+  if (!d.empty()) return Error(ErrorKind::BadInput, d.lines());
+  return s;
+}
+
+Result<SceneDesc> loadScene(const std::string& path) {
+  auto text = readFile(path, kMaxSceneBytes);
+  if (!text.ok()) return text.error();
+  return parseScene(text.value(), path);
+}
+
+}  // namespace reel::io

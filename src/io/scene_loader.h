@@ -1,0 +1,22 @@
+// Loading and validating `reel/1` scene files (DESIGN 4, 9).
+#pragma once
+
+#include <string>
+
+#include "core/error.h"
+#include "core/scene.h"
+
+namespace reel::io {
+
+// Limits that keep a bad scene from exhausting the machine.
+inline constexpr std::size_t kMaxSceneBytes = 64u << 20;     // scene file size
+inline constexpr long long kMaxBodyNodes = 4'194'304;         // nodes of one body (2048 x 2048)
+inline constexpr std::size_t kMaxTextureBytes = 64u << 20;
+
+// Parses and validates a scene file. On failure the Error (BadInput) lists every problem found,
+// one line each: "file:line:col: ..." for syntax errors, "file: /json/path: ..." otherwise.
+Result<SceneDesc> loadScene(const std::string& path);
+// The same from text already in memory; `file` names it in messages and anchors asset paths.
+Result<SceneDesc> parseScene(const std::string& text, const std::string& file);
+
+}  // namespace reel::io

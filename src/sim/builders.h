@@ -1,0 +1,16 @@
+// Generators of the seed's 1-D, 2-D and 3-D mass-spring-damper systems. Each builds the same
+// explicit nodes-and-springs description as a `mass_spring` body, so one engine runs them all.
+#pragma once
+
+#include "core/scene.h"
+
+namespace reel {
+
+MassSpringDesc buildRope(const RopeDesc& d);
+MassSpringDesc buildNet(const NetDesc& d);
+MassSpringDesc buildLattice(const LatticeDesc& d);
+
+// Any body description as explicit nodes and springs.
+MassSpringDesc expandBody(const BodyDesc& body);
+
+}  // namespace reel

@@ -1,0 +1,195 @@
+#include "sim/integrators.h"
+
+#include <cmath>
+
+#include "core/error.h"
+#include "core/parallel.h"
+
+namespace reel {
+namespace {
+
+using Index = std::ptrdiff_t;
+
+void resize(std::vector<Vec3>& v, std::size_t n) {
+  if (v.size() != n) v.assign(n, Vec3::Zero());
+}
+
+// Symplectic (semi-implicit) Euler: a = f/m, v += h·a, x += h·v_new.
+void symplecticEuler(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
+                     IntegratorWorkspace& ws) {
+  const Index n = static_cast<Index>(x.size());
+  resize(ws.a, x.size());
+  dyn.acceleration(x.data(), v.data(), ws.a.data());
+  parallelFor(n, [&](Index i) {
+    v[i] += h * ws.a[i];
+    x[i] += h * v[i];
+  });
+}
+
+// Explicit (forward) Euler: x += h·v_old, v += h·a.
+void explicitEuler(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
+                   IntegratorWorkspace& ws) {
+  const Index n = static_cast<Index>(x.size());
+  resize(ws.a, x.size());
+  dyn.acceleration(x.data(), v.data(), ws.a.data());
+  parallelFor(n, [&](Index i) {
+    x[i] += h * v[i];
+    v[i] += h * ws.a[i];
+  });
+}
+
+// Störmer–Verlet in velocity form. For forces that depend on position only, its positions are
+// exactly those of the central second difference x⁺ = 2x − x⁻ + h²a. Velocity-dependent forces
+// (damping) at the end of the step are evaluated at the predicted velocity v + h·a, which keeps
+// the method second order without an implicit solve.
+void verlet(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
+            IntegratorWorkspace& ws) {
+  const Index n = static_cast<Index>(x.size());
+  resize(ws.a, x.size());
+  resize(ws.vt, x.size());
+  dyn.acceleration(x.data(), v.data(), ws.a.data());
+  parallelFor(n, [&](Index i) {
+    v[i] += (0.5 * h) * ws.a[i];       // half kick
+    x[i] += h * v[i];                  // drift
+    ws.vt[i] = v[i] + (0.5 * h) * ws.a[i];  // predicted end velocity
+  });
+  dyn.acceleration(x.data(), ws.vt.data(), ws.a.data());
+  parallelFor(n, [&](Index i) { v[i] += (0.5 * h) * ws.a[i]; });  // second half kick
+}
+
+// Classical fourth-order Runge–Kutta on the first-order system (x, v)' = (v, a(x, v)).
+void rk4(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
+         IntegratorWorkspace& ws) {
+  const std::size_t n = x.size();
+  const Index ni = static_cast<Index>(n);
+  for (auto* w : {&ws.a, &ws.xt, &ws.vt, &ws.dx, &ws.dv}) resize(*w, n);
+  auto& a = ws.a;
+  auto& xt = ws.xt;
+  auto& vt = ws.vt;
+  auto& dx = ws.dx;
+  auto& dv = ws.dv;
+  // k1
+  dyn.acceleration(x.data(), v.data(), a.data());
+  parallelFor(ni, [&](Index i) {
+    dx[i] = v[i];
+    dv[i] = a[i];
+    xt[i] = x[i] + (0.5 * h) * v[i];
+    vt[i] = v[i] + (0.5 * h) * a[i];
+  });
+  // k2
+  dyn.acceleration(xt.data(), vt.data(), a.data());
+  parallelFor(ni, [&](Index i) {
+    dx[i] += 2.0 * vt[i];
+    dv[i] += 2.0 * a[i];
+    xt[i] = x[i] + (0.5 * h) * vt[i];
+    vt[i] = v[i] + (0.5 * h) * a[i];
+  });
+  // k3
+  dyn.acceleration(xt.data(), vt.data(), a.data());
+  parallelFor(ni, [&](Index i) {
+    dx[i] += 2.0 * vt[i];
+    dv[i] += 2.0 * a[i];
+    xt[i] = x[i] + h * vt[i];
+    vt[i] = v[i] + h * a[i];
+  });
+  // k4 and the update
+  dyn.acceleration(xt.data(), vt.data(), a.data());
+  parallelFor(ni, [&](Index i) {
+    dx[i] += vt[i];
+    dv[i] += a[i];
+    x[i] += (h / 6.0) * dx[i];
+    v[i] += (h / 6.0) * dv[i];
+  });
+}
+
+double dot(const std::vector<Vec3>& p, const std::vector<Vec3>& q) {
+  return deterministicSum(static_cast<Index>(p.size()), [&](Index i) { return p[i].dot(q[i]); });
+}
+
+// Linearised backward Euler (Baraff & Witkin 1998, "Large Steps in Cloth Simulation", eq. 6):
+// one Newton step, (M − h ∂f/∂v − h² ∂f/∂x) Δv = h (f₀ + h ∂f/∂x v₀), solved by conjugate
+// gradients with a Jacobi preconditioner. Fixed nodes are filtered out (their Δv is 0: the
+// filter S of section 5.3 with every direction constrained).
+void implicitEuler(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
+                   IntegratorWorkspace& ws, const ImplicitSettings& set, StepStats* stats) {
+  REEL_CHECK(dyn.linearizable(), "implicit_euler needs a linearizable system");
+  const std::size_t n = x.size();
+  const Index ni = static_cast<Index>(n);
+  for (auto* w : {&ws.rhs, &ws.diag, &ws.r, &ws.z, &ws.p, &ws.q, &ws.dv}) resize(*w, n);
+  auto& dvel = ws.dv;
+  dyn.linearize(x.data(), v.data(), h, ws.rhs.data(), ws.diag.data());
+  auto filter = [&](std::vector<Vec3>& w) {
+    parallelFor(ni, [&](Index i) {
+      if (dyn.fixed(static_cast<std::size_t>(i))) w[i].setZero();
+    });
+  };
+  // Δv = 0, r = S·rhs, z = P⁻¹ r, p = z
+  parallelFor(ni, [&](Index i) {
+    dvel[i].setZero();
+    ws.r[i] = dyn.fixed(static_cast<std::size_t>(i)) ? Vec3::Zero() : ws.rhs[i];
+    ws.z[i] = ws.r[i].cwiseQuotient(ws.diag[i]);
+    ws.p[i] = ws.z[i];
+  });
+  const double bnorm = std::sqrt(dot(ws.r, ws.r));
+  double rz = dot(ws.r, ws.z);
+  int it = 0;
+  double rel = 0.0;
+  if (bnorm > 0.0) {
+    for (; it < set.cg_max_iterations; ++it) {
+      dyn.applySystem(ws.p.data(), ws.q.data());
+      filter(ws.q);
+      const double pq = dot(ws.p, ws.q);
+      if (!(pq > 0.0)) break;  // converged to round-off, or the system lost definiteness
+      const double alpha = rz / pq;
+      parallelFor(ni, [&](Index i) {
+        dvel[i] += alpha * ws.p[i];
+        ws.r[i] -= alpha * ws.q[i];
+      });
+      rel = std::sqrt(dot(ws.r, ws.r)) / bnorm;
+      if (rel <= set.cg_tolerance) {
+        ++it;
+        break;
+      }
+      parallelFor(ni, [&](Index i) { ws.z[i] = ws.r[i].cwiseQuotient(ws.diag[i]); });
+      const double rz_new = dot(ws.r, ws.z);
+      const double beta = rz_new / rz;
+      rz = rz_new;
+      parallelFor(ni, [&](Index i) { ws.p[i] = ws.z[i] + beta * ws.p[i]; });
+    }
+  }
+  // v += Δv, x += h·v_new
+  parallelFor(ni, [&](Index i) {
+    v[i] += dvel[i];
+    x[i] += h * v[i];
+  });
+  if (stats) {
+    stats->cg_iterations = it;
+    stats->cg_relative_residual = rel;
+  }
+}
+
+}  // namespace
+
+void integrate(IntegratorKind kind, Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v,
+               double h, IntegratorWorkspace& ws, const ImplicitSettings& implicit,
+               StepStats* stats) {
+  REEL_DCHECK(x.size() == dyn.size() && v.size() == dyn.size(), "state size mismatch");
+  switch (kind) {
+    case IntegratorKind::SymplecticEuler: return symplecticEuler(dyn, x, v, h, ws);
+    case IntegratorKind::ExplicitEuler: return explicitEuler(dyn, x, v, h, ws);
+    case IntegratorKind::Verlet: return verlet(dyn, x, v, h, ws);
+    case IntegratorKind::Rk4: return rk4(dyn, x, v, h, ws);
+    case IntegratorKind::ImplicitEuler: return implicitEuler(dyn, x, v, h, ws, implicit, stats);
+  }
+  REEL_CHECK(false, "unknown integrator");
+}
+
+int evaluationsPerStep(IntegratorKind kind) {
+  switch (kind) {
+    case IntegratorKind::Verlet: return 2;
+    case IntegratorKind::Rk4: return 4;
+    default: return 1;
+  }
+}
+
+}  // namespace reel

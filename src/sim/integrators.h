@@ -1,0 +1,53 @@
+// Time integrators, selected by name (core/scene.h: IntegratorKind), written once for any
+// second-order system x'' = a(x, v). Fixed nodes have a = 0 and v = 0, so explicit methods
+// leave them in place; implicit Euler filters them out of its linear system.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "core/scene.h"
+#include "core/types.h"
+
+namespace reel {
+
+class Dynamics {
+ public:
+  virtual ~Dynamics() = default;
+  virtual std::size_t size() const = 0;
+  virtual bool fixed(std::size_t i) const = 0;
+  // a = M⁻¹ f(x, v); zero for fixed nodes.
+  virtual void acceleration(const Vec3* x, const Vec3* v, Vec3* a) = 0;
+
+  // --- for implicit Euler (Baraff & Witkin 1998) -------------------------------------------
+  // The step solves A Δv = rhs with A = M − h ∂f/∂v − h² ∂f/∂x and rhs = h (f + h ∂f/∂x v),
+  // both linearised at (x, v).
+  virtual bool linearizable() const { return false; }
+  // Linearise at (x, v) for step h: fills rhs and the diagonal of A (for the preconditioner).
+  virtual void linearize(const Vec3* /*x*/, const Vec3* /*v*/, double /*h*/, Vec3* /*rhs*/,
+                         Vec3* /*diag*/) {}
+  // out = A p, with A from the last linearize().
+  virtual void applySystem(const Vec3* /*p*/, Vec3* /*out*/) {}
+};
+
+// Scratch arrays reused across steps (resized on demand).
+struct IntegratorWorkspace {
+  std::vector<Vec3> a, xt, vt, dx, dv;    // explicit methods
+  std::vector<Vec3> rhs, diag, r, z, p, q;  // conjugate gradients
+};
+
+struct StepStats {
+  int cg_iterations = 0;
+  double cg_relative_residual = 0.0;
+};
+
+// Advances (x, v) by one step h with the chosen integrator.
+void integrate(IntegratorKind kind, Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v,
+               double h, IntegratorWorkspace& ws, const ImplicitSettings& implicit,
+               StepStats* stats = nullptr);
+
+// Force evaluations one step of each integrator makes (1 for the Eulers, 2 Verlet, 4 RK4, 1 + the
+// linearisation for implicit Euler).
+int evaluationsPerStep(IntegratorKind kind);
+
+}  // namespace reel

@@ -1,0 +1,138 @@
+#include "sim/world.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "core/hash.h"
+#include "core/parallel.h"
+#include "sim/builders.h"
+
+namespace reel {
+namespace {
+
+std::string fmt(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+}  // namespace
+
+Result<World> World::create(const SceneDesc& scene) {
+  World w;
+  w.integrator_ = scene.integrator;
+  w.implicit_ = scene.implicit;
+  w.fps_ = scene.fps;
+  w.substeps_ = scene.substeps;
+  for (const ObjectDesc& o : scene.objects) w.colliders_.push_back(makeCollider(o));
+
+  const double h = 1.0 / (static_cast<double>(scene.fps) * scene.substeps);
+  std::vector<std::string> errors;
+  for (const BodyDesc& bd : scene.bodies) {
+    auto b = std::make_unique<MassSpringBody>();
+    b->name = bd.name;
+    b->generator = bd.type;
+    b->radius = bd.node_radius;
+    buildMassSpring(expandBody(bd), scene.gravity, b->model, b->state);
+    b->dynamics = std::make_unique<MassSpringDynamics>(b->model);
+    b->bound = stableStep(b->model, scene.integrator);
+    if (h > b->bound.h_max) {
+      const double need = std::ceil(h / (0.9 * b->bound.h_max));
+      if (scene.auto_substeps && b->bound.h_max > 0 && need <= 1e6) {
+        w.inner_ = std::max(w.inner_, static_cast<int>(need));
+      } else if (b->bound.h_max <= 0) {
+        errors.push_back(scene.file + ": /integrator: explicit_euler is unstable for body '" +
+                         bd.name + "': its springs are undamped (stable step bound 0); add spring "
+                         "or node damping, or use symplectic_euler, verlet, rk4 or implicit_euler");
+      } else {
+        const double min_sub = std::ceil(1.0 / (scene.fps * 0.9 * b->bound.h_max));
+        errors.push_back(
+            scene.file + ": /substeps: step h = 1/(fps·substeps) = " + fmt(h) +
+            " s is above the stability bound " + fmt(b->bound.h_max) + " s of " +
+            std::string(integratorName(scene.integrator)) + " for body '" + bd.name +
+            "' (node " + std::to_string(b->bound.node) + ": ω ≈ " + fmt(b->bound.omega) +
+            " rad/s, β ≈ " + fmt(b->bound.beta) + " 1/s); use \"substeps\": " +
+            fmt(min_sub) + " or more, \"auto_substeps\": true, or implicit_euler");
+      }
+    }
+    w.bodies_.push_back(std::move(b));
+  }
+  if (!errors.empty()) return Error(ErrorKind::BadInput, std::move(errors));
+  return w;
+}
+
+Status World::checkState(const MassSpringBody& b, long long step) const {
+  const auto& x = b.state.x;
+  const auto& v = b.state.v;
+  auto bad = [&](std::ptrdiff_t i) {
+    const double s = v[i].squaredNorm(), r = x[i].squaredNorm();
+    // NaN fails every comparison, so test for the good case.
+    return !(s <= kRunawaySpeed * kRunawaySpeed && r <= kRunawayDistance * kRunawayDistance);
+  };
+  const auto n = static_cast<std::ptrdiff_t>(x.size());
+  if (deterministicSum(n, [&](std::ptrdiff_t i) { return bad(i) ? 1.0 : 0.0; }) == 0.0) return {};
+  std::ptrdiff_t i = 0;
+  while (!bad(i)) ++i;
+  std::string what;
+  if (!x[i].allFinite())
+    what = "position is not finite";
+  else if (!v[i].allFinite())
+    what = "velocity is not finite";
+  else if (v[i].norm() > kRunawaySpeed)
+    what = "speed " + fmt(v[i].norm()) + " m/s ran away (limit " + fmt(kRunawaySpeed) + " m/s)";
+  else
+    what = "position ran away (|x| = " + fmt(x[i].norm()) + " m)";
+  const double t = static_cast<double>(step) / (static_cast<double>(fps_) * stepsPerFrame());
+  std::string hint = "step h = " + fmt(stepSize()) + " s";
+  if (std::isfinite(b.bound.h_max))
+    hint += ", estimated stable bound " + fmt(b.bound.h_max) + " s; try more substeps or implicit_euler";
+  else
+    hint += "; try more substeps, more damping or softer springs";
+  return Error(ErrorKind::Unstable, "unstable at frame " + std::to_string(frame_ + 1) + " (t = " +
+                                        fmt(t) + " s): body '" + b.name + "' node " +
+                                        std::to_string(i) + " " + what + " (" + hint + ")");
+}
+
+Status World::advanceFrame() {
+  const double h = stepSize();
+  const int steps = stepsPerFrame();
+  for (int s = 0; s < steps; ++s) {
+    ++step_;
+    for (auto& b : bodies_) {
+      integrate(integrator_, *b->dynamics, b->state.x, b->state.v, h, b->workspace, implicit_, &stats_);
+      resolveContacts(colliders_, b->radius, b->model.fixed.data(), b->state.x, b->state.v);
+      if (Status st = checkState(*b, step_); !st) return st;
+    }
+  }
+  ++frame_;
+  return {};
+}
+
+void World::snapshot(FrameSnapshot& out) const {
+  out.frame = frame_;
+  out.time = time();
+  out.bodies.clear();
+  for (const auto& b : bodies_) {
+    BodySnapshot s;
+    s.name = b->name;
+    s.type = "mass_spring";
+    s.generator = b->generator;
+    s.positions = b->state.x;
+    s.velocities = b->state.v;
+    s.spring_a = b->model.springs.a;
+    s.spring_b = b->model.springs.b;
+    out.bodies.push_back(std::move(s));
+  }
+}
+
+std::uint64_t World::stateHash() const {
+  Hasher h;
+  for (const auto& b : bodies_) {
+    h.add(std::span<const Vec3>(b->state.x));
+    h.add(std::span<const Vec3>(b->state.v));
+  }
+  return h.h;
+}
+
+}  // namespace reel

@@ -1,0 +1,69 @@
+// World: owns the simulated bodies and the colliders of one scene, and advances them frame by
+// frame (DESIGN 2). Time always comes from integer counters: t = step / (fps · substeps).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/scene.h"
+#include "core/snapshot.h"
+#include "sim/collide.h"
+#include "sim/integrators.h"
+#include "sim/mass_spring.h"
+#include "sim/stability.h"
+
+namespace reel {
+
+// A state whose speed or distance from the origin passes these is a runaway (exit 3).
+inline constexpr double kRunawaySpeed = 1e4;     // m/s
+inline constexpr double kRunawayDistance = 1e6;  // m
+
+struct MassSpringBody {
+  std::string name, generator;
+  double radius = 0.0;  // contact radius of the nodes, m
+  MassSpringModel model;
+  MassSpringState state;
+  std::unique_ptr<MassSpringDynamics> dynamics;  // refers to `model`
+  IntegratorWorkspace workspace;
+  StepBound bound;
+};
+
+class World {
+ public:
+  // Builds the bodies and colliders; refuses (BadInput) a step above an explicit integrator's
+  // stability bound unless the scene sets `auto_substeps`, in which case steps are subdivided.
+  static Result<World> create(const SceneDesc& scene);
+
+  // Advances from the current frame k to k + 1: substeps × step(h). Fails with an Unstable
+  // error naming frame, time, body, node and quantity when the state goes bad.
+  Status advanceFrame();
+
+  int frame() const { return frame_; }
+  double time() const { return static_cast<double>(frame_) / fps_; }
+  // Steps taken per frame (substeps × any automatic subdivision) and the step length.
+  int stepsPerFrame() const { return substeps_ * inner_; }
+  double stepSize() const { return 1.0 / (static_cast<double>(fps_) * stepsPerFrame()); }
+
+  const std::vector<std::unique_ptr<MassSpringBody>>& bodies() const { return bodies_; }
+  void snapshot(FrameSnapshot& out) const;
+  // FNV-1a of every body's positions and velocities (determinism checks).
+  std::uint64_t stateHash() const;
+  const StepStats& lastStepStats() const { return stats_; }
+
+ private:
+  Status checkState(const MassSpringBody& b, long long step) const;
+
+  IntegratorKind integrator_ = IntegratorKind::SymplecticEuler;
+  ImplicitSettings implicit_;
+  int fps_ = 30, substeps_ = 1, inner_ = 1;
+  int frame_ = 0;
+  long long step_ = 0;  // steps taken since time 0
+  std::vector<Collider> colliders_;
+  std::vector<std::unique_ptr<MassSpringBody>> bodies_;
+  StepStats stats_;
+};
+
+}  // namespace reel
