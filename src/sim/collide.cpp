@@ -85,7 +85,7 @@ bool Collider::distance(const Vec3& p, double& d, Vec3& n) const {
   return false;
 }
 
-void resolveContacts(const std::vector<Collider>& colliders, double radius,
+void resolveContacts(const std::vector<Collider>& colliders, double radius, double h,
                      const std::uint8_t* fixed, std::vector<Vec3>& x, std::vector<Vec3>& v) {
   if (colliders.empty()) return;
   parallelFor(static_cast<std::ptrdiff_t>(x.size()), [&](std::ptrdiff_t i) {
@@ -105,6 +105,7 @@ void resolveContacts(const std::vector<Collider>& colliders, double radius,
       const double keep =
           vt_len > 0 ? std::max(0.0, vt_len - c.surface.friction * (1.0 + e) * (-vn)) / vt_len : 0.0;
       v[i] = keep * vt - e * vn * n;
+      x[i] += (h * (keep - 1.0)) * vt;  // the step's tangential drift, redone at the new velocity
     }
   });
 }

@@ -30,8 +30,10 @@ Collider makeCollider(const ObjectDesc& o);
 // Projects nodes that are closer than thickness + radius back onto the surface and applies
 // restitution and Coulomb friction to their velocity (a velocity-level impulse per node):
 //   v_n' = −e·v_n,  |v_t'| = max(0, |v_t| − μ(1 + e)|v_n|).
+// Friction also takes back the tangential distance the step moved at the old velocity
+// (x += h·(v_t' − v_t)), so static friction holds a node in place instead of letting it creep.
 // Fixed nodes are left alone.
-void resolveContacts(const std::vector<Collider>& colliders, double radius,
+void resolveContacts(const std::vector<Collider>& colliders, double radius, double h,
                      const std::uint8_t* fixed, std::vector<Vec3>& x, std::vector<Vec3>& v);
 
 }  // namespace reel

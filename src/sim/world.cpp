@@ -101,7 +101,7 @@ Status World::advanceFrame() {
     ++step_;
     for (auto& b : bodies_) {
       integrate(integrator_, *b->dynamics, b->state.x, b->state.v, h, b->workspace, implicit_, &stats_);
-      resolveContacts(colliders_, b->radius, b->model.fixed.data(), b->state.x, b->state.v);
+      resolveContacts(colliders_, b->radius, h, b->model.fixed.data(), b->state.x, b->state.v);
       if (Status st = checkState(*b, step_); !st) return st;
     }
   }

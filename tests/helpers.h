@@ -1,0 +1,54 @@
+// Small builders shared by the tests.
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include "core/scene.h"
+#include "io/scene_loader.h"
+#include "sim/integrators.h"
+#include "sim/mass_spring.h"
+
+namespace reel::test {
+
+// A body built from explicit nodes and springs, ready to integrate.
+struct System {
+  MassSpringModel model;
+  MassSpringState state;
+  MassSpringDynamics dyn{model};
+  IntegratorWorkspace ws;
+  ImplicitSettings implicit{1e-13, 1000};
+  System(const MassSpringDesc& d, const Vec3& g) { buildMassSpring(d, g, model, state); }
+  void step(IntegratorKind k, double h) { integrate(k, dyn, state.x, state.v, h, ws, implicit); }
+};
+
+// One free node of mass m on a spring (stiffness k, damping c, rest length 1) to a fixed node at
+// the origin, displaced by x0 along x. Its displacement u = x − 1 obeys m u'' = −k u − c u'.
+inline MassSpringDesc oscillator(double m, double k, double c, double x0, double node_drag = 0.0) {
+  MassSpringDesc d;
+  d.nodes.push_back({Vec3(0, 0, 0), Vec3::Zero(), 1.0, 0.0, true});
+  d.nodes.push_back({Vec3(1.0 + x0, 0, 0), Vec3::Zero(), m, node_drag, false});
+  d.springs.push_back({0, 1, k, c, 1.0});
+  return d;
+}
+
+// Closed-form displacement of the underdamped oscillator u'' = −ω²u − βu', u(0)=u0, u'(0)=0.
+inline double oscillatorExact(double w2, double beta, double u0, double t) {
+  const double wd = std::sqrt(w2 - beta * beta / 4.0);
+  return u0 * std::exp(-beta * t / 2.0) * (std::cos(wd * t) + beta / (2.0 * wd) * std::sin(wd * t));
+}
+
+inline SceneDesc sceneFromText(const std::string& text, const std::string& name = "test.json") {
+  auto r = io::parseScene(text, name);
+  if (!r.ok()) throw std::runtime_error(r.error().headline());
+  return r.value();
+}
+
+inline const std::vector<IntegratorKind>& allIntegrators() {
+  static const std::vector<IntegratorKind> k = {IntegratorKind::SymplecticEuler, IntegratorKind::ExplicitEuler,
+                                                IntegratorKind::Verlet, IntegratorKind::Rk4,
+                                                IntegratorKind::ImplicitEuler};
+  return k;
+}
+
+}  // namespace reel::test

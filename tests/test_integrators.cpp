@@ -1,0 +1,116 @@
+// Integrators against exact solutions: free fall (exact discrete solutions), the undamped and
+// damped oscillator (closed form) with the convergence order of each method, energy behaviour.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "core/math.h"
+#include "helpers.h"
+
+using namespace reel;
+using namespace reel::test;
+
+TEST_CASE("free fall matches each integrator's exact discrete solution") {
+  const Vec3 g(0.3, -9.78, 0.1), x0(1, 2, 3), v0(0.5, 4.0, -1.0);
+  const double h = 0.01;
+  const int n = 200;
+  for (IntegratorKind k : allIntegrators()) {
+    CAPTURE(integratorName(k));
+    MassSpringDesc d;
+    d.nodes.push_back({x0, v0, 2.5, 0.0, false});
+    System s(d, g);
+    for (int i = 0; i < n; ++i) s.step(k, h);
+    const double nn = n;
+    // x_n = x0 + n h v0 + c h² g, with c = n(n+1)/2 for methods that move with the new velocity,
+    // n(n−1)/2 for explicit Euler and n²/2 (the exact parabola) for Verlet and RK4.
+    double c = nn * nn / 2.0;
+    if (k == IntegratorKind::SymplecticEuler || k == IntegratorKind::ImplicitEuler) c = nn * (nn + 1) / 2.0;
+    if (k == IntegratorKind::ExplicitEuler) c = nn * (nn - 1) / 2.0;
+    const Vec3 x = x0 + nn * h * v0 + c * h * h * g;
+    const Vec3 v = v0 + nn * h * g;
+    CHECK((s.state.x[0] - x).norm() <= 1e-11 * x.norm());
+    CHECK((s.state.v[0] - v).norm() <= 1e-11 * v.norm());
+  }
+}
+
+namespace {
+
+// Max error of the oscillator's displacement over [0, T] against the closed form.
+double oscillatorError(IntegratorKind k, double w2, double beta, double h, double T) {
+  const double m = 0.5, u0 = 0.1;
+  System s(oscillator(m, w2 * m, beta * m, u0), Vec3::Zero());
+  const int n = static_cast<int>(std::lround(T / h));
+  double err = 0.0;
+  for (int i = 1; i <= n; ++i) {
+    s.step(k, h);
+    err = std::max(err, std::abs((s.state.x[1].x() - 1.0) - oscillatorExact(w2, beta, u0, i * h)));
+  }
+  return err;
+}
+
+double order(IntegratorKind k, double w2, double beta, double h) {
+  const double T = 2.0;
+  return std::log2(oscillatorError(k, w2, beta, h, T) / oscillatorError(k, w2, beta, h / 2, T));
+}
+
+struct Expect {
+  IntegratorKind kind;
+  double order;
+};
+const Expect kOrders[] = {{IntegratorKind::SymplecticEuler, 1}, {IntegratorKind::ExplicitEuler, 1},
+                          {IntegratorKind::Verlet, 2}, {IntegratorKind::Rk4, 4},
+                          {IntegratorKind::ImplicitEuler, 1}};
+
+}  // namespace
+
+TEST_CASE("undamped oscillator: error vs the closed form halves at the method's order") {
+  const double w2 = 4.0 * kPi * kPi;  // 1 Hz
+  for (const Expect& e : kOrders) {
+    CAPTURE(integratorName(e.kind));
+    const double h = e.order == 4 ? 4e-3 : 1e-3;
+    CHECK(oscillatorError(e.kind, w2, 0.0, h, 2.0) < (e.order == 1 ? 0.05 : 1e-4));
+    CHECK(order(e.kind, w2, 0.0, h) == doctest::Approx(e.order).epsilon(0.1));
+  }
+}
+
+TEST_CASE("damped oscillator: error vs the closed form halves at the method's order") {
+  const double w2 = 4.0 * kPi * kPi, beta = 1.5;
+  for (const Expect& e : kOrders) {
+    CAPTURE(integratorName(e.kind));
+    const double h = e.order == 4 ? 4e-3 : 1e-3;
+    CHECK(order(e.kind, w2, beta, h) == doctest::Approx(e.order).epsilon(0.1));
+  }
+}
+
+TEST_CASE("energy drift of the undamped oscillator over 100 periods") {
+  const double m = 1.0, k = 4.0 * kPi * kPi, u0 = 0.1, h = 0.01;  // ωh ≈ 0.063
+  const double e0 = 0.5 * k * u0 * u0;
+  auto finalEnergy = [&](IntegratorKind kind, double& max_rel) {
+    System s(oscillator(m, k, 0.0, u0), Vec3::Zero());
+    max_rel = 0.0;
+    double e = e0;
+    for (int i = 0; i < 10000; ++i) {
+      s.step(kind, h);
+      e = totalEnergy(s.model, s.state);
+      max_rel = std::max(max_rel, std::abs(e - e0) / e0);
+    }
+    return e;
+  };
+  double dev = 0;
+  // Symplectic methods: bounded oscillation of the energy, no drift.
+  const double se = finalEnergy(IntegratorKind::SymplecticEuler, dev);
+  CHECK(dev < 0.04);  // O(ωh) oscillation
+  CHECK(std::abs(se - e0) / e0 < 0.04);
+  finalEnergy(IntegratorKind::Verlet, dev);
+  CHECK(dev < 1e-3);  // O((ωh)²)
+  // RK4: a tiny monotone loss.
+  const double r4 = finalEnergy(IntegratorKind::Rk4, dev);
+  CHECK(r4 < e0);
+  CHECK(dev < 1e-4);
+  // Explicit Euler gains energy without bound: (1 + (ωh)²) per step.
+  const double ee = finalEnergy(IntegratorKind::ExplicitEuler, dev);
+  CHECK(ee > 100.0 * e0);
+  // Implicit Euler loses it: (1 + (ωh)²)⁻¹ per step.
+  const double ie = finalEnergy(IntegratorKind::ImplicitEuler, dev);
+  CHECK(ie < 0.01 * e0);
+}

@@ -1,0 +1,267 @@
+// Physics of spring networks: catenary, momentum, stability bounds, implicit stiffness, contacts.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "core/math.h"
+#include "helpers.h"
+#include "sim/builders.h"
+#include "sim/collide.h"
+#include "sim/stability.h"
+#include "sim/world.h"
+
+using namespace reel;
+using namespace reel::test;
+
+TEST_CASE("a hanging chain settles to the catenary of its length") {
+  // Chain of length L = 3 between supports 2 m apart; stiff springs keep its stretch tiny.
+  RopeDesc r;
+  r.start = Vec3(-1, 0, 0);
+  r.end = Vec3(1, 0, 0);
+  r.segments = 60;
+  r.length = 3.0;
+  r.mass = 0.6;
+  r.spring = {2e5, 5.0};
+  r.node_damping = 0.02;
+  r.pinned = {0, 60};
+  System s(buildRope(r), Vec3(0, -9.78, 0));
+  // Start on a sagging parabola-ish arc so the springs are not compressed on the straight line.
+  for (int i = 0; i <= 60; ++i) s.state.x[i].y() = -0.9 * std::sin(kPi * i / 60.0);
+  for (int i = 0; i < 6000; ++i) s.step(IntegratorKind::ImplicitEuler, 2e-3);
+  CHECK(kineticEnergy(s.model, s.state) < 1e-9);
+  // Catenary y = a cosh(x/a) + c through the supports: L = 2a sinh(d/(2a)), d = 2.
+  double lo = 0.1, hi = 10.0;
+  for (int it = 0; it < 200; ++it) {
+    const double a = 0.5 * (lo + hi);
+    (2 * a * std::sinh(1.0 / a) > 3.0 ? lo : hi) = a;
+  }
+  const double a = 0.5 * (lo + hi);
+  double worst = 0.0;
+  for (const Vec3& p : s.state.x) {
+    const double y = a * std::cosh(p.x() / a) - a * std::cosh(1.0 / a);
+    worst = std::max(worst, std::abs(p.y() - y));
+  }
+  const double sag = a * std::cosh(1.0 / a) - a;  // ≈ 1.0 m
+  CHECK(sag > 0.9);
+  CHECK(worst < 0.005 * sag);
+  CHECK(std::abs(s.state.x[30].x()) < 1e-9);  // symmetric
+}
+
+TEST_CASE("a free spring network conserves linear momentum") {
+  NetDesc net;
+  net.resolution = {12, 9};
+  net.mass = 2.0;
+  net.structural = {300.0, 0.4};
+  net.shear = {100.0, 0.2};
+  MassSpringDesc d = buildNet(net);
+  // Deterministic pseudo-random velocities and masses.
+  std::uint64_t seed = 12345;
+  auto rnd = [&] {
+    seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(seed >> 11) * 0x1.0p-53 - 0.5;
+  };
+  for (auto& n : d.nodes) {
+    n.velocity = Vec3(rnd(), rnd(), rnd());
+    n.mass *= 1.0 + rnd();
+  }
+  for (IntegratorKind k : allIntegrators()) {
+    CAPTURE(integratorName(k));
+    System s(d, Vec3::Zero());
+    auto momentum = [&] {
+      Vec3 p = Vec3::Zero();
+      for (std::size_t i = 0; i < s.model.nodes(); ++i) p += s.model.mass[i] * s.state.v[i];
+      return p;
+    };
+    const Vec3 p0 = momentum();
+    for (int i = 0; i < 500; ++i) s.step(k, 1e-3);
+    CHECK((momentum() - p0).norm() < 1e-11);
+    CHECK(kineticEnergy(s.model, s.state) > 0.0);
+  }
+}
+
+TEST_CASE("the estimated step bound separates stable from unstable symplectic Euler") {
+  // Two free equal masses on one spring: ω² = 2k/m exactly, so the bound is sharp.
+  MassSpringDesc d;
+  d.nodes.push_back({Vec3(0, 0, 0), Vec3::Zero(), 0.2, 0.0, false});
+  d.nodes.push_back({Vec3(1.05, 0, 0), Vec3::Zero(), 0.2, 0.0, false});
+  d.springs.push_back({0, 1, 500.0, 0.0, 1.0});
+  System probe(d, Vec3::Zero());
+  const StepBound b = stableStep(probe.model, IntegratorKind::SymplecticEuler);
+  CHECK(b.h_max == doctest::Approx(2.0 / std::sqrt(2 * 500.0 / 0.2)));
+  auto amplitude = [&](double h) {
+    System s(d, Vec3::Zero());
+    double amp = 0;
+    for (int i = 0; i < 2000; ++i) {
+      s.step(IntegratorKind::SymplecticEuler, h);
+      amp = std::max(amp, std::abs((s.state.x[1] - s.state.x[0]).norm() - 1.0));
+    }
+    return amp;
+  };
+  CHECK(amplitude(0.98 * b.h_max) < 1.0);   // stays bounded (initial stretch 0.05)
+  CHECK(amplitude(1.02 * b.h_max) > 10.0);  // grows without bound
+  // Explicit Euler has no stable step for undamped springs; damping gives it one.
+  CHECK(stableStep(probe.model, IntegratorKind::ExplicitEuler).h_max == 0.0);
+  CHECK(std::isinf(stableStep(probe.model, IntegratorKind::ImplicitEuler).h_max));
+}
+
+TEST_CASE("implicit Euler stays stable at 50x the explicit step bound") {
+  NetDesc net;
+  net.resolution = {16, 16};
+  net.mass = 0.5;
+  net.structural = {2000.0, 0.5};
+  net.shear = {500.0, 0.2};
+  net.pinned = {0, 15};
+  const MassSpringDesc d = buildNet(net);
+  System probe(d, Vec3(0, -9.78, 0));
+  const double hb = stableStep(probe.model, IntegratorKind::SymplecticEuler).h_max;
+  REQUIRE(hb > 0);
+  const double h = 50.0 * hb;
+  // Symplectic Euler at that step explodes...
+  System ex(d, Vec3(0, -9.78, 0));
+  bool blew = false;
+  for (int i = 0; i < 200 && !blew; ++i) {
+    ex.step(IntegratorKind::SymplecticEuler, h);
+    blew = !(ex.state.x[100].norm() < 1e3);
+  }
+  CHECK(blew);
+  // ...implicit Euler hangs the net calmly below its pins.
+  System im(d, Vec3(0, -9.78, 0));
+  const double e0 = totalEnergy(im.model, im.state);
+  for (int i = 0; i < 400; ++i) {
+    im.step(IntegratorKind::ImplicitEuler, h);
+    REQUIRE(im.state.x[100].allFinite());
+    CHECK(totalEnergy(im.model, im.state) <= e0 + 1e-9);
+  }
+  for (const Vec3& p : im.state.x) CHECK(p.norm() < 5.0);
+  // Nearly at rest: what still moves is a small part of the energy released by the fall.
+  CHECK(kineticEnergy(im.model, im.state) < 0.02 * (e0 - totalEnergy(im.model, im.state)));
+  CHECK(im.state.x[0] == d.nodes[0].position);  // pins never move
+}
+
+TEST_CASE("contacts: resting on a plane, restitution, Coulomb friction on an incline") {
+  const Vec3 g(0, -9.78, 0);
+  SUBCASE("a dropped node comes to rest on the floor at its radius") {
+    ObjectDesc floor;
+    floor.kind = ObjectKind::Plane;
+    std::vector<Collider> cs{makeCollider(floor)};
+    MassSpringDesc d;
+    d.nodes.push_back({Vec3(0.2, 1.0, 0), Vec3(0, 0, 0), 1.0, 0.0, false});
+    System s(d, g);
+    for (int i = 0; i < 2000; ++i) {
+      s.step(IntegratorKind::SymplecticEuler, 1e-3);
+      resolveContacts(cs, 0.05, 1e-3, s.model.fixed.data(), s.state.x, s.state.v);
+    }
+    CHECK(s.state.x[0].y() == doctest::Approx(0.05));
+    CHECK(s.state.v[0].norm() < 0.02);
+  }
+  SUBCASE("restitution e returns the ball to e² of its drop height") {
+    ObjectDesc floor;
+    floor.surface.restitution = 0.8;
+    std::vector<Collider> cs{makeCollider(floor)};
+    MassSpringDesc d;
+    d.nodes.push_back({Vec3(0, 1.0, 0), Vec3::Zero(), 1.0, 0.0, false});
+    System s(d, g);
+    double peak = 0, prev_vy = 0;
+    bool bounced = false;
+    for (int i = 0; i < 10000; ++i) {
+      s.step(IntegratorKind::SymplecticEuler, 1e-4);
+      resolveContacts(cs, 0.0, 1e-4, s.model.fixed.data(), s.state.x, s.state.v);
+      if (s.state.v[0].y() > 0) bounced = true;
+      if (bounced && prev_vy > 0 && s.state.v[0].y() <= 0) peak = s.state.x[0].y();
+      prev_vy = s.state.v[0].y();
+    }
+    CHECK(peak == doctest::Approx(0.64).epsilon(0.01));
+  }
+  SUBCASE("a node on an incline stays when tan θ < μ and slides when tan θ > μ") {
+    for (double deg : {20.0, 35.0}) {
+      ObjectDesc ramp;
+      const double th = deg * kPi / 180.0;
+      ramp.normal = Vec3(-std::sin(th), std::cos(th), 0);
+      ramp.surface.friction = 0.5;  // tan 26.6°
+      std::vector<Collider> cs{makeCollider(ramp)};
+      MassSpringDesc d;
+      d.nodes.push_back({Vec3::Zero(), Vec3::Zero(), 1.0, 0.0, false});
+      System s(d, g);
+      for (int i = 0; i < 1000; ++i) {
+        s.step(IntegratorKind::SymplecticEuler, 1e-3);
+        resolveContacts(cs, 0.0, 1e-3, s.model.fixed.data(), s.state.x, s.state.v);
+      }
+      const double slid = s.state.x[0].norm();
+      if (deg < 26.0) {
+        CHECK(slid < 1e-4);
+      } else {
+        // Sliding with a = g (sin θ − μ cos θ): distance a t²/2 after 1 s.
+        const double a = 9.78 * (std::sin(th) - 0.5 * std::cos(th));
+        CHECK(slid == doctest::Approx(0.5 * a).epsilon(0.02));
+      }
+    }
+  }
+  SUBCASE("sphere, box and capsule push nodes out along their normals") {
+    ObjectDesc sph, box, cap;
+    sph.kind = ObjectKind::Sphere;
+    sph.radius = 1.0;
+    box.kind = ObjectKind::Box;
+    box.size = Vec3(2, 2, 2);
+    box.rotation_deg = Vec3(0, 45, 0);
+    cap.kind = ObjectKind::Capsule;
+    cap.a = Vec3(0, -1, 0);
+    cap.b = Vec3(0, 1, 0);
+    cap.radius = 0.5;
+    for (const ObjectDesc& o : {sph, box, cap}) {
+      std::vector<Collider> cs{makeCollider(o)};
+      std::vector<Vec3> x{Vec3(0.3, 0.2, 0.1)}, v{Vec3(-1, 0, 0)};
+      const std::uint8_t fixed = 0;
+      resolveContacts(cs, 0.0, 0.0, &fixed, x, v);  // h = 0: projection only
+      double d;
+      Vec3 n;
+      REQUIRE(cs[0].distance(x[0], d, n));
+      CHECK(std::abs(d) < 1e-12);
+      CHECK(v[0].dot(n) >= -1e-12);
+    }
+    // The rotated box: a point on the diagonal at distance √2 (the corner) touches it.
+    double d;
+    Vec3 n;
+    makeCollider(box).distance(Vec3(std::sqrt(2.0) + 0.1, 0, 0), d, n);
+    CHECK(d == doctest::Approx(0.1));
+  }
+}
+
+TEST_CASE("the jelly lattice lands on the floor and bounces back up") {
+  LatticeDesc l;
+  l.position = Vec3(0, 1.0, 0);
+  l.size = Vec3(0.5, 0.5, 0.5);
+  l.resolution = {4, 4, 4};
+  l.mass = 1.0;
+  l.edge = l.face = l.body = {1500.0, 0.2};
+  SceneDesc scene;
+  scene.fps = 60;
+  scene.substeps = 40;
+  scene.duration = 1.5;
+  ObjectDesc floor;
+  scene.objects.push_back(floor);
+  BodyDesc b;
+  b.name = "jelly";
+  b.type = "lattice";
+  b.shape = l;
+  scene.bodies.push_back(b);
+  auto w = World::create(scene);
+  REQUIRE(w.ok());
+  double min_y = 1e9;
+  bool touched = false, rose = false;
+  double prev_cy = 1.0;
+  for (int f = 0; f < 90; ++f) {
+    REQUIRE(w.value().advanceFrame().ok());
+    const auto& x = w.value().bodies()[0]->state.x;
+    double cy = 0;
+    for (const Vec3& p : x) {
+      min_y = std::min(min_y, p.y());
+      cy += p.y() / static_cast<double>(x.size());
+    }
+    if (min_y < 0.03) touched = true;
+    if (touched && cy > prev_cy + 1e-4) rose = true;  // the centre moves up again: a bounce
+    prev_cy = cy;
+  }
+  CHECK(touched);
+  CHECK(rose);
+  CHECK(min_y >= 0.02 - 1e-9);  // never below the floor + node radius
+}
