@@ -360,6 +360,19 @@ Result<SceneDesc> parseScene(const std::string& text, const std::string& file) {
     if (std::regex_search(what, m, std::regex(R"(at line (\d+), column (\d+): (.*))")))
       return Error(ErrorKind::BadInput, file + ":" + m[1].str() + ":" + m[2].str() + ": " + m[3].str());
     return Error(ErrorKind::BadInput, file + ":1:1: " + what);
+  } catch (const Json::exception& e) {
+    // Number overflow (1e999) has no position in nlohmann's message: find the literal.
+    std::string what = e.what();
+    std::smatch m;
+    if (std::regex_search(what, m, std::regex(R"(number overflow parsing '([^']*)')"))) {
+      const std::size_t at = text.find(m[1].str());
+      const std::size_t line_start = text.rfind('\n', at == 0 ? 0 : at - 1);
+      const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+      const std::size_t col = line_start == std::string::npos ? at + 1 : at - line_start;
+      return Error(ErrorKind::BadInput, file + ":" + std::to_string(line) + ":" + std::to_string(col) +
+                                            ": number " + m[1].str() + " is too large (numbers must be finite)");
+    }
+    return Error(ErrorKind::BadInput, file + ": " + what);
   }
 
   Diagnostics d(file);
