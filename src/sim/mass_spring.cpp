@@ -64,11 +64,9 @@ void MassSpringDynamics::gather(const std::vector<Vec3>& per_spring, std::size_t
   const auto& inc = m_.incidence;
   for (int e = inc.start[i]; e < inc.start[i + 1]; ++e) {
     const int code = inc.entries[static_cast<std::size_t>(e)];
-    const Vec3& f = per_spring[static_cast<std::size_t>(code >> 1)];
-    if (code & 1)
-      out -= f;
-    else
-      out += f;
+    // ±1 times f is exact, so this equals out ± f bit for bit, without a branch to mispredict.
+    const double sign = 1.0 - 2.0 * static_cast<double>(code & 1);
+    out += sign * per_spring[static_cast<std::size_t>(code >> 1)];
   }
 }
 
