@@ -18,6 +18,15 @@ struct SimulateOptions {
 };
 int simulate(const SimulateOptions& opt);
 int check(const std::vector<std::string>& scenes);
+
+struct RenderOptions {
+  std::string scene;
+  std::vector<std::string> outputs;
+  int width = 0, height = 0;  // 0: the scene's size
+  int samples = 0;            // 0: the scene's
+  std::string gl;             // "", auto, osmesa, egl
+};
+int still(const RenderOptions& opt, double time, int frame);
 int info();
 int bench(const std::vector<std::string>& names, double seconds);
 

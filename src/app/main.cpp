@@ -29,6 +29,24 @@ int main(int argc, char** argv) {
 
   auto* info = cli.add_subcommand("info", "versions, build type, threads");
 
+  reel::app::RenderOptions ropt;
+  std::string size;
+  auto add_render = [&](CLI::App* sub) {
+    sub->add_option("scene", ropt.scene, "scene file (reel/1 JSON)")->required();
+    sub->add_option("--size", size, "image size WxH (default: the scene's)");
+    sub->add_option("--samples", ropt.samples, "MSAA samples: 1, 2 or 4")->check(CLI::IsMember({1, 2, 4}));
+    sub->add_option("--gl", ropt.gl, "OpenGL backend: auto, osmesa or egl (default: $REEL_GL or auto)");
+    add_threads(sub);
+  };
+  double still_time = -1;
+  int still_frame = -1;
+  auto* still = cli.add_subcommand("still", "render one frame to a PNG");
+  add_render(still);
+  auto* t_opt = still->add_option("--time", still_time, "scene time, s (the nearest frame)")->check(CLI::NonNegativeNumber);
+  auto* f_opt = still->add_option("--frame", still_frame, "frame number, from 0")->check(CLI::NonNegativeNumber);
+  t_opt->excludes(f_opt);
+  still->add_option("-o,--output", ropt.outputs, "output PNG")->required();
+
   std::vector<std::string> bench_names;
   double bench_seconds = 1.0;
   auto* bench = cli.add_subcommand("bench", "run benchmarks, one JSON line each");
@@ -55,6 +73,23 @@ int main(int argc, char** argv) {
     if (*simulate) return reel::app::simulate(sim);
     if (*check) return reel::app::check(scenes);
     if (*info) return reel::app::info();
+    if (!size.empty()) {
+      int w = 0, h = 0;
+      char x = 0;
+      if (std::sscanf(size.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x' || w < 16 || h < 16 || w > 16384 || h > 16384) {
+        std::fprintf(stderr, "reel: --size must be WxH with 16..16384 pixels each, got \"%s\"\n", size.c_str());
+        return 2;
+      }
+      ropt.width = w;
+      ropt.height = h;
+    }
+    if (*still) {
+      if (still_time < 0 && still_frame < 0) {
+        std::fprintf(stderr, "reel: still needs --time T or --frame K\n");
+        return 2;
+      }
+      return reel::app::still(ropt, still_time, still_frame);
+    }
     if (*bench) return reel::app::bench(bench_names, bench_seconds);
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "reel: out of memory\n");

@@ -4,7 +4,10 @@
 #include <cstdio>
 #include <sstream>
 
+#include "core/camera.h"
 #include "core/hash.h"
+#include "core/math.h"
+#include "core/mesh.h"
 #include "core/parallel.h"
 #include "sim/builders.h"
 
@@ -17,6 +20,59 @@ std::string fmt(double x) {
   return buf;
 }
 
+DrawMaterial drawMaterial(const Material& m) {
+  DrawMaterial d;
+  d.color = m.color;
+  d.texture = m.texture;
+  d.specular = m.specular;
+  d.shininess = m.shininess;
+  d.opacity = m.opacity;
+  return d;
+}
+
+// The drawn shape of an object, in world space.
+DrawMesh objectMesh(const ObjectDesc& o) {
+  TriMesh m;
+  switch (o.kind) {
+    case ObjectKind::Plane:
+      m = o.extent ? makeQuad((*o.extent)[0], (*o.extent)[1]) : makeQuad(400.0, 400.0);
+      m.transform(rotationFromUp(o.normal), o.point);
+      break;
+    case ObjectKind::Sphere:
+      m = makeUvSphere(o.radius, 48, 24);
+      m.transform(Mat3::Identity(), o.center);
+      break;
+    case ObjectKind::Box:
+      m = makeBox(o.size);
+      m.transform(rotationFromEulerDeg(o.rotation_deg), o.center);
+      break;
+    case ObjectKind::Capsule:
+      m = makeCapsule(o.a, o.b, o.radius, 32, 16);
+      break;
+  }
+  DrawMesh d;
+  d.mesh = std::make_shared<const TriMesh>(std::move(m));
+  d.material = drawMaterial(o.material);
+  d.material.checker = o.checker;
+  d.material.double_sided = o.kind == ObjectKind::Plane;
+  return d;
+}
+
+// Without a `lights` list: a warm key light with soft shadows and a cool, soft ambient.
+std::vector<LightDesc> defaultLights() {
+  LightDesc key;
+  key.kind = LightKind::Directional;
+  key.direction = Vec3(-0.45, -1.0, -0.35);
+  key.color = Vec3(1.0, 0.96, 0.9);
+  key.intensity = 1.5;
+  key.shadows = true;
+  LightDesc amb;
+  amb.kind = LightKind::Ambient;
+  amb.color = Vec3(0.55, 0.62, 0.75);
+  amb.intensity = 0.5;
+  return {key, amb};
+}
+
 }  // namespace
 
 Result<World> World::create(const SceneDesc& scene) {
@@ -25,7 +81,13 @@ Result<World> World::create(const SceneDesc& scene) {
   w.implicit_ = scene.implicit;
   w.fps_ = scene.fps;
   w.substeps_ = scene.substeps;
-  for (const ObjectDesc& o : scene.objects) w.colliders_.push_back(makeCollider(o));
+  for (const ObjectDesc& o : scene.objects) {
+    w.colliders_.push_back(makeCollider(o));
+    w.object_meshes_.push_back(objectMesh(o));
+  }
+  w.camera_ = scene.camera;
+  w.render_ = scene.render;
+  w.lights_ = scene.has_lights ? scene.lights : defaultLights();
 
   const double h = 1.0 / (static_cast<double>(scene.fps) * scene.substeps);
   std::vector<std::string> errors;
@@ -34,6 +96,7 @@ Result<World> World::create(const SceneDesc& scene) {
     b->name = bd.name;
     b->generator = bd.type;
     b->radius = bd.node_radius;
+    b->material = bd.material;
     buildMassSpring(expandBody(bd), scene.gravity, b->model, b->state);
     b->dynamics = std::make_unique<MassSpringDynamics>(b->model);
     b->bound = stableStep(b->model, scene.integrator);
@@ -123,6 +186,36 @@ void World::snapshot(FrameSnapshot& out) const {
     s.spring_a = b->model.springs.a;
     s.spring_b = b->model.springs.b;
     out.bodies.push_back(std::move(s));
+  }
+}
+
+void World::emit(DrawList& out) const {
+  out.camera = cameraAt(camera_, time());
+  out.lights = lights_;
+  out.background_top = render_.background_top;
+  out.background_bottom = render_.background_bottom;
+  out.fog_color = render_.fog_color;
+  out.fog_density = render_.fog_density;
+  out.tonemap = render_.tonemap;
+  out.clearGeometry();
+  out.meshes = object_meshes_;
+  for (const auto& b : bodies_) {
+    DrawSpheres nodes;
+    nodes.radius = static_cast<float>(b->radius);
+    nodes.material = drawMaterial(b->material);
+    nodes.centers.reserve(3 * b->state.x.size());
+    for (const Vec3& p : b->state.x)
+      for (int k = 0; k < 3; ++k) nodes.centers.push_back(static_cast<float>(p[k]));
+    DrawTubes springs;
+    springs.radius = static_cast<float>(0.35 * b->radius);
+    springs.material = nodes.material;
+    const Springs& s = b->model.springs;
+    springs.ends.reserve(6 * s.size());
+    for (std::size_t k = 0; k < s.size(); ++k)
+      for (const Vec3* p : {&b->state.x[static_cast<std::size_t>(s.a[k])], &b->state.x[static_cast<std::size_t>(s.b[k])]})
+        for (int c = 0; c < 3; ++c) springs.ends.push_back(static_cast<float>((*p)[c]));
+    out.spheres.push_back(std::move(nodes));
+    if (!springs.ends.empty()) out.tubes.push_back(std::move(springs));
   }
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/drawlist.h"
 #include "core/error.h"
 #include "core/scene.h"
 #include "core/snapshot.h"
@@ -24,6 +25,7 @@ inline constexpr double kRunawayDistance = 1e6;  // m
 struct MassSpringBody {
   std::string name, generator;
   double radius = 0.0;  // contact radius of the nodes, m
+  Material material;
   MassSpringModel model;
   MassSpringState state;
   std::unique_ptr<MassSpringDynamics> dynamics;  // refers to `model`
@@ -49,6 +51,9 @@ class World {
 
   const std::vector<std::unique_ptr<MassSpringBody>>& bodies() const { return bodies_; }
   void snapshot(FrameSnapshot& out) const;
+  // Fills the list of things to draw at the current frame: camera, lights, background, the
+  // objects (meshes built once) and every body (nodes as spheres, springs as tubes).
+  void emit(DrawList& out) const;
   // FNV-1a of every body's positions and velocities (determinism checks).
   std::uint64_t stateHash() const;
   const StepStats& lastStepStats() const { return stats_; }
@@ -62,6 +67,11 @@ class World {
   int frame_ = 0;
   long long step_ = 0;  // steps taken since time 0
   std::vector<Collider> colliders_;
+  // What emit() needs of the scene.
+  CameraDesc camera_;
+  RenderDesc render_;
+  std::vector<LightDesc> lights_;
+  std::vector<DrawMesh> object_meshes_;
   std::vector<std::unique_ptr<MassSpringBody>> bodies_;
   StepStats stats_;
 };

@@ -1,0 +1,13 @@
+uniform mat4 u_view_proj;
+out vec3 v_world;
+out vec3 v_normal;
+out vec2 v_uv;
+
+void main() {
+  vec3 p, n;
+  worldVertex(p, n);
+  v_world = p;
+  v_normal = n;
+  v_uv = a_uv;
+  gl_Position = u_view_proj * vec4(p, 1.0);
+}

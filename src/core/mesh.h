@@ -1,0 +1,31 @@
+// Indexed triangle meshes and generators of the primitive shapes (sphere, box, capsule, plane),
+// shared by sim (what objects look like) and render (instanced prototypes).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/types.h"
+
+namespace reel {
+
+struct TriMesh {
+  std::vector<float> positions;  // xyz per vertex, m
+  std::vector<float> normals;    // xyz per vertex, unit
+  std::vector<float> uvs;        // uv per vertex (may be empty)
+  std::vector<std::uint32_t> indices;  // three per triangle, counter-clockwise seen from outside
+  std::size_t vertexCount() const { return positions.size() / 3; }
+  std::size_t triangleCount() const { return indices.size() / 3; }
+  void addVertex(const Vec3& p, const Vec3& n, double u = 0, double v = 0);
+  // Applies x ↦ R·x + t to positions and R to normals.
+  void transform(const Mat3& R, const Vec3& t);
+};
+
+TriMesh makeUvSphere(double radius, int slices, int stacks);
+TriMesh makeBox(const Vec3& size);                 // centred, full extents
+TriMesh makeCapsule(const Vec3& a, const Vec3& b, double radius, int slices, int stacks);
+TriMesh makeQuad(double width, double depth);      // centred in the x–z plane, normal +y
+// A unit cylinder along +z from z = 0 to 1, radius 1, open ends (instanced tubes).
+TriMesh makeTube(int slices);
+
+}  // namespace reel
