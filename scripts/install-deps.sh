@@ -3,7 +3,9 @@
 # Run as root (or with sudo available); does nothing when everything is present.
 set -euo pipefail
 pkgs=(build-essential cmake ninja-build ccache pkg-config
-      libeigen3-dev nlohmann-json3-dev libcli11-dev doctest-dev)
+      libeigen3-dev nlohmann-json3-dev libcli11-dev doctest-dev
+      libpng-dev
+      libgl-dev libegl-dev libosmesa6 libegl1 libegl-mesa0 libgl1-mesa-dri)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
