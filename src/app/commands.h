@@ -27,6 +27,7 @@ struct RenderOptions {
   std::string gl;             // "", auto, osmesa, egl
 };
 int still(const RenderOptions& opt, double time, int frame);
+int render(const RenderOptions& opt, const std::string& frames, bool no_overwrite);
 int info();
 int bench(const std::vector<std::string>& names, double seconds);
 

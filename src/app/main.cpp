@@ -46,6 +46,14 @@ int main(int argc, char** argv) {
   auto* f_opt = still->add_option("--frame", still_frame, "frame number, from 0")->check(CLI::NonNegativeNumber);
   t_opt->excludes(f_opt);
   still->add_option("-o,--output", ropt.outputs, "output PNG")->required();
+  std::string frames;
+  bool no_overwrite = false;
+  auto* render = cli.add_subcommand("render", "render a film: video and/or PNG frames");
+  add_render(render);
+  render->add_option("-o,--output", ropt.outputs,
+                     "NAME.mp4, NAME.webm, NAME.gif or dir/name_####.png; repeatable (default: render_out/<scene>.mp4)");
+  render->add_option("--frames", frames, "render frames A-B only (frame k shows time k/fps)");
+  render->add_flag("--no-overwrite", no_overwrite, "keep valid existing PNG frames (resume)");
 
   std::vector<std::string> bench_names;
   double bench_seconds = 1.0;
@@ -90,6 +98,7 @@ int main(int argc, char** argv) {
       }
       return reel::app::still(ropt, still_time, still_frame);
     }
+    if (*render) return reel::app::render(ropt, frames, no_overwrite);
     if (*bench) return reel::app::bench(bench_names, bench_seconds);
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "reel: out of memory\n");

@@ -1,10 +1,19 @@
 // reel still / reel render: simulate, draw each frame headlessly, write PNGs.
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
+#include <thread>
 
 #include "app/commands.h"
+#include "core/queue.h"
 #include "io/png.h"
+#include "io/video.h"
 #include "io/scene_loader.h"
 #include "render/gl/context.h"
 #include "render/renderer.h"
@@ -85,6 +94,179 @@ int still(const RenderOptions& opt, double time, int frame) {
   Image img;
   if (Status st = s.renderer->draw(list, img); !st) return report(st.error());
   if (Status st = io::writePng(opt.outputs.at(0), img, pngText(s, k)); !st) return report(st.error());
+  return 0;
+}
+
+namespace {
+
+// An output named by its form: a video file, or a PNG pattern with a run of '#' (frame k is file
+// k + 1, zero-padded to the run's width).
+struct Output {
+  std::string path;
+  bool video = false;
+  std::size_t hash_pos = 0, hash_len = 0;
+  std::unique_ptr<io::VideoWriter> writer;
+  std::string framePath(int k) const {
+    std::string num = std::to_string(k + 1);
+    if (num.size() < hash_len) num.insert(0, hash_len - num.size(), '0');
+    return path.substr(0, hash_pos) + num + path.substr(hash_pos + hash_len);
+  }
+};
+
+Status parseOutput(const std::string& p, Output& o) {
+  o.path = p;
+  if (io::isVideoPath(p)) {
+    o.video = true;
+    return {};
+  }
+  const std::string name = std::filesystem::path(p).filename().string();
+  const std::size_t at = p.find('#');
+  if (name.size() > 4 && name.substr(name.size() - 4) == ".png" && at != std::string::npos &&
+      at >= p.size() - name.size()) {
+    o.hash_pos = at;
+    o.hash_len = p.find_first_not_of('#', at) - at;
+    return {};
+  }
+  return Error(ErrorKind::BadInput, "output \"" + p + "\": expected NAME.mp4, NAME.webm, NAME.gif or a PNG pattern such as dir/name_####.png");
+}
+
+// A PNG already there from an earlier run, complete and of the right size.
+bool validFrame(const std::string& path, int w, int h) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return false;
+  auto img = io::readPng(path);
+  return img.ok() && img.value().width == w && img.value().height == h;
+}
+
+class Progress {
+ public:
+  explicit Progress(int total) : total_(total), on_(isatty(STDERR_FILENO) != 0), t0_(Clock::now()) {}
+  void update(int done) {
+    if (!on_) return;
+    const double s = std::chrono::duration<double>(Clock::now() - t0_).count();
+    const double rate = s > 0 ? done / s : 0.0;
+    std::fprintf(stderr, "\r  %d/%d frames  %.1f frames/s  %.0f s left   ", done, total_, rate,
+                 rate > 0 ? (total_ - done) / rate : 0.0);
+    if (done == total_) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  int total_;
+  bool on_;
+  Clock::time_point t0_;
+};
+
+struct FrameImage {
+  int k = 0;
+  Image img;
+};
+
+}  // namespace
+
+// Simulation, rendering and encoding run on three threads joined by bounded queues, so a film
+// takes about as long as its slowest stage.
+int render(const RenderOptions& opt, const std::string& range, bool no_overwrite) {
+  Setup s;
+  if (Status st = setup(opt, s); !st) return report(st.error());
+  const int n = s.scene.frameCount();
+  int first = 0, last = n - 1;
+  if (!range.empty()) {
+    int a = -1, b = -1;
+    char dash = 0;
+    if (std::sscanf(range.c_str(), "%d%c%d", &a, &dash, &b) != 3 || dash != '-' || a < 0 || b < a || b >= n)
+      return report(Error(ErrorKind::BadInput, "--frames must be A-B with 0 <= A <= B <= " + std::to_string(n - 1) +
+                                                   " (frame k shows time k/fps), got \"" + range + "\""));
+    first = a;
+    last = b;
+  }
+  // Outputs.
+  std::vector<std::string> paths = opt.outputs;
+  if (paths.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories("render_out", ec);
+    paths.push_back("render_out/" + s.scene.name + ".mp4");
+  }
+  std::vector<Output> outs(paths.size());
+  for (std::size_t i = 0; i < paths.size(); ++i)
+    if (Status st = parseOutput(paths[i], outs[i]); !st) return report(st.error());
+  const int W = s.scene.render.width, H = s.scene.render.height;
+  for (auto& o : outs) {
+    if (!o.video) continue;
+    if (no_overwrite && std::filesystem::exists(o.path))
+      return report(Error(ErrorKind::BadInput, o.path + ": exists (a video cannot be resumed; remove it or drop --no-overwrite)"));
+    o.writer = std::make_unique<io::VideoWriter>();
+    if (Status st = o.writer->open(o.path, W, H, s.scene.fps); !st) return report(st.error());
+  }
+  // Frames that need drawing: all of them unless every output already has a valid PNG.
+  std::vector<char> need(static_cast<std::size_t>(n), 0);
+  int to_draw = 0;
+  for (int k = first; k <= last; ++k) {
+    bool any = false;
+    for (const auto& o : outs) any = any || o.video || !no_overwrite || !validFrame(o.framePath(k), W, H);
+    need[static_cast<std::size_t>(k)] = any;
+    to_draw += any;
+  }
+
+  BoundedQueue<std::pair<int, DrawList>> lists(3);
+  BoundedQueue<FrameImage> images(3);
+  Status sim_status, enc_status;
+  std::thread sim([&] {
+    for (int k = 0; k <= last; ++k) {
+      if (k > 0)
+        if (Status st = s.world->advanceFrame(); !st) {
+          sim_status = st;
+          break;
+        }
+      if (k < first || !need[static_cast<std::size_t>(k)]) continue;
+      DrawList list;
+      s.world->emit(list);
+      if (!lists.push({k, std::move(list)})) break;
+    }
+    lists.close();
+  });
+  std::thread enc([&] {
+    Progress progress(to_draw);
+    int done = 0;
+    while (auto f = images.pop()) {
+      for (auto& o : outs) {
+        Status st = o.video ? o.writer->write(f->img)
+                            : (no_overwrite && validFrame(o.framePath(f->k), W, H))
+                                  ? Status{}
+                                  : io::writePng(o.framePath(f->k), f->img, pngText(s, f->k));
+        if (!st) {
+          enc_status = st;
+          images.close();
+          lists.close();
+          return;
+        }
+      }
+      progress.update(++done);
+    }
+  });
+  Status render_status;
+  while (auto item = lists.pop()) {
+    FrameImage fi;
+    fi.k = item->first;
+    if (Status st = s.renderer->draw(item->second, fi.img); !st) {
+      render_status = st;
+      lists.close();
+      break;
+    }
+    if (!images.push(std::move(fi))) break;
+  }
+  images.close();
+  sim.join();
+  enc.join();
+  // Videos keep every frame encoded so far, also when the simulation stopped early.
+  if (enc_status.ok())
+    for (auto& o : outs)
+      if (o.video)
+        if (Status st = o.writer->finish(); !st && enc_status.ok()) enc_status = st;
+  for (const Status* st : {&sim_status, &render_status, &enc_status})
+    if (!st->ok()) return report(st->error());
+  for (const auto& o : outs)
+    std::printf("%s\n", o.video ? o.path.c_str() : (o.framePath(first) + " .. " + o.framePath(last)).c_str());
   return 0;
 }
 

@@ -92,7 +92,11 @@ struct Renderer::Impl {
   GLuint surface = 0, shadow = 0, background = 0, empty_vao = 0;
   GLuint msaa_fbo = 0, msaa_color = 0, msaa_depth = 0, resolve_fbo = 0, resolve_color = 0;
   std::array<GLuint, 2> shadow_fbo{}, shadow_tex{};
-  GpuMesh sphere_proto, tube_proto;
+  std::array<GpuMesh, 3> sphere_lod;  // coarse, medium, fine prototypes
+  GpuMesh tube_proto;
+  GLuint line_vao = 0, line_vbo = 0;
+  double px_per_m_at_1m = 1.0;  // pixels per metre at 1 m from the camera (LOD choice)
+  Vec3 eye{0, 0, 0};
   GLuint inst_vbo = 0;
   std::size_t inst_capacity = 0;
   std::map<const TriMesh*, std::pair<std::weak_ptr<const TriMesh>, GpuMesh>> static_meshes;
@@ -112,9 +116,11 @@ struct Renderer::Impl {
     };
     for (auto& [k, v] : static_meshes) delMesh(v.second);
     for (auto& m : dynamic_meshes) delMesh(m);
-    delMesh(sphere_proto);
+    for (auto& m : sphere_lod) delMesh(m);
     delMesh(tube_proto);
     if (inst_vbo) gl->DeleteBuffers(1, &inst_vbo);
+    if (line_vbo) gl->DeleteBuffers(1, &line_vbo);
+    if (line_vao) gl->DeleteVertexArrays(1, &line_vao);
     for (GLuint p : {surface, shadow, background})
       if (p) gl->DeleteProgram(p);
     if (empty_vao) gl->DeleteVertexArrays(1, &empty_vao);
@@ -252,8 +258,17 @@ struct Renderer::Impl {
     background = bg.value();
     gl->GenVertexArrays(1, &empty_vao);
     gl->GenBuffers(1, &inst_vbo);
-    upload(sphere_proto, makeUvSphere(1.0, 16, 10));
-    upload(tube_proto, makeTube(8));
+    // Spheres a few pixels wide need few triangles: llvmpipe's cost is per triangle.
+    upload(sphere_lod[0], makeUvSphere(1.0, 8, 5));
+    upload(sphere_lod[1], makeUvSphere(1.0, 14, 8));
+    upload(sphere_lod[2], makeUvSphere(1.0, 28, 16));
+    upload(tube_proto, makeTube(6));
+    gl->GenVertexArrays(1, &line_vao);
+    gl->GenBuffers(1, &line_vbo);
+    gl->BindVertexArray(line_vao);
+    gl->BindBuffer(GL_ARRAY_BUFFER, line_vbo);
+    gl->EnableVertexAttribArray(0);
+    gl->VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
 
     // Multisampled colour + depth, resolved into a single-sample colour buffer.
     const GLsizei samples = set.samples > 1 ? set.samples : 0;
@@ -396,15 +411,39 @@ struct Renderer::Impl {
     }
     for (const auto& s : list.spheres) {
       if (s.centers.empty() || !want(s.material)) continue;
-      instances(sphere_proto, s.centers, 3);
+      // Level of detail from the largest on-screen radius of the set.
+      double nearest = 1e300;
+      for (std::size_t i = 0; i + 2 < s.centers.size(); i += 3)
+        nearest = std::min(nearest, (Vec3(s.centers[i], s.centers[i + 1], s.centers[i + 2]) - eye).norm());
+      const double px = s.radius * px_per_m_at_1m / std::max(nearest, 1e-3);
+      GpuMesh& proto = sphere_lod[px < 5 ? 0 : px < 20 ? 1 : 2];
+      instances(proto, s.centers, 3);
       gl->Uniform1i(loc(prog, "u_mode"), 1);
       gl->Uniform1f(loc(prog, "u_radius"), s.radius);
       if (with_material) setMaterial(s.material);
-      gl->DrawElementsInstanced(GL_TRIANGLES, sphere_proto.count, GL_UNSIGNED_INT, nullptr,
+      gl->DrawElementsInstanced(GL_TRIANGLES, proto.count, GL_UNSIGNED_INT, nullptr,
                                 static_cast<GLsizei>(s.centers.size() / 3));
     }
     for (const auto& t : list.tubes) {
       if (t.ends.empty() || !want(t.material)) continue;
+      double nearest = 1e300;
+      for (std::size_t i = 0; i + 2 < t.ends.size(); i += 3)
+        nearest = std::min(nearest, (Vec3(t.ends[i], t.ends[i + 1], t.ends[i + 2]) - eye).norm());
+      if (t.radius * px_per_m_at_1m / std::max(nearest, 1e-3) < 1.5) {
+        if (!with_material) continue;  // a one-pixel line casts no shadow worth its stripes
+        // Tubes about a pixel wide: one-pixel lines look the same, and long thin triangles are
+        // llvmpipe's slowest case.
+        gl->BindVertexArray(line_vao);
+        gl->BindBuffer(GL_ARRAY_BUFFER, line_vbo);
+        gl->BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(t.ends.size() * sizeof(float)), t.ends.data(),
+                       GL_STREAM_DRAW);
+        gl->VertexAttrib3f(1, 0.0f, 1.0f, 0.0f);  // lit as facing up
+        gl->VertexAttrib2f(2, 0.0f, 0.0f);
+        gl->Uniform1i(loc(prog, "u_mode"), 0);
+        if (with_material) setMaterial(t.material);
+        gl->DrawArrays(GL_LINES, 0, static_cast<GLsizei>(t.ends.size() / 3));
+        continue;
+      }
       instances(tube_proto, t.ends, 6);
       gl->Uniform1i(loc(prog, "u_mode"), 2);
       gl->Uniform1f(loc(prog, "u_radius"), t.radius);
@@ -420,6 +459,8 @@ struct Renderer::Impl {
     double radius;
     bounds(list, center, radius);
     prepare(list);
+    this->eye = list.camera.position;
+    px_per_m_at_1m = 0.5 * H / std::tan(list.camera.fov_deg * kPi / 360.0);
 
     // Shadow passes: an orthographic map along a directional light, a perspective map from a
     // point light, each fitted to the scene's bounding sphere.
@@ -435,8 +476,8 @@ struct Renderer::Impl {
       Mat4f vp;
       if (l.kind == LightKind::Directional) {
         const Vec3 d = l.direction.normalized();
-        const Vec3 eye = center - d * (radius * 2.0);
-        vp = ortho(radius, radius * 0.5, radius * 3.5) * lookAt(eye, center, Vec3::UnitY());
+        const Vec3 from = center - d * (radius * 2.0);
+        vp = ortho(radius, radius * 0.5, radius * 3.5) * lookAt(from, center, Vec3::UnitY());
       } else {
         const double dist = std::max((l.position - center).norm(), radius * 1.01);
         const double half = std::asin(std::min(radius / dist, 0.99));

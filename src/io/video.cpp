@@ -1,0 +1,230 @@
+#include "io/video.h"
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/imgutils.h>
+#include <libavutil/opt.h>
+#include <libswscale/swscale.h>
+}
+
+#include <cstdio>
+#include <filesystem>
+
+namespace reel::io {
+
+namespace {
+
+std::string extensionOf(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+
+std::string averr(int e) {
+  char buf[AV_ERROR_MAX_STRING_SIZE] = {};
+  av_strerror(e, buf, sizeof buf);
+  return buf;
+}
+
+// 4x4 Bayer matrix, thresholds in (0, 1).
+constexpr int kBayer[4][4] = {{0, 8, 2, 10}, {12, 4, 14, 6}, {3, 11, 1, 9}, {15, 7, 13, 5}};
+
+}  // namespace
+
+bool isVideoPath(const std::string& path) {
+  const std::string e = extensionOf(path);
+  return e == ".mp4" || e == ".webm" || e == ".gif";
+}
+
+struct VideoWriter::Impl {
+  std::string path, part;
+  AVFormatContext* fmt = nullptr;
+  AVCodecContext* enc = nullptr;
+  AVStream* stream = nullptr;
+  SwsContext* sws = nullptr;
+  AVFrame* frame = nullptr;
+  AVPacket* pkt = nullptr;
+  bool gif = false, header = false, done = false;
+  int width = 0, height = 0;  // of the input images
+  std::int64_t next_pts = 0;
+
+  ~Impl() {
+    if (fmt && !done) {
+      if (fmt->pb) avio_closep(&fmt->pb);
+      std::remove(part.c_str());
+    }
+    if (fmt) avformat_free_context(fmt);
+    avcodec_free_context(&enc);
+    sws_freeContext(sws);
+    av_frame_free(&frame);
+    av_packet_free(&pkt);
+  }
+
+  Status fail(const std::string& what, int e) {
+    return Error(ErrorKind::Output, path + ": " + what + (e < 0 ? ": " + averr(e) : ""));
+  }
+
+  Status drain() {
+    for (;;) {
+      int r = avcodec_receive_packet(enc, pkt);
+      if (r == AVERROR(EAGAIN) || r == AVERROR_EOF) return {};
+      if (r < 0) return fail("encoding failed", r);
+      av_packet_rescale_ts(pkt, enc->time_base, stream->time_base);
+      pkt->stream_index = stream->index;
+      r = av_interleaved_write_frame(fmt, pkt);
+      if (r < 0) return fail("write failed (disk full?)", r);
+    }
+  }
+};
+
+VideoWriter::VideoWriter() : impl_(std::make_unique<Impl>()) {}
+VideoWriter::~VideoWriter() = default;
+
+Status VideoWriter::open(const std::string& path, int width, int height, int fps, int crf) {
+  Impl& v = *impl_;
+  v.path = path;
+  v.part = path + ".part";
+  v.width = width;
+  v.height = height;
+  const std::string ext = extensionOf(path);
+  const char* muxer = ext == ".mp4" ? "mp4" : ext == ".webm" ? "webm" : ext == ".gif" ? "gif" : nullptr;
+  if (!muxer) return Error(ErrorKind::BadInput, path + ": unsupported video type (mp4, webm, gif)");
+  v.gif = ext == ".gif";
+  av_log_set_level(AV_LOG_ERROR);  // FFmpeg speaks only when something is wrong
+  int r = avformat_alloc_output_context2(&v.fmt, nullptr, muxer, v.part.c_str());
+  if (r < 0 || !v.fmt) return v.fail("cannot set up the " + std::string(muxer) + " muxer", r);
+  const AVCodec* codec = ext == ".mp4"  ? avcodec_find_encoder_by_name("libx264")
+                         : ext == ".webm" ? avcodec_find_encoder_by_name("libvpx-vp9")
+                                          : avcodec_find_encoder(AV_CODEC_ID_GIF);
+  if (!codec) return Error(ErrorKind::Internal, path + ": this FFmpeg has no encoder for " + ext);
+  v.enc = avcodec_alloc_context3(codec);
+  v.stream = avformat_new_stream(v.fmt, nullptr);
+  v.frame = av_frame_alloc();
+  v.pkt = av_packet_alloc();
+  if (!v.enc || !v.stream || !v.frame || !v.pkt) return Error(ErrorKind::Internal, "out of memory for FFmpeg");
+  // yuv420p halves the chroma resolution: even sizes only, so odd ones are padded.
+  v.enc->width = v.gif ? width : (width + 1) & ~1;
+  v.enc->height = v.gif ? height : (height + 1) & ~1;
+  v.enc->pix_fmt = v.gif ? AV_PIX_FMT_PAL8 : AV_PIX_FMT_YUV420P;
+  v.enc->time_base = AVRational{1, fps};
+  v.enc->framerate = AVRational{fps, 1};
+  v.enc->gop_size = 2 * fps;
+  if (v.fmt->oformat->flags & AVFMT_GLOBALHEADER) v.enc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+  AVDictionary* opts = nullptr;
+  if (ext == ".mp4") {
+    av_dict_set(&opts, "crf", std::to_string(crf).c_str(), 0);
+    av_dict_set(&opts, "preset", "fast", 0);
+    v.enc->color_range = AVCOL_RANGE_MPEG;
+  } else if (ext == ".webm") {
+    av_dict_set(&opts, "crf", std::to_string(crf + 12).c_str(), 0);
+    av_dict_set(&opts, "b", "0", 0);
+    av_dict_set(&opts, "deadline", "realtime", 0);
+    av_dict_set(&opts, "cpu-used", "8", 0);
+    av_dict_set(&opts, "row-mt", "1", 0);
+  }
+  v.enc->thread_count = 2;
+  r = avcodec_open2(v.enc, codec, &opts);
+  av_dict_free(&opts);
+  if (r < 0) return v.fail("cannot open the encoder", r);
+  r = avcodec_parameters_from_context(v.stream->codecpar, v.enc);
+  if (r < 0) return v.fail("codec parameters", r);
+  v.stream->time_base = v.enc->time_base;
+  v.stream->avg_frame_rate = v.enc->framerate;
+  r = avio_open(&v.fmt->pb, v.part.c_str(), AVIO_FLAG_WRITE);
+  if (r < 0) return v.fail("cannot write " + v.part, r);
+  AVDictionary* mux = nullptr;
+  if (ext == ".mp4") av_dict_set(&mux, "movflags", "+faststart", 0);
+  r = avformat_write_header(v.fmt, &mux);
+  av_dict_free(&mux);
+  if (r < 0) return v.fail("cannot write the header", r);
+  v.header = true;
+  v.frame->format = v.enc->pix_fmt;
+  v.frame->width = v.enc->width;
+  v.frame->height = v.enc->height;
+  r = av_frame_get_buffer(v.frame, 0);
+  if (r < 0) return v.fail("frame buffer", r);
+  if (!v.gif) {
+    v.sws = sws_getContext(v.enc->width, v.enc->height, AV_PIX_FMT_RGB24, v.enc->width, v.enc->height,
+                           AV_PIX_FMT_YUV420P, SWS_BILINEAR | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT, nullptr, nullptr, nullptr);
+    if (!v.sws) return Error(ErrorKind::Internal, "swscale cannot convert RGB to YUV 4:2:0");
+  }
+  return {};
+}
+
+Status VideoWriter::write(const Image& img) {
+  Impl& v = *impl_;
+  if (img.width != v.width || img.height != v.height)
+    return Error(ErrorKind::Internal, "video frame size changed");
+  int r = av_frame_make_writable(v.frame);
+  if (r < 0) return v.fail("frame buffer", r);
+  const int W = v.enc->width, H = v.enc->height;
+  if (v.gif) {
+    // Fixed palette: 6 levels of red, 7 of green, 6 of blue; 4x4 ordered dithering.
+    auto* pal = reinterpret_cast<std::uint32_t*>(v.frame->data[1]);
+    for (int i = 0; i < 256; ++i) {
+      const int rr = (i / 42) % 6, gg = (i / 6) % 7, bb = i % 6;
+      pal[i] = i < 252 ? (0xFFu << 24) | (static_cast<std::uint32_t>(rr * 51) << 16) |
+                             (static_cast<std::uint32_t>(gg * 255 / 6) << 8) | static_cast<std::uint32_t>(bb * 51)
+                       : 0xFF000000u;
+    }
+    for (int y = 0; y < H; ++y) {
+      std::uint8_t* dst = v.frame->data[0] + static_cast<std::ptrdiff_t>(y) * v.frame->linesize[0];
+      for (int x = 0; x < W; ++x) {
+        const std::uint8_t* p = img.pixel(x, y);
+        const double t = (kBayer[y & 3][x & 3] + 0.5) / 16.0;
+        auto q = [t](int c, int levels) { return std::min(levels - 1, static_cast<int>(c * (levels - 1) / 255.0 + t)); };
+        dst[x] = static_cast<std::uint8_t>(q(p[0], 6) * 42 + q(p[1], 7) * 6 + q(p[2], 6));
+      }
+    }
+  } else {
+    // Pad to the even size by repeating the last column and row, then RGB → YUV 4:2:0.
+    std::vector<std::uint8_t> rgb;
+    const std::uint8_t* src = img.rgb.data();
+    int stride = img.width * 3;
+    if (W != img.width || H != img.height) {
+      rgb.resize(static_cast<std::size_t>(W) * H * 3);
+      for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+          const std::uint8_t* p = img.pixel(std::min(x, img.width - 1), std::min(y, img.height - 1));
+          std::copy(p, p + 3, &rgb[(static_cast<std::size_t>(y) * W + x) * 3]);
+        }
+      src = rgb.data();
+      stride = W * 3;
+    }
+    const std::uint8_t* planes[1] = {src};
+    const int strides[1] = {stride};
+    sws_scale(v.sws, planes, strides, 0, H, v.frame->data, v.frame->linesize);
+  }
+  v.frame->pts = v.next_pts++;
+  r = avcodec_send_frame(v.enc, v.frame);
+  if (r < 0) return v.fail("encoding failed", r);
+  return v.drain();
+}
+
+Status VideoWriter::finish() {
+  Impl& v = *impl_;
+  int r = avcodec_send_frame(v.enc, nullptr);
+  if (r < 0) return v.fail("encoding failed", r);
+  if (Status st = v.drain(); !st) return st;
+  r = av_write_trailer(v.fmt);
+  if (r < 0) return v.fail("write failed (disk full?)", r);
+  r = avio_closep(&v.fmt->pb);
+  if (r < 0) return v.fail("write failed (disk full?)", r);
+  if (std::rename(v.part.c_str(), v.path.c_str()) != 0) {
+    std::remove(v.part.c_str());
+    return Error(ErrorKind::Output, v.path + ": cannot rename from .part");
+  }
+  v.done = true;
+  return {};
+}
+
+std::vector<std::string> availableEncoders() {
+  std::vector<std::string> out;
+  if (avcodec_find_encoder_by_name("libx264")) out.push_back("mp4: libx264");
+  if (avcodec_find_encoder_by_name("libvpx-vp9")) out.push_back("webm: libvpx-vp9");
+  if (avcodec_find_encoder(AV_CODEC_ID_GIF)) out.push_back("gif: gif");
+  return out;
+}
+
+}  // namespace reel::io
