@@ -28,6 +28,14 @@ struct RenderOptions {
 };
 int still(const RenderOptions& opt, double time, int frame);
 int render(const RenderOptions& opt, const std::string& frames, bool no_overwrite);
+
+struct CompareOptions {
+  std::string a, b, diff;
+  int threshold = 16;         // a pixel differs when a channel differs by more than this
+  double max_mean = 1.0;      // tolerance: mean absolute error (0..255)
+  double max_fraction = 0.005;  // tolerance: fraction of differing pixels
+};
+int compare(const CompareOptions& o);
 int info();
 int bench(const std::vector<std::string>& names, double seconds);
 

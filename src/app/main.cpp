@@ -55,6 +55,18 @@ int main(int argc, char** argv) {
   render->add_option("--frames", frames, "render frames A-B only (frame k shows time k/fps)");
   render->add_flag("--no-overwrite", no_overwrite, "keep valid existing PNG frames (resume)");
 
+  reel::app::CompareOptions cmp;
+  auto* compare = cli.add_subcommand("compare", "compare two PNGs: exit 0 within tolerance, 1 otherwise");
+  compare->add_option("a", cmp.a, "first PNG")->required();
+  compare->add_option("b", cmp.b, "second PNG")->required();
+  compare->add_option("--diff", cmp.diff, "write a difference image here");
+  compare->add_option("--threshold", cmp.threshold, "per-channel difference that makes a pixel differ (default 16)")
+      ->check(CLI::Range(0, 255));
+  compare->add_option("--max-mean", cmp.max_mean, "largest mean absolute error allowed (default 1.0)")
+      ->check(CLI::Range(0.0, 255.0));
+  compare->add_option("--max-fraction", cmp.max_fraction, "largest fraction of differing pixels allowed (default 0.005)")
+      ->check(CLI::Range(0.0, 1.0));
+
   std::vector<std::string> bench_names;
   double bench_seconds = 1.0;
   auto* bench = cli.add_subcommand("bench", "run benchmarks, one JSON line each");
@@ -99,6 +111,7 @@ int main(int argc, char** argv) {
       return reel::app::still(ropt, still_time, still_frame);
     }
     if (*render) return reel::app::render(ropt, frames, no_overwrite);
+    if (*compare) return reel::app::compare(cmp);
     if (*bench) return reel::app::bench(bench_names, bench_seconds);
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "reel: out of memory\n");

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "app/commands.h"
+#include "core/image_compare.h"
 #include "core/queue.h"
 #include "io/png.h"
 #include "io/video.h"
@@ -268,6 +269,31 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
   for (const auto& o : outs)
     std::printf("%s\n", o.video ? o.path.c_str() : (o.framePath(first) + " .. " + o.framePath(last)).c_str());
   return 0;
+}
+
+}  // namespace reel::app
+
+namespace reel::app {
+
+int compare(const CompareOptions& o) {
+  auto a = io::readPng(o.a);
+  if (!a.ok()) return report(a.error());
+  auto b = io::readPng(o.b);
+  if (!b.ok()) return report(b.error());
+  if (a.value().width != b.value().width || a.value().height != b.value().height)
+    return report(Error(ErrorKind::BadInput, "the images differ in size: " + std::to_string(a.value().width) + "x" +
+                                                 std::to_string(a.value().height) + " and " +
+                                                 std::to_string(b.value().width) + "x" +
+                                                 std::to_string(b.value().height)));
+  Image diff;
+  const ImageDiff d = compareImages(a.value(), b.value(), o.threshold, o.diff.empty() ? nullptr : &diff);
+  const bool ok = d.mean_abs <= o.max_mean && d.over_fraction <= o.max_fraction;
+  std::printf("max %d, mean %.4f, PSNR %.2f dB, %lld pixels (%.4f%%) over %d: %s\n", d.max_abs, d.mean_abs,
+              d.psnr_db, d.over, 100.0 * d.over_fraction, o.threshold,
+              ok ? "within tolerance" : "NOT within tolerance");
+  if (!o.diff.empty())
+    if (Status st = io::writePng(o.diff, diff); !st) return report(st.error());
+  return ok ? 0 : 1;
 }
 
 }  // namespace reel::app
