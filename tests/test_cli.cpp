@@ -91,7 +91,11 @@ TEST_CASE("simulate writes the reel-dump/1 format: frames 0, every K-th and the 
 
 TEST_CASE("dumps are byte-identical for 1 and 2 threads") {
   const std::string a = (tmpDir() / "t1.json").string(), b = (tmpDir() / "t2.json").string();
-  const std::string net = std::string(REEL_SOURCE_DIR) + "/scenes/net.json";
+  // 4096 nodes and 16000 springs: above the size at which loops run in parallel.
+  const std::string net = write("bignet.json", R"({"format": "reel/1", "duration": 0.2, "substeps": 5,
+    "auto_substeps": true, "objects": [{"type": "sphere", "center": [0, -0.6, 0], "radius": 0.5}],
+    "bodies": [{"type": "net", "name": "net", "size": [2, 2], "resolution": [64, 64], "mass": 1,
+                "stiffness": 100, "damping": 0.02, "velocity": [0.3, 0, 0.1], "pinned": ["corner_00"]}]})");
   REQUIRE(runReel("simulate " + net + " --dump " + a + " --threads 1").code == 0);
   REQUIRE(runReel("simulate " + net + " --dump " + b + " --threads 2").code == 0);
   std::ifstream fa(a), fb(b);
@@ -128,12 +132,19 @@ TEST_CASE("exit codes: 0 done, 2 bad input, 3 unstable, 4 unwritable output") {
      "bodies": [{"type": "mass_spring", "name": "probe",
        "nodes": [{"position": [0,0,0], "mass": 1, "velocity": [9000, 0, 0]}]}]})");
   const std::string boom_dump = (tmpDir() / "boom_dump.json").string();
-  r = runReel("simulate " + boom + " --dump " + boom_dump);
+  r = runReel("simulate " + boom + " --dump " + boom_dump + " --dump-every 7");
   CHECK(r.code == 3);
   CHECK(r.out.find("body 'probe' node 0 position ran away") != std::string::npos);
+  CHECK(r.out.find("unstable at frame 112") != std::string::npos);
   std::ifstream in(boom_dump);
-  const auto j = nlohmann::json::parse(in);  // valid JSON
-  CHECK(j["frames"].size() > 1);
+  const auto j = nlohmann::json::parse(in);  // valid JSON, ending with the last good frame
+  REQUIRE(j["frames"].size() == 17);          // 0, 7, ..., 105 and 111
+  CHECK(j["frames"].back()["frame"] == 111);
+  CHECK(j["frames"].back()["bodies"][0]["positions"][0][0].get<double>() == 9000.0 * 111);
+  // A huge unterminated string is a syntax error, not a crash.
+  r = runReel("check " + write("long.json", "{\"format\": \"reel/1\", \"a\": \"" + std::string(200000, 'x')));
+  CHECK(r.code == 2);
+  CHECK(r.out.find("long.json:1:") != std::string::npos);
   // Unwritable output: exit 4 and no file left behind.
   r = runReel("simulate " + kRope + " --dump /nonexistent_dir/out.json");
   CHECK(r.code == 4);

@@ -36,7 +36,6 @@ std::string netScene(const std::string& integrator) {
 
 TEST_CASE("state is bit-identical for 1, 2 and 3 threads, for every integrator") {
   for (auto name : kIntegratorNames) {
-    if (name == "explicit_euler") continue;  // covered below with damping that makes it stable
     CAPTURE(name);
     const std::string s = netScene(std::string(name));
     const std::uint64_t h1 = runHash(s, 1, 8);

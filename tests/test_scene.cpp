@@ -129,6 +129,19 @@ TEST_CASE("non-positive mass, negative stiffness or damping, zero rest length, n
                  "more than the limit"));
 }
 
+TEST_CASE("scene totals and per-node masses keep a scene inside the machine") {
+  std::string many = R"("bodies": [)";
+  for (int i = 0; i < 5; ++i)
+    many += std::string(i ? "," : "") + R"({"type": "lattice", "stiffness": 1, "resolution": [100, 100, 100]})";
+  auto e = errorsOf(scene(many + "]"));
+  CHECK(contains(e, "/bodies: 5000000 nodes in all, more than the limit"));
+  CHECK(contains(e, "springs in all, more than the limit"));
+  CHECK(contains(errorsOf(scene(R"("bodies": [{"type": "net", "stiffness": 1, "mass": 1e-320}])")),
+                 "/bodies/0/mass: gives each of the 100 nodes less than 1e-12 kg"));
+  CHECK(contains(errorsOf(springBody(R"({"position": [1,0,0], "mass": 1e-300})", R"({"nodes": [0,1], "stiffness": 1})")),
+                 "/bodies/0/nodes/1/mass: must be at least 1e-12 kg"));
+}
+
 TEST_CASE("pins that name missing nodes") {
   auto e = errorsOf(scene(R"("bodies": [{"type": "net", "stiffness": 1, "resolution": [4, 3],
                                           "pinned": [12, [4, 0], "corner_02", [0, -3]]}])"));
@@ -173,7 +186,7 @@ TEST_CASE("assets: missing, wrong type, oversized or escaping the allowed folder
   CHECK(contains(errorsOf(tex("nope.png"), file), "/objects/0/texture: \"nope.png\": no such file"));
   CHECK(contains(errorsOf(tex("notes.txt"), file), "unsupported file type"));
   CHECK(contains(errorsOf(tex("../outside.png"), file), "escapes the allowed folders"));
-  CHECK(contains(errorsOf(tex("/etc/hostname.png"), file), "/objects/0/texture"));
+  CHECK(contains(errorsOf(tex("/etc/hostname.png"), file), "/objects/0/texture: \"/etc/hostname.png\": no such file"));
   {
     std::ofstream big(dir / "sub" / "big.png", std::ios::binary);
     big.seekp(static_cast<std::streamoff>(io::kMaxTextureBytes) + 1);

@@ -11,6 +11,8 @@
 #include "core/parallel.h"
 #include "io/dump.h"
 #include "io/scene_loader.h"
+#include "io/video.h"
+#include "render/gl/context.h"
 #include "sim/world.h"
 
 namespace reel::app {
@@ -56,6 +58,24 @@ int simulate(const SimulateOptions& opt) {
   io::DumpWriter dump;
   FrameSnapshot snap;
   const bool dumping = !opt.dump.empty();
+  // The last good frame not yet in the dump, copied so that it can still be written when the
+  // next frame goes unstable (DESIGN 5: the last frame is always written).
+  int pending = -1;
+  std::vector<std::vector<Vec3>> pending_x, pending_v;
+  FrameSnapshot pending_snap;
+  auto keepPending = [&] {
+    world.snapshot(pending_snap);
+    pending_x.resize(pending_snap.bodies.size());
+    pending_v.resize(pending_snap.bodies.size());
+    for (std::size_t b = 0; b < pending_snap.bodies.size(); ++b) {
+      auto& bs = pending_snap.bodies[b];
+      pending_x[b].assign(bs.positions.begin(), bs.positions.end());
+      pending_v[b].assign(bs.velocities.begin(), bs.velocities.end());
+      bs.positions = pending_x[b];
+      bs.velocities = pending_v[b];
+    }
+    pending = world.frame();
+  };
   if (dumping) {
     if (Status st = dump.open(opt.dump, s.name, s.fps, s.substeps); !st) return report(st.error());
     world.snapshot(snap);
@@ -68,25 +88,37 @@ int simulate(const SimulateOptions& opt) {
   for (int k = 1; k <= last; ++k) {
     if (Status st = world.advanceFrame(); !st) {
       if (dumping) {
-        // Keep what was simulated: the dump ends at the last good frame.
-        if (Status fin = dump.finish(); fin)
+        // Keep what was simulated: the dump ends with the last good frame.
+        Status w = pending >= 0 ? dump.write(pending_snap) : Status{};
+        if (Status fin = dump.finish(); w && fin)
           std::fprintf(stderr, "reel: the dump %s holds frames up to %d\n", opt.dump.c_str(), k - 1);
       }
       return report(st.error());
     }
-    if (dumping && (k % opt.dump_every == 0 || k == last)) {
-      world.snapshot(snap);
-      if (Status st = dump.write(snap); !st) return report(st.error());
+    if (dumping) {
+      if (k % opt.dump_every == 0 || k == last) {
+        world.snapshot(snap);
+        if (Status st = dump.write(snap); !st) return report(st.error());
+        pending = -1;
+      } else if (opt.dump_every > 1) {
+        keepPending();
+      }
     }
     progress.update(k);
   }
   if (dumping)
     if (Status st = dump.finish(); !st) return report(st.error());
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("%s: %d frames (%.3f s of scene time, %d steps of %.3g s) in %.3f s%s%s\n",
+  std::printf("%s: %d frames (%.3f s of scene time, %lld steps of %.3g s) in %.3f s%s%s\n",
               s.name.c_str(), last + 1, last / static_cast<double>(s.fps),
-              last * world.stepsPerFrame(), world.stepSize(), secs,
+              static_cast<long long>(last) * world.stepsPerFrame(), world.stepSize(), secs,
               dumping ? ", dump: " : "", dumping ? opt.dump.c_str() : "");
+  if (world.unconvergedSteps() > 0)
+    std::fprintf(stderr,
+                 "reel: warning: in %lld implicit steps the conjugate-gradient solve stopped at "
+                 "implicit.cg_max_iterations = %d (worst relative residual %.3g, tolerance %.3g)\n",
+                 world.unconvergedSteps(), s.implicit.cg_max_iterations, world.worstResidual(),
+                 s.implicit.cg_tolerance);
   return 0;
 }
 
@@ -122,7 +154,11 @@ int info() {
   std::printf("integrators:");
   for (auto n : kIntegratorNames) std::printf(" %.*s", static_cast<int>(n.size()), n.data());
   std::printf("\nbodies: mass_spring rope net lattice\nobjects: plane sphere box capsule\n");
-  std::printf("renderer: not built yet (simulate writes state dumps)\n");
+  for (const auto& b : gl::probeBackends())
+    std::printf("gl %s: %s\n", b.name.c_str(), b.ok ? b.detail.c_str() : ("unavailable: " + b.detail).c_str());
+  std::printf("encoders:");
+  for (const auto& e : io::availableEncoders()) std::printf(" [%s]", e.c_str());
+  std::printf("\n");
   return 0;
 }
 

@@ -29,7 +29,10 @@ void putVec3s(std::string& out, std::span<const Vec3> vs) {
   out += ']';
 }
 
-std::string jsonString(const std::string& s) { return nlohmann::json(s).dump(); }
+// Invalid UTF-8 (a file name, say) is written with U+FFFD instead of failing.
+std::string jsonString(const std::string& s) {
+  return nlohmann::json(s).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
 
 }  // namespace
 

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <regex>
 #include <set>
 
 #include "io/files.h"
@@ -227,6 +226,10 @@ void readMassSpring(Obj& o, MassSpringDesc& ms) {
       nd.position = n.vec3("position", Range::any(), true).value_or(nd.position);
       nd.velocity = n.vec3("velocity", nd.velocity);
       nd.mass = n.number("mass", kPos, true).value_or(nd.mass);
+      if (nd.mass < kMinNodeMass) {
+        d.error(childPath(n.path(), "mass"), "must be at least 1e-12 kg");
+        nd.mass = 1.0;
+      }
       nd.damping = n.number("damping", 0.0, kNonNeg);
       nd.fixed = n.boolean("fixed", false);
       n.finish();
@@ -267,6 +270,13 @@ void readMassSpring(Obj& o, MassSpringDesc& ms) {
   }
 }
 
+// A generator's total mass shared by its nodes must leave each a usable mass.
+void checkNodeMass(Obj& o, double mass, long long nodes) {
+  if (nodes > 0 && mass / static_cast<double>(nodes) < kMinNodeMass)
+    o.diag().error(childPath(o.path(), "mass"), "gives each of the " + std::to_string(nodes) +
+                                                    " nodes less than 1e-12 kg");
+}
+
 SpringParams readSpring(Obj& o, const std::string& stiff_key, const std::string& damp_key,
                         const SpringParams* fallback) {
   SpringParams s;
@@ -292,6 +302,7 @@ void readRope(Obj& o, RopeDesc& r) {
   if (r.length < 0 && (r.end - r.start).norm() == 0)
     o.diag().error(childPath(o.path(), "end"), "must differ from start (or give length)");
   const long long n = r.segments + 1;
+  checkNodeMass(o, r.mass, n);
   readPins(o, {n}, n, {{"start", 0}, {"end", n - 1}}, r.pinned);
 }
 
@@ -304,6 +315,7 @@ void readNet(Obj& o, NetDesc& net) {
   if (nx * ny > kMaxBodyNodes)
     o.diag().error(childPath(o.path(), "resolution"), std::to_string(nx * ny) + " nodes, more than the limit of " + std::to_string(kMaxBodyNodes));
   net.mass = o.number("mass", net.mass, kPos);
+  checkNodeMass(o, net.mass, nx * ny);
   net.structural = readSpring(o, "stiffness", "damping", nullptr);
   net.shear = readSpring(o, "shear_stiffness", "shear_damping", &net.structural);
   net.node_damping = o.number("node_damping", 0.0, kNonNeg);
@@ -323,12 +335,34 @@ void readLattice(Obj& o, LatticeDesc& l) {
   if (nx * ny * nz > kMaxBodyNodes)
     o.diag().error(childPath(o.path(), "resolution"), std::to_string(nx * ny * nz) + " nodes, more than the limit of " + std::to_string(kMaxBodyNodes));
   l.mass = o.number("mass", l.mass, kPos);
+  checkNodeMass(o, l.mass, nx * ny * nz);
   l.edge = readSpring(o, "stiffness", "damping", nullptr);
   l.face = readSpring(o, "face_stiffness", "face_damping", &l.edge);
   l.body = readSpring(o, "body_stiffness", "body_damping", &l.edge);
   l.node_damping = o.number("node_damping", 0.0, kNonNeg);
   l.velocity = o.vec3("velocity", l.velocity);
   readPins(o, {nx, ny, nz}, nx * ny * nz, {}, l.pinned);
+}
+
+// Nodes and springs a body will have, from its description (without building it).
+std::pair<long long, long long> bodySize(const BodyDesc& b) {
+  struct V {
+    std::pair<long long, long long> operator()(const MassSpringDesc& d) const {
+      return {static_cast<long long>(d.nodes.size()), static_cast<long long>(d.springs.size())};
+    }
+    std::pair<long long, long long> operator()(const RopeDesc& d) const { return {d.segments + 1ll, d.segments}; }
+    std::pair<long long, long long> operator()(const NetDesc& d) const {
+      const long long x = d.resolution[0], y = d.resolution[1];
+      return {x * y, (x - 1) * y + x * (y - 1) + 2 * (x - 1) * (y - 1)};
+    }
+    std::pair<long long, long long> operator()(const LatticeDesc& d) const {
+      const long long x = d.resolution[0], y = d.resolution[1], z = d.resolution[2];
+      const long long edges = (x - 1) * y * z + x * (y - 1) * z + x * y * (z - 1);
+      const long long faces = 2 * ((x - 1) * (y - 1) * z + (x - 1) * y * (z - 1) + x * (y - 1) * (z - 1));
+      return {x * y * z, edges + faces + 4 * (x - 1) * (y - 1) * (z - 1)};
+    }
+  };
+  return std::visit(V{}, b.shape);
 }
 
 const std::vector<std::string> kObjectTypes = {"plane", "sphere", "box", "capsule"};
@@ -346,6 +380,20 @@ std::pair<std::string, std::string> readIdentity(Obj& o, const std::vector<std::
   return {name, type};
 }
 
+// "line:col" (both from 1) of a byte offset.
+std::string lineCol(const std::string& text, std::size_t at) {
+  std::size_t line = 1, col = 1;
+  for (std::size_t i = 0; i < at && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
+    }
+  }
+  return std::to_string(line) + ":" + std::to_string(col);
+}
+
 }  // namespace
 
 Result<SceneDesc> parseScene(const std::string& text, const std::string& file) {
@@ -353,26 +401,26 @@ Result<SceneDesc> parseScene(const std::string& text, const std::string& file) {
   try {
     root = Json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
   } catch (const Json::parse_error& e) {
-    // nlohmann: "[json.exception.parse_error.101] parse error at line L, column C: what"
+    // Position from the byte offset; the reason from nlohmann's message, cut short (it quotes
+    // the whole failing token, which can be megabytes).
+    const std::size_t at = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
     std::string what = e.what();
-    std::smatch m;
-    std::string loc = file + ":";
-    if (std::regex_search(what, m, std::regex(R"(at line (\d+), column (\d+): (.*))")))
-      return Error(ErrorKind::BadInput, file + ":" + m[1].str() + ":" + m[2].str() + ": " + m[3].str());
-    return Error(ErrorKind::BadInput, file + ":1:1: " + what);
+    const std::size_t colon = what.find(": ", what.find("parse error"));
+    what = colon == std::string::npos ? what : what.substr(colon + 2);
+    if (what.size() > 200) what = what.substr(0, 200) + "...";
+    return Error(ErrorKind::BadInput, file + ":" + lineCol(text, at) + ": " + what);
   } catch (const Json::exception& e) {
-    // Number overflow (1e999) has no position in nlohmann's message: find the literal.
-    std::string what = e.what();
-    std::smatch m;
-    if (std::regex_search(what, m, std::regex(R"(number overflow parsing '([^']*)')"))) {
-      const std::size_t at = text.find(m[1].str());
-      const std::size_t line_start = text.rfind('\n', at == 0 ? 0 : at - 1);
-      const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
-      const std::size_t col = line_start == std::string::npos ? at + 1 : at - line_start;
-      return Error(ErrorKind::BadInput, file + ":" + std::to_string(line) + ":" + std::to_string(col) +
-                                            ": number " + m[1].str() + " is too large (numbers must be finite)");
+    // Number overflow (1e999): nlohmann gives no position, so find the literal.
+    const std::string what = e.what();
+    const std::string key = "number overflow parsing '";
+    const std::size_t k = what.find(key);
+    if (k != std::string::npos) {
+      const std::string lit = what.substr(k + key.size(), what.find('\'', k + key.size()) - k - key.size());
+      const std::size_t at = text.find(lit);
+      return Error(ErrorKind::BadInput, file + ":" + lineCol(text, at == std::string::npos ? 0 : at) + ": number " +
+                                            lit.substr(0, 40) + " is too large (numbers must be finite)");
     }
-    return Error(ErrorKind::BadInput, file + ": " + what);
+    return Error(ErrorKind::BadInput, file + ": " + what.substr(0, 200));
   }
 
   Diagnostics d(file);
@@ -461,6 +509,17 @@ Result<SceneDesc> parseScene(const std::string& text, const std::string& file) {
       }
     }
   }
+  // Totals over all bodies, so that no scene can exhaust the machine's memory.
+  long long nodes = 0, springs = 0;
+  for (const BodyDesc& b : s.bodies) {
+    const auto [bn, bs] = bodySize(b);
+    nodes += bn;
+    springs += bs;
+  }
+  if (nodes > kMaxSceneNodes)
+    d.error("/bodies", std::to_string(nodes) + " nodes in all, more than the limit of " + std::to_string(kMaxSceneNodes));
+  if (springs > kMaxSceneSprings)
+    d.error("/bodies", std::to_string(springs) + " springs in all, more than the limit of " + std::to_string(kMaxSceneSprings));
   o.finish();
   if (!d.empty()) return Error(ErrorKind::BadInput, d.lines());
   return s;

@@ -11,6 +11,9 @@ namespace reel::io {
 // Limits that keep a bad scene from exhausting the machine.
 inline constexpr std::size_t kMaxSceneBytes = 64u << 20;     // scene file size
 inline constexpr long long kMaxBodyNodes = 4'194'304;         // nodes of one body (2048 x 2048)
+inline constexpr long long kMaxSceneNodes = 4'194'304;        // nodes of all bodies together
+inline constexpr long long kMaxSceneSprings = 16'777'216;     // springs of all bodies together
+inline constexpr double kMinNodeMass = 1e-12;                 // kg: lighter nodes overflow 1/m
 inline constexpr std::size_t kMaxTextureBytes = 64u << 20;
 
 // Parses and validates a scene file. On failure the Error (BadInput) lists every problem found,

@@ -41,7 +41,12 @@ bool Collider::distance(const Vec3& p, double& d, Vec3& n) const {
   switch (kind) {
     case ObjectKind::Plane: {
       const Vec3 q = R.transpose() * (p - p0);  // local: y along the normal
-      if (half.x() > 0 && (std::abs(q.x()) > half.x() || std::abs(q.z()) > half.z())) return false;
+      if (half.x() > 0) {
+        // A finite plane is a sheet, not a slab: it catches nodes just below its surface (those
+        // that crossed it this step), never ones that pass far beneath it.
+        if (std::abs(q.x()) > half.x() || std::abs(q.z()) > half.z()) return false;
+        if (q.y() < -(thickness + 0.05 * std::min(half.x(), half.z()))) return false;
+      }
       d = q.y();
       n = R.col(1);
       return true;

@@ -21,7 +21,8 @@ struct Collider {
   Surface surface;
 
   // Signed distance from p to the surface (negative inside) and the outward normal there.
-  // Returns false when p is outside the collider's reach (beside a finite plane).
+  // Returns false when p is outside the collider's reach: beside a finite plane, or more than
+  // its thickness plus 5% of its smaller half-size below it.
   bool distance(const Vec3& p, double& d, Vec3& n) const;
 };
 

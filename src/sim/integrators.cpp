@@ -139,7 +139,10 @@ void implicitEuler(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, do
       dyn.applySystem(ws.p.data(), ws.q.data());
       filter(ws.q);
       const double pq = dot(ws.p, ws.q);
-      if (!(pq > 0.0)) break;  // converged to round-off, or the system lost definiteness
+      if (!(pq > 0.0)) {  // converged to round-off, or the system lost definiteness
+        rel = std::sqrt(dot(ws.r, ws.r)) / bnorm;
+        break;
+      }
       const double alpha = rz / pq;
       parallelFor(ni, [&](Index i) {
         dvel[i] += alpha * ws.p[i];

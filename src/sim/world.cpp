@@ -102,7 +102,7 @@ Result<World> World::create(const SceneDesc& scene) {
     b->bound = stableStep(b->model, scene.integrator);
     if (h > b->bound.h_max) {
       const double need = std::ceil(h / (0.9 * b->bound.h_max));
-      if (scene.auto_substeps && b->bound.h_max > 0 && need <= 1e6) {
+      if (scene.auto_substeps && b->bound.h_max > 0 && need * scene.substeps <= kMaxStepsPerFrame) {
         w.inner_ = std::max(w.inner_, static_cast<int>(need));
       } else if (b->bound.h_max <= 0) {
         errors.push_back(scene.file + ": /integrator: explicit_euler is unstable for body '" +
@@ -164,6 +164,10 @@ Status World::advanceFrame() {
     ++step_;
     for (auto& b : bodies_) {
       integrate(integrator_, *b->dynamics, b->state.x, b->state.v, h, b->workspace, implicit_, &stats_);
+      if (integrator_ == IntegratorKind::ImplicitEuler && stats_.cg_relative_residual > implicit_.cg_tolerance) {
+        ++cg_unconverged_;
+        cg_worst_ = std::max(cg_worst_, stats_.cg_relative_residual);
+      }
       resolveContacts(colliders_, b->radius, h, b->model.fixed.data(), b->state.x, b->state.v);
       if (Status st = checkState(*b, step_); !st) return st;
     }

@@ -21,6 +21,8 @@ namespace reel {
 // A state whose speed or distance from the origin passes these is a runaway (exit 3).
 inline constexpr double kRunawaySpeed = 1e4;     // m/s
 inline constexpr double kRunawayDistance = 1e6;  // m
+// substeps × automatic subdivision stays below this (10 million steps per frame).
+inline constexpr double kMaxStepsPerFrame = 1e7;
 
 struct MassSpringBody {
   std::string name, generator;
@@ -57,6 +59,10 @@ class World {
   // FNV-1a of every body's positions and velocities (determinism checks).
   std::uint64_t stateHash() const;
   const StepStats& lastStepStats() const { return stats_; }
+  // Implicit steps whose conjugate-gradient solve stopped before reaching its tolerance, and the
+  // worst relative residual among them.
+  long long unconvergedSteps() const { return cg_unconverged_; }
+  double worstResidual() const { return cg_worst_; }
 
  private:
   Status checkState(const MassSpringBody& b, long long step) const;
@@ -74,6 +80,8 @@ class World {
   std::vector<DrawMesh> object_meshes_;
   std::vector<std::unique_ptr<MassSpringBody>> bodies_;
   StepStats stats_;
+  long long cg_unconverged_ = 0;
+  double cg_worst_ = 0.0;
 };
 
 }  // namespace reel
