@@ -63,6 +63,10 @@ Status writePng(const std::string& path, const Image& img, const TextChunks& tex
 
 namespace {
 
+// libpng's default handlers print to stderr; reel reports errors itself.
+void pngError(png_structp png, png_const_charp) { png_longjmp(png, 1); }
+void pngWarning(png_structp, png_const_charp) {}
+
 struct Reader {
   png_structp png = nullptr;
   png_infop info = nullptr;
@@ -76,7 +80,7 @@ Status openReader(const std::string& path, Reader& r) {
   unsigned char sig[8];
   if (std::fread(sig, 1, 8, r.f.get()) != 8 || png_sig_cmp(sig, 0, 8) != 0)
     return Error(ErrorKind::BadInput, path + ": not a PNG file");
-  r.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  r.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, pngError, pngWarning);
   r.info = r.png ? png_create_info_struct(r.png) : nullptr;
   if (!r.png || !r.info) return Error(ErrorKind::Internal, "out of memory for libpng");
   png_init_io(r.png, r.f.get());

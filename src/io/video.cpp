@@ -219,6 +219,96 @@ Status VideoWriter::finish() {
   return {};
 }
 
+namespace {
+
+// Opens, decodes every frame, and hands each to `sink` as RGB24.
+template <class Sink>
+Status decodeAll(const std::string& path, VideoInfo& info, Sink&& sink) {
+  AVFormatContext* fmt = nullptr;
+  int r = avformat_open_input(&fmt, path.c_str(), nullptr, nullptr);
+  if (r < 0) return Error(ErrorKind::BadInput, path + ": cannot open: " + averr(r));
+  struct Guard {
+    AVFormatContext** f;
+    AVCodecContext* c = nullptr;
+    AVFrame* fr = nullptr;
+    AVFrame* rgb = nullptr;
+    AVPacket* p = nullptr;
+    SwsContext* sws = nullptr;
+    ~Guard() {
+      avcodec_free_context(&c);
+      av_frame_free(&fr);
+      av_frame_free(&rgb);
+      av_packet_free(&p);
+      sws_freeContext(sws);
+      avformat_close_input(f);
+    }
+  } g{&fmt};
+  if ((r = avformat_find_stream_info(fmt, nullptr)) < 0) return Error(ErrorKind::BadInput, path + ": " + averr(r));
+  const AVCodec* codec = nullptr;
+  const int si = av_find_best_stream(fmt, AVMEDIA_TYPE_VIDEO, -1, -1, &codec, 0);
+  if (si < 0 || !codec) return Error(ErrorKind::BadInput, path + ": no video stream");
+  AVStream* st = fmt->streams[si];
+  g.c = avcodec_alloc_context3(codec);
+  avcodec_parameters_to_context(g.c, st->codecpar);
+  if ((r = avcodec_open2(g.c, codec, nullptr)) < 0) return Error(ErrorKind::BadInput, path + ": " + averr(r));
+  info.codec = codec->name;
+  info.width = st->codecpar->width;
+  info.height = st->codecpar->height;
+  const char* pf = av_get_pix_fmt_name(static_cast<AVPixelFormat>(st->codecpar->format));
+  info.pix_fmt = pf ? pf : "?";
+  info.fps = st->avg_frame_rate.den ? av_q2d(st->avg_frame_rate) : av_q2d(st->r_frame_rate);
+  g.fr = av_frame_alloc();
+  g.p = av_packet_alloc();
+  auto take = [&]() -> Status {
+    for (;;) {
+      int e = avcodec_receive_frame(g.c, g.fr);
+      if (e == AVERROR(EAGAIN) || e == AVERROR_EOF) return {};
+      if (e < 0) return Error(ErrorKind::BadInput, path + ": decoding failed: " + averr(e));
+      ++info.frames;
+      if (!g.sws)
+        g.sws = sws_getContext(g.fr->width, g.fr->height, static_cast<AVPixelFormat>(g.fr->format), g.fr->width,
+                               g.fr->height, AV_PIX_FMT_RGB24, SWS_BILINEAR | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT,
+                               nullptr, nullptr, nullptr);
+      Image img(g.fr->width, g.fr->height);
+      std::uint8_t* dst[1] = {img.rgb.data()};
+      const int ds[1] = {3 * img.width};
+      sws_scale(g.sws, g.fr->data, g.fr->linesize, 0, g.fr->height, dst, ds);
+      sink(std::move(img));
+    }
+  };
+  while (av_read_frame(fmt, g.p) >= 0) {
+    if (g.p->stream_index == si) avcodec_send_packet(g.c, g.p);
+    av_packet_unref(g.p);
+    if (Status s2 = take(); !s2) return s2;
+  }
+  avcodec_send_packet(g.c, nullptr);
+  return take();
+}
+
+}  // namespace
+
+Result<VideoInfo> probeVideo(const std::string& path) {
+  VideoInfo info;
+  if (Status st = decodeAll(path, info, [](Image&&) {}); !st) return st.error();
+  return info;
+}
+
+Result<std::vector<Image>> decodeVideo(const std::string& path, int width, int height) {
+  VideoInfo info;
+  std::vector<Image> out;
+  Status st = decodeAll(path, info, [&](Image&& img) {
+    if (width > 0 && (img.width != width || img.height != height)) {
+      Image c(width, height);
+      for (int y = 0; y < height; ++y)
+        std::copy(img.pixel(0, y), img.pixel(0, y) + 3 * width, c.pixel(0, y));
+      img = std::move(c);
+    }
+    out.push_back(std::move(img));
+  });
+  if (!st) return st.error();
+  return out;
+}
+
 std::vector<std::string> availableEncoders() {
   std::vector<std::string> out;
   if (avcodec_find_encoder_by_name("libx264")) out.push_back("mp4: libx264");

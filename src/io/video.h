@@ -33,6 +33,18 @@ class VideoWriter {
   std::unique_ptr<Impl> impl_;
 };
 
+// What a video file holds, read back with libavformat/libavcodec (tests and tools).
+struct VideoInfo {
+  std::string codec;    // e.g. "h264", "vp9", "gif"
+  std::string pix_fmt;  // e.g. "yuv420p"
+  int width = 0, height = 0;
+  double fps = 0.0;
+  long long frames = 0;  // decoded frames
+};
+Result<VideoInfo> probeVideo(const std::string& path);
+// Every frame decoded to RGB, cropped to width x height when given (undoing padding).
+Result<std::vector<Image>> decodeVideo(const std::string& path, int width = 0, int height = 0);
+
 // Encoders this build can use, by output type (for `reel info`).
 std::vector<std::string> availableEncoders();
 
