@@ -2,13 +2,17 @@
 #include <doctest/doctest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "core/image_compare.h"
 #include "helpers.h"
+#include "io/png.h"
+#include "io/video.h"
 #include "sim/world.h"
 
 using namespace reel;
@@ -176,4 +180,94 @@ TEST_CASE("bench prints one JSON line per integrator") {
     pos = end + 1;
   }
   CHECK(lines == 5);
+}
+
+TEST_CASE("render: PNG frames numbered from 1 and a video from one simulation") {
+  const fs::path dir = tmpDir() / "film";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string drape = std::string(REEL_SOURCE_DIR) + "/tests/scenes/drape.json";
+  const std::string pattern = (dir / "f_###.png").string(), video = (dir / "film.mp4").string();
+  Run r = runReel("render " + drape + " -o " + pattern + " -o " + video + " --size 96x64");
+  REQUIRE(r.code == 0);
+  // 1 s at 10 fps: 10 frames, f_001.png .. f_010.png, and no part files.
+  for (int k = 1; k <= 10; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "f_%03d.png", k);
+    CHECK(fs::exists(dir / name));
+  }
+  CHECK(!fs::exists(dir / "f_011.png"));
+  CHECK(!fs::exists(dir / "f_000.png"));
+  for (const auto& e : fs::directory_iterator(dir)) CHECK(e.path().extension() != ".part");
+  auto info = io::probeVideo(video);
+  REQUIRE(info.ok());
+  CHECK(info.value().frames == 10);
+  CHECK(info.value().width == 96);
+  CHECK(info.value().height == 64);
+  CHECK(info.value().codec == "h264");
+  CHECK(info.value().pix_fmt == "yuv420p");
+  CHECK(info.value().fps == doctest::Approx(10.0));
+  auto text = io::readPngText((dir / "f_004.png").string());
+  REQUIRE(text.ok());
+  CHECK(std::find(text.value().begin(), text.value().end(), std::pair<std::string, std::string>{"reel:frame", "3"}) !=
+        text.value().end());
+  // The video's frames are close to the PNGs.
+  auto frames = io::decodeVideo(video, 96, 64);
+  REQUIRE(frames.ok());
+  auto png = io::readPng((dir / "f_006.png").string());
+  REQUIRE(png.ok());
+  CHECK(compareImages(frames.value()[5], png.value(), 255).mean_abs < 4.0);
+  // The still of frame 5 equals the film's frame 6.
+  const std::string still = (dir / "still.png").string();
+  REQUIRE(runReel("still " + drape + " --frame 5 -o " + still + " --size 96x64").code == 0);
+  auto s = io::readPng(still);
+  REQUIRE(s.ok());
+  CHECK(s.value().rgb == png.value().rgb);
+  REQUIRE(runReel("still " + drape + " --time 0.5 -o " + still + " --size 96x64 --gl egl").code == 0);
+  CHECK(io::readPng(still).value().rgb == png.value().rgb);
+  // reel compare: identical within tolerance (0), different not (1), missing file (2).
+  CHECK(runReel("compare " + still + " " + (dir / "f_006.png").string()).code == 0);
+  r = runReel("compare " + still + " " + (dir / "f_001.png").string() + " --diff " + (dir / "diff.png").string());
+  CHECK(r.code == 1);
+  CHECK(r.out.find("NOT within tolerance") != std::string::npos);
+  CHECK(fs::exists(dir / "diff.png"));
+  CHECK(runReel("compare " + still + " /nonexistent.png").code == 2);
+}
+
+TEST_CASE("render: --frames, --no-overwrite resumes, bad outputs and paths") {
+  const fs::path dir = tmpDir() / "resume";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string drape = std::string(REEL_SOURCE_DIR) + "/tests/scenes/drape.json";
+  const std::string pattern = (dir / "r_####.png").string();
+  REQUIRE(runReel("render " + drape + " -o " + pattern + " --size 64x48 --frames 2-5").code == 0);
+  CHECK(!fs::exists(dir / "r_0002.png"));
+  CHECK(fs::exists(dir / "r_0003.png"));
+  CHECK(fs::exists(dir / "r_0006.png"));
+  CHECK(!fs::exists(dir / "r_0007.png"));
+  // Resume: a missing frame and a corrupt one are redrawn, valid ones are left alone.
+  const auto kept = fs::last_write_time(dir / "r_0004.png");
+  fs::remove(dir / "r_0003.png");
+  { std::ofstream(dir / "r_0005.png") << "not a png"; }
+  REQUIRE(runReel("render " + drape + " -o " + pattern + " --size 64x48 --frames 2-5 --no-overwrite").code == 0);
+  CHECK(io::readPng((dir / "r_0003.png").string()).ok());
+  CHECK(io::readPng((dir / "r_0005.png").string()).ok());
+  CHECK(fs::last_write_time(dir / "r_0004.png") == kept);
+  // Bad requests: exit 2.
+  CHECK(runReel("render " + drape + " -o " + (dir / "x.avi").string()).code == 2);
+  CHECK(runReel("render " + drape + " -o " + (dir / "x.png").string()).code == 2);
+  CHECK(runReel("render " + drape + " --frames 5-2 -o " + pattern).code == 2);
+  CHECK(runReel("render " + drape + " --frames 0-10 -o " + pattern).code == 2);
+  CHECK(runReel("render " + drape + " --gl vulkan -o " + pattern).code == 2);
+  CHECK(runReel("render " + drape + " --size 10x10 -o " + pattern).code == 2);
+  CHECK(runReel("still " + drape + " --frame 10 -o " + (dir / "s.png").string()).code == 2);
+  CHECK(runReel("still " + drape + " -o " + (dir / "s.png").string()).code == 2);
+  // Unwritable: exit 4, no final file.
+  Run r = runReel("render " + drape + " -o /nonexistent_dir/v.mp4 --size 64x48");
+  CHECK(r.code == 4);
+  r = runReel("render " + drape + " -o /nonexistent_dir/f_##.png --size 64x48");
+  CHECK(r.code == 4);
+  CHECK(!fs::exists("/nonexistent_dir"));
+  r = runReel("still " + drape + " --frame 1 -o /nonexistent_dir/s.png --size 64x48");
+  CHECK(r.code == 4);
 }
