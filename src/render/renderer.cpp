@@ -89,7 +89,26 @@ struct Renderer::Impl {
   gl::Context* ctx = nullptr;
   const gl::GlApi* gl = nullptr;
   RenderSettings set;
-  GLuint surface = 0, shadow = 0, background = 0, empty_vao = 0;
+  GLuint shadow = 0, background = 0, empty_vao = 0;
+  std::string shader_dir;
+  // Surface shader variants by their #define header; `frame` marks the frame whose uniforms a
+  // variant holds.
+  struct Variant {
+    GLuint id = 0;
+    long long frame = -1;
+  };
+  std::map<std::string, Variant> variants;
+  long long frame_no = 0;
+  std::string frame_defines;  // LIGHTS, FOG, ACES of the current frame
+  struct FrameUniforms {
+    Mat4f view_proj;
+    Vec3f eye;
+    std::array<float, 24> light_vec{}, light_rad{};
+    std::array<Mat4f, 2> shadow_mats{};
+    Vec3f fog_color;
+    float fog_density = 0;
+  } fu;
+  GLuint current = 0;  // the surface variant in use
   GLuint msaa_fbo = 0, msaa_color = 0, msaa_depth = 0, resolve_fbo = 0, resolve_color = 0;
   std::array<GLuint, 2> shadow_fbo{}, shadow_tex{};
   std::array<GpuMesh, 3> sphere_lod;  // coarse, medium, fine prototypes
@@ -121,8 +140,9 @@ struct Renderer::Impl {
     if (inst_vbo) gl->DeleteBuffers(1, &inst_vbo);
     if (line_vbo) gl->DeleteBuffers(1, &line_vbo);
     if (line_vao) gl->DeleteVertexArrays(1, &line_vao);
-    for (GLuint p : {surface, shadow, background})
+    for (GLuint p : {shadow, background})
       if (p) gl->DeleteProgram(p);
+    for (auto& [k, v] : variants) gl->DeleteProgram(v.id);
     if (empty_vao) gl->DeleteVertexArrays(1, &empty_vao);
     GLuint fbos[] = {msaa_fbo, resolve_fbo, shadow_fbo[0], shadow_fbo[1]};
     gl->DeleteFramebuffers(4, fbos);
@@ -149,7 +169,7 @@ struct Renderer::Impl {
   }
 
   Result<GLuint> program(const std::string& dir, const std::string& vs, const std::string& fs,
-                         bool with_geometry) {
+                         bool with_geometry, const std::string& defines = "") {
     std::string vsrc, fsrc, geo;
     if (!readText(dir + "/" + vs, vsrc) || !readText(dir + "/" + fs, fsrc) ||
         (with_geometry && !readText(dir + "/geometry.glsl", geo)))
@@ -157,7 +177,7 @@ struct Renderer::Impl {
     const std::string head = "#version 330 core\n";
     auto v = compile(GL_VERTEX_SHADER, head + geo + vsrc, vs);
     if (!v.ok()) return v.error();
-    auto f = compile(GL_FRAGMENT_SHADER, head + fsrc, fs);
+    auto f = compile(GL_FRAGMENT_SHADER, head + defines + fsrc, fs);
     if (!f.ok()) return f.error();
     GLuint p = gl->CreateProgram();
     gl->AttachShader(p, v.value());
@@ -247,9 +267,14 @@ struct Renderer::Impl {
   }
 
   Status init(const std::string& dir) {
-    auto s = program(dir, "surface.vert", "surface.frag", true);
-    if (!s.ok()) return s.error();
-    surface = s.value();
+    shader_dir = dir;
+    // Compile the richest surface variant now, so a broken shader fails here, not mid-film.
+    frame_defines = "#define LIGHTS c += DIRECTIONAL_SHADOW(0, 0); c += POINT_SHADOW(1, 1); c += AMBIENT(2);\n"
+                    "#define FOG\n#define ACES\n";
+    DrawMaterial probe;
+    probe.specular = 1;
+    probe.double_sided = probe.checker = true;
+    if (Status st = useSurface(probe); !st) return st;
     auto sh = program(dir, "shadow.vert", "shadow.frag", true);
     if (!sh.ok()) return sh.error();
     shadow = sh.value();
@@ -352,14 +377,43 @@ struct Renderer::Impl {
     radius = std::max(0.5 * (hi - lo).norm(), 0.1) * 1.05;
   }
 
-  void setMaterial(const DrawMaterial& m) {
-    gl->Uniform3f(loc(surface, "u_color"), float(m.color.x()), float(m.color.y()), float(m.color.z()));
-    gl->Uniform1f(loc(surface, "u_specular"), float(m.specular));
-    gl->Uniform1f(loc(surface, "u_shininess"), float(m.shininess));
-    gl->Uniform1f(loc(surface, "u_opacity"), float(m.opacity));
-    gl->Uniform1i(loc(surface, "u_double_sided"), m.double_sided ? 1 : 0);
-    gl->Uniform1i(loc(surface, "u_checker"), m.checker ? 1 : 0);
-    gl->Uniform1i(loc(surface, "u_textured"), 0);
+  // Binds the surface variant for a material (compiling it on first use), uploads the frame's
+  // uniforms to it once per frame, then the material's.
+  Status useSurface(const DrawMaterial& m) {
+    std::string key = frame_defines;
+    if (m.specular > 0) key += "#define SPECULAR\n";
+    if (m.double_sided) key += "#define DOUBLE_SIDED\n";
+    if (m.checker) key += "#define CHECKER\n";
+    auto it = variants.find(key);
+    if (it == variants.end()) {
+      auto p = program(shader_dir, "surface.vert", "surface.frag", true, key);
+      if (!p.ok()) return p.error();
+      it = variants.emplace(key, Variant{p.value(), -1}).first;
+    }
+    const GLuint prog = it->second.id;
+    if (current != prog) {
+      gl->UseProgram(prog);
+      current = prog;
+    }
+    if (it->second.frame != frame_no) {
+      it->second.frame = frame_no;
+      gl->UniformMatrix4fv(loc(prog, "u_view_proj"), 1, GL_FALSE, fu.view_proj.data());
+      gl->Uniform3f(loc(prog, "u_eye"), fu.eye.x(), fu.eye.y(), fu.eye.z());
+      gl->Uniform3fv(loc(prog, "u_light_vec"), 8, fu.light_vec.data());
+      gl->Uniform3fv(loc(prog, "u_light_radiance"), 8, fu.light_rad.data());
+      gl->Uniform1i(loc(prog, "u_shadow_map0"), 1);
+      gl->Uniform1i(loc(prog, "u_shadow_map1"), 2);
+      gl->UniformMatrix4fv(loc(prog, "u_shadow_matrix"), 2, GL_FALSE, fu.shadow_mats[0].data());
+      gl->Uniform1f(loc(prog, "u_shadow_texel"), 1.0f / float(set.shadow_map_size));
+      gl->Uniform1i(loc(prog, "u_texture"), 0);
+      gl->Uniform3f(loc(prog, "u_fog_color"), fu.fog_color.x(), fu.fog_color.y(), fu.fog_color.z());
+      gl->Uniform1f(loc(prog, "u_fog_density"), fu.fog_density);
+    }
+    gl->Uniform3f(loc(prog, "u_color"), float(m.color.x()), float(m.color.y()), float(m.color.z()));
+    gl->Uniform1f(loc(prog, "u_specular"), float(m.specular));
+    gl->Uniform1f(loc(prog, "u_shininess"), float(m.shininess));
+    gl->Uniform1f(loc(prog, "u_opacity"), float(m.opacity));
+    return {};
   }
 
   // Meshes to GPU once per frame: static ones keep their copy while their owner lives, dynamic
@@ -398,14 +452,20 @@ struct Renderer::Impl {
     }
   }
 
-  // Draws all geometry with `prog` bound; with_material: set material uniforms per item.
-  void drawGeometry(const DrawList& list, GLuint prog, bool with_material, bool transparent) {
+  // Draws all geometry: with the shadow program bound (with_material false), or each item with
+  // its material's surface variant.
+  Status drawGeometry(const DrawList& list, bool with_material, bool transparent) {
+    auto bind = [&](const DrawMaterial& m) -> Status {
+      if (!with_material) return {};
+      return useSurface(m);
+    };
+    auto prog = [&] { return with_material ? current : shadow; };
     auto want = [&](const DrawMaterial& m) { return !with_material || (m.opacity < 1.0) == transparent; };
-    gl->Uniform1i(loc(prog, "u_mode"), 0);
     for (std::size_t i = 0; i < list.meshes.size(); ++i) {
       const DrawMesh& m = list.meshes[i];
       if (!slots[i] || !want(m.material)) continue;
-      if (with_material) setMaterial(m.material);
+      if (Status st = bind(m.material); !st) return st;
+      gl->Uniform1i(loc(prog(), "u_mode"), 0);
       gl->BindVertexArray(slots[i]->vao);
       gl->DrawElements(GL_TRIANGLES, slots[i]->count, GL_UNSIGNED_INT, nullptr);
     }
@@ -418,9 +478,9 @@ struct Renderer::Impl {
       const double px = s.radius * px_per_m_at_1m / std::max(nearest, 1e-3);
       GpuMesh& proto = sphere_lod[px < 5 ? 0 : px < 20 ? 1 : 2];
       instances(proto, s.centers, 3);
-      gl->Uniform1i(loc(prog, "u_mode"), 1);
-      gl->Uniform1f(loc(prog, "u_radius"), s.radius);
-      if (with_material) setMaterial(s.material);
+      if (Status st = bind(s.material); !st) return st;
+      gl->Uniform1i(loc(prog(), "u_mode"), 1);
+      gl->Uniform1f(loc(prog(), "u_radius"), s.radius);
       gl->DrawElementsInstanced(GL_TRIANGLES, proto.count, GL_UNSIGNED_INT, nullptr,
                                 static_cast<GLsizei>(s.centers.size() / 3));
     }
@@ -439,18 +499,20 @@ struct Renderer::Impl {
                        GL_STREAM_DRAW);
         gl->VertexAttrib3f(1, 0.0f, 1.0f, 0.0f);  // lit as facing up
         gl->VertexAttrib2f(2, 0.0f, 0.0f);
-        gl->Uniform1i(loc(prog, "u_mode"), 0);
-        if (with_material) setMaterial(t.material);
+        if (Status st = bind(t.material); !st) return st;
+        gl->Uniform1i(loc(prog(), "u_mode"), 0);
+        gl->BindVertexArray(line_vao);
         gl->DrawArrays(GL_LINES, 0, static_cast<GLsizei>(t.ends.size() / 3));
         continue;
       }
       instances(tube_proto, t.ends, 6);
-      gl->Uniform1i(loc(prog, "u_mode"), 2);
-      gl->Uniform1f(loc(prog, "u_radius"), t.radius);
-      if (with_material) setMaterial(t.material);
+      if (Status st = bind(t.material); !st) return st;
+      gl->Uniform1i(loc(prog(), "u_mode"), 2);
+      gl->Uniform1f(loc(prog(), "u_radius"), t.radius);
       gl->DrawElementsInstanced(GL_TRIANGLES, tube_proto.count, GL_UNSIGNED_INT, nullptr,
                                 static_cast<GLsizei>(t.ends.size() / 6));
     }
+    return {};
   }
 
   Status draw(const DrawList& list, Image& out) {
@@ -492,7 +554,7 @@ struct Renderer::Impl {
       gl->UniformMatrix4fv(loc(shadow, "u_view_proj"), 1, GL_FALSE, vp.data());
       gl->Enable(GL_POLYGON_OFFSET_FILL);
       gl->PolygonOffset(1.5f, 2.0f);
-      drawGeometry(list, shadow, false, false);
+      if (Status st = drawGeometry(list, false, false); !st) return st;
       gl->Disable(GL_POLYGON_OFFSET_FILL);
       Mat4f bias = Mat4f::Identity();  // clip space [-1, 1] → texture space [0, 1]
       bias.block<3, 3>(0, 0) *= 0.5f;
@@ -519,57 +581,53 @@ struct Renderer::Impl {
     gl->Enable(GL_DEPTH_TEST);
     gl->DepthMask(GL_TRUE);
 
-    gl->UseProgram(surface);
+    // The frame's uniforms and the #defines of its surface variants: the light list unrolled.
     const DrawCamera& cam = list.camera;
     const double dist = (cam.position - center).norm();
     const double far_plane = std::max(200.0, 2.0 * (dist + radius));
     const double near_plane = std::clamp((dist - radius) * 0.5, 0.01, 1.0);
-    const Mat4f vp = perspective(cam.fov_deg, static_cast<double>(W) / H, near_plane, far_plane) *
-                     lookAt(cam.position, cam.target, cam.up);
-    gl->UniformMatrix4fv(loc(surface, "u_view_proj"), 1, GL_FALSE, vp.data());
-    gl->Uniform3f(loc(surface, "u_eye"), float(cam.position.x()), float(cam.position.y()), float(cam.position.z()));
-    const int nl = static_cast<int>(std::min<std::size_t>(list.lights.size(), 8));
-    std::array<GLint, 8> types{}, shadow_idx{};
-    std::array<float, 24> vecs{}, rads{};
-    for (int i = 0; i < nl; ++i) {
-      const LightDesc& l = list.lights[static_cast<std::size_t>(i)];
-      types[i] = l.kind == LightKind::Directional ? 0 : l.kind == LightKind::Point ? 1 : 2;
+    fu.view_proj = perspective(cam.fov_deg, static_cast<double>(W) / H, near_plane, far_plane) *
+                   lookAt(cam.position, cam.target, cam.up);
+    fu.eye = cam.position.cast<float>();
+    fu.shadow_mats = shadow_mats;
+    fu.fog_color = list.fog_color.cast<float>();
+    fu.fog_density = float(list.fog_density);
+    std::string lights;
+    const std::size_t nl = std::min<std::size_t>(list.lights.size(), 8);
+    for (std::size_t i = 0; i < nl; ++i) {
+      const LightDesc& l = list.lights[i];
       const Vec3 v = l.kind == LightKind::Point ? l.position : l.direction;
       const Vec3 r = l.color * l.intensity;
       for (int k = 0; k < 3; ++k) {
-        vecs[3 * i + k] = float(v[k]);
-        rads[3 * i + k] = float(r[k]);
+        fu.light_vec[3 * i + static_cast<std::size_t>(k)] = float(v[k]);
+        fu.light_rad[3 * i + static_cast<std::size_t>(k)] = float(r[k]);
       }
-      shadow_idx[i] = light_shadow[static_cast<std::size_t>(i)];
+      const std::string I = std::to_string(i), S = std::to_string(light_shadow[i]);
+      if (l.kind == LightKind::Ambient) lights += " c += AMBIENT(" + I + ");";
+      else if (l.kind == LightKind::Directional)
+        lights += light_shadow[i] >= 0 ? " c += DIRECTIONAL_SHADOW(" + I + ", " + S + ");" : " c += DIRECTIONAL(" + I + ");";
+      else
+        lights += light_shadow[i] >= 0 ? " c += POINT_SHADOW(" + I + ", " + S + ");" : " c += POINT(" + I + ");";
     }
-    gl->Uniform1i(loc(surface, "u_light_count"), nl);
-    gl->Uniform1iv(loc(surface, "u_light_type"), 8, types.data());
-    gl->Uniform3fv(loc(surface, "u_light_vec"), 8, vecs.data());
-    gl->Uniform3fv(loc(surface, "u_light_radiance"), 8, rads.data());
-    gl->Uniform1iv(loc(surface, "u_light_shadow"), 8, shadow_idx.data());
-    const GLint units[2] = {1, 2};
-    gl->Uniform1iv(loc(surface, "u_shadow_map"), 2, units);
-    gl->UniformMatrix4fv(loc(surface, "u_shadow_matrix"), 2, GL_FALSE, shadow_mats[0].data());
-    const float texel[2] = {1.0f / float(set.shadow_map_size), 1.0f / float(set.shadow_map_size)};
-    gl->Uniform1fv(loc(surface, "u_shadow_texel"), 2, texel);
+    frame_defines = "#define LIGHTS" + lights + "\n";
+    if (list.fog_density > 0) frame_defines += "#define FOG\n";
+    if (list.tonemap == "aces") frame_defines += "#define ACES\n";
+    ++frame_no;
+    current = 0;
     for (int i = 0; i < 2; ++i) {
       gl->ActiveTexture(GL_TEXTURE1 + static_cast<GLenum>(i));
       gl->BindTexture(GL_TEXTURE_2D, shadow_tex[static_cast<std::size_t>(i)]);
     }
     gl->ActiveTexture(GL_TEXTURE0);
-    gl->Uniform1i(loc(surface, "u_texture"), 0);
-    const Vec3& fc = list.fog_color;
-    gl->Uniform3f(loc(surface, "u_fog_color"), float(fc.x()), float(fc.y()), float(fc.z()));
-    gl->Uniform1f(loc(surface, "u_fog_density"), float(list.fog_density));
-    gl->Uniform1i(loc(surface, "u_tonemap"), list.tonemap == "aces" ? 1 : 0);
-    drawGeometry(list, surface, true, false);
+    if (Status st = drawGeometry(list, true, false); !st) return st;
     // Transparent surfaces after the opaque ones, blended, without writing depth.
     gl->Enable(GL_BLEND);
     gl->BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     gl->DepthMask(GL_FALSE);
-    drawGeometry(list, surface, true, true);
+    Status tr = drawGeometry(list, true, true);
     gl->DepthMask(GL_TRUE);
     gl->Disable(GL_BLEND);
+    if (!tr) return tr;
 
     // Resolve the samples and read the pixels back, top row first.
     gl->BindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo);
