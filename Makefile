@@ -1,5 +1,5 @@
 # reel: the two commands of the README.
-#   make demo   installs what is missing, builds Release, renders the default scenes into render_out/
+#   make demo   installs what is missing, builds Release, renders the demo films into render_out/
 #   make test   installs what is missing, builds Release, runs every test through ctest
 PRESET ?= release
 JOBS   ?= $(shell nproc)
@@ -24,8 +24,8 @@ demo: build
 	@mkdir -p render_out
 	@for s in $(DEMO_SCENES); do \
 	  n=$$(basename $$s .json); \
-	  echo "reel simulate $$s --dump render_out/$$n.dump.json"; \
-	  $(REEL) simulate $$s --dump render_out/$$n.dump.json --dump-every 10 || exit $$?; \
+	  echo "reel render $$s -o render_out/$$n.mp4"; \
+	  $(REEL) render $$s -o render_out/$$n.mp4 || exit $$?; \
 	done
 
 test: build

@@ -84,8 +84,13 @@ void main() {
   albedo *= texture(u_texture, v_uv).rgb;
 #endif
 #ifdef CHECKER
-  vec2 cell = floor(v_world.xz / 0.5);
-  albedo *= mod(cell.x + cell.y, 2.0) != 0.0 ? 0.55 : 1.0;
+  // 0.5 m squares of 1 and 0.55 times the albedo, fading to their mean where a pixel covers
+  // several squares (no moiré towards the horizon).
+  vec2 cp = v_world.xz / 0.5;
+  vec2 cell = floor(cp);
+  float check = mod(cell.x + cell.y, 2.0) != 0.0 ? 0.55 : 1.0;
+  float blur = clamp(max(fwidth(cp.x), fwidth(cp.y)) * 1.5 - 0.35, 0.0, 1.0);
+  albedo *= mix(check, 0.775, blur);
 #endif
   vec3 c = vec3(0.0);
   LIGHTS

@@ -64,12 +64,12 @@ std::vector<LightDesc> defaultLights() {
   key.kind = LightKind::Directional;
   key.direction = Vec3(-0.45, -1.0, -0.35);
   key.color = Vec3(1.0, 0.96, 0.9);
-  key.intensity = 1.5;
+  key.intensity = 1.1;
   key.shadows = true;
   LightDesc amb;
   amb.kind = LightKind::Ambient;
   amb.color = Vec3(0.55, 0.62, 0.75);
-  amb.intensity = 0.5;
+  amb.intensity = 0.45;
   return {key, amb};
 }
 
