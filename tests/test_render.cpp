@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include "core/image_compare.h"
 #include "core/math.h"
@@ -20,8 +21,9 @@ namespace fs = std::filesystem;
 namespace {
 
 // Renders frame `frame` of a scene in this process with the given backend.
-Image renderScene(const std::string& text, gl::Backend backend = gl::Backend::OSMesa, int frame = 0) {
-  const SceneDesc scene = sceneFromText(text);
+Image renderScene(const std::string& text, gl::Backend backend = gl::Backend::OSMesa, int frame = 0,
+                  const std::string& file = "test.json") {
+  const SceneDesc scene = sceneFromText(text, file);
   auto w = World::create(scene);
   REQUIRE(w.ok());
   for (int k = 0; k < frame; ++k) REQUIRE(w.value().advanceFrame().ok());
@@ -72,6 +74,41 @@ TEST_CASE("a lit Lambertian plane has the value sRGB(ρ·cos θ + ρ·ambient)")
       for (int c = 0; c < 3; ++c) CHECK(std::abs(int(p[c]) - want) <= 1);
     }
   }
+}
+
+TEST_CASE("a texture multiplies the albedo, decoded from sRGB, mapped by the UVs") {
+  const fs::path dir = fs::temp_directory_path() / "reel_tex_test";
+  fs::create_directories(dir);
+  Image tex(2, 2);
+  const std::uint8_t colours[4][3] = {{200, 30, 30}, {30, 200, 30}, {30, 30, 200}, {240, 240, 240}};
+  for (int i = 0; i < 4; ++i) std::copy(colours[i], colours[i] + 3, tex.pixel(i % 2, i / 2));
+  REQUIRE(io::writePng((dir / "t.png").string(), tex).ok());
+  const std::string scene = R"({"format": "reel/1", "duration": 0.1,
+    "render": {"width": 64, "height": 48, "samples": 1, "background": [0, 0, 0]},
+    "camera": {"position": [0, 3.139974, 0.000001], "target": [0, 0, 0], "fov_deg": 40},
+    "lights": [{"type": "ambient", "intensity": 1}],
+    "objects": [{"type": "plane", "size": [2, 2], "color": [1, 1, 1], "texture": "t.png"}]})";
+  std::ofstream((dir / "s.json").string()) << scene;
+  auto s = io::loadScene((dir / "s.json").string());
+  REQUIRE(s.ok());
+  REQUIRE(s.value().objects[0].material.texture_image);
+  const Image img = renderScene(scene, gl::Backend::OSMesa, 0, (dir / "s.json").string());
+  // The camera height puts the texel centres (world x, z = ±0.5) on the centres of pixels 10.5
+  // pixels from the image centre; each shows one texel's colour (sRGB decoded, lit by 1,
+  // encoded again).
+  std::vector<std::array<int, 3>> seen;
+  for (int y : {13, 34})
+    for (int x : {21, 42}) {
+      const std::uint8_t* p = img.pixel(x, y);
+      seen.push_back({p[0], p[1], p[2]});
+    }
+  for (const auto& c : colours) {
+    bool found = false;
+    for (const auto& q : seen)
+      found = found || (std::abs(q[0] - c[0]) <= 2 && std::abs(q[1] - c[1]) <= 2 && std::abs(q[2] - c[2]) <= 2);
+    CHECK_MESSAGE(found, int(c[0]) << "," << int(c[1]) << "," << int(c[2]));
+  }
+  fs::remove_all(dir);
 }
 
 TEST_CASE("a sphere's silhouette has the size the camera implies") {

@@ -16,7 +16,7 @@ namespace reel {
 
 struct DrawMaterial {
   Vec3 color{0.8, 0.8, 0.8};  // linear albedo
-  std::string texture;        // PNG path, empty for none
+  std::shared_ptr<const Image> texture;  // sRGB pixels, multiplied into the albedo (UVs)
   double specular = 0.0, shininess = 32.0, opacity = 1.0;
   bool double_sided = false;  // sheets: lit from both sides
   bool checker = false;       // checkerboard of `color` and a darker shade, 0.5 m squares

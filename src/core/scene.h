@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -12,6 +13,7 @@
 #include <variant>
 #include <vector>
 
+#include "core/image.h"
 #include "core/types.h"
 
 namespace reel {
@@ -31,6 +33,7 @@ inline std::optional<IntegratorKind> integratorFromName(std::string_view s) {
 struct Material {
   Vec3 color{0.8, 0.8, 0.8};  // linear albedo
   std::string texture;        // resolved path of a PNG, empty for none
+  std::shared_ptr<const Image> texture_image;  // its pixels, decoded when the scene loads
   double specular = 0.0;      // 0..1
   double shininess = 32.0;    // Phong exponent
   double opacity = 1.0;       // 0..1

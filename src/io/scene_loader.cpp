@@ -5,6 +5,7 @@
 #include <set>
 
 #include "io/files.h"
+#include "io/png.h"
 #include "io/json_reader.h"
 
 namespace reel::io {
@@ -19,9 +20,13 @@ void readMaterial(Obj& o, Material& m) {
   m.color = o.vec3("color", m.color, kNonNeg);
   if (auto tex = o.string("texture")) {
     auto r = resolveAsset(o.diag().file(), *tex, {".png"}, kMaxTextureBytes);
-    if (r.ok())
+    auto img = r.ok() ? readPng(r.value(), kMaxTexturePixels) : Result<Image>(r.error());
+    if (img.ok()) {
       m.texture = r.value();
-    else
+      m.texture_image = std::make_shared<const Image>(std::move(img.value()));
+    } else if (r.ok()) {
+      o.diag().error(childPath(o.path(), "texture"), "\"" + *tex + "\": " + img.error().headline());
+    } else
       o.diag().error(childPath(o.path(), "texture"), r.error().headline());
   }
   m.specular = o.number("specular", m.specular, kUnit);

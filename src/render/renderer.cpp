@@ -119,7 +119,8 @@ struct Renderer::Impl {
   GLuint inst_vbo = 0;
   std::size_t inst_capacity = 0;
   std::map<const TriMesh*, std::pair<std::weak_ptr<const TriMesh>, GpuMesh>> static_meshes;
-  std::deque<GpuMesh> dynamic_meshes;  // deque: slots stay valid as it grows
+  std::deque<GpuMesh> dynamic_meshes;
+  std::map<const Image*, std::pair<std::weak_ptr<const Image>, GLuint>> textures;  // deque: slots stay valid as it grows
   std::map<std::string, GLint> uniform_cache;
   std::vector<std::uint8_t> readback;
 
@@ -134,6 +135,7 @@ struct Renderer::Impl {
       m = GpuMesh{};
     };
     for (auto& [k, v] : static_meshes) delMesh(v.second);
+    for (auto& [k, v] : textures) gl->DeleteTextures(1, &v.second);
     for (auto& m : dynamic_meshes) delMesh(m);
     for (auto& m : sphere_lod) delMesh(m);
     delMesh(tube_proto);
@@ -377,6 +379,29 @@ struct Renderer::Impl {
     radius = std::max(0.5 * (hi - lo).norm(), 0.1) * 1.05;
   }
 
+  // A texture to GPU once while its owner lives; sRGB-encoded pixels are decoded to linear by
+  // the sampler (GL_SRGB8), mipmapped.
+  void bindTexture(const std::shared_ptr<const Image>& img) {
+    auto& entry = textures[img.get()];
+    if (entry.first.lock() != img) {
+      if (entry.second) gl->DeleteTextures(1, &entry.second);
+      entry.first = img;
+      gl->GenTextures(1, &entry.second);
+      gl->ActiveTexture(GL_TEXTURE0);
+      gl->BindTexture(GL_TEXTURE_2D, entry.second);
+      gl->PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+      // Rows from the top: v = 0 is the image's first row.
+      gl->TexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8, img->width, img->height, 0, GL_RGB, GL_UNSIGNED_BYTE, img->rgb.data());
+      gl->GenerateMipmap(GL_TEXTURE_2D);
+      gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+      gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+      gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    }
+    gl->ActiveTexture(GL_TEXTURE0);
+    gl->BindTexture(GL_TEXTURE_2D, entry.second);
+  }
+
   // Binds the surface variant for a material (compiling it on first use), uploads the frame's
   // uniforms to it once per frame, then the material's.
   Status useSurface(const DrawMaterial& m) {
@@ -384,6 +409,7 @@ struct Renderer::Impl {
     if (m.specular > 0) key += "#define SPECULAR\n";
     if (m.double_sided) key += "#define DOUBLE_SIDED\n";
     if (m.checker) key += "#define CHECKER\n";
+    if (m.texture) key += "#define TEXTURED\n";
     auto it = variants.find(key);
     if (it == variants.end()) {
       auto p = program(shader_dir, "surface.vert", "surface.frag", true, key);
@@ -409,6 +435,7 @@ struct Renderer::Impl {
       gl->Uniform3f(loc(prog, "u_fog_color"), fu.fog_color.x(), fu.fog_color.y(), fu.fog_color.z());
       gl->Uniform1f(loc(prog, "u_fog_density"), fu.fog_density);
     }
+    if (m.texture) bindTexture(m.texture);
     gl->Uniform3f(loc(prog, "u_color"), float(m.color.x()), float(m.color.y()), float(m.color.z()));
     gl->Uniform1f(loc(prog, "u_specular"), float(m.specular));
     gl->Uniform1f(loc(prog, "u_shininess"), float(m.shininess));
@@ -428,6 +455,14 @@ struct Renderer::Impl {
         gl->DeleteBuffers(3, g.vbo);
         if (g.ebo) gl->DeleteBuffers(1, &g.ebo);
         it = static_meshes.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    for (auto it = textures.begin(); it != textures.end();) {
+      if (it->second.first.expired()) {
+        gl->DeleteTextures(1, &it->second.second);
+        it = textures.erase(it);
       } else {
         ++it;
       }

@@ -23,7 +23,7 @@ std::string fmt(double x) {
 DrawMaterial drawMaterial(const Material& m) {
   DrawMaterial d;
   d.color = m.color;
-  d.texture = m.texture;
+  d.texture = m.texture_image;
   d.specular = m.specular;
   d.shininess = m.shininess;
   d.opacity = m.opacity;
