@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "helpers.h"
+#include "io/png.h"
 #include "sim/world.h"
 
 using namespace reel;
@@ -175,8 +176,9 @@ TEST_CASE("assets: missing, wrong type, oversized or escaping the allowed folder
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / "reel_test_assets";
   fs::create_directories(dir / "sub");
-  std::ofstream(dir / "outside.png") << "png";
-  std::ofstream(dir / "sub" / "ok.png") << "png";
+  REQUIRE(io::writePng((dir / "outside.png").string(), Image(2, 2)).ok());
+  REQUIRE(io::writePng((dir / "sub" / "ok.png").string(), Image(2, 2)).ok());
+  std::ofstream(dir / "sub" / "fake.png") << "not a png";
   std::ofstream(dir / "sub" / "notes.txt") << "txt";
   const std::string file = (dir / "sub" / "scene.json").string();
   auto tex = [&](const std::string& t) {
@@ -185,6 +187,8 @@ TEST_CASE("assets: missing, wrong type, oversized or escaping the allowed folder
   CHECK(errorsOf(tex("ok.png"), file).empty());
   CHECK(contains(errorsOf(tex("nope.png"), file), "/objects/0/texture: \"nope.png\": no such file"));
   CHECK(contains(errorsOf(tex("notes.txt"), file), "unsupported file type"));
+  CHECK(contains(errorsOf(tex("fake.png"), file), "/objects/0/texture: \"fake.png\": "));
+  CHECK(contains(errorsOf(tex("fake.png"), file), "not a PNG file"));
   CHECK(contains(errorsOf(tex("../outside.png"), file), "escapes the allowed folders"));
   CHECK(contains(errorsOf(tex("/etc/hostname.png"), file), "/objects/0/texture: \"/etc/hostname.png\": no such file"));
   {
