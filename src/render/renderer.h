@@ -31,6 +31,10 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
   Status draw(const DrawList& list, Image& out);
+  // The rasteriser's own limit, for benchmarks: seconds per frame to clear and draw `mesh` with a
+  // constant colour into the same multisampled framebuffer (no lighting, shadows or read-back),
+  // averaged over `frames`, from the given camera.
+  Result<double> bareDrawSeconds(const TriMesh& mesh, const DrawCamera& camera, int frames);
   const RenderSettings& settings() const;
 
   struct Impl;
