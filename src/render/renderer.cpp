@@ -671,20 +671,13 @@ struct Renderer::Impl {
     gl->BlitFramebuffer(0, 0, W, H, 0, 0, W, H, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     gl->BindFramebuffer(GL_READ_FRAMEBUFFER, resolve_fbo);
     gl->PixelStorei(GL_PACK_ALIGNMENT, 1);
-    readback.resize(static_cast<std::size_t>(W) * H * 4);
-    gl->ReadPixels(0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, readback.data());
+    readback.resize(static_cast<std::size_t>(W) * H * 3);
+    gl->ReadPixels(0, 0, W, H, GL_RGB, GL_UNSIGNED_BYTE, readback.data());
     if (GLenum e = gl->GetError(); e != GL_NO_ERROR)
       return Error(ErrorKind::Internal, "OpenGL error " + std::to_string(e) + " while drawing");
     if (out.width != W || out.height != H) out = Image(W, H);
-    for (int y = 0; y < H; ++y) {
-      const std::uint8_t* src = &readback[static_cast<std::size_t>(H - 1 - y) * W * 4];
-      std::uint8_t* dst = out.pixel(0, y);
-      for (int x = 0; x < W; ++x) {
-        dst[3 * x] = src[4 * x];
-        dst[3 * x + 1] = src[4 * x + 1];
-        dst[3 * x + 2] = src[4 * x + 2];
-      }
-    }
+    for (int y = 0; y < H; ++y)  // GL's rows run from the bottom
+      std::copy_n(&readback[static_cast<std::size_t>(H - 1 - y) * W * 3], static_cast<std::size_t>(W) * 3, out.pixel(0, y));
     return {};
   }
 };
