@@ -215,6 +215,7 @@ int benchFilm(const std::string& scene_path) {
   RenderOptions ro;
   ro.scene = scene_path;
   ro.outputs = {out};
+  ro.quiet = true;
   t0 = Clock::now();
   std::fflush(stdout);
   if (int rc = render(ro, "0-" + std::to_string(frames - 1), false); rc != 0) return rc;

@@ -25,6 +25,7 @@ struct RenderOptions {
   int width = 0, height = 0;  // 0: the scene's size
   int samples = 0;            // 0: the scene's
   std::string gl;             // "", auto, osmesa, egl
+  bool quiet = false;         // print nothing on success
 };
 int still(const RenderOptions& opt, double time, int frame);
 int render(const RenderOptions& opt, const std::string& frames, bool no_overwrite);

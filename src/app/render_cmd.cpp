@@ -266,8 +266,9 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
         if (Status st = o.writer->finish(); !st && enc_status.ok()) enc_status = st;
   for (const Status* st : {&sim_status, &render_status, &enc_status})
     if (!st->ok()) return report(st->error());
-  for (const auto& o : outs)
-    std::printf("%s\n", o.video ? o.path.c_str() : (o.framePath(first) + " .. " + o.framePath(last)).c_str());
+  if (!opt.quiet)
+    for (const auto& o : outs)
+      std::printf("%s\n", o.video ? o.path.c_str() : (o.framePath(first) + " .. " + o.framePath(last)).c_str());
   return 0;
 }
 
