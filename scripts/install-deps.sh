@@ -4,7 +4,7 @@
 set -euo pipefail
 pkgs=(build-essential cmake ninja-build ccache pkg-config
       libeigen3-dev nlohmann-json3-dev libcli11-dev doctest-dev
-      libpng-dev libavcodec-dev libavformat-dev libswscale-dev libavutil-dev
+      libpng-dev libassimp-dev libavcodec-dev libavformat-dev libswscale-dev libavutil-dev
       libgl-dev libegl-dev libosmesa6 libegl1 libegl-mesa0 libgl1-mesa-dri)
 missing=()
 for p in "${pkgs[@]}"; do

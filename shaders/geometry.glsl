@@ -6,6 +6,7 @@ layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_uv;
 layout(location = 3) in vec3 a_inst0;
 layout(location = 4) in vec3 a_inst1;
+layout(location = 5) in vec3 a_color;  // per-vertex colour; (1, 1, 1) where a mesh has none
 
 uniform int u_mode;
 uniform float u_radius;

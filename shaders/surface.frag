@@ -10,6 +10,7 @@
 in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv;
+in vec3 v_color;
 out vec4 o_color;
 
 uniform vec3 u_light_vec[8];       // direction the light travels, or its position
@@ -79,7 +80,7 @@ void main() {
 #ifdef DOUBLE_SIDED
   if (dot(n, view) < 0.0) n = -n;
 #endif
-  vec3 albedo = u_color;
+  vec3 albedo = u_color * v_color;
 #ifdef TEXTURED
   albedo *= texture(u_texture, v_uv).rgb;
 #endif

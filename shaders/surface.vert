@@ -2,6 +2,7 @@ uniform mat4 u_view_proj;
 out vec3 v_world;
 out vec3 v_normal;
 out vec2 v_uv;
+out vec3 v_color;
 
 void main() {
   vec3 p, n;
@@ -9,5 +10,6 @@ void main() {
   v_world = p;
   v_normal = n;
   v_uv = a_uv;
+  v_color = a_color;
   gl_Position = u_view_proj * vec4(p, 1.0);
 }

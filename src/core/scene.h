@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/mesh.h"
 #include "core/types.h"
 
 namespace reel {
@@ -45,7 +46,7 @@ struct Surface {
   double restitution = 0.0;  // normal velocity kept after a bounce, 0..1
 };
 
-enum class ObjectKind { Plane, Sphere, Box, Capsule };
+enum class ObjectKind { Plane, Sphere, Box, Capsule, Mesh };
 
 struct ObjectDesc {
   std::string name, path;  // path: JSON path of the object, e.g. /objects/0
@@ -62,6 +63,11 @@ struct ObjectDesc {
   Vec3 rotation_deg{0, 0, 0};   // XYZ Euler angles, degrees
   // capsule: segment from a to b
   Vec3 a{0, 0, 0}, b{0, 1, 0};
+  // mesh: the imported triangles, placed by x ↦ R·(scale ⊙ x) + position (R from rotation_deg)
+  std::string file;
+  std::shared_ptr<const TriMesh> mesh;
+  Vec3 position{0, 0, 0};
+  Vec3 scale{1, 1, 1};
   double thickness = 0.0;  // contact offset added to the surface, m
   Surface surface;
   Material material;

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "io/files.h"
+#include "io/mesh_import.h"
 #include "io/png.h"
 #include "io/json_reader.h"
 
@@ -150,6 +151,26 @@ void readObject(Obj& o, ObjectDesc& ob, const std::string& type) {
     ob.a = o.vec3("start", Range::any(), true).value_or(ob.a);
     ob.b = o.vec3("end", Range::any(), true).value_or(ob.b);
     ob.radius = o.number("radius", kPos, true).value_or(ob.radius);
+  } else if (type == "mesh") {
+    ob.kind = ObjectKind::Mesh;
+    ob.position = o.vec3("position", ob.position);
+    ob.rotation_deg = o.vec3("rotation_deg", ob.rotation_deg);
+    if (const Json* sc = o.raw("scale")) {
+      if (sc->is_number()) {
+        if (auto v = readNumber(*sc, childPath(p, "scale"), d, kPos)) ob.scale = Vec3::Constant(*v);
+      } else if (auto v = readVec3(*sc, childPath(p, "scale"), d, kPos)) {
+        ob.scale = *v;
+      }
+    }
+    if (auto f = o.string("file", true)) {
+      ob.file = *f;
+      auto r = resolveAsset(d.file(), *f, {std::begin(kMeshExtensions), std::end(kMeshExtensions)}, kMaxMeshBytes);
+      auto mesh = r.ok() ? importMesh(r.value()) : Result<TriMesh>(r.error());
+      if (mesh.ok())
+        ob.mesh = std::make_shared<const TriMesh>(std::move(mesh.value()));
+      else
+        d.error(childPath(p, "file"), r.ok() ? "\"" + *f + "\": " + mesh.error().headline() : mesh.error().headline());
+    }
   }
   ob.thickness = o.number("thickness", 0.0, kNonNeg);
   if (const Json* s = o.raw("surface")) {
@@ -370,7 +391,7 @@ std::pair<long long, long long> bodySize(const BodyDesc& b) {
   return std::visit(V{}, b.shape);
 }
 
-const std::vector<std::string> kObjectTypes = {"plane", "sphere", "box", "capsule"};
+const std::vector<std::string> kObjectTypes = {"plane", "sphere", "box", "capsule", "mesh"};
 const std::vector<std::string> kBodyTypes = {"mass_spring", "rope", "net", "lattice"};
 
 // Reads `name` and `type` of an object or body; checks the name is unique.
@@ -474,6 +495,7 @@ Result<SceneDesc> parseScene(const std::string& text, const std::string& file) {
         if (type.empty()) continue;  // unknown type: its keys cannot be checked
         readObject(ob, od, type);
         ob.finish();
+        if (od.kind == ObjectKind::Mesh && !od.mesh) continue;  // its error is reported
         s.objects.push_back(std::move(od));
       }
     }

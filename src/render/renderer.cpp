@@ -69,7 +69,7 @@ bool readText(const std::string& path, std::string& out) {
 }
 
 struct GpuMesh {
-  GLuint vao = 0, vbo[3] = {0, 0, 0}, ebo = 0;
+  GLuint vao = 0, vbo[4] = {0, 0, 0, 0}, ebo = 0;  // positions, normals, uvs, colours
   GLsizei count = 0;
   std::size_t capacity_v = 0, capacity_i = 0;
 };
@@ -131,7 +131,7 @@ struct Renderer::Impl {
     if (!gl) return;
     auto delMesh = [&](GpuMesh& m) {
       if (m.vao) gl->DeleteVertexArrays(1, &m.vao);
-      gl->DeleteBuffers(3, m.vbo);
+      gl->DeleteBuffers(4, m.vbo);
       if (m.ebo) gl->DeleteBuffers(1, &m.ebo);
       m = GpuMesh{};
     };
@@ -189,7 +189,7 @@ struct Renderer::Impl {
     gl->DeleteShader(v.value());
     gl->DeleteShader(f.value());
     GLint ok = 0;
-    gl->GetProgramiv(p, GL_LINK_STATUS, &ok);
+    gl->GetProgramiv(p, GL_LINK_STATUS, &ok);  // (attribute 5 is a_color in every program)
     if (!ok) {
       char log[4096];
       gl->GetProgramInfoLog(p, sizeof log, nullptr, log);
@@ -210,7 +210,7 @@ struct Renderer::Impl {
   void upload(GpuMesh& m, const TriMesh& t) {
     if (!m.vao) {
       gl->GenVertexArrays(1, &m.vao);
-      gl->GenBuffers(3, m.vbo);
+      gl->GenBuffers(4, m.vbo);
       gl->GenBuffers(1, &m.ebo);
       gl->BindVertexArray(m.vao);
       for (GLuint a = 0; a < 3; ++a) {
@@ -228,8 +228,17 @@ struct Renderer::Impl {
       uv_fallback.assign(2 * nv, 0.0f);
       uvs = &uv_fallback;
     }
-    const std::vector<float>* src[3] = {&t.positions, &t.normals, uvs};
-    for (int a = 0; a < 3; ++a) {
+    const std::vector<float>* src[4] = {&t.positions, &t.normals, uvs, &t.colors};
+    const bool coloured = t.colors.size() == 3 * nv;
+    // Attribute 5: per-vertex colours when the mesh has them, else the constant white set per frame.
+    if (coloured) {
+      gl->BindBuffer(GL_ARRAY_BUFFER, m.vbo[3]);
+      gl->EnableVertexAttribArray(5);
+      gl->VertexAttribPointer(5, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    } else {
+      gl->DisableVertexAttribArray(5);
+    }
+    for (int a = 0; a < (coloured ? 4 : 3); ++a) {
       gl->BindBuffer(GL_ARRAY_BUFFER, m.vbo[a]);
       const auto bytes = static_cast<GLsizeiptr>(src[a]->size() * sizeof(float));
       if (nv > m.capacity_v)
@@ -453,7 +462,7 @@ struct Renderer::Impl {
       if (it->second.first.expired()) {
         GpuMesh& g = it->second.second;
         if (g.vao) gl->DeleteVertexArrays(1, &g.vao);
-        gl->DeleteBuffers(3, g.vbo);
+        gl->DeleteBuffers(4, g.vbo);
         if (g.ebo) gl->DeleteBuffers(1, &g.ebo);
         it = static_meshes.erase(it);
       } else {
@@ -617,6 +626,7 @@ struct Renderer::Impl {
     gl->Enable(GL_DEPTH_TEST);
     gl->DepthMask(GL_TRUE);
 
+    gl->VertexAttrib3f(5, 1.0f, 1.0f, 1.0f);  // white where no per-vertex colour is given
     // The frame's uniforms and the #defines of its surface variants: the light list unrolled.
     const DrawCamera& cam = list.camera;
     const double dist = (cam.position - center).norm();
@@ -723,7 +733,7 @@ Result<double> Renderer::bareDrawSeconds(const TriMesh& mesh, const DrawCamera& 
   }
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / frames;
   gl->DeleteVertexArrays(1, &g.vao);
-  gl->DeleteBuffers(3, g.vbo);
+  gl->DeleteBuffers(4, g.vbo);
   gl->DeleteBuffers(1, &g.ebo);
   if (GLenum e = gl->GetError(); e != GL_NO_ERROR)
     return Error(ErrorKind::Internal, "OpenGL error " + std::to_string(e) + " in the bare draw");

@@ -33,6 +33,8 @@ Collider makeCollider(const ObjectDesc& o) {
       c.p1 = o.b;
       c.radius = o.radius;
       break;
+    case ObjectKind::Mesh:
+      break;  // drawn only: collisions with triangle meshes come with the cloth module
   }
   return c;
 }
@@ -86,6 +88,7 @@ bool Collider::distance(const Vec3& p, double& d, Vec3& n) const {
       n = len > 0 ? Vec3(r / len) : Vec3::UnitY();
       return true;
     }
+    case ObjectKind::Mesh: return false;
   }
   return false;
 }

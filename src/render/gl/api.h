@@ -61,6 +61,7 @@ namespace reel::gl {
   X(DeleteVertexArrays, PFNGLDELETEVERTEXARRAYSPROC)                      \
   X(BindVertexArray, PFNGLBINDVERTEXARRAYPROC)                            \
   X(EnableVertexAttribArray, PFNGLENABLEVERTEXATTRIBARRAYPROC)            \
+  X(DisableVertexAttribArray, PFNGLDISABLEVERTEXATTRIBARRAYPROC)          \
   X(VertexAttribPointer, PFNGLVERTEXATTRIBPOINTERPROC)                    \
   X(VertexAttribDivisor, PFNGLVERTEXATTRIBDIVISORPROC)                    \
   X(VertexAttrib3f, PFNGLVERTEXATTRIB3FPROC)                              \
