@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "app/commands.h"
+#include "app/progress.h"
 #include "core/image_compare.h"
 #include "core/queue.h"
 #include "io/png.h"
@@ -139,24 +140,6 @@ bool validFrame(const std::string& path, int w, int h) {
   return img.ok() && img.value().width == w && img.value().height == h;
 }
 
-class Progress {
- public:
-  explicit Progress(int total) : total_(total), on_(isatty(STDERR_FILENO) != 0), t0_(Clock::now()) {}
-  void update(int done) {
-    if (!on_) return;
-    const double s = std::chrono::duration<double>(Clock::now() - t0_).count();
-    const double rate = s > 0 ? done / s : 0.0;
-    std::fprintf(stderr, "\r  %d/%d frames  %.1f frames/s  %.0f s left   ", done, total_, rate,
-                 rate > 0 ? (total_ - done) / rate : 0.0);
-    if (done == total_) std::fprintf(stderr, "\n");
-  }
-
- private:
-  using Clock = std::chrono::steady_clock;
-  int total_;
-  bool on_;
-  Clock::time_point t0_;
-};
 
 struct FrameImage {
   int k = 0;
