@@ -613,19 +613,6 @@ struct Renderer::Impl {
     gl->Viewport(0, 0, W, H);
     gl->ClearDepth(1.0);
     gl->Clear(GL_DEPTH_BUFFER_BIT);
-    // Background gradient.
-    gl->Disable(GL_DEPTH_TEST);
-    gl->DepthMask(GL_FALSE);
-    gl->UseProgram(background);
-    const Vec3& bt = list.background_top;
-    const Vec3& bb = list.background_bottom;
-    gl->Uniform3f(loc(background, "u_top"), float(bt.x()), float(bt.y()), float(bt.z()));
-    gl->Uniform3f(loc(background, "u_bottom"), float(bb.x()), float(bb.y()), float(bb.z()));
-    gl->BindVertexArray(empty_vao);
-    gl->DrawArrays(GL_TRIANGLES, 0, 3);
-    gl->Enable(GL_DEPTH_TEST);
-    gl->DepthMask(GL_TRUE);
-
     gl->VertexAttrib3f(5, 1.0f, 1.0f, 1.0f);  // white where no per-vertex colour is given
     // The frame's uniforms and the #defines of its surface variants: the light list unrolled.
     const DrawCamera& cam = list.camera;
@@ -666,10 +653,22 @@ struct Renderer::Impl {
     }
     gl->ActiveTexture(GL_TEXTURE0);
     if (Status st = drawGeometry(list, true, false); !st) return st;
+    // Background gradient after the opaque geometry, at the far plane with depth testing on: it
+    // only shades the pixels nothing covers.
+    gl->DepthFunc(GL_LEQUAL);
+    gl->DepthMask(GL_FALSE);
+    gl->UseProgram(background);
+    current = 0;
+    const Vec3& bt = list.background_top;
+    const Vec3& bb = list.background_bottom;
+    gl->Uniform3f(loc(background, "u_top"), float(bt.x()), float(bt.y()), float(bt.z()));
+    gl->Uniform3f(loc(background, "u_bottom"), float(bb.x()), float(bb.y()), float(bb.z()));
+    gl->BindVertexArray(empty_vao);
+    gl->DrawArrays(GL_TRIANGLES, 0, 3);
+    gl->DepthFunc(GL_LESS);
     // Transparent surfaces after the opaque ones, blended, without writing depth.
     gl->Enable(GL_BLEND);
     gl->BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-    gl->DepthMask(GL_FALSE);
     Status tr = drawGeometry(list, true, true);
     gl->DepthMask(GL_TRUE);
     gl->Disable(GL_BLEND);
