@@ -33,15 +33,16 @@ Status Context::finishInit(ProcLoader load) {
 
 namespace {
 
-// Shared library handle closed on destruction.
+// A shared library kept loaded for the life of the process (RTLD_NODELETE): GL drivers keep
+// threads and caches that do not survive being unloaded.
 struct Library {
   void* h = nullptr;
   explicit Library(std::initializer_list<const char*> names) {
     for (const char* n : names)
-      if ((h = dlopen(n, RTLD_NOW | RTLD_LOCAL))) break;
+      if ((h = dlopen(n, RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE))) break;
   }
   ~Library() {
-    if (h) dlclose(h);
+    if (h) dlclose(h);  // drops the reference; the code stays mapped
   }
   Library(const Library&) = delete;
   Library& operator=(const Library&) = delete;
