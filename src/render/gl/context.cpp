@@ -118,7 +118,8 @@ class EglContext final : public Context {
         make_(dpy_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         destroyCtx_(dpy_, ctx_);
       }
-      terminate_(dpy_);
+      // The display stays initialised: EGL displays are shared by the whole process, and
+      // terminating one unloads the driver under any other context of it.
     }
   }
   Status init() {
