@@ -258,6 +258,7 @@ TEST_CASE("render: --frames, --no-overwrite resumes, bad outputs and paths") {
   CHECK(runReel("render " + drape + " -o " + (dir / "x.png").string()).code == 2);
   CHECK(runReel("render " + drape + " --frames 5-2 -o " + pattern).code == 2);
   CHECK(runReel("render " + drape + " --frames 0-10 -o " + pattern).code == 2);
+  CHECK(runReel("render " + drape + " --frames 0-5xyz -o " + pattern).code == 2);
   CHECK(runReel("render " + drape + " --gl vulkan -o " + pattern).code == 2);
   CHECK(runReel("render " + drape + " --size 10x10 -o " + pattern).code == 2);
   CHECK(runReel("still " + drape + " --frame 10 -o " + (dir / "s.png").string()).code == 2);

@@ -154,6 +154,15 @@ TEST_CASE("pins that name missing nodes") {
   CHECK(std::get<NetDesc>(s.bodies[0].shape).pinned == std::vector<int>{11, 9, 3});
 }
 
+TEST_CASE("at most 8 lights, at most 2 casting shadows") {
+  std::string many = R"("lights": [)";
+  for (int i = 0; i < 9; ++i) many += std::string(i ? "," : "") + R"({"type": "ambient"})";
+  CHECK(contains(errorsOf(scene(many + "]")), "/lights: at most 8 lights, got 9"));
+  std::string shadows = R"("lights": [)";
+  for (int i = 0; i < 3; ++i) shadows += std::string(i ? "," : "") + R"({"type": "directional", "shadows": true})";
+  CHECK(contains(errorsOf(scene(shadows + "]")), "/lights: at most 2 lights may cast shadows"));
+}
+
 TEST_CASE("duplicate names") {
   auto e = errorsOf(scene(R"("objects": [{"type": "plane", "name": "a"}],
                              "bodies": [{"type": "rope", "name": "a", "start": [0,0,0], "end": [1,0,0], "stiffness": 1}])"));

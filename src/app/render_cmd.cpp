@@ -121,7 +121,8 @@ Status parseOutput(const std::string& p, Output& o) {
     o.video = true;
     return {};
   }
-  const std::string name = std::filesystem::path(p).filename().string();
+  std::string name = std::filesystem::path(p).filename().string();
+  for (auto& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   const std::size_t at = p.find('#');
   if (name.size() > 4 && name.substr(name.size() - 4) == ".png" && at != std::string::npos &&
       at >= p.size() - name.size()) {
@@ -156,9 +157,10 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
   const int n = s.scene.frameCount();
   int first = 0, last = n - 1;
   if (!range.empty()) {
-    int a = -1, b = -1;
+    int a = -1, b = -1, used = 0;
     char dash = 0;
-    if (std::sscanf(range.c_str(), "%d%c%d", &a, &dash, &b) != 3 || dash != '-' || a < 0 || b < a || b >= n)
+    if (std::sscanf(range.c_str(), "%d%c%d%n", &a, &dash, &b, &used) != 3 || dash != '-' ||
+        used != static_cast<int>(range.size()) || a < 0 || b < a || b >= n)
       return report(Error(ErrorKind::BadInput, "--frames must be A-B with 0 <= A <= B <= " + std::to_string(n - 1) +
                                                    " (frame k shows time k/fps), got \"" + range + "\""));
     first = a;
@@ -177,7 +179,8 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
   const int W = s.scene.render.width, H = s.scene.render.height;
   for (auto& o : outs) {
     if (!o.video) continue;
-    if (no_overwrite && std::filesystem::exists(o.path))
+    std::error_code ec;
+    if (no_overwrite && std::filesystem::exists(o.path, ec))
       return report(Error(ErrorKind::BadInput, o.path + ": exists (a video cannot be resumed; remove it or drop --no-overwrite)"));
     o.writer = std::make_unique<io::VideoWriter>();
     if (Status st = o.writer->open(o.path, W, H, s.scene.fps); !st) return report(st.error());
@@ -242,8 +245,9 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
   images.close();
   sim.join();
   enc.join();
-  // Videos keep every frame encoded so far, also when the simulation stopped early.
-  if (enc_status.ok())
+  // Videos keep every frame encoded so far when the simulation stopped early (exit 3); after a
+  // drawing or encoding failure they are abandoned (no final file).
+  if (enc_status.ok() && render_status.ok())
     for (auto& o : outs)
       if (o.video)
         if (Status st = o.writer->finish(); !st && enc_status.ok()) enc_status = st;

@@ -22,11 +22,19 @@ struct FileCloser {
 
 namespace {
 
+// libpng's default handlers print to stderr; reel reports errors itself.
+void pngError(png_structp png, png_const_charp) { png_longjmp(png, 1); }
+void pngWarning(png_structp, png_const_charp) {}
+
 // The libpng calls, in a frame without C++ objects: libpng reports errors by longjmp.
 bool writeRaw(std::FILE* f, const Image& img, png_bytep* rows, png_text* chunks, int nchunks, int level) {
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, pngError, pngWarning);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (!png || !info || setjmp(png_jmpbuf(png))) {
+  if (!png || !info) {
+    png_destroy_write_struct(&png, &info);
+    return false;
+  }
+  if (setjmp(png_jmpbuf(png))) {
     png_destroy_write_struct(&png, &info);
     return false;
   }
@@ -62,10 +70,6 @@ Status writePng(const std::string& path, const Image& img, const TextChunks& tex
 }
 
 namespace {
-
-// libpng's default handlers print to stderr; reel reports errors itself.
-void pngError(png_structp png, png_const_charp) { png_longjmp(png, 1); }
-void pngWarning(png_structp, png_const_charp) {}
 
 struct Reader {
   png_structp png = nullptr;

@@ -100,6 +100,7 @@ void readLights(const Json& j, std::vector<LightDesc>& lights, Diagnostics& d) {
     d.error("/lights", "expected a list of lights, got " + typeName(j));
     return;
   }
+  if (j.size() > 8) d.error("/lights", "at most 8 lights, got " + std::to_string(j.size()));
   for (std::size_t i = 0; i < j.size(); ++i) {
     const std::string p = childPath("/lights", i);
     Obj o(j[i], p, d);
@@ -123,6 +124,8 @@ void readLights(const Json& j, std::vector<LightDesc>& lights, Diagnostics& d) {
     if (!type.empty()) o.finish();
     lights.push_back(l);
   }
+  if (std::count_if(lights.begin(), lights.end(), [](const LightDesc& l) { return l.shadows; }) > 2)
+    d.error("/lights", "at most 2 lights may cast shadows");
 }
 
 // --- objects: colliders and props ------------------------------------------------------------

@@ -110,6 +110,14 @@ Status VideoWriter::open(const std::string& path, int width, int height, int fps
   v.enc->time_base = AVRational{1, fps};
   v.enc->framerate = AVRational{fps, 1};
   v.enc->gop_size = 2 * fps;
+  if (!v.gif) {
+    // sRGB pixels through swscale's BT.601 matrix into limited-range YUV: say so, so players
+    // invert the same matrix.
+    v.enc->colorspace = AVCOL_SPC_SMPTE170M;
+    v.enc->color_primaries = AVCOL_PRI_BT709;
+    v.enc->color_trc = AVCOL_TRC_IEC61966_2_1;
+    v.enc->color_range = AVCOL_RANGE_MPEG;
+  }
   if (v.fmt->oformat->flags & AVFMT_GLOBALHEADER) v.enc->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
   AVDictionary* opts = nullptr;
   if (ext == ".mp4") {
@@ -297,6 +305,7 @@ Result<std::vector<Image>> decodeVideo(const std::string& path, int width, int h
   VideoInfo info;
   std::vector<Image> out;
   Status st = decodeAll(path, info, [&](Image&& img) {
+    if (width > 0 && (img.width < width || img.height < height)) return;  // not ours to crop
     if (width > 0 && (img.width != width || img.height != height)) {
       Image c(width, height);
       for (int y = 0; y < height; ++y)

@@ -71,7 +71,7 @@ bool readText(const std::string& path, std::string& out) {
 struct GpuMesh {
   GLuint vao = 0, vbo[4] = {0, 0, 0, 0}, ebo = 0;  // positions, normals, uvs, colours
   GLsizei count = 0;
-  std::size_t capacity_v = 0, capacity_i = 0;
+  std::size_t capacity_v = 0, capacity_i = 0, capacity_c = 0;  // vertices, indices, coloured vertices
 };
 
 }  // namespace
@@ -241,7 +241,7 @@ struct Renderer::Impl {
     for (int a = 0; a < (coloured ? 4 : 3); ++a) {
       gl->BindBuffer(GL_ARRAY_BUFFER, m.vbo[a]);
       const auto bytes = static_cast<GLsizeiptr>(src[a]->size() * sizeof(float));
-      if (nv > m.capacity_v)
+      if (nv > (a == 3 ? m.capacity_c : m.capacity_v))
         gl->BufferData(GL_ARRAY_BUFFER, bytes, src[a]->data(), GL_DYNAMIC_DRAW);
       else
         gl->BufferSubData(GL_ARRAY_BUFFER, 0, bytes, src[a]->data());
@@ -252,6 +252,7 @@ struct Renderer::Impl {
     else
       gl->BufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, ibytes, t.indices.data());
     m.capacity_v = std::max(m.capacity_v, nv);
+    if (coloured) m.capacity_c = std::max(m.capacity_c, nv);
     m.capacity_i = std::max(m.capacity_i, t.indices.size());
     m.count = static_cast<GLsizei>(t.indices.size());
   }
