@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -48,6 +49,14 @@ struct Surface {
 
 enum class ObjectKind { Plane, Sphere, Box, Capsule, Mesh };
 
+// A keyframe of an object's motion: where its reference point is (sphere and box centre, plane
+// point, capsule midpoint, mesh position) and how it is turned from its authored orientation.
+struct MotionKey {
+  double time = 0.0;           // s
+  Vec3 position{0, 0, 0};      // m
+  Vec3 rotation_deg{0, 0, 0};  // XYZ Euler angles about the reference point, degrees
+};
+
 struct ObjectDesc {
   std::string name, path;  // path: JSON path of the object, e.g. /objects/0
   ObjectKind kind = ObjectKind::Plane;
@@ -71,6 +80,18 @@ struct ObjectDesc {
   double thickness = 0.0;  // contact offset added to the surface, m
   Surface surface;
   Material material;
+  std::vector<MotionKey> motion;  // keyframes (times increasing); empty: static
+  // The reference point that motion keys place (see MotionKey).
+  Vec3 referencePoint() const {
+    switch (kind) {
+      case ObjectKind::Plane: return point;
+      case ObjectKind::Sphere:
+      case ObjectKind::Box: return center;
+      case ObjectKind::Capsule: return 0.5 * (a + b);
+      case ObjectKind::Mesh: return position;
+    }
+    return Vec3::Zero();
+  }
 };
 
 // --- bodies -------------------------------------------------------------------------------
@@ -138,9 +159,71 @@ struct LatticeDesc {
   std::vector<int> pinned;
 };
 
+// Air acting on each triangle of a cloth, relative to the wind w = u − v (wind minus the
+// triangle's velocity), n the unit normal, A the area:
+//   viscous (Terzopoulos et al. 1987):  f = c·A·(n·w)·n
+//   quadratic drag and lift:            f = ½ρA|w|²·(C_d·|n·ŵ|·ŵ + C_l·(n·ŵ)·l̂),
+//   l̂ the unit part of sign(n·ŵ)·n perpendicular to ŵ.
+struct AirDesc {
+  double viscous = 0.0;  // c, N·s/m³
+  double drag = 0.0;     // C_d
+  double lift = 0.0;     // C_l
+  double density = 1.2;  // ρ, kg/m³
+};
+
+// Tearing (Terzopoulos & Fleischer 1988): a spring breaks when its strain (L − l)/l passes its
+// threshold, strain·(1 + variation·(2ξ − 1)), ξ uniform in [0, 1) from the scene seed.
+struct TearDesc {
+  double strain = 0.0;     // 0: the cloth never tears
+  double variation = 0.0;  // 0..1
+};
+
+// Pinned nodes moved at a constant velocity between two times (a hand pulling an edge).
+struct GripDesc {
+  std::vector<int> nodes;
+  Vec3 velocity{0, 0, 0};  // m/s
+  double start = 0.0, stop = 1e300;  // s
+};
+
+// A rectangular sheet of nx × ny nodes in the local x–z plane: structural springs along the
+// grid lines, shear springs across each cell, bend springs over every second node.
+struct ClothDesc {
+  Vec3 position{0, 0, 0};      // centre, m
+  Vec3 rotation_deg{0, 0, 0};  // XYZ Euler angles
+  std::array<double, 2> size{1.0, 1.0};   // [w along x, h along z], m
+  std::array<int, 2> resolution{16, 16};  // nodes [nx, ny]; node index = j * nx + i
+  double mass = 0.3;  // total, kg (from `mass`, or `density` × area)
+  SpringParams structural{2000.0, 0.5}, shear{500.0, 0.2}, bend{20.0, 0.02};
+  double node_damping = 0.0;
+  Vec3 velocity{0, 0, 0};
+  std::vector<int> pinned;
+  std::vector<GripDesc> grips;
+  double thickness = 0.005;   // m: contact offset and half the gap kept by self-collision
+  bool self_collision = false;
+  double strain_limit = 0.0;  // Provot: structural and shear springs at most (1 + this)·l; 0 off
+  TearDesc tear;
+  AirDesc air;
+  std::array<double, 2> uv_scale{1.0, 1.0};  // texture repeats across the sheet
+};
+
+// Nodes and springs (structural, shear and bend) of an nx × ny sheet.
+inline std::pair<long long, long long> clothCounts(long long nx, long long ny) {
+  const long long structural = (nx - 1) * ny + nx * (ny - 1), shear = 2 * (nx - 1) * (ny - 1);
+  const long long bend = (nx > 2 ? nx - 2 : 0) * ny + nx * (ny > 2 ? ny - 2 : 0);
+  return {nx * ny, structural + shear + bend};
+}
+
+// The wind field u(x, t) = velocity + gusts: a sum of three travelling waves whose directions,
+// periods and phases come from the scene seed, scaled so their amplitude is about `gust`.
+struct WindDesc {
+  Vec3 velocity{0, 0, 0};    // m/s
+  double gust = 0.0;         // m/s
+  double gust_period = 2.0;  // s, the mean period of the gusts
+};
+
 struct BodyDesc {
-  std::string name, type, path;  // type as in the scene: mass_spring, rope, net, lattice
-  std::variant<MassSpringDesc, RopeDesc, NetDesc, LatticeDesc> shape;
+  std::string name, type, path;  // type as in the scene: mass_spring, rope, net, lattice, cloth
+  std::variant<MassSpringDesc, RopeDesc, NetDesc, LatticeDesc, ClothDesc> shape;
   Material material;
   double node_radius = 0.02;  // m, for drawing nodes
 };
@@ -188,6 +271,7 @@ struct SceneDesc {
   int substeps = 10;
   std::uint64_t seed = 0;
   Vec3 gravity{0, -9.78, 0};
+  WindDesc wind;
   IntegratorKind integrator = IntegratorKind::SymplecticEuler;
   bool auto_substeps = false;  // subdivide a step above an explicit integrator's stability bound
   ImplicitSettings implicit;

@@ -176,6 +176,29 @@ void readObject(Obj& o, ObjectDesc& ob, const std::string& type) {
     }
   }
   ob.thickness = o.number("thickness", 0.0, kNonNeg);
+  if (const Json* m = o.raw("motion")) {
+    Obj mo(*m, childPath(p, "motion"), d);
+    const std::string kp = childPath(mo.path(), "keys");
+    const Json* keys = mo.raw("keys");
+    if (!keys) {
+      if (mo.ok()) d.error(kp, "missing required key");
+    } else if (!keys->is_array() || keys->empty()) {
+      d.error(kp, "expected a non-empty list of keyframes, got " + typeName(*keys));
+    } else {
+      for (std::size_t i = 0; i < keys->size(); ++i) {
+        Obj k((*keys)[i], childPath(kp, i), d);
+        MotionKey key;
+        key.time = k.number("time", kNonNeg, true).value_or(0.0);
+        key.position = k.vec3("position", ob.referencePoint());
+        key.rotation_deg = k.vec3("rotation_deg", key.rotation_deg);
+        k.finish();
+        if (!ob.motion.empty() && key.time <= ob.motion.back().time)
+          d.error(childPath(k.path(), "time"), "keyframe times must increase");
+        ob.motion.push_back(key);
+      }
+    }
+    mo.finish();
+  }
   if (const Json* s = o.raw("surface")) {
     Obj so(*s, childPath(p, "surface"), d);
     ob.surface.friction = so.number("friction", ob.surface.friction, kNonNeg);
@@ -186,14 +209,20 @@ void readObject(Obj& o, ObjectDesc& ob, const std::string& type) {
 }
 
 // --- bodies ------------------------------------------------------------------------------------
-// Reads a `pinned` list: each entry a node index (negative counts from the end), a grid
-// coordinate list of `dims` indices, or one of the named ends. Writes resolved node indices.
-void readPins(Obj& o, const std::vector<long long>& dims, long long nodes,
-              const std::vector<std::pair<std::string, long long>>& names, std::vector<int>& out) {
-  const Json* j = o.raw("pinned");
-  if (!j) return;
+using NodeNames = std::vector<std::pair<std::string, std::vector<long long>>>;
+
+// Reads a list of nodes (`pinned`, a grip's `nodes`): each entry a node index (negative counts
+// from the end), a grid coordinate list of `dims` indices, or a name of one node or a group
+// (a corner, an edge). Writes resolved node indices.
+void readPins(Obj& o, const std::vector<long long>& dims, long long nodes, const NodeNames& names,
+              std::vector<int>& out, const std::string& key = "pinned", bool required = false) {
+  const Json* j = o.raw(key);
   Diagnostics& d = o.diag();
-  const std::string p = childPath(o.path(), "pinned");
+  const std::string p = childPath(o.path(), key);
+  if (!j) {
+    if (required && o.ok()) d.error(p, "missing required key");
+    return;
+  }
   if (!j->is_array()) {
     d.error(p, "expected a list of nodes, got " + typeName(*j));
     return;
@@ -205,7 +234,7 @@ void readPins(Obj& o, const std::vector<long long>& dims, long long nodes,
       const std::string s = e.get<std::string>();
       auto it = std::find_if(names.begin(), names.end(), [&](auto& n) { return n.first == s; });
       if (it != names.end()) {
-        out.push_back(static_cast<int>(it->second));
+        for (long long n : it->second) out.push_back(static_cast<int>(n));
         continue;
       }
       std::vector<std::string> opts;
@@ -332,7 +361,7 @@ void readRope(Obj& o, RopeDesc& r) {
     o.diag().error(childPath(o.path(), "end"), "must differ from start (or give length)");
   const long long n = r.segments + 1;
   checkNodeMass(o, r.mass, n);
-  readPins(o, {n}, n, {{"start", 0}, {"end", n - 1}}, r.pinned);
+  readPins(o, {n}, n, {{"start", {0}}, {"end", {n - 1}}}, r.pinned);
 }
 
 void readNet(Obj& o, NetDesc& net) {
@@ -350,7 +379,7 @@ void readNet(Obj& o, NetDesc& net) {
   net.node_damping = o.number("node_damping", 0.0, kNonNeg);
   net.velocity = o.vec3("velocity", net.velocity);
   readPins(o, {nx, ny}, nx * ny,
-           {{"corner_00", 0}, {"corner_10", nx - 1}, {"corner_01", (ny - 1) * nx}, {"corner_11", nx * ny - 1}},
+           {{"corner_00", {0}}, {"corner_10", {nx - 1}}, {"corner_01", {(ny - 1) * nx}}, {"corner_11", {nx * ny - 1}}},
            net.pinned);
 }
 
@@ -373,6 +402,101 @@ void readLattice(Obj& o, LatticeDesc& l) {
   readPins(o, {nx, ny, nz}, nx * ny * nz, {}, l.pinned);
 }
 
+// A sheet's named nodes: its corners and its four edges.
+NodeNames clothNames(long long nx, long long ny) {
+  NodeNames n = {{"corner_00", {0}}, {"corner_10", {nx - 1}}, {"corner_01", {(ny - 1) * nx}}, {"corner_11", {nx * ny - 1}}};
+  std::vector<long long> x0, x1, z0, z1;
+  for (long long j = 0; j < ny; ++j) {
+    x0.push_back(j * nx);
+    x1.push_back(j * nx + nx - 1);
+  }
+  for (long long i = 0; i < nx; ++i) {
+    z0.push_back(i);
+    z1.push_back((ny - 1) * nx + i);
+  }
+  n.push_back({"edge_x0", x0});
+  n.push_back({"edge_x1", x1});
+  n.push_back({"edge_z0", z0});
+  n.push_back({"edge_z1", z1});
+  return n;
+}
+
+void readCloth(Obj& o, ClothDesc& c) {
+  Diagnostics& d = o.diag();
+  const std::string& p = o.path();
+  c.position = o.vec3("position", c.position);
+  c.rotation_deg = o.vec3("rotation_deg", c.rotation_deg);
+  if (auto s = o.numbers<2>("size", kPos)) c.size = *s;
+  if (auto r = o.integers<2>("resolution", 2, 1 << 16)) c.resolution = {static_cast<int>((*r)[0]), static_cast<int>((*r)[1])};
+  const long long nx = c.resolution[0], ny = c.resolution[1];
+  if (nx * ny > kMaxBodyNodes)
+    d.error(childPath(p, "resolution"), std::to_string(nx * ny) + " nodes, more than the limit of " + std::to_string(kMaxBodyNodes));
+  const bool has_mass = o.has("mass"), has_density = o.has("density");
+  if (has_mass && has_density) d.error(childPath(p, "density"), "give mass or density, not both");
+  if (has_density) {
+    if (auto rho = o.number("density", kPos)) c.mass = *rho * c.size[0] * c.size[1];
+  } else {
+    c.mass = o.number("mass", c.mass, kPos);
+  }
+  checkNodeMass(o, c.mass / 4.0, nx * ny);  // a corner holds a quarter of a cell's mass
+  c.structural = readSpring(o, "stiffness", "damping", &c.structural);
+  c.shear = readSpring(o, "shear_stiffness", "shear_damping", &c.shear);
+  c.bend = readSpring(o, "bend_stiffness", "bend_damping", &c.bend);
+  c.node_damping = o.number("node_damping", 0.0, kNonNeg);
+  c.velocity = o.vec3("velocity", c.velocity);
+  c.thickness = o.number("thickness", c.thickness, kPos);
+  c.self_collision = o.boolean("self_collision", false);
+  c.strain_limit = o.number("strain_limit", 0.0, kNonNeg);
+  if (auto uv = o.numbers<2>("uv_scale", kPos)) c.uv_scale = *uv;
+  const NodeNames names = clothNames(nx, ny);
+  readPins(o, {nx, ny}, nx * ny, names, c.pinned);
+  if (const Json* t = o.raw("tear")) {
+    Obj to(*t, childPath(p, "tear"), d);
+    c.tear.strain = to.number("strain", kPos, true).value_or(0.0);
+    c.tear.variation = to.number("variation", 0.0, kUnit);
+    to.finish();
+  }
+  if (const Json* a = o.raw("air")) {
+    Obj ao(*a, childPath(p, "air"), d);
+    c.air.viscous = ao.number("viscous", 0.0, kNonNeg);
+    c.air.drag = ao.number("drag", 0.0, kNonNeg);
+    c.air.lift = ao.number("lift", 0.0, kNonNeg);
+    c.air.density = ao.number("density", c.air.density, kPos);
+    ao.finish();
+  }
+  if (const Json* g = o.raw("grips")) {
+    const std::string gp = childPath(p, "grips");
+    if (!g->is_array()) {
+      d.error(gp, "expected a list of grips, got " + typeName(*g));
+    } else {
+      for (std::size_t k = 0; k < g->size(); ++k) {
+        Obj go((*g)[k], childPath(gp, k), d);
+        GripDesc grip;
+        readPins(go, {nx, ny}, nx * ny, names, grip.nodes, "nodes", true);
+        grip.velocity = go.vec3("velocity", grip.velocity);
+        grip.start = go.number("start", 0.0, kNonNeg);
+        grip.stop = go.number("stop", 1e300, kNonNeg);
+        if (grip.stop <= grip.start && go.has("stop")) d.error(childPath(go.path(), "stop"), "must be after start");
+        go.finish();
+        c.grips.push_back(std::move(grip));
+      }
+    }
+  }
+  // A node may be held by one thing only.
+  std::vector<std::uint8_t> held(static_cast<std::size_t>(nx * ny <= kMaxBodyNodes ? nx * ny : 0), 0);
+  if (!held.empty()) {
+    for (int n : c.pinned) held[static_cast<std::size_t>(n)] = 1;
+    for (std::size_t k = 0; k < c.grips.size(); ++k)
+      for (int n : c.grips[k].nodes) {
+        if (held[static_cast<std::size_t>(n)]) {
+          d.error(childPath(childPath(childPath(p, "grips"), k), "nodes"), "node " + std::to_string(n) + " is already pinned or gripped");
+          break;
+        }
+        held[static_cast<std::size_t>(n)] = 1;
+      }
+  }
+}
+
 // Nodes and springs a body will have, from its description (without building it).
 std::pair<long long, long long> bodySize(const BodyDesc& b) {
   struct V {
@@ -383,6 +507,9 @@ std::pair<long long, long long> bodySize(const BodyDesc& b) {
     std::pair<long long, long long> operator()(const NetDesc& d) const {
       const long long x = d.resolution[0], y = d.resolution[1];
       return {x * y, (x - 1) * y + x * (y - 1) + 2 * (x - 1) * (y - 1)};
+    }
+    std::pair<long long, long long> operator()(const ClothDesc& d) const {
+      return clothCounts(d.resolution[0], d.resolution[1]);
     }
     std::pair<long long, long long> operator()(const LatticeDesc& d) const {
       const long long x = d.resolution[0], y = d.resolution[1], z = d.resolution[2];
@@ -395,7 +522,7 @@ std::pair<long long, long long> bodySize(const BodyDesc& b) {
 }
 
 const std::vector<std::string> kObjectTypes = {"plane", "sphere", "box", "capsule", "mesh"};
-const std::vector<std::string> kBodyTypes = {"mass_spring", "rope", "net", "lattice"};
+const std::vector<std::string> kBodyTypes = {"mass_spring", "rope", "net", "lattice", "cloth"};
 
 // Reads `name` and `type` of an object or body; checks the name is unique.
 std::pair<std::string, std::string> readIdentity(Obj& o, const std::vector<std::string>& types,
@@ -466,6 +593,13 @@ Result<SceneDesc> parseScene(const std::string& text, const std::string& file) {
   s.substeps = o.integer("substeps", s.substeps, 1, 1000000);
   if (auto seed = o.integer("seed", 0, 9007199254740991ll)) s.seed = static_cast<std::uint64_t>(*seed);
   s.gravity = o.vec3("gravity", s.gravity);
+  if (const Json* w = o.raw("wind")) {
+    Obj wo(*w, "/wind", d);
+    s.wind.velocity = wo.vec3("velocity", s.wind.velocity);
+    s.wind.gust = wo.number("gust", 0.0, kNonNeg);
+    s.wind.gust_period = wo.number("gust_period", s.wind.gust_period, kPos);
+    wo.finish();
+  }
   std::vector<std::string> integrators(kIntegratorNames.begin(), kIntegratorNames.end());
   s.integrator = *integratorFromName(o.choice("integrator", "symplectic_euler", integrators));
   s.auto_substeps = o.boolean("auto_substeps", false);
@@ -531,6 +665,10 @@ Result<SceneDesc> parseScene(const std::string& text, const std::string& file) {
           LatticeDesc l;
           readLattice(bo, l);
           bd.shape = std::move(l);
+        } else if (type == "cloth") {
+          ClothDesc c;
+          readCloth(bo, c);
+          bd.shape = std::move(c);
         }
         readMaterial(bo, bd.material);
         bd.node_radius = bo.number("node_radius", bd.node_radius, kPos);

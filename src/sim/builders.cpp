@@ -1,6 +1,7 @@
 #include "sim/builders.h"
 
 #include "core/math.h"
+#include "sim/cloth/cloth.h"
 
 namespace reel {
 namespace {
@@ -114,6 +115,10 @@ MassSpringDesc expandBody(const BodyDesc& body) {
     MassSpringDesc operator()(const RopeDesc& d) const { return buildRope(d); }
     MassSpringDesc operator()(const NetDesc& d) const { return buildNet(d); }
     MassSpringDesc operator()(const LatticeDesc& d) const { return buildLattice(d); }
+    MassSpringDesc operator()(const ClothDesc& d) const {
+      Cloth unused;
+      return buildCloth(d, 0, unused);
+    }
   };
   return std::visit(Visitor{}, body.shape);
 }

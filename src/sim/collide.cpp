@@ -5,14 +5,54 @@
 
 #include "core/math.h"
 #include "core/parallel.h"
+#include "sim/geometry.h"
 
 namespace reel {
 
-Collider makeCollider(const ObjectDesc& o) {
+std::shared_ptr<MeshShape> makeMeshShape(const TriMesh& mesh, const Vec3& scale, const Mat3& R,
+                                         const Vec3& position, double reach) {
+  auto s = std::make_shared<MeshShape>();
+  s->reach = reach;
+  const std::size_t nv = mesh.vertexCount();
+  s->vertices.resize(nv);
+  for (std::size_t i = 0; i < nv; ++i) {
+    const Vec3 p(mesh.positions[3 * i], mesh.positions[3 * i + 1], mesh.positions[3 * i + 2]);
+    s->vertices[i] = R * p.cwiseProduct(scale) + position;
+  }
+  std::vector<Vec3> lo, hi;
+  double edge = 0.0;
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    const std::array<int, 3> tri = {static_cast<int>(mesh.indices[3 * t]), static_cast<int>(mesh.indices[3 * t + 1]),
+                                    static_cast<int>(mesh.indices[3 * t + 2])};
+    const Vec3 &a = s->vertices[tri[0]], &b = s->vertices[tri[1]], &c = s->vertices[tri[2]];
+    const Vec3 n = (b - a).cross(c - a);
+    if (!(n.norm() > 1e-14)) continue;  // degenerate: no surface to touch
+    s->triangles.push_back(tri);
+    s->normals.push_back(n.normalized());
+    lo.push_back(a.cwiseMin(b).cwiseMin(c) - Vec3::Constant(reach));
+    hi.push_back(a.cwiseMax(b).cwiseMax(c) + Vec3::Constant(reach));
+    edge = std::max(edge, (hi.back() - lo.back()).maxCoeff());
+  }
+  // Cells about the size of the largest grown triangle, so each lies in at most eight cells
+  // (capped below so that a few huge triangles do not make a coarse grid for the rest).
+  double mean = 0.0;
+  for (std::size_t t = 0; t < lo.size(); ++t) mean += (hi[t] - lo[t]).maxCoeff();
+  mean = lo.empty() ? 1.0 : mean / static_cast<double>(lo.size());
+  double cell = std::max(mean, 1e-6);
+  // A box may span many cells when much larger than the mean: keep it under the grid's limit.
+  while (edge / cell > 15.0) cell *= 2.0;
+  s->grid.build(lo, hi, cell);
+  return s;
+}
+
+Collider makeCollider(const ObjectDesc& o, double reach) {
   Collider c;
   c.kind = o.kind;
   c.thickness = o.thickness;
   c.surface = o.surface;
+  c.keys = o.motion;
+  c.pivot = o.referencePoint();
+  c.pos = c.pos_prev = c.pivot;
   switch (o.kind) {
     case ObjectKind::Plane:
       c.p0 = o.point;
@@ -34,12 +74,67 @@ Collider makeCollider(const ObjectDesc& o) {
       c.radius = o.radius;
       break;
     case ObjectKind::Mesh:
-      break;  // drawn only: collisions with triangle meshes come with the cloth module
+      c.mesh = makeMeshShape(*o.mesh, o.scale, rotationFromEulerDeg(o.rotation_deg), o.position,
+                             o.thickness + reach);
+      break;
+  }
+  if (c.moving()) {
+    c.poseAt(0.0, c.rot, c.pos);
+    c.rot_prev = c.rot;
+    c.pos_prev = c.pos;
   }
   return c;
 }
 
+void Collider::poseAt(double t, Mat3& r, Vec3& p) const {
+  if (keys.empty()) {
+    r = Mat3::Identity();
+    p = pivot;
+    return;
+  }
+  auto quat = [](const MotionKey& k) { return Eigen::Quaterniond(rotationFromEulerDeg(k.rotation_deg)); };
+  if (t <= keys.front().time || keys.size() == 1) {
+    r = rotationFromEulerDeg(keys.front().rotation_deg);
+    p = keys.front().position;
+    return;
+  }
+  if (t >= keys.back().time) {
+    r = rotationFromEulerDeg(keys.back().rotation_deg);
+    p = keys.back().position;
+    return;
+  }
+  std::size_t i = 0;
+  while (keys[i + 1].time < t) ++i;
+  const double s = (t - keys[i].time) / (keys[i + 1].time - keys[i].time);
+  p = (1.0 - s) * keys[i].position + s * keys[i + 1].position;
+  r = quat(keys[i]).slerp(s, quat(keys[i + 1])).toRotationMatrix();
+}
+
+void Collider::moveTo(double t, double dt_since) {
+  if (!moving()) return;
+  rot_prev = rot;
+  pos_prev = pos;
+  poseAt(t, rot, pos);
+  dt = dt_since;
+}
+
+Vec3 Collider::velocityAt(const Vec3& p) const {
+  if (!moving() || !(dt > 0)) return Vec3::Zero();
+  // Where the material point now at p was one step ago: authored point, then the old pose.
+  const Vec3 authored = rot.transpose() * (p - pos) + pivot;
+  const Vec3 before = rot_prev * (authored - pivot) + pos_prev;
+  return (p - before) / dt;
+}
+
 bool Collider::distance(const Vec3& p, double& d, Vec3& n) const {
+  if (!moving()) return distanceAuthored(p, d, n);
+  const Vec3 q = rot.transpose() * (p - pos) + pivot;
+  if (!distanceAuthored(q, d, n)) return false;
+  n = rot * n;
+  return true;
+}
+
+bool Collider::distanceAuthored(const Vec3& p, double& d, Vec3& n) const {
   switch (kind) {
     case ObjectKind::Plane: {
       const Vec3 q = R.transpose() * (p - p0);  // local: y along the normal
@@ -88,7 +183,33 @@ bool Collider::distance(const Vec3& p, double& d, Vec3& n) const {
       n = len > 0 ? Vec3(r / len) : Vec3::UnitY();
       return true;
     }
-    case ObjectKind::Mesh: return false;
+    case ObjectKind::Mesh: {
+      // The closest point over the triangles listed in p's cell; inside or outside by the face
+      // normal of the closest triangle.
+      double best = mesh->reach * mesh->reach;
+      int bt = -1;
+      Vec3 bc;
+      mesh->grid.forEachAt(p, [&](int t) {
+        const auto& tri = mesh->triangles[static_cast<std::size_t>(t)];
+        const Vec3 &a = mesh->vertices[tri[0]], &b = mesh->vertices[tri[1]], &c = mesh->vertices[tri[2]];
+        const Vec3 w = closestOnTriangle(p, a, b, c);
+        const Vec3 q = w[0] * a + w[1] * b + w[2] * c;
+        const double d2 = (p - q).squaredNorm();
+        if (d2 < best) {
+          best = d2;
+          bt = t;
+          bc = q;
+        }
+      });
+      if (bt < 0) return false;
+      const Vec3& fn = mesh->normals[static_cast<std::size_t>(bt)];
+      const Vec3 r = p - bc;
+      const double len = r.norm();
+      const bool inside = r.dot(fn) < 0;
+      d = inside ? -len : len;
+      n = len > 1e-12 ? Vec3((inside ? -r : r) / len) : fn;
+      return true;
+    }
   }
   return false;
 }
@@ -105,14 +226,18 @@ void resolveContacts(const std::vector<Collider>& colliders, double radius, doub
       const double reach = c.thickness + radius;
       if (d >= reach) continue;
       x[i] += (reach - d) * n;  // project onto the surface
-      const double vn = v[i].dot(n);
+      // Velocity relative to the surface (exactly v for a static collider).
+      const Vec3 vs = c.moving() ? c.velocityAt(x[i]) : Vec3::Zero();
+      const Vec3 vr = v[i] - vs;
+      const double vn = vr.dot(n);
       if (vn >= 0) continue;  // already separating
-      const Vec3 vt = v[i] - vn * n;
+      const Vec3 vt = vr - vn * n;
       const double e = c.surface.restitution;
       const double vt_len = vt.norm();
       const double keep =
           vt_len > 0 ? std::max(0.0, vt_len - c.surface.friction * (1.0 + e) * (-vn)) / vt_len : 0.0;
       v[i] = keep * vt - e * vn * n;
+      if (c.moving()) v[i] += vs;
       x[i] += (h * (keep - 1.0)) * vt;  // the step's tangential drift, redone at the new velocity
     }
   });

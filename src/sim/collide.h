@@ -1,14 +1,27 @@
 // Collision primitives shared by every particle-based body: signed distance and outward normal
-// for planes, spheres, boxes and capsules, and one contact response for nodes.
+// for planes, spheres, boxes, capsules and triangle meshes, keyframed motion of any of them, and
+// one contact response for nodes.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/scene.h"
 #include "core/types.h"
+#include "sim/grid.h"
 
 namespace reel {
+
+// A triangle mesh as a collider: world-space triangles (at the authored pose) in a grid.
+struct MeshShape {
+  std::vector<Vec3> vertices;                 // m (vertices)
+  std::vector<std::array<int, 3>> triangles;  // vertex indices, counter-clockwise from outside
+  std::vector<Vec3> normals;                  // unit face normals (triangles)
+  BoxGrid grid;                               // triangles by their boxes grown by `reach`
+  double reach = 0.0;                         // m: points farther than this see no triangle
+};
 
 struct Collider {
   ObjectKind kind = ObjectKind::Plane;
@@ -19,18 +32,43 @@ struct Collider {
   double radius = 0.0;  // sphere, capsule
   double thickness = 0.0;
   Surface surface;
+  std::shared_ptr<const MeshShape> mesh;  // kind Mesh
+
+  // Keyframed motion: the shape above is authored; its pose at a time maps an authored point x
+  // to rot·(x − pivot) + pos. Static colliders keep the identity pose.
+  std::vector<MotionKey> keys;
+  Vec3 pivot{0, 0, 0};
+  Mat3 rot = Mat3::Identity(), rot_prev = Mat3::Identity();
+  Vec3 pos{0, 0, 0}, pos_prev{0, 0, 0};
+  double dt = 0.0;  // time between the previous and the current pose, s
+  bool moving() const { return !keys.empty(); }
+  // The pose at time t (keys interpolated: position linearly, rotation by slerp, held outside).
+  void poseAt(double t, Mat3& r, Vec3& p) const;
+  // Moves to time t; the pose before becomes the previous one (surface velocities).
+  void moveTo(double t, double dt_since);
 
   // Signed distance from p to the surface (negative inside) and the outward normal there.
-  // Returns false when p is outside the collider's reach: beside a finite plane, or more than
-  // its thickness plus 5% of its smaller half-size below it.
+  // Returns false when p is outside the collider's reach: beside a finite plane, more than its
+  // thickness plus 5% of its smaller half-size below it, or farther than a mesh's reach.
   bool distance(const Vec3& p, double& d, Vec3& n) const;
+  // Velocity of the surface point now at p (zero for a static collider), m/s.
+  Vec3 velocityAt(const Vec3& p) const;
+
+ private:
+  bool distanceAuthored(const Vec3& p, double& d, Vec3& n) const;
 };
 
-Collider makeCollider(const ObjectDesc& o);
+// `reach`: how far from a mesh's surface points are still found (thickness plus contact radius
+// and a margin for one step's motion).
+Collider makeCollider(const ObjectDesc& o, double reach = 0.1);
+
+// The triangles of an object's mesh placed in the world (scale, rotation, position).
+std::shared_ptr<MeshShape> makeMeshShape(const TriMesh& mesh, const Vec3& scale, const Mat3& R,
+                                         const Vec3& position, double reach);
 
 // Projects nodes that are closer than thickness + radius back onto the surface and applies
-// restitution and Coulomb friction to their velocity (a velocity-level impulse per node):
-//   v_n' = −e·v_n,  |v_t'| = max(0, |v_t| − μ(1 + e)|v_n|).
+// restitution and Coulomb friction to their velocity relative to the surface (a velocity-level
+// impulse per node):  v_n' = −e·v_n,  |v_t'| = max(0, |v_t| − μ(1 + e)|v_n|).
 // Friction also takes back the tangential distance the step moved at the old velocity
 // (x += h·(v_t' − v_t)), so static friction holds a node in place instead of letting it creep.
 // Fixed nodes are left alone.

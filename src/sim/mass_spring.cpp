@@ -89,6 +89,7 @@ void MassSpringDynamics::acceleration(const Vec3* x, const Vec3* v, Vec3* a) {
     }
     Vec3 f = -m_.drag[i] * v[i];
     gather(fs_, static_cast<std::size_t>(i), f);
+    if (external_) f += external_[i];
     a[i] = g + m_.inv_mass[i] * f;
   });
 }
@@ -116,6 +117,7 @@ void MassSpringDynamics::linearize(const Vec3* x, const Vec3* v, double h, Vec3*
   parallelFor(static_cast<Index>(m_.nodes()), [&](Index i) {
     Vec3 f = m_.mass[i] * g - m_.drag[i] * v[i];
     gather(fs_, static_cast<std::size_t>(i), f);
+    if (external_) f += external_[i];
     rhs[i] = h * f;
     Vec3 d = Vec3::Constant(m_.mass[i] + h * m_.drag[i]);
     for (int e = inc.start[i]; e < inc.start[i + 1]; ++e)

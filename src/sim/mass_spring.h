@@ -67,6 +67,9 @@ class MassSpringDynamics final : public Dynamics {
   bool linearizable() const override { return true; }
   void linearize(const Vec3* x, const Vec3* v, double h, Vec3* rhs, Vec3* diag) override;
   void applySystem(const Vec3* p, Vec3* out) override;
+  // Forces from outside the spring network (air on a cloth), N per node, held over a step;
+  // nullptr for none. The array must outlive the steps that use it.
+  void setExternalForces(const Vec3* f) { external_ = f; }
   // Spring force evaluations done so far (for benchmarks).
   std::uint64_t springEvaluations() const { return spring_evals_; }
 
@@ -77,6 +80,7 @@ class MassSpringDynamics final : public Dynamics {
   std::vector<Vec3> fs_;  // per-spring force on end a, N (springs)
   std::vector<Mat3> B_;   // per-spring h²K + hD (springs), valid after linearize()
   double h_ = 0.0;
+  const Vec3* external_ = nullptr;
   std::uint64_t spring_evals_ = 0;
 };
 

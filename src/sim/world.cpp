@@ -9,6 +9,7 @@
 #include "core/math.h"
 #include "core/mesh.h"
 #include "core/parallel.h"
+#include "core/random.h"
 #include "sim/builders.h"
 
 namespace reel {
@@ -98,10 +99,19 @@ Result<World> World::create(const SceneDesc& scene) {
   w.implicit_ = scene.implicit;
   w.fps_ = scene.fps;
   w.substeps_ = scene.substeps;
+  // Mesh colliders find points up to their thickness plus the largest contact radius and a
+  // margin for a step's motion.
+  double radius = 0.0;
+  for (const BodyDesc& bd : scene.bodies)
+    radius = std::max(radius, std::holds_alternative<ClothDesc>(bd.shape) ? std::get<ClothDesc>(bd.shape).thickness
+                                                                            : bd.node_radius);
   for (const ObjectDesc& o : scene.objects) {
-    w.colliders_.push_back(makeCollider(o));
+    if (!o.motion.empty()) w.moving_objects_.push_back(w.colliders_.size());
+    w.colliders_.push_back(makeCollider(o, radius + 0.05));
     w.object_meshes_.push_back(objectMesh(o));
+    w.object_pivots_.push_back(o.referencePoint());
   }
+  w.wind_ = Wind(scene.wind, scene.seed);
   w.camera_ = scene.camera;
   w.render_ = scene.render;
   w.lights_ = scene.has_lights ? scene.lights : defaultLights();
@@ -114,7 +124,15 @@ Result<World> World::create(const SceneDesc& scene) {
     b->generator = bd.type;
     b->radius = bd.node_radius;
     b->material = bd.material;
-    buildMassSpring(expandBody(bd), scene.gravity, b->model, b->state);
+    if (const auto* cd = std::get_if<ClothDesc>(&bd.shape)) {
+      // Each body draws its random numbers from its own stream of the scene seed.
+      b->cloth = std::make_unique<Cloth>();
+      const std::uint64_t seed = splitmix64(scene.seed ^ (0xC107ull << 32) ^ static_cast<std::uint64_t>(w.bodies_.size()));
+      buildMassSpring(buildCloth(*cd, seed, *b->cloth), scene.gravity, b->model, b->state);
+      b->radius = cd->thickness;
+    } else {
+      buildMassSpring(expandBody(bd), scene.gravity, b->model, b->state);
+    }
     b->dynamics = std::make_unique<MassSpringDynamics>(b->model);
     b->bound = stableStep(b->model, scene.integrator);
     if (h > b->bound.h_max) {
@@ -177,15 +195,36 @@ Status World::checkState(const MassSpringBody& b, long long step) const {
 Status World::advanceFrame() {
   const double h = stepSize();
   const int steps = stepsPerFrame();
+  const double per_step = 1.0 / (static_cast<double>(fps_) * steps);
   for (int s = 0; s < steps; ++s) {
+    const double t0 = static_cast<double>(step_) * per_step;
     ++step_;
+    const double t1 = static_cast<double>(step_) * per_step;
+    // Moving objects take their pose at the end of the step; contacts see their velocity.
+    for (std::size_t o : moving_objects_) colliders_[o].moveTo(t1, h);
     for (auto& b : bodies_) {
+      Cloth* cloth = b->cloth.get();
+      if (cloth) {
+        gripVelocities(*cloth, t0, b->state.v);
+        const AirDesc& air = cloth->air;
+        if (air.viscous != 0.0 || air.drag != 0.0 || air.lift != 0.0) {
+          airForces(*cloth, wind_, t0, b->state.x, b->state.v);
+          b->dynamics->setExternalForces(cloth->f_air.data());
+        }
+        if (cloth->self_collision) cloth->x_prev = b->state.x;
+      }
       integrate(integrator_, *b->dynamics, b->state.x, b->state.v, h, b->workspace, implicit_, &stats_);
+      if (cloth) {
+        gripPositions(*cloth, t1, b->state.x);
+        limitStrain(*cloth, b->model, h, b->state.x, b->state.v);
+        if (cloth->self_collision) selfCollide(*cloth, b->model, h, b->state.x, b->state.v);
+      }
       if (integrator_ == IntegratorKind::ImplicitEuler && stats_.cg_relative_residual > implicit_.cg_tolerance) {
         ++cg_unconverged_;
         cg_worst_ = std::max(cg_worst_, stats_.cg_relative_residual);
       }
       resolveContacts(colliders_, b->radius, h, b->model.fixed.data(), b->state.x, b->state.v);
+      if (cloth) tearSprings(*cloth, b->model, b->state.x);
       if (Status st = checkState(*b, step_); !st) return st;
     }
   }
@@ -220,7 +259,25 @@ void World::emit(DrawList& out) const {
   out.tonemap = render_.tonemap;
   out.clearGeometry();
   out.meshes = object_meshes_;
+  // Moving objects: their authored mesh carried to the current pose.
+  for (std::size_t o : moving_objects_) {
+    const Collider& c = colliders_[o];
+    TriMesh m = *object_meshes_[o].mesh;
+    const Vec3 shift = c.pos - c.rot * object_pivots_[o];
+    m.transform(c.rot, shift);
+    out.meshes[o].mesh = std::make_shared<const TriMesh>(std::move(m));
+    out.meshes[o].dynamic = true;
+  }
   for (const auto& b : bodies_) {
+    if (b->cloth) {
+      DrawMesh sheet;
+      sheet.mesh = std::make_shared<const TriMesh>(clothMesh(*b->cloth, b->state.x));
+      sheet.dynamic = true;
+      sheet.material = drawMaterial(b->material);
+      sheet.material.double_sided = true;
+      if (sheet.mesh->triangleCount() > 0) out.meshes.push_back(std::move(sheet));
+      continue;
+    }
     DrawSpheres nodes;
     nodes.radius = static_cast<float>(b->radius);
     nodes.material = drawMaterial(b->material);

@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/scene.h"
 #include "core/snapshot.h"
+#include "sim/cloth/cloth.h"
 #include "sim/collide.h"
 #include "sim/integrators.h"
 #include "sim/mass_spring.h"
@@ -33,6 +34,7 @@ struct MassSpringBody {
   std::unique_ptr<MassSpringDynamics> dynamics;  // refers to `model`
   IntegratorWorkspace workspace;
   StepBound bound;
+  std::unique_ptr<Cloth> cloth;  // a cloth body's sheet data; null for other bodies
 };
 
 class World {
@@ -73,11 +75,14 @@ class World {
   int frame_ = 0;
   long long step_ = 0;  // steps taken since time 0
   std::vector<Collider> colliders_;
+  std::vector<std::size_t> moving_objects_;  // objects with motion keys
+  Wind wind_;
   // What emit() needs of the scene.
   CameraDesc camera_;
   RenderDesc render_;
   std::vector<LightDesc> lights_;
   std::vector<DrawMesh> object_meshes_;
+  std::vector<Vec3> object_pivots_;
   std::vector<std::unique_ptr<MassSpringBody>> bodies_;
   StepStats stats_;
   long long cg_unconverged_ = 0;

@@ -1,0 +1,462 @@
+#include "sim/cloth/cloth.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "core/error.h"
+#include "core/math.h"
+#include "core/parallel.h"
+#include "core/random.h"
+#include "sim/geometry.h"
+
+namespace reel {
+
+using Index = std::ptrdiff_t;
+
+// --- wind ----------------------------------------------------------------------------------
+Wind::Wind(const WindDesc& d, std::uint64_t seed) : mean_(d.velocity) {
+  calm_ = d.velocity.norm() == 0.0 && d.gust == 0.0;
+  const double speed = d.velocity.norm();
+  const Vec3 along = speed > 0 ? Vec3(d.velocity / speed) : Vec3::UnitX();
+  const double carry = std::max(speed, 1.0);  // m/s: how fast the gusts travel
+  auto xi = [seed](int k) { return uniformAt(seed, 0x57494E44ull /* "WIND" */, static_cast<std::uint64_t>(k)); };
+  for (int k = 0; k < 3; ++k) {
+    // Mostly along the mean wind, turned a little by a random vector in [−½, ½]³.
+    const Vec3 turn(xi(8 * k) - 0.5, xi(8 * k + 1) - 0.5, xi(8 * k + 2) - 0.5);
+    dir_[k] = (along + turn).normalized();
+    amp_[k] = d.gust * (0.7 + 0.6 * xi(8 * k + 3)) / 3.0;
+    omega_[k] = 2.0 * kPi / (d.gust_period * (0.6 + 0.8 * xi(8 * k + 4)));
+    phase_[k] = 2.0 * kPi * xi(8 * k + 5);
+    k_[k] = (omega_[k] / carry) * along;
+  }
+}
+
+Vec3 Wind::at(const Vec3& x, double t) const {
+  Vec3 u = mean_;
+  // Each gust wave is non-negative, ½(1 + sin), so gusts strengthen the wind; together they
+  // reach about `gust` at their peaks.
+  for (int k = 0; k < 3; ++k)
+    if (amp_[k] != 0.0) u += amp_[k] * 0.5 * (1.0 + std::sin(omega_[k] * t - k_[k].dot(x) + phase_[k])) * dir_[k];
+  return u;
+}
+
+// --- building -------------------------------------------------------------------------------
+MassSpringDesc buildCloth(const ClothDesc& d, std::uint64_t seed, Cloth& c) {
+  MassSpringDesc out;
+  const int nx = d.resolution[0], ny = d.resolution[1];
+  c = Cloth{};
+  c.nx = nx;
+  c.ny = ny;
+  const Mat3 R = rotationFromEulerDeg(d.rotation_deg);
+  auto id = [nx](int i, int j) { return j * nx + i; };
+  // Nodes on the local x–z plane, centred on `position`; masses lumped by the area they stand for.
+  const double cells = static_cast<double>(nx - 1) * (ny - 1);
+  c.uv.reserve(2 * static_cast<std::size_t>(nx) * ny);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const double fu = static_cast<double>(i) / (nx - 1), fv = static_cast<double>(j) / (ny - 1);
+      const Vec3 local(d.size[0] * (fu - 0.5), 0.0, d.size[1] * (fv - 0.5));
+      const double wi = (i == 0 || i == nx - 1) ? 0.5 : 1.0, wj = (j == 0 || j == ny - 1) ? 0.5 : 1.0;
+      NodeDesc n;
+      n.position = d.position + R * local;
+      n.velocity = d.velocity;
+      n.mass = d.mass * wi * wj / cells;
+      n.damping = d.node_damping;
+      out.nodes.push_back(n);
+      c.uv.push_back(static_cast<float>(fu * d.uv_scale[0]));
+      c.uv.push_back(static_cast<float>(fv * d.uv_scale[1]));
+    }
+  for (int p : d.pinned) out.nodes[static_cast<std::size_t>(p)].fixed = true;
+  for (const GripDesc& g : d.grips)
+    for (int p : g.nodes) {
+      out.nodes[static_cast<std::size_t>(p)].fixed = true;
+      c.grip_origin.push_back(out.nodes[static_cast<std::size_t>(p)].position);
+    }
+  c.grips = d.grips;
+
+  // Springs: structural (horizontal, then vertical), shear (two diagonals per cell), bend.
+  auto add = [&](int a, int b, const SpringParams& p, bool limited) {
+    out.springs.push_back({a, b, p.stiffness, p.damping, -1.0});
+    c.limited.push_back(limited ? 1 : 0);
+    return static_cast<int>(out.springs.size() - 1);
+  };
+  std::vector<int> sh(static_cast<std::size_t>((nx - 1) * ny)), sv(static_cast<std::size_t>(nx * (ny - 1)));
+  std::vector<int> d1(static_cast<std::size_t>((nx - 1) * (ny - 1))), d2(d1.size());
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i + 1 < nx; ++i) sh[static_cast<std::size_t>(j * (nx - 1) + i)] = add(id(i, j), id(i + 1, j), d.structural, true);
+  for (int j = 0; j + 1 < ny; ++j)
+    for (int i = 0; i < nx; ++i) sv[static_cast<std::size_t>(j * nx + i)] = add(id(i, j), id(i, j + 1), d.structural, true);
+  for (int j = 0; j + 1 < ny; ++j)
+    for (int i = 0; i + 1 < nx; ++i) {
+      const auto cell = static_cast<std::size_t>(j * (nx - 1) + i);
+      d1[cell] = add(id(i, j), id(i + 1, j + 1), d.shear, true);
+      d2[cell] = add(id(i + 1, j), id(i, j + 1), d.shear, true);
+    }
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i + 2 < nx; ++i) add(id(i, j), id(i + 2, j), d.bend, false);
+  for (int j = 0; j + 2 < ny; ++j)
+    for (int i = 0; i < nx; ++i) add(id(i, j), id(i, j + 2), d.bend, false);
+  const std::size_t ns = out.springs.size();
+  c.spring_id.resize(ns);
+  std::iota(c.spring_id.begin(), c.spring_id.end(), 0);
+  c.intact.assign(ns, 1);
+
+  // Two triangles per cell, the diagonal alternating like a checkerboard (no preferred fold
+  // direction); counter-clockwise seen from local +y. Edges 01, 12, 20 name their springs.
+  auto H = [&](int i, int j) { return sh[static_cast<std::size_t>(j * (nx - 1) + i)]; };
+  auto V = [&](int i, int j) { return sv[static_cast<std::size_t>(j * nx + i)]; };
+  for (int j = 0; j + 1 < ny; ++j)
+    for (int i = 0; i + 1 < nx; ++i) {
+      const int p00 = id(i, j), p10 = id(i + 1, j), p01 = id(i, j + 1), p11 = id(i + 1, j + 1);
+      const auto cell = static_cast<std::size_t>(j * (nx - 1) + i);
+      if ((i + j) % 2 == 0) {
+        c.tris.push_back({p00, p11, p10});
+        c.tri_springs.push_back({d1[cell], V(i + 1, j), H(i, j)});
+        c.tris.push_back({p00, p01, p11});
+        c.tri_springs.push_back({V(i, j), H(i, j + 1), d1[cell]});
+      } else {
+        c.tris.push_back({p00, p01, p10});
+        c.tri_springs.push_back({V(i, j), d2[cell], H(i, j)});
+        c.tris.push_back({p10, p01, p11});
+        c.tri_springs.push_back({d2[cell], H(i, j + 1), V(i + 1, j)});
+      }
+    }
+  const std::size_t nt = c.tris.size();
+  // Neighbours across each edge: the (at most two) triangles that name the same spring.
+  std::vector<std::array<int, 2>> by_spring(ns, {-1, -1});
+  for (std::size_t t = 0; t < nt; ++t)
+    for (int e = 0; e < 3; ++e) {
+      auto& slot = by_spring[static_cast<std::size_t>(c.tri_springs[t][e])];
+      (slot[0] < 0 ? slot[0] : slot[1]) = static_cast<int>(t);
+    }
+  c.tri_adj.resize(nt);
+  for (std::size_t t = 0; t < nt; ++t)
+    for (int e = 0; e < 3; ++e) {
+      const auto& slot = by_spring[static_cast<std::size_t>(c.tri_springs[t][e])];
+      c.tri_adj[t][e] = slot[0] == static_cast<int>(t) ? slot[1] : slot[0];
+    }
+  // Node → triangles.
+  const std::size_t nn = out.nodes.size();
+  c.node_tri_start.assign(nn + 1, 0);
+  for (const auto& t : c.tris)
+    for (int k : t) ++c.node_tri_start[static_cast<std::size_t>(k) + 1];
+  for (std::size_t i = 0; i < nn; ++i) c.node_tri_start[i + 1] += c.node_tri_start[i];
+  c.node_tri.assign(3 * nt, 0);
+  std::vector<int> fill(c.node_tri_start.begin(), c.node_tri_start.end() - 1);
+  for (std::size_t t = 0; t < nt; ++t)
+    for (int k : c.tris[t]) c.node_tri[static_cast<std::size_t>(fill[static_cast<std::size_t>(k)]++)] = static_cast<int>(t);
+  c.tri_alive.assign(nt, 1);
+
+  // Breaking strains, varied per spring from the seed.
+  if (d.tear.strain > 0) {
+    c.tear_strain.resize(ns);
+    for (std::size_t s = 0; s < ns; ++s)
+      c.tear_strain[s] = d.tear.strain * (1.0 + d.tear.variation * (2.0 * uniformAt(seed, 0x54454152ull /* "TEAR" */, s) - 1.0));
+  }
+  c.strain_limit = d.strain_limit;
+  c.thickness = d.thickness;
+  c.self_collision = d.self_collision;
+  c.air = d.air;
+  return out;
+}
+
+// --- air ------------------------------------------------------------------------------------
+void airForces(Cloth& c, const Wind& wind, double t, const std::vector<Vec3>& x,
+               const std::vector<Vec3>& v) {
+  const std::size_t nt = c.tris.size(), nn = x.size();
+  c.tri_force.resize(nt);
+  c.f_air.resize(nn);
+  const AirDesc& air = c.air;
+  const bool quadratic = air.drag != 0.0 || air.lift != 0.0;
+  // Per triangle: the force on it, a third to each corner.
+  parallelFor(static_cast<Index>(nt), [&](Index k) {
+    if (!c.tri_alive[k]) {
+      c.tri_force[k].setZero();
+      return;
+    }
+    const auto& tri = c.tris[k];
+    const Vec3 &a = x[tri[0]], &b = x[tri[1]], &cc = x[tri[2]];
+    const Vec3 cr = (b - a).cross(cc - a);
+    const double len = cr.norm();
+    if (!(len > 1e-300)) {
+      c.tri_force[k].setZero();
+      return;
+    }
+    const double area = 0.5 * len;
+    const Vec3 n = cr / len;
+    const Vec3 centre = (a + b + cc) / 3.0;
+    const Vec3 w = wind.at(centre, t) - (v[tri[0]] + v[tri[1]] + v[tri[2]]) / 3.0;
+    // Terzopoulos et al. 1987, "Elastically deformable models": the viscous medium's force
+    // along the normal, proportional to the normal part of the relative velocity.
+    Vec3 f = (air.viscous * area * n.dot(w)) * n;
+    const double speed = w.norm();
+    if (quadratic && speed > 1e-12) {
+      const Vec3 wh = w / speed;
+      const double cosq = n.dot(wh);
+      const double q = 0.5 * air.density * area * speed * speed;
+      const Vec3 facing = cosq >= 0 ? n : Vec3(-n);
+      const Vec3 l = facing - facing.dot(wh) * wh;  // |l| = sin θ
+      f += (q * std::abs(cosq)) * (air.drag * wh + air.lift * l);
+    }
+    c.tri_force[k] = f / 3.0;
+  });
+  parallelFor(static_cast<Index>(nn), [&](Index i) {
+    Vec3 f = Vec3::Zero();
+    for (int e = c.node_tri_start[i]; e < c.node_tri_start[i + 1]; ++e) f += c.tri_force[static_cast<std::size_t>(c.node_tri[static_cast<std::size_t>(e)])];
+    c.f_air[i] = f;
+  });
+}
+
+// --- grips ----------------------------------------------------------------------------------
+void gripVelocities(const Cloth& c, double t, std::vector<Vec3>& v) {
+  for (const GripDesc& g : c.grips) {
+    const bool on = t >= g.start && t < g.stop;
+    for (int p : g.nodes) v[static_cast<std::size_t>(p)] = on ? g.velocity : Vec3::Zero();
+  }
+}
+
+void gripPositions(const Cloth& c, double t, std::vector<Vec3>& x) {
+  std::size_t k = 0;
+  for (const GripDesc& g : c.grips) {
+    const double moved = std::clamp(t - g.start, 0.0, g.stop - g.start);
+    for (int p : g.nodes) x[static_cast<std::size_t>(p)] = c.grip_origin[k++] + moved * g.velocity;
+  }
+}
+
+// --- strain limiting --------------------------------------------------------------------------
+void limitStrain(Cloth& c, const MassSpringModel& m, double h, std::vector<Vec3>& x,
+                 std::vector<Vec3>& v) {
+  if (!(c.strain_limit > 0)) return;
+  const Springs& sp = m.springs;
+  const std::size_t ns = sp.size(), nn = x.size();
+  c.corr.resize(2 * ns);  // per spring: the move of end a, then of end b
+  c.x_in.resize(nn);      // per node: this sweep's move
+  const double stretch = 1.0 + c.strain_limit;
+  for (int sweep = 0; sweep < 4; ++sweep) {
+    parallelFor(static_cast<Index>(ns), [&](Index s) {
+      c.corr[2 * s].setZero();
+      c.corr[2 * s + 1].setZero();
+      if (!c.limited[s]) return;
+      const int a = sp.a[s], b = sp.b[s];
+      const Vec3 r = x[b] - x[a];
+      const double len = r.norm(), lmax = stretch * sp.rest[s];
+      const double wa = m.inv_mass[a], wb = m.inv_mass[b];
+      if (!(len > lmax) || wa + wb == 0.0) return;
+      const Vec3 fix = ((len - lmax) / (len * (wa + wb))) * r;  // shortens the spring to lmax
+      c.corr[2 * s] = wa * fix;
+      c.corr[2 * s + 1] = -wb * fix;
+    });
+    // Per node: the mean of the moves asked by its violated springs (Jacobi averaging).
+    bool any = false;
+    parallelFor(static_cast<Index>(nn), [&](Index i) {
+      Vec3 d = Vec3::Zero();
+      int k = 0;
+      for (int e = m.incidence.start[i]; e < m.incidence.start[i + 1]; ++e) {
+        const int code = m.incidence.entries[static_cast<std::size_t>(e)];
+        const Vec3& q = c.corr[static_cast<std::size_t>(2 * (code >> 1) + (code & 1))];
+        if (q.x() != 0.0 || q.y() != 0.0 || q.z() != 0.0) {
+          d += q;
+          ++k;
+        }
+      }
+      c.x_in[i] = k > 0 ? Vec3(d / k) : Vec3::Zero();
+    });
+    for (std::size_t i = 0; i < nn && !any; ++i) any = c.x_in[i].x() != 0.0 || c.x_in[i].y() != 0.0 || c.x_in[i].z() != 0.0;
+    if (!any) break;
+    parallelFor(static_cast<Index>(nn), [&](Index i) {
+      x[i] += c.x_in[i];
+      v[i] += c.x_in[i] / h;
+    });
+  }
+}
+
+// --- self-collision ---------------------------------------------------------------------------
+void selfCollide(Cloth& c, const MassSpringModel& m, double h, std::vector<Vec3>& x,
+                 std::vector<Vec3>& v) {
+  (void)h;
+  const std::size_t nt = c.tris.size(), nn = x.size();
+  const double gap = 2.0 * c.thickness;
+  c.lo.resize(nt);
+  c.hi.resize(nt);
+  // Triangle boxes grown by twice the gap (slack for the second sweep), and a cell about their size.
+  double mean = 0.0;
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto& tri = c.tris[t];
+    const Vec3 &a = x[tri[0]], &b = x[tri[1]], &cc = x[tri[2]];
+    c.lo[t] = a.cwiseMin(b).cwiseMin(cc) - Vec3::Constant(2 * gap);
+    c.hi[t] = a.cwiseMax(b).cwiseMax(cc) + Vec3::Constant(2 * gap);
+    mean += (c.hi[t] - c.lo[t]).maxCoeff();
+  }
+  if (nt == 0) return;
+  mean /= static_cast<double>(nt);
+  double big = 0.0;
+  for (std::size_t t = 0; t < nt; ++t) big = std::max(big, (c.hi[t] - c.lo[t]).maxCoeff());
+  double cell = mean;
+  while (big / cell > 15.0) cell *= 2.0;
+  c.grid.build(c.lo, c.hi, cell);
+  // A node is caught when it is within the gap of a triangle's face, or has crossed it by less
+  // than a typical edge (farther crossings are other layers of the sheet, not this contact).
+  const double depth = std::max(mean - 4 * gap, 2 * gap);
+  c.x_in.resize(nn);
+  c.v_in.resize(nn);
+  for (int sweep = 0; sweep < 2; ++sweep) {
+    c.x_in = x;
+    c.v_in = v;
+    parallelFor(static_cast<Index>(nn), [&](Index i) {
+      if (m.fixed[i]) return;
+      const Vec3 p = c.x_in[i], p0 = c.x_prev[i];
+      Vec3 dx = Vec3::Zero(), dv = Vec3::Zero();
+      int hits = 0;
+      c.grid.forEachAt(p, [&](int t) {
+        if (!c.tri_alive[static_cast<std::size_t>(t)]) return;
+        const auto& tri = c.tris[static_cast<std::size_t>(t)];
+        if (tri[0] == i || tri[1] == i || tri[2] == i) return;
+        const Vec3 &a = c.x_in[tri[0]], &b = c.x_in[tri[1]], &cc = c.x_in[tri[2]];
+        const Vec3 cr = (b - a).cross(cc - a);
+        const double len = cr.norm();
+        if (!(len > 1e-300)) return;
+        const Vec3 n = cr / len;
+        const double dn = (p - a).dot(n);
+        if (std::abs(dn) > depth) return;
+        // Barycentric coordinates of p's projection on the triangle's plane.
+        const Vec3 q = p - dn * n;
+        const double wb = (q - a).cross(cc - a).dot(n) / len, wc = (b - a).cross(q - a).dot(n) / len;
+        const double wa = 1.0 - wb - wc;
+        if (wa < 0 || wb < 0 || wc < 0) return;
+        // The side the node was on at the start of the step.
+        const Vec3 &a0 = c.x_prev[tri[0]], &b0 = c.x_prev[tri[1]], &c0 = c.x_prev[tri[2]];
+        const Vec3 n0 = (b0 - a0).cross(c0 - a0);
+        const double side0 = (p0 - (wa * a0 + wb * b0 + wc * c0)).dot(n0);
+        const double s = side0 > 0 ? 1.0 : side0 < 0 ? -1.0 : (dn >= 0 ? 1.0 : -1.0);
+        const double sd = s * dn;
+        if (sd >= gap) return;
+        dx += (gap - sd) * s * n;
+        const Vec3 vt = wa * c.v_in[tri[0]] + wb * c.v_in[tri[1]] + wc * c.v_in[tri[2]];
+        const double vn = (c.v_in[i] - vt).dot(s * n);
+        if (vn < 0) dv -= vn * s * n;
+        ++hits;
+      });
+      if (hits > 0) {
+        x[i] = p + dx / hits;
+        v[i] = c.v_in[i] + dv / hits;
+      }
+    });
+  }
+}
+
+// --- tearing ---------------------------------------------------------------------------------
+int tearSprings(Cloth& c, MassSpringModel& m, const std::vector<Vec3>& x) {
+  if (c.tear_strain.empty()) return 0;
+  Springs& sp = m.springs;
+  const std::size_t ns = sp.size();
+  const double broken = deterministicSum(static_cast<Index>(ns), [&](Index s) {
+    const double len = (x[sp.b[s]] - x[sp.a[s]]).norm();
+    return len > (1.0 + c.tear_strain[s]) * sp.rest[s] ? 1.0 : 0.0;
+  });
+  if (broken == 0.0) return 0;
+  // Keep the springs that hold, in order (indices stay sorted, so the incidence order is fixed).
+  std::size_t w = 0;
+  for (std::size_t s = 0; s < ns; ++s) {
+    const double len = (x[sp.b[s]] - x[sp.a[s]]).norm();
+    if (len > (1.0 + c.tear_strain[s]) * sp.rest[s]) {
+      c.intact[static_cast<std::size_t>(c.spring_id[s])] = 0;
+      continue;
+    }
+    sp.a[w] = sp.a[s];
+    sp.b[w] = sp.b[s];
+    sp.stiffness[w] = sp.stiffness[s];
+    sp.damping[w] = sp.damping[s];
+    sp.rest[w] = sp.rest[s];
+    c.spring_id[w] = c.spring_id[s];
+    c.limited[w] = c.limited[s];
+    c.tear_strain[w] = c.tear_strain[s];
+    ++w;
+  }
+  for (auto* arr : {&sp.a, &sp.b}) arr->resize(w);
+  for (auto* arr : {&sp.stiffness, &sp.damping, &sp.rest, &c.tear_strain}) arr->resize(w);
+  c.spring_id.resize(w);
+  c.limited.resize(w);
+  m.incidence.build(m.nodes(), sp);
+  for (std::size_t t = 0; t < c.tris.size(); ++t) {
+    const auto& e = c.tri_springs[t];
+    c.tri_alive[t] = c.intact[static_cast<std::size_t>(e[0])] && c.intact[static_cast<std::size_t>(e[1])] &&
+                     c.intact[static_cast<std::size_t>(e[2])];
+  }
+  const int n = static_cast<int>(ns - w);
+  c.springs_broken += n;
+  return n;
+}
+
+// --- drawing ----------------------------------------------------------------------------------
+namespace {
+int findRoot(std::vector<int>& parent, int i) {
+  while (parent[static_cast<std::size_t>(i)] != i) {
+    parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
+    i = parent[static_cast<std::size_t>(i)];
+  }
+  return i;
+}
+void unite(std::vector<int>& parent, int a, int b) {
+  a = findRoot(parent, a);
+  b = findRoot(parent, b);
+  if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+}
+}  // namespace
+
+TriMesh clothMesh(const Cloth& c, const std::vector<Vec3>& x) {
+  const std::size_t nt = c.tris.size();
+  // Corners (3 per triangle) joined across intact shared edges: each class is one vertex.
+  std::vector<int> parent(3 * nt);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (std::size_t t = 0; t < nt; ++t) {
+    if (!c.tri_alive[t]) continue;
+    for (int e = 0; e < 3; ++e) {
+      const int u = c.tri_adj[t][e];
+      if (u < static_cast<int>(t) || !c.tri_alive[static_cast<std::size_t>(u)]) continue;
+      for (int k : {e, (e + 1) % 3}) {
+        const int node = c.tris[t][k];
+        const auto& other = c.tris[static_cast<std::size_t>(u)];
+        const int ku = other[0] == node ? 0 : other[1] == node ? 1 : 2;
+        unite(parent, static_cast<int>(3 * t) + k, 3 * u + ku);
+      }
+    }
+  }
+  TriMesh mesh;
+  std::vector<int> vert(3 * nt, -1);
+  std::vector<Vec3> normal;
+  for (std::size_t t = 0; t < nt; ++t) {
+    if (!c.tri_alive[t]) continue;
+    const auto& tri = c.tris[t];
+    const Vec3 cr = (x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]);  // area-weighted normal
+    for (int k = 0; k < 3; ++k) {
+      const int root = findRoot(parent, static_cast<int>(3 * t) + k);
+      int& vi = vert[static_cast<std::size_t>(root)];
+      if (vi < 0) {
+        vi = static_cast<int>(mesh.vertexCount());
+        const auto node = static_cast<std::size_t>(tri[k]);
+        mesh.addVertex(x[node], Vec3::UnitY(), c.uv[2 * node], c.uv[2 * node + 1]);
+        normal.push_back(Vec3::Zero());
+      }
+      normal[static_cast<std::size_t>(vi)] += cr;
+      mesh.indices.push_back(static_cast<std::uint32_t>(vi));
+    }
+  }
+  for (std::size_t i = 0; i < normal.size(); ++i) {
+    const double len = normal[i].norm();
+    const Vec3 n = len > 0 ? Vec3(normal[i] / len) : Vec3::UnitY();
+    for (int k = 0; k < 3; ++k) mesh.normals[3 * i + k] = static_cast<float>(n[k]);
+  }
+  return mesh;
+}
+
+int clothPieces(std::size_t nodes, const Springs& s) {
+  std::vector<int> parent(nodes);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (std::size_t k = 0; k < s.size(); ++k) unite(parent, s.a[k], s.b[k]);
+  int pieces = 0;
+  for (std::size_t i = 0; i < nodes; ++i) pieces += findRoot(parent, static_cast<int>(i)) == static_cast<int>(i);
+  return pieces;
+}
+
+}  // namespace reel

@@ -1,0 +1,103 @@
+// Cloth: a mass-spring sheet (the shared machinery of mass_spring.h, built by buildCloth) plus
+// what only a sheet has: triangles, air forces on them, a wind field, strain limiting,
+// self-collision, grips that pull its edges, and tearing with the triangle topology split
+// along broken springs.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/mesh.h"
+#include "core/scene.h"
+#include "core/types.h"
+#include "sim/grid.h"
+#include "sim/mass_spring.h"
+
+namespace reel {
+
+// The wind field u(x, t) of WindDesc: the mean wind plus three travelling gust waves drawn from
+// the scene seed (frozen turbulence carried along the mean wind, Taylor's hypothesis).
+class Wind {
+ public:
+  Wind() = default;
+  Wind(const WindDesc& d, std::uint64_t seed);
+  Vec3 at(const Vec3& x, double t) const;
+  bool calm() const { return calm_; }
+
+ private:
+  Vec3 mean_{0, 0, 0};
+  Vec3 dir_[3];       // gust directions, unit
+  double amp_[3]{};   // m/s
+  double omega_[3]{}; // rad/s
+  double phase_[3]{};
+  Vec3 k_[3];         // spatial wave vectors, rad/m
+  bool calm_ = true;
+};
+
+struct Cloth {
+  // --- model (fixed unless the sheet tears) ---
+  int nx = 0, ny = 0;
+  std::vector<std::array<int, 3>> tris;         // node indices, counter-clockwise from local +y (triangles)
+  std::vector<std::array<int, 3>> tri_springs;  // original ids of the springs on edges 01, 12, 20 (triangles)
+  std::vector<std::array<int, 3>> tri_adj;      // triangle across edges 01, 12, 20, or −1 (triangles)
+  std::vector<int> node_tri_start, node_tri;    // node → incident triangles (nodes + 1; 3·triangles)
+  std::vector<float> uv;                        // texture coordinates, 2 per node
+  std::vector<int> spring_id;       // original id of each current spring (springs)
+  std::vector<std::uint8_t> intact; // by original spring id
+  std::vector<std::uint8_t> limited;  // structural or shear spring: strain-limited (springs)
+  std::vector<double> tear_strain;    // breaking strain (springs); empty: never tears
+  std::vector<std::uint8_t> tri_alive;  // all three edges intact (triangles)
+  double strain_limit = 0.0;
+  double thickness = 0.005;
+  bool self_collision = false;
+  AirDesc air;
+  std::vector<GripDesc> grips;
+  std::vector<Vec3> grip_origin;  // where each gripped node starts, per grip in order of nodes
+  // --- scratch ---
+  std::vector<Vec3> f_air;      // air force per node, N (nodes)
+  std::vector<Vec3> tri_force;  // (triangles)
+  std::vector<Vec3> x_prev, x_in, v_in, corr;  // (nodes)
+  std::vector<Vec3> lo, hi;     // triangle boxes (triangles)
+  BoxGrid grid;
+  long long springs_broken = 0;
+};
+
+// Builds the sheet's nodes and springs (structural, shear, bend: in that order) and its cloth
+// data. Node masses are lumped by area: corners ¼, edges ½, interior 1 cell each.
+MassSpringDesc buildCloth(const ClothDesc& d, std::uint64_t seed, Cloth& c);
+
+// Air forces per node from the intact triangles (viscous normal force, quadratic drag and lift).
+void airForces(Cloth& c, const Wind& wind, double t, const std::vector<Vec3>& x,
+               const std::vector<Vec3>& v);
+
+// Grips: sets the gripped nodes' velocity at time t (applied over the next step) and, after the
+// step, places them exactly at origin + velocity·(time gripped so far).
+void gripVelocities(const Cloth& c, double t, std::vector<Vec3>& v);
+void gripPositions(const Cloth& c, double t, std::vector<Vec3>& x);
+
+// Provot 1995, "Deformation constraints in a mass-spring model to describe rigid cloth
+// behavior": structural and shear springs stretched beyond (1 + limit)·l are shortened by
+// moving their ends (Jacobi sweeps, deterministic); velocities follow the moved positions.
+void limitStrain(Cloth& c, const MassSpringModel& m, double h, std::vector<Vec3>& x,
+                 std::vector<Vec3>& v);
+
+// Self-collision: every free node kept at least 2·thickness from the intact triangles that do
+// not contain it, on the side it was on at the start of the step (x_prev); its velocity
+// relative to the triangle loses its approaching normal part. Candidates from a BoxGrid.
+void selfCollide(Cloth& c, const MassSpringModel& m, double h, std::vector<Vec3>& x,
+                 std::vector<Vec3>& v);
+
+// Terzopoulos & Fleischer 1988: removes springs strained past their threshold, rebuilds the
+// incidence and marks the triangles that lost an edge. Returns how many broke.
+int tearSprings(Cloth& c, MassSpringModel& m, const std::vector<Vec3>& x);
+
+// The drawn sheet: intact triangles; a node is split into one vertex per fan of triangles still
+// joined through intact edges (torn edges get their own vertices), each with its own smooth
+// normal and the node's UV.
+TriMesh clothMesh(const Cloth& c, const std::vector<Vec3>& x);
+
+// Connected pieces of the sheet (union of nodes over intact springs).
+int clothPieces(std::size_t nodes, const Springs& s);
+
+}  // namespace reel

@@ -1,0 +1,63 @@
+// Small geometric queries shared by the colliders and self-collision.
+#pragma once
+
+#include <algorithm>
+
+#include "core/types.h"
+
+namespace reel {
+
+// The point of triangle (a, b, c) closest to p, as barycentric weights (wa, wb, wc), sum 1.
+// Regions by the signs of the projections onto the edges (Voronoi regions of the vertices,
+// edges and face; the method of Ericson, "Real-Time Collision Detection", 5.1.5).
+inline Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double v = d1 / (d1 - d3);
+    return {1 - v, v, 0};
+  }
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double w = d2 / (d2 - d6);
+    return {1 - w, 0, w};
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return {0, 1 - w, w};
+  }
+  const double denom = va + vb + vc;
+  if (!(denom > 0)) return {1.0 / 3, 1.0 / 3, 1.0 / 3};  // degenerate triangle
+  const double v = vb / denom, w = vc / denom;
+  return {1 - v - w, v, w};
+}
+
+// Whether segment p→q crosses triangle (a, b, c) at an interior point (Möller–Trumbore with the
+// segment parameter in [0, 1]).
+inline bool segmentCrossesTriangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
+                                   const Vec3& c) {
+  const Vec3 d = q - p, e1 = b - a, e2 = c - a;
+  const Vec3 s1 = d.cross(e2);
+  const double det = e1.dot(s1);
+  if (std::abs(det) < 1e-300) return false;
+  const double inv = 1.0 / det;
+  const Vec3 s = p - a;
+  const double u = s.dot(s1) * inv;
+  if (u < 0 || u > 1) return false;
+  const Vec3 s2 = s.cross(e1);
+  const double v = d.dot(s2) * inv;
+  if (v < 0 || u + v > 1) return false;
+  const double t = e2.dot(s2) * inv;
+  return t >= 0 && t <= 1;
+}
+
+}  // namespace reel
