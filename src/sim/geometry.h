@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/types.h"
 
@@ -41,14 +42,14 @@ inline Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const
   return {1 - v - w, v, w};
 }
 
-// Whether segment p→q crosses triangle (a, b, c) at an interior point (Möller–Trumbore with the
-// segment parameter in [0, 1]).
+// Whether segment p→q crosses triangle (a, b, c) (Möller–Trumbore with the segment parameter in
+// [0, 1]). A segment (nearly) in the triangle's plane does not cross it.
 inline bool segmentCrossesTriangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
                                    const Vec3& c) {
   const Vec3 d = q - p, e1 = b - a, e2 = c - a;
   const Vec3 s1 = d.cross(e2);
   const double det = e1.dot(s1);
-  if (std::abs(det) < 1e-300) return false;
+  if (!(std::abs(det) > 1e-12 * d.norm() * e1.norm() * e2.norm())) return false;
   const double inv = 1.0 / det;
   const Vec3 s = p - a;
   const double u = s.dot(s1) * inv;

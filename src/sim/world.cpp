@@ -211,13 +211,12 @@ Status World::advanceFrame() {
           airForces(*cloth, wind_, t0, b->state.x, b->state.v);
           b->dynamics->setExternalForces(cloth->f_air.data());
         }
-        if (cloth->self_collision) cloth->x_prev = b->state.x;
       }
       integrate(integrator_, *b->dynamics, b->state.x, b->state.v, h, b->workspace, implicit_, &stats_);
       if (cloth) {
         gripPositions(*cloth, t1, b->state.x);
         limitStrain(*cloth, b->model, h, b->state.x, b->state.v);
-        if (cloth->self_collision) selfCollide(*cloth, b->model, h, b->state.x, b->state.v);
+        if (cloth->self_collision) selfCollide(*cloth, b->model, b->state.x, b->state.v);
       }
       if (integrator_ == IntegratorKind::ImplicitEuler && stats_.cg_relative_residual > implicit_.cg_tolerance) {
         ++cg_unconverged_;

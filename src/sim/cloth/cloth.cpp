@@ -87,6 +87,7 @@ MassSpringDesc buildCloth(const ClothDesc& d, std::uint64_t seed, Cloth& c) {
     for (int i = 0; i + 1 < nx; ++i) sh[static_cast<std::size_t>(j * (nx - 1) + i)] = add(id(i, j), id(i + 1, j), d.structural, true);
   for (int j = 0; j + 1 < ny; ++j)
     for (int i = 0; i < nx; ++i) sv[static_cast<std::size_t>(j * nx + i)] = add(id(i, j), id(i, j + 1), d.structural, true);
+  c.structural = static_cast<int>(out.springs.size());
   for (int j = 0; j + 1 < ny; ++j)
     for (int i = 0; i + 1 < nx; ++i) {
       const auto cell = static_cast<std::size_t>(j * (nx - 1) + i);
@@ -272,28 +273,43 @@ void limitStrain(Cloth& c, const MassSpringModel& m, double h, std::vector<Vec3>
 }
 
 // --- self-collision ---------------------------------------------------------------------------
-void selfCollide(Cloth& c, const MassSpringModel& m, double h, std::vector<Vec3>& x,
-                 std::vector<Vec3>& v) {
-  (void)h;
+void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::vector<Vec3>& v) {
   const std::size_t nt = c.tris.size(), nn = x.size();
   const double gap = 2.0 * c.thickness;
+  if (c.x_prev.size() != nn) {  // the first step: the start is the reference
+    c.x_prev = x;
+    return;
+  }
+  // Largest move since the last pass (a maximum: the same whatever the order).
+  double moved = 0.0;
+  for (std::size_t i = 0; i < nn; ++i) moved = std::max(moved, (x[i] - c.x_prev[i]).squaredNorm());
+  if (std::sqrt(moved) < 0.25 * gap) return;
+  ++c.self_passes;
   c.lo.resize(nt);
   c.hi.resize(nt);
-  // Triangle boxes grown by twice the gap (slack for the second sweep), and a cell about their size.
+  // Boxes of the drawn triangles grown by 1.5 gaps (slack for the second sweep), a cell about
+  // their mean size. A triangle stretched over more than eight cells is torn apart in all but
+  // name and sits out (an empty box far away).
   double mean = 0.0;
+  int live = 0;
   for (std::size_t t = 0; t < nt; ++t) {
     const auto& tri = c.tris[t];
     const Vec3 &a = x[tri[0]], &b = x[tri[1]], &cc = x[tri[2]];
-    c.lo[t] = a.cwiseMin(b).cwiseMin(cc) - Vec3::Constant(2 * gap);
-    c.hi[t] = a.cwiseMax(b).cwiseMax(cc) + Vec3::Constant(2 * gap);
-    mean += (c.hi[t] - c.lo[t]).maxCoeff();
+    c.lo[t] = a.cwiseMin(b).cwiseMin(cc) - Vec3::Constant(1.5 * gap);
+    c.hi[t] = a.cwiseMax(b).cwiseMax(cc) + Vec3::Constant(1.5 * gap);
+    if (c.tri_alive[t]) {
+      mean += (c.hi[t] - c.lo[t]).maxCoeff();
+      ++live;
+    }
   }
-  if (nt == 0) return;
-  mean /= static_cast<double>(nt);
-  double big = 0.0;
-  for (std::size_t t = 0; t < nt; ++t) big = std::max(big, (c.hi[t] - c.lo[t]).maxCoeff());
-  double cell = mean;
-  while (big / cell > 15.0) cell *= 2.0;
+  if (live == 0) {
+    c.x_prev = x;
+    return;
+  }
+  mean /= live;
+  const double cell = mean;
+  for (std::size_t t = 0; t < nt; ++t)
+    if (!c.tri_alive[t] || (c.hi[t] - c.lo[t]).maxCoeff() > 8 * cell) c.lo[t] = c.hi[t] = Vec3::Constant(-1e6 * cell);
   c.grid.build(c.lo, c.hi, cell);
   // A node is caught when it is within the gap of a triangle's face, or has crossed it by less
   // than a typical edge (farther crossings are other layers of the sheet, not this contact).
@@ -343,6 +359,7 @@ void selfCollide(Cloth& c, const MassSpringModel& m, double h, std::vector<Vec3>
       }
     });
   }
+  c.x_prev = x;
 }
 
 // --- tearing ---------------------------------------------------------------------------------
@@ -379,9 +396,9 @@ int tearSprings(Cloth& c, MassSpringModel& m, const std::vector<Vec3>& x) {
   c.limited.resize(w);
   m.incidence.build(m.nodes(), sp);
   for (std::size_t t = 0; t < c.tris.size(); ++t) {
-    const auto& e = c.tri_springs[t];
-    c.tri_alive[t] = c.intact[static_cast<std::size_t>(e[0])] && c.intact[static_cast<std::size_t>(e[1])] &&
-                     c.intact[static_cast<std::size_t>(e[2])];
+    bool alive = true;
+    for (int e : c.tri_springs[t]) alive = alive && (e >= c.structural || c.intact[static_cast<std::size_t>(e)]);
+    c.tri_alive[t] = alive ? 1 : 0;
   }
   const int n = static_cast<int>(ns - w);
   c.springs_broken += n;
@@ -406,7 +423,8 @@ void unite(std::vector<int>& parent, int a, int b) {
 
 TriMesh clothMesh(const Cloth& c, const std::vector<Vec3>& x) {
   const std::size_t nt = c.tris.size();
-  // Corners (3 per triangle) joined across intact shared edges: each class is one vertex.
+  // Corners (3 per triangle) joined across the edges two drawn triangles share: each class is
+  // one vertex, so a node on a tear gets a vertex (and a normal) per side.
   std::vector<int> parent(3 * nt);
   std::iota(parent.begin(), parent.end(), 0);
   for (std::size_t t = 0; t < nt; ++t) {

@@ -47,7 +47,8 @@ struct Cloth {
   std::vector<std::uint8_t> intact; // by original spring id
   std::vector<std::uint8_t> limited;  // structural or shear spring: strain-limited (springs)
   std::vector<double> tear_strain;    // breaking strain (springs); empty: never tears
-  std::vector<std::uint8_t> tri_alive;  // all three edges intact (triangles)
+  int structural = 0;  // original ids below this are structural springs (the threads)
+  std::vector<std::uint8_t> tri_alive;  // both structural edges intact (triangles)
   double strain_limit = 0.0;
   double thickness = 0.005;
   bool self_collision = false;
@@ -57,7 +58,8 @@ struct Cloth {
   // --- scratch ---
   std::vector<Vec3> f_air;      // air force per node, N (nodes)
   std::vector<Vec3> tri_force;  // (triangles)
-  std::vector<Vec3> x_prev, x_in, v_in, corr;  // (nodes)
+  std::vector<Vec3> x_prev, x_in, v_in, corr;  // (nodes); x_prev: positions at the last pass
+  long long self_passes = 0;
   std::vector<Vec3> lo, hi;     // triangle boxes (triangles)
   BoxGrid grid;
   long long springs_broken = 0;
@@ -82,14 +84,17 @@ void gripPositions(const Cloth& c, double t, std::vector<Vec3>& x);
 void limitStrain(Cloth& c, const MassSpringModel& m, double h, std::vector<Vec3>& x,
                  std::vector<Vec3>& v);
 
-// Self-collision: every free node kept at least 2·thickness from the intact triangles that do
-// not contain it, on the side it was on at the start of the step (x_prev); its velocity
-// relative to the triangle loses its approaching normal part. Candidates from a BoxGrid.
-void selfCollide(Cloth& c, const MassSpringModel& m, double h, std::vector<Vec3>& x,
-                 std::vector<Vec3>& v);
+// Self-collision: every free node kept at least 2·thickness from the drawn triangles that do
+// not contain it, on the side it was on at the last pass (x_prev); its velocity relative to the
+// triangle loses its approaching normal part. Candidates from a BoxGrid. A pass runs when some
+// node has moved a quarter of the gap since the last one (so no node can cross the gap
+// between passes), which at cloth step sizes is every few steps rather than every step.
+void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::vector<Vec3>& v);
 
 // Terzopoulos & Fleischer 1988: removes springs strained past their threshold, rebuilds the
-// incidence and marks the triangles that lost an edge. Returns how many broke.
+// incidence and marks the triangles that lost a structural edge (a thread): those open the
+// tear. A broken shear or bend spring weakens the sheet without a visible hole. Returns how
+// many broke.
 int tearSprings(Cloth& c, MassSpringModel& m, const std::vector<Vec3>& x);
 
 // The drawn sheet: intact triangles; a node is split into one vertex per fan of triangles still
