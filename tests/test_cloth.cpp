@@ -270,6 +270,16 @@ TEST_CASE("cloth collides with an imported mesh and is pushed by a moving object
     const bool inside = p.y() > 0.001 && p.y() < 0.5 - std::max(std::abs(p.x()), std::abs(p.z())) - 0.02;
     CHECK_FALSE(inside);
   }
+  // Just outside a convex edge (the urn's lip) the distance is positive: the face that sees the
+  // point best decides, not the one that sees it edge-on.
+  auto urn = sceneFromText(R"({"format": "reel/1", "duration": 1, "objects": [{"type": "mesh", "file": "urn.obj"}]})",
+                           REEL_SOURCE_DIR "/scenes/meshes/scene.json");
+  const Collider lip = makeCollider(urn.objects[0], 0.06);
+  double d = 0;
+  Vec3 nrm;
+  REQUIRE(lip.distance(Vec3(0.19, 0.92, 0), d, nrm));
+  CHECK(d == doctest::Approx(std::sqrt(0.01 * 0.01 + 0.02 * 0.02)));
+  CHECK(nrm.y() > 0.8);
   // A box sweeping along x at 1 m/s carries a sheet lying in its path.
   World m = makeWorld(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 20, "auto_substeps": true,
     "objects": [{"type": "plane"},

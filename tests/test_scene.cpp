@@ -41,6 +41,7 @@ std::string springBody(const std::string& node1, const std::string& spring) {
 
 TEST_CASE("every shipped scene loads, validates and builds a world") {
   for (const auto& e : std::filesystem::directory_iterator(REEL_SOURCE_DIR "/scenes")) {
+    if (e.path().extension() != ".json") continue;  // scenes/meshes/: the assets they import
     CAPTURE(e.path().string());
     auto s = io::loadScene(e.path().string());
     REQUIRE_MESSAGE(s.ok(), (s.ok() ? "" : s.error().headline()));

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <set>
 
+#include "core/patterns.h"
 #include "io/files.h"
 #include "io/mesh_import.h"
 #include "io/png.h"
@@ -29,6 +30,15 @@ void readMaterial(Obj& o, Material& m) {
       o.diag().error(childPath(o.path(), "texture"), "\"" + *tex + "\": " + img.error().headline());
     } else
       o.diag().error(childPath(o.path(), "texture"), r.error().headline());
+  }
+  if (o.has("pattern")) {
+    const std::string pat = o.choice("pattern", "", {std::string(kPatternNames[0])});
+    if (!m.texture.empty())
+      o.diag().error(childPath(o.path(), "pattern"), "give texture or pattern, not both");
+    else if (!pat.empty()) {
+      m.texture = "pattern:" + pat;
+      m.texture_image = std::make_shared<const Image>(makePattern(pat, 512));
+    }
   }
   m.specular = o.number("specular", m.specular, kUnit);
   m.shininess = o.number("shininess", m.shininess, kPos);

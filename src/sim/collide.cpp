@@ -185,8 +185,10 @@ bool Collider::distanceAuthored(const Vec3& p, double& d, Vec3& n) const {
     }
     case ObjectKind::Mesh: {
       // The closest point over the triangles listed in p's cell; inside or outside by the face
-      // normal of the closest triangle.
-      double best = mesh->reach * mesh->reach;
+      // normal of the closest triangle. When the closest point is an edge or a vertex, several
+      // triangles tie: the one whose normal is most aligned with p − q decides (at a convex
+      // edge the other face sees p almost in its plane, and rounding could flip its sign).
+      double best = mesh->reach * mesh->reach, align = -1.0;
       int bt = -1;
       Vec3 bc;
       mesh->grid.forEachAt(p, [&](int t) {
@@ -195,8 +197,11 @@ bool Collider::distanceAuthored(const Vec3& p, double& d, Vec3& n) const {
         const Vec3 w = closestOnTriangle(p, a, b, c);
         const Vec3 q = w[0] * a + w[1] * b + w[2] * c;
         const double d2 = (p - q).squaredNorm();
-        if (d2 < best) {
-          best = d2;
+        if (d2 > best * (1.0 + 1e-9) + 1e-24) return;
+        const double al = d2 > 0 ? std::abs((p - q).dot(mesh->normals[static_cast<std::size_t>(t)])) / std::sqrt(d2) : 1.0;
+        if (d2 < best * (1.0 - 1e-9) - 1e-24 || al > align) {
+          best = std::min(best, d2);
+          align = al;
           bt = t;
           bc = q;
         }

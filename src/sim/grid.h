@@ -34,12 +34,13 @@ class BoxGrid {
  private:
   std::int64_t coord(double v) const { return static_cast<std::int64_t>(std::floor(v * inv_cell_)); }
   std::uint32_t bucket(std::int64_t i, std::int64_t j, std::int64_t k) const {
-    // Teschner et al. 2003, "Optimized Spatial Hashing for Collision Detection of Deformable
-    // Objects": the three large primes, here on 64-bit coordinates.
-    const std::uint64_t h = static_cast<std::uint64_t>(i) * 73856093ull ^
-                            static_cast<std::uint64_t>(j) * 19349663ull ^
-                            static_cast<std::uint64_t>(k) * 83492791ull;
-    return static_cast<std::uint32_t>(h & mask_);
+    // The three coordinates packed (21 bits each, wrapping) and mixed by SplitMix64's finaliser,
+    // so that neighbouring cells land in unrelated buckets under the power-of-two mask.
+    std::uint64_t h = (static_cast<std::uint64_t>(i) & 0x1FFFFF) | (static_cast<std::uint64_t>(j) & 0x1FFFFF) << 21 |
+                      (static_cast<std::uint64_t>(k) & 0x1FFFFF) << 42;
+    h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
+    h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
+    return static_cast<std::uint32_t>((h ^ (h >> 31)) & mask_);
   }
   double cell_ = 1.0, inv_cell_ = 1.0;
   std::uint64_t mask_ = 0;

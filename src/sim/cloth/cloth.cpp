@@ -170,6 +170,9 @@ void airForces(Cloth& c, const Wind& wind, double t, const std::vector<Vec3>& x,
   c.f_air.resize(nn);
   const AirDesc& air = c.air;
   const bool quadratic = air.drag != 0.0 || air.lift != 0.0;
+  // The wind at the nodes (half as many as triangles); a triangle feels its corners' mean.
+  c.wind.resize(nn);
+  parallelFor(static_cast<Index>(nn), [&](Index i) { c.wind[i] = wind.at(x[i], t); });
   // Per triangle: the force on it, a third to each corner.
   parallelFor(static_cast<Index>(nt), [&](Index k) {
     if (!c.tri_alive[k]) {
@@ -186,8 +189,7 @@ void airForces(Cloth& c, const Wind& wind, double t, const std::vector<Vec3>& x,
     }
     const double area = 0.5 * len;
     const Vec3 n = cr / len;
-    const Vec3 centre = (a + b + cc) / 3.0;
-    const Vec3 w = wind.at(centre, t) - (v[tri[0]] + v[tri[1]] + v[tri[2]]) / 3.0;
+    const Vec3 w = (c.wind[tri[0]] + c.wind[tri[1]] + c.wind[tri[2]] - v[tri[0]] - v[tri[1]] - v[tri[2]]) / 3.0;
     // Terzopoulos et al. 1987, "Elastically deformable models": the viscous medium's force
     // along the normal, proportional to the normal part of the relative velocity.
     Vec3 f = (air.viscous * area * n.dot(w)) * n;
@@ -280,23 +282,29 @@ void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::
     c.x_prev = x;
     return;
   }
-  // Largest move since the last pass (a maximum: the same whatever the order).
+  // Largest move since the last pass, less the sheet's mean move: two nodes approach each other
+  // by at most twice that, so below a quarter of the gap no node can have crossed it. (A sheet
+  // flying as a whole does not trigger passes.) Sums in node order, maxima in any order.
+  Vec3 mean_move = Vec3::Zero();
+  for (std::size_t i = 0; i < nn; ++i) mean_move += x[i] - c.x_prev[i];
+  mean_move /= static_cast<double>(nn);
   double moved = 0.0;
-  for (std::size_t i = 0; i < nn; ++i) moved = std::max(moved, (x[i] - c.x_prev[i]).squaredNorm());
-  if (std::sqrt(moved) < 0.25 * gap) return;
+  for (std::size_t i = 0; i < nn; ++i) moved = std::max(moved, (x[i] - c.x_prev[i] - mean_move).squaredNorm());
+  if (std::sqrt(moved) < 0.125 * gap) return;
   ++c.self_passes;
+
   c.lo.resize(nt);
   c.hi.resize(nt);
-  // Boxes of the drawn triangles grown by 1.5 gaps (slack for the second sweep), a cell about
-  // their mean size. A triangle stretched over more than eight cells is torn apart in all but
+  // Boxes of the drawn triangles grown by the gap (the second sweep moves nodes by less than
+  // that, and its misses are caught by the next pass), a cell about their mean size. A triangle stretched over more than eight cells is torn apart in all but
   // name and sits out (an empty box far away).
   double mean = 0.0;
   int live = 0;
   for (std::size_t t = 0; t < nt; ++t) {
     const auto& tri = c.tris[t];
     const Vec3 &a = x[tri[0]], &b = x[tri[1]], &cc = x[tri[2]];
-    c.lo[t] = a.cwiseMin(b).cwiseMin(cc) - Vec3::Constant(1.5 * gap);
-    c.hi[t] = a.cwiseMax(b).cwiseMax(cc) + Vec3::Constant(1.5 * gap);
+    c.lo[t] = a.cwiseMin(b).cwiseMin(cc) - Vec3::Constant(gap);
+    c.hi[t] = a.cwiseMax(b).cwiseMax(cc) + Vec3::Constant(gap);
     if (c.tri_alive[t]) {
       mean += (c.hi[t] - c.lo[t]).maxCoeff();
       ++live;
@@ -316,16 +324,21 @@ void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::
   const double depth = std::max(mean - 4 * gap, 2 * gap);
   c.x_in.resize(nn);
   c.v_in.resize(nn);
+  // Two sweeps: the second looks again only at the nodes the first one moved.
+  c.hit.assign(nn, 1);
   for (int sweep = 0; sweep < 2; ++sweep) {
     c.x_in = x;
     c.v_in = v;
     parallelFor(static_cast<Index>(nn), [&](Index i) {
-      if (m.fixed[i]) return;
+      if (m.fixed[i] || !c.hit[i]) return;
+      c.hit[i] = 0;
       const Vec3 p = c.x_in[i], p0 = c.x_prev[i];
       Vec3 dx = Vec3::Zero(), dv = Vec3::Zero();
       int hits = 0;
       c.grid.forEachAt(p, [&](int t) {
-        if (!c.tri_alive[static_cast<std::size_t>(t)]) return;
+        // The bucket lists every triangle near the cell: first the cheap test of the box.
+        const Vec3 &lo = c.lo[static_cast<std::size_t>(t)], &hi = c.hi[static_cast<std::size_t>(t)];
+        if (p.x() < lo.x() || p.y() < lo.y() || p.z() < lo.z() || p.x() > hi.x() || p.y() > hi.y() || p.z() > hi.z()) return;
         const auto& tri = c.tris[static_cast<std::size_t>(t)];
         if (tri[0] == i || tri[1] == i || tri[2] == i) return;
         const Vec3 &a = c.x_in[tri[0]], &b = c.x_in[tri[1]], &cc = c.x_in[tri[2]];
@@ -354,6 +367,7 @@ void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::
         ++hits;
       });
       if (hits > 0) {
+        c.hit[i] = 1;
         x[i] = p + dx / hits;
         v[i] = c.v_in[i] + dv / hits;
       }

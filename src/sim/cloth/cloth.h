@@ -57,8 +57,10 @@ struct Cloth {
   std::vector<Vec3> grip_origin;  // where each gripped node starts, per grip in order of nodes
   // --- scratch ---
   std::vector<Vec3> f_air;      // air force per node, N (nodes)
+  std::vector<Vec3> wind;       // wind velocity at each node, m/s (nodes)
   std::vector<Vec3> tri_force;  // (triangles)
   std::vector<Vec3> x_prev, x_in, v_in, corr;  // (nodes); x_prev: positions at the last pass
+  std::vector<std::uint8_t> hit;  // self-collision moved the node this sweep (nodes)
   long long self_passes = 0;
   std::vector<Vec3> lo, hi;     // triangle boxes (triangles)
   BoxGrid grid;
@@ -69,7 +71,8 @@ struct Cloth {
 // data. Node masses are lumped by area: corners ¼, edges ½, interior 1 cell each.
 MassSpringDesc buildCloth(const ClothDesc& d, std::uint64_t seed, Cloth& c);
 
-// Air forces per node from the intact triangles (viscous normal force, quadratic drag and lift).
+// Air forces per node from the drawn triangles (viscous normal force, quadratic drag and lift),
+// each triangle in the mean of the wind at its corners.
 void airForces(Cloth& c, const Wind& wind, double t, const std::vector<Vec3>& x,
                const std::vector<Vec3>& v);
 

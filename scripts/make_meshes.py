@@ -1,0 +1,57 @@
+#!/usr/bin/env python3
+"""Writes the meshes the demo scenes import (reel makes its own assets; none is downloaded).
+
+scenes/meshes/urn.obj: a closed surface of revolution (an urn on a foot, 0.9 m tall, unit
+scale in metres), counter-clockwise faces seen from outside, with smooth normals left to
+the importer. Run from the repository root: python3 scripts/make_meshes.py
+"""
+import math
+import os
+
+# Profile (radius, height) from the foot to the lip, metres.
+PROFILE = [(0.0, 0.0), (0.22, 0.0), (0.22, 0.04), (0.12, 0.08), (0.10, 0.14), (0.16, 0.22),
+           (0.26, 0.34), (0.30, 0.46), (0.28, 0.58), (0.20, 0.70), (0.13, 0.78), (0.12, 0.84),
+           (0.17, 0.88), (0.18, 0.90), (0.0, 0.90)]
+SEGMENTS = 32
+
+
+def urn():
+    verts, faces = [], []
+    rings = []
+    for r, y in PROFILE:
+        if r == 0.0:  # a pole: one vertex
+            rings.append([len(verts)])
+            verts.append((0.0, y, 0.0))
+            continue
+        ring = []
+        for s in range(SEGMENTS):
+            a = 2 * math.pi * s / SEGMENTS
+            ring.append(len(verts))
+            verts.append((r * math.cos(a), y, -r * math.sin(a)))
+        rings.append(ring)
+    for lo, hi in zip(rings, rings[1:]):
+        for s in range(SEGMENTS):
+            t = (s + 1) % SEGMENTS
+            if len(lo) == 1:      # bottom cap: fan seen from below
+                faces.append((lo[0], hi[t], hi[s]))
+            elif len(hi) == 1:    # top cap: fan seen from above
+                faces.append((lo[s], lo[t], hi[0]))
+            else:
+                faces.append((lo[s], lo[t], hi[t]))
+                faces.append((lo[s], hi[t], hi[s]))
+    return verts, faces
+
+
+def main():
+    verts, faces = urn()
+    os.makedirs("scenes/meshes", exist_ok=True)
+    with open("scenes/meshes/urn.obj", "w") as f:
+        f.write("# urn: made by scripts/make_meshes.py\n")
+        for v in verts:
+            f.write("v %.5f %.5f %.5f\n" % v)
+        for a, b, c in faces:
+            f.write("f %d %d %d\n" % (a + 1, b + 1, c + 1))
+
+
+if __name__ == "__main__":
+    main()

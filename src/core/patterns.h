@@ -1,0 +1,19 @@
+// Textures reel draws itself (no downloaded art): chosen in a scene with a material's `pattern`.
+#pragma once
+
+#include <string_view>
+
+#include "core/image.h"
+
+namespace reel {
+
+// An ornamental rug: fringe, a navy border with gold diamonds, a running-zigzag band, a red
+// field with a lattice, a central medallion and quarter medallions in the corners. Square,
+// `size` pixels a side, sRGB.
+Image makeRugTexture(int size);
+
+// The pattern of that name at `size` pixels, or an empty image for an unknown name.
+Image makePattern(std::string_view name, int size);
+inline constexpr std::string_view kPatternNames[] = {"rug"};
+
+}  // namespace reel
