@@ -1,11 +1,12 @@
 # reel: the two commands of the README.
 #   make demo   installs what is missing, builds Release, renders the demo films into render_out/
+#               (the flying carpet first, then the rope, net and jelly)
 #   make test   installs what is missing, builds Release, runs every test through ctest
 PRESET ?= release
 JOBS   ?= $(shell nproc)
 BUILD  := build/$(PRESET)
 REEL   := $(BUILD)/reel
-DEMO_SCENES := scenes/rope.json scenes/net.json scenes/jelly.json
+DEMO_SCENES := scenes/flying_carpet.json scenes/rope.json scenes/net.json scenes/jelly.json
 
 .PHONY: all deps configure build demo test clean
 

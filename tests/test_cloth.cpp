@@ -134,15 +134,50 @@ TEST_CASE("a sheet pulled at two opposite edges tears into exactly two pieces") 
   const MassSpringBody& b = body(w);
   CHECK(b.cloth->springs_broken > 0);
   CHECK(clothPieces(b.model.nodes(), b.model.springs) == 2);
-  // The drawn sheet splits its nodes along the tear: more vertices than nodes, each with its node's UV.
-  const TriMesh m = clothMesh(*b.cloth, b.state.x);
-  CHECK(m.vertexCount() > b.model.nodes());
   // Every spring left is intact (not stretched past its threshold).
   const Springs& s = b.model.springs;
   for (std::size_t k = 0; k < s.size(); ++k)
     CHECK((b.state.x[s.b[k]] - b.state.x[s.a[k]]).norm() <= (1.0 + b.cloth->tear_strain[k]) * s.rest[k]);
   // Tears are deterministic: same bits for 1 and 2 threads.
   CHECK(hashWith(scene, 1, 60) == hashWith(scene, 2, 60));
+}
+
+TEST_CASE("a tear through a line of nodes gives each side its own vertices, UVs and normals") {
+  // 5 x 5 nodes; the threads along column i = 2 (between nodes (2, j) and (2, j + 1)) broken.
+  ClothDesc d;
+  d.resolution = {5, 5};
+  d.size = {1, 1};
+  Cloth c;
+  const MassSpringDesc ms = buildCloth(d, 0, c);
+  std::vector<Vec3> x;
+  for (const auto& n : ms.nodes) x.push_back(n.position);
+  CHECK(clothMesh(c, x).vertexCount() == 25);
+  for (std::size_t s = 0; s < ms.springs.size(); ++s) {
+    const auto& sp = ms.springs[s];
+    if (static_cast<int>(s) < c.structural && sp.b == sp.a + 5 && sp.a % 5 == 2) c.intact[s] = 0;
+  }
+  refreshTriangles(c);
+  const TriMesh m = clothMesh(c, x);
+  CHECK(m.triangleCount() == 32 - 8);  // each broken thread takes the triangle on either side
+  // Nodes 2, 12 and 22 on the cut (where the cells' diagonals meet) get a vertex per side; nodes
+  // 7 and 17 touch only the four triangles beside the cut, all gone.
+  CHECK(m.vertexCount() == 25 + 3 - 2);
+  std::vector<int> copies(25, 0);
+  for (std::size_t v = 0; v < m.vertexCount(); ++v) {
+    const Vec3 p(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]);
+    std::size_t node = 0;
+    while ((x[node] - p).norm() > 1e-6) ++node;
+    ++copies[node];
+    CHECK(m.uvs[2 * v] == c.uv[2 * node]);
+    CHECK(m.uvs[2 * v + 1] == c.uv[2 * node + 1]);
+    CHECK(m.normals[3 * v + 1] == doctest::Approx(1.0));
+  }
+  CHECK(copies[2] == 2);
+  CHECK(copies[12] == 2);
+  CHECK(copies[22] == 2);
+  CHECK(copies[7] == 0);
+  CHECK(copies[17] == 0);
+  CHECK(copies[1] == 1);
 }
 
 TEST_CASE("a sheet folding onto itself with self-collision has no edge through a triangle") {

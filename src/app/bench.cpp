@@ -236,14 +236,70 @@ int benchFilm(const std::string& scene_path) {
   return 0;
 }
 
+// Cloth: a 2 m x 2 m sheet of n x n nodes dropped from 1.5 m onto a sphere of radius 0.5 m at the
+// origin (the setup of docs/bench/blender_cloth.py), self-collision off and on. Wall seconds per
+// simulated second of the whole World step (integration, contacts, self-collision), and spring
+// updates per second.
+int benchCloth(double simulated_64) {
+  struct Case { int n; double seconds; };
+  for (const Case cs : {Case{64, simulated_64}, Case{128, simulated_64}, Case{256, 0.5 * simulated_64}})
+    for (const bool self : {false, true})
+      for (const std::string integrator : {"implicit_euler", "symplectic_euler"}) {
+        if (integrator == "symplectic_euler" && cs.n > 64) continue;  // its step shrinks with the grid
+        const std::string substeps = integrator == "implicit_euler"
+                                         ? R"("substeps": 5, "implicit": {"cg_tolerance": 1e-3, "cg_max_iterations": 200})"
+                                         : R"("substeps": 10, "auto_substeps": true)";
+        const std::string text = R"({"format": "reel/1", "name": "bench_cloth", "fps": 30, "duration": )" +
+                                 std::to_string(cs.seconds) + ", " + substeps + R"(, "integrator": ")" + integrator + R"(",
+          "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 0.5, "surface": {"friction": 0.3}}],
+          "bodies": [{"type": "cloth", "name": "sheet", "position": [0, 1.5, 0], "size": [2, 2],
+                      "resolution": [)" + std::to_string(cs.n) + ", " + std::to_string(cs.n) + R"(], "density": 0.15,
+                      "stiffness": 1000, "damping": 0.5, "shear_stiffness": 200, "shear_damping": 0.1,
+                      "bend_stiffness": 0.5, "bend_damping": 0.005, "node_damping": 0.001,
+                      "thickness": 0.004, "self_collision": )" + (self ? "true" : "false") + "}]}";
+        auto scene = io::parseScene(text, "bench_cloth.json");
+        if (!scene.ok()) return report(scene.error());
+        auto world = World::create(scene.value());
+        if (!world.ok()) return report(world.error());
+        World& w = world.value();
+        const int frames = scene.value().frameCount();
+        const auto t0 = Clock::now();
+        double cg = 0;
+        for (int k = 0; k < frames; ++k) {
+          if (Status st = w.advanceFrame(); !st) return report(st.error());
+          cg += w.lastStepStats().cg_iterations;
+        }
+        const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+        const MassSpringBody& b = *w.bodies().front();
+        const double simulated = static_cast<double>(frames) / 30.0;
+        nlohmann::ordered_json j = {{"name", "cloth"},
+                                    {"grid", std::to_string(cs.n) + "x" + std::to_string(cs.n)},
+                                    {"nodes", b.model.nodes()},
+                                    {"springs", b.model.springs.size()},
+                                    {"self_collision", self},
+                                    {"integrator", integrator},
+                                    {"steps_per_frame", w.stepsPerFrame()},
+                                    {"threads", threadCount()},
+                                    {"simulated_s", simulated},
+                                    {"wall_s", wall},
+                                    {"wall_per_simulated_s", wall / simulated},
+                                    {"spring_updates_per_s", static_cast<double>(b.dynamics->springEvaluations()) / wall}};
+        if (integrator == "implicit_euler") j["cg_iterations_last_step"] = cg / frames;
+        if (self) j["self_collision_passes"] = b.cloth->self_passes;
+        std::printf("%s\n", j.dump().c_str());
+        std::fflush(stdout);
+      }
+  return 0;
+}
+
 }  // namespace
 
 int bench(const std::vector<std::string>& names, double seconds) {
-  const std::vector<std::string> all = {"springs", "render", "film"};
+  const std::vector<std::string> all = {"springs", "render", "film", "cloth"};
   const std::vector<std::string>& run = names.empty() ? all : names;
   for (const auto& n : run) {
     if (std::find(all.begin(), all.end(), n) == all.end()) {
-      std::fprintf(stderr, "reel: unknown benchmark \"%s\" (available: springs, render, film)\n", n.c_str());
+      std::fprintf(stderr, "reel: unknown benchmark \"%s\" (available: springs, render, film, cloth)\n", n.c_str());
       return 2;
     }
   }
@@ -252,6 +308,7 @@ int bench(const std::vector<std::string>& names, double seconds) {
     if (n == "springs") benchSprings(seconds);
     if (n == "render") rc = benchRender(seconds);
     if (n == "film") rc = benchFilm(REEL_SOURCE_DIR "/scenes/jelly.json");
+    if (n == "cloth") rc = benchCloth(std::max(1.0 / 30.0, seconds));
     if (rc != 0) return rc;
   }
   return 0;

@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> bench_names;
   double bench_seconds = 1.0;
   auto* bench = cli.add_subcommand("bench", "run benchmarks, one JSON line each");
-  bench->add_option("names", bench_names, "benchmarks to run (default: all): springs");
+  bench->add_option("names", bench_names, "benchmarks to run (default: all): springs, render, film, cloth");
   bench->add_option("--seconds", bench_seconds, "time spent on each measurement")->check(CLI::Range(0.01, 600.0));
   add_threads(bench);
 

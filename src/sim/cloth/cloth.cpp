@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "core/error.h"
@@ -99,6 +100,24 @@ MassSpringDesc buildCloth(const ClothDesc& d, std::uint64_t seed, Cloth& c) {
   for (int j = 0; j + 2 < ny; ++j)
     for (int i = 0; i < nx; ++i) add(id(i, j), id(i, j + 2), d.bend, false);
   const std::size_t ns = out.springs.size();
+  // The threads each shear and bend spring needs, in the order the springs were added.
+  c.holds.assign(ns, {-1, -1, -1, -1});
+  {
+    std::size_t k = static_cast<std::size_t>(c.structural);
+    for (int j = 0; j + 1 < ny; ++j)
+      for (int i = 0; i + 1 < nx; ++i) {
+        const std::array<int, 4> cell = {sh[static_cast<std::size_t>(j * (nx - 1) + i)], sh[static_cast<std::size_t>((j + 1) * (nx - 1) + i)],
+                                         sv[static_cast<std::size_t>(j * nx + i)], sv[static_cast<std::size_t>(j * nx + i + 1)]};
+        c.holds[k++] = cell;
+        c.holds[k++] = cell;
+      }
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i + 2 < nx; ++i)
+        c.holds[k++] = {sh[static_cast<std::size_t>(j * (nx - 1) + i)], sh[static_cast<std::size_t>(j * (nx - 1) + i + 1)], -1, -1};
+    for (int j = 0; j + 2 < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        c.holds[k++] = {sv[static_cast<std::size_t>(j * nx + i)], sv[static_cast<std::size_t>((j + 1) * nx + i)], -1, -1};
+  }
   c.spring_id.resize(ns);
   std::iota(c.spring_id.begin(), c.spring_id.end(), 0);
   c.intact.assign(ns, 1);
@@ -153,7 +172,9 @@ MassSpringDesc buildCloth(const ClothDesc& d, std::uint64_t seed, Cloth& c) {
   if (d.tear.strain > 0) {
     c.tear_strain.resize(ns);
     for (std::size_t s = 0; s < ns; ++s)
-      c.tear_strain[s] = d.tear.strain * (1.0 + d.tear.variation * (2.0 * uniformAt(seed, 0x54454152ull /* "TEAR" */, s) - 1.0));
+      c.tear_strain[s] = static_cast<int>(s) < c.structural
+                             ? d.tear.strain * (1.0 + d.tear.variation * (2.0 * uniformAt(seed, 0x54454152ull /* "TEAR" */, s) - 1.0))
+                             : std::numeric_limits<double>::infinity();
   }
   c.strain_limit = d.strain_limit;
   c.thickness = d.thickness;
@@ -377,6 +398,14 @@ void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::
 }
 
 // --- tearing ---------------------------------------------------------------------------------
+void refreshTriangles(Cloth& c) {
+  for (std::size_t t = 0; t < c.tris.size(); ++t) {
+    bool alive = true;
+    for (int e : c.tri_springs[t]) alive = alive && (e >= c.structural || c.intact[static_cast<std::size_t>(e)]);
+    c.tri_alive[t] = alive ? 1 : 0;
+  }
+}
+
 int tearSprings(Cloth& c, MassSpringModel& m, const std::vector<Vec3>& x) {
   if (c.tear_strain.empty()) return 0;
   Springs& sp = m.springs;
@@ -386,14 +415,16 @@ int tearSprings(Cloth& c, MassSpringModel& m, const std::vector<Vec3>& x) {
     return len > (1.0 + c.tear_strain[s]) * sp.rest[s] ? 1.0 : 0.0;
   });
   if (broken == 0.0) return 0;
+  // The threads that break, then the shear and bend springs that needed them.
+  for (std::size_t s = 0; s < ns; ++s)
+    if ((x[sp.b[s]] - x[sp.a[s]]).norm() > (1.0 + c.tear_strain[s]) * sp.rest[s]) c.intact[static_cast<std::size_t>(c.spring_id[s])] = 0;
   // Keep the springs that hold, in order (indices stay sorted, so the incidence order is fixed).
   std::size_t w = 0;
   for (std::size_t s = 0; s < ns; ++s) {
-    const double len = (x[sp.b[s]] - x[sp.a[s]]).norm();
-    if (len > (1.0 + c.tear_strain[s]) * sp.rest[s]) {
-      c.intact[static_cast<std::size_t>(c.spring_id[s])] = 0;
-      continue;
-    }
+    const auto id = static_cast<std::size_t>(c.spring_id[s]);
+    for (int t : c.holds[id])
+      if (t >= 0 && !c.intact[static_cast<std::size_t>(t)]) c.intact[id] = 0;
+    if (!c.intact[id]) continue;
     sp.a[w] = sp.a[s];
     sp.b[w] = sp.b[s];
     sp.stiffness[w] = sp.stiffness[s];
@@ -409,11 +440,7 @@ int tearSprings(Cloth& c, MassSpringModel& m, const std::vector<Vec3>& x) {
   c.spring_id.resize(w);
   c.limited.resize(w);
   m.incidence.build(m.nodes(), sp);
-  for (std::size_t t = 0; t < c.tris.size(); ++t) {
-    bool alive = true;
-    for (int e : c.tri_springs[t]) alive = alive && (e >= c.structural || c.intact[static_cast<std::size_t>(e)]);
-    c.tri_alive[t] = alive ? 1 : 0;
-  }
+  refreshTriangles(c);
   const int n = static_cast<int>(ns - w);
   c.springs_broken += n;
   return n;

@@ -46,7 +46,8 @@ struct Cloth {
   std::vector<int> spring_id;       // original id of each current spring (springs)
   std::vector<std::uint8_t> intact; // by original spring id
   std::vector<std::uint8_t> limited;  // structural or shear spring: strain-limited (springs)
-  std::vector<double> tear_strain;    // breaking strain (springs); empty: never tears
+  std::vector<double> tear_strain;    // breaking strain (springs; infinite for shear and bend); empty: never tears
+  std::vector<std::array<int, 4>> holds;  // by original id: the threads a shear or bend spring needs (−1: none)
   int structural = 0;  // original ids below this are structural springs (the threads)
   std::vector<std::uint8_t> tri_alive;  // both structural edges intact (triangles)
   double strain_limit = 0.0;
@@ -94,11 +95,13 @@ void limitStrain(Cloth& c, const MassSpringModel& m, double h, std::vector<Vec3>
 // between passes), which at cloth step sizes is every few steps rather than every step.
 void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::vector<Vec3>& v);
 
-// Terzopoulos & Fleischer 1988: removes springs strained past their threshold, rebuilds the
-// incidence and marks the triangles that lost a structural edge (a thread): those open the
-// tear. A broken shear or bend spring weakens the sheet without a visible hole. Returns how
-// many broke.
+// Terzopoulos & Fleischer 1988: the threads (structural springs) strained past their threshold
+// break; a shear spring goes with its cell when one of the cell's four threads has broken, and
+// a bend spring with either thread it spans. Rebuilds the incidence and marks the triangles
+// that lost a thread: those open the tear. Returns how many springs went.
 int tearSprings(Cloth& c, MassSpringModel& m, const std::vector<Vec3>& x);
+// Marks the triangles that still have both threads (after `intact` changed).
+void refreshTriangles(Cloth& c);
 
 // The drawn sheet: intact triangles; a node is split into one vertex per fan of triangles still
 // joined through intact edges (torn edges get their own vertices), each with its own smooth
