@@ -123,14 +123,19 @@ void implicitEuler(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, do
       if (dyn.fixed(static_cast<std::size_t>(i))) w[i].setZero();
     });
   };
-  // Δv = 0, r = S·rhs, z = P⁻¹ r, p = z
+  // Warm start: the previous step's Δv (the workspace keeps it; zero on the first step), which
+  // smooth motion changes little. r = S·(rhs − A·Δv), z = P⁻¹ r, p = z.
   parallelFor(ni, [&](Index i) {
-    dvel[i].setZero();
+    if (dyn.fixed(static_cast<std::size_t>(i)) || !dvel[i].allFinite()) dvel[i].setZero();
     ws.r[i] = dyn.fixed(static_cast<std::size_t>(i)) ? Vec3::Zero() : ws.rhs[i];
+  });
+  const double bnorm = std::sqrt(dot(ws.r, ws.r));
+  dyn.applySystem(dvel.data(), ws.q.data());
+  parallelFor(ni, [&](Index i) {
+    if (!dyn.fixed(static_cast<std::size_t>(i))) ws.r[i] -= ws.q[i];
     ws.z[i] = ws.r[i].cwiseQuotient(ws.diag[i]);
     ws.p[i] = ws.z[i];
   });
-  const double bnorm = std::sqrt(dot(ws.r, ws.r));
   double rz = dot(ws.r, ws.z);
   int it = 0;
   double rel = 0.0;
