@@ -175,6 +175,10 @@ MassSpringDesc buildCloth(const ClothDesc& d, std::uint64_t seed, Cloth& c) {
       c.tear_strain[s] = static_cast<int>(s) < c.structural
                              ? d.tear.strain * (1.0 + d.tear.variation * (2.0 * uniformAt(seed, 0x54454152ull /* "TEAR" */, s) - 1.0))
                              : std::numeric_limits<double>::infinity();
+    // Threads at a pinned or gripped node never break: the hem or the clamp holds them.
+    for (std::size_t s = 0; s < static_cast<std::size_t>(c.structural); ++s)
+      if (out.nodes[static_cast<std::size_t>(out.springs[s].a)].fixed || out.nodes[static_cast<std::size_t>(out.springs[s].b)].fixed)
+        c.tear_strain[s] = std::numeric_limits<double>::infinity();
   }
   c.strain_limit = d.strain_limit;
   c.thickness = d.thickness;
