@@ -272,3 +272,30 @@ TEST_CASE("render: --frames, --no-overwrite resumes, bad outputs and paths") {
   r = runReel("still " + drape + " --frame 1 -o /nonexistent_dir/s.png --size 64x48");
   CHECK(r.code == 4);
 }
+
+TEST_CASE("cloth bad input exits 2 naming the JSON path; a cloth film renders and dumps only intact springs") {
+  const std::string bad = write("bad_cloth.json", R"({"format": "reel/1", "duration": 1,
+    "bodies": [{"type": "cloth", "resolution": [1, 8], "size": [1, -1], "tear": {"strain": 0},
+                "pinned": ["edge_q0"]}],
+    "objects": [{"type": "mesh", "file": "missing.obj"}]})");
+  const Run r = runReel("check " + bad);
+  CHECK(r.code == 2);
+  CHECK(r.out.find("/bodies/0/resolution/0") != std::string::npos);
+  CHECK(r.out.find("/bodies/0/size/1") != std::string::npos);
+  CHECK(r.out.find("/bodies/0/tear/strain") != std::string::npos);
+  CHECK(r.out.find("/bodies/0/pinned/0") != std::string::npos);
+  CHECK(r.out.find("/objects/0/file") != std::string::npos);
+  // The golden tear scene: its dump lists fewer springs at the end than at the start.
+  const std::string dump = (tmpDir() / "tear.dump.json").string();
+  REQUIRE(runReel("simulate " + std::string(REEL_SOURCE_DIR) + "/tests/scenes/cloth_tear.json --dump " + dump +
+                  " --dump-every 100").code == 0);
+  std::ifstream in(dump);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto first = text.find("\"springs\""), last = text.rfind("\"springs\"");
+  REQUIRE(first != last);
+  const auto count = [&](std::size_t at) {
+    const std::size_t end = text.find("]]", at);
+    return std::count(text.begin() + static_cast<std::ptrdiff_t>(at), text.begin() + static_cast<std::ptrdiff_t>(end), '[');
+  };
+  CHECK(count(last) < count(first));
+}
