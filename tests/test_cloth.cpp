@@ -359,7 +359,10 @@ TEST_CASE("cloth bad input: resolution, size, mass, tear threshold, pins, mesh f
   CHECK(errs(R"("pinned": ["edge_x2"])").find("/bodies/0/pinned/0: unknown node name \"edge_x2\"; did you mean \"edge_x0\"?") != std::string::npos);
   CHECK(errs(R"("grips": [{"velocity": [1, 0, 0]}])").find("/bodies/0/grips/0/nodes: missing required key") != std::string::npos);
   CHECK(errs(R"("pinned": ["corner_00"], "grips": [{"nodes": [0]}])").find("/bodies/0/grips/0/nodes: node 0 is already pinned") != std::string::npos);
-  CHECK(errs(R"("resolution": [4, 4], "thickness": 0)").find("/bodies/0/thickness: must be > 0") != std::string::npos);
+  CHECK(errs(R"("resolution": [4, 4], "thickness": 0)").find("/bodies/0/thickness: must be") != std::string::npos);
+  CHECK(errs(R"("thickness": 2)").find("/bodies/0/thickness") != std::string::npos);
+  CHECK(errs(R"("tear": {"strain": 0.1, "variation": 1})").find("/bodies/0/tear/variation") != std::string::npos);
+  CHECK(errs(R"("grips": [{"nodes": [0], "start": 2, "stop": 1}])").find("/bodies/0/grips/0/stop: must be after start") != std::string::npos);
   // Meshes: missing, unsupported, corrupt, outside the allowed roots.
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / "reel_test_cloth_bad" / "sub";
@@ -381,4 +384,17 @@ TEST_CASE("cloth bad input: resolution, size, mass, tear threshold, pins, mesh f
       "motion": {"keys": [{"time": 1}, {"time": 0.5}]}}]})", "s.json");
   REQUIRE_FALSE(r.ok());
   CHECK(r.error().headline().find("/objects/0/motion/keys/1/time: keyframe times must increase") != std::string::npos);
+}
+
+TEST_CASE("a cloth that blows up stops as unstable (exit 3), with self-collision and strain limiting on") {
+  auto w = World::create(sceneFromText(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 2,
+    "integrator": "implicit_euler",
+    "bodies": [{"type": "cloth", "name": "s", "resolution": [12, 12], "self_collision": true, "strain_limit": 0.1,
+                "grips": [{"nodes": ["edge_x0"], "velocity": [1e300, 0, 0]}]}]})"));
+  REQUIRE(w.ok());
+  Status st;
+  for (int f = 0; f < 5 && st; ++f) st = w.value().advanceFrame();
+  REQUIRE_FALSE(st);
+  CHECK(st.error().kind == ErrorKind::Unstable);
+  CHECK(st.error().headline().find("body 's'") != std::string::npos);
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <memory>
 #include <cmath>
 #include <cstdint>
@@ -182,7 +183,7 @@ struct TearDesc {
 struct GripDesc {
   std::vector<int> nodes;
   Vec3 velocity{0, 0, 0};  // m/s
-  double start = 0.0, stop = 1e300;  // s
+  double start = 0.0, stop = std::numeric_limits<double>::infinity();  // s
 };
 
 // A rectangular sheet of nx × ny nodes in the local x–z plane: structural springs along the

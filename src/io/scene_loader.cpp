@@ -185,7 +185,7 @@ void readObject(Obj& o, ObjectDesc& ob, const std::string& type) {
         d.error(childPath(p, "file"), r.ok() ? "\"" + *f + "\": " + mesh.error().headline() : mesh.error().headline());
     }
   }
-  ob.thickness = o.number("thickness", 0.0, kNonNeg);
+  ob.thickness = o.number("thickness", 0.0, Range::closed(0.0, 10.0));
   if (const Json* m = o.raw("motion")) {
     Obj mo(*m, childPath(p, "motion"), d);
     const std::string kp = childPath(mo.path(), "keys");
@@ -454,7 +454,7 @@ void readCloth(Obj& o, ClothDesc& c) {
   c.bend = readSpring(o, "bend_stiffness", "bend_damping", &c.bend);
   c.node_damping = o.number("node_damping", 0.0, kNonNeg);
   c.velocity = o.vec3("velocity", c.velocity);
-  c.thickness = o.number("thickness", c.thickness, kPos);
+  c.thickness = o.number("thickness", c.thickness, Range{0.0, 1.0, true, false});
   c.self_collision = o.boolean("self_collision", false);
   c.strain_limit = o.number("strain_limit", 0.0, kNonNeg);
   if (auto uv = o.numbers<2>("uv_scale", kPos)) c.uv_scale = *uv;
@@ -463,7 +463,7 @@ void readCloth(Obj& o, ClothDesc& c) {
   if (const Json* t = o.raw("tear")) {
     Obj to(*t, childPath(p, "tear"), d);
     c.tear.strain = to.number("strain", kPos, true).value_or(0.0);
-    c.tear.variation = to.number("variation", 0.0, kUnit);
+    c.tear.variation = to.number("variation", 0.0, Range{0.0, 1.0, false, true});  // below 1: no thread breaks at rest
     to.finish();
   }
   if (const Json* a = o.raw("air")) {
@@ -485,8 +485,8 @@ void readCloth(Obj& o, ClothDesc& c) {
         readPins(go, {nx, ny}, nx * ny, names, grip.nodes, "nodes", true);
         grip.velocity = go.vec3("velocity", grip.velocity);
         grip.start = go.number("start", 0.0, kNonNeg);
-        grip.stop = go.number("stop", 1e300, kNonNeg);
-        if (grip.stop <= grip.start && go.has("stop")) d.error(childPath(go.path(), "stop"), "must be after start");
+        grip.stop = go.number("stop", std::numeric_limits<double>::infinity(), kNonNeg);
+        if (grip.stop <= grip.start) d.error(childPath(go.path(), "stop"), "must be after start");
         go.finish();
         c.grips.push_back(std::move(grip));
       }

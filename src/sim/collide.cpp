@@ -188,6 +188,7 @@ bool Collider::distanceAuthored(const Vec3& p, double& d, Vec3& n) const {
       // normal of the closest triangle. When the closest point is an edge or a vertex, several
       // triangles tie: the one whose normal is most aligned with p − q decides (at a convex
       // edge the other face sees p almost in its plane, and rounding could flip its sign).
+      if (!p.allFinite()) return false;
       double best = mesh->reach * mesh->reach, align = -1.0;
       int bt = -1;
       Vec3 bc;

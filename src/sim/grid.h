@@ -32,7 +32,11 @@ class BoxGrid {
   std::size_t entries() const { return items_.size(); }
 
  private:
-  std::int64_t coord(double v) const { return static_cast<std::int64_t>(std::floor(v * inv_cell_)); }
+  // Clamped so that far-away (or non-finite) points still map to a cell without overflow.
+  std::int64_t coord(double v) const {
+    const double c = std::floor(v * inv_cell_);
+    return c >= -1e15 && c <= 1e15 ? static_cast<std::int64_t>(c) : (c > 0 ? 1000000000000000ll : -1000000000000000ll);
+  }
   std::uint32_t bucket(std::int64_t i, std::int64_t j, std::int64_t k) const {
     // The three coordinates packed (21 bits each, wrapping) and mixed by SplitMix64's finaliser,
     // so that neighbouring cells land in unrelated buckets under the power-of-two mask.

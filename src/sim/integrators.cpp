@@ -130,6 +130,7 @@ void implicitEuler(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, do
     ws.r[i] = dyn.fixed(static_cast<std::size_t>(i)) ? Vec3::Zero() : ws.rhs[i];
   });
   const double bnorm = std::sqrt(dot(ws.r, ws.r));
+  if (!(bnorm > 0.0)) parallelFor(ni, [&](Index i) { dvel[i].setZero(); });  // nothing to solve: Δv = 0
   dyn.applySystem(dvel.data(), ws.q.data());
   parallelFor(ni, [&](Index i) {
     if (!dyn.fixed(static_cast<std::size_t>(i))) ws.r[i] -= ws.q[i];

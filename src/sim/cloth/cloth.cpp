@@ -247,7 +247,7 @@ void gripVelocities(const Cloth& c, double t, std::vector<Vec3>& v) {
 void gripPositions(const Cloth& c, double t, std::vector<Vec3>& x) {
   std::size_t k = 0;
   for (const GripDesc& g : c.grips) {
-    const double moved = std::clamp(t - g.start, 0.0, g.stop - g.start);
+    const double moved = std::min(std::max(t - g.start, 0.0), std::max(g.stop - g.start, 0.0));
     for (int p : g.nodes) x[static_cast<std::size_t>(p)] = c.grip_origin[k++] + moved * g.velocity;
   }
 }
@@ -270,7 +270,7 @@ void limitStrain(Cloth& c, const MassSpringModel& m, double h, std::vector<Vec3>
       const Vec3 r = x[b] - x[a];
       const double len = r.norm(), lmax = stretch * sp.rest[s];
       const double wa = m.inv_mass[a], wb = m.inv_mass[b];
-      if (!(len > lmax) || wa + wb == 0.0) return;
+      if (!(len > lmax) || !std::isfinite(len) || wa + wb == 0.0) return;  // (a blown-up state is the state check's)
       const Vec3 fix = ((len - lmax) / (len * (wa + wb))) * r;  // shortens the spring to lmax
       c.corr[2 * s] = wa * fix;
       c.corr[2 * s + 1] = -wb * fix;
@@ -315,7 +315,8 @@ void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::
   mean_move /= static_cast<double>(nn);
   double moved = 0.0;
   for (std::size_t i = 0; i < nn; ++i) moved = std::max(moved, (x[i] - c.x_prev[i] - mean_move).squaredNorm());
-  if (std::sqrt(moved) < 0.125 * gap) return;
+  // (A non-finite state is left for the World's state check to report.)
+  if (!(std::sqrt(moved) >= 0.125 * gap) || !std::isfinite(moved)) return;
   ++c.self_passes;
 
   c.lo.resize(nt);
@@ -330,7 +331,7 @@ void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::
     const Vec3 &a = x[tri[0]], &b = x[tri[1]], &cc = x[tri[2]];
     c.lo[t] = a.cwiseMin(b).cwiseMin(cc) - Vec3::Constant(gap);
     c.hi[t] = a.cwiseMax(b).cwiseMax(cc) + Vec3::Constant(gap);
-    if (c.tri_alive[t]) {
+    if (c.tri_alive[t] && c.lo[t].allFinite() && c.hi[t].allFinite()) {
       mean += (c.hi[t] - c.lo[t]).maxCoeff();
       ++live;
     }
@@ -342,7 +343,7 @@ void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::
   mean /= live;
   const double cell = mean;
   for (std::size_t t = 0; t < nt; ++t)
-    if (!c.tri_alive[t] || (c.hi[t] - c.lo[t]).maxCoeff() > 8 * cell) c.lo[t] = c.hi[t] = Vec3::Constant(-1e6 * cell);
+    if (!c.tri_alive[t] || !((c.hi[t] - c.lo[t]).maxCoeff() <= 8 * cell)) c.lo[t] = c.hi[t] = Vec3::Constant(-1e6 * cell);
   c.grid.build(c.lo, c.hi, cell);
   // A node is caught when it is within the gap of a triangle's face, or has crossed it by less
   // than a typical edge (farther crossings are other layers of the sheet, not this contact).
