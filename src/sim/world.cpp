@@ -105,9 +105,14 @@ Result<World> World::create(const SceneDesc& scene) {
   for (const BodyDesc& bd : scene.bodies)
     radius = std::max(radius, std::holds_alternative<ClothDesc>(bd.shape) ? std::get<ClothDesc>(bd.shape).thickness
                                                                             : bd.node_radius);
+  const double h_max = 1.0 / (static_cast<double>(scene.fps) * scene.substeps);
   for (const ObjectDesc& o : scene.objects) {
+    // A moving mesh also reaches as far as its fastest key moves it in one step.
+    double speed = 0.0;
+    for (std::size_t k = 1; k < o.motion.size(); ++k)
+      speed = std::max(speed, (o.motion[k].position - o.motion[k - 1].position).norm() / (o.motion[k].time - o.motion[k - 1].time));
     if (!o.motion.empty()) w.moving_objects_.push_back(w.colliders_.size());
-    w.colliders_.push_back(makeCollider(o, radius + 0.05));
+    w.colliders_.push_back(makeCollider(o, radius + 0.05 + speed * h_max));
     w.object_meshes_.push_back(objectMesh(o));
     w.object_pivots_.push_back(o.referencePoint());
   }
