@@ -131,6 +131,7 @@ void MassSpringDynamics::applySystem(const Vec3* p, Vec3* out) {
   // Per spring y = B (p_a − p_b): + on a, − on b; then (M + hγ) p + Σ ±y per node.
   parallelFor(static_cast<Index>(sp.size()),
               [&](Index s) { fs_[s] = B_[s] * (p[sp.a[s]] - p[sp.b[s]]); });
+  spring_products_ += sp.size();
   parallelFor(static_cast<Index>(m_.nodes()), [&](Index i) {
     Vec3 y = (m_.mass[i] + h_ * m_.drag[i]) * p[i];
     gather(fs_, static_cast<std::size_t>(i), y);

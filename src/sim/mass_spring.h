@@ -72,6 +72,8 @@ class MassSpringDynamics final : public Dynamics {
   void setExternalForces(const Vec3* f) { external_ = f; }
   // Spring force evaluations done so far (for benchmarks).
   std::uint64_t springEvaluations() const { return spring_evals_; }
+  // Products with a spring's 3×3 block in implicit Euler's conjugate-gradient solve.
+  std::uint64_t springProducts() const { return spring_products_; }
 
  private:
   // out_i = Σ over springs at i of ±per_spring[s] (+ on end a, − on end b).
@@ -82,6 +84,7 @@ class MassSpringDynamics final : public Dynamics {
   double h_ = 0.0;
   const Vec3* external_ = nullptr;
   std::uint64_t spring_evals_ = 0;
+  std::uint64_t spring_products_ = 0;
 };
 
 // Total energy (kinetic + spring potential − m g·x), J; used by tests and benches.
