@@ -15,6 +15,22 @@ void TriMesh::addVertex(const Vec3& p, const Vec3& n, double u, double v) {
   uvs.push_back(static_cast<float>(v));
 }
 
+TriMesh placeMesh(const TriMesh& src, const Vec3& scale, const Mat3& R, const Vec3& position) {
+  TriMesh m = src;
+  for (std::size_t i = 0; i < m.vertexCount(); ++i) {
+    const Vec3 p(src.positions[3 * i], src.positions[3 * i + 1], src.positions[3 * i + 2]);
+    Vec3 n(src.normals[3 * i] / scale[0], src.normals[3 * i + 1] / scale[1], src.normals[3 * i + 2] / scale[2]);
+    n = R * n;
+    n = n.norm() > 0 ? Vec3(n.normalized()) : Vec3::UnitY();
+    const Vec3 q = R * p.cwiseProduct(scale) + position;
+    for (int k = 0; k < 3; ++k) {
+      m.positions[3 * i + k] = static_cast<float>(q[k]);
+      m.normals[3 * i + k] = static_cast<float>(n[k]);
+    }
+  }
+  return m;
+}
+
 void TriMesh::transform(const Mat3& R, const Vec3& t) {
   for (std::size_t i = 0; i < vertexCount(); ++i) {
     Vec3 p(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]);

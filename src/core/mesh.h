@@ -22,6 +22,10 @@ struct TriMesh {
   void transform(const Mat3& R, const Vec3& t);
 };
 
+// An imported mesh placed in the world: x ↦ R·(scale ⊙ x) + position; normals take the inverse
+// scale and R, renormalised, so they stay perpendicular to the surface.
+TriMesh placeMesh(const TriMesh& m, const Vec3& scale, const Mat3& R, const Vec3& position);
+
 TriMesh makeUvSphere(double radius, int slices, int stacks);
 TriMesh makeBox(const Vec3& size);                 // centred, full extents
 TriMesh makeCapsule(const Vec3& a, const Vec3& b, double radius, int slices, int stacks);

@@ -374,23 +374,32 @@ void readRope(Obj& o, RopeDesc& r) {
   readPins(o, {n}, n, {{"start", {0}}, {"end", {n - 1}}}, r.pinned);
 }
 
+// The placement keys of a sheet (net or cloth): position, rotation, size and resolution.
+void readSheet(Obj& o, Vec3& position, Vec3& rotation_deg, std::array<double, 2>& size, std::array<int, 2>& resolution) {
+  position = o.vec3("position", position);
+  rotation_deg = o.vec3("rotation_deg", rotation_deg);
+  if (auto s = o.numbers<2>("size", kPos)) size = *s;
+  if (auto r = o.integers<2>("resolution", 2, 1 << 16)) resolution = {static_cast<int>((*r)[0]), static_cast<int>((*r)[1])};
+  const long long n = static_cast<long long>(resolution[0]) * resolution[1];
+  if (n > kMaxBodyNodes)
+    o.diag().error(childPath(o.path(), "resolution"), std::to_string(n) + " nodes, more than the limit of " + std::to_string(kMaxBodyNodes));
+}
+
+// The corners of an nx × ny sheet by name.
+NodeNames cornerNames(long long nx, long long ny) {
+  return {{"corner_00", {0}}, {"corner_10", {nx - 1}}, {"corner_01", {(ny - 1) * nx}}, {"corner_11", {nx * ny - 1}}};
+}
+
 void readNet(Obj& o, NetDesc& net) {
-  net.position = o.vec3("position", net.position);
-  net.rotation_deg = o.vec3("rotation_deg", net.rotation_deg);
-  if (auto s = o.numbers<2>("size", kPos)) net.size = *s;
-  if (auto r = o.integers<2>("resolution", 2, 1 << 16)) net.resolution = {static_cast<int>((*r)[0]), static_cast<int>((*r)[1])};
+  readSheet(o, net.position, net.rotation_deg, net.size, net.resolution);
   const long long nx = net.resolution[0], ny = net.resolution[1];
-  if (nx * ny > kMaxBodyNodes)
-    o.diag().error(childPath(o.path(), "resolution"), std::to_string(nx * ny) + " nodes, more than the limit of " + std::to_string(kMaxBodyNodes));
   net.mass = o.number("mass", net.mass, kPos);
   checkNodeMass(o, net.mass, nx * ny);
   net.structural = readSpring(o, "stiffness", "damping", nullptr);
   net.shear = readSpring(o, "shear_stiffness", "shear_damping", &net.structural);
   net.node_damping = o.number("node_damping", 0.0, kNonNeg);
   net.velocity = o.vec3("velocity", net.velocity);
-  readPins(o, {nx, ny}, nx * ny,
-           {{"corner_00", {0}}, {"corner_10", {nx - 1}}, {"corner_01", {(ny - 1) * nx}}, {"corner_11", {nx * ny - 1}}},
-           net.pinned);
+  readPins(o, {nx, ny}, nx * ny, cornerNames(nx, ny), net.pinned);
 }
 
 void readLattice(Obj& o, LatticeDesc& l) {
@@ -414,7 +423,7 @@ void readLattice(Obj& o, LatticeDesc& l) {
 
 // A sheet's named nodes: its corners and its four edges.
 NodeNames clothNames(long long nx, long long ny) {
-  NodeNames n = {{"corner_00", {0}}, {"corner_10", {nx - 1}}, {"corner_01", {(ny - 1) * nx}}, {"corner_11", {nx * ny - 1}}};
+  NodeNames n = cornerNames(nx, ny);
   std::vector<long long> x0, x1, z0, z1;
   for (long long j = 0; j < ny; ++j) {
     x0.push_back(j * nx);
@@ -434,13 +443,8 @@ NodeNames clothNames(long long nx, long long ny) {
 void readCloth(Obj& o, ClothDesc& c) {
   Diagnostics& d = o.diag();
   const std::string& p = o.path();
-  c.position = o.vec3("position", c.position);
-  c.rotation_deg = o.vec3("rotation_deg", c.rotation_deg);
-  if (auto s = o.numbers<2>("size", kPos)) c.size = *s;
-  if (auto r = o.integers<2>("resolution", 2, 1 << 16)) c.resolution = {static_cast<int>((*r)[0]), static_cast<int>((*r)[1])};
+  readSheet(o, c.position, c.rotation_deg, c.size, c.resolution);
   const long long nx = c.resolution[0], ny = c.resolution[1];
-  if (nx * ny > kMaxBodyNodes)
-    d.error(childPath(p, "resolution"), std::to_string(nx * ny) + " nodes, more than the limit of " + std::to_string(kMaxBodyNodes));
   const bool has_mass = o.has("mass"), has_density = o.has("density");
   if (has_mass && has_density) d.error(childPath(p, "density"), "give mass or density, not both");
   if (has_density) {

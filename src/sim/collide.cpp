@@ -9,16 +9,13 @@
 
 namespace reel {
 
-std::shared_ptr<MeshShape> makeMeshShape(const TriMesh& mesh, const Vec3& scale, const Mat3& R,
-                                         const Vec3& position, double reach) {
+std::shared_ptr<MeshShape> makeMeshShape(const TriMesh& mesh, double reach) {
   auto s = std::make_shared<MeshShape>();
   s->reach = reach;
   const std::size_t nv = mesh.vertexCount();
   s->vertices.resize(nv);
-  for (std::size_t i = 0; i < nv; ++i) {
-    const Vec3 p(mesh.positions[3 * i], mesh.positions[3 * i + 1], mesh.positions[3 * i + 2]);
-    s->vertices[i] = R * p.cwiseProduct(scale) + position;
-  }
+  for (std::size_t i = 0; i < nv; ++i)
+    s->vertices[i] = Vec3(mesh.positions[3 * i], mesh.positions[3 * i + 1], mesh.positions[3 * i + 2]);
   std::vector<Vec3> lo, hi;
   double edge = 0.0;
   for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
@@ -74,7 +71,7 @@ Collider makeCollider(const ObjectDesc& o, double reach) {
       c.radius = o.radius;
       break;
     case ObjectKind::Mesh:
-      c.mesh = makeMeshShape(*o.mesh, o.scale, rotationFromEulerDeg(o.rotation_deg), o.position,
+      c.mesh = makeMeshShape(placeMesh(*o.mesh, o.scale, rotationFromEulerDeg(o.rotation_deg), o.position),
                              o.thickness + reach);
       break;
   }

@@ -62,9 +62,8 @@ struct Collider {
 // and a margin for one step's motion).
 Collider makeCollider(const ObjectDesc& o, double reach = 0.1);
 
-// The triangles of an object's mesh placed in the world (scale, rotation, position).
-std::shared_ptr<MeshShape> makeMeshShape(const TriMesh& mesh, const Vec3& scale, const Mat3& R,
-                                         const Vec3& position, double reach);
+// The triangles of a mesh already placed in the world (core's placeMesh), in a grid.
+std::shared_ptr<MeshShape> makeMeshShape(const TriMesh& placed, double reach);
 
 // Projects nodes that are closer than thickness + radius back onto the surface and applies
 // restitution and Coulomb friction to their velocity relative to the surface (a velocity-level

@@ -50,23 +50,9 @@ DrawMesh objectMesh(const ObjectDesc& o) {
     case ObjectKind::Capsule:
       m = makeCapsule(o.a, o.b, o.radius, 32, 16);
       break;
-    case ObjectKind::Mesh: {
-      m = *o.mesh;
-      const Mat3 R = rotationFromEulerDeg(o.rotation_deg);
-      // Scale positions; normals take the inverse scale (then renormalise) to stay perpendicular.
-      for (std::size_t i = 0; i < m.vertexCount(); ++i)
-        for (int k = 0; k < 3; ++k) {
-          m.positions[3 * i + k] = static_cast<float>(m.positions[3 * i + k] * o.scale[k]);
-          m.normals[3 * i + k] = static_cast<float>(m.normals[3 * i + k] / o.scale[k]);
-        }
-      m.transform(R, o.position);
-      for (std::size_t i = 0; i < m.vertexCount(); ++i) {
-        Vec3 n(m.normals[3 * i], m.normals[3 * i + 1], m.normals[3 * i + 2]);
-        n = n.norm() > 0 ? Vec3(n.normalized()) : Vec3::UnitY();
-        for (int k = 0; k < 3; ++k) m.normals[3 * i + k] = static_cast<float>(n[k]);
-      }
+    case ObjectKind::Mesh:
+      m = placeMesh(*o.mesh, o.scale, rotationFromEulerDeg(o.rotation_deg), o.position);
       break;
-    }
   }
   DrawMesh d;
   d.mesh = std::make_shared<const TriMesh>(std::move(m));

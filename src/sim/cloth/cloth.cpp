@@ -17,7 +17,6 @@ using Index = std::ptrdiff_t;
 
 // --- wind ----------------------------------------------------------------------------------
 Wind::Wind(const WindDesc& d, std::uint64_t seed) : mean_(d.velocity) {
-  calm_ = d.velocity.norm() == 0.0 && d.gust == 0.0;
   const double speed = d.velocity.norm();
   const Vec3 along = speed > 0 ? Vec3(d.velocity / speed) : Vec3::UnitX();
   const double carry = std::max(speed, 1.0);  // m/s: how fast the gusts travel

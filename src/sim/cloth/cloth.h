@@ -23,7 +23,6 @@ class Wind {
   Wind() = default;
   Wind(const WindDesc& d, std::uint64_t seed);
   Vec3 at(const Vec3& x, double t) const;
-  bool calm() const { return calm_; }
 
  private:
   Vec3 mean_{0, 0, 0};
@@ -32,7 +31,6 @@ class Wind {
   double omega_[3]{}; // rad/s
   double phase_[3]{};
   Vec3 k_[3];         // spatial wave vectors, rad/m
-  bool calm_ = true;
 };
 
 struct Cloth {
