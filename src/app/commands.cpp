@@ -109,6 +109,18 @@ int check(const std::vector<std::string>& scenes) {
       if (world.ok()) {
         std::printf("%s: ok (%zu bodies, %zu objects, %d frames)\n", path.c_str(),
                     scene.value().bodies.size(), scene.value().objects.size(), scene.value().frameCount());
+        // Liquids: what their parameters mean in practice.
+        const World& w = world.value();
+        for (const auto& fl : w.fluids()) {
+          const StepBound b = fluidStableStep(*fl);
+          std::printf("  fluid '%s': %zu particles at the start, stable step %.3g s (this scene steps %.3g s)\n",
+                      fl->name.c_str(), fl->size(), b.h_max, w.stepSize());
+          for (int k = 0; k < fl->S; ++k) {
+            const PairParams& p = fl->pairs[static_cast<std::size_t>(k * fl->S + k)];
+            std::printf("    species '%s': rest distance %.4g m, bulk spacing %.4g m, cutoff %.4g m\n",
+                        fl->species_names[static_cast<std::size_t>(k)].c_str(), restDistance(p), bulkSpacing(p), p.cutoff);
+          }
+        }
         continue;
       }
       err = world.error();
@@ -130,7 +142,7 @@ int info() {
               NLOHMANN_JSON_VERSION_MINOR, NLOHMANN_JSON_VERSION_PATCH, CLI11_VERSION);
   std::printf("integrators:");
   for (auto n : kIntegratorNames) std::printf(" %.*s", static_cast<int>(n.size()), n.data());
-  std::printf("\nbodies: mass_spring rope net lattice\nobjects: plane sphere box capsule\n");
+  std::printf("\nbodies: mass_spring rope net lattice cloth fluid\nobjects: plane sphere box capsule mesh container\n");
   for (const auto& b : gl::probeBackends())
     std::printf("gl %s: %s\n", b.name.c_str(), b.ok ? b.detail.c_str() : ("unavailable: " + b.detail).c_str());
   std::printf("encoders:");

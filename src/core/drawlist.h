@@ -32,6 +32,7 @@ struct DrawMesh {
 
 struct DrawSpheres {
   std::vector<float> centers;  // xyz per sphere, m
+  std::vector<float> colors;   // linear rgb per sphere, multiplied into the albedo (may be empty)
   float radius = 0.02f;        // m
   DrawMaterial material;
 };

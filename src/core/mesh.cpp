@@ -138,4 +138,20 @@ TriMesh makeTube(int slices) {
   return m;
 }
 
+std::vector<std::array<double, 2>> hexDisc(double radius, double spacing) {
+  std::vector<std::array<double, 2>> pts;
+  const double row = spacing * std::sqrt(3.0) / 2.0;
+  const int rows = static_cast<int>(std::floor(radius / row));
+  for (int j = -rows; j <= rows; ++j) {
+    const double v = j * row, shift = (j & 1) ? spacing / 2 : 0.0;
+    const int cols = static_cast<int>(std::floor(radius / spacing)) + 1;
+    for (int i = -cols; i <= cols; ++i) {
+      const double u = i * spacing + shift;
+      if (u * u + v * v <= radius * radius * (1 + 1e-12)) pts.push_back({u, v});
+    }
+  }
+  if (pts.empty()) pts.push_back({0.0, 0.0});
+  return pts;
+}
+
 }  // namespace reel

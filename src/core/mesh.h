@@ -2,6 +2,7 @@
 // shared by sim (what objects look like) and render (instanced prototypes).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -30,6 +31,10 @@ TriMesh makeUvSphere(double radius, int slices, int stacks);
 TriMesh makeBox(const Vec3& size);                 // centred, full extents
 TriMesh makeCapsule(const Vec3& a, const Vec3& b, double radius, int slices, int stacks);
 TriMesh makeQuad(double width, double depth);      // centred in the x–z plane, normal +y
+// Points of a hexagonal lattice `spacing` apart inside a disc of `radius` (the centre always),
+// in the disc's own (u, v) coordinates, m. A liquid nozzle's cross-section.
+std::vector<std::array<double, 2>> hexDisc(double radius, double spacing);
+
 // A unit cylinder along +z from z = 0 to 1, radius 1, open ends (instanced tubes).
 TriMesh makeTube(int slices);
 

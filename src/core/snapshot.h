@@ -12,11 +12,13 @@ namespace reel {
 
 struct BodySnapshot {
   std::string name;
-  std::string type;       // dump type: "mass_spring"
-  std::string generator;  // scene type that built it: mass_spring, rope, net, lattice
+  std::string type;       // dump type: "mass_spring" or "particles"
+  std::string generator;  // scene type that built it: mass_spring, rope, net, lattice, cloth, fluid
   std::span<const Vec3> positions;   // m (nodes)
   std::span<const Vec3> velocities;  // m/s (nodes)
   std::span<const int> spring_a, spring_b;  // intact springs as index pairs (springs)
+  std::span<const int> species;              // particles: species index of each
+  std::vector<std::string> species_names;    // particles: the species, by index
 };
 
 struct FrameSnapshot {

@@ -58,6 +58,17 @@ Status DumpWriter::write(const FrameSnapshot& f) {
     putVec3s(buf_, s.positions);
     buf_ += ",\n  \"velocities\":";
     putVec3s(buf_, s.velocities);
+    if (!s.species_names.empty()) {
+      buf_ += ",\n  \"species_names\":[";
+      for (std::size_t k = 0; k < s.species_names.size(); ++k) buf_ += (k ? "," : "") + jsonString(s.species_names[k]);
+      buf_ += "],\n  \"species\":[";
+      for (std::size_t k = 0; k < s.species.size(); ++k) {
+        if (k) buf_ += ',';
+        buf_ += std::to_string(s.species[k]);
+      }
+      buf_ += "]}";
+      continue;
+    }
     buf_ += ",\n  \"springs\":[";
     for (std::size_t k = 0; k < s.spring_a.size(); ++k) {
       if (k) buf_ += ',';

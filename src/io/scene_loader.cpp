@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <set>
 
+#include <unistd.h>
+
 #include "core/patterns.h"
 #include "io/files.h"
 #include "io/mesh_import.h"
@@ -139,6 +141,12 @@ void readLights(const Json& j, std::vector<LightDesc>& lights, Diagnostics& d) {
 }
 
 // --- objects: colliders and props ------------------------------------------------------------
+void readSurface(Obj& so, Surface& sf) {
+  sf.friction = so.number("friction", sf.friction, kNonNeg);
+  sf.restitution = so.number("restitution", sf.restitution, kUnit);
+  sf.adhesion = so.number("adhesion", sf.adhesion, Range::closed(0.0, 1e4));
+}
+
 void readObject(Obj& o, ObjectDesc& ob, const std::string& type) {
   Diagnostics& d = o.diag();
   const std::string& p = o.path();
@@ -159,6 +167,13 @@ void readObject(Obj& o, ObjectDesc& ob, const std::string& type) {
     ob.center = o.vec3("center", ob.center);
     ob.size = o.vec3("size", Range::positive(), true).value_or(ob.size);
     ob.rotation_deg = o.vec3("rotation_deg", ob.rotation_deg);
+  } else if (type == "container") {
+    ob.kind = ObjectKind::Container;
+    ob.center = o.vec3("center", ob.center);
+    ob.size = o.vec3("size", Range::positive(), true).value_or(ob.size);
+    ob.rotation_deg = o.vec3("rotation_deg", ob.rotation_deg);
+    ob.wall = o.number("wall", ob.wall, kPos);
+    if (2 * ob.wall >= ob.size.minCoeff()) d.error(childPath(p, "wall"), "must be less than half the container's smallest size");
   } else if (type == "capsule") {
     ob.kind = ObjectKind::Capsule;
     ob.a = o.vec3("start", Range::any(), true).value_or(ob.a);
@@ -211,9 +226,31 @@ void readObject(Obj& o, ObjectDesc& ob, const std::string& type) {
   }
   if (const Json* s = o.raw("surface")) {
     Obj so(*s, childPath(p, "surface"), d);
-    ob.surface.friction = so.number("friction", ob.surface.friction, kNonNeg);
-    ob.surface.restitution = so.number("restitution", ob.surface.restitution, kUnit);
+    readSurface(so, ob.surface);
+    // Per-species surfaces: {"species": {"honey": {"adhesion": 20}}}; unset keys keep the above.
+    if (const Json* sp = so.raw("species")) {
+      const std::string spp = childPath(so.path(), "species");
+      if (!sp->is_object()) {
+        d.error(spp, "expected an object of species name → surface, got " + typeName(*sp));
+      } else {
+        for (const auto& [name, val] : sp->items()) {
+          Obj one(val, childPath(spp, name), d);
+          Surface sf = ob.surface;
+          readSurface(one, sf);
+          one.finish();
+          ob.species_surface.emplace_back(name, sf);
+        }
+      }
+    }
     so.finish();
+  }
+  ob.dynamic = o.boolean("dynamic", false);
+  if (ob.dynamic) {
+    ob.mass = o.number("mass", kPos, true).value_or(ob.mass);
+    if (ob.kind == ObjectKind::Plane) d.error(childPath(p, "dynamic"), "a plane cannot be dynamic (it has no finite mass)");
+    if (!ob.motion.empty()) d.error(childPath(p, "dynamic"), "an object moves by its keys or dynamically, not both");
+  } else if (o.has("mass")) {
+    d.error(childPath(p, "mass"), "only dynamic objects have a mass (set \"dynamic\": true)");
   }
   readMaterial(o, ob.material);
 }
@@ -511,6 +548,196 @@ void readCloth(Obj& o, ClothDesc& c) {
   }
 }
 
+// --- the particle fluid ------------------------------------------------------------------------
+// Particles one machine holds: half its memory at about 1 KiB per particle (state, neighbour
+// list, drawing), at most 50 million.
+long long defaultMaxParticles() {
+  const long long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || page <= 0) return 4'000'000;
+  return std::clamp(pages / 2 * (page / 1024), 10'000ll, 50'000'000ll);
+}
+
+// A species named by `key` (default: the first), as an index.
+int readSpecies(Obj& o, const std::vector<std::string>& names, const std::string& key = "species") {
+  if (names.empty()) return 0;
+  const std::string n = o.choice(key, names[0], names);
+  const auto it = std::find(names.begin(), names.end(), n);
+  return it == names.end() ? 0 : static_cast<int>(it - names.begin());
+}
+
+// A list at `key` whose entries are objects, each passed to f(Obj&).
+template <class F>
+void readList(Obj& o, const std::string& key, F&& f, bool required = false) {
+  const Json* j = o.raw(key);
+  const std::string p = childPath(o.path(), key);
+  if (!j) {
+    if (required && o.ok()) o.diag().error(p, "missing required key");
+    return;
+  }
+  if (!j->is_array()) {
+    o.diag().error(p, "expected a list, got " + typeName(*j));
+    return;
+  }
+  for (std::size_t k = 0; k < j->size(); ++k) {
+    Obj e((*j)[k], childPath(p, k), o.diag());
+    f(e);
+    e.finish();
+  }
+}
+
+void readFluid(Obj& o, FluidDesc& fd, double duration) {
+  Diagnostics& d = o.diag();
+  const std::string& p = o.path();
+  std::vector<std::string> names;
+  readList(o, "species", [&](Obj& so) {
+    SpeciesDesc sp;
+    sp.path = so.path();
+    sp.name = so.string("name", true).value_or("");
+    if (so.ok() && sp.name.empty() && so.has("name")) d.error(childPath(so.path(), "name"), "must not be empty");
+    if (std::find(names.begin(), names.end(), sp.name) != names.end())
+      d.error(childPath(so.path(), "name"), "duplicate species \"" + sp.name + "\"");
+    sp.mass = so.number("mass", sp.mass, kPos);
+    sp.alpha = so.number("alpha", sp.alpha, kNonNeg);
+    sp.beta = so.number("beta", sp.beta, kNonNeg);
+    sp.a = so.number("a", sp.a, Range{0.0, 16.0, true, false});
+    sp.b = so.number("b", sp.b, Range{0.0, 16.0, true, false});
+    sp.epsilon = so.number("epsilon", sp.epsilon, kNonNeg);
+    sp.cutoff = so.number("cutoff", sp.cutoff, Range{0.0, 10.0, true, false});
+    sp.viscosity = so.number("viscosity", sp.viscosity, kNonNeg);
+    sp.color = so.vec3("color", sp.color, kNonNeg);
+    if (sp.alpha > 0 && sp.beta == 0)
+      d.error(childPath(so.path(), "beta"), "must be > 0 when alpha > 0 (attraction without repulsion collapses the liquid)");
+    names.push_back(sp.name);
+    fd.species.push_back(sp);
+  }, true);
+  if (o.ok() && o.raw("species") && fd.species.empty()) d.error(childPath(p, "species"), "needs at least one species");
+  readList(o, "interactions", [&](Obj& io) {
+    InteractionDesc in;
+    in.path = io.path();
+    const Json* pair = io.raw("species");
+    const std::string pp = childPath(io.path(), "species");
+    if (!pair) {
+      if (io.ok()) d.error(pp, "missing required key");
+    } else if (!pair->is_array() || pair->size() != 2 || !(*pair)[0].is_string() || !(*pair)[1].is_string()) {
+      d.error(pp, "expected two species names, got " + typeName(*pair));
+    } else {
+      int idx[2] = {0, 0};
+      for (int k = 0; k < 2; ++k) {
+        const std::string n = (*pair)[static_cast<std::size_t>(k)].get<std::string>();
+        const auto it = std::find(names.begin(), names.end(), n);
+        if (it == names.end()) {
+          const std::string near = nearest(n, names);
+          d.error(childPath(pp, static_cast<std::size_t>(k)),
+                  "unknown species \"" + n + "\"" + (near.empty() ? "" : " (did you mean \"" + near + "\"?)"));
+        } else {
+          idx[k] = static_cast<int>(it - names.begin());
+        }
+      }
+      in.s = idx[0];
+      in.t = idx[1];
+    }
+    auto opt = [&](const char* key, Range r) -> std::optional<double> { return io.number(key, r); };
+    in.alpha = opt("alpha", kNonNeg);
+    in.beta = opt("beta", kNonNeg);
+    in.a = opt("a", Range{0.0, 16.0, true, false});
+    in.b = opt("b", Range{0.0, 16.0, true, false});
+    in.epsilon = opt("epsilon", kNonNeg);
+    in.cutoff = opt("cutoff", Range{0.0, 10.0, true, false});
+    in.viscosity = opt("viscosity", kNonNeg);
+    fd.interactions.push_back(in);
+  });
+  double min_spacing = 0.0;
+  double total = 0.0;
+  readList(o, "blocks", [&](Obj& bo) {
+    FluidBlockDesc b;
+    b.species = readSpecies(bo, names);
+    b.min = bo.vec3("min", Range::any(), true).value_or(b.min);
+    b.max = bo.vec3("max", Range::any(), true).value_or(b.max);
+    b.spacing = bo.number("spacing", kPos, true).value_or(b.spacing);
+    b.jitter = bo.number("jitter", 0.0, Range::closed(0.0, 0.5));
+    b.velocity = bo.vec3("velocity", b.velocity);
+    if ((b.max - b.min).minCoeff() <= 0) d.error(childPath(bo.path(), "max"), "must be above min on every axis");
+    else {
+      const double n = b.count();
+      total += n;
+      if (total > static_cast<double>(defaultMaxParticles()) * 4)  // far beyond any limit: stop counting
+        total = static_cast<double>(defaultMaxParticles()) * 4;
+    }
+    min_spacing = min_spacing > 0 ? std::min(min_spacing, b.spacing) : b.spacing;
+    fd.blocks.push_back(b);
+  });
+  readList(o, "particles", [&](Obj& po) {
+    FluidParticlesDesc pd;
+    pd.species = readSpecies(po, names);
+    for (const char* key : {"positions", "velocities"}) {
+      const Json* j = po.raw(key);
+      const std::string kp = childPath(po.path(), key);
+      if (!j) {
+        if (std::string(key) == "positions" && po.ok()) d.error(kp, "missing required key");
+        continue;
+      }
+      if (!j->is_array() || j->size() > 10'000'000) {
+        d.error(kp, "expected a list of [x, y, z], got " + typeName(*j));
+        continue;
+      }
+      auto& out = std::string(key) == "positions" ? pd.positions : pd.velocities;
+      for (std::size_t k = 0; k < j->size(); ++k)
+        if (auto v = readVec3((*j)[k], childPath(kp, k), d, Range::any())) out.push_back(*v);
+    }
+    if (!pd.velocities.empty() && pd.velocities.size() != pd.positions.size())
+      d.error(childPath(po.path(), "velocities"), "must list one velocity per position (" +
+                                                  std::to_string(pd.positions.size()) + "), got " +
+                                                  std::to_string(pd.velocities.size()));
+    total += static_cast<double>(pd.positions.size());
+    fd.particles.push_back(std::move(pd));
+  });
+  fd.radius = o.number("radius", min_spacing > 0 ? 0.5 * min_spacing : fd.radius, Range{0.0, 10.0, true, false});
+  readList(o, "emitters", [&](Obj& eo) {
+    EmitterDesc e;
+    e.species = readSpecies(eo, names);
+    e.position = eo.vec3("position", Range::any(), true).value_or(e.position);
+    e.direction = eo.vec3("direction", e.direction);
+    if (e.direction.norm() == 0) d.error(childPath(eo.path(), "direction"), "must not be the zero vector");
+    else e.direction.normalize();
+    e.speed = eo.number("speed", e.speed, Range{0.0, 1e3, true, false});
+    e.radius = eo.number("radius", e.radius, Range{0.0, 100.0, true, false});
+    e.rate = eo.number("rate", kPos, true).value_or(e.rate);
+    e.start = eo.number("start", 0.0, kNonNeg);
+    e.stop = std::min(eo.number("stop", duration, kNonNeg), duration);
+    e.spacing = eo.number("spacing", 2.0 * fd.radius, Range{0.0, 100.0, true, false});
+    if (e.stop <= e.start) {
+      d.error(childPath(eo.path(), "stop"), "must be after start (and start before the scene ends)");
+      e.stop = e.start;
+    } else if (e.radius / e.spacing > 2000) {
+      d.error(childPath(eo.path(), "radius"), "holds too many particles per layer for its spacing");
+    } else {
+      // Layers leave perLayer()/rate s apart and travel speed × that: they must not overlap.
+      const double gap = e.speed * static_cast<double>(e.perLayer()) / e.rate;
+      if (gap < 0.5 * e.spacing)
+        d.error(childPath(eo.path(), "rate"), "packs its layers " + std::to_string(gap) + " m apart, closer than half the spacing (" +
+                                                   std::to_string(0.5 * e.spacing) + " m): lower the rate, or raise speed or radius");
+      else
+        total += static_cast<double>(e.layers() * e.perLayer());
+    }
+    fd.emitters.push_back(e);
+  });
+  const long long limit = o.integer("max_particles", 1ll, 50'000'000ll).value_or(0);
+  fd.max_particles = limit > 0 ? limit : defaultMaxParticles();
+  if (total > static_cast<double>(fd.max_particles))
+    d.error(p, "would hold " + std::to_string(static_cast<long long>(total)) + " particles (blocks, particles and emitters), more than max_particles = " +
+                   std::to_string(fd.max_particles));
+  if (o.ok() && total == 0 && fd.emitters.empty()) d.error(p, "has no particles: give blocks, particles or emitters");
+  const std::string draw = o.choice("draw", "spheres", {"spheres", "surface"});
+  fd.draw = draw == "surface" ? FluidDraw::Surface : FluidDraw::Spheres;
+  fd.surface_cell = o.number("surface_cell", 0.0, Range::closed(0.0, 10.0));
+  fd.surface_kernel = o.number("surface_kernel", 0.0, Range::closed(0.0, 10.0));
+  fd.surface_iso = o.number("surface_iso", fd.surface_iso, Range{0.0, 10.0, true, false});
+  if (fd.surface_cell > 0 && fd.surface_kernel > 0 && fd.surface_kernel / fd.surface_cell > 16)
+    d.error(childPath(p, "surface_kernel"), "must be at most 16 surface cells");
+  if (fd.surface_cell == 0 && fd.surface_kernel > 0 && fd.surface_kernel / fd.radius > 16)
+    d.error(childPath(p, "surface_kernel"), "must be at most 16 particle radii");
+}
+
 // Nodes and springs a body will have, from its description (without building it).
 std::pair<long long, long long> bodySize(const BodyDesc& b) {
   struct V {
@@ -522,6 +749,7 @@ std::pair<long long, long long> bodySize(const BodyDesc& b) {
       const long long x = d.resolution[0], y = d.resolution[1];
       return {x * y, (x - 1) * y + x * (y - 1) + 2 * (x - 1) * (y - 1)};
     }
+    std::pair<long long, long long> operator()(const FluidDesc&) const { return {0, 0}; }  // max_particles
     std::pair<long long, long long> operator()(const ClothDesc& d) const {
       return clothCounts(d.resolution[0], d.resolution[1]);
     }
@@ -535,8 +763,8 @@ std::pair<long long, long long> bodySize(const BodyDesc& b) {
   return std::visit(V{}, b.shape);
 }
 
-const std::vector<std::string> kObjectTypes = {"plane", "sphere", "box", "capsule", "mesh"};
-const std::vector<std::string> kBodyTypes = {"mass_spring", "rope", "net", "lattice", "cloth"};
+const std::vector<std::string> kObjectTypes = {"plane", "sphere", "box", "capsule", "mesh", "container"};
+const std::vector<std::string> kBodyTypes = {"mass_spring", "rope", "net", "lattice", "cloth", "fluid"};
 
 // Reads `name` and `type` of an object or body; checks the name is unique.
 std::pair<std::string, std::string> readIdentity(Obj& o, const std::vector<std::string>& types,
@@ -683,6 +911,12 @@ Result<SceneDesc> parseScene(const std::string& text, const std::string& file) {
           ClothDesc c;
           readCloth(bo, c);
           bd.shape = std::move(c);
+        } else if (type == "fluid") {
+          FluidDesc f;
+          readFluid(bo, f, s.duration);
+          bd.shape = std::move(f);
+          bd.material.specular = 0.5;  // liquids shine unless told otherwise
+          bd.material.shininess = 64.0;
         }
         readMaterial(bo, bd.material);
         bd.node_radius = bo.number("node_radius", bd.node_radius, kPos);
@@ -698,6 +932,18 @@ Result<SceneDesc> parseScene(const std::string& text, const std::string& file) {
     nodes += bn;
     springs += bs;
   }
+  // Per-species surfaces must name a species of some fluid.
+  std::vector<std::string> species;
+  for (const BodyDesc& b : s.bodies)
+    if (const auto* f = std::get_if<FluidDesc>(&b.shape))
+      for (const SpeciesDesc& sp : f->species) species.push_back(sp.name);
+  for (const ObjectDesc& ob : s.objects)
+    for (const auto& [name, sf] : ob.species_surface)
+      if (std::find(species.begin(), species.end(), name) == species.end()) {
+        const std::string near = nearest(name, species);
+        d.error(childPath(childPath(childPath(ob.path, "surface"), "species"), name),
+                "unknown species \"" + name + "\"" + (near.empty() ? "" : " (did you mean \"" + near + "\"?)"));
+      }
   if (nodes > kMaxSceneNodes)
     d.error("/bodies", std::to_string(nodes) + " nodes in all, more than the limit of " + std::to_string(kMaxSceneNodes));
   if (springs > kMaxSceneSprings)

@@ -117,8 +117,8 @@ struct Renderer::Impl {
   GLuint line_vao = 0, line_vbo = 0;
   double px_per_m_at_1m = 1.0;  // pixels per metre at 1 m from the camera (LOD choice)
   Vec3 eye{0, 0, 0};
-  GLuint inst_vbo = 0;
-  std::size_t inst_capacity = 0;
+  GLuint inst_vbo = 0, inst_color_vbo = 0;
+  std::size_t inst_capacity = 0, inst_color_capacity = 0;
   std::map<const TriMesh*, std::pair<std::weak_ptr<const TriMesh>, GpuMesh>> static_meshes;
   std::deque<GpuMesh> dynamic_meshes;
   std::map<const Image*, std::pair<std::weak_ptr<const Image>, GLuint>> textures;  // deque: slots stay valid as it grows
@@ -141,6 +141,7 @@ struct Renderer::Impl {
     for (auto& m : sphere_lod) delMesh(m);
     delMesh(tube_proto);
     if (inst_vbo) gl->DeleteBuffers(1, &inst_vbo);
+    if (inst_color_vbo) gl->DeleteBuffers(1, &inst_color_vbo);
     if (line_vbo) gl->DeleteBuffers(1, &line_vbo);
     if (line_vao) gl->DeleteVertexArrays(1, &line_vao);
     for (GLuint p : {shadow, background})
@@ -296,6 +297,7 @@ struct Renderer::Impl {
     background = bg.value();
     gl->GenVertexArrays(1, &empty_vao);
     gl->GenBuffers(1, &inst_vbo);
+    gl->GenBuffers(1, &inst_color_vbo);
     // Spheres a few pixels wide need few triangles: llvmpipe's cost is per triangle.
     upload(sphere_lod[0], makeUvSphere(1.0, 8, 5));
     upload(sphere_lod[1], makeUvSphere(1.0, 14, 8));
@@ -524,11 +526,31 @@ struct Renderer::Impl {
       const double px = s.radius * px_per_m_at_1m / std::max(nearest, 1e-3);
       GpuMesh& proto = sphere_lod[px < 5 ? 0 : px < 20 ? 1 : 2];
       instances(proto, s.centers, 3);
+      // Per-sphere colours (a liquid's species blended): attribute 5 advances per instance.
+      const bool coloured = with_material && s.colors.size() == s.centers.size();
+      if (coloured) {
+        gl->BindBuffer(GL_ARRAY_BUFFER, inst_color_vbo);
+        const auto bytes = static_cast<GLsizeiptr>(s.colors.size() * sizeof(float));
+        if (s.colors.size() > inst_color_capacity) {
+          gl->BufferData(GL_ARRAY_BUFFER, bytes, s.colors.data(), GL_STREAM_DRAW);
+          inst_color_capacity = s.colors.size();
+        } else {
+          gl->BufferSubData(GL_ARRAY_BUFFER, 0, bytes, s.colors.data());
+        }
+        gl->EnableVertexAttribArray(5);
+        gl->VertexAttribPointer(5, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+        gl->VertexAttribDivisor(5, 1);
+      }
       if (Status st = bind(s.material); !st) return st;
       gl->Uniform1i(loc(prog(), "u_mode"), 1);
       gl->Uniform1f(loc(prog(), "u_radius"), s.radius);
       gl->DrawElementsInstanced(GL_TRIANGLES, proto.count, GL_UNSIGNED_INT, nullptr,
                                 static_cast<GLsizei>(s.centers.size() / 3));
+      if (coloured) {  // the prototype is shared: back to the constant white
+        gl->BindVertexArray(proto.vao);
+        gl->VertexAttribDivisor(5, 0);
+        gl->DisableVertexAttribArray(5);
+      }
     }
     for (const auto& t : list.tubes) {
       if (t.ends.empty() || !want(t.material)) continue;

@@ -119,6 +119,8 @@ MassSpringDesc expandBody(const BodyDesc& body) {
       Cloth unused;
       return buildCloth(d, 0, unused);
     }
+    // A fluid is particles without springs (the World builds it as a Fluid, not through here).
+    MassSpringDesc operator()(const FluidDesc&) const { return {}; }
   };
   return std::visit(Visitor{}, body.shape);
 }

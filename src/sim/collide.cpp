@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/math.h"
 #include "core/parallel.h"
@@ -47,6 +48,8 @@ Collider makeCollider(const ObjectDesc& o, double reach) {
   c.kind = o.kind;
   c.thickness = o.thickness;
   c.surface = o.surface;
+  c.species_surface = o.species_surface;
+  c.dynamic = o.dynamic;
   c.keys = o.motion;
   c.pivot = o.referencePoint();
   c.pos = c.pos_prev = c.pivot;
@@ -61,9 +64,11 @@ Collider makeCollider(const ObjectDesc& o, double reach) {
       c.radius = o.radius;
       break;
     case ObjectKind::Box:
+    case ObjectKind::Container:
       c.p0 = o.center;
       c.half = o.size / 2;
       c.R = rotationFromEulerDeg(o.rotation_deg);
+      c.wall = o.wall;
       break;
     case ObjectKind::Capsule:
       c.p0 = o.a;
@@ -131,8 +136,49 @@ bool Collider::distance(const Vec3& p, double& d, Vec3& n) const {
   return true;
 }
 
+namespace {
+
+// Signed distance from q to the box of half extents `half` centred at the origin (axis-aligned),
+// and the outward normal.
+void boxDistance(const Vec3& q, const Vec3& half, double& d, Vec3& n) {
+  const Vec3 out = q.cwiseAbs() - half;  // per-axis distance outside the faces
+  if (out.maxCoeff() > 0) {
+    const Vec3 o = out.cwiseMax(0.0);
+    d = o.norm();
+    n = Vec3(q.x() > 0 ? o.x() : -o.x(), q.y() > 0 ? o.y() : -o.y(), q.z() > 0 ? o.z() : -o.z()) / d;
+  } else {  // inside: leave through the nearest face
+    int axis = 0;
+    out.maxCoeff(&axis);
+    d = out[axis];
+    n = Vec3::Zero();
+    n[axis] = q[axis] >= 0 ? 1.0 : -1.0;
+  }
+}
+
+}  // namespace
+
 bool Collider::distanceAuthored(const Vec3& p, double& d, Vec3& n) const {
   switch (kind) {
+    case ObjectKind::Container: {
+      // The union of the floor and four walls: the nearest of the five boxes.
+      const Vec3 q = R.transpose() * (p - p0);
+      const double w = std::min(wall, std::min({half.x(), half.y(), half.z()}));
+      const Vec3 centres[5] = {{0, -half.y() + w / 2, 0}, {half.x() - w / 2, 0, 0}, {-half.x() + w / 2, 0, 0},
+                               {0, 0, half.z() - w / 2}, {0, 0, -half.z() + w / 2}};
+      const Vec3 halves[5] = {{half.x(), w / 2, half.z()}, {w / 2, half.y(), half.z()}, {w / 2, half.y(), half.z()},
+                              {half.x(), half.y(), w / 2}, {half.x(), half.y(), w / 2}};
+      d = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < 5; ++k) {
+        double dk;
+        Vec3 nk;
+        boxDistance(q - centres[k], halves[k], dk, nk);
+        if (dk < d) {
+          d = dk;
+          n = R * nk;
+        }
+      }
+      return true;
+    }
     case ObjectKind::Plane: {
       const Vec3 q = R.transpose() * (p - p0);  // local: y along the normal
       if (half.x() > 0) {
@@ -153,21 +199,9 @@ bool Collider::distanceAuthored(const Vec3& p, double& d, Vec3& n) const {
       return true;
     }
     case ObjectKind::Box: {
-      const Vec3 q = R.transpose() * (p - p0);
-      const Vec3 out = q.cwiseAbs() - half;  // per-axis distance outside the faces
-      if (out.maxCoeff() > 0) {
-        const Vec3 o = out.cwiseMax(0.0);
-        d = o.norm();
-        Vec3 ln(q.x() > 0 ? o.x() : -o.x(), q.y() > 0 ? o.y() : -o.y(), q.z() > 0 ? o.z() : -o.z());
-        n = R * (ln / d);
-      } else {  // inside: leave through the nearest face
-        int axis = 0;
-        out.maxCoeff(&axis);
-        d = out[axis];
-        Vec3 ln = Vec3::Zero();
-        ln[axis] = q[axis] >= 0 ? 1.0 : -1.0;
-        n = R * ln;
-      }
+      Vec3 ln;
+      boxDistance(R.transpose() * (p - p0), half, d, ln);
+      n = R * ln;
       return true;
     }
     case ObjectKind::Capsule: {
@@ -217,6 +251,23 @@ bool Collider::distanceAuthored(const Vec3& p, double& d, Vec3& n) const {
   return false;
 }
 
+void contactNode(const Collider& c, const Surface& s, double reach, double d, const Vec3& n, double h, Vec3& x,
+                 Vec3& v) {
+  x += (reach - d) * n;  // project onto the surface
+  // Velocity relative to the surface (exactly v for a static collider).
+  const Vec3 vs = c.moving() ? c.velocityAt(x) : Vec3::Zero();
+  const Vec3 vr = v - vs;
+  const double vn = vr.dot(n);
+  if (vn >= 0) return;  // already separating
+  const Vec3 vt = vr - vn * n;
+  const double e = s.restitution;
+  const double vt_len = vt.norm();
+  const double keep = vt_len > 0 ? std::max(0.0, vt_len - s.friction * (1.0 + e) * (-vn)) / vt_len : 0.0;
+  v = keep * vt - e * vn * n;
+  if (c.moving()) v += vs;
+  x += (h * (keep - 1.0)) * vt;  // the step's tangential drift, redone at the new velocity
+}
+
 void resolveContacts(const std::vector<Collider>& colliders, double radius, double h,
                      const std::uint8_t* fixed, std::vector<Vec3>& x, std::vector<Vec3>& v) {
   if (colliders.empty()) return;
@@ -228,20 +279,7 @@ void resolveContacts(const std::vector<Collider>& colliders, double radius, doub
       if (!c.distance(x[i], d, n)) continue;
       const double reach = c.thickness + radius;
       if (d >= reach) continue;
-      x[i] += (reach - d) * n;  // project onto the surface
-      // Velocity relative to the surface (exactly v for a static collider).
-      const Vec3 vs = c.moving() ? c.velocityAt(x[i]) : Vec3::Zero();
-      const Vec3 vr = v[i] - vs;
-      const double vn = vr.dot(n);
-      if (vn >= 0) continue;  // already separating
-      const Vec3 vt = vr - vn * n;
-      const double e = c.surface.restitution;
-      const double vt_len = vt.norm();
-      const double keep =
-          vt_len > 0 ? std::max(0.0, vt_len - c.surface.friction * (1.0 + e) * (-vn)) / vt_len : 0.0;
-      v[i] = keep * vt - e * vn * n;
-      if (c.moving()) v[i] += vs;
-      x[i] += (h * (keep - 1.0)) * vt;  // the step's tangential drift, redone at the new velocity
+      contactNode(c, c.surface, reach, d, n, h, x[i], v[i]);
     }
   });
 }

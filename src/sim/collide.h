@@ -30,6 +30,7 @@ struct Collider {
   Vec3 half{0, 0, 0};   // box half extents; plane half width/height in x, z (0 = infinite)
   Mat3 R = Mat3::Identity();  // box / plane orientation (local → world)
   double radius = 0.0;  // sphere, capsule
+  double wall = 0.0;    // container
   double thickness = 0.0;
   Surface surface;
   std::shared_ptr<const MeshShape> mesh;  // kind Mesh
@@ -41,7 +42,9 @@ struct Collider {
   Mat3 rot = Mat3::Identity(), rot_prev = Mat3::Identity();
   Vec3 pos{0, 0, 0}, pos_prev{0, 0, 0};
   double dt = 0.0;  // time between the previous and the current pose, s
-  bool moving() const { return !keys.empty(); }
+  bool dynamic = false;  // posed by the liquid's push and gravity (sim/dynamic.h), not by keys
+  std::vector<std::pair<std::string, Surface>> species_surface;  // per-species surfaces (liquids)
+  bool moving() const { return dynamic || !keys.empty(); }
   // The pose at time t (keys interpolated: position linearly, rotation by slerp, held outside).
   void poseAt(double t, Mat3& r, Vec3& p) const;
   // Moves to time t; the pose before becomes the previous one (surface velocities).
@@ -73,5 +76,10 @@ std::shared_ptr<MeshShape> makeMeshShape(const TriMesh& placed, double reach);
 // Fixed nodes are left alone.
 void resolveContacts(const std::vector<Collider>& colliders, double radius, double h,
                      const std::uint8_t* fixed, std::vector<Vec3>& x, std::vector<Vec3>& v);
+
+// The response above for one node at signed distance d (< reach) along the outward normal n of
+// collider c, with surface s.
+void contactNode(const Collider& c, const Surface& s, double reach, double d, const Vec3& n, double h, Vec3& x,
+                 Vec3& v);
 
 }  // namespace reel

@@ -28,6 +28,25 @@ class BoxGrid {
     const std::uint32_t b = bucket(coord(p.x()), coord(p.y()), coord(p.z()));
     for (std::uint32_t e = start_[b]; e < start_[b + 1]; ++e) f(items_[e]);
   }
+  // Calls f(item) for the items listed in the 27 cells around the one that contains p, each
+  // bucket once (neighbouring cells that share a bucket do not repeat its items).
+  template <class F>
+  void forEachNear(const Vec3& p, F&& f) const {
+    if (start_.empty()) return;
+    const std::int64_t ci = coord(p.x()), cj = coord(p.y()), ck = coord(p.z());
+    std::uint32_t seen[27];
+    int n = 0;
+    for (int dk = -1; dk <= 1; ++dk)
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+          const std::uint32_t b = bucket(ci + di, cj + dj, ck + dk);
+          bool dup = false;
+          for (int q = 0; q < n; ++q) dup = dup || seen[q] == b;
+          if (dup) continue;
+          seen[n++] = b;
+          for (std::uint32_t e = start_[b]; e < start_[b + 1]; ++e) f(items_[e]);
+        }
+  }
   double cell() const { return cell_; }
   std::size_t entries() const { return items_.size(); }
 

@@ -3,9 +3,8 @@
 #include <cmath>
 
 namespace reel {
-namespace {
 
-double nodeBound(IntegratorKind kind, double w2, double beta) {
+double oscillatorBound(IntegratorKind kind, double w2, double beta) {
   const double inf = std::numeric_limits<double>::infinity();
   if (w2 <= 0 && beta <= 0) return inf;
   switch (kind) {
@@ -29,8 +28,6 @@ double nodeBound(IntegratorKind kind, double w2, double beta) {
   return inf;
 }
 
-}  // namespace
-
 StepBound stableStep(const MassSpringModel& m, IntegratorKind kind) {
   StepBound out;
   if (kind == IntegratorKind::ImplicitEuler) return out;
@@ -47,7 +44,7 @@ StepBound stableStep(const MassSpringModel& m, IntegratorKind kind) {
     if (m.fixed[i]) continue;
     const double w2 = 2.0 * ksum[i] / m.mass[i];
     const double beta = (m.drag[i] + 2.0 * csum[i]) / m.mass[i];
-    const double h = nodeBound(kind, w2, beta);
+    const double h = oscillatorBound(kind, w2, beta);
     if (h < out.h_max) {
       out.h_max = h;
       out.node = static_cast<int>(i);

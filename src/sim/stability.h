@@ -26,4 +26,7 @@ struct StepBound {
 //   implicit Euler:            unconditionally stable (infinite bound).
 StepBound stableStep(const MassSpringModel& m, IntegratorKind kind);
 
+// The bound above for one oscillator x'' = −ω²x − βx' (w2 = ω²), s; infinite when w2 = β = 0.
+double oscillatorBound(IntegratorKind kind, double w2, double beta);
+
 }  // namespace reel

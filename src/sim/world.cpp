@@ -47,6 +47,26 @@ DrawMesh objectMesh(const ObjectDesc& o) {
       m = makeBox(o.size);
       m.transform(rotationFromEulerDeg(o.rotation_deg), o.center);
       break;
+    case ObjectKind::Container: {
+      // Floor and four walls, as five boxes in one mesh.
+      const Vec3 h = o.size / 2;
+      const double w = std::min(o.wall, h.minCoeff());
+      const Vec3 centres[5] = {{0, -h.y() + w / 2, 0}, {h.x() - w / 2, 0, 0}, {-h.x() + w / 2, 0, 0},
+                               {0, 0, h.z() - w / 2}, {0, 0, -h.z() + w / 2}};
+      const Vec3 sizes[5] = {{o.size.x(), w, o.size.z()}, {w, o.size.y(), o.size.z()}, {w, o.size.y(), o.size.z()},
+                             {o.size.x(), o.size.y(), w}, {o.size.x(), o.size.y(), w}};
+      for (int k = 0; k < 5; ++k) {
+        TriMesh part = makeBox(sizes[k]);
+        part.transform(Mat3::Identity(), centres[k]);
+        const auto base = static_cast<std::uint32_t>(m.vertexCount());
+        m.positions.insert(m.positions.end(), part.positions.begin(), part.positions.end());
+        m.normals.insert(m.normals.end(), part.normals.begin(), part.normals.end());
+        m.uvs.insert(m.uvs.end(), part.uvs.begin(), part.uvs.end());
+        for (std::uint32_t i : part.indices) m.indices.push_back(base + i);
+      }
+      m.transform(rotationFromEulerDeg(o.rotation_deg), o.center);
+      break;
+    }
     case ObjectKind::Capsule:
       m = makeCapsule(o.a, o.b, o.radius, 32, 16);
       break;
@@ -87,10 +107,19 @@ Result<World> World::create(const SceneDesc& scene) {
   w.substeps_ = scene.substeps;
   // Mesh colliders find points up to their thickness plus the largest contact radius and a
   // margin for a step's motion.
+  // Liquids reach farther: adhesion pulls particles within a cutoff of a surface.
   double radius = 0.0;
-  for (const BodyDesc& bd : scene.bodies)
-    radius = std::max(radius, std::holds_alternative<ClothDesc>(bd.shape) ? std::get<ClothDesc>(bd.shape).thickness
-                                                                            : bd.node_radius);
+  for (const BodyDesc& bd : scene.bodies) {
+    double r = bd.node_radius;
+    if (const auto* cd = std::get_if<ClothDesc>(&bd.shape)) r = cd->thickness;
+    if (const auto* fd = std::get_if<FluidDesc>(&bd.shape)) {
+      r = fd->radius;
+      double cut = 0.0;
+      for (const SpeciesDesc& sp : fd->species) cut = std::max(cut, sp.cutoff);
+      r += cut;
+    }
+    radius = std::max(radius, r);
+  }
   const double h_max = 1.0 / (static_cast<double>(scene.fps) * scene.substeps);
   for (const ObjectDesc& o : scene.objects) {
     // A moving mesh also reaches as far as its fastest key moves it in one step.
@@ -98,11 +127,14 @@ Result<World> World::create(const SceneDesc& scene) {
     for (std::size_t k = 1; k < o.motion.size(); ++k)
       speed = std::max(speed, (o.motion[k].position - o.motion[k - 1].position).norm() / (o.motion[k].time - o.motion[k - 1].time));
     if (!o.motion.empty()) w.moving_objects_.push_back(w.colliders_.size());
+    if (!o.motion.empty() || o.dynamic) w.posed_objects_.push_back(w.colliders_.size());
+    if (o.dynamic) w.dynamics_.push_back(makeDynamic(o, w.colliders_.size()));
     w.colliders_.push_back(makeCollider(o, radius + 0.05 + speed * h_max));
     w.object_meshes_.push_back(objectMesh(o));
     w.object_pivots_.push_back(o.referencePoint());
   }
   w.wind_ = Wind(scene.wind, scene.seed);
+  w.gravity_ = scene.gravity;
   w.camera_ = scene.camera;
   w.render_ = scene.render;
   w.lights_ = scene.has_lights ? scene.lights : defaultLights();
@@ -110,6 +142,31 @@ Result<World> World::create(const SceneDesc& scene) {
   const double h = 1.0 / (static_cast<double>(scene.fps) * scene.substeps);
   std::vector<std::string> errors;
   for (const BodyDesc& bd : scene.bodies) {
+    if (const auto* fd = std::get_if<FluidDesc>(&bd.shape)) {
+      const std::uint64_t seed = splitmix64(scene.seed ^ (0xF1D0ull << 32) ^ static_cast<std::uint64_t>(w.fluids_.size()));
+      auto fl = std::make_unique<Fluid>(buildFluid(*fd, bd.name, scene.objects, seed));
+      const StepBound bound = fluidStableStep(*fl);
+      if (h > bound.h_max) {
+        const double need = std::ceil(h / (0.9 * bound.h_max));
+        if (scene.auto_substeps && need * scene.substeps <= kMaxStepsPerFrame) {
+          w.inner_ = std::max(w.inner_, static_cast<int>(need));
+        } else {
+          const auto S = static_cast<std::size_t>(fl->S);
+          const auto si = static_cast<std::size_t>(bound.node) / S, ti = static_cast<std::size_t>(bound.node) % S;
+          const double min_sub = std::ceil(1.0 / (scene.fps * 0.9 * bound.h_max));
+          errors.push_back(scene.file + ": /substeps: step h = 1/(fps·substeps) = " + fmt(h) +
+                           " s is above the stable step " + fmt(bound.h_max) + " s of fluid '" + bd.name +
+                           "' (species '" + fl->species_names[si] + "' with '" + fl->species_names[ti] +
+                           "': ω ≈ " + fmt(bound.omega) + " rad/s, β ≈ " + fmt(bound.beta) +
+                           " 1/s); use \"substeps\": " + fmt(min_sub) +
+                           " or more, \"auto_substeps\": true, or softer alpha and beta (docs/fluids.md)");
+        }
+      }
+      w.fluid_bounds_.push_back(bound);
+      w.fluid_materials_.push_back(bd.material);
+      w.fluids_.push_back(std::move(fl));
+      continue;
+    }
     auto b = std::make_unique<MassSpringBody>();
     b->name = bd.name;
     b->generator = bd.type;
@@ -151,9 +208,8 @@ Result<World> World::create(const SceneDesc& scene) {
   return w;
 }
 
-Status World::checkState(const MassSpringBody& b, long long step) const {
-  const auto& x = b.state.x;
-  const auto& v = b.state.v;
+Status World::checkState(const std::string& name, const char* what_kind, const std::vector<Vec3>& x,
+                         const std::vector<Vec3>& v, const StepBound& bound, long long step) const {
   auto bad = [&](std::ptrdiff_t i) {
     const double s = v[i].squaredNorm(), r = x[i].squaredNorm();
     // NaN fails every comparison, so test for the good case.
@@ -174,12 +230,13 @@ Status World::checkState(const MassSpringBody& b, long long step) const {
     what = "position ran away (|x| = " + fmt(x[i].norm()) + " m)";
   const double t = static_cast<double>(step) / (static_cast<double>(fps_) * stepsPerFrame());
   std::string hint = "step h = " + fmt(stepSize()) + " s";
-  if (std::isfinite(b.bound.h_max))
-    hint += ", estimated stable bound " + fmt(b.bound.h_max) + " s; try more substeps or implicit_euler";
+  if (std::isfinite(bound.h_max))
+    hint += ", estimated stable bound " + fmt(bound.h_max) + " s; try more substeps" +
+            (std::string(what_kind) == "node" ? " or implicit_euler" : "");
   else
     hint += "; try more substeps, more damping or softer springs";
   return Error(ErrorKind::Unstable, "unstable at frame " + std::to_string(frame_ + 1) + " (t = " +
-                                        fmt(t) + " s): body '" + b.name + "' node " +
+                                        fmt(t) + " s): body '" + name + "' " + what_kind + " " +
                                         std::to_string(i) + " " + what + " (" + hint + ")");
 }
 
@@ -215,8 +272,14 @@ Status World::advanceFrame() {
       }
       resolveContacts(colliders_, b->radius, h, b->model.fixed.data(), b->state.x, b->state.v);
       if (cloth) tearSprings(*cloth, b->model, b->state.x);
-      if (Status st = checkState(*b, step_); !st) return st;
+      if (Status st = checkState(b->name, "node", b->state.x, b->state.v, b->bound, step_); !st) return st;
     }
+    for (std::size_t f = 0; f < fluids_.size(); ++f) {
+      Fluid& fl = *fluids_[f];
+      stepFluid(fl, colliders_, dynamics_, gravity_, h, t0, t1);
+      if (Status st = checkState(fl.name, "particle", fl.x, fl.v, fluid_bounds_[f], step_); !st) return st;
+    }
+    for (DynamicObject& d : dynamics_) stepDynamic(d, colliders_, gravity_, h);
   }
   ++frame_;
   return {};
@@ -237,6 +300,17 @@ void World::snapshot(FrameSnapshot& out) const {
     s.spring_b = b->model.springs.b;
     out.bodies.push_back(std::move(s));
   }
+  for (const auto& fl : fluids_) {
+    BodySnapshot s;
+    s.name = fl->name;
+    s.type = "particles";
+    s.generator = "fluid";
+    s.positions = fl->x;
+    s.velocities = fl->v;
+    s.species = fl->s;
+    s.species_names = fl->species_names;
+    out.bodies.push_back(std::move(s));
+  }
 }
 
 void World::emit(DrawList& out) const {
@@ -250,7 +324,7 @@ void World::emit(DrawList& out) const {
   out.clearGeometry();
   out.meshes = object_meshes_;
   // Moving objects: their authored mesh carried to the current pose.
-  for (std::size_t o : moving_objects_) {
+  for (std::size_t o : posed_objects_) {
     const Collider& c = colliders_[o];
     TriMesh m = *object_meshes_[o].mesh;
     const Vec3 shift = c.pos - c.rot * object_pivots_[o];
@@ -285,6 +359,7 @@ void World::emit(DrawList& out) const {
     out.spheres.push_back(std::move(nodes));
     if (!springs.ends.empty()) out.tubes.push_back(std::move(springs));
   }
+  for (std::size_t f = 0; f < fluids_.size(); ++f) emitFluid(*fluids_[f], fluid_materials_[f], out);
 }
 
 std::uint64_t World::stateHash() const {
@@ -292,6 +367,15 @@ std::uint64_t World::stateHash() const {
   for (const auto& b : bodies_) {
     h.add(std::span<const Vec3>(b->state.x));
     h.add(std::span<const Vec3>(b->state.v));
+  }
+  for (const auto& fl : fluids_) {
+    h.add(std::span<const Vec3>(fl->x));
+    h.add(std::span<const Vec3>(fl->v));
+  }
+  for (const DynamicObject& d : dynamics_) {
+    const Collider& c = colliders_[d.collider];
+    const Vec3 state[4] = {c.pos, d.v, d.w, c.rot.col(0) + 2.0 * c.rot.col(1)};
+    h.add(std::span<const Vec3>(state, 4));
   }
   return h.h;
 }

@@ -13,6 +13,8 @@
 #include "core/snapshot.h"
 #include "sim/cloth/cloth.h"
 #include "sim/collide.h"
+#include "sim/dynamic.h"
+#include "sim/fluid/fluid.h"
 #include "sim/integrators.h"
 #include "sim/mass_spring.h"
 #include "sim/stability.h"
@@ -54,6 +56,9 @@ class World {
   double stepSize() const { return 1.0 / (static_cast<double>(fps_) * stepsPerFrame()); }
 
   const std::vector<std::unique_ptr<MassSpringBody>>& bodies() const { return bodies_; }
+  const std::vector<std::unique_ptr<Fluid>>& fluids() const { return fluids_; }
+  const std::vector<DynamicObject>& dynamics() const { return dynamics_; }
+  const std::vector<Collider>& colliders() const { return colliders_; }
   void snapshot(FrameSnapshot& out) const;
   // Fills the list of things to draw at the current frame: camera, lights, background, the
   // objects (meshes built once) and every body (nodes as spheres, springs as tubes).
@@ -67,7 +72,8 @@ class World {
   double worstResidual() const { return cg_worst_; }
 
  private:
-  Status checkState(const MassSpringBody& b, long long step) const;
+  Status checkState(const std::string& name, const char* what, const std::vector<Vec3>& x,
+                    const std::vector<Vec3>& v, const StepBound& bound, long long step) const;
 
   IntegratorKind integrator_ = IntegratorKind::SymplecticEuler;
   ImplicitSettings implicit_;
@@ -76,6 +82,9 @@ class World {
   long long step_ = 0;  // steps taken since time 0
   std::vector<Collider> colliders_;
   std::vector<std::size_t> moving_objects_;  // objects with motion keys
+  std::vector<std::size_t> posed_objects_;   // objects drawn at a pose: keyframed or dynamic
+  std::vector<DynamicObject> dynamics_;
+  Vec3 gravity_{0, -9.78, 0};
   Wind wind_;
   // What emit() needs of the scene.
   CameraDesc camera_;
@@ -84,6 +93,9 @@ class World {
   std::vector<DrawMesh> object_meshes_;
   std::vector<Vec3> object_pivots_;
   std::vector<std::unique_ptr<MassSpringBody>> bodies_;
+  std::vector<std::unique_ptr<Fluid>> fluids_;
+  std::vector<Material> fluid_materials_;
+  std::vector<StepBound> fluid_bounds_;
   StepStats stats_;
   long long cg_unconverged_ = 0;
   double cg_worst_ = 0.0;

@@ -1,0 +1,111 @@
+#include "core/isosurface.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "core/math.h"
+
+namespace reel {
+
+double GridField::sample(const Vec3& p) const {
+  const Vec3 q = (p - origin) / cell;
+  const double fx = std::floor(q.x()), fy = std::floor(q.y()), fz = std::floor(q.z());
+  if (!(fx >= 0 && fy >= 0 && fz >= 0 && fx < dims[0] - 1 && fy < dims[1] - 1 && fz < dims[2] - 1)) return 0.0;
+  const int i = static_cast<int>(fx), j = static_cast<int>(fy), k = static_cast<int>(fz);
+  const double tx = q.x() - fx, ty = q.y() - fy, tz = q.z() - fz;
+  double s = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    const int dx = c & 1, dy = (c >> 1) & 1, dz = (c >> 2) & 1;
+    const double w = (dx ? tx : 1 - tx) * (dy ? ty : 1 - ty) * (dz ? tz : 1 - tz);
+    s += w * value[index(i + dx, j + dy, k + dz)];
+  }
+  return s;
+}
+
+TriMesh isosurface(const GridField& f, double iso) {
+  TriMesh out;
+  const int nx = f.dims[0], ny = f.dims[1], nz = f.dims[2];
+  if (nx < 2 || ny < 2 || nz < 2) return out;
+  const bool coloured = f.color.size() == 3 * f.value.size();
+  // Gradient at a node by central differences (one-sided at the border).
+  auto gradient = [&](int i, int j, int k) {
+    auto at = [&](int a, int b, int c) {
+      return static_cast<double>(f.value[f.index(std::clamp(a, 0, nx - 1), std::clamp(b, 0, ny - 1), std::clamp(c, 0, nz - 1))]);
+    };
+    return Vec3(at(i + 1, j, k) - at(i - 1, j, k), at(i, j + 1, k) - at(i, j - 1, k), at(i, j, k + 1) - at(i, j, k - 1));
+  };
+  auto nodeOf = [&](std::size_t id, int& i, int& j, int& k) {
+    i = static_cast<int>(id % static_cast<std::size_t>(nx));
+    j = static_cast<int>((id / static_cast<std::size_t>(nx)) % static_cast<std::size_t>(ny));
+    k = static_cast<int>(id / (static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny)));
+  };
+  // One vertex per crossed grid edge, keyed by its two node ids.
+  std::unordered_map<std::uint64_t, std::uint32_t> edge_vertex;
+  auto vertexOn = [&](std::size_t a, std::size_t b) -> std::uint32_t {
+    if (a > b) std::swap(a, b);
+    const std::uint64_t key = static_cast<std::uint64_t>(a) << 32 | static_cast<std::uint64_t>(b);  // ids < 2³²
+    auto [it, fresh] = edge_vertex.try_emplace(key, static_cast<std::uint32_t>(out.vertexCount()));
+    if (!fresh) return it->second;
+    int ia, ja, ka, ib, jb, kb;
+    nodeOf(a, ia, ja, ka);
+    nodeOf(b, ib, jb, kb);
+    const double va = f.value[a], vb = f.value[b];
+    const double t = va != vb ? std::clamp((iso - va) / (vb - va), 0.0, 1.0) : 0.5;
+    const Vec3 pa = f.origin + f.cell * Vec3(ia, ja, ka), pb = f.origin + f.cell * Vec3(ib, jb, kb);
+    const Vec3 g = (1 - t) * gradient(ia, ja, ka) + t * gradient(ib, jb, kb);
+    const double gl = g.norm();
+    out.addVertex((1 - t) * pa + t * pb, gl > 0 ? Vec3(-g / gl) : Vec3::UnitY());
+    if (coloured)
+      for (int c = 0; c < 3; ++c)
+        out.colors.push_back(static_cast<float>((1 - t) * f.color[3 * a + c] + t * f.color[3 * b + c]));
+    return it->second;
+  };
+  // Kuhn's six tetrahedra of a cube, corners numbered dx + 2dy + 4dz.
+  static constexpr int kTets[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
+  auto position = [&](std::size_t id) {
+    int i, j, k;
+    nodeOf(id, i, j, k);
+    return Vec3(f.origin + f.cell * Vec3(i, j, k));
+  };
+  auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, const Vec3& outward) {
+    auto P = [&](std::uint32_t v) { return Vec3(out.positions[3 * v], out.positions[3 * v + 1], out.positions[3 * v + 2]); };
+    const Vec3 n = (P(b) - P(a)).cross(P(c) - P(a));
+    if (n.dot(outward) < 0) std::swap(b, c);
+    out.indices.insert(out.indices.end(), {a, b, c});
+  };
+  for (int k = 0; k + 1 < nz; ++k)
+    for (int j = 0; j + 1 < ny; ++j)
+      for (int i = 0; i + 1 < nx; ++i) {
+        std::size_t id[8];
+        int inside = 0;
+        for (int c = 0; c < 8; ++c) {
+          id[c] = f.index(i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1));
+          inside += f.value[id[c]] > iso;
+        }
+        if (inside == 0 || inside == 8) continue;
+        for (const auto& tet : kTets) {
+          std::size_t in[4], outv[4];
+          int ni = 0, no = 0;
+          for (int c : tet) (f.value[id[c]] > iso ? in[ni++] : outv[no++]) = id[c];
+          if (ni == 0 || no == 0) continue;
+          Vec3 ci = Vec3::Zero(), co = Vec3::Zero();
+          for (int q = 0; q < ni; ++q) ci += position(in[q]) / ni;
+          for (int q = 0; q < no; ++q) co += position(outv[q]) / no;
+          const Vec3 outward = co - ci;
+          if (ni == 1) {
+            emit(vertexOn(in[0], outv[0]), vertexOn(in[0], outv[1]), vertexOn(in[0], outv[2]), outward);
+          } else if (ni == 3) {
+            emit(vertexOn(outv[0], in[0]), vertexOn(outv[0], in[1]), vertexOn(outv[0], in[2]), outward);
+          } else {
+            const std::uint32_t a = vertexOn(in[0], outv[0]), b = vertexOn(in[0], outv[1]);
+            const std::uint32_t c = vertexOn(in[1], outv[1]), d = vertexOn(in[1], outv[0]);
+            emit(a, b, c, outward);
+            emit(a, c, d, outward);
+          }
+        }
+      }
+  return out;
+}
+
+}  // namespace reel
