@@ -49,8 +49,10 @@ void perpendicular(const Vec3& d, Vec3& u, Vec3& w) {
 constexpr std::uint64_t kJitterStream = 0xF1D0ull << 16;
 constexpr std::uint64_t kEmitterStream = 0xE311ull << 16;
 
-// Emits the layers of every emitter due by t1; returns whether any particle was added.
-bool emit(Fluid& fl, double t1) {
+// Emits the layers of every emitter due by t1; returns whether any particle was added. A layer
+// released at t in (t0, t1] starts (t0 − t)·speed along the nozzle, so that after this step's
+// motion it is where it would be had it left exactly at t.
+bool emit(Fluid& fl, double t0, double t1) {
   bool added = false;
   for (std::size_t k = 0; k < fl.emitters.size(); ++k) {
     FluidEmitter& e = fl.emitters[k];
@@ -66,7 +68,7 @@ bool emit(Fluid& fl, double t1) {
       for (const auto& q : e.disc) {
         if (static_cast<long long>(fl.x.size()) >= fl.max_particles) return added;
         const double u = c * q[0] - sn * q[1], w = sn * q[0] + c * q[1];
-        fl.x.push_back(d.position + u * e.u + w * e.w + (t1 - t_layer) * vel);
+        fl.x.push_back(d.position + u * e.u + w * e.w + (t0 - t_layer) * vel);
         fl.v.push_back(vel);
         fl.s.push_back(d.species);
         fl.m.push_back(fl.species_mass[static_cast<std::size_t>(d.species)]);
@@ -211,6 +213,10 @@ Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<
   fl.cutoff_max = 0.0;
   for (const PairParams& p : fl.pairs) fl.cutoff_max = std::max(fl.cutoff_max, p.cutoff);
   fl.skin = 0.3 * fl.cutoff_max;
+  {
+    const double d0 = bulkSpacing(fl.pairs[0]);
+    fl.ref_spacing = d0 > 0 ? 0.65 * d0 : 2.0 * d.radius;
+  }
   fl.radius = d.radius;
   fl.max_particles = d.max_particles;
   fl.draw = d.draw;
@@ -278,7 +284,7 @@ StepBound fluidStableStep(const Fluid& fl) {
       const PairParams& p = fl.pairs[i * S + j];
       const double mi = fl.species_mass[i], mj = fl.species_mass[j];
       const double d0 = bulkSpacing(p);
-      const double d = std::min(d0 > 0 ? 0.75 * d0 : 2.0 * fl.radius, p.cutoff);
+      const double d = std::min(d0 > 0 ? 0.65 * d0 : 2.0 * fl.radius, p.cutoff);
       double ksum = 0.0, csum = 0.0;
       forLattice(d, p.cutoff, [&](double r) {
         const double dr = 1e-4 * r;
@@ -323,23 +329,24 @@ void buildNeighbours(Fluid& fl) {
   ++fl.rebuilds;
 }
 
-void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, std::vector<DynamicObject>& dynamics,
-               const Vec3& gravity, double h, double t0, double t1) {
-  (void)t0;
-  bool rebuild = emit(fl, t1) || fl.x_built.size() != fl.x.size();
+namespace {
+
+// Rebuilds the neighbour list when some particle has moved more than half the skin since the
+// last build (until then every pair closer than the cutoff is still listed), or when forced.
+void refreshNeighbours(Fluid& fl, bool force) {
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
-  if (n == 0) return;
-  if (!rebuild) {
-    // Rebuild when some particle has moved more than half the skin since the last build: until
-    // then every pair closer than the cutoff is still in the list.
-    const double limit2 = 0.25 * fl.skin * fl.skin;
-    for (std::ptrdiff_t i = 0; i < n && !rebuild; ++i)
-      rebuild = !((fl.x[static_cast<std::size_t>(i)] - fl.x_built[static_cast<std::size_t>(i)]).squaredNorm() <= limit2);
-  }
+  bool rebuild = force || fl.x_built.size() != fl.x.size();
+  const double limit2 = 0.25 * fl.skin * fl.skin;
+  for (std::ptrdiff_t i = 0; i < n && !rebuild; ++i)
+    rebuild = !((fl.x[static_cast<std::size_t>(i)] - fl.x_built[static_cast<std::size_t>(i)]).squaredNorm() <= limit2);
   if (rebuild) buildNeighbours(fl);
-  fl.f.resize(fl.x.size());
+}
+
+// Pair and viscous forces plus gravity, gathered per particle in list order (deterministic).
+void computeForces(Fluid& fl, const Vec3& gravity) {
+  const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
   const auto S = static_cast<std::size_t>(fl.S);
-  // Pair and viscous forces plus gravity, gathered per particle in list order (deterministic).
+  fl.f.resize(fl.x.size());
   parallelFor(n, [&](std::ptrdiff_t ii) {
     const auto i = static_cast<std::size_t>(ii);
     const Vec3 xi = fl.x[i], vi = fl.v[i];
@@ -359,15 +366,36 @@ void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, std::vector<Dy
     fl.f[i] = fi;
   });
   fl.pair_tests += static_cast<long long>(fl.nbr.size());
-  // Symplectic Euler.
+}
+
+// Largest of a per-particle value: chunk maxima in parallel, then in order (max is exact, so any
+// thread count gives the same bits).
+template <class F>
+double maxOver(std::ptrdiff_t n, F&& value) {
+  const std::ptrdiff_t chunks = (n + kReduceChunk - 1) / kReduceChunk;
+  std::vector<double> part(static_cast<std::size_t>(std::max<std::ptrdiff_t>(chunks, 1)), 0.0);
+  parallelFor(chunks, [&](std::ptrdiff_t c) {
+    double m = 0.0;
+    for (std::ptrdiff_t i = c * kReduceChunk; i < std::min(n, (c + 1) * kReduceChunk); ++i) m = std::max(m, value(i));
+    part[static_cast<std::size_t>(c)] = m;
+  });
+  double m = 0.0;
+  for (double v : part) m = std::max(m, v);
+  return m;
+}
+
+// Symplectic Euler over h, then adhesion and contacts; the impulses particles take from dynamic
+// objects go, opposite, to the objects.
+void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, std::vector<DynamicObject>& dynamics,
+                    double h) {
+  const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
+  const auto S = static_cast<std::size_t>(fl.S);
   parallelFor(n, [&](std::ptrdiff_t ii) {
     const auto i = static_cast<std::size_t>(ii);
     fl.v[i] += (h / fl.m[i]) * fl.f[i];
     fl.x[i] += h * fl.v[i];
   });
   if (colliders.empty()) return;
-  // Adhesion and contacts, per species surface; the impulse each particle takes from a dynamic
-  // object is kept so the object can take the opposite one.
   const auto D = static_cast<std::size_t>(fl.dynamic_count);
   if (D > 0) fl.imp.assign(static_cast<std::size_t>(n) * D, Vec3::Zero());
   parallelFor(n, [&](std::ptrdiff_t ii) {
@@ -390,19 +418,46 @@ void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, std::vector<Dy
     }
   });
   // Each dynamic object takes the opposite of the particles' impulses, summed in index order.
-  for (std::size_t k = 0; k < colliders.size(); ++k) {
-    const int q = fl.dyn_of[k];
+  for (DynamicObject& obj : dynamics) {
+    const int q = obj.collider < fl.dyn_of.size() ? fl.dyn_of[obj.collider] : -1;
     if (q < 0) continue;
-    DynamicObject* obj = nullptr;
-    for (DynamicObject& o : dynamics)
-      if (o.collider == k) obj = &o;
-    if (!obj) continue;
+    const Vec3 centre = colliders[obj.collider].pos;
     for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
       const Vec3& J = fl.imp[i * D + static_cast<std::size_t>(q)];
       if (J.isZero()) continue;
-      obj->impulse -= J;
-      obj->angular -= (fl.x[i] - colliders[k].pos).cross(J);
+      obj.impulse -= J;
+      obj.angular -= (fl.x[i] - centre).cross(J);
     }
+  }
+}
+
+}  // namespace
+
+void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, std::vector<DynamicObject>& dynamics,
+               const Vec3& gravity, double h, double t0, double t1) {
+  const bool added = emit(fl, t0, t1);
+  const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
+  if (n == 0) return;
+  refreshNeighbours(fl, added);
+  computeForces(fl, gravity);
+  // A violent moment (an impact, a splash squeezed against a wall) can push particles much closer
+  // than the stable step assumes. Then the step is split so that no particle moves more than 5%
+  // of the spacing through its acceleration, nor 40% through its speed, in one part (at most 64).
+  const double a_max = maxOver(n, [&](std::ptrdiff_t i) {
+    return fl.f[static_cast<std::size_t>(i)].norm() / fl.m[static_cast<std::size_t>(i)];
+  });
+  const double v_max = maxOver(n, [&](std::ptrdiff_t i) { return fl.v[static_cast<std::size_t>(i)].norm(); });
+  const double ref = fl.ref_spacing;
+  const double parts = std::max({1.0, std::sqrt(a_max * h * h / (0.05 * ref)), v_max * h / (0.4 * ref)});
+  const int k = std::isfinite(parts) ? static_cast<int>(std::min(64.0, std::ceil(parts))) : 1;
+  if (k > 1) fl.split_steps += k - 1;
+  const double hk = h / k;
+  for (int part = 0; part < k; ++part) {
+    if (part > 0) {
+      refreshNeighbours(fl, false);
+      computeForces(fl, gravity);
+    }
+    moveAndCollide(fl, colliders, dynamics, hk);
   }
 }
 
@@ -480,7 +535,8 @@ TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors) {
   f.cell = cell;
   f.value.assign(static_cast<std::size_t>(dd[0] * dd[1] * dd[2]), 0.0f);
   f.color.assign(3 * f.value.size(), 0.0f);
-  double spacing = bulkSpacing(fl.pairs[0]);
+  // A settled liquid packs its nearest neighbours at about 0.8 of the lattice spacing.
+  double spacing = 0.8 * bulkSpacing(fl.pairs[0]);
   if (!(spacing > 0)) spacing = 2.0 * fl.radius;
   const double bulk = 0.6383 * R * R * R / (spacing * spacing * spacing);  // ∫W dV / spacing³
   const int reach = static_cast<int>(std::ceil(R / cell));

@@ -70,6 +70,7 @@ struct Fluid {
   double radius = 0.01;           // contact radius, m
   double cutoff_max = 0.05;       // m
   double skin = 0.01;             // Verlet-list margin, m
+  double ref_spacing = 0.01;      // m: how close neighbours come in a settled liquid (step splitting)
   std::vector<Surface> surfaces;  // colliders × S
   std::vector<int> dyn_of;        // collider → index of its dynamic object, or −1
   int dynamic_count = 0;
@@ -91,6 +92,7 @@ struct Fluid {
   BoxGrid grid;
   long long rebuilds = 0;
   long long pair_tests = 0;  // list entries visited by the force loop (pair evaluations)
+  long long split_steps = 0;  // extra parts of steps split at violent moments
   std::size_t size() const { return x.size(); }
 };
 
@@ -98,14 +100,16 @@ struct Fluid {
 Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<ObjectDesc>& objects,
                  std::uint64_t seed);
 
-// The stable step of symplectic Euler for this fluid (see docs/fluids.md): a cubic lattice at 0.75
+// The stable step of symplectic Euler for this fluid (see docs/fluids.md): a cubic lattice at 0.65
 // of the bulk spacing (2 × radius without one), Gershgorin's bound over its neighbours inside the
 // cutoff, ω² = 2 Σ (|dF/dr| + |F|/r)/m, and the viscous rate β = 2 Σ γ·μ·(1 − r/c)/m;
 // h²ω² + 2hβ < 4. `node` holds the index S·s + t of the pair that sets it.
 StepBound fluidStableStep(const Fluid& fl);
 
 // One step h from t0 to t1 = t0 + h: emission, pair and viscous forces with gravity, symplectic
-// Euler, adhesion and contacts with the colliders (impulses added to the dynamic objects).
+// Euler, adhesion and contacts with the colliders (impulses added to the dynamic objects). A step
+// in which some particle would move more than 5% of the spacing through its acceleration (or 40%
+// through its speed) is split into equal parts, each with fresh forces (up to 64).
 void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, std::vector<DynamicObject>& dynamics,
                const Vec3& gravity, double h, double t0, double t1);
 
