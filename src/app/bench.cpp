@@ -295,14 +295,72 @@ int benchCloth(double simulated_64) {
   return 0;
 }
 
+// Fluid: n³ particles (8k, 32k, 128k) in a closed box that they fill at a 2 cm spacing (a
+// repulsive gas, no gravity, so every size has the same density): about 40 neighbours inside the
+// 4.25 cm cutoff. Timed over the second half of the run (the first lets the jittered block relax).
+// Particle-steps and pair evaluations (neighbour-list entries the force loop visits) per second;
+// the cost per particle-step should stay flat as n grows.
+int benchFluid(double simulated) {
+  for (const int n : {20, 32, 50}) {
+    const double side = n * 0.02;
+    auto num = [](double x) { return std::to_string(x); };
+    const std::string text = R"({"format": "reel/1", "name": "bench_fluid", "fps": 30, "duration": )" + num(simulated) +
+                             R"(, "substeps": 20, "auto_substeps": true, "gravity": [0, 0, 0],
+      "objects": [{"type": "container", "center": [0, )" + num(side / 2 - 0.05) + R"(, 0], "size": [)" +
+                             num(side + 0.1) + ", " + num(side + 0.1) + ", " + num(side + 0.1) + R"(], "wall": 0.05},
+                  {"type": "plane", "point": [0, )" + num(side) + R"(, 0], "normal": [0, -1, 0]}],
+      "bodies": [{"type": "fluid", "name": "bench", "radius": 0.009,
+        "species": [{"name": "gas", "mass": 0.008, "alpha": 0, "beta": 0.01, "cutoff": 0.0425, "viscosity": 10}],
+        "blocks": [{"min": [)" + num(-side / 2) + R"(, 0, )" + num(-side / 2) + R"(], "max": [)" + num(side / 2) + ", " +
+                             num(side) + ", " + num(side / 2) + R"(], "spacing": 0.02, "jitter": 0.3}]}]})";
+    auto scene = io::parseScene(text, "bench_fluid.json");
+    if (!scene.ok()) return report(scene.error());
+    auto world = World::create(scene.value());
+    if (!world.ok()) return report(world.error());
+    World& w = world.value();
+    // The first half settles the block (untimed); the second half is measured.
+    const int frames = scene.value().frameCount() / 2, settle = scene.value().frameCount() - frames;
+    for (int k = 0; k < settle; ++k)
+      if (Status st = w.advanceFrame(); !st) return report(st.error());
+    const Fluid& fl = *w.fluids().front();
+    const long long pairs0 = fl.pair_tests, rebuilds0 = fl.rebuilds, split0 = fl.split_steps;
+    const auto t0 = Clock::now();
+    for (int k = 0; k < frames; ++k)
+      if (Status st = w.advanceFrame(); !st) return report(st.error());
+    const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+    // Neighbours inside the cutoff now (the list also holds the skin).
+    long long inside = 0;
+    for (std::size_t i = 0; i < fl.size(); ++i)
+      for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e)
+        inside += (fl.x[i] - fl.x[static_cast<std::size_t>(fl.nbr[e])]).norm() < fl.cutoff_max;
+    const double steps = static_cast<double>(frames) * w.stepsPerFrame() + static_cast<double>(fl.split_steps - split0);
+    const double particle_steps = steps * static_cast<double>(fl.size());
+    nlohmann::ordered_json j = {{"name", "fluid"},
+                                {"particles", fl.size()},
+                                {"neighbours_per_particle", static_cast<double>(inside) / static_cast<double>(fl.size())},
+                                {"list_entries_per_particle", static_cast<double>(fl.nbr.size()) / static_cast<double>(fl.size())},
+                                {"steps", steps},
+                                {"list_rebuilds", fl.rebuilds - rebuilds0},
+                                {"threads", threadCount()},
+                                {"simulated_s", static_cast<double>(frames) / 30.0},
+                                {"wall_s", wall},
+                                {"particle_steps_per_s", particle_steps / wall},
+                                {"pair_evaluations_per_s", static_cast<double>(fl.pair_tests - pairs0) / wall},
+                                {"ns_per_particle_step", 1e9 * wall / particle_steps}};
+    std::printf("%s\n", j.dump().c_str());
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int bench(const std::vector<std::string>& names, double seconds) {
-  const std::vector<std::string> all = {"springs", "render", "film", "cloth"};
+  const std::vector<std::string> all = {"springs", "render", "film", "cloth", "fluid"};
   const std::vector<std::string>& run = names.empty() ? all : names;
   for (const auto& n : run) {
     if (std::find(all.begin(), all.end(), n) == all.end()) {
-      std::fprintf(stderr, "reel: unknown benchmark \"%s\" (available: springs, render, film, cloth)\n", n.c_str());
+      std::fprintf(stderr, "reel: unknown benchmark \"%s\" (available: springs, render, film, cloth, fluid)\n", n.c_str());
       return 2;
     }
   }
@@ -312,6 +370,7 @@ int bench(const std::vector<std::string>& names, double seconds) {
     if (n == "render") rc = benchRender(seconds);
     if (n == "film") rc = benchFilm(REEL_SOURCE_DIR "/scenes/jelly.json");
     if (n == "cloth") rc = benchCloth(std::max(1.0 / 30.0, seconds));
+    if (n == "fluid") rc = benchFluid(std::max(2.0 / 30.0, 0.1 * seconds));
     if (rc != 0) return rc;
   }
   return 0;

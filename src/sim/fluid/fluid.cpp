@@ -309,21 +309,30 @@ void buildNeighbours(Fluid& fl) {
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
   const double reach = fl.cutoff_max + fl.skin, reach2 = reach * reach;
   fl.grid.build(fl.x, fl.x, reach);
+  // One pass: fixed chunks of particles list their neighbours in parallel, then the chunks are
+  // joined in order (the same list for any thread count).
+  constexpr std::ptrdiff_t kChunk = 2048;
+  const std::ptrdiff_t chunks = (n + kChunk - 1) / kChunk;
+  fl.chunk_lists.resize(static_cast<std::size_t>(chunks));
   fl.nbr_start.assign(static_cast<std::size_t>(n) + 1, 0);
-  parallelFor(n, [&](std::ptrdiff_t i) {
-    const Vec3 xi = fl.x[static_cast<std::size_t>(i)];
-    std::uint32_t c = 0;
-    fl.grid.forEachNear(xi, [&](int j) { c += j != i && (fl.x[static_cast<std::size_t>(j)] - xi).squaredNorm() < reach2; });
-    fl.nbr_start[static_cast<std::size_t>(i) + 1] = c;
-  });
+#pragma omp parallel for schedule(dynamic, 1) if (n >= kParallelMin)
+  for (std::ptrdiff_t c = 0; c < chunks; ++c) {
+    std::vector<std::int32_t>& out = fl.chunk_lists[static_cast<std::size_t>(c)];
+    out.clear();
+    for (std::ptrdiff_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
+      const Vec3 xi = fl.x[static_cast<std::size_t>(i)];
+      const std::size_t before = out.size();
+      fl.grid.forEachNear(xi, [&](int j) {
+        if (j != i && (fl.x[static_cast<std::size_t>(j)] - xi).squaredNorm() < reach2) out.push_back(j);
+      });
+      fl.nbr_start[static_cast<std::size_t>(i) + 1] = static_cast<std::uint32_t>(out.size() - before);
+    }
+  }
   for (std::ptrdiff_t i = 0; i < n; ++i) fl.nbr_start[static_cast<std::size_t>(i) + 1] += fl.nbr_start[static_cast<std::size_t>(i)];
   fl.nbr.resize(fl.nbr_start.back());
-  parallelFor(n, [&](std::ptrdiff_t i) {
-    const Vec3 xi = fl.x[static_cast<std::size_t>(i)];
-    std::uint32_t at = fl.nbr_start[static_cast<std::size_t>(i)];
-    fl.grid.forEachNear(xi, [&](int j) {
-      if (j != i && (fl.x[static_cast<std::size_t>(j)] - xi).squaredNorm() < reach2) fl.nbr[at++] = j;
-    });
+  parallelFor(chunks, [&](std::ptrdiff_t c) {
+    const auto& part = fl.chunk_lists[static_cast<std::size_t>(c)];
+    std::copy(part.begin(), part.end(), fl.nbr.begin() + fl.nbr_start[static_cast<std::size_t>(c * kChunk)]);
   });
   fl.x_built = fl.x;
   ++fl.rebuilds;

@@ -88,7 +88,7 @@ struct Fluid {
   std::vector<std::uint32_t> nbr_start;
   std::vector<std::int32_t> nbr;
   std::vector<Vec3> imp;  // particles × dynamic objects: impulse the particle took, N·s
-  std::vector<Vec3> lo;   // grid scratch
+  std::vector<std::vector<std::int32_t>> chunk_lists;  // neighbour-list scratch
   BoxGrid grid;
   long long rebuilds = 0;
   long long pair_tests = 0;  // list entries visited by the force loop (pair evaluations)
