@@ -3,7 +3,10 @@
 
 scenes/meshes/urn.obj: a closed surface of revolution (an urn on a foot, 0.9 m tall, unit
 scale in metres), counter-clockwise faces seen from outside, with smooth normals left to
-the importer. Run from the repository root: python3 scripts/make_meshes.py
+the importer.
+scenes/meshes/bowl.obj: a thick-walled bowl (a closed solid of revolution: outer wall, rounded
+rim, inner wall, flat bottom inside and out), 0.8 m across and 0.3 m tall.
+Run from the repository root: python3 scripts/make_meshes.py
 """
 import math
 import os
@@ -15,10 +18,16 @@ PROFILE = [(0.0, 0.0), (0.22, 0.0), (0.22, 0.04), (0.12, 0.08), (0.10, 0.14), (0
 SEGMENTS = 32
 
 
-def urn():
+# The bowl's closed profile, going up the outside, over the rim and down the inside to the axis.
+BOWL = [(0.0, 0.0), (0.22, 0.0), (0.30, 0.03), (0.36, 0.10), (0.39, 0.20), (0.40, 0.28),
+        (0.395, 0.30), (0.37, 0.30), (0.355, 0.22), (0.32, 0.12), (0.26, 0.06), (0.18, 0.04),
+        (0.0, 0.04)]
+
+
+def revolve(profile):
     verts, faces = [], []
     rings = []
-    for r, y in PROFILE:
+    for r, y in profile:
         if r == 0.0:  # a pole: one vertex
             rings.append([len(verts)])
             verts.append((0.0, y, 0.0))
@@ -42,15 +51,19 @@ def urn():
     return verts, faces
 
 
-def main():
-    verts, faces = urn()
-    os.makedirs("scenes/meshes", exist_ok=True)
-    with open("scenes/meshes/urn.obj", "w") as f:
-        f.write("# urn: made by scripts/make_meshes.py\n")
+def write(name, verts, faces):
+    with open("scenes/meshes/%s.obj" % name, "w") as f:
+        f.write("# %s: made by scripts/make_meshes.py\n" % name)
         for v in verts:
             f.write("v %.5f %.5f %.5f\n" % v)
         for a, b, c in faces:
             f.write("f %d %d %d\n" % (a + 1, b + 1, c + 1))
+
+
+def main():
+    os.makedirs("scenes/meshes", exist_ok=True)
+    write("urn", *revolve(PROFILE))
+    write("bowl", *revolve(BOWL))
 
 
 if __name__ == "__main__":

@@ -27,9 +27,18 @@ std::shared_ptr<MeshShape> makeMeshShape(const TriMesh& mesh, double reach) {
     if (!(n.norm() > 1e-14)) continue;  // degenerate: no surface to touch
     s->triangles.push_back(tri);
     s->normals.push_back(n.normalized());
+    const Vec3 centre = (a + b + c) / 3.0;
+    s->centres.push_back(centre);
+    s->radii.push_back(std::sqrt(std::max({(a - centre).squaredNorm(), (b - centre).squaredNorm(), (c - centre).squaredNorm()})));
     lo.push_back(a.cwiseMin(b).cwiseMin(c) - Vec3::Constant(reach));
     hi.push_back(a.cwiseMax(b).cwiseMax(c) + Vec3::Constant(reach));
     edge = std::max(edge, (hi.back() - lo.back()).maxCoeff());
+  }
+  s->lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  s->hi = -s->lo;
+  for (std::size_t t = 0; t < lo.size(); ++t) {
+    s->lo = s->lo.cwiseMin(lo[t]);
+    s->hi = s->hi.cwiseMax(hi[t]);
   }
   // Cells about the size of the largest grown triangle, so each lies in at most eight cells
   // (capped below so that a few huge triangles do not make a coarse grid for the rest).
@@ -220,10 +229,15 @@ bool Collider::distanceAuthored(const Vec3& p, double& d, Vec3& n) const {
       // triangles tie: the one whose normal is most aligned with p − q decides (at a convex
       // edge the other face sees p almost in its plane, and rounding could flip its sign).
       if (!p.allFinite()) return false;
+      if ((p - mesh->lo).minCoeff() < 0 || (mesh->hi - p).minCoeff() < 0) return false;  // beyond every triangle's reach
       double best = mesh->reach * mesh->reach, align = -1.0;
       int bt = -1;
       Vec3 bc;
       mesh->grid.forEachAt(p, [&](int t) {
+        // The triangle lies inside its bounding sphere: skip it when even the sphere is farther
+        // than the best so far.
+        const double lower = (p - mesh->centres[static_cast<std::size_t>(t)]).norm() - mesh->radii[static_cast<std::size_t>(t)];
+        if (lower > 0 && lower * lower > best * (1.0 + 1e-9) + 1e-24) return;
         const auto& tri = mesh->triangles[static_cast<std::size_t>(t)];
         const Vec3 &a = mesh->vertices[tri[0]], &b = mesh->vertices[tri[1]], &c = mesh->vertices[tri[2]];
         const Vec3 w = closestOnTriangle(p, a, b, c);

@@ -19,6 +19,9 @@ struct MeshShape {
   std::vector<Vec3> vertices;                 // m (vertices)
   std::vector<std::array<int, 3>> triangles;  // vertex indices, counter-clockwise from outside
   std::vector<Vec3> normals;                  // unit face normals (triangles)
+  std::vector<Vec3> centres;                  // bounding-sphere centre of each triangle
+  std::vector<double> radii;                  // and its radius, m (a cheap lower bound on distance)
+  Vec3 lo{0, 0, 0}, hi{0, 0, 0};             // the triangles' box grown by `reach`
   BoxGrid grid;                               // triangles by their boxes grown by `reach`
   double reach = 0.0;                         // m: points farther than this see no triangle
 };

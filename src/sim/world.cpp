@@ -107,16 +107,15 @@ Result<World> World::create(const SceneDesc& scene) {
   w.substeps_ = scene.substeps;
   // Mesh colliders find points up to their thickness plus the largest contact radius and a
   // margin for a step's motion.
-  // Liquids reach farther: adhesion pulls particles within a cutoff of a surface.
-  double radius = 0.0;
+  // Mesh colliders find points up to their thickness plus the largest contact radius of any body,
+  // plus, for a surface with adhesion, the largest liquid cutoff (adhesion pulls from that far).
+  double radius = 0.0, adhesion_range = 0.0;
   for (const BodyDesc& bd : scene.bodies) {
     double r = bd.node_radius;
     if (const auto* cd = std::get_if<ClothDesc>(&bd.shape)) r = cd->thickness;
     if (const auto* fd = std::get_if<FluidDesc>(&bd.shape)) {
       r = fd->radius;
-      double cut = 0.0;
-      for (const SpeciesDesc& sp : fd->species) cut = std::max(cut, sp.cutoff);
-      r += cut;
+      for (const SpeciesDesc& sp : fd->species) adhesion_range = std::max(adhesion_range, sp.cutoff);
     }
     radius = std::max(radius, r);
   }
@@ -129,7 +128,9 @@ Result<World> World::create(const SceneDesc& scene) {
     if (!o.motion.empty()) w.moving_objects_.push_back(w.colliders_.size());
     if (!o.motion.empty() || o.dynamic) w.posed_objects_.push_back(w.colliders_.size());
     if (o.dynamic) w.dynamics_.push_back(makeDynamic(o, w.colliders_.size()));
-    w.colliders_.push_back(makeCollider(o, radius + 0.05 + speed * h_max));
+    bool sticky = o.surface.adhesion > 0;
+    for (const auto& [name, sf] : o.species_surface) sticky = sticky || sf.adhesion > 0;
+    w.colliders_.push_back(makeCollider(o, radius + (sticky ? adhesion_range : 0.0) + 0.02 + speed * h_max));
     w.object_meshes_.push_back(objectMesh(o));
     w.object_pivots_.push_back(o.referencePoint());
   }
@@ -144,7 +145,7 @@ Result<World> World::create(const SceneDesc& scene) {
   for (const BodyDesc& bd : scene.bodies) {
     if (const auto* fd = std::get_if<FluidDesc>(&bd.shape)) {
       const std::uint64_t seed = splitmix64(scene.seed ^ (0xF1D0ull << 32) ^ static_cast<std::uint64_t>(w.fluids_.size()));
-      auto fl = std::make_unique<Fluid>(buildFluid(*fd, bd.name, scene.objects, seed));
+      auto fl = std::make_unique<Fluid>(buildFluid(*fd, bd.name, scene.objects, w.colliders_, seed));
       const StepBound bound = fluidStableStep(*fl);
       if (h > bound.h_max) {
         const double need = std::ceil(h / (0.9 * bound.h_max));

@@ -65,10 +65,24 @@ bool emit(Fluid& fl, double t0, double t1) {
       const double turn = 2.0 * std::numbers::pi * uniformAt(fl.seed, kEmitterStream + k, static_cast<std::uint64_t>(e.layers));
       const double c = std::cos(turn), sn = std::sin(turn);
       const Vec3 vel = d.speed * d.direction;
+      // A nozzle cannot push into liquid: a point closer than half the spacing to a particle
+      // (one listed in the grid, which has moved less than half the skin since) is skipped.
+      const std::size_t listed = std::min(fl.x_built.size(), fl.x.size());
+      const double clear2 = 0.25 * d.spacing * d.spacing;
       for (const auto& q : e.disc) {
         if (static_cast<long long>(fl.x.size()) >= fl.max_particles) return added;
         const double u = c * q[0] - sn * q[1], w = sn * q[0] + c * q[1];
-        fl.x.push_back(d.position + u * e.u + w * e.w + (t0 - t_layer) * vel);
+        const Vec3 p = d.position + u * e.u + w * e.w + (t0 - t_layer) * vel;
+        bool occupied = false;
+        if (listed > 0)
+          fl.grid.forEachNear(p, [&](int j) {
+            occupied = occupied || (static_cast<std::size_t>(j) < listed && (fl.x[static_cast<std::size_t>(j)] - p).squaredNorm() < clear2);
+          });
+        if (occupied) {
+          ++fl.skipped;
+          continue;
+        }
+        fl.x.push_back(p);
         fl.v.push_back(vel);
         fl.s.push_back(d.species);
         fl.m.push_back(fl.species_mass[static_cast<std::size_t>(d.species)]);
@@ -175,7 +189,7 @@ double bulkSpacing(const PairParams& p) {
 }
 
 Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<ObjectDesc>& objects,
-                 std::uint64_t seed) {
+                 const std::vector<Collider>& colliders, std::uint64_t seed) {
   Fluid fl;
   fl.name = name;
   fl.seed = seed;
@@ -246,6 +260,13 @@ Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<
             for (int a = 0; a < 3; ++a)
               p[a] += b.jitter * b.spacing * (2.0 * uniformAt(seed, kJitterStream + static_cast<std::uint64_t>(a), id) - 1.0);
           }
+          bool inside = false;
+          for (const Collider& c : colliders) {
+            double dist;
+            Vec3 nrm;
+            inside = inside || (c.distance(p, dist, nrm) && dist < c.thickness + d.radius);
+          }
+          if (inside) continue;
           fl.x.push_back(p);
           fl.v.push_back(b.velocity);
           fl.s.push_back(b.species);
@@ -451,14 +472,14 @@ void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, std::vector<Dy
   computeForces(fl, gravity);
   // A violent moment (an impact, a splash squeezed against a wall) can push particles much closer
   // than the stable step assumes. Then the step is split so that no particle moves more than 5%
-  // of the spacing through its acceleration, nor 40% through its speed, in one part (at most 64).
+  // of the spacing through its acceleration, nor 40% through its speed, in one part (at most 16).
   const double a_max = maxOver(n, [&](std::ptrdiff_t i) {
     return fl.f[static_cast<std::size_t>(i)].norm() / fl.m[static_cast<std::size_t>(i)];
   });
   const double v_max = maxOver(n, [&](std::ptrdiff_t i) { return fl.v[static_cast<std::size_t>(i)].norm(); });
   const double ref = fl.ref_spacing;
   const double parts = std::max({1.0, std::sqrt(a_max * h * h / (0.05 * ref)), v_max * h / (0.4 * ref)});
-  const int k = std::isfinite(parts) ? static_cast<int>(std::min(64.0, std::ceil(parts))) : 1;
+  const int k = std::isfinite(parts) ? static_cast<int>(std::min(16.0, std::ceil(parts))) : 1;
   if (k > 1) fl.split_steps += k - 1;
   const double hk = h / k;
   for (int part = 0; part < k; ++part) {

@@ -93,12 +93,15 @@ struct Fluid {
   long long rebuilds = 0;
   long long pair_tests = 0;  // list entries visited by the force loop (pair evaluations)
   long long split_steps = 0;  // extra parts of steps split at violent moments
+  long long skipped = 0;      // emitter points skipped because liquid was there
   std::size_t size() const { return x.size(); }
 };
 
-// Builds the particles (blocks, explicit particles), emitters, pair table and surfaces.
+// Builds the particles (blocks, explicit particles), emitters, pair table and surfaces. Block
+// points inside an object (closer than its thickness plus the particle radius) are left out, so
+// a pool may be filled around what stands in it. `colliders` are the objects' (same order).
 Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<ObjectDesc>& objects,
-                 std::uint64_t seed);
+                 const std::vector<Collider>& colliders, std::uint64_t seed);
 
 // The stable step of symplectic Euler for this fluid (see docs/fluids.md): a cubic lattice at 0.65
 // of the bulk spacing (2 × radius without one), Gershgorin's bound over its neighbours inside the
@@ -109,7 +112,7 @@ StepBound fluidStableStep(const Fluid& fl);
 // One step h from t0 to t1 = t0 + h: emission, pair and viscous forces with gravity, symplectic
 // Euler, adhesion and contacts with the colliders (impulses added to the dynamic objects). A step
 // in which some particle would move more than 5% of the spacing through its acceleration (or 40%
-// through its speed) is split into equal parts, each with fresh forces (up to 64).
+// through its speed) is split into equal parts, each with fresh forces (up to 16).
 void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, std::vector<DynamicObject>& dynamics,
                const Vec3& gravity, double h, double t0, double t1);
 
