@@ -299,3 +299,39 @@ TEST_CASE("cloth bad input exits 2 naming the JSON path; a cloth film renders an
   };
   CHECK(count(last) < count(first));
 }
+
+TEST_CASE("fluid on the command line: dumps list species, bad input exits 2, a blow-up exits 3") {
+  const std::string species = R"({"name": "water", "mass": 0.008, "alpha": 212.6, "beta": 0.085, "cutoff": 0.02725, "viscosity": 6})";
+  const std::string good = write("fluid_ok.json", R"({"format": "reel/1", "duration": 0.2, "fps": 10, "substeps": 80,
+    "objects": [{"type": "container", "center": [0, 0.1, 0], "size": [0.3, 0.2, 0.3], "wall": 0.02}],
+    "bodies": [{"type": "fluid", "name": "water", "species": [)" + species + R"(, {"name": "oil", "mass": 0.005, "alpha": 320, "beta": 0.128, "cutoff": 0.02725, "viscosity": 6}],
+      "blocks": [{"min": [-0.1, 0.02, -0.1], "max": [0.0, 0.1, 0.1], "spacing": 0.02},
+                 {"species": "oil", "min": [0.0, 0.02, -0.1], "max": [0.1, 0.1, 0.1], "spacing": 0.02}]}]})");
+  const std::string dump = (tmpDir() / "fluid.dump.json").string();
+  REQUIRE(runReel("simulate " + good + " --dump " + dump).code == 0);
+  std::ifstream in(dump);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(text.find("\"type\":\"particles\"") != std::string::npos);
+  CHECK(text.find("\"generator\":\"fluid\"") != std::string::npos);
+  CHECK(text.find("\"species_names\":[\"water\",\"oil\"]") != std::string::npos);
+  CHECK(text.find("\"species\":[0,0,") != std::string::npos);
+  const Run check = runReel("check " + good);
+  CHECK(check.code == 0);
+  CHECK(check.out.find("species 'water': rest distance 0.02 m") != std::string::npos);
+
+  const std::string bad = write("fluid_bad.json", R"({"format": "reel/1", "duration": 1,
+    "bodies": [{"type": "fluid", "species": [{"name": "w", "mass": -1, "cutoff": 0.03}],
+                "emitters": [{"position": [0, 1, 0], "rate": 0}]}]})");
+  const Run r = runReel("check " + bad);
+  CHECK(r.code == 2);
+  CHECK(r.out.find("/bodies/0/species/0/mass") != std::string::npos);
+  CHECK(r.out.find("/bodies/0/emitters/0/rate") != std::string::npos);
+
+  // Two particles 0.1 µm apart: the repulsion flings them off faster than any step can follow.
+  const std::string boom = write("fluid_boom.json", R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 1, "auto_substeps": true,
+    "bodies": [{"type": "fluid", "name": "goo", "species": [{"name": "w", "mass": 0.01, "alpha": 200, "beta": 0.1, "cutoff": 0.05}],
+                "particles": [{"positions": [[0, 0, 0], [1e-7, 0, 0]]}]}]})");
+  const Run u = runReel("simulate " + boom);
+  CHECK(u.code == 3);
+  CHECK(u.out.find("body 'goo' particle") != std::string::npos);
+}
