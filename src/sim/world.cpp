@@ -306,9 +306,10 @@ void World::snapshot(FrameSnapshot& out) const {
     s.name = fl->name;
     s.type = "particles";
     s.generator = "fluid";
-    s.positions = fl->x;
-    s.velocities = fl->v;
-    s.species = fl->s;
+    fluidById(*fl);  // particles in order of creation, whatever slots they sit in
+    s.positions = fl->x_by_id;
+    s.velocities = fl->v_by_id;
+    s.species = fl->s_by_id;
     s.species_names = fl->species_names;
     out.bodies.push_back(std::move(s));
   }
@@ -370,8 +371,9 @@ std::uint64_t World::stateHash() const {
     h.add(std::span<const Vec3>(b->state.v));
   }
   for (const auto& fl : fluids_) {
-    h.add(std::span<const Vec3>(fl->x));
-    h.add(std::span<const Vec3>(fl->v));
+    fluidById(*fl);
+    h.add(std::span<const Vec3>(fl->x_by_id));
+    h.add(std::span<const Vec3>(fl->v_by_id));
   }
   for (const DynamicObject& d : dynamics_) {
     const Collider& c = colliders_[d.collider];

@@ -30,6 +30,10 @@ struct PairParams {
   double alpha = 0, beta = 0, a = 2, b = 4, epsilon = 0, cutoff = 0.05, viscosity = 0;
   double cutoff2 = 0.0025;
   int ia = 2, ib = 4;  // a and b when they are small whole numbers (fast powers), else −1
+  // Set by buildFluid from the two species' masses, for the force loop: m_s·m_t, γ·m_s·m_t/(m_s + m_t),
+  // 1/cutoff, and whether the force is the seed's a = 2, b = 4, ε = 0 (one division per pair).
+  double mm = 1.0, visc_mu = 0.0, inv_cutoff = 20.0;
+  bool seed_form = false;
 };
 
 PairParams makePair(double alpha, double beta, double a, double b, double epsilon, double cutoff, double viscosity);
@@ -83,12 +87,23 @@ struct Fluid {
   std::vector<Vec3> x, v;
   std::vector<int> s;         // species of each particle
   std::vector<double> m;      // mass of each particle, kg
+  std::vector<std::int32_t> id;  // each slot's particle: its number in order of creation
+  // The state in order of creation (dumps and hashes), filled by fluidById.
+  std::vector<Vec3> x_by_id, v_by_id;
+  std::vector<int> s_by_id;
   // Scratch and statistics.
   std::vector<Vec3> f, x_built;
   std::vector<std::uint32_t> nbr_start;
   std::vector<std::int32_t> nbr;
   std::vector<Vec3> imp;  // particles × dynamic objects: impulse the particle took, N·s
   std::vector<std::vector<std::int32_t>> chunk_lists;  // neighbour-list scratch
+  struct alignas(64) Packed {  // what the force loop reads of a neighbour, in one cache line
+    double x[3];
+    double m;
+    double v[3];
+    int s;
+  };
+  std::vector<Packed> packed;
   BoxGrid grid;
   long long rebuilds = 0;
   long long pair_tests = 0;  // list entries visited by the force loop (pair evaluations)
@@ -118,6 +133,13 @@ void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, std::vector<Dy
 
 // Rebuilds the neighbour list now (the step does it when needed).
 void buildNeighbours(Fluid& fl);
+
+// Reorders the particles' slots along a Morton curve of their grid cells (memory locality); the
+// list must be rebuilt after. Particles keep their ids (`id`), so dumps keep following them.
+void sortParticles(Fluid& fl);
+
+// Fills x_by_id, v_by_id and s_by_id: the state in order of creation.
+void fluidById(Fluid& fl);
 
 // Kinetic energy, J, and momentum, kg·m/s.
 double kineticEnergy(const Fluid& fl);
