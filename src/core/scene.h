@@ -244,6 +244,7 @@ struct SpeciesDesc {
   double epsilon = 0.0;     // m, softens the attraction near r = 0
   double cutoff = 0.05;     // m
   double viscosity = 0.0;   // γ, 1/s
+  double agitation = 0.0;   // m/s: thermal speed per axis kept by random pair forces (DPD); 0 off
   Vec3 color{0.2, 0.4, 0.9};  // linear rgb
 };
 

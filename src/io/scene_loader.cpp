@@ -604,6 +604,9 @@ void readFluid(Obj& o, FluidDesc& fd, double duration) {
     sp.epsilon = so.number("epsilon", sp.epsilon, kNonNeg);
     sp.cutoff = so.number("cutoff", sp.cutoff, Range{0.0, 10.0, true, false});
     sp.viscosity = so.number("viscosity", sp.viscosity, kNonNeg);
+    sp.agitation = so.number("agitation", sp.agitation, Range::closed(0.0, 100.0));
+    if (sp.agitation > 0 && sp.viscosity == 0)
+      d.error(childPath(so.path(), "agitation"), "needs viscosity > 0 (the random kicks and the viscous drag balance at the thermal speed)");
     sp.color = so.vec3("color", sp.color, kNonNeg);
     if (sp.alpha > 0 && sp.beta == 0)
       d.error(childPath(so.path(), "beta"), "must be > 0 when alpha > 0 (attraction without repulsion collapses the liquid)");

@@ -229,6 +229,9 @@ Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<
       p.visc_mu = visc * mi * mj / (mi + mj);
       p.inv_cutoff = 1.0 / cut;
       p.seed_form = p.ia == 2 && p.ib == 4 && eps == 0.0;
+      const double kT = 0.5 * (mi * A.agitation * A.agitation + mj * B.agitation * B.agitation);
+      p.sigma = std::sqrt(2.0 * p.visc_mu * kT);
+      fl.agitated = fl.agitated || p.sigma > 0;
       fl.pairs[i * S + j] = p;
     }
   fl.cutoff_max = 0.0;
@@ -488,6 +491,40 @@ void computeForces(Fluid& fl, const Vec3& gravity) {
   fl.pair_tests += static_cast<long long>(fl.nbr.size());
 }
 
+// Thermal agitation, the random force of dissipative particle dynamics (Hoogerbrugge & Koelman
+// 1992; Español & Warren 1995, fluctuation–dissipation): for each pair inside the cutoff,
+//   F_ij = σ_ij · √(1 − r/cutoff) · θ_ij / √h,   F_ji = −F_ij,   σ² = 2·γμ·kT,
+// θ_ij a vector of three independent numbers of unit variance drawn from the seed by the step
+// and the two particles' ids, so that with the viscosity the liquid keeps a thermal speed of
+// `agitation` per axis and momentum is still conserved exactly. This is the "heating" that
+// melts Terzopoulos, Platt & Fleischer's solids into liquids: it keeps a resting liquid from
+// jamming into a glass.
+void addThermalForces(Fluid& fl, double h) {
+  const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
+  const auto S = static_cast<std::size_t>(fl.S);
+  const std::uint64_t draw = static_cast<std::uint64_t>(fl.thermal_draws++);
+  const double root3 = std::sqrt(3.0), inv_sqrt_h = 1.0 / std::sqrt(h);
+  parallelFor(n, [&](std::ptrdiff_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    const PairParams* row = &fl.pairs[static_cast<std::size_t>(fl.s[i]) * S];
+    Vec3 add = Vec3::Zero();
+    for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e) {
+      const auto j = static_cast<std::size_t>(fl.nbr[e]);
+      const PairParams& p = row[fl.s[j]];
+      if (p.sigma == 0.0) continue;
+      const double r2 = (fl.x[i] - fl.x[j]).squaredNorm();
+      if (!(r2 < p.cutoff2)) continue;
+      const std::int32_t a = std::min(fl.id[i], fl.id[j]), b = std::max(fl.id[i], fl.id[j]);
+      const std::uint64_t pair = static_cast<std::uint64_t>(a) << 32 | static_cast<std::uint32_t>(b);
+      Vec3 theta;
+      for (int c = 0; c < 3; ++c) theta[c] = root3 * (2.0 * uniformAt(fl.seed ^ (0x7E33ull << 40), draw * 3 + static_cast<std::uint64_t>(c), pair) - 1.0);
+      const double sign = fl.id[i] < fl.id[j] ? 1.0 : -1.0;
+      add += (sign * p.sigma * std::sqrt(1.0 - std::sqrt(r2) * p.inv_cutoff) * inv_sqrt_h) * theta;
+    }
+    fl.f[i] += add;
+  });
+}
+
 // Largest of a per-particle value: chunk maxima in parallel, then in order (max is exact, so any
 // thread count gives the same bits).
 template <class F>
@@ -577,6 +614,7 @@ void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, std::vector<Dy
       refreshNeighbours(fl, false);
       computeForces(fl, gravity);
     }
+    if (fl.agitated) addThermalForces(fl, hk);
     moveAndCollide(fl, colliders, dynamics, hk);
   }
 }

@@ -33,6 +33,7 @@ struct PairParams {
   // Set by buildFluid from the two species' masses, for the force loop: m_s·m_t, γ·m_s·m_t/(m_s + m_t),
   // 1/cutoff, and whether the force is the seed's a = 2, b = 4, ε = 0 (one division per pair).
   double mm = 1.0, visc_mu = 0.0, inv_cutoff = 20.0;
+  double sigma = 0.0;  // random pair force amplitude √(2·γμ·kT), kT = mean of m·agitation², N·√s
   bool seed_form = false;
 };
 
@@ -109,6 +110,8 @@ struct Fluid {
   long long pair_tests = 0;  // list entries visited by the force loop (pair evaluations)
   long long split_steps = 0;  // extra parts of steps split at violent moments
   long long skipped = 0;      // emitter points skipped because liquid was there
+  long long thermal_draws = 0;  // force evaluations with random pair forces (their random stream)
+  bool agitated = false;        // some pair has random forces
   std::size_t size() const { return x.size(); }
 };
 
