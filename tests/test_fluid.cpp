@@ -457,7 +457,8 @@ TEST_CASE("fluid bad input names the JSON path") {
   CHECK(all.find("/bodies/0/species/1/beta") != std::string::npos);  // attraction without repulsion
   CHECK(all.find("/bodies/0/interactions/0/species/1: unknown species \"gas\"") != std::string::npos);
   CHECK(all.find("/bodies/0/blocks/1/spacing: must be > 0") != std::string::npos);
-  CHECK(all.find("/bodies/0: would hold") != std::string::npos);  // a million particles > 100
+  CHECK(all.find("/bodies/0/blocks/0: holds 1000000 particles, more than max_particles = 100") != std::string::npos);
+  CHECK(all.find("/bodies/0: would hold") != std::string::npos);  // and all of them together
   CHECK(all.find("/bodies/0/emitters/0/rate: must be > 0") != std::string::npos);
   CHECK(all.find("/bodies/0/emitters/1/rate: packs its layers") != std::string::npos);
   CHECK(all.find("/objects/0/surface/species/watr: unknown species \"watr\" (did you mean \"water\"?)") != std::string::npos);

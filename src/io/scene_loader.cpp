@@ -649,6 +649,8 @@ void readFluid(Obj& o, FluidDesc& fd, double duration) {
     in.viscosity = opt("viscosity", kNonNeg);
     fd.interactions.push_back(in);
   });
+  const long long limit = o.integer("max_particles", 1ll, 50'000'000ll).value_or(0);
+  fd.max_particles = limit > 0 ? limit : defaultMaxParticles();
   double min_spacing = 0.0;
   double total = 0.0;
   readList(o, "blocks", [&](Obj& bo) {
@@ -662,6 +664,9 @@ void readFluid(Obj& o, FluidDesc& fd, double duration) {
     if ((b.max - b.min).minCoeff() <= 0) d.error(childPath(bo.path(), "max"), "must be above min on every axis");
     else {
       const double n = b.count();
+      if (n > static_cast<double>(fd.max_particles))
+        d.error(bo.path(), "holds " + std::to_string(static_cast<long long>(std::min(n, 9e18))) +
+                               " particles, more than max_particles = " + std::to_string(fd.max_particles));
       total += n;
       if (total > static_cast<double>(defaultMaxParticles()) * 4)  // far beyond any limit: stop counting
         total = static_cast<double>(defaultMaxParticles()) * 4;
@@ -724,8 +729,6 @@ void readFluid(Obj& o, FluidDesc& fd, double duration) {
     }
     fd.emitters.push_back(e);
   });
-  const long long limit = o.integer("max_particles", 1ll, 50'000'000ll).value_or(0);
-  fd.max_particles = limit > 0 ? limit : defaultMaxParticles();
   if (total > static_cast<double>(fd.max_particles))
     d.error(p, "would hold " + std::to_string(static_cast<long long>(total)) + " particles (blocks, particles and emitters), more than max_particles = " +
                    std::to_string(fd.max_particles));
