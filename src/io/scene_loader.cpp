@@ -665,7 +665,7 @@ void readFluid(Obj& o, FluidDesc& fd, double duration) {
     else {
       const double n = b.count();
       if (n > static_cast<double>(fd.max_particles))
-        d.error(bo.path(), "holds " + std::to_string(static_cast<long long>(std::min(n, 9e18))) +
+        d.error(bo.path(), "holds " + (n < 1e15 ? std::to_string(static_cast<long long>(n)) : std::string("over 10^15")) +
                                " particles, more than max_particles = " + std::to_string(fd.max_particles));
       total += n;
       if (total > static_cast<double>(defaultMaxParticles()) * 4)  // far beyond any limit: stop counting
@@ -716,7 +716,7 @@ void readFluid(Obj& o, FluidDesc& fd, double duration) {
     if (e.stop <= e.start) {
       d.error(childPath(eo.path(), "stop"), "must be after start (and start before the scene ends)");
       e.stop = e.start;
-    } else if (e.radius / e.spacing > 2000) {
+    } else if (e.radius / e.spacing > 200) {
       d.error(childPath(eo.path(), "radius"), "holds too many particles per layer for its spacing");
     } else {
       // Layers leave perLayer()/rate s apart and travel speed × that: they must not overlap.
@@ -730,8 +730,8 @@ void readFluid(Obj& o, FluidDesc& fd, double duration) {
     fd.emitters.push_back(e);
   });
   if (total > static_cast<double>(fd.max_particles))
-    d.error(p, "would hold " + std::to_string(static_cast<long long>(total)) + " particles (blocks, particles and emitters), more than max_particles = " +
-                   std::to_string(fd.max_particles));
+    d.error(p, "would hold " + (total >= static_cast<double>(defaultMaxParticles()) * 4 ? std::string("far more") : std::to_string(static_cast<long long>(total))) +
+                   " particles (blocks, particles and emitters), more than max_particles = " + std::to_string(fd.max_particles));
   if (o.ok() && total == 0 && fd.emitters.empty()) d.error(p, "has no particles: give blocks, particles or emitters");
   const std::string draw = o.choice("draw", "spheres", {"spheres", "surface"});
   fd.draw = draw == "surface" ? FluidDraw::Surface : FluidDraw::Spheres;
