@@ -431,9 +431,22 @@ namespace {
 void refreshNeighbours(Fluid& fl, bool force) {
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
   bool rebuild = force || fl.x_built.size() != fl.x.size();
-  const double limit2 = 0.25 * fl.skin * fl.skin;
-  for (std::ptrdiff_t i = 0; i < n && !rebuild; ++i)
-    rebuild = !((fl.x[static_cast<std::size_t>(i)] - fl.x_built[static_cast<std::size_t>(i)]).squaredNorm() <= limit2);
+  if (!rebuild) {
+    // A pair missing from the list must have closed the skin: it can only have done so if the two
+    // largest displacements since the build add up to more than the skin (sharper than "one
+    // particle moved half the skin" when a few particles fly and the rest sit still).
+    double d1 = 0.0, d2 = 0.0;
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      const double d2i = (fl.x[static_cast<std::size_t>(i)] - fl.x_built[static_cast<std::size_t>(i)]).squaredNorm();
+      if (!(d2i <= d1)) {  // also catches NaN
+        d2 = d1;
+        d1 = d2i;
+      } else if (d2i > d2) {
+        d2 = d2i;
+      }
+    }
+    rebuild = !(std::sqrt(d1) + std::sqrt(d2) <= fl.skin);
+  }
   if (!rebuild) return;
   if (fl.rebuilds % 16 == 0) sortParticles(fl);
   buildNeighbours(fl);
