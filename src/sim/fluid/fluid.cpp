@@ -66,7 +66,7 @@ bool emit(Fluid& fl, double t0, double t1) {
       const double c = std::cos(turn), sn = std::sin(turn);
       const Vec3 vel = d.speed * d.direction;
       // A nozzle cannot push into liquid: a point closer than half the spacing to a particle
-      // (one listed in the grid, which has moved less than half the skin since) is skipped.
+      // (one listed in the grid, which has moved less than the skin since) is skipped.
       const std::size_t listed = std::min(fl.x_built.size(), fl.x.size());
       const double clear2 = 0.25 * d.spacing * d.spacing;
       for (const auto& q : e.disc) {
@@ -424,8 +424,8 @@ void buildNeighbours(Fluid& fl) {
 
 namespace {
 
-// Rebuilds the neighbour list when some particle has moved more than half the skin since the
-// last build (until then every pair closer than the cutoff is still listed), or when forced.
+// Rebuilds the neighbour list when a pair could have closed the skin since the last build (until
+// then every pair closer than the cutoff is still listed), or when forced.
 // The first and every 16th rebuild first re-sort the particles along a Morton curve of their grid cells, so
 // that neighbours in space are neighbours in memory.
 void refreshNeighbours(Fluid& fl, bool force) {

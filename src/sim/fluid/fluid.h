@@ -6,7 +6,7 @@
 // applied exactly so (no smoothing of the cut), plus a viscosity that damps the relative
 // velocity of neighbours. Neighbours come from a Verlet list (pairs closer than the cutoff plus
 // a skin) rebuilt through the shared hashed grid (sim/grid.h) when a particle has moved more
-// than half the skin: never an O(N²) loop. Particles meet every object through the shared
+// than the skin together: never an O(N²) loop. Particles meet every object through the shared
 // collision primitives (sim/collide.h) with per-species surfaces (adhesion, friction,
 // restitution), and hand dynamic objects the impulses they take from them.
 #pragma once
