@@ -5,8 +5,8 @@
 //   g_ij = m_i m_j (x_i − x_j)(−α/(r + ε)^a + β/r^b),   r = |x_i − x_j| < cutoff  (0 beyond),
 // applied exactly so (no smoothing of the cut), plus a viscosity that damps the relative
 // velocity of neighbours. Neighbours come from a Verlet list (pairs closer than the cutoff plus
-// a skin) rebuilt through the shared hashed grid (sim/grid.h) when a particle has moved more
-// than the skin together: never an O(N²) loop. Particles meet every object through the shared
+// a skin) rebuilt through the shared hashed grid (sim/grid.h) when the two largest displacements
+// since the last build add up to the skin: never an O(N²) loop. Particles meet every object through the shared
 // collision primitives (sim/collide.h) with per-species surfaces (adhesion, friction,
 // restitution), and hand dynamic objects the impulses they take from them.
 #pragma once
