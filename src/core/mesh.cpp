@@ -1,5 +1,6 @@
 #include "core/mesh.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/math.h"
@@ -152,6 +153,16 @@ std::vector<std::array<double, 2>> hexDisc(double radius, double spacing) {
   }
   if (pts.empty()) pts.push_back({0.0, 0.0});
   return pts;
+}
+
+std::array<std::pair<Vec3, Vec3>, 5> containerBoxes(const Vec3& size, double wall) {
+  const Vec3 h = size / 2;
+  const double w = std::min(wall, h.minCoeff());
+  return {{{Vec3(0, -h.y() + w / 2, 0), Vec3(size.x(), w, size.z())},
+           {Vec3(h.x() - w / 2, 0, 0), Vec3(w, size.y(), size.z())},
+           {Vec3(-h.x() + w / 2, 0, 0), Vec3(w, size.y(), size.z())},
+           {Vec3(0, 0, h.z() - w / 2), Vec3(size.x(), size.y(), w)},
+           {Vec3(0, 0, -h.z() + w / 2), Vec3(size.x(), size.y(), w)}}};
 }
 
 }  // namespace reel

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/types.h"
@@ -31,6 +32,11 @@ TriMesh makeUvSphere(double radius, int slices, int stacks);
 TriMesh makeBox(const Vec3& size);                 // centred, full extents
 TriMesh makeCapsule(const Vec3& a, const Vec3& b, double radius, int slices, int stacks);
 TriMesh makeQuad(double width, double depth);      // centred in the x–z plane, normal +y
+// The five boxes of an open container of outer `size` and wall (and floor) thickness `wall`: the
+// floor, then the walls at +x, −x, +z, −z, each as (centre relative to the container's centre,
+// full size). Shared by the collider and the drawn mesh.
+std::array<std::pair<Vec3, Vec3>, 5> containerBoxes(const Vec3& size, double wall);
+
 // Points of a hexagonal lattice `spacing` apart inside a disc of `radius` (the centre always),
 // in the disc's own (u, v) coordinates, m. A liquid nozzle's cross-section.
 std::vector<std::array<double, 2>> hexDisc(double radius, double spacing);

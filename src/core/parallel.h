@@ -42,6 +42,27 @@ double deterministicSum(std::ptrdiff_t n, F&& term) {
   return s;
 }
 
+// Largest of value(i) ≥ 0 for i in [0, n) (0 when n = 0): chunk maxima in parallel, then in
+// order. A maximum is exact, so any thread count gives the same bits.
+template <class F>
+double deterministicMax(std::ptrdiff_t n, F&& value) {
+  const std::ptrdiff_t chunks = (n + kReduceChunk - 1) / kReduceChunk;
+  std::vector<double> part(static_cast<std::size_t>(chunks > 0 ? chunks : 1), 0.0);
+#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+  for (std::ptrdiff_t c = 0; c < chunks; ++c) {
+    const std::ptrdiff_t end = (c + 1) * kReduceChunk < n ? (c + 1) * kReduceChunk : n;
+    double m = 0.0;
+    for (std::ptrdiff_t i = c * kReduceChunk; i < end; ++i) {
+      const double v = value(i);
+      if (v > m) m = v;  // NaN never wins
+    }
+    part[static_cast<std::size_t>(c)] = m;
+  }
+  double m = 0.0;
+  for (double v : part) m = v > m ? v : m;
+  return m;
+}
+
 // Threads used by parallel loops (what OpenMP will use); set once by the app.
 int threadCount();
 void setThreadCount(int n);

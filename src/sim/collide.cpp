@@ -171,16 +171,11 @@ bool Collider::distanceAuthored(const Vec3& p, double& d, Vec3& n) const {
     case ObjectKind::Container: {
       // The union of the floor and four walls: the nearest of the five boxes.
       const Vec3 q = R.transpose() * (p - p0);
-      const double w = std::min(wall, std::min({half.x(), half.y(), half.z()}));
-      const Vec3 centres[5] = {{0, -half.y() + w / 2, 0}, {half.x() - w / 2, 0, 0}, {-half.x() + w / 2, 0, 0},
-                               {0, 0, half.z() - w / 2}, {0, 0, -half.z() + w / 2}};
-      const Vec3 halves[5] = {{half.x(), w / 2, half.z()}, {w / 2, half.y(), half.z()}, {w / 2, half.y(), half.z()},
-                              {half.x(), half.y(), w / 2}, {half.x(), half.y(), w / 2}};
       d = std::numeric_limits<double>::infinity();
-      for (int k = 0; k < 5; ++k) {
+      for (const auto& [centre, size] : containerBoxes(2 * half, wall)) {
         double dk;
         Vec3 nk;
-        boxDistance(q - centres[k], halves[k], dk, nk);
+        boxDistance(q - centre, size / 2, dk, nk);
         if (dk < d) {
           d = dk;
           n = R * nk;

@@ -80,6 +80,7 @@ void stepDynamic(DynamicObject& b, std::vector<Collider>& colliders, const Vec3&
   self.pos += h * b.v;
   const double angle = b.w.norm() * h;
   if (angle > 0) self.rot = Eigen::AngleAxisd(angle, b.w.normalized()).toRotationMatrix() * self.rot;
+  const Mat3 Iwinv = (self.rot * b.inertia * self.rot.transpose()).inverse();  // at the new pose
   // Contacts with the other objects at the sample points.
   for (std::size_t k = 0; k < colliders.size(); ++k) {
     const Collider& c = colliders[k];
@@ -104,8 +105,6 @@ void stepDynamic(DynamicObject& b, std::vector<Collider>& colliders, const Vec3&
       const Vec3 vr = b.v + b.w.cross(r) - (c.moving() ? c.velocityAt(q) : Vec3::Zero());
       const double vn = vr.dot(n);
       if (vn >= 0) continue;
-      const Mat3 Iw = self.rot * b.inertia * self.rot.transpose();
-      const Mat3 Iwinv = Iw.inverse();
       auto effMass = [&](const Vec3& dir) { return 1.0 / b.mass + dir.dot((Iwinv * r.cross(dir)).cross(r)); };
       const double jn = -(1.0 + c.surface.restitution) * vn / effMass(n);
       Vec3 J = jn * n;
@@ -121,11 +120,6 @@ void stepDynamic(DynamicObject& b, std::vector<Collider>& colliders, const Vec3&
     }
     if (deepest > 0) self.pos += deepest * push;
   }
-}
-
-double kineticEnergy(const DynamicObject& b, const Collider& c) {
-  const Mat3 I = c.rot * b.inertia * c.rot.transpose();
-  return 0.5 * b.mass * b.v.squaredNorm() + 0.5 * b.w.dot(I * b.w);
 }
 
 }  // namespace reel

@@ -33,7 +33,4 @@ DynamicObject makeDynamic(const ObjectDesc& o, std::size_t collider);
 // pose kept, for surface velocities), and resolves contacts with every other non-dynamic collider.
 void stepDynamic(DynamicObject& b, std::vector<Collider>& colliders, const Vec3& gravity, double h);
 
-// Kinetic energy (translation and rotation), J.
-double kineticEnergy(const DynamicObject& b, const Collider& c);
-
 }  // namespace reel

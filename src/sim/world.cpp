@@ -49,15 +49,9 @@ DrawMesh objectMesh(const ObjectDesc& o) {
       break;
     case ObjectKind::Container: {
       // Floor and four walls, as five boxes in one mesh.
-      const Vec3 h = o.size / 2;
-      const double w = std::min(o.wall, h.minCoeff());
-      const Vec3 centres[5] = {{0, -h.y() + w / 2, 0}, {h.x() - w / 2, 0, 0}, {-h.x() + w / 2, 0, 0},
-                               {0, 0, h.z() - w / 2}, {0, 0, -h.z() + w / 2}};
-      const Vec3 sizes[5] = {{o.size.x(), w, o.size.z()}, {w, o.size.y(), o.size.z()}, {w, o.size.y(), o.size.z()},
-                             {o.size.x(), o.size.y(), w}, {o.size.x(), o.size.y(), w}};
-      for (int k = 0; k < 5; ++k) {
-        TriMesh part = makeBox(sizes[k]);
-        part.transform(Mat3::Identity(), centres[k]);
+      for (const auto& [centre, size] : containerBoxes(o.size, o.wall)) {
+        TriMesh part = makeBox(size);
+        part.transform(Mat3::Identity(), centre);
         const auto base = static_cast<std::uint32_t>(m.vertexCount());
         m.positions.insert(m.positions.end(), part.positions.begin(), part.positions.end());
         m.normals.insert(m.normals.end(), part.normals.begin(), part.normals.end());

@@ -118,27 +118,20 @@ Vec3 pairForce(const PairParams& p, double mi, double mj, const Vec3& xi, const 
   return pairCoefficient(p, mi, mj, std::sqrt(r2)) * d;
 }
 
-Vec3 viscousForce(const PairParams& p, double mi, double mj, const Vec3& xi, const Vec3& xj, const Vec3& vi,
-                  const Vec3& vj) {
-  const double r2 = (xi - xj).squaredNorm();
-  if (!(r2 < p.cutoff2)) return Vec3::Zero();
-  return (p.viscosity * mi * mj / (mi + mj) * (1.0 - std::sqrt(r2) / p.cutoff)) * (vj - vi);
-}
+namespace {
 
-double restDistance(const PairParams& p) {
-  if (p.beta <= 0 || p.alpha <= 0) return 0.0;
-  auto phi = [&](double r) { return -p.alpha / power(r + p.epsilon, p.a, p.ia) + p.beta / power(r, p.b, p.ib); };
-  // Scan down from the cutoff for the outermost sign change (repulsive inside, attractive out).
-  const int n = 400;
-  double hi = p.cutoff;
-  if (phi(hi) > 0) return 0.0;  // still repulsive at the cutoff: no rest distance inside
+// The largest r in (0, from) where g turns positive: g is sampled at at(k), k = 1..n (decreasing),
+// from `from` down, and the first sign change is bisected. 0 when g stays ≤ 0 at every sample.
+template <class G, class At>
+double firstPositiveBelow(double from, int n, At&& at, G&& g, int iterations) {
+  double hi = from;
   for (int k = 1; k <= n; ++k) {
-    const double lo = p.cutoff * std::pow(1e-4, static_cast<double>(k) / n);
-    if (phi(lo) > 0) {
-      double a = lo, b = hi;  // phi(a) > 0 ≥ phi(b)
-      for (int it = 0; it < 100; ++it) {
+    const double lo = at(k);
+    if (g(lo) > 0) {
+      double a = lo, b = hi;  // g(a) > 0 ≥ g(b)
+      for (int it = 0; it < iterations; ++it) {
         const double mid = 0.5 * (a + b);
-        (phi(mid) > 0 ? a : b) = mid;
+        (g(mid) > 0 ? a : b) = mid;
       }
       return 0.5 * (a + b);
     }
@@ -146,8 +139,6 @@ double restDistance(const PairParams& p) {
   }
   return 0.0;
 }
-
-namespace {
 
 // Calls f(r) for the distance of every point of a cubic lattice of spacing d (but the origin)
 // that lies inside the cutoff.
@@ -164,6 +155,16 @@ void forLattice(double d, double cutoff, F&& f) {
 
 }  // namespace
 
+double restDistance(const PairParams& p) {
+  if (p.beta <= 0 || p.alpha <= 0) return 0.0;
+  auto phi = [&](double r) { return -p.alpha / power(r + p.epsilon, p.a, p.ia) + p.beta / power(r, p.b, p.ib); };
+  if (phi(p.cutoff) > 0) return 0.0;  // still repulsive at the cutoff: no rest distance inside
+  // Down from the cutoff (log-spaced to 10⁻⁴ of it), the outermost sign change.
+  constexpr int n = 400;
+  return firstPositiveBelow(p.cutoff, n, [&](int k) { return p.cutoff * std::pow(1e-4, static_cast<double>(k) / n); },
+                            phi, 100);
+}
+
 double bulkSpacing(const PairParams& p) {
   if (p.alpha <= 0 || p.beta <= 0) return 0.0;
   auto virial = [&](double d) {
@@ -172,21 +173,8 @@ double bulkSpacing(const PairParams& p) {
     return v;
   };
   // Down from the cutoff to a sixth of it, the first spacing where the lattice pushes outwards.
-  const int n = 600;
-  double hi = p.cutoff;
-  for (int k = 1; k <= n; ++k) {
-    const double lo = p.cutoff * (1.0 - (5.0 / 6.0) * k / n);
-    if (virial(lo) > 0) {
-      double a = lo, b = hi;
-      for (int it = 0; it < 60; ++it) {
-        const double mid = 0.5 * (a + b);
-        (virial(mid) > 0 ? a : b) = mid;
-      }
-      return 0.5 * (a + b);
-    }
-    hi = lo;
-  }
-  return 0.0;
+  constexpr int n = 600;
+  return firstPositiveBelow(p.cutoff, n, [&](int k) { return p.cutoff * (1.0 - (5.0 / 6.0) * k / n); }, virial, 60);
 }
 
 Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<ObjectDesc>& objects,
@@ -538,22 +526,6 @@ void addThermalForces(Fluid& fl, double h) {
   });
 }
 
-// Largest of a per-particle value: chunk maxima in parallel, then in order (max is exact, so any
-// thread count gives the same bits).
-template <class F>
-double maxOver(std::ptrdiff_t n, F&& value) {
-  const std::ptrdiff_t chunks = (n + kReduceChunk - 1) / kReduceChunk;
-  std::vector<double> part(static_cast<std::size_t>(std::max<std::ptrdiff_t>(chunks, 1)), 0.0);
-  parallelFor(chunks, [&](std::ptrdiff_t c) {
-    double m = 0.0;
-    for (std::ptrdiff_t i = c * kReduceChunk; i < std::min(n, (c + 1) * kReduceChunk); ++i) m = std::max(m, value(i));
-    part[static_cast<std::size_t>(c)] = m;
-  });
-  double m = 0.0;
-  for (double v : part) m = std::max(m, v);
-  return m;
-}
-
 // Symplectic Euler over h, then adhesion and contacts; the impulses particles take from dynamic
 // objects go, opposite, to the objects.
 void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, std::vector<DynamicObject>& dynamics,
@@ -613,10 +585,10 @@ void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, std::vector<Dy
   // A violent moment (an impact, a splash squeezed against a wall) can push particles much closer
   // than the stable step assumes. Then the step is split so that no particle moves more than 5%
   // of the spacing through its acceleration, nor 40% through its speed, in one part (at most 16).
-  const double a_max = maxOver(n, [&](std::ptrdiff_t i) {
+  const double a_max = deterministicMax(n, [&](std::ptrdiff_t i) {
     return fl.f[static_cast<std::size_t>(i)].norm() / fl.m[static_cast<std::size_t>(i)];
   });
-  const double v_max = maxOver(n, [&](std::ptrdiff_t i) { return fl.v[static_cast<std::size_t>(i)].norm(); });
+  const double v_max = deterministicMax(n, [&](std::ptrdiff_t i) { return fl.v[static_cast<std::size_t>(i)].norm(); });
   const double ref = fl.ref_spacing;
   const double parts = std::max({1.0, std::sqrt(a_max * h * h / (0.05 * ref)), v_max * h / (0.4 * ref)});
   const int k = std::isfinite(parts) ? static_cast<int>(std::min(16.0, std::ceil(parts))) : 1;

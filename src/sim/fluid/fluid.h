@@ -42,9 +42,6 @@ PairParams makePair(double alpha, double beta, double a, double b, double epsilo
 // The pair force on particle i (mass mi at xi) from j (mj at xj), N: zero at or beyond the
 // cutoff and for coincident particles (no direction).
 Vec3 pairForce(const PairParams& p, double mi, double mj, const Vec3& xi, const Vec3& xj);
-// The viscous force on i from j (velocities vi, vj), N.
-Vec3 viscousForce(const PairParams& p, double mi, double mj, const Vec3& xi, const Vec3& xj, const Vec3& vi,
-                  const Vec3& vj);
 
 // The distance where the pair force vanishes (attraction balances repulsion), m; 0 when it has
 // none below the cutoff.
