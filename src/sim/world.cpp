@@ -99,8 +99,6 @@ Result<World> World::create(const SceneDesc& scene) {
   w.implicit_ = scene.implicit;
   w.fps_ = scene.fps;
   w.substeps_ = scene.substeps;
-  // Mesh colliders find points up to their thickness plus the largest contact radius and a
-  // margin for a step's motion.
   // Mesh colliders find points up to their thickness plus the largest contact radius of any body,
   // plus, for a surface with adhesion, the largest liquid cutoff (adhesion pulls from that far).
   double radius = 0.0, adhesion_range = 0.0;
@@ -124,6 +122,7 @@ Result<World> World::create(const SceneDesc& scene) {
     if (o.dynamic) w.dynamics_.push_back(makeDynamic(o, w.colliders_.size()));
     bool sticky = o.surface.adhesion > 0;
     for (const auto& [name, sf] : o.species_surface) sticky = sticky || sf.adhesion > 0;
+    // A 2 cm margin for a step's motion.
     w.colliders_.push_back(makeCollider(o, radius + (sticky ? adhesion_range : 0.0) + 0.02 + speed * h_max));
     w.object_meshes_.push_back(objectMesh(o));
     w.object_pivots_.push_back(o.referencePoint());
@@ -136,27 +135,30 @@ Result<World> World::create(const SceneDesc& scene) {
 
   const double h = 1.0 / (static_cast<double>(scene.fps) * scene.substeps);
   std::vector<std::string> errors;
+  // A step above a body's stable bound is subdivided under auto_substeps; otherwise it is an error
+  // naming what sets the bound (`what`) and what else would do (`instead`).
+  auto boundStep = [&](const StepBound& bound, const std::string& what, const std::string& instead) {
+    if (!(h > bound.h_max)) return;
+    const double need = std::ceil(h / (0.9 * bound.h_max));
+    if (scene.auto_substeps && need * scene.substeps <= kMaxStepsPerFrame) {
+      w.inner_ = std::max(w.inner_, static_cast<int>(need));
+      return;
+    }
+    const double min_sub = std::ceil(1.0 / (scene.fps * 0.9 * bound.h_max));
+    errors.push_back(scene.file + ": /substeps: step h = 1/(fps·substeps) = " + fmt(h) + " s is above the stability bound " +
+                     fmt(bound.h_max) + " s " + what + ": ω ≈ " + fmt(bound.omega) + " rad/s, β ≈ " + fmt(bound.beta) +
+                     " 1/s); use \"substeps\": " + fmt(min_sub) + " or more, \"auto_substeps\": true, or " + instead);
+  };
   for (const BodyDesc& bd : scene.bodies) {
     if (const auto* fd = std::get_if<FluidDesc>(&bd.shape)) {
       const std::uint64_t seed = splitmix64(scene.seed ^ (0xF1D0ull << 32) ^ static_cast<std::uint64_t>(w.fluids_.size()));
       auto fl = std::make_unique<Fluid>(buildFluid(*fd, bd.name, scene.objects, w.colliders_, seed));
       const StepBound bound = fluidStableStep(*fl);
-      if (h > bound.h_max) {
-        const double need = std::ceil(h / (0.9 * bound.h_max));
-        if (scene.auto_substeps && need * scene.substeps <= kMaxStepsPerFrame) {
-          w.inner_ = std::max(w.inner_, static_cast<int>(need));
-        } else {
-          const auto S = static_cast<std::size_t>(fl->S);
-          const auto si = static_cast<std::size_t>(bound.node) / S, ti = static_cast<std::size_t>(bound.node) % S;
-          const double min_sub = std::ceil(1.0 / (scene.fps * 0.9 * bound.h_max));
-          errors.push_back(scene.file + ": /substeps: step h = 1/(fps·substeps) = " + fmt(h) +
-                           " s is above the stable step " + fmt(bound.h_max) + " s of fluid '" + bd.name +
-                           "' (species '" + fl->species_names[si] + "' with '" + fl->species_names[ti] +
-                           "': ω ≈ " + fmt(bound.omega) + " rad/s, β ≈ " + fmt(bound.beta) +
-                           " 1/s); use \"substeps\": " + fmt(min_sub) +
-                           " or more, \"auto_substeps\": true, or softer alpha and beta (docs/fluids.md)");
-        }
-      }
+      const auto S = static_cast<std::size_t>(fl->S);
+      const auto pair = static_cast<std::size_t>(std::max(bound.node, 0));
+      boundStep(bound, "of fluid '" + bd.name + "' (species '" + fl->species_names[pair / S] + "' with '" +
+                           fl->species_names[pair % S] + "'",
+                "softer alpha and beta (docs/fluids.md)");
       w.fluid_bounds_.push_back(bound);
       w.fluid_materials_.push_back(bd.material);
       w.fluids_.push_back(std::move(fl));
@@ -178,24 +180,14 @@ Result<World> World::create(const SceneDesc& scene) {
     }
     b->dynamics = std::make_unique<MassSpringDynamics>(b->model);
     b->bound = stableStep(b->model, scene.integrator);
-    if (h > b->bound.h_max) {
-      const double need = std::ceil(h / (0.9 * b->bound.h_max));
-      if (scene.auto_substeps && b->bound.h_max > 0 && need * scene.substeps <= kMaxStepsPerFrame) {
-        w.inner_ = std::max(w.inner_, static_cast<int>(need));
-      } else if (b->bound.h_max <= 0) {
-        errors.push_back(scene.file + ": /integrator: explicit_euler is unstable for body '" +
-                         bd.name + "': its springs are undamped (stable step bound 0); add spring "
-                         "or node damping, or use symplectic_euler, verlet, rk4 or implicit_euler");
-      } else {
-        const double min_sub = std::ceil(1.0 / (scene.fps * 0.9 * b->bound.h_max));
-        errors.push_back(
-            scene.file + ": /substeps: step h = 1/(fps·substeps) = " + fmt(h) +
-            " s is above the stability bound " + fmt(b->bound.h_max) + " s of " +
-            std::string(integratorName(scene.integrator)) + " for body '" + bd.name +
-            "' (node " + std::to_string(b->bound.node) + ": ω ≈ " + fmt(b->bound.omega) +
-            " rad/s, β ≈ " + fmt(b->bound.beta) + " 1/s); use \"substeps\": " +
-            fmt(min_sub) + " or more, \"auto_substeps\": true, or implicit_euler");
-      }
+    if (b->bound.h_max <= 0) {
+      errors.push_back(scene.file + ": /integrator: explicit_euler is unstable for body '" +
+                       bd.name + "': its springs are undamped (stable step bound 0); add spring "
+                       "or node damping, or use symplectic_euler, verlet, rk4 or implicit_euler");
+    } else {
+      boundStep(b->bound, "of " + std::string(integratorName(scene.integrator)) + " for body '" + bd.name + "' (node " +
+                              std::to_string(b->bound.node),
+                "implicit_euler");
     }
     w.bodies_.push_back(std::move(b));
   }
