@@ -3,7 +3,9 @@ add_library(reel_options INTERFACE)
 target_compile_options(reel_options INTERFACE
   -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion -Wnon-virtual-dtor
   # Determinism (DESIGN 6): no fused multiply-add contraction, no fast-math.
-  -ffp-contract=off -fno-fast-math)
+  -ffp-contract=off -fno-fast-math
+  # Square roots need not set errno, so they vectorize; no value changes.
+  -fno-math-errno)
 if(REEL_SANITIZE)
   target_compile_options(reel_options INTERFACE -fsanitize=${REEL_SANITIZE} -fno-omit-frame-pointer)
   target_link_options(reel_options INTERFACE -fsanitize=${REEL_SANITIZE})

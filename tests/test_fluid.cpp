@@ -345,7 +345,7 @@ TEST_CASE("an emitter releases its layers at its rate, from start to stop, along
   run(w, 6);         // t = 0.2: the first layer
   CHECK(static_cast<long long>(fluid(w).size()) == per);
   run(w, 24);  // t = 1: stopped at 0.6
-  const long long layers = static_cast<long long>(std::floor(0.4 * 300.0 / per)) + 1;
+  const long long layers = static_cast<long long>(std::floor(0.4 * 300.0 / static_cast<double>(per))) + 1;
   CHECK(static_cast<long long>(fluid(w).size()) == layers * per);
   for (const Vec3& v : fluid(w).v) CHECK((v - Vec3(2, 0, 0)).norm() < 1e-12);
   double xmax = 0;

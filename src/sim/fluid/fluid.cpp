@@ -440,6 +440,89 @@ void refreshNeighbours(Fluid& fl, bool force) {
   buildNeighbours(fl);
 }
 
+// Four doubles, one per lane (GCC's vector extension: AVX registers where the CPU has them, SSE
+// pairs elsewhere; every operation is lane-wise IEEE arithmetic, so the bits do not depend on which).
+using Lane4 = double __attribute__((vector_size(32)));
+using Mask4 = long long __attribute__((vector_size(32)));
+
+// The pair and viscous forces on particles [i0, i1) whose species meets every species in the
+// seed's form (a = 2, b = 4, ε = 0), four list entries at a time: lane k takes the entries k, k+4,
+// ... of the particle's list, in order, and the lanes are added in a fixed order at the end. The
+// cutoff is a mask, not a branch (half the entries of a Verlet list lie in its skin). The function
+// is compiled twice, for AVX2 and for any x86-64, and the loader picks one; both give the same bits.
+__attribute__((target_clones("avx2", "default")))
+void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const Vec3& gravity, Vec3* out) {
+  const Fluid::Packed* P = fl.packed.data();
+  const std::int32_t* nb = fl.nbr.data();
+  const auto S = static_cast<std::size_t>(fl.S);
+  const Lane4 zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
+  for (std::ptrdiff_t ii = i0; ii < i1; ++ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    const Fluid::Packed& pi = P[i];
+    const PairParams* row = &fl.pairs[static_cast<std::size_t>(pi.s) * S];
+    const Lane4 xi0 = zero + pi.x[0], xi1 = zero + pi.x[1], xi2 = zero + pi.x[2];
+    const Lane4 vi0 = zero + pi.v[0], vi1 = zero + pi.v[1], vi2 = zero + pi.v[2];
+    Lane4 cut2 = zero + row[0].cutoff2, mm = zero + row[0].mm, al = zero + row[0].alpha, be = zero + row[0].beta;
+    Lane4 mu = zero + row[0].visc_mu, icut = zero + row[0].inv_cutoff;
+    Lane4 a0 = zero, a1 = zero, a2 = zero;
+    const std::uint32_t end = fl.nbr_start[i + 1];
+    for (std::uint32_t e = fl.nbr_start[i]; e < end; e += 4) {
+      // Past the list's end a lane reads the particle itself: distance 0, masked out below.
+      const Fluid::Packed& q0 = P[nb[e]];
+      const Fluid::Packed& q1 = e + 1 < end ? P[nb[e + 1]] : pi;
+      const Fluid::Packed& q2 = e + 2 < end ? P[nb[e + 2]] : pi;
+      const Fluid::Packed& q3 = e + 3 < end ? P[nb[e + 3]] : pi;
+      if (S > 1) {
+        const PairParams* p[4] = {&row[q0.s], &row[q1.s], &row[q2.s], &row[q3.s]};
+        for (int k = 0; k < 4; ++k) {
+          cut2[k] = p[k]->cutoff2, mm[k] = p[k]->mm, al[k] = p[k]->alpha, be[k] = p[k]->beta;
+          mu[k] = p[k]->visc_mu, icut[k] = p[k]->inv_cutoff;
+        }
+      }
+      const Lane4 d0 = xi0 - Lane4{q0.x[0], q1.x[0], q2.x[0], q3.x[0]};
+      const Lane4 d1 = xi1 - Lane4{q0.x[1], q1.x[1], q2.x[1], q3.x[1]};
+      const Lane4 d2 = xi2 - Lane4{q0.x[2], q1.x[2], q2.x[2], q3.x[2]};
+      const Lane4 r2 = d0 * d0 + d1 * d1 + d2 * d2;
+      const Mask4 in = (r2 < cut2) & (r2 > zero);
+      const Lane4 safe = in ? r2 : one;
+      // The seed's exponents: m_i m_j (−α/r² + β/r⁴) = m_i m_j (β/r² − α)/r², one division.
+      const Lane4 inv = one / safe;
+      const Lane4 c = in ? mm * (be * inv - al) * inv : zero;
+      Lane4 r = safe;
+      for (int k = 0; k < 4; ++k) r[k] = std::sqrt(r[k]);
+      const Lane4 w = in ? mu * (one - r * icut) : zero;
+      a0 += c * d0 + w * (Lane4{q0.v[0], q1.v[0], q2.v[0], q3.v[0]} - vi0);
+      a1 += c * d1 + w * (Lane4{q0.v[1], q1.v[1], q2.v[1], q3.v[1]} - vi1);
+      a2 += c * d2 + w * (Lane4{q0.v[2], q1.v[2], q2.v[2], q3.v[2]} - vi2);
+    }
+    out[i] = Vec3(pi.m * gravity.x() + ((a0[0] + a0[1]) + (a0[2] + a0[3])),
+                  pi.m * gravity.y() + ((a1[0] + a1[1]) + (a1[2] + a1[3])),
+                  pi.m * gravity.z() + ((a2[0] + a2[1]) + (a2[2] + a2[3])));
+  }
+}
+
+// The same forces for any exponents, one entry at a time.
+void generalForces(const Fluid& fl, std::size_t i, const Vec3& gravity, Vec3* out) {
+  const Fluid::Packed* P = fl.packed.data();
+  const Fluid::Packed& pi = P[i];
+  const double mi = pi.m;
+  const PairParams* row = &fl.pairs[static_cast<std::size_t>(pi.s) * static_cast<std::size_t>(fl.S)];
+  double f0 = mi * gravity.x(), f1 = mi * gravity.y(), f2 = mi * gravity.z();
+  for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e) {
+    const Fluid::Packed& pj = P[fl.nbr[e]];
+    const double d0 = pi.x[0] - pj.x[0], d1 = pi.x[1] - pj.x[1], d2 = pi.x[2] - pj.x[2];
+    const double r2 = d0 * d0 + d1 * d1 + d2 * d2;
+    const PairParams& p = row[pj.s];
+    if (!(r2 < p.cutoff2) || r2 == 0.0) continue;
+    const double r = std::sqrt(r2), c = pairCoefficient(p, mi, pj.m, r);
+    const double w = p.visc_mu * (1.0 - r * p.inv_cutoff);
+    f0 += c * d0 + w * (pj.v[0] - pi.v[0]);
+    f1 += c * d1 + w * (pj.v[1] - pi.v[1]);
+    f2 += c * d2 + w * (pj.v[2] - pi.v[2]);
+  }
+  out[i] = Vec3(f0, f1, f2);
+}
+
 // Pair and viscous forces plus gravity, gathered per particle in list order (deterministic). The
 // force loop reads each neighbour's position, velocity, mass and species from one 64-byte record
 // (one cache line) instead of four arrays.
@@ -456,39 +539,28 @@ void computeForces(Fluid& fl, const Vec3& gravity) {
     q.m = fl.m[i];
     q.s = fl.s[i];
   });
-  const Fluid::Packed* P = fl.packed.data();
-  parallelFor(n, [&](std::ptrdiff_t ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    const Fluid::Packed& pi = P[i];
-    const double mi = pi.m;
-    const PairParams* row = &fl.pairs[static_cast<std::size_t>(pi.s) * S];
-    double f0 = mi * gravity.x(), f1 = mi * gravity.y(), f2 = mi * gravity.z();
-    for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e) {
-      const Fluid::Packed& pj = P[fl.nbr[e]];
-      const double d0 = pi.x[0] - pj.x[0], d1 = pi.x[1] - pj.x[1], d2 = pi.x[2] - pj.x[2];
-      const double r2 = d0 * d0 + d1 * d1 + d2 * d2;
-      const PairParams& p = row[pj.s];
-      if (!(r2 < p.cutoff2) || r2 == 0.0) continue;
-      // The seed's exponents: m_i m_j (−α/r² + β/r⁴) = m_i m_j (β/r² − α)/r², one division.
-      double c;
-      if (p.seed_form) {
-        const double inv = 1.0 / r2;
-        c = p.mm * (p.beta * inv - p.alpha) * inv;
+  // Species whose every pair has the seed's form take the four-lane loop.
+  std::vector<char> seed_row(S, 1);
+  for (std::size_t a = 0; a < S; ++a)
+    for (std::size_t b = 0; b < S; ++b) seed_row[a] = seed_row[a] && fl.pairs[a * S + b].seed_form;
+  constexpr std::ptrdiff_t kBlock = 64;
+  const std::ptrdiff_t blocks = (n + kBlock - 1) / kBlock;
+#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+  for (std::ptrdiff_t blk = 0; blk < blocks; ++blk) {
+    const std::ptrdiff_t end = std::min(n, (blk + 1) * kBlock);
+    for (std::ptrdiff_t i = blk * kBlock; i < end;) {
+      // A run of particles of one kind goes to one call.
+      const bool fast = seed_row[static_cast<std::size_t>(fl.s[static_cast<std::size_t>(i)])];
+      std::ptrdiff_t k = i + 1;
+      while (k < end && bool(seed_row[static_cast<std::size_t>(fl.s[static_cast<std::size_t>(k)])]) == fast) ++k;
+      if (fast) {
+        seedFormForces(fl, i, k, gravity, fl.f.data());
       } else {
-        c = pairCoefficient(p, mi, pj.m, std::sqrt(r2));
+        for (std::ptrdiff_t q = i; q < k; ++q) generalForces(fl, static_cast<std::size_t>(q), gravity, fl.f.data());
       }
-      f0 += c * d0;
-      f1 += c * d1;
-      f2 += c * d2;
-      if (p.visc_mu > 0) {
-        const double w = p.visc_mu * (1.0 - std::sqrt(r2) * p.inv_cutoff);
-        f0 += w * (pj.v[0] - pi.v[0]);
-        f1 += w * (pj.v[1] - pi.v[1]);
-        f2 += w * (pj.v[2] - pi.v[2]);
-      }
+      i = k;
     }
-    fl.f[i] = Vec3(f0, f1, f2);
-  });
+  }
   fl.pair_tests += static_cast<long long>(fl.nbr.size());
 }
 
