@@ -7,6 +7,7 @@
 // for any thread count. Distinct cells may share a bucket: callers test the geometry anyway.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -32,21 +33,33 @@ class BoxGrid {
   // bucket once (neighbouring cells that share a bucket do not repeat its items).
   template <class F>
   void forEachNear(const Vec3& p, F&& f) const {
-    if (start_.empty()) return;
+    std::uint32_t near[27];
+    const int n = nearBuckets(p, near);
+    for (int q = 0; q < n; ++q)
+      for (std::uint32_t e = start_[near[q]]; e < start_[near[q] + 1]; ++e) f(items_[e]);
+  }
+  // The distinct buckets of the 27 cells around the one that contains p, in the order
+  // forEachNear visits them; returns how many (0 for an empty grid). Items of bucket b are
+  // items()[begin(b) .. end(b)).
+  int nearBuckets(const Vec3& p, std::uint32_t (&out)[27]) const {
+    if (start_.empty()) return 0;
     const std::int64_t ci = coord(p.x()), cj = coord(p.y()), ck = coord(p.z());
-    std::uint32_t seen[27];
     int n = 0;
     for (int dk = -1; dk <= 1; ++dk)
       for (int dj = -1; dj <= 1; ++dj)
         for (int di = -1; di <= 1; ++di) {
           const std::uint32_t b = bucket(ci + di, cj + dj, ck + dk);
           bool dup = false;
-          for (int q = 0; q < n; ++q) dup = dup || seen[q] == b;
-          if (dup) continue;
-          seen[n++] = b;
-          for (std::uint32_t e = start_[b]; e < start_[b + 1]; ++e) f(items_[e]);
+          for (int q = 0; q < n; ++q) dup = dup || out[q] == b;
+          if (!dup) out[n++] = b;
         }
+    return n;
   }
+  // The cell that contains p, as three integers.
+  std::array<std::int64_t, 3> cellOf(const Vec3& p) const { return {coord(p.x()), coord(p.y()), coord(p.z())}; }
+  std::uint32_t begin(std::uint32_t b) const { return start_[b]; }
+  std::uint32_t end(std::uint32_t b) const { return start_[b + 1]; }
+  std::span<const std::int32_t> items() const { return items_; }
   double cell() const { return cell_; }
   std::size_t entries() const { return items_.size(); }
 

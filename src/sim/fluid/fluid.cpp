@@ -381,8 +381,19 @@ void buildNeighbours(Fluid& fl) {
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
   const double reach = fl.cutoff_max + fl.skin, reach2 = reach * reach;
   fl.grid.build(fl.x, fl.x, reach);
+  // The positions in the grid's bucket order, so that a bucket's candidates are read from
+  // consecutive memory.
+  const std::span<const std::int32_t> items = fl.grid.items();
+  const auto E = static_cast<std::ptrdiff_t>(items.size());
+  fl.cell_x.resize(items.size() * 3);
+  double* cx = fl.cell_x.data();
+  parallelFor(E, [&](std::ptrdiff_t e) {
+    const Vec3& p = fl.x[static_cast<std::size_t>(items[static_cast<std::size_t>(e)])];
+    cx[3 * e] = p.x(), cx[3 * e + 1] = p.y(), cx[3 * e + 2] = p.z();
+  });
   // One pass: fixed chunks of particles list their neighbours in parallel, then the chunks are
-  // joined in order (the same list for any thread count).
+  // joined in order (the same list for any thread count). Consecutive particles mostly share a
+  // cell (they are sorted along a Morton curve), so the 27 buckets are looked up once per run.
   constexpr std::ptrdiff_t kChunk = 2048;
   const std::ptrdiff_t chunks = (n + kChunk - 1) / kChunk;
   fl.chunk_lists.resize(static_cast<std::size_t>(chunks));
@@ -390,15 +401,33 @@ void buildNeighbours(Fluid& fl) {
 #pragma omp parallel for schedule(dynamic, 1) if (n >= kParallelMin)
   for (std::ptrdiff_t c = 0; c < chunks; ++c) {
     std::vector<std::int32_t>& out = fl.chunk_lists[static_cast<std::size_t>(c)];
-    out.clear();
+    std::size_t count = 0;
+    std::uint32_t near[27];
+    int nnear = 0;
+    std::array<std::int64_t, 3> cell{};
     for (std::ptrdiff_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
       const Vec3 xi = fl.x[static_cast<std::size_t>(i)];
-      const std::size_t before = out.size();
-      fl.grid.forEachNear(xi, [&](int j) {
-        if (j != i && (fl.x[static_cast<std::size_t>(j)] - xi).squaredNorm() < reach2) out.push_back(j);
-      });
-      fl.nbr_start[static_cast<std::size_t>(i) + 1] = static_cast<std::uint32_t>(out.size() - before);
+      const std::array<std::int64_t, 3> ci = fl.grid.cellOf(xi);
+      if (i == c * kChunk || ci != cell) {
+        nnear = fl.grid.nearBuckets(xi, near);
+        cell = ci;
+      }
+      const std::size_t before = count;
+      for (int q = 0; q < nnear; ++q) {
+        const std::uint32_t b0 = fl.grid.begin(near[q]), b1 = fl.grid.end(near[q]);
+        if (out.size() < count + (b1 - b0)) out.resize(2 * (count + (b1 - b0)));
+        std::int32_t* w = out.data();
+        // Branch-free: every candidate is written, and kept (the count advances) when in reach.
+        for (std::uint32_t e = b0; e < b1; ++e) {
+          const double d0 = cx[3 * e] - xi.x(), d1 = cx[3 * e + 1] - xi.y(), d2 = cx[3 * e + 2] - xi.z();
+          const std::int32_t j = items[e];
+          w[count] = j;
+          count += static_cast<std::size_t>((d0 * d0 + d1 * d1 + d2 * d2 < reach2) & (j != i));
+        }
+      }
+      fl.nbr_start[static_cast<std::size_t>(i) + 1] = static_cast<std::uint32_t>(count - before);
     }
+    out.resize(count);
   }
   for (std::ptrdiff_t i = 0; i < n; ++i) fl.nbr_start[static_cast<std::size_t>(i) + 1] += fl.nbr_start[static_cast<std::size_t>(i)];
   fl.nbr.resize(fl.nbr_start.back());

@@ -95,6 +95,7 @@ struct Fluid {
   std::vector<std::int32_t> nbr;
   std::vector<Vec3> imp;  // particles × dynamic objects: impulse the particle took, N·s
   std::vector<std::vector<std::int32_t>> chunk_lists;  // neighbour-list scratch
+  std::vector<double> cell_x;  // positions in the grid's bucket order (list builds)
   struct alignas(64) Packed {  // what the force loop reads of a neighbour, in one cache line
     double x[3];
     double m;
