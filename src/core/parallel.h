@@ -4,6 +4,7 @@
 // the result is bit-identical for 1, 2 or 64 threads.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -39,6 +40,29 @@ double deterministicSum(std::ptrdiff_t n, F&& term) {
   }
   double s = 0.0;
   for (double p : partial) s += p;
+  return s;
+}
+
+// K sums at once: term(i) returns std::array<double, K>; the same fixed order of operations as
+// deterministicSum for each component. Lets a loop that updates vectors also return their dot
+// products in one pass (one parallel region instead of several).
+template <std::size_t K, class F>
+std::array<double, K> deterministicSums(std::ptrdiff_t n, F&& term) {
+  const std::ptrdiff_t chunks = (n + kReduceChunk - 1) / kReduceChunk;
+  std::vector<std::array<double, K>> partial(static_cast<std::size_t>(chunks > 0 ? chunks : 1), std::array<double, K>{});
+#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+  for (std::ptrdiff_t c = 0; c < chunks; ++c) {
+    const std::ptrdiff_t end = (c + 1) * kReduceChunk < n ? (c + 1) * kReduceChunk : n;
+    std::array<double, K> s{};
+    for (std::ptrdiff_t i = c * kReduceChunk; i < end; ++i) {
+      const std::array<double, K> t = term(i);
+      for (std::size_t k = 0; k < K; ++k) s[k] += t[k];
+    }
+    partial[static_cast<std::size_t>(c)] = s;
+  }
+  std::array<double, K> s{};
+  for (const auto& q : partial)
+    for (std::size_t k = 0; k < K; ++k) s[k] += q[k];
   return s;
 }
 

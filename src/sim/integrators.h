@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "core/scene.h"
@@ -23,9 +24,10 @@ class Dynamics {
   // The step solves A Δv = rhs with A = M − h ∂f/∂v − h² ∂f/∂x and rhs = h (f + h ∂f/∂x v),
   // both linearised at (x, v).
   virtual bool linearizable() const { return false; }
-  // Linearise at (x, v) for step h: fills rhs and the diagonal of A (for the preconditioner).
+  // Linearise at (x, v) for step h: fills rhs and, for the preconditioner, the inverse of each
+  // node's 3×3 diagonal block of A (block Jacobi).
   virtual void linearize(const Vec3* /*x*/, const Vec3* /*v*/, double /*h*/, Vec3* /*rhs*/,
-                         Vec3* /*diag*/) {}
+                         Mat3* /*block_inverse*/) {}
   // out = A p, with A from the last linearize().
   virtual void applySystem(const Vec3* /*p*/, Vec3* /*out*/) {}
 };
@@ -33,7 +35,9 @@ class Dynamics {
 // Scratch arrays reused across steps (resized on demand).
 struct IntegratorWorkspace {
   std::vector<Vec3> a, xt, vt, dx, dv;    // explicit methods
-  std::vector<Vec3> rhs, diag, r, z, p, q;  // conjugate gradients
+  std::vector<Vec3> rhs, r, z, p, q;         // conjugate gradients
+  std::vector<Mat3> pinv;                    // block-Jacobi preconditioner
+  std::vector<std::uint8_t> fixed;           // the system's fixed nodes, read once per step
 };
 
 struct StepStats {

@@ -1,6 +1,11 @@
 #include "sim/mass_spring.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
 #include "core/error.h"
+#include "core/lanes.h"
 #include "core/parallel.h"
 #include "sim/forces.h"
 
@@ -16,11 +21,16 @@ void Incidence::build(std::size_t nodes, const Springs& s) {
   }
   for (std::size_t i = 0; i < nodes; ++i) start[i + 1] += start[i];
   entries.assign(2 * s.size(), 0);
+  other.assign(2 * s.size(), 0);
   std::vector<int> fill(start.begin(), start.end() - 1);
   // Springs in index order: each node's list is sorted by spring index.
   for (std::size_t k = 0; k < s.size(); ++k) {
-    entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(s.a[k])]++)] = static_cast<int>(2 * k);
-    entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(s.b[k])]++)] = static_cast<int>(2 * k + 1);
+    const auto ea = static_cast<std::size_t>(fill[static_cast<std::size_t>(s.a[k])]++);
+    entries[ea] = static_cast<int>(2 * k);
+    other[ea] = s.b[k];
+    const auto eb = static_cast<std::size_t>(fill[static_cast<std::size_t>(s.b[k])]++);
+    entries[eb] = static_cast<int>(2 * k + 1);
+    other[eb] = s.a[k];
   }
 }
 
@@ -95,10 +105,9 @@ void MassSpringDynamics::acceleration(const Vec3* x, const Vec3* v, Vec3* a) {
 }
 
 void MassSpringDynamics::linearize(const Vec3* x, const Vec3* v, double h, Vec3* rhs,
-                                   Vec3* diag) {
+                                   Mat3* block_inverse) {
   const Springs& sp = m_.springs;
   const Index ns = static_cast<Index>(sp.size());
-  h_ = h;
   fs_.resize(sp.size());
   B_.resize(sp.size());
   // Per spring: w = s + h·K·(v_b − v_a) (end a's share of f₀ + h ∂f/∂x v₀), and B = h²K + hD.
@@ -108,35 +117,105 @@ void MassSpringDynamics::linearize(const Vec3* x, const Vec3* v, double h, Vec3*
     springJacobians(x[ia], x[ib], sp.stiffness[s], sp.damping[s], sp.rest[s], K, D);
     fs_[s] = springForce(x[ia], x[ib], v[ia], v[ib], sp.stiffness[s], sp.damping[s], sp.rest[s]) +
              h * (K * (v[ib] - v[ia]));
-    B_[s] = (h * h) * K + h * D;
+    const Mat3 B = (h * h) * K + h * D;
+    B_[s] = Sym3{{B(0, 0), B(1, 1), B(2, 2), B(0, 1), B(0, 2), B(1, 2)}};
   });
   spring_evals_ += sp.size();
-  // Per node: rhs = h (m g − γ v + Σ w), diag(A) = m + hγ + Σ diag(B).
+  // Per node: rhs = h (m g − γ v + Σ w); the springs' blocks copied in the node's entry order;
+  // the diagonal block (m + hγ) I + Σ B, inverted for the preconditioner.
   const Vec3 g = m_.gravity;
   const auto& inc = m_.incidence;
-  parallelFor(static_cast<Index>(m_.nodes()), [&](Index i) {
+  const std::size_t nodes = m_.nodes();
+  group_start_.resize(nodes + 1);
+  group_start_[0] = 0;
+  for (std::size_t i = 0; i < nodes; ++i) group_start_[i + 1] = group_start_[i] + (inc.start[i + 1] - inc.start[i] + 3) / 4;
+  groups_.resize(static_cast<std::size_t>(group_start_[nodes]));
+  own_.resize(nodes);
+  parallelFor(static_cast<Index>(nodes), [&](Index i) {
     Vec3 f = m_.mass[i] * g - m_.drag[i] * v[i];
     gather(fs_, static_cast<std::size_t>(i), f);
     if (external_) f += external_[i];
     rhs[i] = h * f;
-    Vec3 d = Vec3::Constant(m_.mass[i] + h * m_.drag[i]);
-    for (int e = inc.start[i]; e < inc.start[i + 1]; ++e)
-      d += B_[static_cast<std::size_t>(inc.entries[static_cast<std::size_t>(e)] >> 1)].diagonal();
-    diag[i] = d;
+    own_[i] = m_.mass[i] + h * m_.drag[i];
+    Mat3 d = Mat3::Identity() * own_[i];
+    for (int gi = group_start_[i]; gi < group_start_[i + 1]; ++gi) {
+      Group4& G = groups_[static_cast<std::size_t>(gi)];
+      for (int k = 0; k < 4; ++k) {
+        const int e = inc.start[i] + 4 * (gi - group_start_[i]) + k;
+        if (e >= inc.start[i + 1]) {
+          for (int c = 0; c < 6; ++c) G.b[c][k] = 0.0f;
+          G.other[k] = static_cast<int>(i);
+          continue;
+        }
+        const Sym3& B = B_[static_cast<std::size_t>(inc.entries[static_cast<std::size_t>(e)] >> 1)];
+        for (int c = 0; c < 6; ++c) G.b[c][k] = static_cast<float>(B.m[c]);
+        G.other[k] = inc.other[static_cast<std::size_t>(e)];
+        d(0, 0) += B.m[0], d(1, 1) += B.m[1], d(2, 2) += B.m[2];
+        d(0, 1) += B.m[3], d(0, 2) += B.m[4], d(1, 2) += B.m[5];
+      }
+    }
+    d(1, 0) = d(0, 1), d(2, 0) = d(0, 2), d(2, 1) = d(1, 2);
+    // Its inverse by cofactors. A block of a positive definite A is positive definite; a
+    // degenerate one (never expected) falls back to its diagonal.
+    Mat3 inv;
+    inv(0, 0) = d(1, 1) * d(2, 2) - d(1, 2) * d(1, 2);
+    inv(0, 1) = d(0, 2) * d(1, 2) - d(0, 1) * d(2, 2);
+    inv(0, 2) = d(0, 1) * d(1, 2) - d(0, 2) * d(1, 1);
+    inv(1, 1) = d(0, 0) * d(2, 2) - d(0, 2) * d(0, 2);
+    inv(1, 2) = d(0, 1) * d(0, 2) - d(0, 0) * d(1, 2);
+    inv(2, 2) = d(0, 0) * d(1, 1) - d(0, 1) * d(0, 1);
+    const double det = d(0, 0) * inv(0, 0) + d(0, 1) * inv(0, 1) + d(0, 2) * inv(0, 2);
+    if (det > 0.0 && std::isfinite(det)) {
+      inv(1, 0) = inv(0, 1), inv(2, 0) = inv(0, 2), inv(2, 1) = inv(1, 2);
+      block_inverse[i] = inv / det;
+    } else {
+      block_inverse[i] = Mat3(d.diagonal().cwiseInverse().asDiagonal());
+    }
   });
 }
 
+namespace {
+
+// out_i = (m + hγ) p_i + Σ over the springs at i of B (p_i − p_other), for nodes [i0, i1): each
+// node reads its springs' groups in order, four springs a lane each, and adds the lanes last.
+REEL_CLONED
+void applyGroups(const MassSpringDynamics::Group4* groups, const int* group_start, const double* own, const Vec3* p,
+                 Vec3* out, Index i0, Index i1) {
+  const Lane4 zero = {0, 0, 0, 0};
+  for (Index i = i0; i < i1; ++i) {
+    const Vec3 pi = p[i];
+    const Lane4 pi0 = zero + pi.x(), pi1 = zero + pi.y(), pi2 = zero + pi.z();
+    Lane4 a0 = zero, a1 = zero, a2 = zero;
+    for (int g = group_start[i]; g < group_start[i + 1]; ++g) {
+      const MassSpringDynamics::Group4& G = groups[g];
+      const Vec3 &q0 = p[G.other[0]], &q1 = p[G.other[1]], &q2 = p[G.other[2]], &q3 = p[G.other[3]];
+      const Lane4 d0 = pi0 - Lane4{q0.x(), q1.x(), q2.x(), q3.x()};
+      const Lane4 d1 = pi1 - Lane4{q0.y(), q1.y(), q2.y(), q3.y()};
+      const Lane4 d2 = pi2 - Lane4{q0.z(), q1.z(), q2.z(), q3.z()};
+      Float4 f[6];
+      std::memcpy(f, G.b, sizeof f);
+      // Widened to doubles exactly.
+      const Lane4 bxx = __builtin_convertvector(f[0], Lane4), byy = __builtin_convertvector(f[1], Lane4);
+      const Lane4 bzz = __builtin_convertvector(f[2], Lane4), bxy = __builtin_convertvector(f[3], Lane4);
+      const Lane4 bxz = __builtin_convertvector(f[4], Lane4), byz = __builtin_convertvector(f[5], Lane4);
+      a0 += bxx * d0 + bxy * d1 + bxz * d2;
+      a1 += bxy * d0 + byy * d1 + byz * d2;
+      a2 += bxz * d0 + byz * d1 + bzz * d2;
+    }
+    out[i] = Vec3(own[i] * pi.x() + hsum(a0), own[i] * pi.y() + hsum(a1), own[i] * pi.z() + hsum(a2));
+  }
+}
+
+}  // namespace
+
 void MassSpringDynamics::applySystem(const Vec3* p, Vec3* out) {
-  const Springs& sp = m_.springs;
-  // Per spring y = B (p_a − p_b): + on a, − on b; then (M + hγ) p + Σ ±y per node.
-  parallelFor(static_cast<Index>(sp.size()),
-              [&](Index s) { fs_[s] = B_[s] * (p[sp.a[s]] - p[sp.b[s]]); });
-  spring_products_ += sp.size();
-  parallelFor(static_cast<Index>(m_.nodes()), [&](Index i) {
-    Vec3 y = (m_.mass[i] + h_ * m_.drag[i]) * p[i];
-    gather(fs_, static_cast<std::size_t>(i), y);
-    out[i] = y;
-  });
+  const Index n = static_cast<Index>(m_.nodes());
+  constexpr Index kBlock = 256;
+  const Index blocks = (n + kBlock - 1) / kBlock;
+#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+  for (Index b = 0; b < blocks; ++b)
+    applyGroups(groups_.data(), group_start_.data(), own_.data(), p, out, b * kBlock, std::min(n, (b + 1) * kBlock));
+  spring_products_ += m_.springs.size();
 }
 
 double kineticEnergy(const MassSpringModel& m, const MassSpringState& s) {

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/isosurface.h"
+#include "core/lanes.h"
 #include "core/math.h"
 #include "core/parallel.h"
 #include "core/random.h"
@@ -469,17 +470,12 @@ void refreshNeighbours(Fluid& fl, bool force) {
   buildNeighbours(fl);
 }
 
-// Four doubles, one per lane (GCC's vector extension: AVX registers where the CPU has them, SSE
-// pairs elsewhere; every operation is lane-wise IEEE arithmetic, so the bits do not depend on which).
-using Lane4 = double __attribute__((vector_size(32)));
-using Mask4 = long long __attribute__((vector_size(32)));
-
 // The pair and viscous forces on particles [i0, i1) whose species meets every species in the
 // seed's form (a = 2, b = 4, ε = 0), four list entries at a time: lane k takes the entries k, k+4,
 // ... of the particle's list, in order, and the lanes are added in a fixed order at the end. The
-// cutoff is a mask, not a branch (half the entries of a Verlet list lie in its skin). The function
-// is compiled twice, for AVX2 and for any x86-64, and the loader picks one; both give the same bits.
-__attribute__((target_clones("avx2", "default")))
+// cutoff is a mask, not a branch (half the entries of a Verlet list lie in its skin). Compiled for
+// AVX2 and for any x86-64 (core/lanes.h): both give the same bits.
+REEL_CLONED
 void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const Vec3& gravity, Vec3* out) {
   const Fluid::Packed* P = fl.packed.data();
   const std::int32_t* nb = fl.nbr.data();
@@ -524,9 +520,7 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
       a1 += c * d1 + w * (Lane4{q0.v[1], q1.v[1], q2.v[1], q3.v[1]} - vi1);
       a2 += c * d2 + w * (Lane4{q0.v[2], q1.v[2], q2.v[2], q3.v[2]} - vi2);
     }
-    out[i] = Vec3(pi.m * gravity.x() + ((a0[0] + a0[1]) + (a0[2] + a0[3])),
-                  pi.m * gravity.y() + ((a1[0] + a1[1]) + (a1[2] + a1[3])),
-                  pi.m * gravity.z() + ((a2[0] + a2[1]) + (a2[2] + a2[3])));
+    out[i] = Vec3(pi.m * gravity.x() + hsum(a0), pi.m * gravity.y() + hsum(a1), pi.m * gravity.z() + hsum(a2));
   }
 }
 

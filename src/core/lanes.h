@@ -1,0 +1,27 @@
+// Four doubles processed together (GCC's vector extension), for the hot loops that gather from
+// neighbour lists: the fluid's pair forces and the springs' products in implicit Euler.
+//
+// Every operation on a Lane4 is lane-wise IEEE arithmetic (no fused multiply-add: the build
+// has -ffp-contract=off), so a loop written with them gives the same bits whether the compiler
+// maps a Lane4 to one AVX register or to two SSE2 ones. REEL_CLONED compiles a function for
+// both and lets the loader pick by CPU: faster where AVX2 exists, and the same results on
+// every x86-64 (DESIGN 6). A loop keeps one accumulator per lane and adds the lanes in a fixed
+// order at the end (hsum).
+#pragma once
+
+namespace reel {
+
+using Lane4 = double __attribute__((vector_size(32)));
+using Mask4 = long long __attribute__((vector_size(32)));  // lane-wise comparison results
+using Float4 = float __attribute__((vector_size(16)));
+
+// (l0 + l1) + (l2 + l3).
+inline double hsum(const Lane4& a) { return (a[0] + a[1]) + (a[2] + a[3]); }
+
+}  // namespace reel
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define REEL_CLONED __attribute__((target_clones("avx2", "default")))
+#else
+#define REEL_CLONED
+#endif
