@@ -28,20 +28,23 @@ inline Vec3 springForce(const Vec3& xa, const Vec3& xb, const Vec3& va, const Ve
 //   ∂s/∂x_b = K = c·[û ûᵀ + max(0, 1 − l/L)·(I − û ûᵀ)]     (the transverse term is clamped at
 //   zero for compressed springs so the system stays positive definite),
 //   ∂s/∂v_b = D = γ_s·û ûᵀ;  ∂s/∂x_a = −K, ∂s/∂v_a = −D.
-inline void springJacobians(const Vec3& xa, const Vec3& xb, double stiffness, double damping,
-                            double rest, Mat3& K, Mat3& D) {
+// Both are combinations of û ûᵀ and I, so they are returned as û and t = max(0, 1 − l/L):
+// K = c·[(1 − t)·û ûᵀ + t·I]. Coincident nodes (no direction) give û = 0 and t = 0: K = D = 0.
+struct SpringJacobians {
+  Vec3 u = Vec3::Zero();
+  double t = 0.0;
+  // K w, without forming the matrix.
+  Vec3 K(double stiffness, const Vec3& w) const { return stiffness * ((1.0 - t) * u.dot(w) * u + t * w); }
+};
+
+inline SpringJacobians springJacobians(const Vec3& xa, const Vec3& xb, double rest) {
+  SpringJacobians j;
   const Vec3 r = xb - xa;
   const double len = r.norm();
-  if (!(len > 1e-300)) {
-    K.setZero();
-    D.setZero();
-    return;
-  }
-  const Vec3 u = r / len;
-  const Mat3 uu = u * u.transpose();
-  const double t = std::fmax(0.0, 1.0 - rest / len);
-  K = stiffness * (uu + t * (Mat3::Identity() - uu));
-  D = damping * uu;
+  if (!(len > 1e-300)) return j;
+  j.u = r * (1.0 / len);
+  j.t = std::fmax(0.0, 1.0 - rest / len);
+  return j;
 }
 
 }  // namespace reel

@@ -113,12 +113,14 @@ void MassSpringDynamics::linearize(const Vec3* x, const Vec3* v, double h, Vec3*
   // Per spring: w = s + h·K·(v_b − v_a) (end a's share of f₀ + h ∂f/∂x v₀), and B = h²K + hD.
   parallelFor(ns, [&](Index s) {
     const int ia = sp.a[s], ib = sp.b[s];
-    Mat3 K, D;
-    springJacobians(x[ia], x[ib], sp.stiffness[s], sp.damping[s], sp.rest[s], K, D);
-    fs_[s] = springForce(x[ia], x[ib], v[ia], v[ib], sp.stiffness[s], sp.damping[s], sp.rest[s]) +
-             h * (K * (v[ib] - v[ia]));
-    const Mat3 B = (h * h) * K + h * D;
-    B_[s] = Sym3{{B(0, 0), B(1, 1), B(2, 2), B(0, 1), B(0, 2), B(1, 2)}};
+    const double k = sp.stiffness[s], d = sp.damping[s];
+    const SpringJacobians J = springJacobians(x[ia], x[ib], sp.rest[s]);
+    fs_[s] = springForce(x[ia], x[ib], v[ia], v[ib], k, d, sp.rest[s]) + h * J.K(k, v[ib] - v[ia]);
+    // B = h²K + hD = c1·I + c2·û ûᵀ.
+    const double c1 = h * h * k * J.t, c2 = h * h * k * (1.0 - J.t) + h * d;
+    const Vec3& u = J.u;
+    B_[s] = Sym3{{c1 + c2 * u.x() * u.x(), c1 + c2 * u.y() * u.y(), c1 + c2 * u.z() * u.z(), c2 * u.x() * u.y(),
+                  c2 * u.x() * u.z(), c2 * u.y() * u.z()}};
   });
   spring_evals_ += sp.size();
   // Per node: rhs = h (m g − γ v + Σ w); the springs' blocks copied in the node's entry order;
