@@ -62,7 +62,7 @@ MassSpringDesc buildCloth(const ClothDesc& d, std::uint64_t seed, Cloth& c) {
       n.position = d.position + R * local;
       n.velocity = d.velocity;
       n.mass = d.mass * wi * wj / cells;
-      n.damping = d.node_damping;
+      n.damping = d.node_damping * wi * wj;
       out.nodes.push_back(n);
       c.uv.push_back(static_cast<float>(fu * d.uv_scale[0]));
       c.uv.push_back(static_cast<float>(fv * d.uv_scale[1]));
