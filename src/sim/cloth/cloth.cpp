@@ -351,9 +351,27 @@ void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::
   c.v_in.resize(nn);
   // Two sweeps: the second looks again only at the nodes the first one moved.
   c.hit.assign(nn, 1);
+  // Per triangle, once a pass: the normal at the last pass (the side a node was on); once a
+  // sweep: the unit normal and twice the area (not once per node that looks at it).
+  c.tri_n0.resize(nt);
+  c.tri_n.resize(nt);
+  c.tri_len.resize(nt);
+  parallelFor(static_cast<Index>(nt), [&](Index t) {
+    const auto& tri = c.tris[static_cast<std::size_t>(t)];
+    const Vec3 &a0 = c.x_prev[tri[0]], &b0 = c.x_prev[tri[1]], &c0 = c.x_prev[tri[2]];
+    c.tri_n0[static_cast<std::size_t>(t)] = (b0 - a0).cross(c0 - a0);
+  });
   for (int sweep = 0; sweep < 2; ++sweep) {
     c.x_in = x;
     c.v_in = v;
+    parallelFor(static_cast<Index>(nt), [&](Index t) {
+      const auto& tri = c.tris[static_cast<std::size_t>(t)];
+      const Vec3 &a = c.x_in[tri[0]], &b = c.x_in[tri[1]], &cc = c.x_in[tri[2]];
+      const Vec3 cr = (b - a).cross(cc - a);
+      const double len = cr.norm();
+      c.tri_len[static_cast<std::size_t>(t)] = len;
+      c.tri_n[static_cast<std::size_t>(t)] = len > 1e-300 ? Vec3(cr / len) : Vec3::Zero();
+    });
     parallelFor(static_cast<Index>(nn), [&](Index i) {
       if (m.fixed[i] || !c.hit[i]) return;
       c.hit[i] = 0;
@@ -366,11 +384,10 @@ void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::
         if (p.x() < lo.x() || p.y() < lo.y() || p.z() < lo.z() || p.x() > hi.x() || p.y() > hi.y() || p.z() > hi.z()) return;
         const auto& tri = c.tris[static_cast<std::size_t>(t)];
         if (tri[0] == i || tri[1] == i || tri[2] == i) return;
-        const Vec3 &a = c.x_in[tri[0]], &b = c.x_in[tri[1]], &cc = c.x_in[tri[2]];
-        const Vec3 cr = (b - a).cross(cc - a);
-        const double len = cr.norm();
+        const double len = c.tri_len[static_cast<std::size_t>(t)];
         if (!(len > 1e-300)) return;
-        const Vec3 n = cr / len;
+        const Vec3 &a = c.x_in[tri[0]], &b = c.x_in[tri[1]], &cc = c.x_in[tri[2]];
+        const Vec3& n = c.tri_n[static_cast<std::size_t>(t)];
         const double dn = (p - a).dot(n);
         if (std::abs(dn) > depth) return;
         // Barycentric coordinates of p's projection on the triangle's plane.
@@ -380,7 +397,7 @@ void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::
         if (wa < 0 || wb < 0 || wc < 0) return;
         // The side the node was on at the start of the step.
         const Vec3 &a0 = c.x_prev[tri[0]], &b0 = c.x_prev[tri[1]], &c0 = c.x_prev[tri[2]];
-        const Vec3 n0 = (b0 - a0).cross(c0 - a0);
+        const Vec3& n0 = c.tri_n0[static_cast<std::size_t>(t)];
         const double side0 = (p0 - (wa * a0 + wb * b0 + wc * c0)).dot(n0);
         const double s = side0 > 0 ? 1.0 : side0 < 0 ? -1.0 : (dn >= 0 ? 1.0 : -1.0);
         const double sd = s * dn;

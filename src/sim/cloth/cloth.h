@@ -60,6 +60,8 @@ struct Cloth {
   std::vector<Vec3> tri_force;  // (triangles)
   std::vector<Vec3> x_prev, x_in, v_in, corr;  // (nodes); x_prev: positions at the last pass
   std::vector<std::uint8_t> hit;  // self-collision moved the node this sweep (nodes)
+  std::vector<Vec3> tri_n, tri_n0;  // triangles' unit normals this sweep, normals at the last pass
+  std::vector<double> tri_len;      // twice the triangles' areas this sweep
   long long self_passes = 0;
   std::vector<Vec3> lo, hi;     // triangle boxes (triangles)
   BoxGrid grid;
