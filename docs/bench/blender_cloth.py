@@ -16,6 +16,8 @@
 # Prints a "drape:" line (evaluated sheet min/max z at the last frame, a sanity
 # check) and one JSON line. In Blender 3.4 primitive_grid_add's subdivisions
 # are cuts (s gives (s+1)^2 vertices, checked), so we pass N-1 to get N*N.
+# --obj PATH writes the sheet at the last frame as an OBJ (y up), for reel to render beside
+# its own drape (docs/cloth.md).
 # Caveat: at N=64 (edge 3.2 cm) Blender's default self distance 0.015 makes the
 # flat sheet "self-collide" and fall slowly; --self-distance 0.01 avoids it.
 import argparse
@@ -37,6 +39,8 @@ def parse_args():
     p.add_argument("--seconds", type=float, default=2.0, help="simulated seconds")
     p.add_argument("--self-distance", type=float, default=None,
                    help="self-collision distance (Blender default 0.015)")
+    p.add_argument("--obj", default=None,
+                   help="write the sheet at the last frame here as a Wavefront OBJ, y up (reel's axes)")
     return p.parse_args(argv)
 
 
@@ -94,6 +98,20 @@ def sheet_z_range(sheet):
     return min(zs), max(zs)
 
 
+def write_obj(sheet, path):
+    # The evaluated sheet in world space, Blender's z-up turned to reel's y-up: (x, z, -y).
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    ev = sheet.evaluated_get(depsgraph)
+    mw = ev.matrix_world
+    with open(path, "w") as f:
+        f.write("# Blender %s cloth, last frame\n" % bpy.app.version_string)
+        for v in ev.data.vertices:
+            w = mw @ v.co
+            f.write("v %.6f %.6f %.6f\n" % (w.x, w.z, -w.y))
+        for poly in ev.data.polygons:
+            f.write("f %s\n" % " ".join(str(i + 1) for i in poly.vertices))
+
+
 def main():
     args = parse_args()
     n = args.size
@@ -109,6 +127,8 @@ def main():
     wall = time.perf_counter() - t0
 
     zmin, zmax = sheet_z_range(sheet)
+    if args.obj:
+        write_obj(sheet, args.obj)
     simulated = steps / FPS
     coll = sheet.modifiers["Cloth"].collision_settings
     print("drape: frame %d sheet z min %.4f max %.4f" % (scene.frame_current, zmin, zmax))
