@@ -1,8 +1,10 @@
 // Small builders shared by the tests.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "core/scene.h"
 #include "io/scene_loader.h"
@@ -10,6 +12,45 @@
 #include "sim/mass_spring.h"
 
 namespace reel::test {
+
+// Implicit Euler's matrix assembled spring by spring from Baraff & Witkin's formulas, a reference
+// for the tests: K = c[û ûᵀ + max(0, 1 − L/l)(I − û ûᵀ)], D = γ û ûᵀ, each spring's block
+// B = h²K + hD, and each node's diagonal block (m + hγ) I + Σ B.
+struct AssembledSystem {
+  std::vector<Mat3> B;     // springs
+  std::vector<Mat3> diag;  // nodes
+  // A p = (m + hγ) p_i + Σ over the springs at i of B (p_i − p_other).
+  std::vector<Vec3> product(const MassSpringModel& m, double h, const std::vector<Vec3>& p) const {
+    std::vector<Vec3> y(m.nodes());
+    for (std::size_t i = 0; i < m.nodes(); ++i) y[i] = (m.mass[i] + h * m.drag[i]) * p[i];
+    for (std::size_t s = 0; s < m.springs.size(); ++s) {
+      const auto a = static_cast<std::size_t>(m.springs.a[s]), b = static_cast<std::size_t>(m.springs.b[s]);
+      y[a] += B[s] * (p[a] - p[b]);
+      y[b] += B[s] * (p[b] - p[a]);
+    }
+    return y;
+  }
+};
+
+inline AssembledSystem assembleSystem(const MassSpringModel& m, const std::vector<Vec3>& x, double h) {
+  AssembledSystem A;
+  A.B.resize(m.springs.size());
+  A.diag.resize(m.nodes());
+  for (std::size_t i = 0; i < m.nodes(); ++i) A.diag[i] = (m.mass[i] + h * m.drag[i]) * Mat3::Identity();
+  for (std::size_t s = 0; s < m.springs.size(); ++s) {
+    const auto a = static_cast<std::size_t>(m.springs.a[s]), b = static_cast<std::size_t>(m.springs.b[s]);
+    const Vec3 r = x[b] - x[a];
+    const double len = r.norm();
+    const Vec3 u = r / len;
+    const Mat3 uu = u * u.transpose();
+    const double t = std::max(0.0, 1.0 - m.springs.rest[s] / len);
+    const Mat3 K = m.springs.stiffness[s] * (uu + t * (Mat3::Identity() - uu)), D = m.springs.damping[s] * uu;
+    A.B[s] = h * h * K + h * D;
+    A.diag[a] += A.B[s];
+    A.diag[b] += A.B[s];
+  }
+  return A;
+}
 
 // A body built from explicit nodes and springs, ready to integrate.
 struct System {

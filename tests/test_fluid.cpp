@@ -104,52 +104,64 @@ TEST_CASE("the pair force matches g_ij = m_i m_j (x_i - x_j)(-alpha/(r+eps)^a + 
   CHECK(pairForce(p, 1, 1, Vec3(0.0501, 0, 0), Vec3::Zero()).isZero());
 }
 
-TEST_CASE("the force loop equals a brute-force sum of pair and viscous forces (vector and scalar paths)") {
-  // A dense random cloud of two species with random velocities: with the seed's exponents both
-  // take the four-lane loop (lists of every length mod 4, pairs of mixed species); with epsilon
+TEST_CASE("the force loop equals a brute-force sum of pair and viscous forces (vector and scalar paths, threads)") {
+  // A dense random cloud of 4,500 particles with random velocities (more than one list-building
+  // chunk, and parallel loops): one species and two with the seed's exponents take the four-lane
+  // loop (lists of every length mod 4, one parameter row or pairs of mixed species); with epsilon
   // on the second species every particle takes the scalar loop.
-  for (const char* eps : {"0", "0.001"}) {
-    CAPTURE(eps);
-    const int n = 700;
+  struct Config { int species; const char* eps; bool seed_form; };
+  for (const Config cfg : {Config{1, "0", true}, Config{2, "0", true}, Config{2, "0.001", false}}) {
+    CAPTURE(cfg.species);
+    CAPTURE(cfg.eps);
+    const int n = 4500;
     std::vector<Vec3> x0(n), v0(n);
     std::string pos[2], vel[2];
+    auto speciesOf = [&](int i) { return cfg.species == 2 && i % 3 == 0 ? 1 : 0; };
     for (int i = 0; i < n; ++i) {
       for (int a = 0; a < 3; ++a) {
-        x0[i][a] = 0.12 * uniformAt(21, static_cast<std::uint64_t>(a), static_cast<std::uint64_t>(i));
+        x0[i][a] = 0.223 * uniformAt(21, static_cast<std::uint64_t>(a), static_cast<std::uint64_t>(i));
         v0[i][a] = uniformAt(21, 10 + static_cast<std::uint64_t>(a), static_cast<std::uint64_t>(i)) - 0.5;
       }
-      const int sp = i % 3 == 0 ? 1 : 0;
+      const int sp = speciesOf(i);
       pos[sp] += (pos[sp].empty() ? "" : ",") + vec(x0[i]);
       vel[sp] += (vel[sp].empty() ? "" : ",") + vec(v0[i]);
     }
     // Particles are created species by species: ids 0.. are water, then oil.
     std::vector<Vec3> xs, vs;
     std::vector<int> ss;
-    for (int sp = 0; sp < 2; ++sp)
+    for (int sp = 0; sp < cfg.species; ++sp)
       for (int i = 0; i < n; ++i)
-        if ((i % 3 == 0 ? 1 : 0) == sp) xs.push_back(x0[i]), vs.push_back(v0[i]), ss.push_back(sp);
-    const SceneDesc scene = sceneFromText(std::string(R"({"format": "reel/1", "duration": 0.1, "gravity": [0, -9.81, 0],
-      "bodies": [{"type": "fluid", "name": "f", "radius": 0.001, "species": [)") + kWater + R"(,
-        {"name": "oil", "mass": 0.006, "alpha": 150, "beta": 0.07, "cutoff": 0.03, "viscosity": 5, "epsilon": )" + eps + R"(}],
-        "particles": [{"species": "water", "positions": [)" + pos[0] + "], \"velocities\": [" + vel[0] + R"(]},
-                      {"species": "oil", "positions": [)" + pos[1] + "], \"velocities\": [" + vel[1] + R"(]}]}]})");
-    Fluid fl = buildFluid(std::get<FluidDesc>(scene.bodies[0].shape), "f", {}, {}, 0);
+        if (speciesOf(i) == sp) xs.push_back(x0[i]), vs.push_back(v0[i]), ss.push_back(sp);
+    std::string bodies = std::string(R"({"format": "reel/1", "duration": 0.1, "gravity": [0, -9.81, 0],
+      "bodies": [{"type": "fluid", "name": "f", "radius": 0.001, "species": [)") + kWater;
+    if (cfg.species == 2)
+      bodies += std::string(R"(, {"name": "oil", "mass": 0.006, "alpha": 150, "beta": 0.07, "cutoff": 0.03, "viscosity": 5, "epsilon": )") + cfg.eps + "}";
+    bodies += R"(], "particles": [{"species": "water", "positions": [)" + pos[0] + "], \"velocities\": [" + vel[0] + "]}";
+    if (cfg.species == 2)
+      bodies += R"(, {"species": "oil", "positions": [)" + pos[1] + "], \"velocities\": [" + vel[1] + "]}";
+    bodies += "]}]}";
+    const SceneDesc scene = sceneFromText(bodies);
+    const Fluid start = buildFluid(std::get<FluidDesc>(scene.bodies[0].shape), "f", {}, {}, 0);
+    // Which loop runs: the four-lane one for rows whose every pair has the seed's form.
+    for (const PairParams& p : start.pairs) CHECK(p.seed_form == (cfg.seed_form || &p == &start.pairs[0]));
+    Fluid fl = start;
     std::vector<DynamicObject> none;
     const Vec3 g(0, -9.81, 0);
     stepFluid(fl, {}, none, g, 1e-12, 0.0, 1e-12);  // the forces of the positions and velocities above
-    const double mass[2] = {0.008, 0.006}, visc[2] = {10, 5};
+    const auto S = static_cast<std::size_t>(cfg.species);
     int checked = 0;
     for (std::size_t k = 0; k < fl.size(); ++k) {
       const auto i = static_cast<std::size_t>(fl.id[k]);
-      Vec3 expect = mass[ss[i]] * g, scale = (mass[ss[i]] * g).cwiseAbs();
+      const double mi = fl.species_mass[static_cast<std::size_t>(ss[i])];
+      Vec3 expect = mi * g, scale = (mi * g).cwiseAbs();
       for (std::size_t j = 0; j < xs.size(); ++j) {
         if (j == i) continue;
-        const PairParams& p = fl.pairs[static_cast<std::size_t>(ss[i] * 2 + ss[j])];
+        const PairParams& p = fl.pairs[static_cast<std::size_t>(ss[i]) * S + static_cast<std::size_t>(ss[j])];
         const double r = (xs[i] - xs[j]).norm();
         if (r >= p.cutoff) continue;
-        const Vec3 pair = pairForce(p, mass[ss[i]], mass[ss[j]], xs[i], xs[j]);
-        const double gamma = 0.5 * (visc[ss[i]] + visc[ss[j]]);
-        const Vec3 viscous = gamma * mass[ss[i]] * mass[ss[j]] / (mass[ss[i]] + mass[ss[j]]) * (1.0 - r / p.cutoff) * (vs[j] - vs[i]);
+        const double mj = fl.species_mass[static_cast<std::size_t>(ss[j])];
+        const Vec3 pair = pairForce(p, mi, mj, xs[i], xs[j]);
+        const Vec3 viscous = p.viscosity * mi * mj / (mi + mj) * (1.0 - r / p.cutoff) * (vs[j] - vs[i]);
         expect += pair + viscous;
         scale += pair.cwiseAbs() + viscous.cwiseAbs();
       }
@@ -157,6 +169,16 @@ TEST_CASE("the force loop equals a brute-force sum of pair and viscous forces (v
       checked += fl.nbr_start[k + 1] > fl.nbr_start[k] + 4;
     }
     CHECK(checked > n / 2);  // most particles have several neighbours
+    // The same steps on 1 and 2 threads give the same bits.
+    auto run = [&](int threads) {
+      const int before = threadCount();
+      setThreadCount(threads);
+      Fluid f = start;
+      for (int k = 0; k < 5; ++k) stepFluid(f, {}, none, g, 1e-4, k * 1e-4, (k + 1) * 1e-4);
+      setThreadCount(before);
+      return f.x;
+    };
+    CHECK(run(1) == run(2));
   }
 }
 

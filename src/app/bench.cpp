@@ -254,7 +254,7 @@ int benchCloth(double simulated_64) {
         const double node_damping = 1.7 * 0.15 * 4.0 / ((cs.n - 1.0) * (cs.n - 1.0));
         if (integrator == "symplectic_euler" && cs.n > 64) continue;  // its step shrinks with the grid
         const std::string substeps = integrator == "implicit_euler"
-                                         ? R"("substeps": 5, "implicit": {"cg_tolerance": )" + std::to_string(solver.tolerance) +
+                                         ? R"("substeps": 5, "implicit": {"cg_tolerance": )" + nlohmann::json(solver.tolerance).dump() +
                                                R"(, "cg_max_iterations": 200})"
                                          : R"("substeps": 10, "auto_substeps": true)";
         const std::string text = R"({"format": "reel/1", "name": "bench_cloth", "fps": 30, "duration": )" +

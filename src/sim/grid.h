@@ -1,5 +1,5 @@
 // A uniform spatial grid, hashed, written once for every neighbour search of the simulation
-// (cloth self-collision, triangle-mesh colliders, and later fluid particles).
+// (cloth self-collision, triangle-mesh colliders, fluid particles' neighbour lists).
 //
 // Items are axis-aligned boxes; each is listed in every cell its box overlaps. The cells live in
 // a hash table (cell coordinates → bucket), built by a counting sort: items appear in a bucket
@@ -40,7 +40,7 @@ class BoxGrid {
   }
   // The distinct buckets of the 27 cells around the one that contains p, in the order
   // forEachNear visits them; returns how many (0 for an empty grid). Items of bucket b are
-  // items()[begin(b) .. end(b)).
+  // items()[bucketBegin(b) .. bucketEnd(b)).
   int nearBuckets(const Vec3& p, std::uint32_t (&out)[27]) const {
     if (start_.empty()) return 0;
     const std::int64_t ci = coord(p.x()), cj = coord(p.y()), ck = coord(p.z());
@@ -57,8 +57,8 @@ class BoxGrid {
   }
   // The cell that contains p, as three integers.
   std::array<std::int64_t, 3> cellOf(const Vec3& p) const { return {coord(p.x()), coord(p.y()), coord(p.z())}; }
-  std::uint32_t begin(std::uint32_t b) const { return start_[b]; }
-  std::uint32_t end(std::uint32_t b) const { return start_[b + 1]; }
+  std::uint32_t bucketBegin(std::uint32_t b) const { return start_[b]; }
+  std::uint32_t bucketEnd(std::uint32_t b) const { return start_[b + 1]; }
   std::span<const std::int32_t> items() const { return items_; }
   double cell() const { return cell_; }
   std::size_t entries() const { return items_.size(); }

@@ -111,15 +111,15 @@ double dot(const std::vector<Vec3>& p, const std::vector<Vec3>& q) {
 // gradients with a block-Jacobi preconditioner (each node's 3×3 diagonal block inverted: the
 // springs' uuᵀ terms make that block far from diagonal). Fixed nodes are filtered out (their Δv
 // is 0: the filter S of section 5.3 with every direction constrained). Each iteration is one
-// product with A and three passes over the nodes that also return the dot products, each a
-// deterministic chunked sum.
+// product with A and three passes over the nodes, two of which also return the dot products
+// (each a deterministic chunked sum).
 void implicitEuler(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
                    IntegratorWorkspace& ws, const ImplicitSettings& set, StepStats* stats) {
   REEL_CHECK(dyn.linearizable(), "implicit_euler needs a linearizable system");
   const std::size_t n = x.size();
   const Index ni = static_cast<Index>(n);
   for (auto* w : {&ws.rhs, &ws.r, &ws.z, &ws.p, &ws.q, &ws.dv}) resize(*w, n);
-  if (ws.pinv.size() != n) ws.pinv.assign(n, Mat3::Identity());
+  ws.pinv.resize(n);  // linearize fills every block
   ws.fixed.resize(n);
   for (std::size_t i = 0; i < n; ++i) ws.fixed[i] = dyn.fixed(i) ? 1 : 0;
   const std::uint8_t* fixed = ws.fixed.data();

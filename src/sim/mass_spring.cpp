@@ -167,7 +167,9 @@ void MassSpringDynamics::linearize(const Vec3* x, const Vec3* v, double h, Vec3*
     inv(1, 2) = d(0, 1) * d(0, 2) - d(0, 0) * d(1, 2);
     inv(2, 2) = d(0, 0) * d(1, 1) - d(0, 1) * d(0, 1);
     const double det = d(0, 0) * inv(0, 0) + d(0, 1) * inv(0, 1) + d(0, 2) * inv(0, 2);
-    if (det > 0.0 && std::isfinite(det)) {
+    // (Extreme stiffness over mass can leave the cofactors too inexact for a positive inverse:
+    // then too the diagonal.)
+    if (det > 0.0 && std::isfinite(det) && inv(0, 0) > 0.0 && inv(1, 1) > 0.0 && inv(2, 2) > 0.0) {
       inv(1, 0) = inv(0, 1), inv(2, 0) = inv(0, 2), inv(2, 1) = inv(1, 2);
       block_inverse[i] = inv / det;
     } else {

@@ -390,7 +390,8 @@ void buildNeighbours(Fluid& fl) {
   double* cx = fl.cell_x.data();
   parallelFor(E, [&](std::ptrdiff_t e) {
     const Vec3& p = fl.x[static_cast<std::size_t>(items[static_cast<std::size_t>(e)])];
-    cx[3 * e] = p.x(), cx[3 * e + 1] = p.y(), cx[3 * e + 2] = p.z();
+    double* c3 = cx + 3 * static_cast<std::size_t>(e);
+    c3[0] = p.x(), c3[1] = p.y(), c3[2] = p.z();
   });
   // One pass: fixed chunks of particles list their neighbours in parallel, then the chunks are
   // joined in order (the same list for any thread count). Consecutive particles mostly share a
@@ -415,12 +416,13 @@ void buildNeighbours(Fluid& fl) {
       }
       const std::size_t before = count;
       for (int q = 0; q < nnear; ++q) {
-        const std::uint32_t b0 = fl.grid.begin(near[q]), b1 = fl.grid.end(near[q]);
+        const std::uint32_t b0 = fl.grid.bucketBegin(near[q]), b1 = fl.grid.bucketEnd(near[q]);
         if (out.size() < count + (b1 - b0)) out.resize(2 * (count + (b1 - b0)));
         std::int32_t* w = out.data();
         // Branch-free: every candidate is written, and kept (the count advances) when in reach.
         for (std::uint32_t e = b0; e < b1; ++e) {
-          const double d0 = cx[3 * e] - xi.x(), d1 = cx[3 * e + 1] - xi.y(), d2 = cx[3 * e + 2] - xi.z();
+          const double* c3 = cx + 3 * static_cast<std::size_t>(e);
+          const double d0 = c3[0] - xi.x(), d1 = c3[1] - xi.y(), d2 = c3[2] - xi.z();
           const std::int32_t j = items[e];
           w[count] = j;
           count += static_cast<std::size_t>((d0 * d0 + d1 * d1 + d2 * d2 < reach2) & (j != i));
@@ -546,8 +548,8 @@ void generalForces(const Fluid& fl, std::size_t i, const Vec3& gravity, Vec3* ou
   out[i] = Vec3(f0, f1, f2);
 }
 
-// Pair and viscous forces plus gravity, gathered per particle in list order (deterministic). The
-// force loop reads each neighbour's position, velocity, mass and species from one 64-byte record
+// Pair and viscous forces plus gravity, gathered per particle in a fixed order (the list's, or
+// its four lanes' then the lanes in order: deterministic). The force loop reads each neighbour's position, velocity, mass and species from one 64-byte record
 // (one cache line) instead of four arrays.
 void computeForces(Fluid& fl, const Vec3& gravity) {
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
