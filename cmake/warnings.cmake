@@ -6,6 +6,9 @@ target_compile_options(reel_options INTERFACE
   -ffp-contract=off -fno-fast-math
   # Square roots need not set errno, so they vectorize; no value changes.
   -fno-math-errno)
+if(NOT REEL_TARGET_CLONES)
+  target_compile_definitions(reel_options INTERFACE REEL_NO_CLONES)
+endif()
 if(REEL_SANITIZE)
   target_compile_options(reel_options INTERFACE -fsanitize=${REEL_SANITIZE} -fno-omit-frame-pointer)
   target_link_options(reel_options INTERFACE -fsanitize=${REEL_SANITIZE})

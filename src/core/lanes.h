@@ -20,7 +20,9 @@ inline double hsum(const Lane4& a) { return (a[0] + a[1]) + (a[2] + a[3]); }
 
 }  // namespace reel
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+// Building with -DREEL_TARGET_CLONES=OFF (REEL_NO_CLONES) leaves only the plain version: a dump
+// from that build must equal one from the default build byte for byte (docs/engine.md).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(REEL_NO_CLONES)
 #define REEL_CLONED __attribute__((target_clones("avx2", "default")))
 #else
 #define REEL_CLONED
