@@ -107,14 +107,8 @@ TEST_CASE("the estimated step bound separates stable from unstable symplectic Eu
 TEST_CASE("implicit Euler's linear system matches the assembled Baraff-Witkin matrix, and the step solves it") {
   // A net of uneven masses, stretched and compressed springs (the transverse term on and
   // clamped off), node drag and two pins; a random direction p.
-  NetDesc net;
-  net.resolution = {9, 7};
-  net.mass = 0.3;
-  net.structural = {800.0, 0.4};
-  net.shear = {150.0, 0.1};
-  net.node_damping = 0.02;
-  net.pinned = {0, 8};
-  MassSpringDesc d = buildNet(net);
+  MassSpringDesc d = buildNet({.resolution = {9, 7}, .mass = 0.3, .structural = {800.0, 0.4}, .shear = {150.0, 0.1},
+                               .node_damping = 0.02, .pinned = {0, 8}});
   std::uint64_t draw = 0;
   auto rnd = [&] { return uniformAt(99, 0, draw++) - 0.5; };  // reel's own numbers, from a seed
   for (auto& nd : d.nodes) {

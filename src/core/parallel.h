@@ -21,6 +21,16 @@ void parallelFor(std::ptrdiff_t n, F&& body) {
   for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
 }
 
+// body(i0, i1) over [0, n) cut into blocks of `block` elements, in parallel once n reaches
+// kParallelMin (the threshold is on the elements, not the blocks): for kernels that take a range
+// (one call per block, not per element).
+template <class F>
+void parallelBlocks(std::ptrdiff_t n, std::ptrdiff_t block, F&& body) {
+  const std::ptrdiff_t blocks = (n + block - 1) / block;
+#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+  for (std::ptrdiff_t b = 0; b < blocks; ++b) body(b * block, (b + 1) * block < n ? (b + 1) * block : n);
+}
+
 // Sum of term(i) for i in [0, n) in a fixed order of operations.
 template <class F>
 double deterministicSum(std::ptrdiff_t n, F&& term) {

@@ -1,6 +1,5 @@
 #include "sim/mass_spring.h"
 
-#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -213,12 +212,9 @@ void applyGroups(const MassSpringDynamics::Group4* groups, const int* group_star
 }  // namespace
 
 void MassSpringDynamics::applySystem(const Vec3* p, Vec3* out) {
-  const Index n = static_cast<Index>(m_.nodes());
-  constexpr Index kBlock = 256;
-  const Index blocks = (n + kBlock - 1) / kBlock;
-#pragma omp parallel for schedule(static) if (n >= kParallelMin)
-  for (Index b = 0; b < blocks; ++b)
-    applyGroups(groups_.data(), group_start_.data(), own_.data(), p, out, b * kBlock, std::min(n, (b + 1) * kBlock));
+  parallelBlocks(static_cast<Index>(m_.nodes()), 256, [&](Index i0, Index i1) {
+    applyGroups(groups_.data(), group_start_.data(), own_.data(), p, out, i0, i1);
+  });
   spring_products_ += m_.springs.size();
 }
 

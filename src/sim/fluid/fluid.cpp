@@ -568,12 +568,8 @@ void computeForces(Fluid& fl, const Vec3& gravity) {
   std::vector<char> seed_row(S, 1);
   for (std::size_t a = 0; a < S; ++a)
     for (std::size_t b = 0; b < S; ++b) seed_row[a] = seed_row[a] && fl.pairs[a * S + b].seed_form;
-  constexpr std::ptrdiff_t kBlock = 64;
-  const std::ptrdiff_t blocks = (n + kBlock - 1) / kBlock;
-#pragma omp parallel for schedule(static) if (n >= kParallelMin)
-  for (std::ptrdiff_t blk = 0; blk < blocks; ++blk) {
-    const std::ptrdiff_t end = std::min(n, (blk + 1) * kBlock);
-    for (std::ptrdiff_t i = blk * kBlock; i < end;) {
+  parallelBlocks(n, 64, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    for (std::ptrdiff_t i = begin; i < end;) {
       // A run of particles of one kind goes to one call.
       const bool fast = seed_row[static_cast<std::size_t>(fl.s[static_cast<std::size_t>(i)])];
       std::ptrdiff_t k = i + 1;
@@ -585,7 +581,7 @@ void computeForces(Fluid& fl, const Vec3& gravity) {
       }
       i = k;
     }
-  }
+  });
   fl.pair_tests += static_cast<long long>(fl.nbr.size());
 }
 
