@@ -31,49 +31,35 @@ void parallelBlocks(std::ptrdiff_t n, std::ptrdiff_t block, F&& body) {
   for (std::ptrdiff_t b = 0; b < blocks; ++b) body(b * block, (b + 1) * block < n ? (b + 1) * block : n);
 }
 
-// Sum of term(i) for i in [0, n) in a fixed order of operations.
-template <class F>
-double deterministicSum(std::ptrdiff_t n, F&& term) {
-  const std::ptrdiff_t chunks = (n + kReduceChunk - 1) / kReduceChunk;
-  if (chunks <= 1) {
-    double s = 0.0;
-    for (std::ptrdiff_t i = 0; i < n; ++i) s += term(i);
-    return s;
-  }
-  std::vector<double> partial(static_cast<std::size_t>(chunks), 0.0);
-#pragma omp parallel for schedule(static) if (n >= kParallelMin)
-  for (std::ptrdiff_t c = 0; c < chunks; ++c) {
-    const std::ptrdiff_t end = (c + 1) * kReduceChunk < n ? (c + 1) * kReduceChunk : n;
-    double s = 0.0;
-    for (std::ptrdiff_t i = c * kReduceChunk; i < end; ++i) s += term(i);
-    partial[static_cast<std::size_t>(c)] = s;
-  }
-  double s = 0.0;
-  for (double p : partial) s += p;
-  return s;
-}
-
-// K sums at once: term(i) returns std::array<double, K>; the same fixed order of operations as
-// deterministicSum for each component. Lets a loop that updates vectors also return their dot
-// products in one pass (one parallel region instead of several).
+// K sums at once: term(i) returns std::array<double, K>, each component summed in a fixed order
+// of operations (chunk by chunk, then the chunk sums in order). Lets a loop that updates vectors
+// also return their dot products in one pass (one parallel region instead of several).
 template <std::size_t K, class F>
 std::array<double, K> deterministicSums(std::ptrdiff_t n, F&& term) {
   const std::ptrdiff_t chunks = (n + kReduceChunk - 1) / kReduceChunk;
-  std::vector<std::array<double, K>> partial(static_cast<std::size_t>(chunks > 0 ? chunks : 1), std::array<double, K>{});
-#pragma omp parallel for schedule(static) if (n >= kParallelMin)
-  for (std::ptrdiff_t c = 0; c < chunks; ++c) {
+  auto chunkSum = [&](std::ptrdiff_t c) {
     const std::ptrdiff_t end = (c + 1) * kReduceChunk < n ? (c + 1) * kReduceChunk : n;
     std::array<double, K> s{};
     for (std::ptrdiff_t i = c * kReduceChunk; i < end; ++i) {
       const std::array<double, K> t = term(i);
       for (std::size_t k = 0; k < K; ++k) s[k] += t[k];
     }
-    partial[static_cast<std::size_t>(c)] = s;
-  }
+    return s;
+  };
+  if (chunks <= 1) return chunkSum(0);  // (one chunk: no scratch, no threads)
+  std::vector<std::array<double, K>> partial(static_cast<std::size_t>(chunks));
+#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+  for (std::ptrdiff_t c = 0; c < chunks; ++c) partial[static_cast<std::size_t>(c)] = chunkSum(c);
   std::array<double, K> s{};
   for (const auto& q : partial)
     for (std::size_t k = 0; k < K; ++k) s[k] += q[k];
   return s;
+}
+
+// Sum of term(i) for i in [0, n) in a fixed order of operations.
+template <class F>
+double deterministicSum(std::ptrdiff_t n, F&& term) {
+  return deterministicSums<1>(n, [&](std::ptrdiff_t i) { return std::array<double, 1>{term(i)}; })[0];
 }
 
 // Largest of value(i) ≥ 0 for i in [0, n) (0 when n = 0): chunk maxima in parallel, then in
