@@ -8,8 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "core/image.h"
+#include "core/light.h"
 #include "core/mesh.h"
-#include "core/scene.h"
 #include "core/types.h"
 
 namespace reel {
@@ -26,7 +27,7 @@ struct DrawMesh {
   // Static geometry is shared between frames (the renderer keeps its GPU copy while the pointer
   // is alive); geometry that changes every frame is a new mesh each frame.
   std::shared_ptr<const TriMesh> mesh;
-  bool dynamic = false;  // true: upload every frame
+  bool per_frame = false;  // true: new geometry every frame (uploaded each time)
   DrawMaterial material;
 };
 

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/image.h"
+#include "core/light.h"
 #include "core/mesh.h"
 #include "core/types.h"
 
@@ -336,14 +337,6 @@ struct CameraDesc {
   Vec3 position{0, 1, 5}, target{0, 0, 0}, up{0, 1, 0};
   double fov_deg = 40.0;  // vertical field of view
   std::vector<CameraKey> keys;
-};
-
-enum class LightKind { Directional, Point, Ambient };
-struct LightDesc {
-  LightKind kind = LightKind::Directional;
-  Vec3 direction{-1, -2, -1}, position{0, 5, 0}, color{1, 1, 1};
-  double intensity = 1.0;
-  bool shadows = false;
 };
 
 // Settings of the implicit integrator's conjugate-gradient solve.

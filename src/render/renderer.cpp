@@ -485,7 +485,7 @@ struct Renderer::Impl {
     for (std::size_t i = 0; i < list.meshes.size(); ++i) {
       const DrawMesh& m = list.meshes[i];
       if (!m.mesh || m.mesh->indices.empty()) continue;
-      if (m.dynamic) {
+      if (m.per_frame) {
         if (dyn >= dynamic_meshes.size()) dynamic_meshes.emplace_back();
         slots[i] = &dynamic_meshes[dyn++];
         upload(*slots[i], *m.mesh);

@@ -318,13 +318,13 @@ void World::emit(DrawList& out) const {
     const Vec3 shift = c.pos - c.rot * object_pivots_[o];
     m.transform(c.rot, shift);
     out.meshes[o].mesh = std::make_shared<const TriMesh>(std::move(m));
-    out.meshes[o].dynamic = true;
+    out.meshes[o].per_frame = true;
   }
   for (const auto& b : bodies_) {
     if (b->cloth) {
       DrawMesh sheet;
       sheet.mesh = std::make_shared<const TriMesh>(clothMesh(*b->cloth, b->state.x));
-      sheet.dynamic = true;
+      sheet.per_frame = true;
       sheet.material = drawMaterial(b->material);
       sheet.material.double_sided = true;
       if (sheet.mesh->triangleCount() > 0) out.meshes.push_back(std::move(sheet));

@@ -822,7 +822,7 @@ void emitFluid(const Fluid& fl, const Material& material, DrawList& out) {
   if (fl.draw == FluidDraw::Surface) {
     DrawMesh mesh;
     mesh.mesh = std::make_shared<const TriMesh>(liquidSurface(fl, colors));
-    mesh.dynamic = true;
+    mesh.per_frame = true;
     mesh.material = dm;
     if (mesh.mesh->triangleCount() > 0) out.meshes.push_back(std::move(mesh));
     return;
