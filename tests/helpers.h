@@ -7,14 +7,14 @@
 #include <vector>
 
 #include "core/scene.h"
-#include "io/scene_loader.h"
+#include "app/body_kinds.h"
 #include "sim/integrators.h"
 #include "sim/mass_spring.h"
 
 namespace reel::test {
 
 // Implicit Euler's matrix assembled spring by spring from Baraff & Witkin's formulas, a reference
-// for the tests: K = c[û ûᵀ + max(0, 1 − L/l)(I − û ûᵀ)], D = γ û ûᵀ, each spring's block
+// for the tests: K = c[û ûᵀ + max(0, 1 − l/L)(I − û ûᵀ)] (L the length, l the rest length), D = γ û ûᵀ, each spring's block
 // B = h²K + hD, and each node's diagonal block (m + hγ) I + Σ B.
 struct AssembledSystem {
   std::vector<Mat3> B;     // springs
@@ -56,7 +56,7 @@ inline AssembledSystem assembleSystem(const MassSpringModel& m, const std::vecto
 struct System {
   MassSpringModel model;
   MassSpringState state;
-  MassSpringDynamics dyn{model};
+  MassSpringSystem dyn{model};
   IntegratorWorkspace ws;
   ImplicitSettings implicit{1e-13, 1000};
   System(const MassSpringDesc& d, const Vec3& g) { buildMassSpring(d, g, model, state); }
@@ -80,9 +80,16 @@ inline double oscillatorExact(double w2, double beta, double u0, double t) {
 }
 
 inline SceneDesc sceneFromText(const std::string& text, const std::string& name = "test.json") {
-  auto r = io::parseScene(text, name);
+  auto r = app::parseScene(text, name);
   if (!r.ok()) throw std::runtime_error(r.error().headline());
   return r.value();
+}
+
+// A world of the scene in `text` (throws on bad input), and frames of it (each must succeed).
+inline World worldFromText(const std::string& text, const std::string& file = "test.json") {
+  auto w = app::makeWorld(sceneFromText(text, file));
+  if (!w.ok()) throw std::runtime_error(w.error().headline());
+  return std::move(w.value());
 }
 
 inline const std::vector<IntegratorKind>& allIntegrators() {

@@ -11,6 +11,7 @@
 
 #include "core/image_compare.h"
 #include "helpers.h"
+#include "sim/springs/springs_body.h"
 #include "io/png.h"
 #include "io/video.h"
 #include "sim/world.h"
@@ -83,12 +84,12 @@ TEST_CASE("simulate writes the reel-dump/1 format: frames 0, every K-th and the 
   CHECK(b["springs"].size() == 30);
   CHECK(b["springs"][3] == nlohmann::json::array({3, 4}));
   // Numbers round-trip exactly: the dump equals the state simulated in this process.
-  auto scene = io::loadScene(kRope);
+  auto scene = app::loadScene(kRope);
   REQUIRE(scene.ok());
-  auto w = World::create(scene.value());
+  auto w = app::makeWorld(scene.value());
   REQUIRE(w.ok());
   for (int k = 0; k < 179; ++k) REQUIRE(w.value().advanceFrame().ok());
-  const auto& x = w.value().bodies()[0]->state.x;
+  const auto& x = w.value().first<SpringsBody>()->network().state.x;
   for (std::size_t i = 0; i < x.size(); ++i)
     for (int c = 0; c < 3; ++c) CHECK(b["positions"][i][c].get<double>() == x[i][c]);
 }

@@ -11,6 +11,7 @@
 #include "core/random.h"
 #include "helpers.h"
 #include "sim/geometry.h"
+#include "sim/cloth/cloth_body.h"
 #include "sim/world.h"
 
 using namespace reel;
@@ -19,7 +20,7 @@ using namespace reel::test;
 namespace {
 
 World makeWorld(const std::string& text, const std::string& file = "cloth.json") {
-  auto w = World::create(sceneFromText(text, file));
+  auto w = app::makeWorld(sceneFromText(text, file));
   if (!w.ok()) throw std::runtime_error(w.error().headline());
   return std::move(w.value());
 }
@@ -28,13 +29,13 @@ void run(World& w, int frames) {
   for (int f = 0; f < frames; ++f) REQUIRE(w.advanceFrame().ok());
 }
 
-const MassSpringBody& body(const World& w) { return *w.bodies().front(); }
+const ClothBody& body(const World& w) { return *w.first<ClothBody>(); }
 
 // Edges (intact structural springs) that pass through a drawn triangle they do not touch.
-int edgeCrossings(const MassSpringBody& b) {
-  const Cloth& c = *b.cloth;
-  const auto& x = b.state.x;
-  const Springs& s = b.model.springs;
+int edgeCrossings(const ClothBody& b) {
+  const Cloth& c = b.cloth();
+  const auto& x = b.network().state.x;
+  const Springs& s = b.network().model.springs;
   int crossings = 0;
   for (std::size_t k = 0; k < s.size(); ++k) {
     if (c.spring_id[k] >= c.structural) continue;
@@ -69,14 +70,14 @@ TEST_CASE("a sheet draped over a sphere comes to rest on it without sinking into
   double deepest = 1e9;
   for (int f = 0; f < 120; ++f) {
     REQUIRE(w.advanceFrame().ok());
-    for (const Vec3& p : body(w).state.x) deepest = std::min(deepest, (p - Vec3(0, 0.5, 0)).norm() - R);
+    for (const Vec3& p : body(w).network().state.x) deepest = std::min(deepest, (p - Vec3(0, 0.5, 0)).norm() - R);
   }
   // Nodes keep their contact offset (the thickness) from the surface, and never go inside it.
   CHECK(deepest >= thick - 1e-9);
   // At rest: the centre node sits on top of the sphere, and nothing moves.
-  const Vec3 centre = body(w).state.x[12 * 24 + 12];
+  const Vec3 centre = body(w).network().state.x[12 * 24 + 12];
   CHECK(centre.y() == doctest::Approx(0.5 + R + thick).epsilon(0.02));
-  CHECK(kineticEnergy(body(w).model, body(w).state) < 1e-4);
+  CHECK(kineticEnergy(body(w).network().model, body(w).network().state) < 1e-4);
 }
 
 TEST_CASE("a sheet on an inclined plane stays when tan θ < μ and slides otherwise") {
@@ -94,9 +95,9 @@ TEST_CASE("a sheet on an inclined plane stays when tan θ < μ and slides otherw
       "bodies": [{"type": "cloth", "name": "s", "size": [0.4, 0.4], "resolution": [8, 8], "mass": 0.1,
                   "stiffness": 500, "damping": 0.2, "thickness": 0.005,
                   "rotation_deg": [0, 0, )" + std::to_string(deg) + R"(], "position": [0, 0.005, 0]}]})");
-    const Vec3 start = body(w).state.x[27];
+    const Vec3 start = body(w).network().state.x[27];
     run(w, 30);
-    const double moved = (body(w).state.x[27] - start).norm();
+    const double moved = (body(w).network().state.x[27] - start).norm();
     if (std::tan(th) < mu) {
       CHECK(moved < 0.01);
     } else {
@@ -112,10 +113,10 @@ TEST_CASE("the energy of a damped hanging sheet decreases") {
     "bodies": [{"type": "cloth", "name": "s", "size": [1, 1], "resolution": [16, 16], "mass": 0.2,
                 "stiffness": 2000, "damping": 0.5, "node_damping": 0.01, "rotation_deg": [90, 0, 0],
                 "velocity": [0, 0, 0.5], "pinned": ["corner_00", "corner_10"]}]})");
-  double before = totalEnergy(body(w).model, body(w).state);
+  double before = totalEnergy(body(w).network().model, body(w).network().state);
   for (int f = 0; f < 60; ++f) {
     REQUIRE(w.advanceFrame().ok());
-    const double e = totalEnergy(body(w).model, body(w).state);
+    const double e = totalEnergy(body(w).network().model, body(w).network().state);
     CHECK(e < before);
     before = e;
   }
@@ -130,15 +131,15 @@ TEST_CASE("a sheet pulled at two opposite edges tears into exactly two pieces") 
                 "grips": [{"nodes": ["edge_x0"], "velocity": [-0.1, 0, 0]},
                           {"nodes": ["edge_x1"], "velocity": [0.1, 0, 0]}]}]})";
   World w = makeWorld(scene);
-  CHECK(clothPieces(body(w).model.nodes(), body(w).model.springs) == 1);
+  CHECK(clothPieces(body(w).network().model.nodes(), body(w).network().model.springs) == 1);
   run(w, 120);
-  const MassSpringBody& b = body(w);
-  CHECK(b.cloth->springs_broken > 0);
-  CHECK(clothPieces(b.model.nodes(), b.model.springs) == 2);
+  const ClothBody& b = body(w);
+  CHECK(b.cloth().springs_broken > 0);
+  CHECK(clothPieces(b.network().model.nodes(), b.network().model.springs) == 2);
   // Every spring left is intact (not stretched past its threshold).
-  const Springs& s = b.model.springs;
+  const Springs& s = b.network().model.springs;
   for (std::size_t k = 0; k < s.size(); ++k)
-    CHECK((b.state.x[s.b[k]] - b.state.x[s.a[k]]).norm() <= (1.0 + b.cloth->tear_strain[k]) * s.rest[k]);
+    CHECK((b.network().state.x[s.b[k]] - b.network().state.x[s.a[k]]).norm() <= (1.0 + b.cloth().tear_strain[k]) * s.rest[k]);
   // Tears are deterministic: same bits for 1 and 2 threads.
   CHECK(hashWith(scene, 1, 60) == hashWith(scene, 2, 60));
 }
@@ -200,7 +201,7 @@ TEST_CASE("a sheet folding onto itself with self-collision has no edge through a
   CHECK(worst == 0);
   // The sheet did fold: some node ended above another part of the sheet.
   double top = -1e9;
-  for (const Vec3& p : body(w).state.x) top = std::max(top, p.y());
+  for (const Vec3& p : body(w).network().state.x) top = std::max(top, p.y());
   CHECK(top > 0.02);
   // Without self-collision the same fold passes through itself (the check can fail).
   World free = makeWorld(scene(false));
@@ -274,12 +275,12 @@ TEST_CASE("strain limiting keeps structural springs within the limit") {
                   "stiffness": 10, "shear_stiffness": 10, "damping": 0.5, "rotation_deg": [90, 0, 0], "strain_limit": )" + limit + R"(,
                   "pinned": ["edge_z0"]}]})");
     run(w, 30);
-    const MassSpringBody& b = body(w);
+    const ClothBody& b = body(w);
     double worst = 0;
-    for (std::size_t k = 0; k < b.model.springs.size(); ++k)
-      if (b.cloth->spring_id[k] < b.cloth->structural)
-        worst = std::max(worst, (b.state.x[b.model.springs.b[k]] - b.state.x[b.model.springs.a[k]]).norm() /
-                                        b.model.springs.rest[k] - 1.0);
+    for (std::size_t k = 0; k < b.network().model.springs.size(); ++k)
+      if (b.cloth().spring_id[k] < b.cloth().structural)
+        worst = std::max(worst, (b.network().state.x[b.network().model.springs.b[k]] - b.network().state.x[b.network().model.springs.a[k]]).norm() /
+                                        b.network().model.springs.rest[k] - 1.0);
     return worst;
   };
   CHECK(stretch("0") > 0.2);  // soft and heavy: it stretches a lot without the limit
@@ -300,7 +301,7 @@ TEST_CASE("cloth collides with an imported mesh and is pushed by a moving object
                       (dir / "scene.json").string());
   run(w, 60);
   // The centre node rests on the apex, none is inside the pyramid.
-  const auto& x = body(w).state.x;
+  const auto& x = body(w).network().state.x;
   CHECK(x[10 * 20 + 10].y() > 0.45);
   for (const Vec3& p : x) {
     const bool inside = p.y() > 0.001 && p.y() < 0.5 - std::max(std::abs(p.x()), std::abs(p.z())) - 0.02;
@@ -325,7 +326,7 @@ TEST_CASE("cloth collides with an imported mesh and is pushed by a moving object
                 "mass": 0.05, "stiffness": 300, "damping": 0.1}]})");
   run(m, 30);
   double minx = 1e9;
-  for (const Vec3& p : body(m).state.x) minx = std::min(minx, p.x());
+  for (const Vec3& p : body(m).network().state.x) minx = std::min(minx, p.x());
   CHECK(minx > 0.4 + 0.1 - 0.02);  // pushed ahead of the box's leading face
 }
 
@@ -353,19 +354,19 @@ TEST_CASE("implicit Euler cloth is bit-identical for 1 and 2 threads (block-Jaco
   const std::uint64_t h1 = hashWith(scene, 1, 12);
   CHECK(hashWith(scene, 2, 12) == h1);
   World w = makeWorld(scene);
-  const std::size_t springs = body(w).model.springs.size();
+  const std::size_t springs = body(w).network().model.springs.size();
   run(w, 12);
-  const MassSpringBody& b = body(w);
-  CHECK(b.model.springs.size() < springs);  // it tore
+  const ClothBody& b = body(w);
+  CHECK(b.network().model.springs.size() < springs);  // it tore
   // After the tear the springs' product still equals the matrix assembled from the intact springs.
-  const std::size_t n = b.model.nodes();
+  const std::size_t n = b.network().model.nodes();
   std::vector<Vec3> rhs(n), p(n), out(n);
   std::vector<Mat3> pinv(n);
   for (std::size_t i = 0; i < n; ++i) p[i] = Vec3(uniformAt(5, 0, i) - 0.5, uniformAt(5, 1, i) - 0.5, uniformAt(5, 2, i) - 0.5);
   const double h = 1.0 / 150.0;
-  b.dynamics->linearize(b.state.x.data(), b.state.v.data(), h, rhs.data(), pinv.data());
-  b.dynamics->applySystem(p.data(), out.data());
-  const std::vector<Vec3> want = assembleSystem(b.model, b.state.x, h).product(b.model, h, p);
+  b.network().system->linearize(b.network().state.x.data(), b.network().state.v.data(), h, rhs.data(), pinv.data());
+  b.network().system->applySystem(p.data(), out.data());
+  const std::vector<Vec3> want = assembleSystem(b.network().model, b.network().state.x, h).product(b.network().model, h, p);
   double scale = 0, err = 0;
   for (std::size_t i = 0; i < n; ++i) {
     scale = std::max(scale, want[i].norm());
@@ -376,7 +377,7 @@ TEST_CASE("implicit Euler cloth is bit-identical for 1 and 2 threads (block-Jaco
 
 TEST_CASE("cloth bad input: resolution, size, mass, tear threshold, pins, mesh files") {
   auto errs = [](const std::string& body, const std::string& file = "s.json") {
-    auto r = io::parseScene(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "cloth", "name": "c", )" + body + "}]}", file);
+    auto r = app::parseScene(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "cloth", "name": "c", )" + body + "}]}", file);
     std::string all;
     if (!r.ok())
       for (const auto& m : r.error().messages) all += m + "\n";
@@ -405,7 +406,7 @@ TEST_CASE("cloth bad input: resolution, size, mass, tear threshold, pins, mesh f
   std::ofstream(dir / "model.blend") << "blend";
   std::ofstream(dir.parent_path() / "outside.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   auto mesh = [&](const std::string& f) {
-    auto r = io::parseScene(R"({"format": "reel/1", "duration": 1, "objects": [{"type": "mesh", "file": ")" + f + R"("}]})",
+    auto r = app::parseScene(R"({"format": "reel/1", "duration": 1, "objects": [{"type": "mesh", "file": ")" + f + R"("}]})",
                             (dir / "scene.json").string());
     return r.ok() ? std::string() : r.error().headline();
   };
@@ -414,14 +415,14 @@ TEST_CASE("cloth bad input: resolution, size, mass, tear threshold, pins, mesh f
   CHECK(mesh("broken.obj").find("/objects/0/file") != std::string::npos);
   CHECK(mesh("../outside.obj").find("/objects/0/file") != std::string::npos);
   // Objects: motion keys must increase in time.
-  auto r = io::parseScene(R"({"format": "reel/1", "duration": 1, "objects": [{"type": "sphere", "radius": 1,
+  auto r = app::parseScene(R"({"format": "reel/1", "duration": 1, "objects": [{"type": "sphere", "radius": 1,
       "motion": {"keys": [{"time": 1}, {"time": 0.5}]}}]})", "s.json");
   REQUIRE_FALSE(r.ok());
   CHECK(r.error().headline().find("/objects/0/motion/keys/1/time: keyframe times must increase") != std::string::npos);
 }
 
 TEST_CASE("a cloth that blows up stops as unstable (exit 3), with self-collision and strain limiting on") {
-  auto w = World::create(sceneFromText(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 2,
+  auto w = app::makeWorld(sceneFromText(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 2,
     "integrator": "implicit_euler",
     "bodies": [{"type": "cloth", "name": "s", "resolution": [12, 12], "self_collision": true, "strain_limit": 0.1,
                 "grips": [{"nodes": ["edge_x0"], "velocity": [1e300, 0, 0]}]}]})"));

@@ -13,7 +13,7 @@ namespace {
 std::uint64_t runHash(const std::string& text, int threads, int frames) {
   const int before = threadCount();
   setThreadCount(threads);
-  auto w = World::create(sceneFromText(text));
+  auto w = app::makeWorld(sceneFromText(text));
   REQUIRE(w.ok());
   for (int f = 0; f < frames; ++f) REQUIRE(w.value().advanceFrame().ok());
   const std::uint64_t h = w.value().stateHash();

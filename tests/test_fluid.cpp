@@ -15,6 +15,8 @@
 #include "core/parallel.h"
 #include "core/random.h"
 #include "helpers.h"
+#include "sim/fluid/fluid_body.h"
+#include "sim/free_object.h"
 #include "sim/world.h"
 
 using namespace reel;
@@ -23,7 +25,7 @@ using namespace reel::test;
 namespace {
 
 World makeWorld(const std::string& text) {
-  auto w = World::create(sceneFromText(text, "fluid.json"));
+  auto w = app::makeWorld(sceneFromText(text, "fluid.json"));
   if (!w.ok()) throw std::runtime_error(w.error().headline());
   return std::move(w.value());
 }
@@ -35,7 +37,7 @@ void run(World& w, int frames) {
   }
 }
 
-const Fluid& fluid(const World& w) { return *w.fluids().front(); }
+const Fluid& fluid(const World& w) { return w.first<FluidBody>()->fluid(); }
 
 // The liquid of the tests and films at 2 cm: rest distance 2 cm, cutoff 2.725 cm.
 const char* kWater = R"({"name": "water", "mass": 0.008, "alpha": 212.6, "beta": 0.085, "cutoff": 0.02725,
@@ -73,8 +75,8 @@ TEST_CASE("the pair force matches g_ij = m_i m_j (x_i - x_j)(-alpha/(r+eps)^a + 
             {"species": ")" + names[s] + R"(", "positions": [)" + vec(xi) + R"(]},
             {"species": ")" + names[t] + R"(", "positions": [)" + vec(xj) + R"(]}]}]})");
         // One step of a picosecond: the forces it computes are those of the positions above.
-        Fluid fl = buildFluid(std::get<FluidDesc>(scene.bodies[0].shape), "f", {}, {}, 0);
-        std::vector<DynamicObject> none;
+        Fluid fl = buildFluid(scene.bodies[0].as<FluidDesc>(), "f", {}, 0);
+        Coupling none;
         stepFluid(fl, {}, none, Vec3::Zero(), 1e-12, 0.0, 1e-12);
         // Expected: the mean of the two species' parameters, C–A overridden.
         auto mean = [&](double Sp::*f) { return 0.5 * (sp[s].*f + sp[t].*f); };
@@ -141,11 +143,11 @@ TEST_CASE("the force loop equals a brute-force sum of pair and viscous forces (v
       bodies += R"(, {"species": "oil", "positions": [)" + pos[1] + "], \"velocities\": [" + vel[1] + "]}";
     bodies += "]}]}";
     const SceneDesc scene = sceneFromText(bodies);
-    const Fluid start = buildFluid(std::get<FluidDesc>(scene.bodies[0].shape), "f", {}, {}, 0);
+    const Fluid start = buildFluid(scene.bodies[0].as<FluidDesc>(), "f", {}, 0);
     // Which loop runs: the four-lane one for rows whose every pair has the seed's form.
     for (const PairParams& p : start.pairs) CHECK(p.seed_form == (cfg.seed_form || &p == &start.pairs[0]));
     Fluid fl = start;
-    std::vector<DynamicObject> none;
+    Coupling none;
     const Vec3 g(0, -9.81, 0);
     stepFluid(fl, {}, none, g, 1e-12, 0.0, 1e-12);  // the forces of the positions and velocities above
     const auto S = static_cast<std::size_t>(cfg.species);
@@ -380,7 +382,7 @@ TEST_CASE("dynamic objects: momentum is exchanged exactly; a light ball floats, 
         "blocks": [{"min": [0, 0, 0], "max": [0.1, 0.1, 0.1], "spacing": 0.02, "velocity": [2, 0, 0]}]}]})");
     const Vec3 p0 = momentum(fluid(w));
     run(w, 15);
-    const DynamicObject& ball = w.dynamics().front();
+    const FreeObject& ball = w.first<FreeObjectBody>()->object();
     CHECK(ball.v.x() > 0.1);  // it was pushed
     CHECK((momentum(fluid(w)) + ball.mass * ball.v - p0).norm() < 1e-9 * p0.norm());
   }
@@ -434,9 +436,9 @@ TEST_CASE("an emitter releases its layers at its rate, from start to stop, along
 TEST_CASE("dam break: the surge front against Martin & Moyce (1952), n² = 2") {
   // scenes/dam_break.json: a 10 cm × 20 cm column in a narrow tank; T = t·√(2g/a), Z = z/a
   // (the front measured from the back wall).
-  auto scene = io::loadScene(REEL_SOURCE_DIR "/scenes/dam_break.json");
+  auto scene = app::loadScene(REEL_SOURCE_DIR "/scenes/dam_break.json");
   REQUIRE(scene.ok());
-  auto made = World::create(scene.value());
+  auto made = app::makeWorld(scene.value());
   REQUIRE(made.ok());
   World& w = made.value();
   const double a = 0.1;
@@ -514,7 +516,7 @@ TEST_CASE("the isosurface of a sphere's field is a closed sphere with outward no
 
 TEST_CASE("fluid bad input names the JSON path") {
   auto errors = [](const std::string& text) {
-    auto r = io::parseScene(text, "bad.json");
+    auto r = app::parseScene(text, "bad.json");
     REQUIRE(!r.ok());
     CHECK(r.error().kind == ErrorKind::BadInput);
     std::string all;
@@ -545,13 +547,13 @@ TEST_CASE("fluid bad input names the JSON path") {
   const std::string stiff = std::string(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 1, )");
   const std::string body = std::string(R"("bodies": [{"type": "fluid", "name": "f", "species": [)") + kWater +
                            R"(], "blocks": [{"min": [0, 0, 0], "max": [0.1, 0.1, 0.1], "spacing": 0.02}]}]})";
-  auto refused = World::create(sceneFromText(stiff + body));
+  auto refused = app::makeWorld(sceneFromText(stiff + body));
   REQUIRE(!refused.ok());
   CHECK(refused.error().headline().find("/substeps") != std::string::npos);
   CHECK(refused.error().headline().find("fluid 'f'") != std::string::npos);
-  auto subdivided = World::create(sceneFromText(stiff + R"("auto_substeps": true, )" + body));
+  auto subdivided = app::makeWorld(sceneFromText(stiff + R"("auto_substeps": true, )" + body));
   REQUIRE(subdivided.ok());
-  CHECK(subdivided.value().stepSize() <= fluidStableStep(*subdivided.value().fluids()[0]).h_max);
+  CHECK(subdivided.value().stepSize() <= fluidStableStep(subdivided.value().first<FluidBody>()->fluid()).h_max);
 }
 
 TEST_CASE("a fluid that blows up stops with exit 3 naming the body, particle and frame") {

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/scene_view.h"
 #include "helpers.h"
 #include "io/mesh_import.h"
 #include "render/renderer.h"
@@ -102,7 +103,7 @@ TEST_CASE("bad mesh files are clean errors naming the path") {
   std::ofstream(d / "model.fbx") << "x";
   const std::string file = (d / "scene.json").string();
   auto errors = [&](const std::string& obj) {
-    auto r = io::parseScene(R"({"format": "reel/1", "duration": 1, "objects": [)" + obj + "]}", file);
+    auto r = app::parseScene(R"({"format": "reel/1", "duration": 1, "objects": [)" + obj + "]}", file);
     return r.ok() ? std::string() : r.error().messages.front();
   };
   CHECK(errors(R"({"type": "mesh", "file": "cube.obj"})").empty());
@@ -124,12 +125,13 @@ TEST_CASE("a mesh object is placed by scale, rotation and position, and drawn in
     "lights": [{"type": "ambient", "intensity": 1}],
     "objects": [{"type": "mesh", "file": "square.ply", "scale": [0.25, 1, 0.25], "rotation_deg": [0, 45, 0],
                  "position": [0.5, 0, 0], "color": [1, 1, 1]}]})";
-  auto scene = io::loadScene((d / "s.json").string());
+  auto scene = app::loadScene((d / "s.json").string());
   REQUIRE(scene.ok());
-  auto w = World::create(scene.value());
+  auto w = app::makeWorld(scene.value());
   REQUIRE(w.ok());
   DrawList list;
-  w.value().emit(list);
+  setSceneView(scene.value(), w.value().time(), list);
+  w.value().draw(list);
   REQUIRE(list.meshes.size() == 1);
   // The square's corner (1, 0, 1) → scaled (0.25, 0, 0.25) → turned 45° about y → (0.354, 0, 0) → +0.5.
   const auto& p = list.meshes[0].mesh->positions;

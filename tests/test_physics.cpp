@@ -6,7 +6,8 @@
 #include "core/math.h"
 #include "core/random.h"
 #include "helpers.h"
-#include "sim/builders.h"
+#include "sim/springs/generators.h"
+#include "sim/springs/springs_body.h"
 #include "sim/collide.h"
 #include "sim/stability.h"
 #include "sim/world.h"
@@ -107,8 +108,14 @@ TEST_CASE("the estimated step bound separates stable from unstable symplectic Eu
 TEST_CASE("implicit Euler's linear system matches the assembled Baraff-Witkin matrix, and the step solves it") {
   // A net of uneven masses, stretched and compressed springs (the transverse term on and
   // clamped off), node drag and two pins; a random direction p.
-  MassSpringDesc d = buildNet({.resolution = {9, 7}, .mass = 0.3, .structural = {800.0, 0.4}, .shear = {150.0, 0.1},
-                               .node_damping = 0.02, .pinned = {0, 8}});
+  NetDesc net;
+  net.resolution = {9, 7};
+  net.mass = 0.3;
+  net.structural = {800.0, 0.4};
+  net.shear = {150.0, 0.1};
+  net.node_damping = 0.02;
+  net.pinned = {0, 8};
+  MassSpringDesc d = buildNet(net);
   std::uint64_t draw = 0;
   auto rnd = [&] { return uniformAt(99, 0, draw++) - 0.5; };  // reel's own numbers, from a seed
   for (auto& nd : d.nodes) {
@@ -218,7 +225,7 @@ TEST_CASE("contacts: resting on a plane, restitution, Coulomb friction on an inc
   const Vec3 g(0, -9.78, 0);
   SUBCASE("a dropped node comes to rest on the floor at its radius") {
     ObjectDesc floor;
-    floor.kind = ObjectKind::Plane;
+    floor.shape = PlaneShape{};
     std::vector<Collider> cs{makeCollider(floor)};
     MassSpringDesc d;
     d.nodes.push_back({Vec3(0.2, 1.0, 0), Vec3(0, 0, 0), 1.0, 0.0, false});
@@ -252,7 +259,7 @@ TEST_CASE("contacts: resting on a plane, restitution, Coulomb friction on an inc
     for (double deg : {20.0, 35.0}) {
       ObjectDesc ramp;
       const double th = deg * kPi / 180.0;
-      ramp.normal = Vec3(-std::sin(th), std::cos(th), 0);
+      ramp.shape = PlaneShape{Vec3::Zero(), Vec3(-std::sin(th), std::cos(th), 0), std::nullopt};
       ramp.surface.friction = 0.5;  // tan 26.6°
       std::vector<Collider> cs{makeCollider(ramp)};
       MassSpringDesc d;
@@ -274,7 +281,7 @@ TEST_CASE("contacts: resting on a plane, restitution, Coulomb friction on an inc
   }
   SUBCASE("a finite plane catches nodes just below it, not ones passing far beneath") {
     ObjectDesc shelf;
-    shelf.extent = std::array<double, 2>{2.0, 2.0};
+    shelf.shape = PlaneShape{Vec3::Zero(), Vec3::UnitY(), std::array<double, 2>{2.0, 2.0}};
     const Collider c = makeCollider(shelf);
     double d;
     Vec3 n;
@@ -284,15 +291,9 @@ TEST_CASE("contacts: resting on a plane, restitution, Coulomb friction on an inc
   }
   SUBCASE("sphere, box and capsule push nodes out along their normals") {
     ObjectDesc sph, box, cap;
-    sph.kind = ObjectKind::Sphere;
-    sph.radius = 1.0;
-    box.kind = ObjectKind::Box;
-    box.size = Vec3(2, 2, 2);
-    box.rotation_deg = Vec3(0, 45, 0);
-    cap.kind = ObjectKind::Capsule;
-    cap.a = Vec3(0, -1, 0);
-    cap.b = Vec3(0, 1, 0);
-    cap.radius = 0.5;
+    sph.shape = SphereShape{Vec3::Zero(), 1.0};
+    box.shape = BoxShape{Vec3::Zero(), Vec3(2, 2, 2), Vec3(0, 45, 0)};
+    cap.shape = CapsuleShape{Vec3(0, -1, 0), Vec3(0, 1, 0), 0.5};
     for (const ObjectDesc& o : {sph, box, cap}) {
       std::vector<Collider> cs{makeCollider(o)};
       std::vector<Vec3> x{Vec3(0.3, 0.2, 0.1)}, v{Vec3(-1, 0, 0)};
@@ -328,16 +329,16 @@ TEST_CASE("the jelly lattice lands on the floor and bounces back up") {
   BodyDesc b;
   b.name = "jelly";
   b.type = "lattice";
-  b.shape = l;
+  b.params = std::make_shared<LatticeDesc>(l);
   scene.bodies.push_back(b);
-  auto w = World::create(scene);
+  auto w = app::makeWorld(scene);
   REQUIRE(w.ok());
   double min_y = 1e9;
   bool touched = false, rose = false;
   double prev_cy = 1.0;
   for (int f = 0; f < 90; ++f) {
     REQUIRE(w.value().advanceFrame().ok());
-    const auto& x = w.value().bodies()[0]->state.x;
+    const auto& x = w.value().first<SpringsBody>()->network().state.x;
     double cy = 0;
     for (const Vec3& p : x) {
       min_y = std::min(min_y, p.y());

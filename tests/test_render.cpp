@@ -7,6 +7,7 @@
 
 #include "core/image_compare.h"
 #include "core/math.h"
+#include "core/scene_view.h"
 #include "helpers.h"
 #include "io/files.h"
 #include "io/png.h"
@@ -24,7 +25,7 @@ namespace {
 Image renderScene(const std::string& text, gl::Backend backend = gl::Backend::OSMesa, int frame = 0,
                   const std::string& file = "test.json") {
   const SceneDesc scene = sceneFromText(text, file);
-  auto w = World::create(scene);
+  auto w = app::makeWorld(scene);
   REQUIRE(w.ok());
   for (int k = 0; k < frame; ++k) REQUIRE(w.value().advanceFrame().ok());
   auto ctx = gl::createContext(backend);
@@ -36,7 +37,8 @@ Image renderScene(const std::string& text, gl::Backend backend = gl::Backend::OS
   auto r = Renderer::create(*ctx.value(), rs, findShaderDir());
   REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().headline()));
   DrawList list;
-  w.value().emit(list);
+  setSceneView(scene, w.value().time(), list);
+  w.value().draw(list);
   Image img;
   REQUIRE(r.value()->draw(list, img).ok());
   return img;
@@ -89,7 +91,7 @@ TEST_CASE("a texture multiplies the albedo, decoded from sRGB, mapped by the UVs
     "lights": [{"type": "ambient", "intensity": 1}],
     "objects": [{"type": "plane", "size": [2, 2], "color": [1, 1, 1], "texture": "t.png"}]})";
   std::ofstream((dir / "s.json").string()) << scene;
-  auto s = io::loadScene((dir / "s.json").string());
+  auto s = app::loadScene((dir / "s.json").string());
   REQUIRE(s.ok());
   REQUIRE(s.value().objects[0].material.texture_image);
   const Image img = renderScene(scene, gl::Backend::OSMesa, 0, (dir / "s.json").string());

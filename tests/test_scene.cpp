@@ -15,7 +15,7 @@ namespace {
 
 // Errors of a scene text, one line each ("" when it loads).
 std::vector<std::string> errorsOf(const std::string& text, const std::string& file = "s.json") {
-  auto r = io::parseScene(text, file);
+  auto r = app::parseScene(text, file);
   if (r.ok()) return {};
   CHECK(r.error().kind == ErrorKind::BadInput);
   return r.error().messages;
@@ -43,9 +43,9 @@ TEST_CASE("every shipped scene loads, validates and builds a world") {
   for (const auto& e : std::filesystem::directory_iterator(REEL_SOURCE_DIR "/scenes")) {
     if (e.path().extension() != ".json") continue;  // scenes/meshes/: the assets they import
     CAPTURE(e.path().string());
-    auto s = io::loadScene(e.path().string());
+    auto s = app::loadScene(e.path().string());
     REQUIRE_MESSAGE(s.ok(), (s.ok() ? "" : s.error().headline()));
-    CHECK(World::create(s.value()).ok());
+    CHECK(app::makeWorld(s.value()).ok());
   }
 }
 
@@ -64,7 +64,7 @@ TEST_CASE("defaults and values are read as documented") {
   CHECK(s.integrator == IntegratorKind::SymplecticEuler);
   REQUIRE(s.bodies.size() == 1);
   CHECK(s.bodies[0].name == "rope_0");
-  const auto& r = std::get<RopeDesc>(s.bodies[0].shape);
+  const auto& r = s.bodies[0].as<RopeDesc>();
   CHECK(r.segments == 10);
   CHECK(r.pinned == std::vector<int>{0, 10});
   CHECK(r.spring.damping == 0.0);
@@ -152,7 +152,7 @@ TEST_CASE("pins that name missing nodes") {
   CHECK(contains(e, "/bodies/0/pinned/2: unknown node name \"corner_02\"; did you mean \"corner_00\"?"));
   const SceneDesc s = sceneFromText(scene(R"("bodies": [{"type": "net", "stiffness": 1, "resolution": [4, 3],
                                                        "pinned": [-1, [1, 2], "corner_10"]}])"));
-  CHECK(std::get<NetDesc>(s.bodies[0].shape).pinned == std::vector<int>{11, 9, 3});
+  CHECK(s.bodies[0].as<NetDesc>().pinned == std::vector<int>{11, 9, 3});
 }
 
 TEST_CASE("at most 8 lights, at most 2 casting shadows") {
@@ -209,7 +209,7 @@ TEST_CASE("assets: missing, wrong type, oversized or escaping the allowed folder
   CHECK(contains(errorsOf(tex("big.png"), file), "larger than the limit"));
   fs::remove_all(dir);
   // A missing or unreadable scene file is a clean error too.
-  auto r = io::loadScene("/nonexistent/scene.json");
+  auto r = app::loadScene("/nonexistent/scene.json");
   REQUIRE(!r.ok());
   CHECK(r.error().kind == ErrorKind::BadInput);
   CHECK(r.error().headline() == "/nonexistent/scene.json: no such file");
@@ -218,29 +218,29 @@ TEST_CASE("assets: missing, wrong type, oversized or escaping the allowed folder
 TEST_CASE("a step above an explicit bound is refused with the bound, or subdivided on request") {
   const std::string body = R"("bodies": [{"type": "rope", "name": "r", "start": [0,0,0], "end": [1,0,0],
                                 "segments": 10, "mass": 0.1, "stiffness": 1e5, "pinned": [0]}])";
-  auto w = World::create(sceneFromText(scene(R"("substeps": 1, )" + body)));
+  auto w = app::makeWorld(sceneFromText(scene(R"("substeps": 1, )" + body)));
   REQUIRE(!w.ok());
   CHECK(w.error().kind == ErrorKind::BadInput);
   CHECK(w.error().headline().find("test.json: /substeps: step h = 1/(fps·substeps) = 0.0333 s is above the "
                                   "stability bound") == 0);
   CHECK(w.error().headline().find("\"substeps\": ") != std::string::npos);
-  auto sub = World::create(sceneFromText(scene(R"("substeps": 1, "auto_substeps": true, )" + body)));
+  auto sub = app::makeWorld(sceneFromText(scene(R"("substeps": 1, "auto_substeps": true, )" + body)));
   REQUIRE(sub.ok());
   CHECK(sub.value().stepsPerFrame() > 1);
-  CHECK(sub.value().stepSize() < sub.value().bodies()[0]->bound.h_max);
+  CHECK(sub.value().stepSize() < sub.value().bodies()[0]->stepLimit(IntegratorKind::SymplecticEuler).bound.h_max);
   for (int i = 0; i < 30; ++i) REQUIRE(sub.value().advanceFrame().ok());
   // Implicit Euler takes the big step as it is.
-  auto im = World::create(sceneFromText(scene(R"("substeps": 1, "integrator": "implicit_euler", )" + body)));
+  auto im = app::makeWorld(sceneFromText(scene(R"("substeps": 1, "integrator": "implicit_euler", )" + body)));
   REQUIRE(im.ok());
   CHECK(im.value().stepsPerFrame() == 1);
   // Explicit Euler on undamped springs has no stable step at all.
-  auto ee = World::create(sceneFromText(scene(R"("integrator": "explicit_euler", )" + body)));
+  auto ee = app::makeWorld(sceneFromText(scene(R"("integrator": "explicit_euler", )" + body)));
   REQUIRE(!ee.ok());
   CHECK(ee.error().headline().find("/integrator: explicit_euler is unstable") != std::string::npos);
 }
 
 TEST_CASE("a runaway state stops with the frame, time, body, node and quantity") {
-  auto w = World::create(sceneFromText(scene(R"("bodies": [{"type": "mass_spring", "name": "rocket",
+  auto w = app::makeWorld(sceneFromText(scene(R"("bodies": [{"type": "mass_spring", "name": "rocket",
       "nodes": [{"position": [0,0,0], "mass": 1}, {"position": [0,1,0], "mass": 1, "velocity": [0, 2e4, 0]}]}])")));
   REQUIRE(w.ok());
   Status st = w.value().advanceFrame();

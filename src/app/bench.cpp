@@ -8,15 +8,18 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/body_kinds.h"
 #include "app/commands.h"
 #include "core/math.h"
 #include "core/mesh.h"
-#include "io/scene_loader.h"
+#include "core/scene_view.h"
 #include "io/video.h"
 #include "render/renderer.h"
 #include "sim/world.h"
 #include "core/parallel.h"
-#include "sim/builders.h"
+#include "sim/cloth/cloth_body.h"
+#include "sim/fluid/fluid_body.h"
+#include "sim/springs/generators.h"
 #include "sim/integrators.h"
 #include "sim/mass_spring.h"
 
@@ -42,7 +45,7 @@ void benchSprings(double seconds) {
     MassSpringModel model;
     MassSpringState state;
     buildMassSpring(desc, Vec3(0, -9.78, 0), model, state);
-    MassSpringDynamics dyn(model);
+    MassSpringSystem dyn(model);
     IntegratorWorkspace ws;
     ImplicitSettings implicit;
     StepStats stats;
@@ -171,19 +174,21 @@ int benchRender(double seconds) {
 
 // A film end to end beside each stage alone: simulation, drawing, encoding (first 60 frames).
 int benchFilm(const std::string& scene_path) {
-  auto scene = io::loadScene(scene_path);
+  auto scene = loadScene(scene_path);
   if (!scene.ok()) return report(scene.error());
   const SceneDesc& s = scene.value();
   const int frames = std::min(60, s.frameCount());
-  auto world = World::create(s);
+  auto world = makeWorld(s);
   if (!world.ok()) return report(world.error());
-  // Stage 1: simulate and emit.
+  // Stage 1: simulate and fill the draw lists.
   std::vector<DrawList> lists(static_cast<std::size_t>(frames));
   auto t0 = Clock::now();
   for (int k = 0; k < frames; ++k) {
     if (k > 0)
       if (Status st = world.value().advanceFrame(); !st) return report(st.error());
-    world.value().emit(lists[static_cast<std::size_t>(k)]);
+    DrawList& list = lists[static_cast<std::size_t>(k)];
+    setSceneView(s, world.value().time(), list);
+    world.value().draw(list);
   }
   const double sim = std::chrono::duration<double>(Clock::now() - t0).count();
   // Stage 2: draw.
@@ -265,9 +270,9 @@ int benchCloth(double simulated_64) {
                       "stiffness": 1000, "damping": 0.5, "shear_stiffness": 200, "shear_damping": 0.1,
                       "bend_stiffness": 0.5, "bend_damping": 0.005, "node_damping": )" + nlohmann::json(node_damping).dump() + R"(,
                       "thickness": 0.004, "self_collision": )" + (self ? "true" : "false") + "}]}";
-        auto scene = io::parseScene(text, "bench_cloth.json");
+        auto scene = parseScene(text, "bench_cloth.json");
         if (!scene.ok()) return report(scene.error());
-        auto world = World::create(scene.value());
+        auto world = makeWorld(scene.value());
         if (!world.ok()) return report(world.error());
         World& w = world.value();
         const int frames = scene.value().frameCount();
@@ -278,7 +283,8 @@ int benchCloth(double simulated_64) {
           cg += w.lastStepStats().cg_iterations;
         }
         const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
-        const MassSpringBody& b = *w.bodies().front();
+        const auto& body = *w.first<ClothBody>();
+        const SpringNetwork& b = body.network();
         const double simulated = static_cast<double>(frames) / 30.0;
         nlohmann::ordered_json j = {{"name", "cloth"},
                                     {"grid", std::to_string(cs.n) + "x" + std::to_string(cs.n)},
@@ -291,13 +297,13 @@ int benchCloth(double simulated_64) {
                                     {"simulated_s", simulated},
                                     {"wall_s", wall},
                                     {"wall_per_simulated_s", wall / simulated},
-                                    {"spring_updates_per_s", static_cast<double>(b.dynamics->springEvaluations()) / wall}};
+                                    {"spring_updates_per_s", static_cast<double>(b.system->springEvaluations()) / wall}};
         if (integrator == "implicit_euler") {
           j["cg_tolerance"] = solver.tolerance;
           j["cg_iterations_last_step"] = cg / frames;
-          j["cg_spring_products_per_s"] = static_cast<double>(b.dynamics->springProducts()) / wall;
+          j["cg_spring_products_per_s"] = static_cast<double>(b.system->springProducts()) / wall;
         }
-        if (self) j["self_collision_passes"] = b.cloth->self_passes;
+        if (self) j["self_collision_passes"] = body.cloth().self_passes;
         std::printf("%s\n", j.dump().c_str());
         std::fflush(stdout);
       }
@@ -322,16 +328,16 @@ int benchFluid(double simulated) {
         "species": [{"name": "gas", "mass": 0.008, "alpha": 0, "beta": 0.01, "cutoff": 0.046, "viscosity": 10}],
         "blocks": [{"min": [)" + num(-side / 2) + R"(, 0, )" + num(-side / 2) + R"(], "max": [)" + num(side / 2) + ", " +
                              num(side) + ", " + num(side / 2) + R"(], "spacing": 0.02, "jitter": 0.3}]}]})";
-    auto scene = io::parseScene(text, "bench_fluid.json");
+    auto scene = parseScene(text, "bench_fluid.json");
     if (!scene.ok()) return report(scene.error());
-    auto world = World::create(scene.value());
+    auto world = makeWorld(scene.value());
     if (!world.ok()) return report(world.error());
     World& w = world.value();
     // The first half settles the block (untimed); the second half is measured.
     const int frames = scene.value().frameCount() / 2, settle = scene.value().frameCount() - frames;
     for (int k = 0; k < settle; ++k)
       if (Status st = w.advanceFrame(); !st) return report(st.error());
-    const Fluid& fl = *w.fluids().front();
+    const Fluid& fl = w.first<FluidBody>()->fluid();
     const long long pairs0 = fl.pair_tests, rebuilds0 = fl.rebuilds, split0 = fl.split_steps;
     const auto t0 = Clock::now();
     for (int k = 0; k < frames; ++k)

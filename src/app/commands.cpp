@@ -1,4 +1,5 @@
 #include "app/commands.h"
+#include "app/body_kinds.h"
 #include "app/progress.h"
 
 #include <unistd.h>
@@ -11,7 +12,6 @@
 
 #include "core/parallel.h"
 #include "io/dump.h"
-#include "io/scene_loader.h"
 #include "io/video.h"
 #include "render/gl/context.h"
 #include "sim/world.h"
@@ -25,23 +25,23 @@ int report(const Error& e) {
 }
 
 int simulate(const SimulateOptions& opt) {
-  auto scene = io::loadScene(opt.scene);
+  auto scene = loadScene(opt.scene);
   if (!scene.ok()) return report(scene.error());
   const SceneDesc& s = scene.value();
-  auto world_r = World::create(s);
+  auto world_r = makeWorld(s);
   if (!world_r.ok()) return report(world_r.error());
   World& world = world_r.value();
 
   io::DumpWriter dump;
-  FrameSnapshot snap;
+  FrameView snap;
   const bool dumping = !opt.dump.empty();
   // The last good frame not yet in the dump, copied so that it can still be written when the
   // next frame goes unstable (DESIGN 5: the last frame is always written).
   int pending = -1;
   std::vector<std::vector<Vec3>> pending_x, pending_v;
-  FrameSnapshot pending_snap;
+  FrameView pending_snap;
   auto keepPending = [&] {
-    world.snapshot(pending_snap);
+    world.view(pending_snap);
     pending_x.resize(pending_snap.bodies.size());
     pending_v.resize(pending_snap.bodies.size());
     for (std::size_t b = 0; b < pending_snap.bodies.size(); ++b) {
@@ -55,7 +55,7 @@ int simulate(const SimulateOptions& opt) {
   };
   if (dumping) {
     if (Status st = dump.open(opt.dump, s.name, s.fps, s.substeps); !st) return report(st.error());
-    world.snapshot(snap);
+    world.view(snap);
     if (Status st = dump.write(snap); !st) return report(st.error());
   }
   // Frames 0..N-1 show times k/fps, as in a film of the scene (DESIGN 3).
@@ -74,7 +74,7 @@ int simulate(const SimulateOptions& opt) {
     }
     if (dumping) {
       if (k % opt.dump_every == 0 || k == last) {
-        world.snapshot(snap);
+        world.view(snap);
         if (Status st = dump.write(snap); !st) return report(st.error());
         pending = -1;
       } else if (opt.dump_every > 1) {
@@ -102,25 +102,17 @@ int simulate(const SimulateOptions& opt) {
 int check(const std::vector<std::string>& scenes) {
   int worst = 0;
   for (const auto& path : scenes) {
-    auto scene = io::loadScene(path);
+    auto scene = loadScene(path);
     Error err;
     if (scene.ok()) {
-      auto world = World::create(scene.value());  // also refuses unstable steps
+      auto world = makeWorld(scene.value());  // also refuses unstable steps
       if (world.ok()) {
         std::printf("%s: ok (%zu bodies, %zu objects, %d frames)\n", path.c_str(),
                     scene.value().bodies.size(), scene.value().objects.size(), scene.value().frameCount());
-        // Liquids: what their parameters mean in practice.
+        // What each body's parameters mean in practice (a liquid's rest distance, stable step).
         const World& w = world.value();
-        for (const auto& fl : w.fluids()) {
-          const StepBound b = fluidStableStep(*fl);
-          std::printf("  fluid '%s': %zu particles at the start, stable step %.3g s (this scene steps %.3g s)\n",
-                      fl->name.c_str(), fl->size(), b.h_max, w.stepSize());
-          for (int k = 0; k < fl->S; ++k) {
-            const PairParams& p = fl->pairs[static_cast<std::size_t>(k * fl->S + k)];
-            std::printf("    species '%s': rest distance %.4g m, bulk spacing %.4g m, cutoff %.4g m\n",
-                        fl->species_names[static_cast<std::size_t>(k)].c_str(), restDistance(p), bulkSpacing(p), p.cutoff);
-          }
-        }
+        for (const auto& b : w.bodies())
+          for (const std::string& line : b->notes(w.stepSize())) std::printf("  %s\n", line.c_str());
         continue;
       }
       err = world.error();
@@ -142,7 +134,9 @@ int info() {
               NLOHMANN_JSON_VERSION_MINOR, NLOHMANN_JSON_VERSION_PATCH, CLI11_VERSION);
   std::printf("integrators:");
   for (auto n : kIntegratorNames) std::printf(" %.*s", static_cast<int>(n.size()), n.data());
-  std::printf("\nbodies: mass_spring rope net lattice cloth fluid\nobjects: plane sphere box capsule mesh container\n");
+  std::printf("\nbodies:");
+  for (const BodyKind& k : bodyKinds()) std::printf(" %s", k.type);
+  std::printf("\nobjects: plane sphere box capsule mesh container\n");
   for (const auto& b : gl::probeBackends())
     std::printf("gl %s: %s\n", b.name.c_str(), b.ok ? b.detail.c_str() : ("unavailable: " + b.detail).c_str());
   std::printf("encoders:");

@@ -10,13 +10,14 @@
 #include <string>
 #include <thread>
 
+#include "app/body_kinds.h"
 #include "app/commands.h"
 #include "app/progress.h"
 #include "core/image_compare.h"
+#include "core/scene_view.h"
 #include "core/queue.h"
 #include "io/png.h"
 #include "io/video.h"
-#include "io/scene_loader.h"
 #include "render/gl/context.h"
 #include "render/renderer.h"
 #include "sim/world.h"
@@ -45,7 +46,7 @@ struct Setup {
 };
 
 Status setup(const RenderOptions& opt, Setup& s) {
-  auto scene = io::loadScene(opt.scene);
+  auto scene = loadScene(opt.scene);
   if (!scene.ok()) return scene.error();
   s.scene = std::move(scene.value());
   if (opt.width > 0) {
@@ -53,7 +54,7 @@ Status setup(const RenderOptions& opt, Setup& s) {
     s.scene.render.height = opt.height;
   }
   if (opt.samples > 0) s.scene.render.samples = opt.samples;
-  auto world = World::create(s.scene);
+  auto world = makeWorld(s.scene);
   if (!world.ok()) return world.error();
   s.world = std::make_unique<World>(std::move(world.value()));
   auto backend = chooseBackend(opt.gl);
@@ -92,7 +93,8 @@ int still(const RenderOptions& opt, double time, int frame) {
   while (s.world->frame() < k)
     if (Status st = s.world->advanceFrame(); !st) return report(st.error());
   DrawList list;
-  s.world->emit(list);
+  setSceneView(s.scene, s.world->time(), list);
+  s.world->draw(list);
   Image img;
   if (Status st = s.renderer->draw(list, img); !st) return report(st.error());
   if (Status st = io::writePng(opt.outputs.at(0), img, pngText(s, k)); !st) return report(st.error());
@@ -207,7 +209,8 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
         }
       if (k < first || !need[static_cast<std::size_t>(k)]) continue;
       DrawList list;
-      s.world->emit(list);
+      setSceneView(s.scene, s.world->time(), list);
+      s.world->draw(list);
       if (!lists.push({k, std::move(list)})) break;
     }
     lists.close();

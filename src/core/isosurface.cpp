@@ -23,6 +23,8 @@ double GridField::sample(const Vec3& p) const {
   return s;
 }
 
+// The marching loop in one piece (84 lines): its cell, tetrahedron and edge-cache steps share
+// their indices, which separate functions would have to pass around.
 TriMesh isosurface(const GridField& f, double iso) {
   TriMesh out;
   const int nx = f.dims[0], ny = f.dims[1], nz = f.dims[2];

@@ -1,29 +1,24 @@
 #include "io/dump.h"
 
-#include <charconv>
 #include <cmath>
 
 #include <nlohmann/json.hpp>
 
+#include "core/format.h"
+
 namespace reel::io {
 namespace {
-
-void putNumber(std::string& out, double x) {
-  char buf[32];
-  auto r = std::to_chars(buf, buf + sizeof buf, x);  // shortest round-trip form
-  out.append(buf, r.ptr);
-}
 
 void putVec3s(std::string& out, std::span<const Vec3> vs) {
   out += '[';
   for (std::size_t i = 0; i < vs.size(); ++i) {
     if (i) out += ',';
     out += '[';
-    putNumber(out, vs[i].x());
+    appendNumber(out, vs[i].x());
     out += ',';
-    putNumber(out, vs[i].y());
+    appendNumber(out, vs[i].y());
     out += ',';
-    putNumber(out, vs[i].z());
+    appendNumber(out, vs[i].z());
     out += ']';
   }
   out += ']';
@@ -44,14 +39,14 @@ Status DumpWriter::open(const std::string& path, const std::string& scene, int f
   return {};
 }
 
-Status DumpWriter::write(const FrameSnapshot& f) {
+Status DumpWriter::write(const FrameView& f) {
   if (!first_) buf_ += ",\n";
   first_ = false;
   buf_ += "{\"frame\":" + std::to_string(f.frame) + ",\"time\":";
-  putNumber(buf_, f.time);
+  appendNumber(buf_, f.time);
   buf_ += ",\"bodies\":[";
   for (std::size_t b = 0; b < f.bodies.size(); ++b) {
-    const BodySnapshot& s = f.bodies[b];
+    const BodyView& s = f.bodies[b];
     if (b) buf_ += ',';
     buf_ += "\n {\"name\":" + jsonString(s.name) + ",\"type\":" + jsonString(s.type) +
             ",\"generator\":" + jsonString(s.generator) + ",\n  \"positions\":";

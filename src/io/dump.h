@@ -5,7 +5,7 @@
 #include <string>
 
 #include "core/error.h"
-#include "core/snapshot.h"
+#include "core/frame_view.h"
 #include "io/files.h"
 
 namespace reel::io {
@@ -13,7 +13,7 @@ namespace reel::io {
 class DumpWriter {
  public:
   Status open(const std::string& path, const std::string& scene, int fps, int substeps);
-  Status write(const FrameSnapshot& frame);
+  Status write(const FrameView& frame);
   // Closes the JSON and renames the part file onto the final name.
   Status finish();
 

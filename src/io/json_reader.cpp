@@ -1,5 +1,7 @@
 #include "io/json_reader.h"
 
+#include "core/format.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -24,12 +26,6 @@ std::size_t editDistance(const std::string& a, const std::string& b) {
     std::swap(prev, cur);
   }
   return prev[b.size()];
-}
-
-std::string fmtNumber(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", x);
-  return buf;
 }
 
 std::string inQuotes(const std::string& s) { return "\"" + s + "\""; }
@@ -60,10 +56,10 @@ bool Range::contains(double x) const {
 std::string Range::describe() const {
   const bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
   if (has_lo && has_hi)
-    return "must be in " + std::string(lo_open ? "(" : "[") + fmtNumber(lo) + ", " + fmtNumber(hi) +
+    return "must be in " + std::string(lo_open ? "(" : "[") + formatNumber(lo, 6) + ", " + formatNumber(hi, 6) +
            (hi_open ? ")" : "]");
-  if (has_lo) return std::string("must be ") + (lo_open ? "> " : ">= ") + fmtNumber(lo);
-  if (has_hi) return std::string("must be ") + (hi_open ? "< " : "<= ") + fmtNumber(hi);
+  if (has_lo) return std::string("must be ") + (lo_open ? "> " : ">= ") + formatNumber(lo, 6);
+  if (has_hi) return std::string("must be ") + (hi_open ? "< " : "<= ") + formatNumber(hi, 6);
   return "must be finite";
 }
 
@@ -73,7 +69,7 @@ std::string typeName(const Json& j) {
   if (j.is_string()) return "the string " + inQuotes(j.get<std::string>());
   if (j.is_boolean()) return j.get<bool>() ? "true" : "false";
   if (j.is_null()) return "null";
-  if (j.is_number()) return fmtNumber(j.get<double>());
+  if (j.is_number()) return formatNumber(j.get<double>(), 6);
   return j.type_name();
 }
 
@@ -102,7 +98,7 @@ std::optional<double> readNumber(const Json& j, const std::string& path, Diagnos
     return std::nullopt;
   }
   if (!r.contains(x)) {
-    d.error(path, r.describe() + ", got " + fmtNumber(x));
+    d.error(path, r.describe() + ", got " + formatNumber(x, 6));
     return std::nullopt;
   }
   return x;

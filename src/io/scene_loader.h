@@ -1,12 +1,25 @@
 // Loading and validating `reel/1` scene files (DESIGN 4, 9).
 #pragma once
 
+#include <memory>
+#include <span>
 #include <string>
 
 #include "core/error.h"
 #include "core/scene.h"
 
 namespace reel::io {
+
+class Obj;
+
+// A body kind's reader: the kind's keys of one `bodies` entry (`entry`; the keys every body has,
+// name, type, material and node_radius, are read by the loader). It may set defaults of `body`
+// (its material) and reads the scene's top-level keys from `scene` (read before any body).
+using BodyReader = std::shared_ptr<const BodyParams> (*)(Obj& entry, BodyDesc& body, const SceneDesc& scene);
+struct BodyReaderRow {
+  const char* type;
+  BodyReader read;
+};
 
 // Limits that keep a bad scene from exhausting the machine.
 inline constexpr std::size_t kMaxSceneBytes = 64u << 20;     // scene file size
@@ -20,8 +33,9 @@ inline constexpr std::size_t kMaxTexturePixels = 16u << 20;  // 4096 x 4096
 
 // Parses and validates a scene file. On failure the Error (BadInput) lists every problem found,
 // one line each: "file:line:col: ..." for syntax errors, "file: /json/path: ..." otherwise.
-Result<SceneDesc> loadScene(const std::string& path);
+// `kinds`: the body kinds (app/body_kinds.h: bodyReaders()).
+Result<SceneDesc> loadScene(const std::string& path, std::span<const BodyReaderRow> kinds);
 // The same from text already in memory; `file` names it in messages and anchors asset paths.
-Result<SceneDesc> parseScene(const std::string& text, const std::string& file);
+Result<SceneDesc> parseScene(const std::string& text, const std::string& file, std::span<const BodyReaderRow> kinds);
 
 }  // namespace reel::io

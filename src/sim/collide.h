@@ -45,9 +45,9 @@ struct Collider {
   Mat3 rot = Mat3::Identity(), rot_prev = Mat3::Identity();
   Vec3 pos{0, 0, 0}, pos_prev{0, 0, 0};
   double dt = 0.0;  // time between the previous and the current pose, s
-  bool dynamic = false;  // posed by the liquid's push and gravity (sim/dynamic.h), not by keys
+  bool free_body = false;  // posed by its free object's motion (sim/free_object.h), not by keys
   std::vector<std::pair<std::string, Surface>> species_surface;  // per-species surfaces (liquids)
-  bool moving() const { return dynamic || !keys.empty(); }
+  bool moving() const { return free_body || !keys.empty(); }
   // The pose at time t (keys interpolated: position linearly, rotation by slerp, held outside).
   void poseAt(double t, Mat3& r, Vec3& p) const;
   // Moves to time t; the pose before becomes the previous one (surface velocities).

@@ -15,7 +15,7 @@ void resize(std::vector<Vec3>& v, std::size_t n) {
 }
 
 // Symplectic (semi-implicit) Euler: a = f/m, v += h·a, x += h·v_new.
-void symplecticEuler(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
+void symplecticEuler(OdeSystem& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
                      IntegratorWorkspace& ws) {
   const Index n = static_cast<Index>(x.size());
   resize(ws.a, x.size());
@@ -27,7 +27,7 @@ void symplecticEuler(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, 
 }
 
 // Explicit (forward) Euler: x += h·v_old, v += h·a.
-void explicitEuler(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
+void explicitEuler(OdeSystem& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
                    IntegratorWorkspace& ws) {
   const Index n = static_cast<Index>(x.size());
   resize(ws.a, x.size());
@@ -42,7 +42,7 @@ void explicitEuler(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, do
 // exactly those of the central second difference x⁺ = 2x − x⁻ + h²a. Velocity-dependent forces
 // (damping) at the end of the step are evaluated at the predicted velocity v + h·a, which keeps
 // the method second order without an implicit solve.
-void verlet(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
+void verlet(OdeSystem& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
             IntegratorWorkspace& ws) {
   const Index n = static_cast<Index>(x.size());
   resize(ws.a, x.size());
@@ -58,7 +58,7 @@ void verlet(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
 }
 
 // Classical fourth-order Runge–Kutta on the first-order system (x, v)' = (v, a(x, v)).
-void rk4(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
+void rk4(OdeSystem& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
          IntegratorWorkspace& ws) {
   const std::size_t n = x.size();
   const Index ni = static_cast<Index>(n);
@@ -113,7 +113,7 @@ double dot(const std::vector<Vec3>& p, const std::vector<Vec3>& q) {
 // is 0: the filter S of section 5.3 with every direction constrained). Each iteration is one
 // product with A and three passes over the nodes, two of which also return the dot products
 // (each a deterministic chunked sum).
-void implicitEuler(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
+void implicitEuler(OdeSystem& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
                    IntegratorWorkspace& ws, const ImplicitSettings& set, StepStats* stats) {
   REEL_CHECK(dyn.linearizable(), "implicit_euler needs a linearizable system");
   const std::size_t n = x.size();
@@ -183,7 +183,7 @@ void implicitEuler(Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, do
 
 }  // namespace
 
-void integrate(IntegratorKind kind, Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v,
+void integrate(IntegratorKind kind, OdeSystem& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v,
                double h, IntegratorWorkspace& ws, const ImplicitSettings& implicit,
                StepStats* stats) {
   REEL_DCHECK(x.size() == dyn.size() && v.size() == dyn.size(), "state size mismatch");

@@ -12,9 +12,10 @@
 
 namespace reel {
 
-class Dynamics {
+// A second-order system x'' = a(x, v) over nodes, as the integrators see it.
+class OdeSystem {
  public:
-  virtual ~Dynamics() = default;
+  virtual ~OdeSystem() = default;
   virtual std::size_t size() const = 0;
   virtual bool fixed(std::size_t i) const = 0;
   // a = M⁻¹ f(x, v); zero for fixed nodes.
@@ -46,7 +47,7 @@ struct StepStats {
 };
 
 // Advances (x, v) by one step h with the chosen integrator.
-void integrate(IntegratorKind kind, Dynamics& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v,
+void integrate(IntegratorKind kind, OdeSystem& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v,
                double h, IntegratorWorkspace& ws, const ImplicitSettings& implicit,
                StepStats* stats = nullptr);
 

@@ -68,7 +68,7 @@ void buildMassSpring(const MassSpringDesc& desc, const Vec3& gravity, MassSpring
   model.incidence.build(n, model.springs);
 }
 
-void MassSpringDynamics::gather(const std::vector<Vec3>& per_spring, std::size_t i,
+void MassSpringSystem::gather(const std::vector<Vec3>& per_spring, std::size_t i,
                                 Vec3& out) const {
   const auto& inc = m_.incidence;
   for (int e = inc.start[i]; e < inc.start[i + 1]; ++e) {
@@ -79,7 +79,7 @@ void MassSpringDynamics::gather(const std::vector<Vec3>& per_spring, std::size_t
   }
 }
 
-void MassSpringDynamics::acceleration(const Vec3* x, const Vec3* v, Vec3* a) {
+void MassSpringSystem::acceleration(const Vec3* x, const Vec3* v, Vec3* a) {
   const Springs& sp = m_.springs;
   const Index ns = static_cast<Index>(sp.size());
   if (fs_.size() != sp.size()) fs_.resize(sp.size());
@@ -103,7 +103,7 @@ void MassSpringDynamics::acceleration(const Vec3* x, const Vec3* v, Vec3* a) {
   });
 }
 
-void MassSpringDynamics::linearize(const Vec3* x, const Vec3* v, double h, Vec3* rhs,
+void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, double h, Vec3* rhs,
                                    Mat3* block_inverse) {
   const Springs& sp = m_.springs;
   const Index ns = static_cast<Index>(sp.size());
@@ -182,7 +182,7 @@ namespace {
 // out_i = (m + hγ) p_i + Σ over the springs at i of B (p_i − p_other), for nodes [i0, i1): each
 // node reads its springs' groups in order, four springs a lane each, and adds the lanes last.
 REEL_CLONED
-void applyGroups(const MassSpringDynamics::Group4* groups, const int* group_start, const double* own, const Vec3* p,
+void applyGroups(const MassSpringSystem::Group4* groups, const int* group_start, const double* own, const Vec3* p,
                  Vec3* out, Index i0, Index i1) {
   const Lane4 zero = {0, 0, 0, 0};
   for (Index i = i0; i < i1; ++i) {
@@ -190,7 +190,7 @@ void applyGroups(const MassSpringDynamics::Group4* groups, const int* group_star
     const Lane4 pi0 = zero + pi.x(), pi1 = zero + pi.y(), pi2 = zero + pi.z();
     Lane4 a0 = zero, a1 = zero, a2 = zero;
     for (int g = group_start[i]; g < group_start[i + 1]; ++g) {
-      const MassSpringDynamics::Group4& G = groups[g];
+      const MassSpringSystem::Group4& G = groups[g];
       const Vec3 &q0 = p[G.other[0]], &q1 = p[G.other[1]], &q2 = p[G.other[2]], &q3 = p[G.other[3]];
       const Lane4 d0 = pi0 - Lane4{q0.x(), q1.x(), q2.x(), q3.x()};
       const Lane4 d1 = pi1 - Lane4{q0.y(), q1.y(), q2.y(), q3.y()};
@@ -211,7 +211,7 @@ void applyGroups(const MassSpringDynamics::Group4* groups, const int* group_star
 
 }  // namespace
 
-void MassSpringDynamics::applySystem(const Vec3* p, Vec3* out) {
+void MassSpringSystem::applySystem(const Vec3* p, Vec3* out) {
   parallelBlocks(static_cast<Index>(m_.nodes()), 256, [&](Index i0, Index i1) {
     applyGroups(groups_.data(), group_start_.data(), own_.data(), p, out, i0, i1);
   });

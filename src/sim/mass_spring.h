@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/scene.h"
+#include "core/scene/mass_spring.h"
 #include "core/types.h"
 #include "sim/integrators.h"
 
@@ -57,9 +58,9 @@ struct MassSpringState {
 void buildMassSpring(const MassSpringDesc& desc, const Vec3& gravity, MassSpringModel& model,
                      MassSpringState& state);
 
-// The model as a Dynamics for the integrators: accelerations, and the linearised system of
+// The model as an OdeSystem (x'' = a(x, v)) for the integrators: accelerations, and the linearised system of
 // implicit Euler. Holds scratch arrays, so one instance per body and thread of control.
-class MassSpringDynamics final : public Dynamics {
+class MassSpringSystem final : public OdeSystem {
  public:
   // The springs at one node, four at a time, for the conjugate-gradient products: their blocks
   // in single precision (half the memory traffic; both ends of a spring read the same rounded
@@ -72,7 +73,7 @@ class MassSpringDynamics final : public Dynamics {
     float b[6][4];  // xx, yy, zz, xy, xz, yz
     int other[4];
   };
-  explicit MassSpringDynamics(const MassSpringModel& m) : m_(m) {}
+  explicit MassSpringSystem(const MassSpringModel& m) : m_(m) {}
   std::size_t size() const override { return m_.nodes(); }
   bool fixed(std::size_t i) const override { return m_.fixed[i] != 0; }
   void acceleration(const Vec3* x, const Vec3* v, Vec3* a) override;

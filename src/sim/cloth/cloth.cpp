@@ -10,47 +10,24 @@
 #include "core/parallel.h"
 #include "core/random.h"
 #include "sim/geometry.h"
+#include "sim/union_find.h"
 
 namespace reel {
 
 using Index = std::ptrdiff_t;
 
-// --- wind ----------------------------------------------------------------------------------
-Wind::Wind(const WindDesc& d, std::uint64_t seed) : mean_(d.velocity) {
-  const double speed = d.velocity.norm();
-  const Vec3 along = speed > 0 ? Vec3(d.velocity / speed) : Vec3::UnitX();
-  const double carry = std::max(speed, 1.0);  // m/s: how fast the gusts travel
-  auto xi = [seed](int k) { return uniformAt(seed, 0x57494E44ull /* "WIND" */, static_cast<std::uint64_t>(k)); };
-  for (int k = 0; k < 3; ++k) {
-    // Mostly along the mean wind, turned a little by a random vector in [−½, ½]³.
-    const Vec3 turn(xi(8 * k) - 0.5, xi(8 * k + 1) - 0.5, xi(8 * k + 2) - 0.5);
-    dir_[k] = (along + turn).normalized();
-    amp_[k] = d.gust * (0.7 + 0.6 * xi(8 * k + 3)) / 3.0;
-    omega_[k] = 2.0 * kPi / (d.gust_period * (0.6 + 0.8 * xi(8 * k + 4)));
-    phase_[k] = 2.0 * kPi * xi(8 * k + 5);
-    k_[k] = (omega_[k] / carry) * along;
-  }
-}
-
-Vec3 Wind::at(const Vec3& x, double t) const {
-  Vec3 u = mean_;
-  // Each gust wave is non-negative, ½(1 + sin), so gusts strengthen the wind; together they
-  // reach about `gust` at their peaks.
-  for (int k = 0; k < 3; ++k)
-    if (amp_[k] != 0.0) u += amp_[k] * 0.5 * (1.0 + std::sin(omega_[k] * t - k_[k].dot(x) + phase_[k])) * dir_[k];
-  return u;
-}
-
 // --- building -------------------------------------------------------------------------------
-MassSpringDesc buildCloth(const ClothDesc& d, std::uint64_t seed, Cloth& c) {
-  MassSpringDesc out;
+namespace {
+
+// The ids of a sheet's structural springs (horizontal, vertical) and of its cells' diagonals.
+struct SheetSprings {
+  std::vector<int> sh, sv, d1, d2;
+};
+
+// Nodes on the local x–z plane, centred on `position`; masses lumped by the area they stand for.
+void clothNodes(const ClothDesc& d, Cloth& c, MassSpringDesc& out) {
   const int nx = d.resolution[0], ny = d.resolution[1];
-  c = Cloth{};
-  c.nx = nx;
-  c.ny = ny;
   const Mat3 R = rotationFromEulerDeg(d.rotation_deg);
-  auto id = [nx](int i, int j) { return j * nx + i; };
-  // Nodes on the local x–z plane, centred on `position`; masses lumped by the area they stand for.
   const double cells = static_cast<double>(nx - 1) * (ny - 1);
   c.uv.reserve(2 * static_cast<std::size_t>(nx) * ny);
   for (int j = 0; j < ny; ++j)
@@ -75,14 +52,27 @@ MassSpringDesc buildCloth(const ClothDesc& d, std::uint64_t seed, Cloth& c) {
     }
   c.grips = d.grips;
 
-  // Springs: structural (horizontal, then vertical), shear (two diagonals per cell), bend.
+}
+
+// Springs: structural (horizontal, then vertical), shear (two diagonals per cell), bend; and the
+// threads each shear and bend spring needs.
+SheetSprings clothSprings(const ClothDesc& d, Cloth& c, MassSpringDesc& out) {
+  const int nx = d.resolution[0], ny = d.resolution[1];
+  auto id = [nx](int i, int j) { return j * nx + i; };
   auto add = [&](int a, int b, const SpringParams& p, bool limited) {
     out.springs.push_back({a, b, p.stiffness, p.damping, -1.0});
     c.limited.push_back(limited ? 1 : 0);
     return static_cast<int>(out.springs.size() - 1);
   };
-  std::vector<int> sh(static_cast<std::size_t>((nx - 1) * ny)), sv(static_cast<std::size_t>(nx * (ny - 1)));
-  std::vector<int> d1(static_cast<std::size_t>((nx - 1) * (ny - 1))), d2(d1.size());
+  SheetSprings ids;
+  std::vector<int>& sh = ids.sh;
+  std::vector<int>& sv = ids.sv;
+  std::vector<int>& d1 = ids.d1;
+  std::vector<int>& d2 = ids.d2;
+  sh.assign(static_cast<std::size_t>((nx - 1) * ny), 0);
+  sv.assign(static_cast<std::size_t>(nx * (ny - 1)), 0);
+  d1.assign(static_cast<std::size_t>((nx - 1) * (ny - 1)), 0);
+  d2.assign(d1.size(), 0);
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i + 1 < nx; ++i) sh[static_cast<std::size_t>(j * (nx - 1) + i)] = add(id(i, j), id(i + 1, j), d.structural, true);
   for (int j = 0; j + 1 < ny; ++j)
@@ -121,10 +111,19 @@ MassSpringDesc buildCloth(const ClothDesc& d, std::uint64_t seed, Cloth& c) {
   std::iota(c.spring_id.begin(), c.spring_id.end(), 0);
   c.intact.assign(ns, 1);
 
-  // Two triangles per cell, the diagonal alternating like a checkerboard (no preferred fold
-  // direction); counter-clockwise seen from local +y. Edges 01, 12, 20 name their springs.
-  auto H = [&](int i, int j) { return sh[static_cast<std::size_t>(j * (nx - 1) + i)]; };
-  auto V = [&](int i, int j) { return sv[static_cast<std::size_t>(j * nx + i)]; };
+  return ids;
+}
+
+// Two triangles per cell, the diagonal alternating like a checkerboard (no preferred fold
+// direction); counter-clockwise seen from local +y. Edges 01, 12, 20 name their springs. Then
+// each triangle's neighbours and each node's triangles.
+void clothTriangles(Cloth& c, const SheetSprings& ids, std::size_t nn, std::size_t ns) {
+  const int nx = c.nx, ny = c.ny;
+  auto id = [nx](int i, int j) { return j * nx + i; };
+  const std::vector<int>& d1 = ids.d1;
+  const std::vector<int>& d2 = ids.d2;
+  auto H = [&](int i, int j) { return ids.sh[static_cast<std::size_t>(j * (nx - 1) + i)]; };
+  auto V = [&](int i, int j) { return ids.sv[static_cast<std::size_t>(j * nx + i)]; };
   for (int j = 0; j + 1 < ny; ++j)
     for (int i = 0; i + 1 < nx; ++i) {
       const int p00 = id(i, j), p10 = id(i + 1, j), p01 = id(i, j + 1), p11 = id(i + 1, j + 1);
@@ -156,7 +155,6 @@ MassSpringDesc buildCloth(const ClothDesc& d, std::uint64_t seed, Cloth& c) {
       c.tri_adj[t][e] = slot[0] == static_cast<int>(t) ? slot[1] : slot[0];
     }
   // Node → triangles.
-  const std::size_t nn = out.nodes.size();
   c.node_tri_start.assign(nn + 1, 0);
   for (const auto& t : c.tris)
     for (int k : t) ++c.node_tri_start[static_cast<std::size_t>(k) + 1];
@@ -167,7 +165,11 @@ MassSpringDesc buildCloth(const ClothDesc& d, std::uint64_t seed, Cloth& c) {
     for (int k : c.tris[t]) c.node_tri[static_cast<std::size_t>(fill[static_cast<std::size_t>(k)]++)] = static_cast<int>(t);
   c.tri_alive.assign(nt, 1);
 
-  // Breaking strains, varied per spring from the seed.
+}
+
+// Breaking strains, varied per spring from the seed.
+void tearStrains(const ClothDesc& d, std::uint64_t seed, Cloth& c, const MassSpringDesc& out) {
+  const std::size_t ns = out.springs.size();
   if (d.tear.strain > 0) {
     c.tear_strain.resize(ns);
     for (std::size_t s = 0; s < ns; ++s)
@@ -179,6 +181,19 @@ MassSpringDesc buildCloth(const ClothDesc& d, std::uint64_t seed, Cloth& c) {
       if (out.nodes[static_cast<std::size_t>(out.springs[s].a)].fixed || out.nodes[static_cast<std::size_t>(out.springs[s].b)].fixed)
         c.tear_strain[s] = std::numeric_limits<double>::infinity();
   }
+}
+
+}  // namespace
+
+MassSpringDesc buildCloth(const ClothDesc& d, std::uint64_t seed, Cloth& c) {
+  MassSpringDesc out;
+  c = Cloth{};
+  c.nx = d.resolution[0];
+  c.ny = d.resolution[1];
+  clothNodes(d, c, out);
+  const SheetSprings ids = clothSprings(d, c, out);
+  clothTriangles(c, ids, out.nodes.size(), out.springs.size());
+  tearStrains(d, seed, c, out);
   c.strain_limit = d.strain_limit;
   c.thickness = d.thickness;
   c.self_collision = d.self_collision;
@@ -299,30 +314,30 @@ void limitStrain(Cloth& c, const MassSpringModel& m, double h, std::vector<Vec3>
 }
 
 // --- self-collision ---------------------------------------------------------------------------
-void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::vector<Vec3>& v) {
-  const std::size_t nt = c.tris.size(), nn = x.size();
-  const double gap = 2.0 * c.thickness;
-  if (c.x_prev.size() != nn) {  // the first step: the start is the reference
-    c.x_prev = x;
-    return;
-  }
-  // Largest move since the last pass, less the sheet's mean move: two nodes approach each other
-  // by at most twice that, so below a quarter of the gap no node can have crossed it. (A sheet
-  // flying as a whole does not trigger passes.) Sums in node order, maxima in any order.
+namespace {
+
+// Largest move since the last pass, less the sheet's mean move: two nodes approach each other
+// by at most twice that, so below a quarter of the gap no node can have crossed it. (A sheet
+// flying as a whole does not trigger passes.) Sums in node order, maxima in any order.
+bool selfPassDue(const Cloth& c, const std::vector<Vec3>& x, double gap) {
+  const std::size_t nn = x.size();
   Vec3 mean_move = Vec3::Zero();
   for (std::size_t i = 0; i < nn; ++i) mean_move += x[i] - c.x_prev[i];
   mean_move /= static_cast<double>(nn);
   double moved = 0.0;
   for (std::size_t i = 0; i < nn; ++i) moved = std::max(moved, (x[i] - c.x_prev[i] - mean_move).squaredNorm());
   // (A non-finite state is left for the World's state check to report.)
-  if (!(std::sqrt(moved) >= 0.125 * gap) || !std::isfinite(moved)) return;
-  ++c.self_passes;
+  return std::sqrt(moved) >= 0.125 * gap && std::isfinite(moved);
+}
 
+// Boxes of the drawn triangles grown by the gap (the second sweep moves nodes by less than
+// that, and its misses are caught by the next pass) in a grid, a cell about their mean size. A
+// triangle stretched over more than eight cells is torn apart in all but name and sits out (an
+// empty box far away). Returns the mean size, −1 when no triangle is left.
+double triangleBoxes(Cloth& c, const std::vector<Vec3>& x, double gap) {
+  const std::size_t nt = c.tris.size();
   c.lo.resize(nt);
   c.hi.resize(nt);
-  // Boxes of the drawn triangles grown by the gap (the second sweep moves nodes by less than
-  // that, and its misses are caught by the next pass), a cell about their mean size. A triangle stretched over more than eight cells is torn apart in all but
-  // name and sits out (an empty box far away).
   double mean = 0.0;
   int live = 0;
   for (std::size_t t = 0; t < nt; ++t) {
@@ -335,15 +350,79 @@ void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::
       ++live;
     }
   }
-  if (live == 0) {
-    c.x_prev = x;
-    return;
-  }
+  if (live == 0) return -1.0;
   mean /= live;
   const double cell = mean;
   for (std::size_t t = 0; t < nt; ++t)
     if (!c.tri_alive[t] || !((c.hi[t] - c.lo[t]).maxCoeff() <= 8 * cell)) c.lo[t] = c.hi[t] = Vec3::Constant(-1e6 * cell);
   c.grid.build(c.lo, c.hi, cell);
+  return mean;
+}
+
+// One node in a sweep: pushed out of every triangle (not its own) it is within the gap of, to the
+// side it was on at the last pass; its velocity relative to the triangle loses its approaching
+// normal part. The mean over the triangles it meets.
+void sweepNode(Cloth& c, const MassSpringModel& m, std::size_t i, double gap, double depth, std::vector<Vec3>& x,
+               std::vector<Vec3>& v) {
+  if (m.fixed[i] || !c.hit[i]) return;
+  c.hit[i] = 0;
+  const Vec3 p = c.x_in[i], p0 = c.x_prev[i];
+  Vec3 dx = Vec3::Zero(), dv = Vec3::Zero();
+  int hits = 0;
+  c.grid.forEachAt(p, [&](int t) {
+    // The bucket lists every triangle near the cell: first the cheap test of the box.
+    const Vec3 &lo = c.lo[static_cast<std::size_t>(t)], &hi = c.hi[static_cast<std::size_t>(t)];
+    if (p.x() < lo.x() || p.y() < lo.y() || p.z() < lo.z() || p.x() > hi.x() || p.y() > hi.y() || p.z() > hi.z()) return;
+    const auto& tri = c.tris[static_cast<std::size_t>(t)];
+    if (tri[0] == static_cast<int>(i) || tri[1] == static_cast<int>(i) || tri[2] == static_cast<int>(i)) return;
+    const double len = c.tri_double_area[static_cast<std::size_t>(t)];
+    if (!(len > 1e-300)) return;
+    const Vec3 &a = c.x_in[tri[0]], &b = c.x_in[tri[1]], &cc = c.x_in[tri[2]];
+    const Vec3& n = c.tri_n[static_cast<std::size_t>(t)];
+    const double dn = (p - a).dot(n);
+    if (std::abs(dn) > depth) return;
+    // Barycentric coordinates of p's projection on the triangle's plane.
+    const Vec3 q = p - dn * n;
+    const double wb = (q - a).cross(cc - a).dot(n) / len, wc = (b - a).cross(q - a).dot(n) / len;
+    const double wa = 1.0 - wb - wc;
+    if (wa < 0 || wb < 0 || wc < 0) return;
+    // The side the node was on at the start of the step.
+    const Vec3 &a0 = c.x_prev[tri[0]], &b0 = c.x_prev[tri[1]], &c0 = c.x_prev[tri[2]];
+    const Vec3& n0 = c.tri_n0[static_cast<std::size_t>(t)];
+    const double side0 = (p0 - (wa * a0 + wb * b0 + wc * c0)).dot(n0);
+    const double s = side0 > 0 ? 1.0 : side0 < 0 ? -1.0 : (dn >= 0 ? 1.0 : -1.0);
+    const double sd = s * dn;
+    if (sd >= gap) return;
+    dx += (gap - sd) * s * n;
+    const Vec3 vt = wa * c.v_in[tri[0]] + wb * c.v_in[tri[1]] + wc * c.v_in[tri[2]];
+    const double vn = (c.v_in[i] - vt).dot(s * n);
+    if (vn < 0) dv -= vn * s * n;
+    ++hits;
+  });
+  if (hits > 0) {
+    c.hit[i] = 1;
+    x[i] = p + dx / hits;
+    v[i] = c.v_in[i] + dv / hits;
+  }
+}
+
+}  // namespace
+
+void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::vector<Vec3>& v) {
+  const std::size_t nt = c.tris.size(), nn = x.size();
+  const double gap = 2.0 * c.thickness;
+  if (c.x_prev.size() != nn) {  // the first step: the start is the reference
+    c.x_prev = x;
+    return;
+  }
+  // (A non-finite state is left for the World's state check to report.)
+  if (!selfPassDue(c, x, gap)) return;
+  ++c.self_passes;
+  const double mean = triangleBoxes(c, x, gap);
+  if (mean < 0.0) {
+    c.x_prev = x;
+    return;
+  }
   // A node is caught when it is within the gap of a triangle's face, or has crossed it by less
   // than a typical edge (farther crossings are other layers of the sheet, not this contact).
   const double depth = std::max(mean - 4 * gap, 2 * gap);
@@ -355,7 +434,7 @@ void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::
   // sweep: the unit normal and twice the area (not once per node that looks at it).
   c.tri_n0.resize(nt);
   c.tri_n.resize(nt);
-  c.tri_len.resize(nt);
+  c.tri_double_area.resize(nt);
   parallelFor(static_cast<Index>(nt), [&](Index t) {
     const auto& tri = c.tris[static_cast<std::size_t>(t)];
     const Vec3 &a0 = c.x_prev[tri[0]], &b0 = c.x_prev[tri[1]], &c0 = c.x_prev[tri[2]];
@@ -369,51 +448,10 @@ void selfCollide(Cloth& c, const MassSpringModel& m, std::vector<Vec3>& x, std::
       const Vec3 &a = c.x_in[tri[0]], &b = c.x_in[tri[1]], &cc = c.x_in[tri[2]];
       const Vec3 cr = (b - a).cross(cc - a);
       const double len = cr.norm();
-      c.tri_len[static_cast<std::size_t>(t)] = len;
+      c.tri_double_area[static_cast<std::size_t>(t)] = len;
       c.tri_n[static_cast<std::size_t>(t)] = len > 1e-300 ? Vec3(cr / len) : Vec3::Zero();
     });
-    parallelFor(static_cast<Index>(nn), [&](Index i) {
-      if (m.fixed[i] || !c.hit[i]) return;
-      c.hit[i] = 0;
-      const Vec3 p = c.x_in[i], p0 = c.x_prev[i];
-      Vec3 dx = Vec3::Zero(), dv = Vec3::Zero();
-      int hits = 0;
-      c.grid.forEachAt(p, [&](int t) {
-        // The bucket lists every triangle near the cell: first the cheap test of the box.
-        const Vec3 &lo = c.lo[static_cast<std::size_t>(t)], &hi = c.hi[static_cast<std::size_t>(t)];
-        if (p.x() < lo.x() || p.y() < lo.y() || p.z() < lo.z() || p.x() > hi.x() || p.y() > hi.y() || p.z() > hi.z()) return;
-        const auto& tri = c.tris[static_cast<std::size_t>(t)];
-        if (tri[0] == i || tri[1] == i || tri[2] == i) return;
-        const double len = c.tri_len[static_cast<std::size_t>(t)];
-        if (!(len > 1e-300)) return;
-        const Vec3 &a = c.x_in[tri[0]], &b = c.x_in[tri[1]], &cc = c.x_in[tri[2]];
-        const Vec3& n = c.tri_n[static_cast<std::size_t>(t)];
-        const double dn = (p - a).dot(n);
-        if (std::abs(dn) > depth) return;
-        // Barycentric coordinates of p's projection on the triangle's plane.
-        const Vec3 q = p - dn * n;
-        const double wb = (q - a).cross(cc - a).dot(n) / len, wc = (b - a).cross(q - a).dot(n) / len;
-        const double wa = 1.0 - wb - wc;
-        if (wa < 0 || wb < 0 || wc < 0) return;
-        // The side the node was on at the start of the step.
-        const Vec3 &a0 = c.x_prev[tri[0]], &b0 = c.x_prev[tri[1]], &c0 = c.x_prev[tri[2]];
-        const Vec3& n0 = c.tri_n0[static_cast<std::size_t>(t)];
-        const double side0 = (p0 - (wa * a0 + wb * b0 + wc * c0)).dot(n0);
-        const double s = side0 > 0 ? 1.0 : side0 < 0 ? -1.0 : (dn >= 0 ? 1.0 : -1.0);
-        const double sd = s * dn;
-        if (sd >= gap) return;
-        dx += (gap - sd) * s * n;
-        const Vec3 vt = wa * c.v_in[tri[0]] + wb * c.v_in[tri[1]] + wc * c.v_in[tri[2]];
-        const double vn = (c.v_in[i] - vt).dot(s * n);
-        if (vn < 0) dv -= vn * s * n;
-        ++hits;
-      });
-      if (hits > 0) {
-        c.hit[i] = 1;
-        x[i] = p + dx / hits;
-        v[i] = c.v_in[i] + dv / hits;
-      }
-    });
+    parallelFor(static_cast<Index>(nn), [&](Index i) { sweepNode(c, m, static_cast<std::size_t>(i), gap, depth, x, v); });
   }
   c.x_prev = x;
 }
@@ -465,69 +503,6 @@ int tearSprings(Cloth& c, MassSpringModel& m, const std::vector<Vec3>& x) {
   const int n = static_cast<int>(ns - w);
   c.springs_broken += n;
   return n;
-}
-
-// --- drawing ----------------------------------------------------------------------------------
-namespace {
-int findRoot(std::vector<int>& parent, int i) {
-  while (parent[static_cast<std::size_t>(i)] != i) {
-    parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
-    i = parent[static_cast<std::size_t>(i)];
-  }
-  return i;
-}
-void unite(std::vector<int>& parent, int a, int b) {
-  a = findRoot(parent, a);
-  b = findRoot(parent, b);
-  if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-}
-}  // namespace
-
-TriMesh clothMesh(const Cloth& c, const std::vector<Vec3>& x) {
-  const std::size_t nt = c.tris.size();
-  // Corners (3 per triangle) joined across the edges two drawn triangles share: each class is
-  // one vertex, so a node on a tear gets a vertex (and a normal) per side.
-  std::vector<int> parent(3 * nt);
-  std::iota(parent.begin(), parent.end(), 0);
-  for (std::size_t t = 0; t < nt; ++t) {
-    if (!c.tri_alive[t]) continue;
-    for (int e = 0; e < 3; ++e) {
-      const int u = c.tri_adj[t][e];
-      if (u < static_cast<int>(t) || !c.tri_alive[static_cast<std::size_t>(u)]) continue;
-      for (int k : {e, (e + 1) % 3}) {
-        const int node = c.tris[t][k];
-        const auto& other = c.tris[static_cast<std::size_t>(u)];
-        const int ku = other[0] == node ? 0 : other[1] == node ? 1 : 2;
-        unite(parent, static_cast<int>(3 * t) + k, 3 * u + ku);
-      }
-    }
-  }
-  TriMesh mesh;
-  std::vector<int> vert(3 * nt, -1);
-  std::vector<Vec3> normal;
-  for (std::size_t t = 0; t < nt; ++t) {
-    if (!c.tri_alive[t]) continue;
-    const auto& tri = c.tris[t];
-    const Vec3 cr = (x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]);  // area-weighted normal
-    for (int k = 0; k < 3; ++k) {
-      const int root = findRoot(parent, static_cast<int>(3 * t) + k);
-      int& vi = vert[static_cast<std::size_t>(root)];
-      if (vi < 0) {
-        vi = static_cast<int>(mesh.vertexCount());
-        const auto node = static_cast<std::size_t>(tri[k]);
-        mesh.addVertex(x[node], Vec3::UnitY(), c.uv[2 * node], c.uv[2 * node + 1]);
-        normal.push_back(Vec3::Zero());
-      }
-      normal[static_cast<std::size_t>(vi)] += cr;
-      mesh.indices.push_back(static_cast<std::uint32_t>(vi));
-    }
-  }
-  for (std::size_t i = 0; i < normal.size(); ++i) {
-    const double len = normal[i].norm();
-    const Vec3 n = len > 0 ? Vec3(normal[i] / len) : Vec3::UnitY();
-    for (int k = 0; k < 3; ++k) mesh.normals[3 * i + k] = static_cast<float>(n[k]);
-  }
-  return mesh;
 }
 
 int clothPieces(std::size_t nodes, const Springs& s) {

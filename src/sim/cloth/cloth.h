@@ -10,63 +10,61 @@
 
 #include "core/mesh.h"
 #include "core/scene.h"
+#include "core/scene/cloth.h"
 #include "core/types.h"
 #include "sim/grid.h"
 #include "sim/mass_spring.h"
+#include "sim/wind.h"
 
 namespace reel {
 
-// The wind field u(x, t) of WindDesc: the mean wind plus three travelling gust waves drawn from
-// the scene seed (frozen turbulence carried along the mean wind, Taylor's hypothesis).
-class Wind {
- public:
-  Wind() = default;
-  Wind(const WindDesc& d, std::uint64_t seed);
-  Vec3 at(const Vec3& x, double t) const;
-
- private:
-  Vec3 mean_{0, 0, 0};
-  Vec3 dir_[3];       // gust directions, unit
-  double amp_[3]{};   // m/s
-  double omega_[3]{}; // rad/s
-  double phase_[3]{};
-  Vec3 k_[3];         // spatial wave vectors, rad/m
-};
-
-struct Cloth {
-  // --- model (fixed unless the sheet tears) ---
+// What the sheet is: fixed unless it tears (then `ClothState` says which springs are left).
+struct ClothModel {
   int nx = 0, ny = 0;
   std::vector<std::array<int, 3>> tris;         // node indices, counter-clockwise from local +y (triangles)
   std::vector<std::array<int, 3>> tri_springs;  // original ids of the springs on edges 01, 12, 20 (triangles)
   std::vector<std::array<int, 3>> tri_adj;      // triangle across edges 01, 12, 20, or −1 (triangles)
   std::vector<int> node_tri_start, node_tri;    // node → incident triangles (nodes + 1; 3·triangles)
   std::vector<float> uv;                        // texture coordinates, 2 per node
-  std::vector<int> spring_id;       // original id of each current spring (springs)
-  std::vector<std::uint8_t> intact; // by original spring id
-  std::vector<std::uint8_t> limited;  // structural or shear spring: strain-limited (springs)
-  std::vector<double> tear_strain;    // breaking strain (springs; infinite for shear and bend); empty: never tears
   std::vector<std::array<int, 4>> holds;  // by original id: the threads a shear or bend spring needs (−1: none)
   int structural = 0;  // original ids below this are structural springs (the threads)
-  std::vector<std::uint8_t> tri_alive;  // both structural edges intact (triangles)
   double strain_limit = 0.0;
   double thickness = 0.005;
   bool self_collision = false;
   AirDesc air;
   std::vector<GripDesc> grips;
   std::vector<Vec3> grip_origin;  // where each gripped node starts, per grip in order of nodes
-  // --- scratch ---
+};
+
+// What changes as the sheet moves and tears (besides the nodes and the springs themselves, in the
+// mass-spring state and model).
+struct ClothState {
+  std::vector<int> spring_id;       // original id of each current spring (springs)
+  std::vector<std::uint8_t> intact; // by original spring id
+  std::vector<std::uint8_t> limited;  // structural or shear spring: strain-limited (springs)
+  std::vector<double> tear_strain;    // breaking strain (springs; infinite for shear and bend); empty: never tears
+  std::vector<std::uint8_t> tri_alive;  // both structural edges intact (triangles)
+  std::vector<Vec3> x_prev;  // node positions at the last self-collision pass, m (nodes)
+  long long self_passes = 0;
+  long long springs_broken = 0;
+};
+
+// Arrays reused from step to step; their contents do not outlive a step.
+struct ClothScratch {
   std::vector<Vec3> f_air;      // air force per node, N (nodes)
   std::vector<Vec3> wind;       // wind velocity at each node, m/s (nodes)
   std::vector<Vec3> tri_force;  // (triangles)
-  std::vector<Vec3> x_prev, x_in, v_in, corr;  // (nodes); x_prev: positions at the last pass
+  std::vector<Vec3> x_in, v_in, corr;  // (nodes)
   std::vector<std::uint8_t> hit;  // self-collision moved the node this sweep (nodes)
-  std::vector<Vec3> tri_n, tri_n0;  // triangles' unit normals this sweep, normals at the last pass
-  std::vector<double> tri_len;      // twice the triangles' areas this sweep
-  long long self_passes = 0;
+  std::vector<Vec3> tri_n;        // triangles' unit normals this sweep
+  std::vector<Vec3> tri_n0;       // triangles' normals at the last pass, from x_prev (this pass)
+  std::vector<double> tri_double_area;  // twice the triangles' areas this sweep, m²
   std::vector<Vec3> lo, hi;     // triangle boxes (triangles)
   BoxGrid grid;
-  long long springs_broken = 0;
 };
+
+// The sheet's data besides its mass-spring network: model, state and scratch.
+struct Cloth : ClothModel, ClothState, ClothScratch {};
 
 // Builds the sheet's nodes and springs (structural, shear, bend: in that order) and its cloth
 // data. Node masses are lumped by area: corners ¼, edges ½, interior 1 cell each.

@@ -5,49 +5,15 @@
 #include <numbers>
 
 #include "core/error.h"
-#include "core/isosurface.h"
 #include "core/lanes.h"
-#include "core/math.h"
 #include "core/parallel.h"
+#include "core/math.h"
 #include "core/random.h"
+#include "sim/fluid/fluid_pair.h"
 
 namespace reel {
 namespace {
 
-// x^e, by multiplication when e is a small whole number (ie ≥ 0).
-inline double power(double x, double e, int ie) {
-  switch (ie) {
-    case 0: return 1.0;
-    case 1: return x;
-    case 2: return x * x;
-    case 3: return x * x * x;
-    case 4: { const double y = x * x; return y * y; }
-    case 5: { const double y = x * x; return y * y * x; }
-    case 6: { const double y = x * x * x; return y * y; }
-    case 7: { const double y = x * x * x; return y * y * x; }
-    case 8: { const double y = x * x; const double z = y * y; return z * z; }
-    default: return std::pow(x, e);
-  }
-}
-
-// The scalar c with g_ij = c·(x_i − x_j), at distance r.
-inline double pairCoefficient(const PairParams& p, double mi, double mj, double r) {
-  return mi * mj * (-p.alpha / power(r + p.epsilon, p.a, p.ia) + p.beta / power(r, p.b, p.ib));
-}
-
-// The radial force (positive: repulsive) between particles of masses mi, mj at distance r.
-double radialForce(const PairParams& p, double mi, double mj, double r) { return pairCoefficient(p, mi, mj, r) * r; }
-
-int wholeExponent(double e) { return e == std::floor(e) && e >= 0 && e <= 8 ? static_cast<int>(e) : -1; }
-
-// An orthonormal pair perpendicular to the unit vector d.
-void perpendicular(const Vec3& d, Vec3& u, Vec3& w) {
-  const Vec3 helper = std::abs(d.y()) < 0.9 ? Vec3::UnitY() : Vec3::UnitX();
-  u = helper.cross(d).normalized();
-  w = d.cross(u);
-}
-
-constexpr std::uint64_t kJitterStream = 0xF1D0ull << 16;
 constexpr std::uint64_t kEmitterStream = 0xE311ull << 16;
 
 // Emits the layers of every emitter due by t1; returns whether any particle was added. A layer
@@ -61,9 +27,10 @@ bool emit(Fluid& fl, double t0, double t1) {
     if (t1 < d.start) continue;
     const long long due =
         std::min(e.max_layers, static_cast<long long>(std::floor((std::min(t1, d.stop) - d.start) / e.layer_dt)) + 1);
-    for (; e.layers < due; ++e.layers) {
-      const double t_layer = d.start + static_cast<double>(e.layers) * e.layer_dt;
-      const double turn = 2.0 * std::numbers::pi * uniformAt(fl.seed, kEmitterStream + k, static_cast<std::uint64_t>(e.layers));
+    long long& layers = fl.layers[k];
+    for (; layers < due; ++layers) {
+      const double t_layer = d.start + static_cast<double>(layers) * e.layer_dt;
+      const double turn = 2.0 * std::numbers::pi * uniformAt(fl.seed, kEmitterStream + k, static_cast<std::uint64_t>(layers));
       const double c = std::cos(turn), sn = std::sin(turn);
       const Vec3 vel = d.speed * d.direction;
       // A nozzle cannot push into liquid: a point closer than half the spacing to a particle
@@ -96,236 +63,6 @@ bool emit(Fluid& fl, double t0, double t1) {
 }
 
 }  // namespace
-
-PairParams makePair(double alpha, double beta, double a, double b, double epsilon, double cutoff, double viscosity) {
-  PairParams p;
-  p.alpha = alpha;
-  p.beta = beta;
-  p.a = a;
-  p.b = b;
-  p.epsilon = epsilon;
-  p.cutoff = cutoff;
-  p.cutoff2 = cutoff * cutoff;
-  p.viscosity = viscosity;
-  p.ia = wholeExponent(a);
-  p.ib = wholeExponent(b);
-  return p;
-}
-
-Vec3 pairForce(const PairParams& p, double mi, double mj, const Vec3& xi, const Vec3& xj) {
-  const Vec3 d = xi - xj;
-  const double r2 = d.squaredNorm();
-  if (!(r2 < p.cutoff2) || r2 == 0.0) return Vec3::Zero();
-  return pairCoefficient(p, mi, mj, std::sqrt(r2)) * d;
-}
-
-namespace {
-
-// The largest r in (0, from) where g turns positive: g is sampled at at(k), k = 1..n (decreasing),
-// from `from` down, and the first sign change is bisected. 0 when g stays ≤ 0 at every sample.
-template <class G, class At>
-double firstPositiveBelow(double from, int n, At&& at, G&& g, int iterations) {
-  double hi = from;
-  for (int k = 1; k <= n; ++k) {
-    const double lo = at(k);
-    if (g(lo) > 0) {
-      double a = lo, b = hi;  // g(a) > 0 ≥ g(b)
-      for (int it = 0; it < iterations; ++it) {
-        const double mid = 0.5 * (a + b);
-        (g(mid) > 0 ? a : b) = mid;
-      }
-      return 0.5 * (a + b);
-    }
-    hi = lo;
-  }
-  return 0.0;
-}
-
-// Calls f(r) for the distance of every point of a cubic lattice of spacing d (but the origin)
-// that lies inside the cutoff.
-template <class F>
-void forLattice(double d, double cutoff, F&& f) {
-  const int M = static_cast<int>(std::floor(cutoff / d));
-  for (int i = -M; i <= M; ++i)
-    for (int j = -M; j <= M; ++j)
-      for (int k = -M; k <= M; ++k) {
-        const double r = d * std::sqrt(static_cast<double>(i * i + j * j + k * k));
-        if (r > 0 && r < cutoff) f(r);
-      }
-}
-
-}  // namespace
-
-double restDistance(const PairParams& p) {
-  if (p.beta <= 0 || p.alpha <= 0) return 0.0;
-  auto phi = [&](double r) { return -p.alpha / power(r + p.epsilon, p.a, p.ia) + p.beta / power(r, p.b, p.ib); };
-  if (phi(p.cutoff) > 0) return 0.0;  // still repulsive at the cutoff: no rest distance inside
-  // Down from the cutoff (log-spaced to 10⁻⁴ of it), the outermost sign change.
-  constexpr int n = 400;
-  return firstPositiveBelow(p.cutoff, n, [&](int k) { return p.cutoff * std::pow(1e-4, static_cast<double>(k) / n); },
-                            phi, 100);
-}
-
-double bulkSpacing(const PairParams& p) {
-  if (p.alpha <= 0 || p.beta <= 0) return 0.0;
-  auto virial = [&](double d) {
-    double v = 0.0;
-    forLattice(d, p.cutoff, [&](double r) { v += radialForce(p, 1.0, 1.0, r) * r; });
-    return v;
-  };
-  // Down from the cutoff to a sixth of it, the first spacing where the lattice pushes outwards.
-  constexpr int n = 600;
-  return firstPositiveBelow(p.cutoff, n, [&](int k) { return p.cutoff * (1.0 - (5.0 / 6.0) * k / n); }, virial, 60);
-}
-
-Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<ObjectDesc>& objects,
-                 const std::vector<Collider>& colliders, std::uint64_t seed) {
-  Fluid fl;
-  fl.name = name;
-  fl.seed = seed;
-  fl.S = static_cast<int>(d.species.size());
-  REEL_CHECK(fl.S >= 1, "a fluid needs a species");
-  const auto S = static_cast<std::size_t>(fl.S);
-  for (const SpeciesDesc& sp : d.species) {
-    fl.species_names.push_back(sp.name);
-    fl.species_mass.push_back(sp.mass);
-    fl.species_color.push_back(sp.color);
-  }
-  // Pair table: a species with itself uses its own values, two species the mean of theirs,
-  // unless an interaction sets them.
-  fl.pairs.resize(S * S);
-  for (std::size_t i = 0; i < S; ++i)
-    for (std::size_t j = 0; j < S; ++j) {
-      const SpeciesDesc &A = d.species[i], &B = d.species[j];
-      auto mean = [](double x, double y) { return 0.5 * (x + y); };
-      double alpha = mean(A.alpha, B.alpha), beta = mean(A.beta, B.beta), a = mean(A.a, B.a), b = mean(A.b, B.b);
-      double eps = mean(A.epsilon, B.epsilon), cut = mean(A.cutoff, B.cutoff), visc = mean(A.viscosity, B.viscosity);
-      for (const InteractionDesc& in : d.interactions) {
-        if (!((in.s == static_cast<int>(i) && in.t == static_cast<int>(j)) ||
-              (in.s == static_cast<int>(j) && in.t == static_cast<int>(i))))
-          continue;
-        alpha = in.alpha.value_or(alpha);
-        beta = in.beta.value_or(beta);
-        a = in.a.value_or(a);
-        b = in.b.value_or(b);
-        eps = in.epsilon.value_or(eps);
-        cut = in.cutoff.value_or(cut);
-        visc = in.viscosity.value_or(visc);
-      }
-      PairParams p = makePair(alpha, beta, a, b, eps, cut, visc);
-      const double mi = A.mass, mj = B.mass;
-      p.mm = mi * mj;
-      p.visc_mu = visc * mi * mj / (mi + mj);
-      p.inv_cutoff = 1.0 / cut;
-      p.seed_form = p.ia == 2 && p.ib == 4 && eps == 0.0;
-      const double kT = 0.5 * (mi * A.agitation * A.agitation + mj * B.agitation * B.agitation);
-      p.sigma = std::sqrt(2.0 * p.visc_mu * kT);
-      fl.agitated = fl.agitated || p.sigma > 0;
-      fl.pairs[i * S + j] = p;
-    }
-  fl.cutoff_max = 0.0;
-  for (const PairParams& p : fl.pairs) fl.cutoff_max = std::max(fl.cutoff_max, p.cutoff);
-  fl.skin = 0.3 * fl.cutoff_max;
-  {
-    const double d0 = bulkSpacing(fl.pairs[0]);
-    fl.ref_spacing = d0 > 0 ? 0.65 * d0 : 2.0 * d.radius;
-  }
-  fl.radius = d.radius;
-  fl.max_particles = d.max_particles;
-  fl.draw = d.draw;
-  fl.surface_cell = d.surface_cell > 0 ? d.surface_cell : d.radius;
-  fl.surface_kernel = d.surface_kernel > 0 ? d.surface_kernel : 4.0 * d.radius;
-  fl.surface_iso = d.surface_iso;
-  // Surfaces per collider and species; dynamic objects by collider.
-  fl.surfaces.reserve(objects.size() * S);
-  for (const ObjectDesc& o : objects) {
-    for (std::size_t k = 0; k < S; ++k) {
-      Surface sf = o.surface;
-      for (const auto& [sp, surf] : o.species_surface)
-        if (sp == fl.species_names[k]) sf = surf;
-      fl.surfaces.push_back(sf);
-    }
-    fl.dyn_of.push_back(o.dynamic ? fl.dynamic_count++ : -1);
-  }
-  // Blocks: a cubic lattice filling [min, max], each point jittered from the seed.
-  for (const FluidBlockDesc& b : d.blocks) {
-    const std::array<long long, 3> n{b.along(0), b.along(1), b.along(2)};
-    for (long long k = 0; k < n[2]; ++k)
-      for (long long j = 0; j < n[1]; ++j)
-        for (long long i = 0; i < n[0]; ++i) {
-          Vec3 p = b.min + b.spacing * Vec3(static_cast<double>(i) + 0.5, static_cast<double>(j) + 0.5, static_cast<double>(k) + 0.5);
-          if (b.jitter > 0) {
-            const auto id = static_cast<std::uint64_t>(fl.x.size());
-            for (int a = 0; a < 3; ++a)
-              p[a] += b.jitter * b.spacing * (2.0 * uniformAt(seed, kJitterStream + static_cast<std::uint64_t>(a), id) - 1.0);
-          }
-          bool inside = false;
-          for (const Collider& c : colliders) {
-            double dist;
-            Vec3 nrm;
-            inside = inside || (c.distance(p, dist, nrm) && dist < c.thickness + d.radius);
-          }
-          if (inside) continue;
-          fl.id.push_back(static_cast<std::int32_t>(fl.id.size()));
-          fl.x.push_back(p);
-          fl.v.push_back(b.velocity);
-          fl.s.push_back(b.species);
-          fl.m.push_back(fl.species_mass[static_cast<std::size_t>(b.species)]);
-        }
-  }
-  for (const FluidParticlesDesc& p : d.particles)
-    for (std::size_t i = 0; i < p.positions.size(); ++i) {
-      fl.id.push_back(static_cast<std::int32_t>(fl.id.size()));
-      fl.x.push_back(p.positions[i]);
-      fl.v.push_back(i < p.velocities.size() ? p.velocities[i] : Vec3::Zero());
-      fl.s.push_back(p.species);
-      fl.m.push_back(fl.species_mass[static_cast<std::size_t>(p.species)]);
-    }
-  for (const EmitterDesc& e : d.emitters) {
-    FluidEmitter fe;
-    fe.desc = e;
-    fe.disc = hexDisc(e.radius, e.spacing);
-    perpendicular(e.direction, fe.u, fe.w);
-    fe.layer_dt = static_cast<double>(fe.disc.size()) / e.rate;
-    fe.max_layers = e.layers();
-    fl.emitters.push_back(std::move(fe));
-  }
-  const auto cap = static_cast<std::size_t>(std::min<long long>(fl.max_particles, static_cast<long long>(fl.x.size()) + d.emitted()));
-  fl.x.reserve(cap);
-  fl.v.reserve(cap);
-  fl.s.reserve(cap);
-  fl.m.reserve(cap);
-  return fl;
-}
-
-StepBound fluidStableStep(const Fluid& fl) {
-  StepBound out;
-  const auto S = static_cast<std::size_t>(fl.S);
-  for (std::size_t i = 0; i < S; ++i)
-    for (std::size_t j = 0; j < S; ++j) {
-      const PairParams& p = fl.pairs[i * S + j];
-      const double mi = fl.species_mass[i], mj = fl.species_mass[j];
-      const double d0 = bulkSpacing(p);
-      const double d = std::min(d0 > 0 ? 0.65 * d0 : 2.0 * fl.radius, p.cutoff);
-      double ksum = 0.0, csum = 0.0;
-      forLattice(d, p.cutoff, [&](double r) {
-        const double dr = 1e-4 * r;
-        ksum += std::abs(radialForce(p, mi, mj, r + dr) - radialForce(p, mi, mj, r - dr)) / (2 * dr) +
-                std::abs(radialForce(p, mi, mj, r)) / r;
-        csum += p.viscosity * mi * mj / (mi + mj) * (1.0 - r / p.cutoff);
-      });
-      const double w2 = 2.0 * ksum / mi;
-      const double beta = 2.0 * csum / mi;
-      const double h = oscillatorBound(IntegratorKind::SymplecticEuler, w2, beta);
-      if (h < out.h_max) {
-        out.h_max = h;
-        out.node = static_cast<int>(i * S + j);
-        out.omega = std::sqrt(w2);
-        out.beta = beta;
-      }
-    }
-  return out;
-}
 
 void sortParticles(Fluid& fl) {
   const std::size_t n = fl.x.size();
@@ -381,7 +118,7 @@ void fluidById(Fluid& fl) {
 void buildNeighbours(Fluid& fl) {
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
   const double reach = fl.cutoff_max + fl.skin, reach2 = reach * reach;
-  fl.grid.build(fl.x, fl.x, reach);
+  fl.grid.build(fl.x, fl.x, reach);  // as rebuildGrid does from x_built
   // The positions in the grid's bucket order, so that a bucket's candidates are read from
   // consecutive memory.
   const std::span<const std::int32_t> items = fl.grid.items();
@@ -442,6 +179,10 @@ void buildNeighbours(Fluid& fl) {
   ++fl.rebuilds;
 }
 
+void rebuildGrid(Fluid& fl) {
+  if (!fl.x_built.empty()) fl.grid.build(fl.x_built, fl.x_built, fl.cutoff_max + fl.skin);
+}
+
 namespace {
 
 // Rebuilds the neighbour list when a pair could have closed the skin since the last build (until
@@ -481,7 +222,7 @@ REEL_CLONED
 void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const Vec3& gravity, Vec3* out) {
   const Fluid::Packed* P = fl.packed.data();
   const std::int32_t* nb = fl.nbr.data();
-  const auto S = static_cast<std::size_t>(fl.S);
+  const auto S = static_cast<std::size_t>(fl.species_count);
   const Lane4 zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
   for (std::ptrdiff_t ii = i0; ii < i1; ++ii) {
     const auto i = static_cast<std::size_t>(ii);
@@ -489,7 +230,7 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
     const PairParams* row = &fl.pairs[static_cast<std::size_t>(pi.s) * S];
     const Lane4 xi0 = zero + pi.x[0], xi1 = zero + pi.x[1], xi2 = zero + pi.x[2];
     const Lane4 vi0 = zero + pi.v[0], vi1 = zero + pi.v[1], vi2 = zero + pi.v[2];
-    Lane4 cut2 = zero + row[0].cutoff2, mm = zero + row[0].mm, al = zero + row[0].alpha, be = zero + row[0].beta;
+    Lane4 cut2 = zero + row[0].cutoff2, mass = zero + row[0].mass_product, al = zero + row[0].alpha, be = zero + row[0].beta;
     Lane4 mu = zero + row[0].visc_mu, icut = zero + row[0].inv_cutoff;
     Lane4 a0 = zero, a1 = zero, a2 = zero;
     const std::uint32_t end = fl.nbr_start[i + 1];
@@ -502,7 +243,7 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
       if (S > 1) {
         const PairParams* p[4] = {&row[q0.s], &row[q1.s], &row[q2.s], &row[q3.s]};
         for (int k = 0; k < 4; ++k) {
-          cut2[k] = p[k]->cutoff2, mm[k] = p[k]->mm, al[k] = p[k]->alpha, be[k] = p[k]->beta;
+          cut2[k] = p[k]->cutoff2, mass[k] = p[k]->mass_product, al[k] = p[k]->alpha, be[k] = p[k]->beta;
           mu[k] = p[k]->visc_mu, icut[k] = p[k]->inv_cutoff;
         }
       }
@@ -514,7 +255,7 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
       const Lane4 safe = in ? r2 : one;
       // The seed's exponents: m_i m_j (−α/r² + β/r⁴) = m_i m_j (β/r² − α)/r², one division.
       const Lane4 inv = one / safe;
-      const Lane4 c = in ? mm * (be * inv - al) * inv : zero;
+      const Lane4 c = in ? mass * (be * inv - al) * inv : zero;
       Lane4 r = safe;
       for (int k = 0; k < 4; ++k) r[k] = std::sqrt(r[k]);
       const Lane4 w = in ? mu * (one - r * icut) : zero;
@@ -531,7 +272,7 @@ void generalForces(const Fluid& fl, std::size_t i, const Vec3& gravity, Vec3* ou
   const Fluid::Packed* P = fl.packed.data();
   const Fluid::Packed& pi = P[i];
   const double mi = pi.m;
-  const PairParams* row = &fl.pairs[static_cast<std::size_t>(pi.s) * static_cast<std::size_t>(fl.S)];
+  const PairParams* row = &fl.pairs[static_cast<std::size_t>(pi.s) * static_cast<std::size_t>(fl.species_count)];
   double f0 = mi * gravity.x(), f1 = mi * gravity.y(), f2 = mi * gravity.z();
   for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e) {
     const Fluid::Packed& pj = P[fl.nbr[e]];
@@ -553,7 +294,7 @@ void generalForces(const Fluid& fl, std::size_t i, const Vec3& gravity, Vec3* ou
 // (one cache line) instead of four arrays.
 void computeForces(Fluid& fl, const Vec3& gravity) {
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
-  const auto S = static_cast<std::size_t>(fl.S);
+  const auto S = static_cast<std::size_t>(fl.species_count);
   fl.f.resize(fl.x.size());
   fl.packed.resize(fl.x.size());
   parallelFor(n, [&](std::ptrdiff_t ii) {
@@ -595,7 +336,7 @@ void computeForces(Fluid& fl, const Vec3& gravity) {
 // jamming into a glass.
 void addThermalForces(Fluid& fl, double h) {
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
-  const auto S = static_cast<std::size_t>(fl.S);
+  const auto S = static_cast<std::size_t>(fl.species_count);
   const std::uint64_t draw = static_cast<std::uint64_t>(fl.thermal_draws++);
   const double root3 = std::sqrt(3.0), inv_sqrt_h = 1.0 / std::sqrt(h);
   parallelFor(n, [&](std::ptrdiff_t ii) {
@@ -619,20 +360,19 @@ void addThermalForces(Fluid& fl, double h) {
   });
 }
 
-// Symplectic Euler over h, then adhesion and contacts; the impulses particles take from dynamic
-// objects go, opposite, to the objects.
-void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, std::vector<DynamicObject>& dynamics,
-                    double h) {
+// Symplectic Euler over h, then adhesion and contacts; the impulses particles take from free
+// objects go, opposite, to the objects (through the coupling stage).
+void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, Coupling& coupling, double h) {
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
-  const auto S = static_cast<std::size_t>(fl.S);
+  const auto S = static_cast<std::size_t>(fl.species_count);
   parallelFor(n, [&](std::ptrdiff_t ii) {
     const auto i = static_cast<std::size_t>(ii);
     fl.v[i] += (h / fl.m[i]) * fl.f[i];
     fl.x[i] += h * fl.v[i];
   });
   if (colliders.empty()) return;
-  const auto D = static_cast<std::size_t>(fl.dynamic_count);
-  if (D > 0) fl.imp.assign(static_cast<std::size_t>(n) * D, Vec3::Zero());
+  const auto D = static_cast<std::size_t>(fl.object_count);
+  if (D > 0) fl.object_impulse.assign(static_cast<std::size_t>(n) * D, Vec3::Zero());
   parallelFor(n, [&](std::ptrdiff_t ii) {
     const auto i = static_cast<std::size_t>(ii);
     const auto si = static_cast<std::size_t>(fl.s[i]);
@@ -649,27 +389,27 @@ void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, std::vect
       // Adhesion: an acceleration towards the surface, full in contact, fading to 0 one cutoff away.
       if (sf.adhesion > 0) fl.v[i] -= (h * sf.adhesion * std::clamp(1.0 - (d - reach) / range, 0.0, 1.0)) * nrm;
       if (d < reach) contactNode(c, sf, reach, d, nrm, h, fl.x[i], fl.v[i]);
-      if (fl.dyn_of[k] >= 0) fl.imp[i * D + static_cast<std::size_t>(fl.dyn_of[k])] += fl.m[i] * (fl.v[i] - v_before);
+      if (fl.collider_object[k] >= 0) fl.object_impulse[i * D + static_cast<std::size_t>(fl.collider_object[k])] += fl.m[i] * (fl.v[i] - v_before);
     }
   });
-  // Each dynamic object takes the opposite of the particles' impulses, summed in index order.
-  for (DynamicObject& obj : dynamics) {
-    const int q = obj.collider < fl.dyn_of.size() ? fl.dyn_of[obj.collider] : -1;
+  // Each free object takes the opposite of the particles' impulses, summed in index order.
+  for (std::size_t k = 0; k < colliders.size(); ++k) {
+    const int q = k < fl.collider_object.size() ? fl.collider_object[k] : -1;
     if (q < 0) continue;
-    const Vec3 centre = colliders[obj.collider].pos;
+    const Vec3 centre = colliders[k].pos;
     for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
-      const Vec3& J = fl.imp[i * D + static_cast<std::size_t>(q)];
+      const Vec3& J = fl.object_impulse[i * D + static_cast<std::size_t>(q)];
       if (J.isZero()) continue;
-      obj.impulse -= J;
-      obj.angular -= (fl.x[i] - centre).cross(J);
+      coupling.impulse[k] -= J;
+      coupling.angular[k] -= (fl.x[i] - centre).cross(J);
     }
   }
 }
 
 }  // namespace
 
-void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, std::vector<DynamicObject>& dynamics,
-               const Vec3& gravity, double h, double t0, double t1) {
+void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, Coupling& coupling, const Vec3& gravity, double h,
+               double t0, double t1) {
   const bool added = emit(fl, t0, t1);
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
   if (n == 0) return;
@@ -693,7 +433,7 @@ void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, std::vector<Dy
       computeForces(fl, gravity);
     }
     if (fl.agitated) addThermalForces(fl, hk);
-    moveAndCollide(fl, colliders, dynamics, hk);
+    moveAndCollide(fl, colliders, coupling, hk);
   }
 }
 
@@ -710,134 +450,6 @@ Vec3 momentum(const Fluid& fl) {
       return fl.m[static_cast<std::size_t>(i)] * fl.v[static_cast<std::size_t>(i)][a];
     });
   return p;
-}
-
-namespace {
-
-// Each particle's colour: its species colour blended with its neighbours' (weights (1 − r/c)²
-// inside the pair cutoff), so where species mix their colours mix, and a pure region keeps its own.
-std::vector<Vec3> blendedColors(const Fluid& fl) {
-  const std::size_t n = fl.x.size();
-  std::vector<Vec3> c(n);
-  const auto S = static_cast<std::size_t>(fl.S);
-  const bool listed = fl.nbr_start.size() == n + 1;
-  parallelFor(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    Vec3 sum = fl.species_color[static_cast<std::size_t>(fl.s[i])];
-    double wsum = 1.0;
-    if (S > 1 && listed)
-      for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e) {
-        const auto j = static_cast<std::size_t>(fl.nbr[e]);
-        const PairParams& p = fl.pairs[static_cast<std::size_t>(fl.s[i]) * S + static_cast<std::size_t>(fl.s[j])];
-        const double r = (fl.x[i] - fl.x[j]).norm();
-        if (r >= p.cutoff) continue;
-        const double w = (1.0 - r / p.cutoff) * (1.0 - r / p.cutoff);
-        sum += w * fl.species_color[static_cast<std::size_t>(fl.s[j])];
-        wsum += w;
-      }
-    c[i] = sum / wsum;
-  });
-  return c;
-}
-
-// The liquid's surface: the particles' density splatted on a grid with the kernel
-// W(q) = (1 − q²)³, q = r/R, normalised by the density of a bulk at the species' rest spacing,
-// cut at `surface_iso`. Colours are the splatted particle colours, darkened with the depth of
-// liquid behind the surface (colour^(1 + 1.5·density one kernel radius inside): Beer–Lambert-like).
-TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors) {
-  const std::size_t n = fl.x.size();
-  if (n == 0) return {};
-  const double R = fl.surface_kernel;
-  double cell = fl.surface_cell;
-  Vec3 lo = fl.x[0], hi = fl.x[0];
-  for (const Vec3& p : fl.x) {
-    if (!p.allFinite()) continue;
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  lo -= Vec3::Constant(R + 2 * cell);
-  hi += Vec3::Constant(R + 2 * cell);
-  auto dimsFor = [&](double c) {
-    return std::array<double, 3>{std::ceil((hi.x() - lo.x()) / c) + 1, std::ceil((hi.y() - lo.y()) / c) + 1,
-                                 std::ceil((hi.z() - lo.z()) / c) + 1};
-  };
-  // At most 16 million nodes: a coarser grid when the liquid spreads wide.
-  while ([&] { auto d = dimsFor(cell); return d[0] * d[1] * d[2] > 1.6e7; }()) cell *= 1.25;
-  cell = std::max(cell, 1e-6);
-  const auto dd = dimsFor(cell);
-  GridField f;
-  f.dims = {static_cast<int>(dd[0]), static_cast<int>(dd[1]), static_cast<int>(dd[2])};
-  f.origin = lo;
-  f.cell = cell;
-  f.value.assign(static_cast<std::size_t>(dd[0] * dd[1] * dd[2]), 0.0f);
-  f.color.assign(3 * f.value.size(), 0.0f);
-  // A settled liquid packs its nearest neighbours at about 0.8 of the lattice spacing.
-  double spacing = 0.8 * bulkSpacing(fl.pairs[0]);
-  if (!(spacing > 0)) spacing = 2.0 * fl.radius;
-  const double bulk = 0.6383 * R * R * R / (spacing * spacing * spacing);  // ∫W dV / spacing³
-  const int reach = static_cast<int>(std::ceil(R / cell));
-  for (std::size_t p = 0; p < n; ++p) {
-    const Vec3& x = fl.x[p];
-    if (!x.allFinite()) continue;
-    const Vec3 g = (x - lo) / cell;
-    const int ci = static_cast<int>(std::lround(g.x())), cj = static_cast<int>(std::lround(g.y())),
-              ck = static_cast<int>(std::lround(g.z()));
-    for (int k = std::max(0, ck - reach); k <= std::min(f.dims[2] - 1, ck + reach); ++k)
-      for (int j = std::max(0, cj - reach); j <= std::min(f.dims[1] - 1, cj + reach); ++j)
-        for (int i = std::max(0, ci - reach); i <= std::min(f.dims[0] - 1, ci + reach); ++i) {
-          const double q2 = (lo + cell * Vec3(i, j, k) - x).squaredNorm() / (R * R);
-          if (q2 >= 1.0) continue;
-          const double w = (1 - q2) * (1 - q2) * (1 - q2) / bulk;
-          const std::size_t id = f.index(i, j, k);
-          f.value[id] += static_cast<float>(w);
-          for (int a = 0; a < 3; ++a) f.color[3 * id + static_cast<std::size_t>(a)] += static_cast<float>(w * colors[p][a]);
-        }
-  }
-  for (std::size_t id = 0; id < f.value.size(); ++id)
-    if (f.value[id] > 0)
-      for (int a = 0; a < 3; ++a) f.color[3 * id + static_cast<std::size_t>(a)] /= f.value[id];
-  TriMesh m = isosurface(f, fl.surface_iso);
-  for (std::size_t v = 0; v < m.vertexCount(); ++v) {
-    const Vec3 p(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]);
-    const Vec3 nv(m.normals[3 * v], m.normals[3 * v + 1], m.normals[3 * v + 2]);
-    const double depth = std::clamp(f.sample(p - R * nv), 0.0, 1.0);
-    for (int a = 0; a < 3; ++a) {
-      float& c = m.colors[3 * v + static_cast<std::size_t>(a)];
-      c = static_cast<float>(std::pow(std::clamp(static_cast<double>(c), 1e-3, 1.0), 1.0 + 1.5 * depth));
-    }
-  }
-  return m;
-}
-
-}  // namespace
-
-void emitFluid(const Fluid& fl, const Material& material, DrawList& out) {
-  if (fl.x.empty()) return;
-  DrawMaterial dm;
-  dm.color = Vec3(1, 1, 1);  // the species colours carry the albedo
-  dm.specular = material.specular;
-  dm.shininess = material.shininess;
-  dm.opacity = material.opacity;
-  const std::vector<Vec3> colors = blendedColors(fl);
-  if (fl.draw == FluidDraw::Surface) {
-    DrawMesh mesh;
-    mesh.mesh = std::make_shared<const TriMesh>(liquidSurface(fl, colors));
-    mesh.per_frame = true;
-    mesh.material = dm;
-    if (mesh.mesh->triangleCount() > 0) out.meshes.push_back(std::move(mesh));
-    return;
-  }
-  DrawSpheres sp;
-  sp.radius = static_cast<float>(fl.radius);
-  sp.material = dm;
-  sp.centers.reserve(3 * fl.x.size());
-  sp.colors.reserve(3 * fl.x.size());
-  for (std::size_t i = 0; i < fl.x.size(); ++i)
-    for (int a = 0; a < 3; ++a) {
-      sp.centers.push_back(static_cast<float>(fl.x[i][a]));
-      sp.colors.push_back(static_cast<float>(colors[i][a]));
-    }
-  out.spheres.push_back(std::move(sp));
 }
 
 }  // namespace reel

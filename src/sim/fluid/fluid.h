@@ -8,18 +8,18 @@
 // a skin) rebuilt through the shared hashed grid (sim/grid.h) when the two largest displacements
 // since the last build add up to the skin: never an O(N²) loop. Particles meet every object through the shared
 // collision primitives (sim/collide.h) with per-species surfaces (adhesion, friction,
-// restitution), and hand dynamic objects the impulses they take from them.
+// restitution), and hand free objects the impulses they take from them (the coupling stage).
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
-#include "core/drawlist.h"
 #include "core/scene.h"
+#include "core/scene/fluid.h"
 #include "core/types.h"
 #include "sim/collide.h"
-#include "sim/dynamic.h"
+#include "sim/body.h"
 #include "sim/grid.h"
 #include "sim/stability.h"
 
@@ -32,7 +32,7 @@ struct PairParams {
   int ia = 2, ib = 4;  // a and b when they are small whole numbers (fast powers), else −1
   // Set by buildFluid from the two species' masses, for the force loop: m_s·m_t, γ·m_s·m_t/(m_s + m_t),
   // 1/cutoff, and whether the force is the seed's a = 2, b = 4, ε = 0 (one division per pair).
-  double mm = 1.0, visc_mu = 0.0, inv_cutoff = 20.0;
+  double mass_product = 1.0, visc_mu = 0.0, inv_cutoff = 20.0;
   double sigma = 0.0;  // random pair force amplitude √(2·γμ·kT), kT = mean of m·agitation², N·√s
   bool seed_form = false;
 };
@@ -52,48 +52,62 @@ double restDistance(const PairParams& p);
 // is none (no attraction). Blocks laid out at this spacing start at rest.
 double bulkSpacing(const PairParams& p);
 
+// A nozzle as the fluid holds it (its layers emitted so far are state: FluidState::layers).
 struct FluidEmitter {
   EmitterDesc desc;
   std::vector<std::array<double, 2>> disc;  // the nozzle's pattern, m
   Vec3 u{1, 0, 0}, w{0, 0, 1};  // the disc's axes
   double layer_dt = 1.0;        // s between layers
-  long long layers = 0;         // emitted so far
   long long max_layers = 0;
 };
 
-struct Fluid {
+// What the liquid is: species, pair table, surfaces, nozzles, limits, how it is drawn.
+struct FluidModel {
   std::string name;
-  // Model.
-  int S = 1;  // species
+  int species_count = 1;
   std::vector<std::string> species_names;
-  std::vector<double> species_mass;
-  std::vector<Vec3> species_color;
-  std::vector<PairParams> pairs;  // S × S
+  std::vector<double> species_mass;  // kg (species)
+  std::vector<Vec3> species_color;   // linear rgb (species)
+  std::vector<PairParams> pairs;  // species × species
   double radius = 0.01;           // contact radius, m
   double cutoff_max = 0.05;       // m
   double skin = 0.01;             // Verlet-list margin, m
   double ref_spacing = 0.01;      // m: how close neighbours come in a settled liquid (step splitting)
-  std::vector<Surface> surfaces;  // colliders × S
-  std::vector<int> dyn_of;        // collider → index of its dynamic object, or −1
-  int dynamic_count = 0;
+  std::vector<Surface> surfaces;  // colliders × species
+  std::vector<int> collider_object;  // collider → index of its free object among the free objects, or −1
+  int object_count = 0;              // free objects among the colliders
   std::uint64_t seed = 0;
   long long max_particles = 0;
+  bool agitated = false;  // some pair has random forces
   FluidDraw draw = FluidDraw::Spheres;
   double surface_cell = 0.01, surface_kernel = 0.04, surface_iso = 0.5;
   std::vector<FluidEmitter> emitters;
-  // State.
-  std::vector<Vec3> x, v;
-  std::vector<int> s;         // species of each particle
-  std::vector<double> m;      // mass of each particle, kg
-  std::vector<std::int32_t> id;  // each slot's particle: its number in order of creation
-  // The state in order of creation (dumps and hashes), filled by fluidById.
-  std::vector<Vec3> x_by_id, v_by_id;
-  std::vector<int> s_by_id;
-  // Scratch and statistics.
-  std::vector<Vec3> f, x_built;
-  std::vector<std::uint32_t> nbr_start;
-  std::vector<std::int32_t> nbr;
-  std::vector<Vec3> imp;  // particles × dynamic objects: impulse the particle took, N·s
+};
+
+// What changes: the particles (in slots that re-sorting permutes; `id` follows each particle),
+// the nozzles' progress, and the neighbour list with the positions it was built at (the list
+// is rebuilt only when particles have moved a skin since, so it is part of what a step depends on).
+struct FluidState {
+  std::vector<Vec3> x, v;        // positions, m; velocities, m/s (particles)
+  std::vector<int> s;            // species of each particle (particles)
+  std::vector<double> m;         // mass of each particle, kg (particles)
+  std::vector<std::int32_t> id;  // each slot's particle: its number in order of creation (particles)
+  std::vector<long long> layers; // layers each nozzle has emitted (emitters)
+  std::vector<Vec3> x_built;     // positions at the last list build, m (particles then)
+  std::vector<std::uint32_t> nbr_start;  // the neighbour list: particle i's entries (particles + 1)
+  std::vector<std::int32_t> nbr;         // neighbour slots
+  long long thermal_draws = 0;  // force evaluations with random pair forces (their random stream)
+  // Statistics.
+  long long rebuilds = 0;
+  long long pair_tests = 0;   // list entries visited by the force loop (pair evaluations)
+  long long split_steps = 0;  // extra parts of steps split at violent moments
+  long long skipped = 0;      // emitter points skipped because liquid was there
+};
+
+// Arrays reused from step to step; their contents do not outlive a step (the grid: a list build).
+struct FluidScratch {
+  std::vector<Vec3> f;  // force per particle, N
+  std::vector<Vec3> object_impulse;  // particles × free objects: impulse the particle took, N·s
   std::vector<std::vector<std::int32_t>> chunk_lists;  // neighbour-list scratch
   std::vector<double> cell_x;  // positions in the grid's bucket order (list builds)
   struct alignas(64) Packed {  // what the force loop reads of a neighbour, in one cache line
@@ -103,21 +117,21 @@ struct Fluid {
     int s;
   };
   std::vector<Packed> packed;
-  BoxGrid grid;
-  long long rebuilds = 0;
-  long long pair_tests = 0;  // list entries visited by the force loop (pair evaluations)
-  long long split_steps = 0;  // extra parts of steps split at violent moments
-  long long skipped = 0;      // emitter points skipped because liquid was there
-  long long thermal_draws = 0;  // force evaluations with random pair forces (their random stream)
-  bool agitated = false;        // some pair has random forces
+  BoxGrid grid;  // built with the list, at x_built
+  // The state in order of creation (dumps and hashes), filled by fluidById.
+  std::vector<Vec3> x_by_id, v_by_id;
+  std::vector<int> s_by_id;
+};
+
+struct Fluid : FluidModel, FluidState, FluidScratch {
   std::size_t size() const { return x.size(); }
 };
 
 // Builds the particles (blocks, explicit particles), emitters, pair table and surfaces. Block
 // points inside an object (closer than its thickness plus the particle radius) are left out, so
-// a pool may be filled around what stands in it. `colliders` are the objects' (same order).
-Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<ObjectDesc>& objects,
-                 const std::vector<Collider>& colliders, std::uint64_t seed);
+// a pool may be filled around what stands in it. `colliders` are the scene's objects.
+Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<Collider>& colliders,
+                 std::uint64_t seed);
 
 // The stable step of symplectic Euler for this fluid (see docs/fluids.md): a cubic lattice at 0.65
 // of the bulk spacing (2 × radius without one), Gershgorin's bound over its neighbours inside the
@@ -126,14 +140,17 @@ Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<
 StepBound fluidStableStep(const Fluid& fl);
 
 // One step h from t0 to t1 = t0 + h: emission, pair and viscous forces with gravity, symplectic
-// Euler, adhesion and contacts with the colliders (impulses added to the dynamic objects). A step
+// Euler, adhesion and contacts with the colliders (the impulses free objects take go to the
+// coupling stage, `coupling`). A step
 // in which some particle would move more than 5% of the spacing through its acceleration (or 40%
 // through its speed) is split into equal parts, each with fresh forces (up to 16).
-void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, std::vector<DynamicObject>& dynamics,
-               const Vec3& gravity, double h, double t0, double t1);
+void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, Coupling& coupling, const Vec3& gravity, double h,
+               double t0, double t1);
 
 // Rebuilds the neighbour list now (the step does it when needed).
 void buildNeighbours(Fluid& fl);
+// Rebuilds the grid of the last list build (at x_built), as after restoring a state.
+void rebuildGrid(Fluid& fl);
 
 // Reorders the particles' slots along a Morton curve of their grid cells (memory locality); the
 // list must be rebuilt after. Particles keep their ids (`id`), so dumps keep following them.
@@ -145,9 +162,5 @@ void fluidById(Fluid& fl);
 // Kinetic energy, J, and momentum, kg·m/s.
 double kineticEnergy(const Fluid& fl);
 Vec3 momentum(const Fluid& fl);
-
-// What to draw: spheres coloured by species (colours blended over neighbours where species mix),
-// or the liquid's surface as a mesh (marching tetrahedra over the particle density).
-void emitFluid(const Fluid& fl, const Material& material, DrawList& out);
 
 }  // namespace reel

@@ -1,7 +1,6 @@
-#include "sim/builders.h"
+#include "sim/springs/generators.h"
 
 #include "core/math.h"
-#include "sim/cloth/cloth.h"
 
 namespace reel {
 namespace {
@@ -107,22 +106,6 @@ MassSpringDesc buildLattice(const LatticeDesc& d) {
       }
   finishNodes(out, d.mass, d.node_damping, d.velocity, d.pinned);
   return out;
-}
-
-MassSpringDesc expandBody(const BodyDesc& body) {
-  struct Visitor {
-    MassSpringDesc operator()(const MassSpringDesc& d) const { return d; }
-    MassSpringDesc operator()(const RopeDesc& d) const { return buildRope(d); }
-    MassSpringDesc operator()(const NetDesc& d) const { return buildNet(d); }
-    MassSpringDesc operator()(const LatticeDesc& d) const { return buildLattice(d); }
-    MassSpringDesc operator()(const ClothDesc& d) const {
-      Cloth unused;
-      return buildCloth(d, 0, unused);
-    }
-    // A fluid is particles without springs (the World builds it as a Fluid, not through here).
-    MassSpringDesc operator()(const FluidDesc&) const { return {}; }
-  };
-  return std::visit(Visitor{}, body.shape);
 }
 
 }  // namespace reel

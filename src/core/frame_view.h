@@ -10,7 +10,7 @@
 
 namespace reel {
 
-struct BodySnapshot {
+struct BodyView {
   std::string name;
   std::string type;       // dump type: "mass_spring" or "particles"
   std::string generator;  // scene type that built it: mass_spring, rope, net, lattice, cloth, fluid
@@ -21,10 +21,10 @@ struct BodySnapshot {
   std::vector<std::string> species_names;    // particles: the species, by index
 };
 
-struct FrameSnapshot {
+struct FrameView {
   int frame = 0;
   double time = 0.0;  // s, = frame / fps
-  std::vector<BodySnapshot> bodies;
+  std::vector<BodyView> bodies;
 };
 
 }  // namespace reel

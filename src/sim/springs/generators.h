@@ -2,15 +2,12 @@
 // explicit nodes-and-springs description as a `mass_spring` body, so one engine runs them all.
 #pragma once
 
-#include "core/scene.h"
+#include "core/scene/mass_spring.h"
 
 namespace reel {
 
 MassSpringDesc buildRope(const RopeDesc& d);
 MassSpringDesc buildNet(const NetDesc& d);
 MassSpringDesc buildLattice(const LatticeDesc& d);
-
-// Any body description as explicit nodes and springs.
-MassSpringDesc expandBody(const BodyDesc& body);
 
 }  // namespace reel

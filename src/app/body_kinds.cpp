@@ -1,0 +1,50 @@
+#include "app/body_kinds.h"
+
+#include "io/scene/readers.h"
+#include "sim/cloth/cloth_body.h"
+#include "sim/fluid/fluid_body.h"
+#include "sim/springs/springs_body.h"
+
+namespace reel::app {
+namespace {
+
+// Seed streams: the mass-spring kinds share one (a cloth's tear thresholds), liquids have theirs.
+constexpr std::uint64_t kSpringsStream = 0xC107, kFluidStream = 0xF1D0;
+
+constexpr BodyKind kBodyKinds[] = {
+    {"mass_spring", io::readMassSpringBody, buildMassSpringBody, kSpringsStream},
+    {"rope", io::readRopeBody, buildRopeBody, kSpringsStream},
+    {"net", io::readNetBody, buildNetBody, kSpringsStream},
+    {"lattice", io::readLatticeBody, buildLatticeBody, kSpringsStream},
+    {"cloth", io::readClothBody, buildClothBody, kSpringsStream},
+    {"fluid", io::readFluidBody, buildFluidBody, kFluidStream},
+};
+
+template <class Row, class F>
+std::vector<Row> rows(F&& f) {
+  std::vector<Row> out;
+  for (const BodyKind& k : kBodyKinds) out.push_back(f(k));
+  return out;
+}
+
+}  // namespace
+
+std::span<const BodyKind> bodyKinds() { return kBodyKinds; }
+
+std::span<const io::BodyReaderRow> bodyReaders() {
+  static const auto r = rows<io::BodyReaderRow>([](const BodyKind& k) { return io::BodyReaderRow{k.type, k.read}; });
+  return r;
+}
+
+std::span<const BodyKindRow> bodyBuilders() {
+  static const auto r = rows<BodyKindRow>([](const BodyKind& k) { return BodyKindRow{k.type, k.build, k.seed_stream}; });
+  return r;
+}
+
+Result<SceneDesc> loadScene(const std::string& path) { return io::loadScene(path, bodyReaders()); }
+Result<SceneDesc> parseScene(const std::string& text, const std::string& file) {
+  return io::parseScene(text, file, bodyReaders());
+}
+Result<World> makeWorld(const SceneDesc& scene) { return World::create(scene, bodyBuilders()); }
+
+}  // namespace reel::app

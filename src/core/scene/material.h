@@ -1,0 +1,30 @@
+// What any object or body of a scene may carry: its appearance (read by the renderer) and its
+// surface (contact response).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "core/image.h"
+#include "core/types.h"
+
+namespace reel {
+
+// Appearance, read by the renderer; any object or body may carry it.
+struct Material {
+  Vec3 color{0.8, 0.8, 0.8};  // linear albedo
+  std::string texture;        // resolved path of a PNG, empty for none
+  std::shared_ptr<const Image> texture_image;  // its pixels, decoded when the scene loads
+  double specular = 0.0;      // 0..1
+  double shininess = 32.0;    // Phong exponent
+  double opacity = 1.0;       // 0..1
+};
+
+// Contact response of an object's surface.
+struct Surface {
+  double friction = 0.3;     // Coulomb coefficient μ
+  double restitution = 0.0;  // normal velocity kept after a bounce, 0..1
+  double adhesion = 0.0;     // liquids: pull towards the surface within reach, m/s² (acceleration)
+};
+
+}  // namespace reel

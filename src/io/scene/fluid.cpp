@@ -1,0 +1,221 @@
+// The `fluid` kind's reader: species, interactions, blocks, particles, nozzles, limits and look.
+#include <unistd.h>
+
+#include <algorithm>
+#include <memory>
+
+#include "core/scene/fluid.h"
+#include "io/scene/reader.h"
+#include "io/scene/readers.h"
+
+namespace reel::io {
+namespace {
+
+// Particles one machine holds: half its memory at about 1 KiB per particle (state, neighbour
+// list, drawing), at most 50 million.
+long long defaultMaxParticles() {
+  const long long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || page <= 0) return 4'000'000;
+  return std::clamp(pages / 2 * (page / 1024), 10'000ll, 50'000'000ll);
+}
+
+// A species named by `key` (default: the first), as an index.
+int readSpecies(Obj& o, const std::vector<std::string>& names, const std::string& key = "species") {
+  if (names.empty()) return 0;
+  const std::string n = o.choice(key, names[0], names);
+  const auto it = std::find(names.begin(), names.end(), n);
+  return it == names.end() ? 0 : static_cast<int>(it - names.begin());
+}
+
+// What reading a liquid's lists gathers on the way.
+struct FluidReading {
+  FluidDesc& fd;
+  std::vector<std::string> names;  // species, in order
+  double total = 0.0;              // particles from blocks, lists and emitters
+  double min_spacing = 0.0;        // m, the finest block
+  double duration = 0.0;           // s, the scene's (emitters stop by then)
+};
+
+void readSpeciesEntry(Obj& so, FluidReading& r) {
+  Diagnostics& d = so.diag();
+  SpeciesDesc sp;
+  sp.path = so.path();
+  sp.name = so.string("name", true).value_or("");
+  if (so.ok() && sp.name.empty() && so.has("name")) d.error(childPath(so.path(), "name"), "must not be empty");
+  if (std::find(r.names.begin(), r.names.end(), sp.name) != r.names.end())
+    d.error(childPath(so.path(), "name"), "duplicate species \"" + sp.name + "\"");
+  sp.mass = so.number("mass", sp.mass, kPos);
+  sp.alpha = so.number("alpha", sp.alpha, kNonNeg);
+  sp.beta = so.number("beta", sp.beta, kNonNeg);
+  sp.a = so.number("a", sp.a, Range{0.0, 16.0, true, false});
+  sp.b = so.number("b", sp.b, Range{0.0, 16.0, true, false});
+  sp.epsilon = so.number("epsilon", sp.epsilon, kNonNeg);
+  sp.cutoff = so.number("cutoff", sp.cutoff, Range{0.0, 10.0, true, false});
+  sp.viscosity = so.number("viscosity", sp.viscosity, kNonNeg);
+  sp.agitation = so.number("agitation", sp.agitation, Range::closed(0.0, 100.0));
+  if (sp.agitation > 0 && sp.viscosity == 0)
+    d.error(childPath(so.path(), "agitation"), "needs viscosity > 0 (the random kicks and the viscous drag balance at the thermal speed)");
+  sp.color = so.vec3("color", sp.color, kNonNeg);
+  if (sp.alpha > 0 && sp.beta == 0)
+    d.error(childPath(so.path(), "beta"), "must be > 0 when alpha > 0 (attraction without repulsion collapses the liquid)");
+  r.names.push_back(sp.name);
+  r.fd.species.push_back(sp);
+}
+
+void readInteractionEntry(Obj& io, FluidReading& r) {
+  Diagnostics& d = io.diag();
+  InteractionDesc in;
+  in.path = io.path();
+  const Json* pair = io.raw("species");
+  const std::string pp = childPath(io.path(), "species");
+  if (!pair) {
+    if (io.ok()) d.error(pp, "missing required key");
+  } else if (!pair->is_array() || pair->size() != 2 || !(*pair)[0].is_string() || !(*pair)[1].is_string()) {
+    d.error(pp, "expected two species names, got " + typeName(*pair));
+  } else {
+    int idx[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+      const std::string n = (*pair)[static_cast<std::size_t>(k)].get<std::string>();
+      const auto it = std::find(r.names.begin(), r.names.end(), n);
+      if (it == r.names.end()) {
+        const std::string near = nearest(n, r.names);
+        d.error(childPath(pp, static_cast<std::size_t>(k)),
+                "unknown species \"" + n + "\"" + (near.empty() ? "" : " (did you mean \"" + near + "\"?)"));
+      } else {
+        idx[k] = static_cast<int>(it - r.names.begin());
+      }
+    }
+    in.s = idx[0];
+    in.t = idx[1];
+  }
+  auto opt = [&](const char* key, Range r) -> std::optional<double> { return io.number(key, r); };
+  in.alpha = opt("alpha", kNonNeg);
+  in.beta = opt("beta", kNonNeg);
+  in.a = opt("a", Range{0.0, 16.0, true, false});
+  in.b = opt("b", Range{0.0, 16.0, true, false});
+  in.epsilon = opt("epsilon", kNonNeg);
+  in.cutoff = opt("cutoff", Range{0.0, 10.0, true, false});
+  in.viscosity = opt("viscosity", kNonNeg);
+  r.fd.interactions.push_back(in);
+}
+
+void readBlockEntry(Obj& bo, FluidReading& r) {
+  Diagnostics& d = bo.diag();
+  FluidBlockDesc b;
+  b.species = readSpecies(bo, r.names);
+  b.min = bo.vec3("min", Range::any(), true).value_or(b.min);
+  b.max = bo.vec3("max", Range::any(), true).value_or(b.max);
+  b.spacing = bo.number("spacing", kPos, true).value_or(b.spacing);
+  b.jitter = bo.number("jitter", 0.0, Range::closed(0.0, 0.5));
+  b.velocity = bo.vec3("velocity", b.velocity);
+  if ((b.max - b.min).minCoeff() <= 0) d.error(childPath(bo.path(), "max"), "must be above min on every axis");
+  else {
+    const double n = b.count();
+    if (n > static_cast<double>(r.fd.max_particles))
+      d.error(bo.path(), "holds " + (n < 1e15 ? std::to_string(static_cast<long long>(n)) : std::string("over 10^15")) +
+                             " particles, more than max_particles = " + std::to_string(r.fd.max_particles));
+    r.total += n;
+    if (r.total > static_cast<double>(defaultMaxParticles()) * 4)  // far beyond any limit: stop counting
+      r.total = static_cast<double>(defaultMaxParticles()) * 4;
+  }
+  r.min_spacing = r.min_spacing > 0 ? std::min(r.min_spacing, b.spacing) : b.spacing;
+  r.fd.blocks.push_back(b);
+}
+
+void readParticlesEntry(Obj& po, FluidReading& r) {
+  Diagnostics& d = po.diag();
+  FluidParticlesDesc pd;
+  pd.species = readSpecies(po, r.names);
+  for (const char* key : {"positions", "velocities"}) {
+    const Json* j = po.raw(key);
+    const std::string kp = childPath(po.path(), key);
+    if (!j) {
+      if (std::string(key) == "positions" && po.ok()) d.error(kp, "missing required key");
+      continue;
+    }
+    if (!j->is_array() || j->size() > 10'000'000) {
+      d.error(kp, "expected a list of [x, y, z], got " + typeName(*j));
+      continue;
+    }
+    auto& out = std::string(key) == "positions" ? pd.positions : pd.velocities;
+    for (std::size_t k = 0; k < j->size(); ++k)
+      if (auto v = readVec3((*j)[k], childPath(kp, k), d, Range::any())) out.push_back(*v);
+  }
+  if (!pd.velocities.empty() && pd.velocities.size() != pd.positions.size())
+    d.error(childPath(po.path(), "velocities"), "must list one velocity per position (" +
+                                                std::to_string(pd.positions.size()) + "), got " +
+                                                std::to_string(pd.velocities.size()));
+  r.total += static_cast<double>(pd.positions.size());
+  r.fd.particles.push_back(std::move(pd));
+}
+
+void readEmitterEntry(Obj& eo, FluidReading& r) {
+  Diagnostics& d = eo.diag();
+  EmitterDesc e;
+  e.species = readSpecies(eo, r.names);
+  e.position = eo.vec3("position", Range::any(), true).value_or(e.position);
+  e.direction = eo.vec3("direction", e.direction);
+  if (e.direction.norm() == 0) d.error(childPath(eo.path(), "direction"), "must not be the zero vector");
+  else e.direction.normalize();
+  e.speed = eo.number("speed", e.speed, Range{0.0, 1e3, true, false});
+  e.radius = eo.number("radius", e.radius, Range{0.0, 100.0, true, false});
+  e.rate = eo.number("rate", kPos, true).value_or(e.rate);
+  e.start = eo.number("start", 0.0, kNonNeg);
+  e.stop = std::min(eo.number("stop", r.duration, kNonNeg), r.duration);
+  e.spacing = eo.number("spacing", 2.0 * r.fd.radius, Range{0.0, 100.0, true, false});
+  if (e.stop <= e.start) {
+    d.error(childPath(eo.path(), "stop"), "must be after start (and start before the scene ends)");
+    e.stop = e.start;
+  } else if (e.radius / e.spacing > 200) {
+    d.error(childPath(eo.path(), "radius"), "holds too many particles per layer for its spacing");
+  } else {
+    // Layers leave perLayer()/rate s apart and travel speed × that: they must not overlap.
+    const double gap = e.speed * static_cast<double>(e.perLayer()) / e.rate;
+    if (gap < 0.5 * e.spacing)
+      d.error(childPath(eo.path(), "rate"), "packs its layers " + std::to_string(gap) + " m apart, closer than half the spacing (" +
+                                                 std::to_string(0.5 * e.spacing) + " m): lower the rate, or raise speed or radius");
+    else
+      r.total += static_cast<double>(e.layers() * e.perLayer());
+  }
+  r.fd.emitters.push_back(e);
+}
+
+void readFluid(Obj& o, FluidDesc& fd, double duration) {
+  Diagnostics& d = o.diag();
+  const std::string& p = o.path();
+  FluidReading r{fd, {}, 0.0, 0.0, duration};
+  readList(o, "species", [&](Obj& e) { readSpeciesEntry(e, r); }, true);
+  if (o.ok() && o.raw("species") && fd.species.empty()) d.error(childPath(p, "species"), "needs at least one species");
+  readList(o, "interactions", [&](Obj& e) { readInteractionEntry(e, r); });
+  const long long limit = o.integer("max_particles", 1ll, 50'000'000ll).value_or(0);
+  fd.max_particles = limit > 0 ? limit : defaultMaxParticles();
+  readList(o, "blocks", [&](Obj& e) { readBlockEntry(e, r); });
+  readList(o, "particles", [&](Obj& e) { readParticlesEntry(e, r); });
+  fd.radius = o.number("radius", r.min_spacing > 0 ? 0.5 * r.min_spacing : fd.radius, Range{0.0, 10.0, true, false});
+  readList(o, "emitters", [&](Obj& e) { readEmitterEntry(e, r); });
+  if (r.total > static_cast<double>(fd.max_particles))
+    d.error(p, "would hold " + (r.total >= static_cast<double>(defaultMaxParticles()) * 4 ? std::string("far more") : std::to_string(static_cast<long long>(r.total))) +
+                   " particles (blocks, particles and emitters), more than max_particles = " + std::to_string(fd.max_particles));
+  if (o.ok() && r.total == 0 && fd.emitters.empty()) d.error(p, "has no particles: give blocks, particles or emitters");
+  const std::string draw = o.choice("draw", "spheres", {"spheres", "surface"});
+  fd.draw = draw == "surface" ? FluidDraw::Surface : FluidDraw::Spheres;
+  fd.surface_cell = o.number("surface_cell", 0.0, Range::closed(0.0, 10.0));
+  fd.surface_kernel = o.number("surface_kernel", 0.0, Range::closed(0.0, 10.0));
+  fd.surface_iso = o.number("surface_iso", fd.surface_iso, Range{0.0, 10.0, true, false});
+  if (fd.surface_cell > 0 && fd.surface_kernel > 0 && fd.surface_kernel / fd.surface_cell > 16)
+    d.error(childPath(p, "surface_kernel"), "must be at most 16 surface cells");
+  if (fd.surface_cell == 0 && fd.surface_kernel > 0 && fd.surface_kernel / fd.radius > 16)
+    d.error(childPath(p, "surface_kernel"), "must be at most 16 particle radii");
+}
+
+}  // namespace
+
+std::shared_ptr<const BodyParams> readFluidBody(Obj& o, BodyDesc& body, const SceneDesc& scene) {
+  auto fd = std::make_shared<FluidDesc>();
+  readFluid(o, *fd, scene.duration);
+  body.material.specular = 0.5;  // liquids shine unless told otherwise
+  body.material.shininess = 64.0;
+  return fd;
+}
+
+}  // namespace reel::io

@@ -1,0 +1,123 @@
+#include "io/scene/reader.h"
+
+#include <memory>
+
+#include "core/patterns.h"
+#include "io/files.h"
+#include "io/png.h"
+
+namespace reel::io {
+
+void readMaterial(Obj& o, Material& m) {
+  m.color = o.vec3("color", m.color, kNonNeg);
+  if (auto tex = o.string("texture")) {
+    auto r = resolveAsset(o.diag().file(), *tex, {".png"}, kMaxTextureBytes);
+    auto img = r.ok() ? readPng(r.value(), kMaxTexturePixels) : Result<Image>(r.error());
+    if (img.ok()) {
+      m.texture = r.value();
+      m.texture_image = std::make_shared<const Image>(std::move(img.value()));
+    } else if (r.ok()) {
+      o.diag().error(childPath(o.path(), "texture"), "\"" + *tex + "\": " + img.error().headline());
+    } else
+      o.diag().error(childPath(o.path(), "texture"), r.error().headline());
+  }
+  if (o.has("pattern")) {
+    const std::string pat = o.choice("pattern", "", {std::string(kPatternNames[0])});
+    if (!m.texture.empty())
+      o.diag().error(childPath(o.path(), "pattern"), "give texture or pattern, not both");
+    else if (!pat.empty()) {
+      m.texture = "pattern:" + pat;
+      m.texture_image = std::make_shared<const Image>(makePattern(pat, 512));
+    }
+  }
+  m.specular = o.number("specular", m.specular, kUnit);
+  m.shininess = o.number("shininess", m.shininess, kPos);
+  m.opacity = o.number("opacity", m.opacity, kUnit);
+}
+
+void readPins(Obj& o, const std::vector<long long>& dims, long long nodes, const NodeNames& names,
+              std::vector<int>& out, const std::string& key, bool required) {
+  const Json* j = o.raw(key);
+  Diagnostics& d = o.diag();
+  const std::string p = childPath(o.path(), key);
+  if (!j) {
+    if (required && o.ok()) d.error(p, "missing required key");
+    return;
+  }
+  if (!j->is_array()) {
+    d.error(p, "expected a list of nodes, got " + typeName(*j));
+    return;
+  }
+  for (std::size_t k = 0; k < j->size(); ++k) {
+    const Json& e = (*j)[k];
+    const std::string ep = childPath(p, k);
+    if (e.is_string()) {
+      const std::string s = e.get<std::string>();
+      auto it = std::find_if(names.begin(), names.end(), [&](auto& n) { return n.first == s; });
+      if (it != names.end()) {
+        for (long long n : it->second) out.push_back(static_cast<int>(n));
+        continue;
+      }
+      std::vector<std::string> opts;
+      for (auto& n : names) opts.push_back(n.first);
+      const std::string near = nearest(s, opts);
+      d.error(ep, "unknown node name \"" + s + "\"" + (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
+    } else if (e.is_array()) {
+      if (e.size() != dims.size()) {
+        d.error(ep, "expected " + std::to_string(dims.size()) + " grid indices, got " + typeName(e));
+        continue;
+      }
+      long long idx = 0, stride = 1;
+      bool good = true;
+      for (std::size_t a = 0; a < dims.size(); ++a) {
+        auto v = readInteger(e[a], childPath(ep, a), d, -dims[a], dims[a] - 1);
+        if (!v) { good = false; continue; }
+        idx += (*v < 0 ? *v + dims[a] : *v) * stride;
+        stride *= dims[a];
+      }
+      if (good) out.push_back(static_cast<int>(idx));
+    } else if (e.is_number()) {
+      if (auto v = readInteger(e, ep, d, -nodes, nodes - 1))
+        out.push_back(static_cast<int>(*v < 0 ? *v + nodes : *v));
+      else if (e.is_number_integer())
+        d.error(ep, "the body has " + std::to_string(nodes) + " nodes (indices 0.." +
+                        std::to_string(nodes - 1) + ", or negative from the end)");
+    } else {
+      d.error(ep, "expected a node index, grid indices or a name, got " + typeName(e));
+    }
+  }
+}
+
+void checkNodeMass(Obj& o, double mass, long long nodes) {
+  if (nodes > 0 && mass / static_cast<double>(nodes) < kMinNodeMass)
+    o.diag().error(childPath(o.path(), "mass"), "gives each of the " + std::to_string(nodes) +
+                                                    " nodes less than 1e-12 kg");
+}
+
+SpringParams readSpring(Obj& o, const std::string& stiff_key, const std::string& damp_key, const SpringParams* fallback) {
+  SpringParams s;
+  if (fallback) {
+    s.stiffness = o.number(stiff_key, fallback->stiffness, kNonNeg);
+    s.damping = o.number(damp_key, fallback->damping, kNonNeg);
+  } else {
+    s.stiffness = o.number(stiff_key, kNonNeg, true).value_or(0.0);
+    s.damping = o.number(damp_key, 0.0, kNonNeg);
+  }
+  return s;
+}
+
+void readSheet(Obj& o, Vec3& position, Vec3& rotation_deg, std::array<double, 2>& size, std::array<int, 2>& resolution) {
+  position = o.vec3("position", position);
+  rotation_deg = o.vec3("rotation_deg", rotation_deg);
+  if (auto s = o.numbers<2>("size", kPos)) size = *s;
+  if (auto r = o.integers<2>("resolution", 2, 1 << 16)) resolution = {static_cast<int>((*r)[0]), static_cast<int>((*r)[1])};
+  const long long n = static_cast<long long>(resolution[0]) * resolution[1];
+  if (n > kMaxBodyNodes)
+    o.diag().error(childPath(o.path(), "resolution"), std::to_string(n) + " nodes, more than the limit of " + std::to_string(kMaxBodyNodes));
+}
+
+NodeNames cornerNames(long long nx, long long ny) {
+  return {{"corner_00", {0}}, {"corner_10", {nx - 1}}, {"corner_01", {(ny - 1) * nx}}, {"corner_11", {nx * ny - 1}}};
+}
+
+}  // namespace reel::io

@@ -1,0 +1,134 @@
+// Body: every simulated thing behind one interface (DESIGN 2). A body kind lives in its own
+// folder (sim/<kind>/), with its drawing in *_draw.cpp, and is known to the rest of reel through
+// one row of the registry (app/body_kinds.cpp): its scene name, its reader, its builder.
+//
+// The World steps its bodies in a fixed order, each against the same context, and runs the
+// coupling stage between kinds (see Coupling): so a run is the same for any thread count, and
+// snapshot() and restore() of every body resume it bit for bit from any frame.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/drawlist.h"
+#include "core/error.h"
+#include "core/hash.h"
+#include "core/scene.h"
+#include "core/frame_view.h"
+#include "core/state_blob.h"
+#include "core/types.h"
+#include "sim/collide.h"
+#include "sim/integrators.h"
+#include "sim/stability.h"
+
+namespace reel {
+
+class Wind;
+
+// A state whose speed or distance from the origin passes these is a runaway (exit 3).
+inline constexpr double kRunawaySpeed = 1e4;     // m/s
+inline constexpr double kRunawayDistance = 1e6;  // m
+
+// The coupling stage: how bodies of different kinds act on each other within one step, equal and
+// opposite so momentum is conserved. The order is fixed: the scene's bodies step first, in scene
+// order; what their contacts do to a free object (a liquid's particles pushed off it) is
+// gathered here, per collider, in that order; then the free objects step and take it.
+//   liquid → free object: the impulses the particles took from it, opposite (fluid contacts).
+// Coming: liquid ↔ cloth, rigid ↔ everything, schools ↔ obstacles.
+struct Coupling {
+  std::vector<Vec3> impulse;  // per collider: linear impulse handed to it this step, N·s
+  std::vector<Vec3> angular;  // per collider: angular impulse about its reference point, N·m·s
+  void reset(std::size_t colliders) {
+    impulse.assign(colliders, Vec3::Zero());
+    angular.assign(colliders, Vec3::Zero());
+  }
+};
+
+// The implicit solves of a run: the last step's, and how many stopped short of their tolerance.
+struct SolverStats {
+  StepStats last;
+  long long unconverged = 0;  // implicit steps whose CG solve stopped before its tolerance
+  double worst_residual = 0.0;
+};
+
+// What a body's step sees: the step, the scene's fields and the objects.
+struct StepContext {
+  double h = 0.0;          // step length, s
+  double t0 = 0.0, t1 = 0.0;  // the step runs from t0 to t1 = t0 + h, s
+  int frame = 0;           // the frame this step leads to (messages)
+  IntegratorKind integrator = IntegratorKind::SymplecticEuler;
+  const ImplicitSettings* implicit = nullptr;
+  Vec3 gravity{0, -9.78, 0};  // m/s²
+  const Wind* wind = nullptr;
+  std::vector<Collider>* colliders = nullptr;  // at their pose at t1 (keyframed ones moved)
+  Coupling* coupling = nullptr;
+  SolverStats* solver = nullptr;
+};
+
+// What a builder sees: the scene, the colliders (built before any body) and the body's own
+// stream of random numbers from the scene seed.
+struct BuildContext {
+  const SceneDesc* scene = nullptr;
+  const std::vector<Collider>* colliders = nullptr;
+  std::uint64_t seed = 0;
+};
+
+// A body's explicit step bound and how to say what sets it (refusal messages).
+struct StepLimit {
+  StepBound bound;   // infinite h_max: none
+  std::string what;  // e.g. "of fluid 'water' (species 'a' with 'b'"
+  std::string instead;  // what else would do besides more substeps
+};
+
+class Body {
+ public:
+  explicit Body(std::string name) : name_(std::move(name)) {}
+  virtual ~Body() = default;
+  Body(const Body&) = delete;
+  Body& operator=(const Body&) = delete;
+
+  const std::string& name() const { return name_; }
+  // The largest step an explicit method takes stably, and what to say when a scene's is above it.
+  virtual StepLimit stepLimit(IntegratorKind integrator) const = 0;
+  // Free objects take what the other bodies handed them in the coupling stage (see Coupling).
+  virtual bool coupled() const { return false; }
+  // Advances the body from ctx.t0 to ctx.t1.
+  virtual void step(StepContext& ctx) = 0;
+  // Exit-3 check after a step: a non-finite or runaway state names body, point and quantity.
+  virtual Status checkState(const StepContext& ctx) const = 0;
+  // The state a dump shows (positions, velocities, springs, species); false: nothing to show.
+  virtual bool view(BodyView& out) const = 0;
+  // The complete state, enough to resume bit for bit (restore into a body built from the same
+  // scene); restore returns false when the blob is not this body's.
+  virtual void snapshot(StateBlob& out) const = 0;
+  virtual bool restore(const StateBlob& in) = 0;
+  // Adds the state that determinism checks compare (positions, velocities) to h.
+  virtual void hash(Hasher& h) const = 0;
+  // What the renderer gets of it (its *_draw.cpp).
+  virtual void draw(DrawList& out) const = 0;
+  // Lines `reel check` prints about it (what its parameters mean in practice); `h`: the step.
+  virtual std::vector<std::string> notes(double /*h*/) const { return {}; }
+
+ private:
+  std::string name_;
+};
+
+// The exit-3 check of a body made of points (nodes, particles): `what` names a point ("node").
+Status checkPoints(const StepContext& ctx, const std::string& body, const char* what, const std::vector<Vec3>& x,
+                   const std::vector<Vec3>& v, const StepBound& bound);
+
+// A builder: makes a body of its kind from its description (BadInput when it cannot be built).
+using BodyBuilder = Result<std::unique_ptr<Body>> (*)(const BodyDesc& desc, const BuildContext& ctx);
+
+// A body kind as the World sees it: its scene name, its builder, and the stream tag of the seed
+// from which its bodies draw their random numbers (a body's stream: the tag and how many bodies
+// with that tag come before it in the scene).
+struct BodyKindRow {
+  const char* type;
+  BodyBuilder build;
+  std::uint64_t seed_stream;
+};
+
+}  // namespace reel

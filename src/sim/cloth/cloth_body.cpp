@@ -1,0 +1,55 @@
+#include "sim/cloth/cloth_body.h"
+
+namespace reel {
+
+void ClothBody::step(StepContext& ctx) {
+  MassSpringState& s = net_.state;
+  gripVelocities(cloth_, ctx.t0, s.v);
+  const AirDesc& air = cloth_.air;
+  if (air.viscous != 0.0 || air.drag != 0.0 || air.lift != 0.0) {
+    airForces(cloth_, *ctx.wind, ctx.t0, s.x, s.v);
+    net_.system->setExternalForces(cloth_.f_air.data());
+  }
+  net_.integrate(ctx);
+  gripPositions(cloth_, ctx.t1, s.x);
+  limitStrain(cloth_, net_.model, ctx.h, s.x, s.v);
+  if (cloth_.self_collision) selfCollide(cloth_, net_.model, s.x, s.v);
+  net_.contacts(ctx);
+  tearSprings(cloth_, net_.model, s.x);
+}
+
+// Besides the nodes: the springs left (tearing removes them) and the sheet's state, in one order
+// for writing and reading.
+template <class Self, class Archive>
+void ClothBody::fields(Self& self, Archive& a) {
+  auto& sp = self.net_.model.springs;
+  auto& c = self.cloth_;
+  a(sp.a)(sp.b)(sp.stiffness)(sp.damping)(sp.rest);
+  a(c.spring_id)(c.intact)(c.limited)(c.tear_strain)(c.tri_alive)(c.x_prev)(c.self_passes)(c.springs_broken);
+}
+
+void ClothBody::snapshotMore(StateWriter& w) const { fields(*this, w); }
+
+bool ClothBody::restoreMore(StateReader& r) {
+  fields(*this, r);
+  const Springs& sp = net_.model.springs;
+  const ClothState& c = cloth_;
+  const std::size_t n = net_.model.nodes(), ns = sp.a.size();
+  if (!r.ok() || sp.b.size() != ns || sp.rest.size() != ns || c.spring_id.size() != ns ||
+      c.tri_alive.size() != cloth_.tris.size())
+    return false;
+  for (std::size_t k = 0; k < ns; ++k)
+    if (sp.a[k] < 0 || sp.b[k] < 0 || static_cast<std::size_t>(sp.a[k]) >= n || static_cast<std::size_t>(sp.b[k]) >= n)
+      return false;
+  net_.model.incidence.build(n, sp);
+  return true;
+}
+
+Result<std::unique_ptr<Body>> buildClothBody(const BodyDesc& desc, const BuildContext& ctx) {
+  const auto& d = desc.as<ClothDesc>();
+  auto b = std::make_unique<ClothBody>(desc.name, desc.material);
+  if (Status st = buildNetwork(*b, buildCloth(d, ctx.seed, b->cloth()), desc, ctx, d.thickness); !st) return st.error();
+  return std::unique_ptr<Body>(std::move(b));
+}
+
+}  // namespace reel

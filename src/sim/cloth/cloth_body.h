@@ -1,0 +1,34 @@
+// The cloth kind: a sheet on the shared spring network plus its own data (Cloth: triangles, air,
+// grips, strain limiting, self-collision, tearing). Drawn as one mesh split along its tears
+// (cloth_draw.cpp).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "sim/cloth/cloth.h"
+#include "sim/spring_network.h"
+
+namespace reel {
+
+class ClothBody final : public SpringNetworkBody {
+ public:
+  ClothBody(std::string name, const Material& material) : SpringNetworkBody(std::move(name), "cloth"), material_(material) {}
+  void step(StepContext& ctx) override;
+  void draw(DrawList& out) const override;
+  Cloth& cloth() { return cloth_; }
+  const Cloth& cloth() const { return cloth_; }
+
+ private:
+  template <class Self, class Archive>
+  static void fields(Self& self, Archive& a);
+  void snapshotMore(StateWriter& w) const override;
+  bool restoreMore(StateReader& r) override;
+  Material material_;
+  Cloth cloth_;
+};
+
+// The builder of the registry row `cloth`.
+Result<std::unique_ptr<Body>> buildClothBody(const BodyDesc& desc, const BuildContext& ctx);
+
+}  // namespace reel

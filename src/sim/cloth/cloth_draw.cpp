@@ -1,0 +1,67 @@
+// What a cloth gives the renderer: its intact triangles as one mesh, split along tears.
+#include <numeric>
+
+#include "core/math.h"
+#include "sim/cloth/cloth_body.h"
+#include "sim/draw_material.h"
+#include "sim/union_find.h"
+
+namespace reel {
+
+TriMesh clothMesh(const Cloth& c, const std::vector<Vec3>& x) {
+  const std::size_t nt = c.tris.size();
+  // Corners (3 per triangle) joined across the edges two drawn triangles share: each class is
+  // one vertex, so a node on a tear gets a vertex (and a normal) per side.
+  std::vector<int> parent(3 * nt);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (std::size_t t = 0; t < nt; ++t) {
+    if (!c.tri_alive[t]) continue;
+    for (int e = 0; e < 3; ++e) {
+      const int u = c.tri_adj[t][e];
+      if (u < static_cast<int>(t) || !c.tri_alive[static_cast<std::size_t>(u)]) continue;
+      for (int k : {e, (e + 1) % 3}) {
+        const int node = c.tris[t][k];
+        const auto& other = c.tris[static_cast<std::size_t>(u)];
+        const int ku = other[0] == node ? 0 : other[1] == node ? 1 : 2;
+        unite(parent, static_cast<int>(3 * t) + k, 3 * u + ku);
+      }
+    }
+  }
+  TriMesh mesh;
+  std::vector<int> vert(3 * nt, -1);
+  std::vector<Vec3> normal;
+  for (std::size_t t = 0; t < nt; ++t) {
+    if (!c.tri_alive[t]) continue;
+    const auto& tri = c.tris[t];
+    const Vec3 cr = (x[tri[1]] - x[tri[0]]).cross(x[tri[2]] - x[tri[0]]);  // area-weighted normal
+    for (int k = 0; k < 3; ++k) {
+      const int root = findRoot(parent, static_cast<int>(3 * t) + k);
+      int& vi = vert[static_cast<std::size_t>(root)];
+      if (vi < 0) {
+        vi = static_cast<int>(mesh.vertexCount());
+        const auto node = static_cast<std::size_t>(tri[k]);
+        mesh.addVertex(x[node], Vec3::UnitY(), c.uv[2 * node], c.uv[2 * node + 1]);
+        normal.push_back(Vec3::Zero());
+      }
+      normal[static_cast<std::size_t>(vi)] += cr;
+      mesh.indices.push_back(static_cast<std::uint32_t>(vi));
+    }
+  }
+  for (std::size_t i = 0; i < normal.size(); ++i) {
+    const double len = normal[i].norm();
+    const Vec3 n = len > 0 ? Vec3(normal[i] / len) : Vec3::UnitY();
+    for (int k = 0; k < 3; ++k) mesh.normals[3 * i + k] = static_cast<float>(n[k]);
+  }
+  return mesh;
+}
+
+void ClothBody::draw(DrawList& out) const {
+  DrawMesh sheet;
+  sheet.mesh = std::make_shared<const TriMesh>(clothMesh(cloth_, net_.state.x));
+  sheet.per_frame = true;
+  sheet.material = drawMaterial(material_);
+  sheet.material.double_sided = true;
+  if (sheet.mesh->triangleCount() > 0) out.meshes.push_back(std::move(sheet));
+}
+
+}  // namespace reel

@@ -1,0 +1,100 @@
+#include "sim/fluid/fluid_body.h"
+
+#include "core/format.h"
+
+namespace reel {
+
+StepLimit FluidBody::stepLimit(IntegratorKind) const {
+  // The liquid always steps by symplectic Euler; its bound names the pair of species that sets it.
+  const auto S = static_cast<std::size_t>(fluid_.species_count);
+  const auto pair = static_cast<std::size_t>(std::max(bound_.node, 0));
+  return {bound_,
+          "of fluid '" + name() + "' (species '" + fluid_.species_names[pair / S] + "' with '" +
+              fluid_.species_names[pair % S] + "'",
+          "softer alpha and beta (docs/fluids.md)"};
+}
+
+void FluidBody::step(StepContext& ctx) {
+  stepFluid(fluid_, *ctx.colliders, *ctx.coupling, ctx.gravity, ctx.h, ctx.t0, ctx.t1);
+}
+
+Status FluidBody::checkState(const StepContext& ctx) const {
+  return checkPoints(ctx, name(), "particle", fluid_.x, fluid_.v, bound_);
+}
+
+const Fluid& FluidBody::byId() const {
+  fluidById(fluid_);
+  return fluid_;
+}
+
+bool FluidBody::view(BodyView& out) const {
+  const Fluid& fl = byId();  // particles in order of creation, whatever slots they sit in
+  out.name = name();
+  out.type = "particles";
+  out.generator = "fluid";
+  out.positions = fl.x_by_id;
+  out.velocities = fl.v_by_id;
+  out.species = fl.s_by_id;
+  out.species_names = fl.species_names;
+  return true;
+}
+
+// The particles, nozzles' progress, the neighbour list and its build positions, the random
+// stream's position and the statistics, in one order for writing and reading.
+template <class State, class Archive>
+void FluidBody::fields(State& s, Archive& a) {
+  a(s.x)(s.v)(s.s)(s.m)(s.id)(s.layers)(s.x_built)(s.nbr_start)(s.nbr);
+  a(s.thermal_draws)(s.rebuilds)(s.pair_tests)(s.split_steps)(s.skipped);
+}
+
+void FluidBody::snapshot(StateBlob& out) const {
+  StateWriter w(out);
+  fields(static_cast<const FluidState&>(fluid_), w);
+}
+
+bool FluidBody::restore(const StateBlob& in) {
+  StateReader r(in);
+  FluidState& s = fluid_;
+  fields(s, r);
+  const std::size_t n = s.x.size();
+  if (!r.done() || s.v.size() != n || s.s.size() != n || s.m.size() != n || s.id.size() != n ||
+      s.layers.size() != fluid_.emitters.size() || s.x_built.size() > n ||
+      (!s.x_built.empty() && s.nbr_start.size() != s.x_built.size() + 1) ||
+      (!s.nbr_start.empty() && s.nbr.size() != s.nbr_start.back()))
+    return false;
+  for (std::size_t i = 0; i < n; ++i)
+    if (s.s[i] < 0 || s.s[i] >= fluid_.species_count || s.id[i] < 0 || static_cast<std::size_t>(s.id[i]) >= n)
+      return false;
+  for (std::int32_t j : s.nbr)
+    if (j < 0 || static_cast<std::size_t>(j) >= n) return false;
+  rebuildGrid(fluid_);
+  return true;
+}
+
+void FluidBody::hash(Hasher& h) const {
+  const Fluid& fl = byId();
+  h.add(std::span<const Vec3>(fl.x_by_id));
+  h.add(std::span<const Vec3>(fl.v_by_id));
+}
+
+std::vector<std::string> FluidBody::notes(double h) const {
+  const Fluid& fl = fluid_;
+  auto num = [](double x, int d) { return formatNumber(x, d); };
+  std::vector<std::string> out;
+  out.push_back("fluid '" + name() + "': " + std::to_string(fl.size()) + " particles at the start, stable step " +
+                num(bound_.h_max, 3) + " s (this scene steps " + num(h, 3) + " s)");
+  for (int k = 0; k < fl.species_count; ++k) {
+    const PairParams& p = fl.pairs[static_cast<std::size_t>(k * fl.species_count + k)];
+    out.push_back("  species '" + fl.species_names[static_cast<std::size_t>(k)] + "': rest distance " +
+                  num(restDistance(p), 4) + " m, bulk spacing " + num(bulkSpacing(p), 4) + " m, cutoff " +
+                  num(p.cutoff, 4) + " m");
+  }
+  return out;
+}
+
+Result<std::unique_ptr<Body>> buildFluidBody(const BodyDesc& desc, const BuildContext& ctx) {
+  Fluid fl = buildFluid(desc.as<FluidDesc>(), desc.name, *ctx.colliders, ctx.seed);
+  return std::unique_ptr<Body>(std::make_unique<FluidBody>(std::move(fl), desc.material));
+}
+
+}  // namespace reel

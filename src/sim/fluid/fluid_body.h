@@ -1,0 +1,44 @@
+// The liquid kind: the discrete particle fluid (fluid.h) as a body. Its contacts hand free objects
+// the impulses they take (the coupling stage); drawn as spheres or a surface (fluid_draw.cpp).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "sim/body.h"
+#include "sim/fluid/fluid.h"
+
+namespace reel {
+
+class FluidBody final : public Body {
+ public:
+  FluidBody(Fluid fluid, const Material& material)
+      : Body(fluid.name), material_(material), fluid_(std::move(fluid)), bound_(fluidStableStep(fluid_)) {}
+  StepLimit stepLimit(IntegratorKind integrator) const override;
+  void step(StepContext& ctx) override;
+  Status checkState(const StepContext& ctx) const override;
+  bool view(BodyView& out) const override;
+  void snapshot(StateBlob& out) const override;
+  bool restore(const StateBlob& in) override;
+  void hash(Hasher& h) const override;
+  void draw(DrawList& out) const override;
+  std::vector<std::string> notes(double h) const override;
+
+  Fluid& fluid() { return fluid_; }
+  const Fluid& fluid() const { return fluid_; }
+  const StepBound& bound() const { return bound_; }
+
+ private:
+  template <class State, class Archive>
+  static void fields(State& s, Archive& a);
+  // The state in order of creation (dumps, hashes).
+  const Fluid& byId() const;
+  Material material_;
+  mutable Fluid fluid_;  // mutable: view() and hash() fill its by-id scratch arrays
+  StepBound bound_;
+};
+
+// The builder of the registry row `fluid`.
+Result<std::unique_ptr<Body>> buildFluidBody(const BodyDesc& desc, const BuildContext& ctx);
+
+}  // namespace reel

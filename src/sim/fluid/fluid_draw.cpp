@@ -1,0 +1,143 @@
+// What a liquid gives the renderer: its particles as spheres coloured by species (colours blended
+// over neighbours where species mix), or its surface as a mesh (marching tetrahedra over the
+// particles' density).
+#include <algorithm>
+#include <cmath>
+
+#include "core/isosurface.h"
+#include "core/parallel.h"
+#include "sim/fluid/fluid_body.h"
+
+namespace reel {
+
+namespace {
+
+// Each particle's colour: its species colour blended with its neighbours' (weights (1 − r/c)²
+// inside the pair cutoff), so where species mix their colours mix, and a pure region keeps its own.
+std::vector<Vec3> blendedColors(const Fluid& fl) {
+  const std::size_t n = fl.x.size();
+  std::vector<Vec3> c(n);
+  const auto S = static_cast<std::size_t>(fl.species_count);
+  const bool listed = fl.nbr_start.size() == n + 1;
+  parallelFor(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    Vec3 sum = fl.species_color[static_cast<std::size_t>(fl.s[i])];
+    double wsum = 1.0;
+    if (S > 1 && listed)
+      for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e) {
+        const auto j = static_cast<std::size_t>(fl.nbr[e]);
+        const PairParams& p = fl.pairs[static_cast<std::size_t>(fl.s[i]) * S + static_cast<std::size_t>(fl.s[j])];
+        const double r = (fl.x[i] - fl.x[j]).norm();
+        if (r >= p.cutoff) continue;
+        const double w = (1.0 - r / p.cutoff) * (1.0 - r / p.cutoff);
+        sum += w * fl.species_color[static_cast<std::size_t>(fl.s[j])];
+        wsum += w;
+      }
+    c[i] = sum / wsum;
+  });
+  return c;
+}
+
+// The liquid's surface: the particles' density splatted on a grid with the kernel
+// W(q) = (1 − q²)³, q = r/R, normalised by the density of a bulk at the species' rest spacing,
+// cut at `surface_iso`. Colours are the splatted particle colours, darkened with the depth of
+// liquid behind the surface (colour^(1 + 1.5·density one kernel radius inside): Beer–Lambert-like).
+TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors) {
+  const std::size_t n = fl.x.size();
+  if (n == 0) return {};
+  const double R = fl.surface_kernel;
+  double cell = fl.surface_cell;
+  Vec3 lo = fl.x[0], hi = fl.x[0];
+  for (const Vec3& p : fl.x) {
+    if (!p.allFinite()) continue;
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  lo -= Vec3::Constant(R + 2 * cell);
+  hi += Vec3::Constant(R + 2 * cell);
+  auto dimsFor = [&](double c) {
+    return std::array<double, 3>{std::ceil((hi.x() - lo.x()) / c) + 1, std::ceil((hi.y() - lo.y()) / c) + 1,
+                                 std::ceil((hi.z() - lo.z()) / c) + 1};
+  };
+  // At most 16 million nodes: a coarser grid when the liquid spreads wide.
+  while ([&] { auto d = dimsFor(cell); return d[0] * d[1] * d[2] > 1.6e7; }()) cell *= 1.25;
+  cell = std::max(cell, 1e-6);
+  const auto dd = dimsFor(cell);
+  GridField f;
+  f.dims = {static_cast<int>(dd[0]), static_cast<int>(dd[1]), static_cast<int>(dd[2])};
+  f.origin = lo;
+  f.cell = cell;
+  f.value.assign(static_cast<std::size_t>(dd[0] * dd[1] * dd[2]), 0.0f);
+  f.color.assign(3 * f.value.size(), 0.0f);
+  // A settled liquid packs its nearest neighbours at about 0.8 of the lattice spacing.
+  double spacing = 0.8 * bulkSpacing(fl.pairs[0]);
+  if (!(spacing > 0)) spacing = 2.0 * fl.radius;
+  const double bulk = 0.6383 * R * R * R / (spacing * spacing * spacing);  // ∫W dV / spacing³
+  const int reach = static_cast<int>(std::ceil(R / cell));
+  for (std::size_t p = 0; p < n; ++p) {
+    const Vec3& x = fl.x[p];
+    if (!x.allFinite()) continue;
+    const Vec3 g = (x - lo) / cell;
+    const int ci = static_cast<int>(std::lround(g.x())), cj = static_cast<int>(std::lround(g.y())),
+              ck = static_cast<int>(std::lround(g.z()));
+    for (int k = std::max(0, ck - reach); k <= std::min(f.dims[2] - 1, ck + reach); ++k)
+      for (int j = std::max(0, cj - reach); j <= std::min(f.dims[1] - 1, cj + reach); ++j)
+        for (int i = std::max(0, ci - reach); i <= std::min(f.dims[0] - 1, ci + reach); ++i) {
+          const double q2 = (lo + cell * Vec3(i, j, k) - x).squaredNorm() / (R * R);
+          if (q2 >= 1.0) continue;
+          const double w = (1 - q2) * (1 - q2) * (1 - q2) / bulk;
+          const std::size_t id = f.index(i, j, k);
+          f.value[id] += static_cast<float>(w);
+          for (int a = 0; a < 3; ++a) f.color[3 * id + static_cast<std::size_t>(a)] += static_cast<float>(w * colors[p][a]);
+        }
+  }
+  for (std::size_t id = 0; id < f.value.size(); ++id)
+    if (f.value[id] > 0)
+      for (int a = 0; a < 3; ++a) f.color[3 * id + static_cast<std::size_t>(a)] /= f.value[id];
+  TriMesh m = isosurface(f, fl.surface_iso);
+  for (std::size_t v = 0; v < m.vertexCount(); ++v) {
+    const Vec3 p(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]);
+    const Vec3 nv(m.normals[3 * v], m.normals[3 * v + 1], m.normals[3 * v + 2]);
+    const double depth = std::clamp(f.sample(p - R * nv), 0.0, 1.0);
+    for (int a = 0; a < 3; ++a) {
+      float& c = m.colors[3 * v + static_cast<std::size_t>(a)];
+      c = static_cast<float>(std::pow(std::clamp(static_cast<double>(c), 1e-3, 1.0), 1.0 + 1.5 * depth));
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+void FluidBody::draw(DrawList& out) const {
+  const Fluid& fl = fluid_;
+  const Material& material = material_;
+  if (fl.x.empty()) return;
+  DrawMaterial dm;
+  dm.color = Vec3(1, 1, 1);  // the species colours carry the albedo
+  dm.specular = material.specular;
+  dm.shininess = material.shininess;
+  dm.opacity = material.opacity;
+  const std::vector<Vec3> colors = blendedColors(fl);
+  if (fl.draw == FluidDraw::Surface) {
+    DrawMesh mesh;
+    mesh.mesh = std::make_shared<const TriMesh>(liquidSurface(fl, colors));
+    mesh.per_frame = true;
+    mesh.material = dm;
+    if (mesh.mesh->triangleCount() > 0) out.meshes.push_back(std::move(mesh));
+    return;
+  }
+  DrawSpheres sp;
+  sp.radius = static_cast<float>(fl.radius);
+  sp.material = dm;
+  sp.centers.reserve(3 * fl.x.size());
+  sp.colors.reserve(3 * fl.x.size());
+  for (std::size_t i = 0; i < fl.x.size(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      sp.centers.push_back(static_cast<float>(fl.x[i][a]));
+      sp.colors.push_back(static_cast<float>(colors[i][a]));
+    }
+  out.spheres.push_back(std::move(sp));
+}
+
+}  // namespace reel

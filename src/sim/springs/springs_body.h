@@ -1,0 +1,32 @@
+// The springs kinds: the seed's explicit nodes and springs (`mass_spring`) and its generators
+// `rope`, `net` and `lattice` (generators.h), one body type over the shared spring network. Drawn
+// as spheres at the nodes and tubes along the springs (springs_draw.cpp).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "core/scene/mass_spring.h"
+#include "sim/spring_network.h"
+
+namespace reel {
+
+class SpringsBody final : public SpringNetworkBody {
+ public:
+  SpringsBody(std::string name, std::string generator, const Material& material, double node_radius)
+      : SpringNetworkBody(std::move(name), std::move(generator)), material_(material), node_radius_(node_radius) {}
+  void step(StepContext& ctx) override;
+  void draw(DrawList& out) const override;
+
+ private:
+  Material material_;
+  double node_radius_;  // m
+};
+
+// Builders of the registry rows mass_spring, rope, net and lattice.
+Result<std::unique_ptr<Body>> buildMassSpringBody(const BodyDesc& desc, const BuildContext& ctx);
+Result<std::unique_ptr<Body>> buildRopeBody(const BodyDesc& desc, const BuildContext& ctx);
+Result<std::unique_ptr<Body>> buildNetBody(const BodyDesc& desc, const BuildContext& ctx);
+Result<std::unique_ptr<Body>> buildLatticeBody(const BodyDesc& desc, const BuildContext& ctx);
+
+}  // namespace reel

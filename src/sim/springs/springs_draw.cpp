@@ -1,0 +1,27 @@
+// What a springs body gives the renderer: its nodes as spheres, its springs as tubes.
+#include "sim/draw_material.h"
+#include "sim/springs/springs_body.h"
+
+namespace reel {
+
+void SpringsBody::draw(DrawList& out) const {
+  const std::vector<Vec3>& x = net_.state.x;
+  DrawSpheres nodes;
+  nodes.radius = static_cast<float>(node_radius_);
+  nodes.material = drawMaterial(material_);
+  nodes.centers.reserve(3 * x.size());
+  for (const Vec3& p : x)
+    for (int k = 0; k < 3; ++k) nodes.centers.push_back(static_cast<float>(p[k]));
+  DrawTubes springs;
+  springs.radius = static_cast<float>(0.35 * node_radius_);
+  springs.material = nodes.material;
+  const Springs& s = net_.model.springs;
+  springs.ends.reserve(6 * s.size());
+  for (std::size_t k = 0; k < s.size(); ++k)
+    for (const Vec3* p : {&x[static_cast<std::size_t>(s.a[k])], &x[static_cast<std::size_t>(s.b[k])]})
+      for (int c = 0; c < 3; ++c) springs.ends.push_back(static_cast<float>((*p)[c]));
+  out.spheres.push_back(std::move(nodes));
+  if (!springs.ends.empty()) out.tubes.push_back(std::move(springs));
+}
+
+}  // namespace reel
