@@ -27,6 +27,7 @@ class Renderer {
   // The context must be current on the calling thread for create() and draw().
   static Result<std::unique_ptr<Renderer>> create(gl::Context& ctx, const RenderSettings& s,
                                                   const std::string& shader_dir);
+  // Deletes the renderer's GL objects: the context must outlive the renderer and be current.
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;

@@ -1,0 +1,79 @@
+#include "render/projection.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/math.h"
+
+namespace reel {
+
+Mat4f lookAt(const Vec3& eye, const Vec3& target, const Vec3& up_hint) {
+  const Vec3 f = (target - eye).normalized();
+  Vec3 s = f.cross(up_hint);
+  if (s.norm() < 1e-9) s = f.cross(std::abs(f.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitZ());
+  s.normalize();
+  const Vec3 u = s.cross(f);
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.block<1, 3>(0, 0) = s.transpose();
+  m.block<1, 3>(1, 0) = u.transpose();
+  m.block<1, 3>(2, 0) = -f.transpose();
+  m(0, 3) = -s.dot(eye);
+  m(1, 3) = -u.dot(eye);
+  m(2, 3) = f.dot(eye);
+  return m.cast<float>();
+}
+
+Mat4f perspective(double fovy_deg, double aspect, double n, double f) {
+  const double t = 1.0 / std::tan(fovy_deg * kPi / 360.0);
+  Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
+  m(0, 0) = t / aspect;
+  m(1, 1) = t;
+  m(2, 2) = (f + n) / (n - f);
+  m(2, 3) = 2 * f * n / (n - f);
+  m(3, 2) = -1;
+  return m.cast<float>();
+}
+
+Mat4f ortho(double r, double n, double f) {
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m(0, 0) = 1 / r;
+  m(1, 1) = 1 / r;
+  m(2, 2) = -2 / (f - n);
+  m(2, 3) = -(f + n) / (f - n);
+  return m.cast<float>();
+}
+
+void sceneBounds(const DrawList& list, Vec3& center, double& radius) {
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  auto add = [&](const float* p) {
+    const Vec3 q(p[0], p[1], p[2]);
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  };
+  for (const auto& m : list.meshes) {
+    if (!m.mesh || m.mesh->vertexCount() == 0) continue;
+    const auto& pos = m.mesh->positions;
+    Vec3 mlo = Vec3::Constant(1e300), mhi = Vec3::Constant(-1e300);
+    for (std::size_t i = 0; i + 2 < pos.size(); i += 3) {
+      const Vec3 q(pos[i], pos[i + 1], pos[i + 2]);
+      mlo = mlo.cwiseMin(q);
+      mhi = mhi.cwiseMax(q);
+    }
+    if ((mhi - mlo).norm() > 100.0) continue;  // a ground plane: it receives, it does not bound
+    lo = lo.cwiseMin(mlo);
+    hi = hi.cwiseMax(mhi);
+  }
+  for (const auto& s : list.spheres)
+    for (std::size_t i = 0; i + 2 < s.centers.size(); i += 3) add(&s.centers[i]);
+  for (const auto& t : list.tubes)
+    for (std::size_t i = 0; i + 2 < t.ends.size(); i += 3) add(&t.ends[i]);
+  if (lo.x() > hi.x()) {
+    center = list.camera.target;
+    radius = 5.0;
+    return;
+  }
+  center = (lo + hi) / 2;
+  radius = std::max(0.5 * (hi - lo).norm(), 0.1) * 1.05;
+}
+
+}  // namespace reel

@@ -1,0 +1,101 @@
+#include "render/surfaces.h"
+
+#include <algorithm>
+#include <utility>
+
+namespace reel {
+
+SurfaceShaders::SurfaceShaders(const gl::GlApi& gl, gl::UniformCache& uniforms, std::string shader_dir,
+                               int shadow_map_size)
+    : gl_(&gl), uniforms_(&uniforms), shader_dir_(std::move(shader_dir)), shadow_map_size_(shadow_map_size) {}
+
+Status SurfaceShaders::compileRichest() {
+  frame_defines_ = "#define LIGHTS c += DIRECTIONAL_SHADOW(0, 0); c += POINT_SHADOW(1, 1); c += AMBIENT(2);\n"
+                   "#define FOG\n#define ACES\n";
+  DrawMaterial probe;
+  probe.specular = 1;
+  probe.double_sided = probe.checker = true;
+  TextureCache no_textures(*gl_);  // the probe has no texture
+  return use(probe, no_textures);
+}
+
+void SurfaceShaders::beginFrame(const DrawList& list, const std::vector<int>& light_shadow, const Mat4f& view_proj,
+                                const std::array<Mat4f, 2>& shadow_mats) {
+  fu_.view_proj = view_proj;
+  fu_.eye = list.camera.position.cast<float>();
+  fu_.shadow_mats = shadow_mats;
+  fu_.fog_color = list.fog_color.cast<float>();
+  fu_.fog_density = float(list.fog_density);
+  // The light list unrolled: one shading call per light, with its shadow map if it has one.
+  std::string lights;
+  const std::size_t nl = std::min<std::size_t>(list.lights.size(), 8);
+  for (std::size_t i = 0; i < nl; ++i) {
+    const LightDesc& l = list.lights[i];
+    const Vec3 v = l.kind == LightKind::Point ? l.position : l.direction;
+    const Vec3 r = l.color * l.intensity;
+    for (int k = 0; k < 3; ++k) {
+      fu_.light_vec[3 * i + static_cast<std::size_t>(k)] = float(v[k]);
+      fu_.light_rad[3 * i + static_cast<std::size_t>(k)] = float(r[k]);
+    }
+    const std::string I = std::to_string(i), S = std::to_string(light_shadow[i]);
+    if (l.kind == LightKind::Ambient) lights += " c += AMBIENT(" + I + ");";
+    else if (l.kind == LightKind::Directional)
+      lights += light_shadow[i] >= 0 ? " c += DIRECTIONAL_SHADOW(" + I + ", " + S + ");" : " c += DIRECTIONAL(" + I + ");";
+    else
+      lights += light_shadow[i] >= 0 ? " c += POINT_SHADOW(" + I + ", " + S + ");" : " c += POINT(" + I + ");";
+  }
+  frame_defines_ = "#define LIGHTS" + lights + "\n";
+  if (list.fog_density > 0) frame_defines_ += "#define FOG\n";
+  if (list.tonemap == "aces") frame_defines_ += "#define ACES\n";
+  ++frame_no_;
+  current_ = 0;
+}
+
+Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures) {
+  // The variant: the frame's #defines and the material's.
+  std::string key = frame_defines_;
+  if (m.specular > 0) key += "#define SPECULAR\n";
+  if (m.double_sided) key += "#define DOUBLE_SIDED\n";
+  if (m.checker) key += "#define CHECKER\n";
+  if (m.texture) key += "#define TEXTURED\n";
+  auto it = variants_.find(key);
+  if (it == variants_.end()) {
+    auto p = gl::buildProgram(*gl_, shader_dir_, "surface.vert", "surface.frag", true, key);
+    if (!p.ok()) return p.error();
+    it = variants_.emplace(key, Variant{std::move(p.value()), -1}).first;
+  }
+  const GLuint prog = it->second.program.id();
+  if (current_ != prog) {
+    gl_->UseProgram(prog);
+    current_ = prog;
+  }
+  if (it->second.frame != frame_no_) {
+    it->second.frame = frame_no_;
+    setFrameUniforms(prog);
+  }
+  // The material's texture and uniforms.
+  if (m.texture) textures.bind(m.texture);
+  auto loc = [&](const char* name) { return uniforms_->get(*gl_, prog, name); };
+  gl_->Uniform3f(loc("u_color"), float(m.color.x()), float(m.color.y()), float(m.color.z()));
+  gl_->Uniform1f(loc("u_specular"), float(m.specular));
+  gl_->Uniform1f(loc("u_shininess"), float(m.shininess));
+  gl_->Uniform1f(loc("u_opacity"), float(m.opacity));
+  return {};
+}
+
+void SurfaceShaders::setFrameUniforms(GLuint prog) {
+  auto loc = [&](const char* name) { return uniforms_->get(*gl_, prog, name); };
+  gl_->UniformMatrix4fv(loc("u_view_proj"), 1, GL_FALSE, fu_.view_proj.data());
+  gl_->Uniform3f(loc("u_eye"), fu_.eye.x(), fu_.eye.y(), fu_.eye.z());
+  gl_->Uniform3fv(loc("u_light_vec"), 8, fu_.light_vec.data());
+  gl_->Uniform3fv(loc("u_light_radiance"), 8, fu_.light_rad.data());
+  gl_->Uniform1i(loc("u_shadow_map0"), 1);
+  gl_->Uniform1i(loc("u_shadow_map1"), 2);
+  gl_->UniformMatrix4fv(loc("u_shadow_matrix"), 2, GL_FALSE, fu_.shadow_mats[0].data());
+  gl_->Uniform1f(loc("u_shadow_texel"), 1.0f / float(shadow_map_size_));
+  gl_->Uniform1i(loc("u_texture"), 0);
+  gl_->Uniform3f(loc("u_fog_color"), fu_.fog_color.x(), fu_.fog_color.y(), fu_.fog_color.z());
+  gl_->Uniform1f(loc("u_fog_density"), fu_.fog_density);
+}
+
+}  // namespace reel

@@ -1,0 +1,142 @@
+#include "render/uploads.h"
+
+#include <algorithm>
+
+namespace reel {
+
+namespace {
+
+// A new VAO with attributes 0..2 (positions, normals, uvs) and the indices bound to its buffers.
+void makeMeshObjects(const gl::GlApi& gl, GpuMesh& m) {
+  m.vao = gl::makeVertexArray(gl);
+  for (auto& b : m.vbo) b = gl::makeBuffer(gl);
+  m.ebo = gl::makeBuffer(gl);
+  gl.BindVertexArray(m.vao.id());
+  for (GLuint a = 0; a < 3; ++a) {
+    gl.BindBuffer(GL_ARRAY_BUFFER, m.vbo[a].id());
+    gl.EnableVertexAttribArray(a);
+    gl.VertexAttribPointer(a, a == 2 ? 2 : 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  }
+  gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, m.ebo.id());
+}
+
+}  // namespace
+
+void upload(const gl::GlApi& gl, GpuMesh& m, const TriMesh& t) {
+  if (!m.vao) makeMeshObjects(gl, m);
+  gl.BindVertexArray(m.vao.id());
+  const std::size_t nv = t.vertexCount();
+  std::vector<float> uv_fallback;
+  const std::vector<float>* uvs = &t.uvs;
+  if (t.uvs.size() != 2 * nv) {
+    uv_fallback.assign(2 * nv, 0.0f);
+    uvs = &uv_fallback;
+  }
+  const std::vector<float>* src[4] = {&t.positions, &t.normals, uvs, &t.colors};
+  const bool coloured = t.colors.size() == 3 * nv;
+  // Attribute 5: per-vertex colours when the mesh has them, else the constant white set per frame.
+  if (coloured) {
+    gl.BindBuffer(GL_ARRAY_BUFFER, m.vbo[3].id());
+    gl.EnableVertexAttribArray(5);
+    gl.VertexAttribPointer(5, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  } else {
+    gl.DisableVertexAttribArray(5);
+  }
+  // Vertex data and indices: reallocated when larger than before, else overwritten in place.
+  for (std::size_t a = 0; a < (coloured ? 4u : 3u); ++a) {
+    gl.BindBuffer(GL_ARRAY_BUFFER, m.vbo[a].id());
+    const auto bytes = static_cast<GLsizeiptr>(src[a]->size() * sizeof(float));
+    if (nv > (a == 3 ? m.capacity_c : m.capacity_v))
+      gl.BufferData(GL_ARRAY_BUFFER, bytes, src[a]->data(), GL_DYNAMIC_DRAW);
+    else
+      gl.BufferSubData(GL_ARRAY_BUFFER, 0, bytes, src[a]->data());
+  }
+  const auto ibytes = static_cast<GLsizeiptr>(t.indices.size() * sizeof(std::uint32_t));
+  if (t.indices.size() > m.capacity_i)
+    gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, ibytes, t.indices.data(), GL_DYNAMIC_DRAW);
+  else
+    gl.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, ibytes, t.indices.data());
+  m.capacity_v = std::max(m.capacity_v, nv);
+  if (coloured) m.capacity_c = std::max(m.capacity_c, nv);
+  m.capacity_i = std::max(m.capacity_i, t.indices.size());
+  m.count = static_cast<GLsizei>(t.indices.size());
+}
+
+void StreamBuffer::fill(const gl::GlApi& gl, const std::vector<float>& data) {
+  gl.BindBuffer(GL_ARRAY_BUFFER, buffer.id());
+  const auto bytes = static_cast<GLsizeiptr>(data.size() * sizeof(float));
+  if (data.size() > capacity) {
+    gl.BufferData(GL_ARRAY_BUFFER, bytes, data.data(), GL_STREAM_DRAW);
+    capacity = data.size();
+  } else {
+    gl.BufferSubData(GL_ARRAY_BUFFER, 0, bytes, data.data());
+  }
+}
+
+void bindInstances(const gl::GlApi& gl, const GpuMesh& proto, StreamBuffer& inst, const std::vector<float>& data,
+                   int floats_per_instance) {
+  gl.BindVertexArray(proto.vao.id());
+  inst.fill(gl, data);
+  const GLsizei stride = floats_per_instance * static_cast<GLsizei>(sizeof(float));
+  gl.EnableVertexAttribArray(3);
+  gl.VertexAttribPointer(3, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+  gl.VertexAttribDivisor(3, 1);
+  if (floats_per_instance == 6) {
+    gl.EnableVertexAttribArray(4);
+    gl.VertexAttribPointer(4, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(3 * sizeof(float)));
+    gl.VertexAttribDivisor(4, 1);
+  }
+}
+
+void MeshCache::forgetExpired() {
+  std::erase_if(static_, [](const auto& kv) { return kv.second.first.expired(); });
+}
+
+void MeshCache::prepare(const DrawList& list) {
+  slots_.assign(list.meshes.size(), nullptr);
+  std::size_t next = 0;  // the next per-frame slot
+  for (std::size_t i = 0; i < list.meshes.size(); ++i) {
+    const DrawMesh& m = list.meshes[i];
+    if (!m.mesh || m.mesh->indices.empty()) continue;
+    if (m.per_frame) {
+      if (next >= per_frame_.size()) per_frame_.emplace_back();
+      slots_[i] = &per_frame_[next++];
+      upload(*gl_, *slots_[i], *m.mesh);
+      continue;
+    }
+    auto& entry = static_[m.mesh.get()];
+    slots_[i] = &entry.second;
+    if (entry.first.lock() != m.mesh) {  // new, or an old address reused by another mesh
+      entry.first = m.mesh;
+      upload(*gl_, entry.second, *m.mesh);
+    }
+  }
+}
+
+void TextureCache::forgetExpired() {
+  std::erase_if(textures_, [](const auto& kv) { return kv.second.first.expired(); });
+}
+
+void TextureCache::bind(const std::shared_ptr<const Image>& img) {
+  auto& entry = textures_[img.get()];
+  if (entry.first.lock() != img) {
+    entry.second.reset();  // an old image's texture at a reused address
+    entry.first = img;
+    entry.second = gl::makeTexture(*gl_);
+    gl_->ActiveTexture(GL_TEXTURE0);
+    gl_->BindTexture(GL_TEXTURE_2D, entry.second.id());
+    gl_->PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    // Rows from the top: v = 0 is the image's first row.
+    gl_->TexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8, img->width, img->height, 0, GL_RGB, GL_UNSIGNED_BYTE,
+                    img->rgb.data());
+    gl_->GenerateMipmap(GL_TEXTURE_2D);
+    gl_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    gl_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    gl_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    gl_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+  }
+  gl_->ActiveTexture(GL_TEXTURE0);
+  gl_->BindTexture(GL_TEXTURE_2D, entry.second.id());
+}
+
+}  // namespace reel

@@ -1,0 +1,79 @@
+// What the renderer copies to the GPU: meshes (the DrawList's and the instancing prototypes),
+// per-draw instance data, and textures. Each copy lives in RAII GL objects, deleted with it.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <deque>
+#include <map>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "core/drawlist.h"
+#include "render/gl/objects.h"
+
+namespace reel {
+
+// A triangle mesh on the GPU: attributes 0..2 (and 5 when coloured) and the indices, in one VAO.
+struct GpuMesh {
+  gl::VertexArray vao;
+  std::array<gl::Buffer, 4> vbo;  // positions, normals, uvs, colours
+  gl::Buffer ebo;
+  GLsizei count = 0;  // indices
+  std::size_t capacity_v = 0, capacity_i = 0, capacity_c = 0;  // vertices, indices, coloured vertices
+};
+
+// Copies `t` into `m`: makes the VAO and buffers on first use, grows them when `t` is larger,
+// else overwrites in place.
+void upload(const gl::GlApi& gl, GpuMesh& m, const TriMesh& t);
+
+// An array buffer refilled for every draw (instance data), grown when the data is larger.
+struct StreamBuffer {
+  gl::Buffer buffer;
+  std::size_t capacity = 0;  // floats
+  // Binds the buffer to GL_ARRAY_BUFFER and fills it with `data`.
+  void fill(const gl::GlApi& gl, const std::vector<float>& data);
+};
+
+// Streams `data` into `inst` and binds it to attributes 3 (and 4 with 6 floats per instance) of
+// a prototype's VAO, one step per instance.
+void bindInstances(const gl::GlApi& gl, const GpuMesh& proto, StreamBuffer& inst, const std::vector<float>& data,
+                   int floats_per_instance);
+
+// The DrawList's meshes on the GPU: static ones keep their copy while their owner lives,
+// per-frame ones are uploaded into reused slots every frame.
+class MeshCache {
+ public:
+  explicit MeshCache(const gl::GlApi& gl) : gl_(&gl) {}
+  // Deletes the copies of static meshes whose owners are gone.
+  void forgetExpired();
+  // Uploads what the frame needs; afterwards slot(i) is list.meshes[i]'s copy (null: nothing to draw).
+  void prepare(const DrawList& list);
+  const GpuMesh* slot(std::size_t i) const { return slots_[i]; }
+
+ private:
+  const gl::GlApi* gl_;
+  // Static meshes by address; the weak pointer tells a live owner from a reused address.
+  std::map<const TriMesh*, std::pair<std::weak_ptr<const TriMesh>, GpuMesh>> static_;
+  std::deque<GpuMesh> per_frame_;  // deque: slots stay valid as it grows
+  std::vector<GpuMesh*> slots_;    // list.meshes[i]'s copy, into static_ or per_frame_
+};
+
+// Textures on the GPU once while their image lives; sRGB-encoded pixels are decoded to linear
+// by the sampler (GL_SRGB8), mipmapped.
+class TextureCache {
+ public:
+  explicit TextureCache(const gl::GlApi& gl) : gl_(&gl) {}
+  // Deletes the textures whose images are gone.
+  void forgetExpired();
+  // Binds the image's texture to unit 0, uploading it first if needed.
+  void bind(const std::shared_ptr<const Image>& img);
+
+ private:
+  const gl::GlApi* gl_;
+  // By image address; the weak pointer tells a live owner from a reused address.
+  std::map<const Image*, std::pair<std::weak_ptr<const Image>, gl::Texture>> textures_;
+};
+
+}  // namespace reel
