@@ -150,10 +150,11 @@ TEST_CASE("exit codes: 0 done, 2 bad input, 3 unstable, 4 unwritable output") {
   r = runReel("check " + write("long.json", "{\"format\": \"reel/1\", \"a\": \"" + std::string(200000, 'x')));
   CHECK(r.code == 2);
   CHECK(r.out.find("long.json:1:") != std::string::npos);
-  // Unwritable output: exit 4 and no file left behind.
-  r = runReel("simulate " + kRope + " --dump /nonexistent_dir/out.json");
+  // Unwritable output (its folder would be under a regular file): exit 4 and no file left behind.
+  const std::string blocker = write("blocker", "a file, not a folder");
+  r = runReel("simulate " + kRope + " --dump " + blocker + "/out.json");
   CHECK(r.code == 4);
-  CHECK(r.out.find("/nonexistent_dir/out.json.part: cannot write") != std::string::npos);
+  CHECK(r.out.find(blocker + "/out.json: cannot create the folder " + blocker) != std::string::npos);
   if (fs::exists("/dev/full")) {
     // A full disk: the final name never appears.
     const fs::path link = tmpDir() / "full.json.part";
@@ -264,14 +265,82 @@ TEST_CASE("render: --frames, --no-overwrite resumes, bad outputs and paths") {
   CHECK(runReel("render " + drape + " --size 10x10 -o " + pattern).code == 2);
   CHECK(runReel("still " + drape + " --frame 10 -o " + (dir / "s.png").string()).code == 2);
   CHECK(runReel("still " + drape + " -o " + (dir / "s.png").string()).code == 2);
-  // Unwritable: exit 4, no final file.
-  Run r = runReel("render " + drape + " -o /nonexistent_dir/v.mp4 --size 64x48");
+}
+
+TEST_CASE("outputs: missing folders are created, and one that cannot be is exit 4") {
+  const fs::path dir = tmpDir() / "new_folders";
+  fs::remove_all(dir);
+  const std::string drape = std::string(REEL_SOURCE_DIR) + "/tests/scenes/drape.json";
+  const std::string pattern = (dir / "a/b/f_##.png").string(), video = (dir / "c/d/film.mp4").string();
+  REQUIRE(runReel("render " + drape + " -o " + pattern + " -o " + video + " --size 64x36 --frames 0-1").code == 0);
+  CHECK(io::readPng((dir / "a/b/f_01.png").string()).ok());
+  CHECK(io::readPng((dir / "a/b/f_02.png").string()).ok());
+  auto info = io::probeVideo(video);
+  REQUIRE(info.ok());
+  CHECK(info.value().frames == 2);
+  REQUIRE(runReel("still " + drape + " --frame 1 -o " + (dir / "e/s.png").string() + " --size 64x36").code == 0);
+  CHECK(io::readPng((dir / "e/s.png").string()).ok());
+  REQUIRE(runReel("simulate " + drape + " --dump " + (dir / "f/g/d.json").string()).code == 0);
+  CHECK(fs::is_regular_file(dir / "f/g/d.json"));
+
+  // Under a regular file no folder can be made: exit 4, the message names the path, no file appears.
+  const std::string blocker = write("not_a_folder", "a file");
+  Run r = runReel("render " + drape + " -o " + blocker + "/v.mp4 --size 64x36 --frames 0-1");
   CHECK(r.code == 4);
-  r = runReel("render " + drape + " -o /nonexistent_dir/f_##.png --size 64x48");
+  CHECK(r.out.find("reel: " + blocker + "/v.mp4: cannot create the folder " + blocker) == 0);
+  r = runReel("render " + drape + " -o " + blocker + "/sub/f_##.png --size 64x36 --frames 0-1");
   CHECK(r.code == 4);
-  CHECK(!fs::exists("/nonexistent_dir"));
-  r = runReel("still " + drape + " --frame 1 -o /nonexistent_dir/s.png --size 64x48");
+  CHECK(r.out.find("cannot create the folder " + blocker + "/sub") != std::string::npos);
+  r = runReel("still " + drape + " --frame 1 -o " + blocker + "/s.png --size 64x36");
   CHECK(r.code == 4);
+  CHECK(r.out.find(blocker + "/s.png") != std::string::npos);
+  CHECK(fs::is_regular_file(blocker));
+}
+
+TEST_CASE("--seed replaces the scene's seed in simulate, still and render") {
+  // A jittered block of liquid: its first frame's positions come from the seed.
+  const std::string body = R"("duration": 0.2, "fps": 10, "substeps": 20, "auto_substeps": true,
+    "objects": [{"type": "container", "center": [0, 0.1, 0], "size": [0.2, 0.2, 0.2], "wall": 0.02}],
+    "bodies": [{"type": "fluid", "name": "water", "species": [{"name": "water", "mass": 0.008, "alpha": 212.6,
+      "beta": 0.085, "cutoff": 0.02725, "viscosity": 6}],
+      "blocks": [{"min": [-0.04, 0.02, -0.04], "max": [0.04, 0.1, 0.04], "spacing": 0.02, "jitter": 0.3}]}]})";
+  const std::string plain = write("seed_plain.json", R"({"format": "reel/1", "name": "jitter", )" + body);
+  const std::string seeded = write("seed_7.json", R"({"format": "reel/1", "name": "jitter", "seed": 7, )" + body);
+  const auto dump = [&](const std::string& scene, const std::string& args) {
+    const fs::path out = tmpDir() / "seed.dump.json";
+    fs::remove(out);
+    const Run r = runReel("simulate " + scene + " --dump " + out.string() + " " + args);
+    REQUIRE(r.code == 0);
+    std::ifstream in(out);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  const std::string d0 = dump(plain, ""), d7 = dump(plain, "--seed 7"), d8 = dump(plain, "--seed 8");
+  CHECK(d0.size() > 1000);
+  CHECK(d7 != d0);
+  CHECK(d8 != d7);
+  CHECK(dump(seeded, "") == d7);           // the scene's seed 7 and --seed 7 are the same film
+  CHECK(dump(seeded, "--seed 0") == d0);   // the command line wins
+  CHECK(dump(plain, "--seed 9007199254740991") != d0);  // 2^53 - 1, the largest
+
+  // The PNG says which seed drew it.
+  const std::string drape = std::string(REEL_SOURCE_DIR) + "/tests/scenes/drape.json";
+  const std::string png = (tmpDir() / "seed_still.png").string();
+  REQUIRE(runReel("still " + drape + " --frame 0 -o " + png + " --size 64x36 --seed 42").code == 0);
+  auto text = io::readPngText(png);
+  REQUIRE(text.ok());
+  CHECK(std::find(text.value().begin(), text.value().end(), std::pair<std::string, std::string>{"reel:seed", "42"}) !=
+        text.value().end());
+
+  // Not an integer 0..2^53-1: exit 2 with one clear line, before anything is simulated.
+  for (const char* bad : {"-1", "abc", "1.5", "9007199254740992", "99999999999999999999999", "7x", "\"\""}) {
+    CAPTURE(bad);
+    const Run r = runReel("simulate " + plain + " --seed " + bad);
+    CHECK(r.code == 2);
+    CHECK(r.out.find("reel: --seed must be an integer 0..9007199254740991") == 0);
+  }
+  CHECK(runReel("render " + drape + " --seed -3 -o " + (tmpDir() / "never/f_#.png").string()).code == 2);
+  CHECK(!fs::exists(tmpDir() / "never"));
+  CHECK(runReel("still " + drape + " --frame 0 --seed abc -o " + png).code == 2);
 }
 
 TEST_CASE("cloth bad input exits 2 naming the JSON path; a cloth film renders and dumps only intact springs") {

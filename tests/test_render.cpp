@@ -216,10 +216,11 @@ TEST_CASE("PNG files round-trip with their text chunks") {
   CHECK(!io::readPng(REEL_SOURCE_DIR "/README.md").ok());
   fs::resize_file(path, 60);
   CHECK(!io::readPng(path).ok());
-  // Unwritable: an Output error and nothing left behind.
-  auto st = io::writePng("/nonexistent_dir/x.png", img);
+  // Unwritable (its folder would be under a regular file): an Output error and nothing left behind.
+  auto st = io::writePng(path + "/x.png", img);
   REQUIRE(!st.ok());
   CHECK(st.error().kind == ErrorKind::Output);
+  CHECK(fs::is_regular_file(path));
 }
 
 TEST_CASE("videos: frame count, size, rate, codec and pixel format; frames close to the images") {

@@ -27,6 +27,7 @@ int report(const Error& e) {
 int simulate(const SimulateOptions& opt) {
   auto scene = loadScene(opt.scene);
   if (!scene.ok()) return report(scene.error());
+  if (opt.seed) scene.value().seed = *opt.seed;
   const SceneDesc& s = scene.value();
   auto world_r = makeWorld(s);
   if (!world_r.ok()) return report(world_r.error());

@@ -1,6 +1,8 @@
 // The reel commands. Each returns the process exit code (DESIGN 3); only main() exits.
 #pragma once
 
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +17,7 @@ struct SimulateOptions {
   std::string scene;
   std::string dump;  // empty: no dump
   int dump_every = 1;
+  std::optional<std::uint64_t> seed;  // --seed: replaces the scene's
 };
 int simulate(const SimulateOptions& opt);
 int check(const std::vector<std::string>& scenes);
@@ -25,6 +28,7 @@ struct RenderOptions {
   int width = 0, height = 0;  // 0: the scene's size
   int samples = 0;            // 0: the scene's
   std::string gl;             // "", auto, osmesa, egl
+  std::optional<std::uint64_t> seed;  // --seed: replaces the scene's
   bool quiet = false;         // print nothing on success
 };
 int still(const RenderOptions& opt, double time, int frame);

@@ -1,10 +1,30 @@
 // reel: the command line (DESIGN 3).
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <charconv>
+#include <cstdint>
 #include <cstdio>
 #include <exception>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "app/commands.h"
 #include "core/parallel.h"
+
+namespace {
+
+// --seed N: an integer 0..2^53-1, the range of the scene's `seed` (exact in any JSON reader).
+std::optional<std::uint64_t> parseSeed(const std::string& text) {
+  constexpr std::uint64_t kMax = (std::uint64_t{1} << 53) - 1;
+  std::uint64_t v = 0;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, v);
+  if (ec != std::errc() || ptr != end || v > kMax) return std::nullopt;
+  return v;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App cli{"reel: physically based animation, simulated and rendered headlessly", "reel"};
@@ -15,12 +35,20 @@ int main(int argc, char** argv) {
     sub->add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::Range(1, 1024));
   };
 
+  std::string seed;
+  std::vector<CLI::Option*> seed_opts;
+  auto add_seed = [&](CLI::App* sub) {
+    seed_opts.push_back(sub->add_option("--seed", seed, "seed of all randomness, 0..2^53-1 (default: the scene's)")
+                            ->type_name("N"));
+  };
+
   reel::app::SimulateOptions sim;
   auto* simulate = cli.add_subcommand("simulate", "simulate a scene, optionally dumping its state");
   simulate->add_option("scene", sim.scene, "scene file (reel/1 JSON)")->required();
   simulate->add_option("--dump", sim.dump, "write the state dump (reel-dump/1 JSON) here");
   simulate->add_option("--dump-every", sim.dump_every, "dump every K-th frame (first and last always)")
       ->check(CLI::Range(1, 1 << 30));
+  add_seed(simulate);
   add_threads(simulate);
 
   std::vector<std::string> scenes;
@@ -36,6 +64,7 @@ int main(int argc, char** argv) {
     sub->add_option("--size", size, "image size WxH (default: the scene's)");
     sub->add_option("--samples", ropt.samples, "MSAA samples: 1, 2 or 4")->check(CLI::IsMember({1, 2, 4}));
     sub->add_option("--gl", ropt.gl, "OpenGL backend: auto, osmesa or egl (default: $REEL_GL or auto)");
+    add_seed(sub);
     add_threads(sub);
   };
   double still_time = -1;
@@ -90,6 +119,14 @@ int main(int argc, char** argv) {
 
   try {
     if (threads > 0) reel::setThreadCount(threads);
+    if (std::any_of(seed_opts.begin(), seed_opts.end(), [](const CLI::Option* o) { return o->count() > 0; })) {
+      const auto n = parseSeed(seed);
+      if (!n) {
+        std::fprintf(stderr, "reel: --seed must be an integer 0..9007199254740991 (2^53 - 1), got \"%s\"\n", seed.c_str());
+        return 2;
+      }
+      sim.seed = ropt.seed = n;
+    }
     if (*simulate) return reel::app::simulate(sim);
     if (*check) return reel::app::check(scenes);
     if (*info) return reel::app::info();

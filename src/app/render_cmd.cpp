@@ -16,6 +16,7 @@
 #include "core/image_compare.h"
 #include "core/scene_view.h"
 #include "core/queue.h"
+#include "io/files.h"
 #include "io/png.h"
 #include "io/video.h"
 #include "render/gl/context.h"
@@ -54,6 +55,7 @@ Status setup(const RenderOptions& opt, Setup& s) {
     s.scene.render.height = opt.height;
   }
   if (opt.samples > 0) s.scene.render.samples = opt.samples;
+  if (opt.seed) s.scene.seed = *opt.seed;
   auto world = makeWorld(s.scene);
   if (!world.ok()) return world.error();
   s.world = std::make_unique<World>(std::move(world.value()));
@@ -170,14 +172,15 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
   }
   // Outputs.
   std::vector<std::string> paths = opt.outputs;
-  if (paths.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories("render_out", ec);
-    paths.push_back("render_out/" + s.scene.name + ".mp4");
-  }
+  if (paths.empty()) paths.push_back("render_out/" + s.scene.name + ".mp4");
   std::vector<Output> outs(paths.size());
   for (std::size_t i = 0; i < paths.size(); ++i)
     if (Status st = parseOutput(paths[i], outs[i]); !st) return report(st.error());
+  // Missing folders are created (a video's when it opens); a PNG pattern's now, so that an
+  // uncreatable one fails before any frame is simulated ('#' is only in the file name).
+  for (const auto& o : outs)
+    if (!o.video)
+      if (Status st = io::createParentFolders(o.path); !st) return report(st.error());
   const int W = s.scene.render.width, H = s.scene.render.height;
   for (auto& o : outs) {
     if (!o.video) continue;

@@ -70,10 +70,22 @@ Result<std::string> resolveAsset(const std::string& scene_file, const std::strin
   return Error(ErrorKind::BadInput, "\"" + path + "\": no such file in the scene's folder or assets/");
 }
 
+Status createParentFolders(const std::string& path) {
+  const fs::path dir = fs::path(path).parent_path();
+  std::error_code ec;
+  if (dir.empty() || fs::is_directory(dir, ec)) return {};
+  fs::create_directories(dir, ec);
+  // A file where a folder should be is not always an error of create_directories: look again.
+  if (!ec && fs::is_directory(dir, ec)) return {};
+  return Error(ErrorKind::Output, path + ": cannot create the folder " + dir.string() + ": " +
+                                      (ec ? ec.message() : std::string("a file of that name is in the way")));
+}
+
 AtomicFile::~AtomicFile() { abandon(); }
 
 Status AtomicFile::open(const std::string& path) {
   abandon();
+  if (Status st = createParentFolders(path); !st) return st;
   path_ = path;
   part_ = path + ".part";
   f_ = std::fopen(part_.c_str(), "wb");

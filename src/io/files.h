@@ -1,5 +1,5 @@
-// File helpers: bounded reads, asset resolution within allowed roots, and atomic writes
-// (write NAME.part, then rename onto NAME: a reader never sees a half-written final file).
+// File helpers: bounded reads, asset resolution within allowed roots, output folders, and atomic
+// writes (write NAME.part, then rename onto NAME: a reader never sees a half-written final file).
 #pragma once
 
 #include <cstdio>
@@ -20,13 +20,18 @@ Result<std::string> readFile(const std::string& path, std::size_t max_bytes);
 Result<std::string> resolveAsset(const std::string& scene_file, const std::string& path,
                                  const std::vector<std::string>& extensions, std::size_t max_bytes);
 
+// Creates the missing folders above an output PATH (as `mkdir -p` does), so that every output
+// (PNG, video, dump) may name a new folder. The error (exit-4 kind) names PATH, the folder and why.
+Status createParentFolders(const std::string& path);
+
 class AtomicFile {
  public:
   AtomicFile() = default;
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
   ~AtomicFile();  // an uncommitted file is removed
-  // Opens PATH.part for writing (exit-4 kind of error when it cannot).
+  // Creates PATH's missing folders and opens PATH.part for writing (exit-4 kind of error when it
+  // cannot).
   Status open(const std::string& path);
   std::FILE* get() const { return f_; }
   // Flushes, closes and renames PATH.part onto PATH; removes the part file on failure.

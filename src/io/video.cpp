@@ -11,6 +11,8 @@ extern "C" {
 #include <cstdio>
 #include <filesystem>
 
+#include "io/files.h"
+
 namespace reel::io {
 
 namespace {
@@ -139,6 +141,7 @@ Status VideoWriter::open(const std::string& path, int width, int height, int fps
   if (r < 0) return v.fail("codec parameters", r);
   v.stream->time_base = v.enc->time_base;
   v.stream->avg_frame_rate = v.enc->framerate;
+  if (Status st = createParentFolders(path); !st) return st;
   r = avio_open(&v.fmt->pb, v.part.c_str(), AVIO_FLAG_WRITE);
   if (r < 0) return v.fail("cannot write " + v.part, r);
   AVDictionary* mux = nullptr;

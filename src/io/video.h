@@ -3,7 +3,7 @@
 //   .webm VP9 (libvpx-vp9), yuv420p
 //   .gif  8-bit palette (a fixed 6x7x6 colour cube with ordered dithering)
 // Odd sizes are padded to even ones for the yuv420p codecs by repeating the last row/column.
-// Written to NAME.part and renamed when complete.
+// Written to NAME.part (its missing folders created first) and renamed when complete.
 #pragma once
 
 #include <memory>
