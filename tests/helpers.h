@@ -1,6 +1,8 @@
 // Small builders shared by the tests.
 #pragma once
 
+#include <doctest/doctest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -90,6 +92,14 @@ inline World worldFromText(const std::string& text, const std::string& file = "t
   auto w = app::makeWorld(sceneFromText(text, file));
   if (!w.ok()) throw std::runtime_error(w.error().headline());
   return std::move(w.value());
+}
+
+// Advances `frames` frames; each must succeed (the message names what went wrong).
+inline void run(World& w, int frames) {
+  for (int f = 0; f < frames; ++f) {
+    const Status st = w.advanceFrame();
+    REQUIRE_MESSAGE(st.ok(), (st.ok() ? "" : st.error().headline()));
+  }
 }
 
 inline const std::vector<IntegratorKind>& allIntegrators() {

@@ -15,13 +15,6 @@ namespace {
 
 World build(const std::string& text) { return worldFromText(text, "bodies.json"); }
 
-void run(World& w, int frames) {
-  for (int f = 0; f < frames; ++f) {
-    const Status st = w.advanceFrame();
-    REQUIRE_MESSAGE(st.ok(), (st.ok() ? "" : st.error().headline()));
-  }
-}
-
 const std::string kHead = R"({"format": "reel/1", "fps": 30, "seed": 11, )";
 
 // One scene per body kind, each using what makes its state more than positions and velocities:

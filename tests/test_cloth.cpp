@@ -19,15 +19,7 @@ using namespace reel::test;
 
 namespace {
 
-World makeWorld(const std::string& text, const std::string& file = "cloth.json") {
-  auto w = app::makeWorld(sceneFromText(text, file));
-  if (!w.ok()) throw std::runtime_error(w.error().headline());
-  return std::move(w.value());
-}
-
-void run(World& w, int frames) {
-  for (int f = 0; f < frames; ++f) REQUIRE(w.advanceFrame().ok());
-}
+World makeWorld(const std::string& text, const std::string& file = "cloth.json") { return worldFromText(text, file); }
 
 const ClothBody& body(const World& w) { return *w.first<ClothBody>(); }
 

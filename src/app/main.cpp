@@ -24,100 +24,92 @@ std::optional<std::uint64_t> parseSeed(const std::string& text) {
   return v;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App cli{"reel: physically based animation, simulated and rendered headlessly", "reel"};
-  cli.require_subcommand(1);
-  cli.set_version_flag("--version", std::string(REEL_VERSION));
+// Every option of every subcommand, filled by the parser.
+struct Cli {
+  CLI::App app{"reel: physically based animation, simulated and rendered headlessly", "reel"};
   int threads = 0;
-  auto add_threads = [&](CLI::App* sub) {
-    sub->add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::Range(1, 1024));
-  };
-
   std::string seed;
   std::vector<CLI::Option*> seed_opts;
-  auto add_seed = [&](CLI::App* sub) {
-    seed_opts.push_back(sub->add_option("--seed", seed, "seed of all randomness, 0..2^53-1 (default: the scene's)")
-                            ->type_name("N"));
-  };
-
   reel::app::SimulateOptions sim;
-  auto* simulate = cli.add_subcommand("simulate", "simulate a scene, optionally dumping its state");
-  simulate->add_option("scene", sim.scene, "scene file (reel/1 JSON)")->required();
-  simulate->add_option("--dump", sim.dump, "write the state dump (reel-dump/1 JSON) here");
-  simulate->add_option("--dump-every", sim.dump_every, "dump every K-th frame (first and last always)")
-      ->check(CLI::Range(1, 1 << 30));
-  add_seed(simulate);
-  add_threads(simulate);
-
   std::vector<std::string> scenes;
-  auto* check = cli.add_subcommand("check", "validate scene files without simulating");
-  check->add_option("scenes", scenes, "scene files")->required();
-
-  auto* info = cli.add_subcommand("info", "versions, build type, threads");
-
   reel::app::RenderOptions ropt;
   std::string size;
-  auto add_render = [&](CLI::App* sub) {
+  double still_time = -1;
+  int still_frame = -1;
+  std::string frames;
+  bool no_overwrite = false;
+  reel::app::CompareOptions cmp;
+  std::vector<std::string> bench_names;
+  double bench_seconds = 1.0;
+  CLI::App *simulate = nullptr, *check = nullptr, *info = nullptr, *still = nullptr, *render = nullptr,
+           *compare = nullptr, *bench = nullptr;
+
+  void addThreads(CLI::App* sub) {
+    sub->add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+  }
+  void addSeed(CLI::App* sub) {
+    seed_opts.push_back(sub->add_option("--seed", seed, "seed of all randomness, 0..2^53-1 (default: the scene's)")
+                            ->type_name("N"));
+  }
+  void addRenderOptions(CLI::App* sub) {
     sub->add_option("scene", ropt.scene, "scene file (reel/1 JSON)")->required();
     sub->add_option("--size", size, "image size WxH (default: the scene's)");
     sub->add_option("--samples", ropt.samples, "MSAA samples: 1, 2 or 4")->check(CLI::IsMember({1, 2, 4}));
     sub->add_option("--gl", ropt.gl, "OpenGL backend: auto, osmesa or egl (default: $REEL_GL or auto)");
-    add_seed(sub);
-    add_threads(sub);
-  };
-  double still_time = -1;
-  int still_frame = -1;
-  auto* still = cli.add_subcommand("still", "render one frame to a PNG");
-  add_render(still);
-  auto* t_opt = still->add_option("--time", still_time, "scene time, s (the nearest frame)")->check(CLI::NonNegativeNumber);
-  auto* f_opt = still->add_option("--frame", still_frame, "frame number, from 0")->check(CLI::NonNegativeNumber);
-  t_opt->excludes(f_opt);
-  still->add_option("-o,--output", ropt.outputs, "output PNG")->required();
-  std::string frames;
-  bool no_overwrite = false;
-  auto* render = cli.add_subcommand("render", "render a film: video and/or PNG frames");
-  add_render(render);
-  render->add_option("-o,--output", ropt.outputs,
-                     "NAME.mp4, NAME.webm, NAME.gif or dir/name_####.png; repeatable (default: render_out/<scene>.mp4)");
-  render->add_option("--frames", frames, "render frames A-B only (frame k shows time k/fps)");
-  render->add_flag("--no-overwrite", no_overwrite, "keep valid existing PNG frames (resume)");
-
-  reel::app::CompareOptions cmp;
-  auto* compare = cli.add_subcommand("compare", "compare two PNGs: exit 0 within tolerance, 1 otherwise");
-  compare->add_option("a", cmp.a, "first PNG")->required();
-  compare->add_option("b", cmp.b, "second PNG")->required();
-  compare->add_option("--diff", cmp.diff, "write a difference image here");
-  compare->add_option("--threshold", cmp.threshold, "per-channel difference that makes a pixel differ (default 16)")
-      ->check(CLI::Range(0, 255));
-  compare->add_option("--max-mean", cmp.max_mean, "largest mean absolute error allowed (default 1.0)")
-      ->check(CLI::Range(0.0, 255.0));
-  compare->add_option("--max-fraction", cmp.max_fraction, "largest fraction of differing pixels allowed (default 0.005)")
-      ->check(CLI::Range(0.0, 1.0));
-
-  std::vector<std::string> bench_names;
-  double bench_seconds = 1.0;
-  auto* bench = cli.add_subcommand("bench", "run benchmarks, one JSON line each");
-  bench->add_option("names", bench_names, "benchmarks to run (default: all): springs, render, film, cloth");
-  bench->add_option("--seconds", bench_seconds, "time spent on each measurement")->check(CLI::Range(0.01, 600.0));
-  add_threads(bench);
-
-  try {
-    cli.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return cli.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return cli.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return cli.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "reel: %s\n", e.what());
-    std::fprintf(stderr, "run 'reel --help' for usage\n");
-    return 2;
+    addSeed(sub);
+    addThreads(sub);
   }
 
-  try {
+  // simulate, check, info.
+  void addSimulation() {
+    simulate = app.add_subcommand("simulate", "simulate a scene, optionally dumping its state");
+    simulate->add_option("scene", sim.scene, "scene file (reel/1 JSON)")->required();
+    simulate->add_option("--dump", sim.dump, "write the state dump (reel-dump/1 JSON) here");
+    simulate->add_option("--dump-every", sim.dump_every, "dump every K-th frame (first and last always)")
+        ->check(CLI::Range(1, 1 << 30));
+    addSeed(simulate);
+    addThreads(simulate);
+    check = app.add_subcommand("check", "validate scene files without simulating");
+    check->add_option("scenes", scenes, "scene files")->required();
+    info = app.add_subcommand("info", "versions, build type, threads");
+  }
+
+  // still, render.
+  void addRendering() {
+    still = app.add_subcommand("still", "render one frame to a PNG");
+    addRenderOptions(still);
+    auto* t_opt = still->add_option("--time", still_time, "scene time, s (the nearest frame)")->check(CLI::NonNegativeNumber);
+    auto* f_opt = still->add_option("--frame", still_frame, "frame number, from 0")->check(CLI::NonNegativeNumber);
+    t_opt->excludes(f_opt);
+    still->add_option("-o,--output", ropt.outputs, "output PNG")->required();
+    render = app.add_subcommand("render", "render a film: video and/or PNG frames");
+    addRenderOptions(render);
+    render->add_option("-o,--output", ropt.outputs,
+                       "NAME.mp4, NAME.webm, NAME.gif or dir/name_####.png; repeatable (default: render_out/<scene>.mp4)");
+    render->add_option("--frames", frames, "render frames A-B only (frame k shows time k/fps)");
+    render->add_flag("--no-overwrite", no_overwrite, "keep valid existing PNG frames (resume)");
+  }
+
+  // compare, bench.
+  void addTools() {
+    compare = app.add_subcommand("compare", "compare two PNGs: exit 0 within tolerance, 1 otherwise");
+    compare->add_option("a", cmp.a, "first PNG")->required();
+    compare->add_option("b", cmp.b, "second PNG")->required();
+    compare->add_option("--diff", cmp.diff, "write a difference image here");
+    compare->add_option("--threshold", cmp.threshold, "per-channel difference that makes a pixel differ (default 16)")
+        ->check(CLI::Range(0, 255));
+    compare->add_option("--max-mean", cmp.max_mean, "largest mean absolute error allowed (default 1.0)")
+        ->check(CLI::Range(0.0, 255.0));
+    compare->add_option("--max-fraction", cmp.max_fraction, "largest fraction of differing pixels allowed (default 0.005)")
+        ->check(CLI::Range(0.0, 1.0));
+    bench = app.add_subcommand("bench", "run benchmarks, one JSON line each");
+    bench->add_option("names", bench_names, "benchmarks to run (default: all): springs, render, film, cloth");
+    bench->add_option("--seconds", bench_seconds, "time spent on each measurement")->check(CLI::Range(0.01, 600.0));
+    addThreads(bench);
+  }
+
+  // Checks what the parser cannot, then runs the chosen subcommand.
+  int run() {
     if (threads > 0) reel::setThreadCount(threads);
     if (std::any_of(seed_opts.begin(), seed_opts.end(), [](const CLI::Option* o) { return o->count() > 0; })) {
       const auto n = parseSeed(seed);
@@ -150,6 +142,34 @@ int main(int argc, char** argv) {
     if (*render) return reel::app::render(ropt, frames, no_overwrite);
     if (*compare) return reel::app::compare(cmp);
     if (*bench) return reel::app::bench(bench_names, bench_seconds);
+    return 1;
+  }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Cli cli;
+  cli.app.require_subcommand(1);
+  cli.app.set_version_flag("--version", std::string(REEL_VERSION));
+  cli.addSimulation();
+  cli.addRendering();
+  cli.addTools();
+  try {
+    cli.app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return cli.app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return cli.app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return cli.app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "reel: %s\n", e.what());
+    std::fprintf(stderr, "run 'reel --help' for usage\n");
+    return 2;
+  }
+  try {
+    return cli.run();
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "reel: out of memory\n");
     return 1;
@@ -157,5 +177,4 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "reel: internal error: %s\n", e.what());
     return 1;
   }
-  return 1;
 }

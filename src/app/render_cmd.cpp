@@ -151,55 +151,52 @@ struct FrameImage {
   Image img;
 };
 
-}  // namespace
-
-// Simulation, rendering and encoding run on three threads joined by bounded queues, so a film
-// takes about as long as its slowest stage.
-int render(const RenderOptions& opt, const std::string& range, bool no_overwrite) {
-  Setup s;
-  if (Status st = setup(opt, s); !st) return report(st.error());
-  const int n = s.scene.frameCount();
-  int first = 0, last = n - 1;
+// --frames A-B, within the film's N frames.
+Status frameRange(const std::string& range, int n, int& first, int& last) {
+  first = 0;
+  last = n - 1;
   if (!range.empty()) {
     int a = -1, b = -1, used = 0;
     char dash = 0;
     if (std::sscanf(range.c_str(), "%d%c%d%n", &a, &dash, &b, &used) != 3 || dash != '-' ||
         used != static_cast<int>(range.size()) || a < 0 || b < a || b >= n)
-      return report(Error(ErrorKind::BadInput, "--frames must be A-B with 0 <= A <= B <= " + std::to_string(n - 1) +
-                                                   " (frame k shows time k/fps), got \"" + range + "\""));
+      return Error(ErrorKind::BadInput, "--frames must be A-B with 0 <= A <= B <= " + std::to_string(n - 1) +
+                                                   " (frame k shows time k/fps), got \"" + range + "\"");
     first = a;
     last = b;
   }
-  // Outputs.
+  return {};
+}
+
+// The outputs by their form; missing folders are created (a video's when it opens; a PNG
+// pattern's now, so that an uncreatable one fails before any frame is simulated: '#' is only in
+// the file name); videos open.
+Status openOutputs(const RenderOptions& opt, const Setup& s, bool no_overwrite, std::vector<Output>& outs) {
   std::vector<std::string> paths = opt.outputs;
   if (paths.empty()) paths.push_back("render_out/" + s.scene.name + ".mp4");
-  std::vector<Output> outs(paths.size());
+  outs.resize(paths.size());
   for (std::size_t i = 0; i < paths.size(); ++i)
-    if (Status st = parseOutput(paths[i], outs[i]); !st) return report(st.error());
-  // Missing folders are created (a video's when it opens); a PNG pattern's now, so that an
-  // uncreatable one fails before any frame is simulated ('#' is only in the file name).
+    if (Status st = parseOutput(paths[i], outs[i]); !st) return st;
   for (const auto& o : outs)
     if (!o.video)
-      if (Status st = io::createParentFolders(o.path); !st) return report(st.error());
+      if (Status st = io::createParentFolders(o.path); !st) return st;
   const int W = s.scene.render.width, H = s.scene.render.height;
   for (auto& o : outs) {
     if (!o.video) continue;
     std::error_code ec;
     if (no_overwrite && std::filesystem::exists(o.path, ec))
-      return report(Error(ErrorKind::BadInput, o.path + ": exists (a video cannot be resumed; remove it or drop --no-overwrite)"));
+      return Error(ErrorKind::BadInput, o.path + ": exists (a video cannot be resumed; remove it or drop --no-overwrite)");
     o.writer = std::make_unique<io::VideoWriter>();
-    if (Status st = o.writer->open(o.path, W, H, s.scene.fps); !st) return report(st.error());
+    if (Status st = o.writer->open(o.path, W, H, s.scene.fps); !st) return st;
   }
-  // Frames that need drawing: all of them unless every output already has a valid PNG.
-  std::vector<char> need(static_cast<std::size_t>(n), 0);
-  int to_draw = 0;
-  for (int k = first; k <= last; ++k) {
-    bool any = false;
-    for (const auto& o : outs) any = any || o.video || !no_overwrite || !validFrame(o.framePath(k), W, H);
-    need[static_cast<std::size_t>(k)] = any;
-    to_draw += any;
-  }
+  return {};
+}
 
+// Simulation, drawing and encoding of frames [first, last] (those in `need`) on three threads
+// joined by bounded queues, so a film takes about as long as its slowest stage.
+Status runPipeline(Setup& s, std::vector<Output>& outs, int first, int last, const std::vector<char>& need, int to_draw,
+                   bool no_overwrite) {
+  const int W = s.scene.render.width, H = s.scene.render.height;
   BoundedQueue<std::pair<int, DrawList>> lists(3);
   BoundedQueue<FrameImage> images(3);
   Status sim_status, enc_status;
@@ -258,7 +255,32 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
       if (o.video)
         if (Status st = o.writer->finish(); !st && enc_status.ok()) enc_status = st;
   for (const Status* st : {&sim_status, &render_status, &enc_status})
-    if (!st->ok()) return report(st->error());
+    if (!st->ok()) return *st;
+  return {};
+}
+
+}  // namespace
+
+int render(const RenderOptions& opt, const std::string& range, bool no_overwrite) {
+  Setup s;
+  if (Status st = setup(opt, s); !st) return report(st.error());
+  const int n = s.scene.frameCount();
+  int first = 0, last = n - 1;
+  if (Status st = frameRange(range, n, first, last); !st) return report(st.error());
+  std::vector<Output> outs;
+  if (Status st = openOutputs(opt, s, no_overwrite, outs); !st) return report(st.error());
+  const int W = s.scene.render.width, H = s.scene.render.height;
+  // Frames that need drawing: all of them unless every output already has a valid PNG.
+  std::vector<char> need(static_cast<std::size_t>(n), 0);
+  int to_draw = 0;
+  for (int k = first; k <= last; ++k) {
+    bool any = false;
+    for (const auto& o : outs) any = any || o.video || !no_overwrite || !validFrame(o.framePath(k), W, H);
+    need[static_cast<std::size_t>(k)] = any;
+    to_draw += any;
+  }
+
+  if (Status st = runPipeline(s, outs, first, last, need, to_draw, no_overwrite); !st) return report(st.error());
   if (!opt.quiet)
     for (const auto& o : outs)
       std::printf("%s\n", o.video ? o.path.c_str() : (o.framePath(first) + " .. " + o.framePath(last)).c_str());

@@ -178,12 +178,22 @@ Status Renderer::Impl::drawGeometry(const DrawList& list, Pass pass) {
   return {};
 }
 
+namespace {
+
+// The distance from `eye` to the nearest of the points (xyz triples), m.
+double nearestTo(const Vec3& eye, const std::vector<float>& points) {
+  double nearest = 1e300;
+  for (std::size_t i = 0; i + 2 < points.size(); i += 3)
+    nearest = std::min(nearest, (Vec3(points[i], points[i + 1], points[i + 2]) - eye).norm());
+  return nearest;
+}
+
+}  // namespace
+
 Status Renderer::Impl::drawSpheres(const DrawSpheres& s, Pass pass) {
   if (s.centers.empty() || !pass.wants(s.material)) return {};
   // Level of detail from the largest on-screen radius of the set.
-  double nearest = 1e300;
-  for (std::size_t i = 0; i + 2 < s.centers.size(); i += 3)
-    nearest = std::min(nearest, (Vec3(s.centers[i], s.centers[i + 1], s.centers[i + 2]) - eye).norm());
+  const double nearest = nearestTo(eye, s.centers);
   const double px = s.radius * px_per_m_at_1m / std::max(nearest, 1e-3);
   const GpuMesh& proto = sphere_lod[px < 5 ? 0 : px < 20 ? 1 : 2];
   bindInstances(*gl, proto, inst, s.centers, 3);
@@ -210,9 +220,7 @@ Status Renderer::Impl::drawSpheres(const DrawSpheres& s, Pass pass) {
 
 Status Renderer::Impl::drawTubes(const DrawTubes& t, Pass pass) {
   if (t.ends.empty() || !pass.wants(t.material)) return {};
-  double nearest = 1e300;
-  for (std::size_t i = 0; i + 2 < t.ends.size(); i += 3)
-    nearest = std::min(nearest, (Vec3(t.ends[i], t.ends[i + 1], t.ends[i + 2]) - eye).norm());
+  const double nearest = nearestTo(eye, t.ends);
   if (t.radius * px_per_m_at_1m / std::max(nearest, 1e-3) < 1.5) {
     if (!pass.with_material) return {};  // a one-pixel line casts no shadow worth its stripes
     // Tubes about a pixel wide: one-pixel lines look the same, and long thin triangles are

@@ -10,35 +10,23 @@ void deleteTexture(const GlApi& gl, GLuint id) { gl.DeleteTextures(1, &id); }
 void deleteShader(const GlApi& gl, GLuint id) { gl.DeleteShader(id); }
 void deleteProgram(const GlApi& gl, GLuint id) { gl.DeleteProgram(id); }
 
-Buffer makeBuffer(const GlApi& gl) {
+namespace {
+
+// An object from a glGen* function: one name, owned by the returned object.
+template <class Object, class Gen>
+Object generated(const GlApi& gl, Gen gen) {
   GLuint id = 0;
-  gl.GenBuffers(1, &id);
+  gen(1, &id);
   return {gl, id};
 }
 
-VertexArray makeVertexArray(const GlApi& gl) {
-  GLuint id = 0;
-  gl.GenVertexArrays(1, &id);
-  return {gl, id};
-}
+}  // namespace
 
-Framebuffer makeFramebuffer(const GlApi& gl) {
-  GLuint id = 0;
-  gl.GenFramebuffers(1, &id);
-  return {gl, id};
-}
-
-Renderbuffer makeRenderbuffer(const GlApi& gl) {
-  GLuint id = 0;
-  gl.GenRenderbuffers(1, &id);
-  return {gl, id};
-}
-
-Texture makeTexture(const GlApi& gl) {
-  GLuint id = 0;
-  gl.GenTextures(1, &id);
-  return {gl, id};
-}
+Buffer makeBuffer(const GlApi& gl) { return generated<Buffer>(gl, gl.GenBuffers); }
+VertexArray makeVertexArray(const GlApi& gl) { return generated<VertexArray>(gl, gl.GenVertexArrays); }
+Framebuffer makeFramebuffer(const GlApi& gl) { return generated<Framebuffer>(gl, gl.GenFramebuffers); }
+Renderbuffer makeRenderbuffer(const GlApi& gl) { return generated<Renderbuffer>(gl, gl.GenRenderbuffers); }
+Texture makeTexture(const GlApi& gl) { return generated<Texture>(gl, gl.GenTextures); }
 
 Shader makeShader(const GlApi& gl, GLenum type) { return {gl, gl.CreateShader(type)}; }
 
