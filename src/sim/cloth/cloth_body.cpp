@@ -47,7 +47,7 @@ bool ClothBody::restoreMore(StateReader& r) {
 
 Result<std::unique_ptr<Body>> buildClothBody(const BodyDesc& desc, const BuildContext& ctx) {
   const auto& d = desc.as<ClothDesc>();
-  auto b = std::make_unique<ClothBody>(desc.name, desc.material);
+  auto b = std::make_unique<ClothBody>(desc.name, desc.type, desc.material);
   if (Status st = buildNetwork(*b, buildCloth(d, ctx.seed, b->cloth()), desc, ctx, d.thickness); !st) return st.error();
   return std::unique_ptr<Body>(std::move(b));
 }

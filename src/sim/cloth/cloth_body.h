@@ -13,7 +13,8 @@ namespace reel {
 
 class ClothBody final : public SpringNetworkBody {
  public:
-  ClothBody(std::string name, const Material& material) : SpringNetworkBody(std::move(name), "cloth"), material_(material) {}
+  ClothBody(std::string name, std::string generator, const Material& material)
+      : SpringNetworkBody(std::move(name), std::move(generator)), material_(material) {}
   void step(StepContext& ctx) override;
   void draw(DrawList& out) const override;
   Cloth& cloth() { return cloth_; }

@@ -31,7 +31,7 @@ bool FluidBody::view(BodyView& out) const {
   const Fluid& fl = byId();  // particles in order of creation, whatever slots they sit in
   out.name = name();
   out.type = "particles";
-  out.generator = "fluid";
+  out.generator = generator_;
   out.positions = fl.x_by_id;
   out.velocities = fl.v_by_id;
   out.species = fl.s_by_id;
@@ -94,7 +94,7 @@ std::vector<std::string> FluidBody::notes(double h) const {
 
 Result<std::unique_ptr<Body>> buildFluidBody(const BodyDesc& desc, const BuildContext& ctx) {
   Fluid fl = buildFluid(desc.as<FluidDesc>(), desc.name, *ctx.colliders, ctx.seed);
-  return std::unique_ptr<Body>(std::make_unique<FluidBody>(std::move(fl), desc.material));
+  return std::unique_ptr<Body>(std::make_unique<FluidBody>(std::move(fl), desc.type, desc.material));
 }
 
 }  // namespace reel

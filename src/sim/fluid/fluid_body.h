@@ -12,8 +12,9 @@ namespace reel {
 
 class FluidBody final : public Body {
  public:
-  FluidBody(Fluid fluid, const Material& material)
-      : Body(fluid.name), material_(material), fluid_(std::move(fluid)), bound_(fluidStableStep(fluid_)) {}
+  FluidBody(Fluid fluid, std::string generator, const Material& material)
+      : Body(fluid.name), generator_(std::move(generator)), material_(material), fluid_(std::move(fluid)),
+        bound_(fluidStableStep(fluid_)) {}
   StepLimit stepLimit(IntegratorKind integrator) const override;
   void step(StepContext& ctx) override;
   Status checkState(const StepContext& ctx) const override;
@@ -33,6 +34,7 @@ class FluidBody final : public Body {
   static void fields(State& s, Archive& a);
   // The state in order of creation (dumps, hashes).
   const Fluid& byId() const;
+  std::string generator_;  // the scene type that built it
   Material material_;
   mutable Fluid fluid_;  // mutable: view() and hash() fill its by-id scratch arrays
   StepBound bound_;
