@@ -2,6 +2,7 @@
 // the registry names each kind once, and the world refuses a snapshot of another scene.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <map>
 #include <set>
 
@@ -83,6 +84,51 @@ TEST_CASE("every body kind: a run resumed from a snapshot at frame k equals the 
       run(resumed, frames - k);
       CHECK(resumed.stateHash() == end);
     }
+  }
+}
+
+TEST_CASE("a world goes back to an earlier frame of its own and runs on as before") {
+  for (const auto& [kind, text] : kScenes) {
+    CAPTURE(kind);
+    World w = build(text);
+    const int frames = sceneFromText(text).frameCount() - 1;
+    run(w, frames / 3);
+    const WorldSnapshot back = w.snapshot();
+    run(w, frames - frames / 3);
+    const std::uint64_t end = w.stateHash();
+    REQUIRE(w.restore(back).ok());
+    run(w, frames - frames / 3);
+    CHECK(w.stateHash() == end);
+  }
+}
+
+TEST_CASE("a damaged snapshot is refused and leaves the world as it was; one that reads leaves it runnable") {
+  for (const auto& [kind, text] : kScenes) {
+    CAPTURE(kind);
+    World w = build(text);
+    run(w, 3);
+    const WorldSnapshot good = w.snapshot();
+    const std::uint64_t h = w.stateHash();
+    std::vector<WorldSnapshot> bad(4, good);
+    bad[0].bodies[0].bytes.resize(good.bodies[0].bytes.size() / 2);  // cut short
+    bad[1].bodies[0].bytes.push_back(std::byte{1});                   // a byte too many
+    std::fill_n(bad[2].bodies[0].bytes.begin(), 8, std::byte{0x7F});  // the first array's length
+    bad[3].step += 1;                                                 // not a frame of this scene
+    for (const WorldSnapshot& b : bad) {
+      CHECK(!w.restore(b).ok());
+      CHECK(w.stateHash() == h);
+    }
+    // Bytes overwritten all through: refused, or taken and stepped without crashing (a state that
+    // reads but makes no sense may stop the run with exit 3, never with a crash).
+    const std::size_t size = good.bodies[0].bytes.size();
+    for (std::size_t at = 8; at + 8 <= size; at += std::max<std::size_t>(8, size / 16)) {
+      CAPTURE(at);
+      WorldSnapshot c = good;
+      std::fill_n(c.bodies[0].bytes.begin() + static_cast<std::ptrdiff_t>(at), 8, std::byte{0xFF});
+      if (w.restore(c).ok()) (void)w.advanceFrame();
+      REQUIRE(w.restore(good).ok());
+    }
+    CHECK(w.stateHash() == h);
   }
 }
 

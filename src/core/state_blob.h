@@ -9,11 +9,16 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/types.h"
+
 namespace reel {
 
-// Types copied byte for byte: arithmetic types and fixed-size plain structs of them (Vec3, Mat3).
+// Types copied byte for byte: trivially copyable ones (numbers, plain structs of them) and the
+// fixed-size Eigen vectors and matrices (Vec3, Mat3), whose copies are bytewise too. Nothing that
+// holds a pointer.
 template <class T>
-concept Bitwise = std::is_standard_layout_v<T> && !std::is_pointer_v<T>;
+concept Bitwise = (std::is_trivially_copyable_v<T> && !std::is_pointer_v<T>) || std::is_same_v<T, Vec3> ||
+                  std::is_same_v<T, Mat3>;
 
 struct StateBlob {
   std::vector<std::byte> bytes;

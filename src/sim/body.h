@@ -119,6 +119,15 @@ class Body {
 Status checkPoints(const StepContext& ctx, const std::string& body, const char* what, const std::vector<Vec3>& x,
                    const std::vector<Vec3>& v, const StepBound& bound);
 
+// Whether every point lies within `limit` of the origin (NaN does not): a restored state must be
+// one that could have passed the state check (kRunawayDistance for positions, kRunawaySpeed for
+// velocities).
+inline bool allWithin(const std::vector<Vec3>& x, double limit) {
+  for (const Vec3& p : x)
+    if (!(p.squaredNorm() <= limit * limit)) return false;
+  return true;
+}
+
 // A builder: makes a body of its kind from its description (BadInput when it cannot be built).
 using BodyBuilder = Result<std::unique_ptr<Body>> (*)(const BodyDesc& desc, const BuildContext& ctx);
 

@@ -156,7 +156,7 @@ bool FreeObjectBody::restore(const StateBlob& in) {
   r.get(object_.w);
   r.get(pos_);
   r.get(rot_);
-  return r.done();
+  return r.done() && allWithin({pos_, object_.v, object_.w, rot_.col(0), rot_.col(1), rot_.col(2)}, kRunawayDistance);
 }
 
 void FreeObjectBody::hash(Hasher& h) const {

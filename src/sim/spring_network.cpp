@@ -79,7 +79,8 @@ bool SpringNetworkBody::restore(const StateBlob& in) {
   StateReader r(in);
   net_.restore(r);
   const std::size_t n = net_.model.nodes();
-  return restoreMore(r) && r.done() && net_.state.x.size() == n && net_.state.v.size() == n;
+  return restoreMore(r) && r.done() && net_.state.x.size() == n && net_.state.v.size() == n &&
+         allWithin(net_.state.x, kRunawayDistance) && allWithin(net_.state.v, kRunawaySpeed);
 }
 
 Status buildNetwork(SpringNetworkBody& body, const MassSpringDesc& nodes, const BodyDesc& desc, const BuildContext& ctx,

@@ -15,6 +15,10 @@
 namespace reel {
 
 struct SpringNetwork {
+  SpringNetwork() = default;
+  // `system` refers to `model`: the network stays where it was built.
+  SpringNetwork(const SpringNetwork&) = delete;
+  SpringNetwork& operator=(const SpringNetwork&) = delete;
   MassSpringModel model;
   MassSpringState state;
   std::unique_ptr<MassSpringSystem> system;  // refers to `model`

@@ -184,9 +184,17 @@ Status World::restore(const WorldSnapshot& s) {
     return Error(ErrorKind::BadInput, "snapshot of another scene: " + std::to_string(s.bodies.size()) + " bodies and " +
                                           std::to_string(s.colliders.size()) + " objects, this scene has " +
                                           std::to_string(bodies_.size()) + " and " + std::to_string(colliders_.size()));
+  if (s.frame < 0 || s.step != static_cast<long long>(s.frame) * stepsPerFrame())
+    return Error(ErrorKind::BadInput, "snapshot of another scene: frame " + std::to_string(s.frame) + " at step " +
+                                          std::to_string(s.step) + ", this scene takes " +
+                                          std::to_string(stepsPerFrame()) + " steps a frame");
+  // All or nothing: a body that refuses its part leaves the world as it was.
+  const WorldSnapshot before = snapshot();
   for (std::size_t k = 0; k < bodies_.size(); ++k)
-    if (!bodies_[k]->restore(s.bodies[k]))
+    if (!bodies_[k]->restore(s.bodies[k])) {
+      for (std::size_t j = 0; j <= k; ++j) REEL_CHECK(bodies_[j]->restore(before.bodies[j]), "a body refused its own snapshot");
       return Error(ErrorKind::BadInput, "snapshot of another scene: body '" + bodies_[k]->name() + "' does not match");
+    }
   for (std::size_t k = 0; k < colliders_.size(); ++k) {
     Collider& c = colliders_[k];
     const WorldSnapshot::Pose& p = s.colliders[k];

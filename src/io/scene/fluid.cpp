@@ -88,7 +88,7 @@ void readInteractionEntry(Obj& io, FluidReading& r) {
     in.s = idx[0];
     in.t = idx[1];
   }
-  auto opt = [&](const char* key, Range r) -> std::optional<double> { return io.number(key, r); };
+  auto opt = [&](const char* key, Range range) -> std::optional<double> { return io.number(key, range); };
   in.alpha = opt("alpha", kNonNeg);
   in.beta = opt("beta", kNonNeg);
   in.a = opt("a", Range{0.0, 16.0, true, false});

@@ -11,6 +11,7 @@ void ClothBody::step(StepContext& ctx) {
     net_.system->setExternalForces(cloth_.f_air.data());
   }
   net_.integrate(ctx);
+  net_.system->setExternalForces(nullptr);
   gripPositions(cloth_, ctx.t1, s.x);
   limitStrain(cloth_, net_.model, ctx.h, s.x, s.v);
   if (cloth_.self_collision) selfCollide(cloth_, net_.model, s.x, s.v);
@@ -35,11 +36,17 @@ bool ClothBody::restoreMore(StateReader& r) {
   const Springs& sp = net_.model.springs;
   const ClothState& c = cloth_;
   const std::size_t n = net_.model.nodes(), ns = sp.a.size();
-  if (!r.ok() || sp.b.size() != ns || sp.rest.size() != ns || c.spring_id.size() != ns ||
-      c.tri_alive.size() != cloth_.tris.size())
+  // Sizes and indices as this sheet's (a blob of another sheet, or a damaged one, is refused).
+  const std::size_t ids = cloth_.holds.size();
+  for (std::size_t size : {sp.b.size(), sp.stiffness.size(), sp.damping.size(), sp.rest.size(), c.spring_id.size(),
+                           c.limited.size()})
+    if (size != ns) return false;
+  if (!r.ok() || ns > ids || c.intact.size() != ids || c.tri_alive.size() != cloth_.tris.size() ||
+      !(c.tear_strain.empty() || c.tear_strain.size() == ns) || !(c.x_prev.empty() || c.x_prev.size() == n))
     return false;
   for (std::size_t k = 0; k < ns; ++k)
-    if (sp.a[k] < 0 || sp.b[k] < 0 || static_cast<std::size_t>(sp.a[k]) >= n || static_cast<std::size_t>(sp.b[k]) >= n)
+    if (sp.a[k] < 0 || sp.b[k] < 0 || static_cast<std::size_t>(sp.a[k]) >= n || static_cast<std::size_t>(sp.b[k]) >= n ||
+        c.spring_id[k] < 0 || static_cast<std::size_t>(c.spring_id[k]) >= ids)
       return false;
   net_.model.incidence.build(n, sp);
   return true;

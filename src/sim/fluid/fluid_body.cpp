@@ -62,9 +62,18 @@ bool FluidBody::restore(const StateBlob& in) {
       (!s.x_built.empty() && s.nbr_start.size() != s.x_built.size() + 1) ||
       (!s.nbr_start.empty() && s.nbr.size() != s.nbr_start.back()))
     return false;
-  for (std::size_t i = 0; i < n; ++i)
-    if (s.s[i] < 0 || s.s[i] >= fluid_.species_count || s.id[i] < 0 || static_cast<std::size_t>(s.id[i]) >= n)
+  if (!allWithin(s.x, kRunawayDistance) || !allWithin(s.v, kRunawaySpeed) || !allWithin(s.x_built, kRunawayDistance))
+    return false;
+  // Species and ids in range, each id once; the list's rows in order and its entries in range.
+  std::vector<std::uint8_t> seen(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (s.s[i] < 0 || s.s[i] >= fluid_.species_count || s.id[i] < 0 || static_cast<std::size_t>(s.id[i]) >= n ||
+        seen[static_cast<std::size_t>(s.id[i])]++)
       return false;
+  }
+  if (!s.nbr_start.empty() && s.nbr_start[0] != 0) return false;
+  for (std::size_t i = 1; i < s.nbr_start.size(); ++i)
+    if (s.nbr_start[i] < s.nbr_start[i - 1]) return false;
   for (std::int32_t j : s.nbr)
     if (j < 0 || static_cast<std::size_t>(j) >= n) return false;
   rebuildGrid(fluid_);
