@@ -1,10 +1,9 @@
 #include "io/json_reader.h"
 
-#include "core/format.h"
-
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+
+#include "core/format.h"
 
 namespace reel::io {
 

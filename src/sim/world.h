@@ -61,13 +61,6 @@ class World {
 
   // The scene's bodies in scene order, then the free objects.
   const std::vector<std::unique_ptr<Body>>& bodies() const { return bodies_; }
-  // The body of that name, as type T; nullptr when there is none of that type.
-  template <class T>
-  const T* find(const std::string& name) const {
-    for (const auto& b : bodies_)
-      if (b->name() == name) return dynamic_cast<const T*>(b.get());
-    return nullptr;
-  }
   // The first body of type T, or nullptr.
   template <class T>
   const T* first() const {

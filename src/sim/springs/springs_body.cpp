@@ -6,7 +6,7 @@ namespace reel {
 namespace {
 
 Result<std::unique_ptr<Body>> make(const BodyDesc& desc, const BuildContext& ctx, const MassSpringDesc& nodes) {
-  auto b = std::make_unique<SpringsBody>(desc.name, desc.type, desc.material, desc.node_radius);
+  auto b = std::make_unique<SpringsBody>(desc.name, desc.type, desc.material);
   if (Status st = buildNetwork(*b, nodes, desc, ctx, desc.node_radius); !st) return st.error();
   return std::unique_ptr<Body>(std::move(b));
 }

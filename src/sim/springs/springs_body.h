@@ -13,14 +13,13 @@ namespace reel {
 
 class SpringsBody final : public SpringNetworkBody {
  public:
-  SpringsBody(std::string name, std::string generator, const Material& material, double node_radius)
-      : SpringNetworkBody(std::move(name), std::move(generator)), material_(material), node_radius_(node_radius) {}
+  SpringsBody(std::string name, std::string generator, const Material& material)
+      : SpringNetworkBody(std::move(name), std::move(generator)), material_(material) {}
   void step(StepContext& ctx) override;
   void draw(DrawList& out) const override;
 
  private:
-  Material material_;
-  double node_radius_;  // m
+  Material material_;  // nodes are drawn at their contact radius, net_.radius
 };
 
 // Builders of the registry rows mass_spring, rope, net and lattice.

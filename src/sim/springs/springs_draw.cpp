@@ -7,13 +7,13 @@ namespace reel {
 void SpringsBody::draw(DrawList& out) const {
   const std::vector<Vec3>& x = net_.state.x;
   DrawSpheres nodes;
-  nodes.radius = static_cast<float>(node_radius_);
+  nodes.radius = static_cast<float>(net_.radius);
   nodes.material = drawMaterial(material_);
   nodes.centers.reserve(3 * x.size());
   for (const Vec3& p : x)
     for (int k = 0; k < 3; ++k) nodes.centers.push_back(static_cast<float>(p[k]));
   DrawTubes springs;
-  springs.radius = static_cast<float>(0.35 * node_radius_);
+  springs.radius = static_cast<float>(0.35 * net_.radius);
   springs.material = nodes.material;
   const Springs& s = net_.model.springs;
   springs.ends.reserve(6 * s.size());
