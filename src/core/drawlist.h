@@ -1,6 +1,6 @@
 // DrawList: the plain list of things to draw in one frame (MuJoCo's mjvScene, Box2D's debug draw
 // table). The simulation fills it, the renderer only reads it: triangle meshes, instanced
-// spheres, tubes (lines), camera, lights and materials — never a cloth, a fish or a fluid.
+// spheres, tubes (lines), instanced meshes, camera, lights and materials — never a cloth, a fish or a fluid.
 #pragma once
 
 #include <cstdint>
@@ -45,6 +45,35 @@ struct DrawTubes {
   DrawMaterial material;
 };
 
+// One mesh drawn many times (a school of fish), each copy placed by its own transform and tinted
+// by its own colour, optionally bent by a travelling wave (a swimming body's undulation).
+//
+// The mesh is authored in local coordinates: +z forward (the head), +y up, +x to the side; its
+// tail lies toward −z. Copy i draws each local vertex p as  origin_i + X_i·p'.x + Y_i·p'.y + Z_i·p'.z
+// where p' is p with its sideways coordinate displaced by the wave
+//   p'.x = p.x + a(p.z)·sin(phase_i − wave_number·(wave_start − p.z)),
+//   a(z) = wave_amplitude·s², s = clamp((wave_start − z)/(wave_start − wave_end), 0, 1),
+// i.e. nothing ahead of wave_start, growing quadratically to wave_amplitude at wave_end (the tail
+// tip). Normals follow the bend. With `phases` empty, no copy bends.
+//
+// Copies farther than `far_distance` from the camera are drawn with `far_mesh` when it is set (a
+// level of detail for small, distant copies); the wave bends both the same way.
+struct DrawInstances {
+  std::shared_ptr<const TriMesh> mesh;      // local coordinates as above
+  std::shared_ptr<const TriMesh> far_mesh;  // optional coarser version of `mesh`
+  double far_distance = 0.0;                // m; 0 or no far_mesh: always `mesh`
+  // 12 floats per copy: X (3), Y (3), Z (3), origin (3). X, Y, Z are the local axes in world
+  // space and carry the copy's scale; a rigid placement has them orthonormal times a scale.
+  std::vector<float> transforms;
+  std::vector<float> colors;  // linear rgb per copy, multiplied into the albedo (may be empty)
+  std::vector<float> phases;  // wave phase per copy, radians (may be empty: no wave)
+  float wave_amplitude = 0.0f;  // sideways displacement at wave_end, mesh units
+  float wave_number = 0.0f;     // radians per mesh unit along z
+  float wave_start = 0.0f, wave_end = -1.0f;  // local z where the bend starts and is full
+  DrawMaterial material;
+  std::size_t count() const { return transforms.size() / 12; }
+};
+
 struct DrawCamera {
   Vec3 position{0, 1, 5}, target{0, 0, 0}, up{0, 1, 0};
   double fov_deg = 40.0;  // vertical
@@ -60,10 +89,12 @@ struct DrawList {
   std::vector<DrawMesh> meshes;
   std::vector<DrawSpheres> spheres;
   std::vector<DrawTubes> tubes;
+  std::vector<DrawInstances> instances;
   void clearGeometry() {
     meshes.clear();
     spheres.clear();
     tubes.clear();
+    instances.clear();
   }
 };
 
