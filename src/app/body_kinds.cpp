@@ -3,13 +3,15 @@
 #include "io/scene/readers.h"
 #include "sim/cloth/cloth_body.h"
 #include "sim/fluid/fluid_body.h"
+#include "sim/school/school_body.h"
 #include "sim/springs/springs_body.h"
 
 namespace reel::app {
 namespace {
 
-// Seed streams: the mass-spring kinds share one (a cloth's tear thresholds), liquids have theirs.
-constexpr std::uint64_t kSpringsStream = 0xC107, kFluidStream = 0xF1D0;
+// Seed streams: the mass-spring kinds share one (a cloth's tear thresholds), liquids and schools
+// have theirs.
+constexpr std::uint64_t kSpringsStream = 0xC107, kFluidStream = 0xF1D0, kSchoolStream = 0x5C00;
 
 constexpr BodyKind kBodyKinds[] = {
     {"mass_spring", io::readMassSpringBody, buildMassSpringBody, kSpringsStream},
@@ -18,6 +20,7 @@ constexpr BodyKind kBodyKinds[] = {
     {"lattice", io::readLatticeBody, buildLatticeBody, kSpringsStream},
     {"cloth", io::readClothBody, buildClothBody, kSpringsStream},
     {"fluid", io::readFluidBody, buildFluidBody, kFluidStream},
+    {"school", io::readSchoolBody, buildSchoolBody, kSchoolStream},
 };
 
 template <class Row, class F>

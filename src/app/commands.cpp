@@ -12,6 +12,7 @@
 
 #include "core/parallel.h"
 #include "io/dump.h"
+#include "io/stats.h"
 #include "io/video.h"
 #include "render/gl/context.h"
 #include "sim/world.h"
@@ -22,6 +23,16 @@ int report(const Error& e) {
   for (const auto& line : e.messages) std::fprintf(stderr, "reel: %s\n", line.c_str());
   if (e.messages.size() > 1) std::fprintf(stderr, "reel: %zu errors\n", e.messages.size());
   return static_cast<int>(e.kind);
+}
+
+// The world's current frame in the stats file: each body that reports quantities, in world order.
+Status writeStats(io::StatsWriter& w, const World& world, int fps) {
+  std::vector<std::pair<std::string, std::vector<Statistic>>> rows;
+  for (const auto& b : world.bodies()) {
+    rows.emplace_back(b->name(), std::vector<Statistic>{});
+    b->statistics(rows.back().second);
+  }
+  return w.write(world.frame(), world.frame() / static_cast<double>(fps), rows);
 }
 
 int simulate(const SimulateOptions& opt) {
@@ -54,6 +65,10 @@ int simulate(const SimulateOptions& opt) {
     }
     pending = world.frame();
   };
+  io::StatsWriter stats;
+  const bool counting = !opt.stats.empty();
+  if (counting)
+    if (Status st = stats.open(opt.stats); !st || !(st = writeStats(stats, world, s.fps))) return report(st.error());
   if (dumping) {
     if (Status st = dump.open(opt.dump, s.name, s.fps, s.substeps); !st) return report(st.error());
     world.view(snap);
@@ -65,6 +80,7 @@ int simulate(const SimulateOptions& opt) {
   Progress progress(last);
   for (int k = 1; k <= last; ++k) {
     if (Status st = world.advanceFrame(); !st) {
+      if (counting) (void)stats.finish();  // the statistics of the good frames
       if (dumping) {
         // Keep what was simulated: the dump ends with the last good frame.
         Status w = pending >= 0 ? dump.write(pending_snap) : Status{};
@@ -82,8 +98,12 @@ int simulate(const SimulateOptions& opt) {
         keepPending();
       }
     }
+    if (counting)
+      if (Status st = writeStats(stats, world, s.fps); !st) return report(st.error());
     progress.update(k);
   }
+  if (counting)
+    if (Status st = stats.finish(); !st) return report(st.error());
   if (dumping)
     if (Status st = dump.finish(); !st) return report(st.error());
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -17,6 +17,7 @@ struct SimulateOptions {
   std::string scene;
   std::string dump;  // empty: no dump
   int dump_every = 1;
+  std::string stats;  // empty: no statistics file (CSV, io/stats.h)
   std::optional<std::uint64_t> seed;  // --seed: replaces the scene's
 };
 int simulate(const SimulateOptions& opt);

@@ -67,6 +67,7 @@ struct Cli {
     simulate->add_option("--dump", sim.dump, "write the state dump (reel-dump/1 JSON) here");
     simulate->add_option("--dump-every", sim.dump_every, "dump every K-th frame (first and last always)")
         ->check(CLI::Range(1, 1 << 30));
+    simulate->add_option("--stats", sim.stats, "write per-frame statistics of the bodies (CSV: a school's polarization, milling, centroid, nearest-neighbour distance)");
     addSeed(simulate);
     addThreads(simulate);
     check = app.add_subcommand("check", "validate scene files without simulating");

@@ -12,13 +12,19 @@ namespace reel {
 
 struct BodyView {
   std::string name;
-  std::string type;       // dump type: "mass_spring" or "particles"
-  std::string generator;  // scene type that built it: mass_spring, rope, net, lattice, cloth, fluid
+  std::string type;       // dump type: "mass_spring", "particles" or "agents"
+  std::string generator;  // scene type that built it: mass_spring, rope, net, lattice, cloth, fluid, school
   std::span<const Vec3> positions;   // m (nodes)
   std::span<const Vec3> velocities;  // m/s (nodes)
   std::span<const int> spring_a, spring_b;  // intact springs as index pairs (springs)
   std::span<const int> species;              // particles: species index of each
   std::vector<std::string> species_names;    // particles: the species, by index
+};
+
+// A quantity of a body at one frame, for `reel simulate --stats` (a school's polarisation, say).
+struct Statistic {
+  std::string name;
+  double value = 0.0;
 };
 
 struct FrameView {

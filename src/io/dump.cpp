@@ -64,6 +64,10 @@ Status DumpWriter::write(const FrameView& f) {
       buf_ += "]}";
       continue;
     }
+    if (s.type != "mass_spring") {  // agents: positions and velocities only
+      buf_ += '}';
+      continue;
+    }
     buf_ += ",\n  \"springs\":[";
     for (std::size_t k = 0; k < s.spring_a.size(); ++k) {
       if (k) buf_ += ',';

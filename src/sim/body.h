@@ -65,7 +65,11 @@ struct StepContext {
   std::vector<Collider>* colliders = nullptr;  // at their pose at t1 (keyframed ones moved)
   Coupling* coupling = nullptr;
   SolverStats* solver = nullptr;
+  // Every body of the world, in stepping order: a body that reacts to another (a school fleeing
+  // a predator school) reads it here. Bodies earlier in the list have already taken this step.
+  const std::vector<std::unique_ptr<class Body>>* bodies = nullptr;
 };
+
 
 // What a builder sees: the scene, the colliders (built before any body) and the body's own
 // stream of random numbers from the scene seed.
@@ -108,6 +112,8 @@ class Body {
   virtual void hash(Hasher& h) const = 0;
   // What the renderer gets of it (its *_draw.cpp).
   virtual void draw(DrawList& out) const = 0;
+  // Quantities that describe the state (order parameters), each frame; none by default.
+  virtual void statistics(std::vector<Statistic>& /*out*/) const {}
   // Lines `reel check` prints about it (what its parameters mean in practice); `h`: the step.
   virtual std::vector<std::string> notes(double /*h*/) const { return {}; }
 

@@ -57,6 +57,8 @@ class BoxGrid {
   }
   // The cell that contains p, as three integers.
   std::array<std::int64_t, 3> cellOf(const Vec3& p) const { return {coord(p.x()), coord(p.y()), coord(p.z())}; }
+  // How many buckets there are (0 for an empty grid).
+  std::uint32_t buckets() const { return start_.empty() ? 0 : static_cast<std::uint32_t>(start_.size() - 1); }
   std::uint32_t bucketBegin(std::uint32_t b) const { return start_[b]; }
   std::uint32_t bucketEnd(std::uint32_t b) const { return start_[b + 1]; }
   std::span<const std::int32_t> items() const { return items_; }

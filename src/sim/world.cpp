@@ -113,6 +113,7 @@ Status World::advanceFrame() {
   ctx.colliders = &colliders_;
   ctx.coupling = &coupling_;
   ctx.solver = &solver_;
+  ctx.bodies = &bodies_;
   for (int s = 0; s < steps; ++s) {
     ctx.t0 = static_cast<double>(step_) * per_step;
     ++step_;

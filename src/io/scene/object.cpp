@@ -28,15 +28,7 @@ MeshObjectShape readMeshShape(Obj& o) {
       s.scale = *v;
     }
   }
-  if (auto f = o.string("file", true)) {
-    s.file = *f;
-    auto r = resolveAsset(d.file(), *f, {std::begin(kMeshExtensions), std::end(kMeshExtensions)}, kMaxMeshBytes);
-    auto m = r.ok() ? importMesh(r.value()) : Result<TriMesh>(r.error());
-    if (m.ok())
-      s.mesh = std::make_shared<const TriMesh>(std::move(m.value()));
-    else
-      d.error(childPath(p, "file"), r.ok() ? "\"" + *f + "\": " + m.error().headline() : m.error().headline());
-  }
+  s.mesh = readMeshFile(o, "file", true, &s.file);
   return s;
 }
 

@@ -4,6 +4,7 @@
 
 #include "core/patterns.h"
 #include "io/files.h"
+#include "io/mesh_import.h"
 #include "io/png.h"
 
 namespace reel::io {
@@ -118,6 +119,18 @@ void readSheet(Obj& o, Vec3& position, Vec3& rotation_deg, std::array<double, 2>
 
 NodeNames cornerNames(long long nx, long long ny) {
   return {{"corner_00", {0}}, {"corner_10", {nx - 1}}, {"corner_01", {(ny - 1) * nx}}, {"corner_11", {nx * ny - 1}}};
+}
+
+std::shared_ptr<const TriMesh> readMeshFile(Obj& o, const std::string& key, bool required, std::string* file) {
+  auto f = o.string(key, required);
+  if (!f) return nullptr;
+  if (file) *file = *f;
+  Diagnostics& d = o.diag();
+  auto r = resolveAsset(d.file(), *f, {std::begin(kMeshExtensions), std::end(kMeshExtensions)}, kMaxMeshBytes);
+  auto m = r.ok() ? importMesh(r.value()) : Result<TriMesh>(r.error());
+  if (m.ok()) return std::make_shared<const TriMesh>(std::move(m.value()));
+  d.error(childPath(o.path(), key), r.ok() ? "\"" + *f + "\": " + m.error().headline() : m.error().headline());
+  return nullptr;
 }
 
 }  // namespace reel::io

@@ -21,6 +21,10 @@ inline const Range kUnit = Range::closed(0.0, 1.0);
 // Appearance (stored for the renderer): color, texture or pattern, specular, shininess, opacity.
 void readMaterial(Obj& o, Material& m);
 
+// The mesh file named by `key` (resolved among the allowed folders and imported now), or nullptr
+// with an error naming the key; `file` gets the name as written.
+std::shared_ptr<const TriMesh> readMeshFile(Obj& o, const std::string& key, bool required, std::string* file = nullptr);
+
 // An object of type `type` (one of kObjectTypes).
 void readObject(Obj& o, ObjectDesc& ob, const std::string& type);
 inline const std::vector<std::string> kObjectTypes = {"plane", "sphere", "box", "capsule", "mesh", "container"};

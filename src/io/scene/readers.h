@@ -15,5 +15,6 @@ std::shared_ptr<const BodyParams> readNetBody(Obj& o, BodyDesc& body, const Scen
 std::shared_ptr<const BodyParams> readLatticeBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
 std::shared_ptr<const BodyParams> readClothBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
 std::shared_ptr<const BodyParams> readFluidBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
+std::shared_ptr<const BodyParams> readSchoolBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
 
 }  // namespace reel::io

@@ -1,0 +1,440 @@
+#include "sim/school/school.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Geometry>
+
+#include "core/parallel.h"
+#include "core/random.h"
+
+namespace reel {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr std::uint64_t kStartStream = 0x5C0, kNoiseStream = 0x5C1;
+
+// A unit vector perpendicular to unit d, fixed for each d.
+Vec3 perpendicular(const Vec3& d) {
+  const Vec3 a = std::abs(d.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  return a.cross(d).normalized();
+}
+
+Vec3 unitOr(const Vec3& d, const Vec3& fallback) {
+  const double n = d.norm();
+  return n > 1e-12 ? Vec3(d / n) : fallback;
+}
+
+// A direction uniform on the sphere from two uniforms.
+Vec3 sphereDirection(double u, double w) {
+  const double z = 2 * u - 1, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * kPi * w;
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+// ---- Couzin, Krause, James, Ruxton & Franks, "Collective memory and spatial sorting in animal
+// groups", J. Theor. Biol. 218:1–11 (2002). Agent i sees neighbours outside the blind cone behind
+// it (the perception angle α is the field of view). Neighbours closer than r_r repel, and take
+// priority: d_r = −Σ r̂_ij. Otherwise agents within [r_r, r_o) align, d_o = Σ v̂_j including the
+// focal agent's own v̂_i, and agents within [r_o, r_a) attract, d_a = Σ r̂_ij. With both,
+// d = ½(d̂_o + d̂_a) (each made unit first, so that neither zone wins by its count); with
+// either alone, that one; with none, or a zero sum, the agent keeps its heading.
+struct Perception {
+  double rr2, ro2, ra2, cos_half;
+  Perception(const CouzinDesc& c, double fov_deg)
+      : rr2(c.r_repulsion * c.r_repulsion), ro2(c.r_orientation * c.r_orientation),
+        ra2(c.r_attraction * c.r_attraction), cos_half(std::cos(fov_deg * kPi / 360.0)) {}
+};
+
+struct ZoneSums {
+  Vec3 dr{0, 0, 0}, d_o{0, 0, 0}, da{0, 0, 0};
+  int nr = 0, no = 0, na = 0;
+  // r: from the focal agent to neighbour j; uj: j's unit heading.
+  void add(const Perception& p, const Vec3& ui, const Vec3& r, const Vec3& uj) {
+    const double d2 = r.squaredNorm();
+    if (d2 >= p.ra2 || d2 == 0.0) return;
+    const double d = std::sqrt(d2);
+    if (r.dot(ui) < p.cos_half * d) return;  // in the blind cone behind
+    if (d2 < p.rr2) {
+      dr -= r / d;
+      ++nr;
+    } else if (d2 < p.ro2) {
+      d_o += uj;
+      ++no;
+    } else {
+      da += r / d;
+      ++na;
+    }
+  }
+  Vec3 direction(const Vec3& ui) const {
+    Vec3 d = ui;
+    if (nr > 0) d = dr;
+    else if (no > 0 && na > 0) d = 0.5 * (unitOr(d_o + ui, ui) + unitOr(da, ui));
+    else if (no > 0) d = d_o + ui;
+    else if (na > 0) d = da;
+    return unitOr(d, ui);
+  }
+};
+
+// The noise of the model: d turned by a Gaussian angle of s.d. σ about a random axis
+// perpendicular to it (a spherically wrapped Gaussian), from the decision's stream.
+Vec3 wrappedGaussian(const Vec3& d, double sigma, std::uint64_t seed, std::int64_t decision, std::size_t i) {
+  if (sigma <= 0) return d;
+  const auto st = kNoiseStream ^ (static_cast<std::uint64_t>(decision) << 12);
+  const double u1 = uniformAt(seed, st, 3 * i), u2 = uniformAt(seed, st, 3 * i + 1), u3 = uniformAt(seed, st, 3 * i + 2);
+  const double g = std::sqrt(-2.0 * std::log(1.0 - u1)) * std::cos(2 * kPi * u2);
+  const Vec3 e1 = perpendicular(d), e2 = d.cross(e1);
+  const Vec3 k = std::cos(2 * kPi * u3) * e1 + std::sin(2 * kPi * u3) * e2;
+  const double a = sigma * g;
+  return (d * std::cos(a) + k.cross(d) * std::sin(a)).normalized();
+}
+
+// ---- Steering both models share: what the surroundings ask of an agent this moment.
+struct Steering {
+  Vec3 push{0, 0, 0};  // away from walls and obstacles (sum of unit normals times urgency)
+  double avoid = 0.0;  // the most urgent of them, 0..1
+  Vec3 away{0, 0, 0};  // unit, from the nearest predator
+  double fear = 0.0;   // 0..1
+  Vec3 goal{0, 0, 0};  // unit toward the goal (informed agents), or zero
+};
+
+// Reynolds (1999), "containment" and "obstacle avoidance": probes at the agent and ahead of it
+// along its heading; each surface nearer a probe than the margin pushes along its normal, more
+// urgently the nearer it is and the sooner the agent gets there.
+void avoidObstacles(const SchoolDesc& d, const std::vector<Collider>& cs, const Vec3& x, const Vec3& u, double speed,
+                    Steering& s) {
+  const double ahead = speed * d.look_ahead, m = d.avoid_margin;
+  for (const Collider& c : cs) {
+    double best = 0.0;
+    Vec3 bn{0, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+      const double f = 0.5 * k;  // probes at 0, ½ and 1 of the look-ahead
+      double dist;
+      Vec3 n;
+      if (!c.distance(x + f * ahead * u, dist, n)) continue;
+      const double urgency = std::clamp(1.0 - dist / m, 0.0, 1.0) * (1.0 - 0.4 * f);
+      if (urgency > best) best = urgency, bn = n;
+    }
+    s.push += best * bn;
+    s.avoid = std::max(s.avoid, best);
+  }
+}
+
+void containBounds(const SchoolBoundsDesc& b, const Vec3& p, Steering& s) {
+  auto wall = [&](double depth, const Vec3& inward) {  // depth: how far into the margin, m
+    const double urgency = std::clamp(depth / b.margin, 0.0, 1.0);
+    s.push += urgency * inward;
+    s.avoid = std::max(s.avoid, urgency);
+  };
+  if (b.sphere) {
+    const Vec3 r = p - b.center;
+    const double dist = r.norm();
+    if (dist > 1e-12) wall(dist - (b.radius - b.margin), -r / dist);
+    return;
+  }
+  for (int k = 0; k < 3; ++k) {
+    wall(p[k] - (b.max[k] - b.margin), -Vec3::Unit(k));
+    wall((b.min[k] + b.margin) - p[k], Vec3::Unit(k));
+  }
+}
+
+void fleePredator(const SchoolDesc& d, const PredatorView& pv, const Vec3& x, Steering& s) {
+  const double fr = d.predator->fear_radius;
+  double best = fr;
+  if (pv.points) {
+    for (const Vec3& q : *pv.points) {
+      const Vec3 r = x - q;
+      const double dist = r.norm();
+      if (dist < best && dist > 1e-12) best = dist, s.away = r / dist;
+    }
+  } else if (pv.object) {
+    double dist;
+    Vec3 n;
+    if (pv.object->distance(x, dist, n) && dist < best) best = std::max(dist, 0.0), s.away = n;
+  }
+  s.fear = best < fr ? 1.0 - best / fr : 0.0;
+}
+
+Steering steering(const School& sc, const std::vector<Collider>& cs, const PredatorView& pv, std::size_t i,
+                  double t) {
+  const SchoolDesc& d = sc.desc;
+  Steering s;
+  const double speed = sc.v[i].norm();
+  const Vec3 u = sc.v[i] / speed;
+  avoidObstacles(d, cs, sc.x[i], u, speed, s);
+  if (d.bounds) containBounds(*d.bounds, sc.x[i] + 0.5 * speed * d.look_ahead * u, s);
+  if (d.predator) fleePredator(d, pv, sc.x[i], s);
+  if (d.goal && sc.informed[i]) s.goal = unitOr(d.goal->target.at(t) - sc.x[i], Vec3::Zero());
+  return s;
+}
+
+// A desired direction d under the steering, in priority order: the goal (Couzin, Krause, Franks &
+// Levin, Nature 433:513–516, 2005: d' = (d + ω ĝ)/|d + ω ĝ|), then flight from a predator, then
+// walls and obstacles (no component into them, and a push out along their normals).
+Vec3 steerDirection(const SchoolDesc& d, const Steering& s, Vec3 dir) {
+  if (d.goal) dir = unitOr(dir + d.goal->weight * s.goal, dir);
+  if (s.fear > 0) dir = unitOr((1 - s.fear) * dir + 3 * s.fear * s.away, dir);
+  if (s.avoid > 0) {
+    const Vec3 n = unitOr(s.push, Vec3::Zero());
+    const double into = dir.dot(n);
+    if (into < 0) dir -= std::min(1.0, 2 * s.avoid) * into * n;
+    dir = unitOr(dir + 2 * s.avoid * n, dir);
+  }
+  return dir;
+}
+
+// ---- The neighbour pass: agents in grid order, each bucket's near buckets found once per cell.
+template <class F>
+void forEachAgent(School& sc, double cell, bool unit_headings, F&& decide) {
+  const std::size_t n = sc.size();
+  sc.grid.build(sc.x, sc.x, cell);
+  const auto items = sc.grid.items();
+  sc.sx.resize(n);
+  sc.sv.resize(n);
+  for (std::size_t e = 0; e < n; ++e) {
+    const auto i = static_cast<std::size_t>(items[e]);
+    sc.sx[e] = sc.x[i];
+    sc.sv[e] = unit_headings ? Vec3(sc.v[i].normalized()) : sc.v[i];
+  }
+  const auto buckets = static_cast<std::ptrdiff_t>(sc.grid.buckets());
+  parallelBlocks(buckets, 64, [&](std::ptrdiff_t b0, std::ptrdiff_t b1) {
+    std::uint32_t near[27];
+    int nn = 0;
+    std::array<std::int64_t, 3> last{};
+    bool have = false;
+    for (auto b = static_cast<std::uint32_t>(b0); b < static_cast<std::uint32_t>(b1); ++b)
+      for (std::uint32_t e = sc.grid.bucketBegin(b); e < sc.grid.bucketEnd(b); ++e) {
+        const auto c = sc.grid.cellOf(sc.sx[e]);
+        if (!have || c != last) nn = sc.grid.nearBuckets(sc.sx[e], near), last = c, have = true;
+        // visit(f): f(position, velocity) for every other agent in the near buckets.
+        auto visit = [&](auto&& f) {
+          for (int q = 0; q < nn; ++q)
+            for (std::uint32_t k = sc.grid.bucketBegin(near[q]); k < sc.grid.bucketEnd(near[q]); ++k)
+              if (k != e) f(sc.sx[k], sc.sv[k]);
+        };
+        decide(static_cast<std::size_t>(items[e]), visit);
+      }
+  });
+}
+
+void couzinDecide(School& sc, const std::vector<Collider>& cs, const PredatorView& pv, double t) {
+  const SchoolDesc& d = sc.desc;
+  const Perception p(d.couzin, d.field_of_view_deg);
+  sc.steer.resize(sc.size());
+  forEachAgent(sc, d.couzin.r_attraction, true, [&](std::size_t i, auto&& visit) {
+    const Vec3 ui = sc.v[i].normalized();
+    ZoneSums z;
+    visit([&](const Vec3& xj, const Vec3& uj) { z.add(p, ui, xj - sc.x[i], uj); });
+    const Steering s = steering(sc, cs, pv, i, t);
+    const Vec3 dir = steerDirection(d, s, z.direction(ui));
+    sc.desired[i] = wrappedGaussian(dir, d.couzin.noise, sc.seed, sc.decisions, i);
+    // Avoiding a wall may turn faster than the social turning rate (up to 4θ when urgent).
+    sc.turn[i] = 1.0 + 3.0 * s.avoid;
+  });
+  ++sc.decisions;
+}
+
+// ---- Reynolds, "Flocks, herds, and schools: a distributed behavioral model", SIGGRAPH '87, and
+// "Steering behaviors for autonomous characters", GDC '99. Each behaviour asks for an
+// acceleration; the budget max_accel is spent in priority order (avoidance first), each request
+// taken whole while it fits and the last one cut to what is left ("prioritized acceleration
+// allocation", 1987).
+struct Budget {
+  Vec3 total{0, 0, 0};
+  double left;
+  explicit Budget(double a) : left(a) {}
+  void ask(const Vec3& a) {
+    const double m = a.norm();
+    if (left <= 0 || m == 0) return;
+    total += m <= left ? a : Vec3(a * (left / m));
+    left -= std::min(m, left);
+  }
+};
+
+void boidsDecide(School& sc, const std::vector<Collider>& cs, const PredatorView& pv, double t) {
+  const SchoolDesc& d = sc.desc;
+  const BoidsDesc& b = d.boids;
+  const double cos_half = std::cos(d.field_of_view_deg * kPi / 360.0);
+  const double rs2 = b.separation_radius * b.separation_radius, ra2 = b.alignment_radius * b.alignment_radius,
+               rc2 = b.cohesion_radius * b.cohesion_radius;
+  sc.steer.resize(sc.size());
+  forEachAgent(sc, d.interactionRadius(), false, [&](std::size_t i, auto&& visit) {
+    const Vec3 xi = sc.x[i], vi = sc.v[i], ui = vi.normalized();
+    Vec3 sep{0, 0, 0}, vel{0, 0, 0}, cen{0, 0, 0};
+    int na = 0, nc = 0;
+    visit([&](const Vec3& xj, const Vec3& vj) {
+      const Vec3 r = xj - xi;
+      const double d2 = r.squaredNorm();
+      if (d2 == 0.0 || d2 >= std::max({rs2, ra2, rc2})) return;
+      const double dist = std::sqrt(d2);
+      if (r.dot(ui) < cos_half * dist) return;  // behind, unseen
+      if (d2 < rs2) sep -= r / dist * (1.0 - dist / b.separation_radius);
+      if (d2 < ra2) vel += vj, ++na;
+      if (d2 < rc2) cen += xj, ++nc;
+    });
+    const Steering s = steering(sc, cs, pv, i, t);
+    const double vmax = b.max_speed, amax = b.max_accel;
+    Budget budget(amax);
+    if (s.avoid > 0) budget.ask(amax * s.avoid * unitOr(steerDirection(d, s, ui) * vmax - vi, Vec3::Zero()));
+    if (s.fear > 0) budget.ask(amax * s.fear * unitOr(s.away * vmax - vi, Vec3::Zero()));
+    budget.ask(b.separation_weight * vmax * sep);
+    if (na > 0) budget.ask(b.alignment_weight * (vel / na - vi));
+    if (nc > 0) budget.ask(b.cohesion_weight * (unitOr(cen / nc - xi, ui) * vmax - vi));
+    if (d.goal && sc.informed[i]) budget.ask(d.goal->weight * (s.goal * vmax - vi));
+    sc.steer[i] = budget.total;
+  });
+}
+
+// Nothing ends a step inside an object: an agent that the steering did not keep out is put back
+// on the surface plus its half-thickness, its velocity along the surface.
+void keepOut(const std::vector<Collider>& cs, double clearance, Vec3& x, Vec3& v) {
+  for (const Collider& c : cs) {
+    double dist;
+    Vec3 n;
+    if (!c.distance(x, dist, n) || dist >= clearance) continue;
+    x += (clearance - dist) * n;
+    const double vn = v.dot(n);
+    if (vn < 0) {
+      const double speed = v.norm();
+      v = unitOr(v - vn * n, perpendicular(n)) * speed;
+    }
+  }
+}
+
+}  // namespace
+
+Vec3 couzinDirection(const CouzinDesc& c, double field_of_view_deg, const Vec3& xi, const Vec3& vi,
+                     const std::vector<Vec3>& nx, const std::vector<Vec3>& nv) {
+  const Perception p(c, field_of_view_deg);
+  const Vec3 ui = vi.normalized();
+  ZoneSums z;
+  for (std::size_t j = 0; j < nx.size(); ++j) z.add(p, ui, nx[j] - xi, nv[j].normalized());
+  return z.direction(ui);
+}
+
+Vec3 turnToward(const Vec3& from, const Vec3& to, double max_angle) {
+  const double c = std::clamp(from.dot(to), -1.0, 1.0);
+  if (std::acos(c) <= max_angle) return to;
+  Vec3 k = from.cross(to);
+  const double kn = k.norm();
+  k = kn > 1e-12 ? Vec3(k / kn) : perpendicular(from);
+  return (from * std::cos(max_angle) + k.cross(from) * std::sin(max_angle)).normalized();
+}
+
+School makeSchool(const SchoolDesc& d, const std::string& name, std::uint64_t seed) {
+  School s;
+  s.name = name;
+  s.desc = d;
+  s.seed = seed;
+  const std::size_t n = d.agentCount();
+  s.x.resize(n);
+  s.v.resize(n);
+  s.speed.resize(n);
+  s.informed.resize(n);
+  s.tint.resize(3 * n);
+  auto u = [&](std::size_t i, int k) { return uniformAt(seed, kStartStream, 16 * i + static_cast<std::size_t>(k)); };
+  for (std::size_t i = 0; i < n; ++i) {
+    Vec3 heading;
+    double speed = d.speed;
+    if (!d.agents.empty()) {
+      const SchoolAgentDesc& a = d.agents[i];
+      s.x[i] = a.position;
+      heading = a.heading ? *a.heading : sphereDirection(u(i, 3), u(i, 4));
+      if (a.speed) speed = *a.speed;
+    } else {
+      if (d.start_sphere)
+        s.x[i] = d.start_center + d.start_radius * std::cbrt(u(i, 0)) * sphereDirection(u(i, 1), u(i, 2));
+      else
+        for (int k = 0; k < 3; ++k) s.x[i][k] = d.start_min[k] + u(i, k) * (d.start_max[k] - d.start_min[k]);
+      heading = d.start_heading ? *d.start_heading : sphereDirection(u(i, 3), u(i, 4));
+    }
+    if (d.model == SchoolModel::Boids) speed = std::clamp(speed, d.boids.min_speed, d.boids.max_speed);
+    s.speed[i] = speed;
+    s.v[i] = heading * speed;
+    s.informed[i] = d.goal && u(i, 5) < d.goal->informed;
+    // A tint: brightness and a little hue, around 1.
+    const double b = 1.0 + d.color_variation * (2 * u(i, 6) - 1), hue = 0.5 * d.color_variation * (2 * u(i, 7) - 1);
+    s.tint[3 * i] = static_cast<float>(b * (1 + hue));
+    s.tint[3 * i + 1] = static_cast<float>(b);
+    s.tint[3 * i + 2] = static_cast<float>(b * (1 - hue));
+  }
+  s.desired.resize(n);
+  for (std::size_t i = 0; i < n; ++i) s.desired[i] = s.v[i].normalized();
+  s.turn.assign(n, 1.0);
+  s.phase.resize(n);
+  for (std::size_t i = 0; i < n; ++i) s.phase[i] = 2 * kPi * u(i, 8);
+  return s;
+}
+
+void stepSchool(School& sc, const std::vector<Collider>& cs, const PredatorView& pv, double t0, double h) {
+  const SchoolDesc& d = sc.desc;
+  const auto n = static_cast<std::ptrdiff_t>(sc.size());
+  if (n == 0) return;
+  if (d.model == SchoolModel::Couzin) {
+    // The model decides at t = kτ (every step when the step is τ or longer), then turns toward its
+    // decision at θ per second, so that a step of exactly τ is the paper's discrete model.
+    const double tau = d.couzin.reaction_time;
+    if (h >= tau * (1 - 1e-9) || t0 >= static_cast<double>(sc.decisions) * tau - 1e-9 * tau) {
+      couzinDecide(sc, cs, pv, t0);
+      if (h < tau) sc.decisions = std::max(sc.decisions, static_cast<std::int64_t>(std::floor(t0 / tau + 1e-9)) + 1);
+    }
+    const double theta = d.couzin.max_turn_deg_per_s * kPi / 180.0;
+    parallelFor(n, [&](std::ptrdiff_t i) {
+      const Vec3 u = turnToward(sc.v[i].normalized(), sc.desired[i], theta * sc.turn[i] * h);
+      sc.v[i] = u * sc.speed[i];
+    });
+  } else {
+    boidsDecide(sc, cs, pv, t0);
+    const BoidsDesc& b = d.boids;
+    parallelFor(n, [&](std::ptrdiff_t i) {
+      const Vec3 v = sc.v[i] + h * sc.steer[i];
+      const double s = v.norm();
+      sc.v[i] = unitOr(v, sc.v[i].normalized()) * std::clamp(s, b.min_speed, b.max_speed);
+    });
+  }
+  // Swim; the tail beats once per 0.7 body lengths travelled (Bainbridge, J. Exp. Biol. 35, 1958:
+  // a fish advances about 0.6–0.8 of its length per tail beat), at least once a second.
+  const double stride = 0.7 * d.length, clearance = 0.1 * d.length;
+  parallelFor(n, [&](std::ptrdiff_t i) {
+    sc.x[i] += h * sc.v[i];
+    if (!cs.empty()) keepOut(cs, clearance, sc.x[i], sc.v[i]);
+    const double f = std::max(1.0, sc.v[i].norm() / stride);
+    sc.phase[i] = std::fmod(sc.phase[i] + 2 * kPi * f * h, 2 * kPi);
+  });
+}
+
+SchoolOrder schoolOrder(const std::vector<Vec3>& x, const std::vector<Vec3>& v) {
+  SchoolOrder o;
+  const auto n = static_cast<std::ptrdiff_t>(x.size());
+  if (n == 0) return o;
+  const double inv = 1.0 / static_cast<double>(n);
+  const auto c = deterministicSums<3>(n, [&](std::ptrdiff_t i) { return std::array<double, 3>{x[i].x(), x[i].y(), x[i].z()}; });
+  o.centroid = Vec3(c[0], c[1], c[2]) * inv;
+  const auto s = deterministicSums<6>(n, [&](std::ptrdiff_t i) {
+    const Vec3 u = unitOr(v[i], Vec3::Zero()), r = unitOr(x[i] - o.centroid, Vec3::Zero()), m = r.cross(u);
+    return std::array<double, 6>{u.x(), u.y(), u.z(), m.x(), m.y(), m.z()};
+  });
+  o.polarization = Vec3(s[0], s[1], s[2]).norm() * inv;
+  o.milling = Vec3(s[3], s[4], s[5]).norm() * inv;
+  if (n < 2) return o;
+  // Nearest neighbours from a grid whose cell is about the mean spacing; an agent with nothing in
+  // the 27 cells around it (or nothing nearer than a cell) is searched over all.
+  Vec3 lo = x[0], hi = x[0];
+  for (const Vec3& p : x) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const double cell = std::max(1e-6, 2.0 * (hi - lo).maxCoeff() / std::cbrt(static_cast<double>(n)));
+  BoxGrid g;
+  g.build(x, x, cell);
+  o.nearest = deterministicSum(n, [&](std::ptrdiff_t i) {
+    double best = INFINITY;
+    g.forEachNear(x[i], [&](std::int32_t j) {
+      if (j != i) best = std::min(best, (x[j] - x[i]).squaredNorm());
+    });
+    if (!(best <= cell * cell))
+      for (std::ptrdiff_t j = 0; j < n; ++j)
+        if (j != i) best = std::min(best, (x[j] - x[i]).squaredNorm());
+    return std::sqrt(best);
+  }) * inv;
+  return o;
+}
+
+}  // namespace reel

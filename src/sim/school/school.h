@@ -1,0 +1,79 @@
+// Schools of fish (flocks, herds): agents that each see their neighbours and steer, by Couzin's
+// zonal model or Reynolds' boids, plus the steering both share (obstacles, bounds, a goal, a
+// predator). The behavioural layer that the artificial fish will school with.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/scene/school.h"
+#include "core/types.h"
+#include "sim/collide.h"
+#include "sim/grid.h"
+
+namespace reel {
+
+// What the scene fixes: the description and what was drawn from the seed at the start.
+struct SchoolModelData {
+  std::string name;
+  SchoolDesc desc;
+  std::uint64_t seed = 0;
+  std::vector<double> speed;          // Couzin: each agent's constant speed, m/s
+  std::vector<std::uint8_t> informed;  // 1: knows the goal
+  std::vector<float> tint;             // rgb per agent, multiplies the material colour
+};
+
+// What a step changes (snapshots hold exactly this).
+struct SchoolState {
+  std::vector<Vec3> x;        // positions, m
+  std::vector<Vec3> v;        // velocities, m/s (never zero)
+  std::vector<Vec3> desired;  // Couzin: the direction chosen at the last decision (unit)
+  std::vector<double> turn;   // Couzin: the turning rate until the next decision, in units of θ
+  std::vector<double> phase;  // tail beat phase, rad (drawing)
+  std::int64_t decisions = 0; // Couzin: decisions taken (the noise's stream position)
+};
+
+// Per-step scratch: the neighbour grid and its agents in grid order.
+struct SchoolScratch {
+  BoxGrid grid;
+  std::vector<Vec3> sx, sv;  // positions and velocities in the grid's item order
+  std::vector<Vec3> steer;   // per agent: new desired direction (Couzin) or acceleration (boids)
+};
+
+// Where a predator is for the agents: the points of a school or an object's collider.
+struct PredatorView {
+  const std::vector<Vec3>* points = nullptr;  // a school's agents
+  const Collider* object = nullptr;           // or an object
+};
+
+struct School : SchoolModelData, SchoolState, SchoolScratch {
+  std::size_t size() const { return x.size(); }
+};
+
+// Builds the agents from the description (random ones from `seed`).
+School makeSchool(const SchoolDesc& d, const std::string& name, std::uint64_t seed);
+
+// Advances the school from t0 to t0 + h against the colliders at their pose at t0 + h.
+void stepSchool(School& s, const std::vector<Collider>& colliders, const PredatorView& predator, double t0,
+                double h);
+
+// Collective order (Couzin et al. 2002): polarisation p = |Σ v̂_i|/N, milling m = |Σ r̂_ic × v̂_i|/N
+// with r̂_ic the unit vector from the centroid to agent i, the centroid, and the mean distance to
+// the nearest neighbour.
+struct SchoolOrder {
+  double polarization = 0.0, milling = 0.0;
+  Vec3 centroid{0, 0, 0};
+  double nearest = 0.0;  // m
+};
+SchoolOrder schoolOrder(const std::vector<Vec3>& x, const std::vector<Vec3>& v);
+
+// One decision of Couzin's model for agent i, without noise and steering (tests, docs): the
+// desired direction from the neighbours `nx`, `nv` (positions, velocities; i itself excluded).
+Vec3 couzinDirection(const CouzinDesc& c, double field_of_view_deg, const Vec3& xi, const Vec3& vi,
+                     const std::vector<Vec3>& nx, const std::vector<Vec3>& nv);
+
+// Turns unit vector `from` toward unit vector `to` by at most `max_angle` radians.
+Vec3 turnToward(const Vec3& from, const Vec3& to, double max_angle);
+
+}  // namespace reel
