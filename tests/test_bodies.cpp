@@ -57,6 +57,15 @@ const std::map<std::string, std::string> kScenes = {
         "blocks": [{"min": [-0.18, 0.02, -0.13], "max": [0.0, 0.12, 0.13], "spacing": 0.02, "jitter": 0.1}],
         "emitters": [{"species": "oil", "position": [0.1, 0.3, 0], "direction": [0, -1, 0], "speed": 1, "radius": 0.03,
                       "rate": 400}]}]})"},
+    {"school", kHead + R"("duration": 1, "substeps": 3,
+      "objects": [{"type": "capsule", "name": "kelp", "start": [4, -3, 0], "end": [4, 3, 0], "radius": 0.8,
+                   "motion": {"keys": [{"time": 0, "position": [4, 0, 0]}, {"time": 1, "position": [3, 0, 1]}]}}],
+      "bodies": [{"type": "school", "name": "shark", "model": "boids", "agents": [{"position": [-5, 0, 0], "heading": [1, 0, 0]}],
+                  "goal": {"path": [{"time": 0, "position": [0, 0, 0]}, {"time": 1, "position": [6, 0, 0]}]}},
+                 {"type": "school", "name": "s", "count": 120, "start": {"min": [-2, -2, -2], "max": [2, 2, 2]},
+                  "zones": {"repulsion": 0.4, "orientation": 2, "attraction": 6}, "reaction_time": 0.05,
+                  "bounds": {"center": [0, 0, 0], "radius": 12}, "predator": {"school": "shark", "fear_radius": 3},
+                  "goal": {"position": [10, 0, 0], "informed": 0.3}}]})"},
 };
 
 }  // namespace

@@ -138,21 +138,28 @@ void containBounds(const SchoolBoundsDesc& b, const Vec3& p, Steering& s) {
   }
 }
 
+// Flight: away from the nearest predator point inside the fear radius, more urgently the nearer
+// it is, and mostly sideways from its path (the "fountain" escape of fish schools, Pitcher &
+// Parrish 1993): the part of r along the predator's heading is kept at a third.
 void fleePredator(const SchoolDesc& d, const PredatorView& pv, const Vec3& x, Steering& s) {
   const double fr = d.predator->fear_radius;
   double best = fr;
+  Vec3 heading{0, 0, 0};
   if (pv.points) {
-    for (const Vec3& q : *pv.points) {
-      const Vec3 r = x - q;
+    for (std::size_t k = 0; k < pv.points->size(); ++k) {
+      const Vec3 r = x - (*pv.points)[k];
       const double dist = r.norm();
-      if (dist < best && dist > 1e-12) best = dist, s.away = r / dist;
+      if (dist < best && dist > 1e-12) best = dist, s.away = r / dist, heading = (*pv.velocities)[k];
     }
   } else if (pv.object) {
     double dist;
     Vec3 n;
-    if (pv.object->distance(x, dist, n) && dist < best) best = std::max(dist, 0.0), s.away = n;
+    if (pv.object->distance(x, dist, n) && dist < best) best = std::max(dist, 0.0), s.away = n, heading = pv.object->velocityAt(x);
   }
-  s.fear = best < fr ? 1.0 - best / fr : 0.0;
+  if (best >= fr) return;
+  s.fear = 1.0 - best / fr;
+  const Vec3 h = unitOr(heading, Vec3::Zero());
+  s.away = unitOr(s.away - (2.0 / 3.0) * s.away.dot(h) * h, s.away);
 }
 
 Steering steering(const School& sc, const std::vector<Collider>& cs, const PredatorView& pv, std::size_t i,
@@ -228,8 +235,8 @@ void couzinDecide(School& sc, const std::vector<Collider>& cs, const PredatorVie
     const Steering s = steering(sc, cs, pv, i, t);
     const Vec3 dir = steerDirection(d, s, z.direction(ui));
     sc.desired[i] = wrappedGaussian(dir, d.couzin.noise, sc.seed, sc.decisions, i);
-    // Avoiding a wall may turn faster than the social turning rate (up to 4θ when urgent).
-    sc.turn[i] = 1.0 + 3.0 * s.avoid;
+    // Avoiding a wall or fleeing may turn faster than the social turning rate (up to 4θ).
+    sc.turn[i] = 1.0 + 3.0 * std::max(s.avoid, s.fear);
   });
   ++sc.decisions;
 }

@@ -44,6 +44,7 @@ struct SchoolScratch {
 // Where a predator is for the agents: the points of a school or an object's collider.
 struct PredatorView {
   const std::vector<Vec3>* points = nullptr;  // a school's agents
+  const std::vector<Vec3>* velocities = nullptr;  // and their velocities
   const Collider* object = nullptr;           // or an object
 };
 

@@ -20,7 +20,7 @@ PredatorView SchoolBody::predator(const StepContext& ctx) const {
   } else if (ctx.bodies) {
     for (const auto& b : *ctx.bodies)
       if (b->name() == p->name)
-        if (const auto* s = dynamic_cast<const SchoolBody*>(b.get())) pv.points = &s->school().x;
+        if (const auto* s = dynamic_cast<const SchoolBody*>(b.get())) pv.points = &s->school().x, pv.velocities = &s->school().v;
   }
   return pv;
 }
