@@ -19,6 +19,7 @@
 #include "core/parallel.h"
 #include "sim/cloth/cloth_body.h"
 #include "sim/fluid/fluid_body.h"
+#include "sim/school/school_body.h"
 #include "sim/springs/generators.h"
 #include "sim/integrators.h"
 #include "sim/mass_spring.h"
@@ -368,14 +369,62 @@ int benchFluid(double simulated) {
   return 0;
 }
 
+// Schools of 1k, 10k and 100k agents of Couzin's model at about 20 neighbours inside the
+// attraction radius (r_a = 3 m, a random box at 20 agents per (4/3)π r_a³), deciding every step
+// (h = τ): agent-steps per second and the candidates the grid hands each agent (its 27 cells).
+int benchSchool(double seconds) {
+  for (const long long n : {1000ll, 10000ll, 100000ll}) {
+    const double ra = 3.0, side = std::cbrt(static_cast<double>(n) * (4.0 / 3.0) * 3.14159265358979 * ra * ra * ra / 20.0);
+    const int steps = std::max(5, static_cast<int>(std::lround(2e6 * std::max(seconds, 0.1) / static_cast<double>(n))));
+    auto num = [](double x) { return std::to_string(x); };
+    const std::string text = R"({"format": "reel/1", "name": "bench_school", "fps": 10, "substeps": 1, "duration": )" +
+                             num((steps + 1) / 10.0) + R"(, "bodies": [{"type": "school", "name": "s", "count": )" +
+                             std::to_string(n) + R"(, "start": {"min": [0, 0, 0], "max": [)" + num(side) + ", " + num(side) + ", " +
+                             num(side) + R"(]}, "zones": {"repulsion": 1, "orientation": 2, "attraction": 3}}]})";
+    auto scene = parseScene(text, "bench_school.json");
+    if (!scene.ok()) return report(scene.error());
+    auto world = makeWorld(scene.value());
+    if (!world.ok()) return report(world.error());
+    World& w = world.value();
+    const School& sc = w.first<SchoolBody>()->school();
+    // Neighbours inside r_a and the grid's candidates, at the start.
+    BoxGrid g;
+    g.build(sc.x, sc.x, ra);
+    double neighbours = 0, candidates = 0;
+    for (const Vec3& p : sc.x)
+      g.forEachNear(p, [&](std::int32_t j) {
+        candidates += 1;
+        neighbours += (sc.x[static_cast<std::size_t>(j)] - p).squaredNorm() < ra * ra;
+      });
+    const auto t0 = Clock::now();
+    for (int k = 0; k < steps; ++k)
+      if (Status st = w.advanceFrame(); !st) return report(st.error());
+    const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+    const double agent_steps = static_cast<double>(n) * steps;
+    nlohmann::ordered_json j = {{"name", "school"},
+                                {"agents", n},
+                                {"neighbours_per_agent", neighbours / static_cast<double>(n) - 1},
+                                {"candidates_per_agent", candidates / static_cast<double>(n) - 1},
+                                {"steps", steps},
+                                {"threads", threadCount()},
+                                {"wall_s", wall},
+                                {"agent_steps_per_s", agent_steps / wall},
+                                {"ns_per_agent_step", 1e9 * wall / agent_steps},
+                                {"ns_per_candidate", 1e9 * wall / (agent_steps * (candidates / static_cast<double>(n) - 1))}};
+    std::printf("%s\n", j.dump().c_str());
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int bench(const std::vector<std::string>& names, double seconds) {
-  const std::vector<std::string> all = {"springs", "render", "film", "cloth", "fluid"};
+  const std::vector<std::string> all = {"springs", "render", "film", "cloth", "fluid", "school"};
   const std::vector<std::string>& run = names.empty() ? all : names;
   for (const auto& n : run) {
     if (std::find(all.begin(), all.end(), n) == all.end()) {
-      std::fprintf(stderr, "reel: unknown benchmark \"%s\" (available: springs, render, film, cloth, fluid)\n", n.c_str());
+      std::fprintf(stderr, "reel: unknown benchmark \"%s\" (available: springs, render, film, cloth, fluid, school)\n", n.c_str());
       return 2;
     }
   }
@@ -386,6 +435,7 @@ int bench(const std::vector<std::string>& names, double seconds) {
     if (n == "film") rc = benchFilm(REEL_SOURCE_DIR "/scenes/jelly.json");
     if (n == "cloth") rc = benchCloth(std::max(1.0 / 30.0, seconds));
     if (n == "fluid") rc = benchFluid(std::max(4.0 / 30.0, 0.1 * seconds));
+    if (n == "school") rc = benchSchool(seconds);
     if (rc != 0) return rc;
   }
   return 0;

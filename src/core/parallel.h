@@ -24,10 +24,11 @@ void parallelFor(std::ptrdiff_t n, F&& body) {
 // body(i0, i1) over [0, n) cut into blocks of `block` elements, in parallel once n reaches
 // kParallelMin (the threshold is on the elements, not the blocks): for kernels that take a range
 // (one call per block, not per element).
+// `work`: the elements the threshold is taken on when n counts groups of them (cells of agents).
 template <class F>
-void parallelBlocks(std::ptrdiff_t n, std::ptrdiff_t block, F&& body) {
+void parallelBlocks(std::ptrdiff_t n, std::ptrdiff_t block, F&& body, std::ptrdiff_t work = -1) {
   const std::ptrdiff_t blocks = (n + block - 1) / block;
-#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+#pragma omp parallel for schedule(static) if ((work < 0 ? n : work) >= kParallelMin)
   for (std::ptrdiff_t b = 0; b < blocks; ++b) body(b * block, (b + 1) * block < n ? (b + 1) * block : n);
 }
 

@@ -1,11 +1,16 @@
 #include "sim/school/school.h"
 
 #include <algorithm>
+#include <array>
+#include <climits>
+#include <cstdint>
+#include <span>
 #include <cmath>
 #include <numbers>
 
 #include <Eigen/Geometry>
 
+#include "core/lanes.h"
 #include "core/parallel.h"
 #include "core/random.h"
 
@@ -49,23 +54,6 @@ struct Perception {
 struct ZoneSums {
   Vec3 dr{0, 0, 0}, d_o{0, 0, 0}, da{0, 0, 0};
   int nr = 0, no = 0, na = 0;
-  // r: from the focal agent to neighbour j; uj: j's unit heading.
-  void add(const Perception& p, const Vec3& ui, const Vec3& r, const Vec3& uj) {
-    const double d2 = r.squaredNorm();
-    if (d2 >= p.ra2 || d2 == 0.0) return;
-    const double d = std::sqrt(d2);
-    if (r.dot(ui) < p.cos_half * d) return;  // in the blind cone behind
-    if (d2 < p.rr2) {
-      dr -= r / d;
-      ++nr;
-    } else if (d2 < p.ro2) {
-      d_o += uj;
-      ++no;
-    } else {
-      da += r / d;
-      ++na;
-    }
-  }
   Vec3 direction(const Vec3& ui) const {
     Vec3 d = ui;
     if (nr > 0) d = dr;
@@ -75,6 +63,53 @@ struct ZoneSums {
     return unitOr(d, ui);
   }
 };
+
+// A run [begin, end) of sorted agents to scan.
+using Range32 = std::array<std::uint32_t, 2>;
+
+// The zone sums of the agent at xi heading ui over the sorted agents of `ranges` (skipping entry
+// `self`), four candidates at a time (core/lanes.h: the same bits with or without AVX). The blind
+// cone test r·u ≥ cos(α/2)|r| is made without a root: for α > 180° it holds when r·u ≥ 0 or
+// (r·u)² ≤ cos²(α/2)|r|², for α ≤ 180° when r·u ≥ 0 and (r·u)² ≥ cos²(α/2)|r|².
+REEL_CLONED
+ZoneSums couzinZones(const SortedAgents& s, std::span<const Range32> ranges, std::uint32_t self, const Vec3& xi,
+                     const Vec3& ui, const Perception& p) {
+  const Lane4 zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
+  const Lane4 x0 = zero + xi.x(), x1 = zero + xi.y(), x2 = zero + xi.z();
+  const Lane4 u0 = zero + ui.x(), u1 = zero + ui.y(), u2 = zero + ui.z();
+  const Lane4 rr2 = zero + p.rr2, ro2 = zero + p.ro2, ra2 = zero + p.ra2, c2 = zero + p.cos_half * p.cos_half;
+  const Mask4 wide = Mask4{0, 0, 0, 0} + (p.cos_half < 0 ? -1ll : 0ll), step = {0, 1, 2, 3};
+  Lane4 r0s = zero, r1s = zero, r2s = zero, o0s = zero, o1s = zero, o2s = zero, a0s = zero, a1s = zero, a2s = zero;
+  Lane4 nr = zero, no = zero, na = zero;
+  for (const Range32& rg : ranges)
+    for (std::uint32_t k = rg[0]; k < rg[1]; k += 4) {
+      const Mask4 idx = step + static_cast<long long>(k);
+      const Mask4 live = (idx < static_cast<long long>(rg[1])) & (idx != static_cast<long long>(self));
+      const Lane4 d0 = Lane4{s.x[k], s.x[k + 1], s.x[k + 2], s.x[k + 3]} - x0;
+      const Lane4 d1 = Lane4{s.y[k], s.y[k + 1], s.y[k + 2], s.y[k + 3]} - x1;
+      const Lane4 d2 = Lane4{s.z[k], s.z[k + 1], s.z[k + 2], s.z[k + 3]} - x2;
+      const Lane4 r2 = d0 * d0 + d1 * d1 + d2 * d2, dot = d0 * u0 + d1 * u1 + d2 * u2;
+      const Mask4 ahead = dot >= zero, wide_ok = ahead | (dot * dot <= c2 * r2), narrow_ok = ahead & (dot * dot >= c2 * r2);
+      const Mask4 in = live & (r2 < ra2) & (r2 > zero) & (wide ? wide_ok : narrow_ok);
+      const Mask4 rep = in & (r2 < rr2), ori = in & ~rep & (r2 < ro2), att = in & ~rep & ~ori;
+      Lane4 len = in ? r2 : one;
+      for (int l = 0; l < 4; ++l) len[l] = std::sqrt(len[l]);
+      const Lane4 inv = one / len;
+      const Lane4 wr = rep ? inv : zero, wa = att ? inv : zero;
+      r0s -= wr * d0, r1s -= wr * d1, r2s -= wr * d2;
+      a0s += wa * d0, a1s += wa * d1, a2s += wa * d2;
+      o0s += ori ? Lane4{s.ux[k], s.ux[k + 1], s.ux[k + 2], s.ux[k + 3]} : zero;
+      o1s += ori ? Lane4{s.uy[k], s.uy[k + 1], s.uy[k + 2], s.uy[k + 3]} : zero;
+      o2s += ori ? Lane4{s.uz[k], s.uz[k + 1], s.uz[k + 2], s.uz[k + 3]} : zero;
+      nr += rep ? one : zero, no += ori ? one : zero, na += att ? one : zero;
+    }
+  ZoneSums z;
+  z.dr = Vec3(hsum(r0s), hsum(r1s), hsum(r2s));
+  z.d_o = Vec3(hsum(o0s), hsum(o1s), hsum(o2s));
+  z.da = Vec3(hsum(a0s), hsum(a1s), hsum(a2s));
+  z.nr = static_cast<int>(hsum(nr)), z.no = static_cast<int>(hsum(no)), z.na = static_cast<int>(hsum(na));
+  return z;
+}
 
 // The noise of the model: d turned by a Gaussian angle of s.d. σ about a random axis
 // perpendicular to it (a spherically wrapped Gaussian), from the decision's stream.
@@ -190,48 +225,70 @@ Vec3 steerDirection(const SchoolDesc& d, const Steering& s, Vec3 dir) {
   return dir;
 }
 
-// ---- The neighbour pass: agents in grid order, each bucket's near buckets found once per cell.
+// ---- The neighbour pass. The grid's occupied buckets are put in the order of their cells'
+// coordinates and their agents copied in that order, so neighbouring cells are neighbours in
+// memory and consecutive agents scan mostly the same runs (the hash alone scatters them).
+void sortAgents(School& sc, double cell, bool unit_headings) {
+  const std::size_t n = sc.size();
+  BoxGrid& g = sc.grid;
+  g.build(sc.x, sc.x, cell);
+  const auto items = g.items();
+  sc.cells.clear();
+  for (std::uint32_t b = 0; b < g.buckets(); ++b)
+    if (g.bucketBegin(b) < g.bucketEnd(b)) {
+      const auto c = g.cellOf(sc.x[static_cast<std::size_t>(items[g.bucketBegin(b)])]);
+      sc.cells.push_back({{c[2], c[1], c[0]}, b});
+    }
+  std::sort(sc.cells.begin(), sc.cells.end());
+  sc.bucket_range.assign(g.buckets(), {0, 0});
+  sc.order.resize(n);
+  SortedAgents& s = sc.sorted;
+  for (auto* a : {&s.x, &s.y, &s.z, &s.ux, &s.uy, &s.uz}) a->assign(n + 4, 0.0);
+  std::uint32_t e = 0;
+  for (const auto& [c, b] : sc.cells) {
+    sc.bucket_range[b][0] = e;
+    for (std::uint32_t k = g.bucketBegin(b); k < g.bucketEnd(b); ++k, ++e) {
+      const auto i = static_cast<std::size_t>(items[k]);
+      const Vec3 u = unit_headings ? Vec3(sc.v[i].normalized()) : sc.v[i];
+      sc.order[e] = items[k];
+      s.x[e] = sc.x[i].x(), s.y[e] = sc.x[i].y(), s.z[e] = sc.x[i].z();
+      s.ux[e] = u.x(), s.uy[e] = u.y(), s.uz[e] = u.z();
+    }
+    sc.bucket_range[b][1] = e;
+  }
+}
+
+// decide(i, e, ranges): agent i, its sorted entry e and the runs of sorted entries around it.
 template <class F>
 void forEachAgent(School& sc, double cell, bool unit_headings, F&& decide) {
-  const std::size_t n = sc.size();
-  sc.grid.build(sc.x, sc.x, cell);
-  const auto items = sc.grid.items();
-  sc.sx.resize(n);
-  sc.sv.resize(n);
-  for (std::size_t e = 0; e < n; ++e) {
-    const auto i = static_cast<std::size_t>(items[e]);
-    sc.sx[e] = sc.x[i];
-    sc.sv[e] = unit_headings ? Vec3(sc.v[i].normalized()) : sc.v[i];
-  }
-  const auto buckets = static_cast<std::ptrdiff_t>(sc.grid.buckets());
-  parallelBlocks(buckets, 64, [&](std::ptrdiff_t b0, std::ptrdiff_t b1) {
+  sortAgents(sc, cell, unit_headings);
+  const SortedAgents& s = sc.sorted;
+  parallelBlocks(static_cast<std::ptrdiff_t>(sc.cells.size()), 16, [&](std::ptrdiff_t c0, std::ptrdiff_t c1) {
     std::uint32_t near[27];
-    int nn = 0;
-    std::array<std::int64_t, 3> last{};
-    bool have = false;
-    for (auto b = static_cast<std::uint32_t>(b0); b < static_cast<std::uint32_t>(b1); ++b)
-      for (std::uint32_t e = sc.grid.bucketBegin(b); e < sc.grid.bucketEnd(b); ++e) {
-        const auto c = sc.grid.cellOf(sc.sx[e]);
-        if (!have || c != last) nn = sc.grid.nearBuckets(sc.sx[e], near), last = c, have = true;
-        // visit(f): f(position, velocity) for every other agent in the near buckets.
-        auto visit = [&](auto&& f) {
-          for (int q = 0; q < nn; ++q)
-            for (std::uint32_t k = sc.grid.bucketBegin(near[q]); k < sc.grid.bucketEnd(near[q]); ++k)
-              if (k != e) f(sc.sx[k], sc.sv[k]);
-        };
-        decide(static_cast<std::size_t>(items[e]), visit);
+    Range32 ranges[27];
+    for (std::ptrdiff_t c = c0; c < c1; ++c) {
+      const Range32 own = sc.bucket_range[sc.cells[static_cast<std::size_t>(c)].second];
+      std::array<std::int64_t, 3> last{};
+      int nn = 0;
+      for (std::uint32_t e = own[0]; e < own[1]; ++e) {
+        const Vec3 p(s.x[e], s.y[e], s.z[e]);
+        const auto cp = sc.grid.cellOf(p);
+        if (e == own[0] || cp != last) {  // (cells that share a bucket differ here)
+          nn = sc.grid.nearBuckets(p, near), last = cp;
+          for (int q = 0; q < nn; ++q) ranges[q] = sc.bucket_range[near[q]];
+        }
+        decide(static_cast<std::size_t>(sc.order[e]), e, std::span<const Range32>(ranges, static_cast<std::size_t>(nn)));
       }
-  });
+    }
+  }, static_cast<std::ptrdiff_t>(sc.size()));
 }
 
 void couzinDecide(School& sc, const std::vector<Collider>& cs, const PredatorView& pv, double t) {
   const SchoolDesc& d = sc.desc;
   const Perception p(d.couzin, d.field_of_view_deg);
-  sc.steer.resize(sc.size());
-  forEachAgent(sc, d.couzin.r_attraction, true, [&](std::size_t i, auto&& visit) {
+  forEachAgent(sc, d.couzin.r_attraction, true, [&](std::size_t i, std::uint32_t e, std::span<const Range32> ranges) {
     const Vec3 ui = sc.v[i].normalized();
-    ZoneSums z;
-    visit([&](const Vec3& xj, const Vec3& uj) { z.add(p, ui, xj - sc.x[i], uj); });
+    const ZoneSums z = couzinZones(sc.sorted, ranges, e, sc.x[i], ui, p);
     const Steering s = steering(sc, cs, pv, i, t);
     const Vec3 dir = steerDirection(d, s, z.direction(ui));
     sc.desired[i] = wrappedGaussian(dir, d.couzin.noise, sc.seed, sc.decisions, i);
@@ -263,22 +320,25 @@ void boidsDecide(School& sc, const std::vector<Collider>& cs, const PredatorView
   const BoidsDesc& b = d.boids;
   const double cos_half = std::cos(d.field_of_view_deg * kPi / 360.0);
   const double rs2 = b.separation_radius * b.separation_radius, ra2 = b.alignment_radius * b.alignment_radius,
-               rc2 = b.cohesion_radius * b.cohesion_radius;
+               rc2 = b.cohesion_radius * b.cohesion_radius, r2max = std::max({rs2, ra2, rc2});
   sc.steer.resize(sc.size());
-  forEachAgent(sc, d.interactionRadius(), false, [&](std::size_t i, auto&& visit) {
+  const SortedAgents& so = sc.sorted;
+  forEachAgent(sc, d.interactionRadius(), false, [&](std::size_t i, std::uint32_t e, std::span<const Range32> ranges) {
     const Vec3 xi = sc.x[i], vi = sc.v[i], ui = vi.normalized();
     Vec3 sep{0, 0, 0}, vel{0, 0, 0}, cen{0, 0, 0};
     int na = 0, nc = 0;
-    visit([&](const Vec3& xj, const Vec3& vj) {
-      const Vec3 r = xj - xi;
-      const double d2 = r.squaredNorm();
-      if (d2 == 0.0 || d2 >= std::max({rs2, ra2, rc2})) return;
-      const double dist = std::sqrt(d2);
-      if (r.dot(ui) < cos_half * dist) return;  // behind, unseen
-      if (d2 < rs2) sep -= r / dist * (1.0 - dist / b.separation_radius);
-      if (d2 < ra2) vel += vj, ++na;
-      if (d2 < rc2) cen += xj, ++nc;
-    });
+    for (const Range32& rg : ranges)
+      for (std::uint32_t k = rg[0]; k < rg[1]; ++k) {
+        if (k == e) continue;
+        const Vec3 xj(so.x[k], so.y[k], so.z[k]), r = xj - xi;
+        const double d2 = r.squaredNorm();
+        if (d2 == 0.0 || d2 >= r2max) continue;
+        const double dist = std::sqrt(d2);
+        if (r.dot(ui) < cos_half * dist) continue;  // behind, unseen
+        if (d2 < rs2) sep -= r / dist * (1.0 - dist / b.separation_radius);
+        if (d2 < ra2) vel += Vec3(so.ux[k], so.uy[k], so.uz[k]), ++na;
+        if (d2 < rc2) cen += xj, ++nc;
+      }
     const Steering s = steering(sc, cs, pv, i, t);
     const double vmax = b.max_speed, amax = b.max_accel;
     Budget budget(amax);
@@ -312,20 +372,27 @@ void keepOut(const std::vector<Collider>& cs, double clearance, Vec3& x, Vec3& v
 
 Vec3 couzinDirection(const CouzinDesc& c, double field_of_view_deg, const Vec3& xi, const Vec3& vi,
                      const std::vector<Vec3>& nx, const std::vector<Vec3>& nv) {
-  const Perception p(c, field_of_view_deg);
+  SortedAgents s;
+  for (auto* a : {&s.x, &s.y, &s.z, &s.ux, &s.uy, &s.uz}) a->assign(nx.size() + 4, 0.0);
+  for (std::size_t j = 0; j < nx.size(); ++j) {
+    const Vec3 u = nv[j].normalized();
+    s.x[j] = nx[j].x(), s.y[j] = nx[j].y(), s.z[j] = nx[j].z(), s.ux[j] = u.x(), s.uy[j] = u.y(), s.uz[j] = u.z();
+  }
+  const Range32 all{0, static_cast<std::uint32_t>(nx.size())};
   const Vec3 ui = vi.normalized();
-  ZoneSums z;
-  for (std::size_t j = 0; j < nx.size(); ++j) z.add(p, ui, nx[j] - xi, nv[j].normalized());
-  return z.direction(ui);
+  return couzinZones(s, {&all, 1}, UINT32_MAX, xi, ui, Perception(c, field_of_view_deg)).direction(ui);
 }
 
 Vec3 turnToward(const Vec3& from, const Vec3& to, double max_angle) {
-  const double c = std::clamp(from.dot(to), -1.0, 1.0);
-  if (std::acos(c) <= max_angle) return to;
+  return turnToward(from, to, std::cos(max_angle), std::sin(max_angle));
+}
+
+Vec3 turnToward(const Vec3& from, const Vec3& to, double cos_max, double sin_max) {
+  if (from.dot(to) >= cos_max) return to;  // within reach: taken whole
   Vec3 k = from.cross(to);
   const double kn = k.norm();
   k = kn > 1e-12 ? Vec3(k / kn) : perpendicular(from);
-  return (from * std::cos(max_angle) + k.cross(from) * std::sin(max_angle)).normalized();
+  return (from * cos_max + k.cross(from) * sin_max).normalized();
 }
 
 School makeSchool(const SchoolDesc& d, const std::string& name, std::uint64_t seed) {
@@ -385,9 +452,11 @@ void stepSchool(School& sc, const std::vector<Collider>& cs, const PredatorView&
       couzinDecide(sc, cs, pv, t0);
       if (h < tau) sc.decisions = std::max(sc.decisions, static_cast<std::int64_t>(std::floor(t0 / tau + 1e-9)) + 1);
     }
-    const double theta = d.couzin.max_turn_deg_per_s * kPi / 180.0;
+    const double theta = d.couzin.max_turn_deg_per_s * kPi / 180.0, c1 = std::cos(theta * h), s1 = std::sin(theta * h);
     parallelFor(n, [&](std::ptrdiff_t i) {
-      const Vec3 u = turnToward(sc.v[i].normalized(), sc.desired[i], theta * sc.turn[i] * h);
+      const Vec3 from = sc.v[i].normalized();
+      const Vec3 u = sc.turn[i] == 1.0 ? turnToward(from, sc.desired[i], c1, s1)
+                                       : turnToward(from, sc.desired[i], theta * sc.turn[i] * h);
       sc.v[i] = u * sc.speed[i];
     });
   } else {

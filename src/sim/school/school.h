@@ -3,7 +3,9 @@
 // predator). The behavioural layer that the artificial fish will school with.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -34,11 +36,22 @@ struct SchoolState {
   std::int64_t decisions = 0; // Couzin: decisions taken (the noise's stream position)
 };
 
-// Per-step scratch: the neighbour grid and its agents in grid order.
+// Agents in the grid's item order, coordinate by coordinate (four at a time in the hot loop),
+// padded with four more entries so that a loop may read a whole group of four past a bucket's end.
+struct SortedAgents {
+  std::vector<double> x, y, z;     // positions, m
+  std::vector<double> ux, uy, uz;  // unit headings (Couzin) or velocities (boids)
+};
+
+// Per-step scratch: the neighbour grid and its agents sorted cell by cell, the cells in the order
+// of their coordinates (z, y, x), so that the cells around one lie close together in memory.
 struct SchoolScratch {
   BoxGrid grid;
-  std::vector<Vec3> sx, sv;  // positions and velocities in the grid's item order
-  std::vector<Vec3> steer;   // per agent: new desired direction (Couzin) or acceleration (boids)
+  SortedAgents sorted;
+  std::vector<std::int32_t> order;  // sorted entry → agent
+  std::vector<std::array<std::uint32_t, 2>> bucket_range;  // grid bucket → its run of sorted entries
+  std::vector<std::pair<std::array<std::int64_t, 3>, std::uint32_t>> cells;  // (z, y, x), bucket
+  std::vector<Vec3> steer;  // boids: each agent's acceleration, m/s²
 };
 
 // Where a predator is for the agents: the points of a school or an object's collider.
@@ -76,5 +89,7 @@ Vec3 couzinDirection(const CouzinDesc& c, double field_of_view_deg, const Vec3& 
 
 // Turns unit vector `from` toward unit vector `to` by at most `max_angle` radians.
 Vec3 turnToward(const Vec3& from, const Vec3& to, double max_angle);
+// The same with the cosine and sine of the largest angle given.
+Vec3 turnToward(const Vec3& from, const Vec3& to, double cos_max, double sin_max);
 
 }  // namespace reel
