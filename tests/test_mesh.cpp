@@ -3,7 +3,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 
+#include "core/math.h"
 #include "core/scene_view.h"
 #include "helpers.h"
 #include "io/mesh_import.h"
@@ -155,3 +157,52 @@ TEST_CASE("a mesh object is placed by scale, rotation and position, and drawn in
   CHECK(red == 48);
   CHECK(img.pixel(32, 24)[0] == 0);  // the image centre is background
 }
+
+TEST_CASE("the fish mesh: closed, outward, one unit long, with unit normals and few triangles") {
+  for (int detail : {0, 1, 2}) {
+    CAPTURE(detail);
+    const TriMesh m = makeFishMesh(detail);
+    const std::size_t nv = m.vertexCount(), nt = m.triangleCount();
+    if (detail == 0) CHECK((nt >= 50 && nt <= 70));
+    if (detail == 1) CHECK((nt >= 200 && nt <= 400));
+    if (detail == 2) CHECK(nt > 400);
+    REQUIRE(m.normals.size() == 3 * nv);
+    REQUIRE(m.uvs.size() == 2 * nv);
+    REQUIRE(m.colors.size() == 3 * nv);
+    Vec3 lo = Vec3::Constant(1e9), hi = -lo;
+    for (std::size_t i = 0; i < nv; ++i) {
+      const Vec3 p(m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]);
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+      CHECK(Vec3(m.normals[3 * i], m.normals[3 * i + 1], m.normals[3 * i + 2]).norm() == doctest::Approx(1.0).epsilon(1e-5));
+    }
+    CHECK(hi.z() == doctest::Approx(0.0).epsilon(1e-6));  // the head
+    CHECK(lo.z() == doctest::Approx(-1.0).epsilon(1e-6));  // the tail's tips
+    CHECK(hi.x() == doctest::Approx(-lo.x()).epsilon(1e-6));  // symmetric
+    CHECK((hi.y() - lo.y() > 0.2 && hi.y() - lo.y() < 0.5));  // deeper than wide
+    CHECK((hi.x() - lo.x() > 0.08 && hi.x() - lo.x() < hi.y() - lo.y()));
+    // Closed and consistently wound: with vertices welded by position (UV seams, fin borders),
+    // every directed edge is met once the other way round.
+    std::map<std::array<long, 3>, std::uint32_t> weld;
+    std::vector<std::uint32_t> id(nv);
+    for (std::size_t i = 0; i < nv; ++i) {
+      const std::array<long, 3> key{std::lround(m.positions[3 * i] * 1e5), std::lround(m.positions[3 * i + 1] * 1e5),
+                                    std::lround(m.positions[3 * i + 2] * 1e5)};
+      id[i] = weld.emplace(key, static_cast<std::uint32_t>(weld.size())).first->second;
+    }
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+    double volume = 0;  // by the divergence theorem: positive when the faces point outward
+    for (std::size_t t = 0; t < nt; ++t) {
+      const std::uint32_t* f = &m.indices[3 * t];
+      for (int k = 0; k < 3; ++k) ++edges[{id[f[k]], id[f[(k + 1) % 3]]}];
+      auto P = [&](std::uint32_t v) { return Vec3(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]); };
+      volume += P(f[0]).dot(P(f[1]).cross(P(f[2]))) / 6;
+    }
+    int unmatched = 0;
+    for (const auto& [e, n] : edges) unmatched += (n != 1 || edges.count({e.second, e.first}) == 0 ||
+                                                   edges.at({e.second, e.first}) != 1);
+    CHECK(unmatched == 0);
+    CHECK(volume > 0.005);
+  }
+}
+

@@ -165,4 +165,99 @@ std::array<std::pair<Vec3, Vec3>, 5> containerBoxes(const Vec3& size, double wal
            {Vec3(0, 0, -h.z() + w / 2), Vec3(size.x(), size.y(), w)}}};
 }
 
+namespace {
+
+// The fish's body: an ellipse of half-width 0.05·g(u) and half-height 0.115·g(u) at z = −kBody·u,
+// g(u) = 2.6·√u·(1 − u) + 0.1·u (a blunt head, deepest a third of the way back, a narrow
+// peduncle at u = 1 where the tail fin starts).
+constexpr double kBody = 0.84, kHalfWidth = 0.05, kHalfHeight = 0.115;
+double fishG(double u) { return 2.6 * std::sqrt(u) * (1 - u) + 0.1 * u; }
+double fishDg(double u) { return 2.6 * (0.5 * (1 - u) / std::sqrt(u) - std::sqrt(u)) + 0.1; }
+
+// Darker on the back than the belly (countershading), by the height y of a vertex.
+Vec3 fishShade(double y) {
+  const double t = std::clamp(0.5 + y / (2 * kHalfHeight), 0.0, 1.0);
+  return Vec3(1.0, 1.0, 1.0) * (1.0 - 0.45 * t);
+}
+
+void addColoredVertex(TriMesh& m, const Vec3& p, const Vec3& n, double u, double v) {
+  m.addVertex(p, n, u, v);
+  const Vec3 c = fishShade(p.y());
+  for (int k = 0; k < 3; ++k) m.colors.push_back(static_cast<float>(c[k]));
+}
+
+// The body: a nose vertex, `rings` rings of `slices` + 1 vertices (the last repeats the first for
+// the UV seam), a tail vertex; counter-clockwise from outside.
+void addFishBody(TriMesh& m, int slices, int rings) {
+  const auto ring0 = static_cast<std::uint32_t>(m.vertexCount()) + 1;
+  addColoredVertex(m, Vec3(0, 0, 0), Vec3::UnitZ(), 0, 0.5);
+  for (int j = 1; j <= rings; ++j) {
+    const double u = static_cast<double>(j) / rings, g = fishG(u), dg = fishDg(u);
+    for (int i = 0; i <= slices; ++i) {
+      const double phi = 2 * kPi * i / slices, c = std::cos(phi), s = std::sin(phi);
+      // Outward normal ∂S/∂u × ∂S/∂φ of S(u, φ) = (w·cos φ, h·sin φ, −kBody·u).
+      const Vec3 su(kHalfWidth * dg * c, kHalfHeight * dg * s, -kBody), sp(-kHalfWidth * g * s, kHalfHeight * g * c, 0);
+      addColoredVertex(m, Vec3(kHalfWidth * g * c, kHalfHeight * g * s, -kBody * u), su.cross(sp).normalized(), u,
+                       static_cast<double>(i) / slices);
+    }
+  }
+  const auto tail = static_cast<std::uint32_t>(m.vertexCount());
+  addColoredVertex(m, Vec3(0, 0, -kBody - 0.01), -Vec3::UnitZ(), 1, 0.5);
+  const auto row = static_cast<std::uint32_t>(slices + 1);
+  for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(slices); ++i) {
+    m.indices.insert(m.indices.end(), {ring0 - 1, ring0 + i, ring0 + i + 1});  // the nose
+    for (std::uint32_t j = 0; j + 1 < static_cast<std::uint32_t>(rings); ++j) {
+      const std::uint32_t a = ring0 + j * row + i, b = a + row;
+      m.indices.insert(m.indices.end(), {a, b, a + 1, b, b + 1, a + 1});
+    }
+    const std::uint32_t last = ring0 + (static_cast<std::uint32_t>(rings) - 1) * row + i;
+    m.indices.insert(m.indices.end(), {last, tail, last + 1});  // the peduncle's end
+  }
+}
+
+// A fin: the flat polygon `border` fanned from `centre`, as a closed lens whose two faces meet at
+// the border and stand `thickness` apart at the centre.
+void addFin(TriMesh& m, const std::vector<Vec3>& border, const Vec3& centre, double thickness) {
+  // Each face's triangles turn counter-clockwise about its own side of the plane, whichever way
+  // the border runs.
+  const Vec3 n = (border[1] - centre).cross(border[0] - centre).normalized();
+  for (const double side : {1.0, -1.0}) {
+    const auto base = static_cast<std::uint32_t>(m.vertexCount());
+    const Vec3 ns = side * n;
+    addColoredVertex(m, centre + ns * (thickness / 2), ns, 0.5, 0.5);
+    for (const Vec3& b : border) addColoredVertex(m, b, ns, 0.5 + b.z(), 0.5 + b.y());
+    const auto k = static_cast<std::uint32_t>(border.size());
+    for (std::uint32_t i = 0; i < k; ++i) {
+      const std::uint32_t a = base + 1 + i, b = base + 1 + (i + 1) % k;
+      if (side > 0)
+        m.indices.insert(m.indices.end(), {base, b, a});
+      else
+        m.indices.insert(m.indices.end(), {base, a, b});
+    }
+  }
+}
+
+}  // namespace
+
+TriMesh makeFishMesh(int detail) {
+  const int d = std::max(detail, 0);
+  TriMesh m;
+  addFishBody(m, 6 * (d + 1), 4 + 6 * d);
+  // Forked tail fin: from the peduncle back to two tips at z = −1, notched in the middle.
+  addFin(m, {{0, 0.03, -0.78}, {0, 0.14, -1.0}, {0, 0, -0.9}, {0, -0.14, -1.0}, {0, -0.03, -0.78}}, Vec3(0, 0, -0.84),
+         0.008);
+  // Dorsal fin on the back, its tip swept back.
+  const double ua = 0.3, ub = 0.62;
+  const double ya = kHalfHeight * fishG(ua) - 0.01, yb = kHalfHeight * fishG(ub) - 0.01;
+  addFin(m, {{0, ya, -kBody * ua}, {0, ya + 0.085, -0.46}, {0, yb, -kBody * ub}}, Vec3(0, ya + 0.02, -0.4), 0.008);
+  // Pectoral fins behind the gills, angled out, back and down: too small to see on a distant copy.
+  if (d >= 1)
+    for (const double sx : {1.0, -1.0}) {
+      const double w = kHalfWidth * fishG(0.25) * 0.7;
+      const std::vector<Vec3> border{{sx * w, -0.02, -0.20}, {sx * (w + 0.1), -0.075, -0.33}, {sx * w, -0.04, -0.27}};
+      addFin(m, border, (border[0] + border[1] + border[2]) / 3, 0.006);
+    }
+  return m;
+}
+
 }  // namespace reel

@@ -44,4 +44,11 @@ std::vector<std::array<double, 2>> hexDisc(double radius, double spacing);
 // A unit cylinder along +z from z = 0 to 1, radius 1, open ends (instanced tubes).
 TriMesh makeTube(int slices);
 
+// A fish of length 1 in the local frame of DrawInstances: head at z = 0, tail tip at z = −1, +y
+// up, +x to its side. A streamlined body of revolution with flattened sides, a forked tail fin, a
+// dorsal fin and (detail ≥ 1) two pectoral fins; fins are thin closed lenses, so the whole is
+// closed. Countershaded: per-vertex colours darker on the back than the belly. Detail 0 has 64
+// triangles (a distant copy), 1 about 270, each further step more rings and slices.
+TriMesh makeFishMesh(int detail);
+
 }  // namespace reel
