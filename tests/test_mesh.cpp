@@ -206,3 +206,8 @@ TEST_CASE("the fish mesh: closed, outward, one unit long, with unit normals and 
   }
 }
 
+TEST_CASE("a plane without size repeats its texture every 4 m; a sized plane shows it once") {
+  const TriMesh tiled = makeQuad(400, 400, 4), once = makeQuad(3, 2);
+  CHECK(*std::max_element(tiled.uvs.begin(), tiled.uvs.end()) == doctest::Approx(100.0));
+  CHECK(*std::max_element(once.uvs.begin(), once.uvs.end()) == doctest::Approx(1.0));
+}

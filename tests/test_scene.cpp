@@ -91,6 +91,8 @@ TEST_CASE("unknown keys and values name the path and the nearest valid key") {
   e = errorsOf(scene(R"("objects": [{"type": "sphere", "radius": 1, "centre": [0,0,0]}])"));
   CHECK(contains(e, "/objects/0/centre: unknown key; did you mean \"center\"?"));
   CHECK(contains(errorsOf(scene(R"("zzzzzz": 1)")), "/zzzzzz: unknown key"));
+  e = errorsOf(scene(R"("objects": [{"type": "plane", "pattern": "sandd"}])"));
+  CHECK(contains(e, "/objects/0/pattern: unknown value \"sandd\"; did you mean \"sand\"? (one of: rug, sand)"));
 }
 
 TEST_CASE("wrong types name the path and what was expected") {

@@ -118,13 +118,14 @@ TriMesh makeCapsule(const Vec3& a, const Vec3& b, double radius, int slices, int
   return m;
 }
 
-TriMesh makeQuad(double width, double depth) {
+TriMesh makeQuad(double width, double depth, double tile) {
   TriMesh m;
   const double w = width / 2, d = depth / 2;
+  const double U = tile > 0 ? width / tile : 1, V = tile > 0 ? depth / tile : 1;
   m.addVertex(Vec3(-w, 0, -d), Vec3::UnitY(), 0, 0);
-  m.addVertex(Vec3(-w, 0, d), Vec3::UnitY(), 0, 1);
-  m.addVertex(Vec3(w, 0, d), Vec3::UnitY(), 1, 1);
-  m.addVertex(Vec3(w, 0, -d), Vec3::UnitY(), 1, 0);
+  m.addVertex(Vec3(-w, 0, d), Vec3::UnitY(), 0, V);
+  m.addVertex(Vec3(w, 0, d), Vec3::UnitY(), U, V);
+  m.addVertex(Vec3(w, 0, -d), Vec3::UnitY(), U, 0);
   m.indices = {0, 1, 2, 0, 2, 3};
   return m;
 }

@@ -31,7 +31,9 @@ TriMesh placeMesh(const TriMesh& m, const Vec3& scale, const Mat3& R, const Vec3
 TriMesh makeUvSphere(double radius, int slices, int stacks);
 TriMesh makeBox(const Vec3& size);                 // centred, full extents
 TriMesh makeCapsule(const Vec3& a, const Vec3& b, double radius, int slices, int stacks);
-TriMesh makeQuad(double width, double depth);      // centred in the x–z plane, normal +y
+// Centred in the x–z plane, normal +y. Its UVs span it once (0..1), or with `tile` > 0 run in
+// metres / tile from its −x, −z corner, so that a texture repeats every `tile` metres.
+TriMesh makeQuad(double width, double depth, double tile = 0);
 // The five boxes of an open container of outer `size` and wall (and floor) thickness `wall`: the
 // floor, then the walls at +x, −x, +z, −z, each as (centre relative to the container's centre,
 // full size). Shared by the collider and the drawn mesh.

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+
+#include "core/math.h"
+#include "core/random.h"
 
 namespace reel {
 namespace {
@@ -60,7 +64,55 @@ Rgb rugAt(double u, double v) {
   return kRed;
 }
 
+// Value noise on a lattice of `period` cells across the texture, wrapped so that it tiles: the
+// hashed values at the cell's corners blended by a smoothstep. u, v in [0, 1).
+double tiledValueNoise(double u, double v, int period, std::uint64_t seed) {
+  const double x = u * period, y = v * period;
+  const double fx = std::floor(x), fy = std::floor(y);
+  const int ix = static_cast<int>(fx), iy = static_cast<int>(fy);
+  auto corner = [&](int i, int j) {
+    const auto ci = static_cast<std::uint64_t>(((i % period) + period) % period);
+    const auto cj = static_cast<std::uint64_t>(((j % period) + period) % period);
+    return unitFromBits(splitmix64(splitmix64(seed ^ (ci << 32)) + cj));
+  };
+  auto smooth = [](double t) { return t * t * (3 - 2 * t); };
+  const double sx = smooth(x - fx), sy = smooth(y - fy);
+  const double a = corner(ix, iy) + sx * (corner(ix + 1, iy) - corner(ix, iy));
+  const double b = corner(ix, iy + 1) + sx * (corner(ix + 1, iy + 1) - corner(ix, iy + 1));
+  return a + sy * (b - a);
+}
+
+// Sand at (u, v) in [0, 1)² and pixel (x, y) (the grain is per pixel).
+Rgb sandAt(double u, double v, int x, int y) {
+  constexpr Rgb kSand{0.84, 0.76, 0.60};
+  // Broad patches of lighter and darker sand (three octaves).
+  const double patches = 0.5 * tiledValueNoise(u, v, 4, 11) + 0.3 * tiledValueNoise(u, v, 8, 12) +
+                         0.2 * tiledValueNoise(u, v, 16, 13);
+  // Ripples: 10 bands across the tile, wavering with the noise, with sharper crests than troughs.
+  const double warp = 1.6 * tiledValueNoise(u, v, 3, 21) + 0.5 * tiledValueNoise(u, v, 6, 22);
+  const double wave = 0.5 + 0.5 * std::sin(2 * kPi * (10 * v + 2 * u + warp));
+  const double ripple = wave * wave * wave;
+  // Fine grain, and a few dark (shell, mineral) and bright (quartz) grains.
+  const std::uint64_t h = splitmix64((static_cast<std::uint64_t>(x) << 32) ^ static_cast<std::uint64_t>(y) ^ 0x5a4dULL);
+  const double grain = unitFromBits(h), speck = unitFromBits(splitmix64(h));
+  double shade = 0.93 + 0.10 * (patches - 0.5) + 0.09 * ripple + 0.07 * (grain - 0.5);
+  if (speck > 0.985) shade *= 0.7;
+  else if (speck < 0.01) shade *= 1.12;
+  return {kSand[0] * shade, kSand[1] * shade, kSand[2] * shade * (0.97 + 0.06 * patches)};
+}
+
 }  // namespace
+
+Image makeSandTexture(int size) {
+  Image img(size, size);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const Rgb c = sandAt((x + 0.5) / size, (y + 0.5) / size, x, y);
+      std::uint8_t* p = img.pixel(x, y);
+      for (int k = 0; k < 3; ++k) p[k] = static_cast<std::uint8_t>(std::lround(std::clamp(c[k], 0.0, 1.0) * 255.0));
+    }
+  return img;
+}
 
 Image makeRugTexture(int size) {
   Image img(size, size);
@@ -80,6 +132,7 @@ Image makeRugTexture(int size) {
 
 Image makePattern(std::string_view name, int size) {
   if (name == "rug") return makeRugTexture(size);
+  if (name == "sand") return makeSandTexture(size);
   return {};
 }
 

@@ -12,8 +12,13 @@ namespace reel {
 // `size` pixels a side, sRGB.
 Image makeRugTexture(int size);
 
+// A sandy seabed: pale warm sand, soft wind- or wave-made ripple bands, fine grain and a few
+// darker and lighter grains. Tileable (the right edge continues into the left, the bottom into
+// the top), square, `size` pixels a side, sRGB; the same pixels on every machine.
+Image makeSandTexture(int size);
+
 // The pattern of that name at `size` pixels, or an empty image for an unknown name.
 Image makePattern(std::string_view name, int size);
-inline constexpr std::string_view kPatternNames[] = {"rug"};
+inline constexpr std::string_view kPatternNames[] = {"rug", "sand"};
 
 }  // namespace reel

@@ -1,5 +1,6 @@
 #include "io/scene/reader.h"
 
+#include <iterator>
 #include <memory>
 
 #include "core/patterns.h"
@@ -23,7 +24,7 @@ void readMaterial(Obj& o, Material& m) {
       o.diag().error(childPath(o.path(), "texture"), r.error().headline());
   }
   if (o.has("pattern")) {
-    const std::string pat = o.choice("pattern", "", {std::string(kPatternNames[0])});
+    const std::string pat = o.choice("pattern", "", {std::begin(kPatternNames), std::end(kPatternNames)});
     if (!m.texture.empty())
       o.diag().error(childPath(o.path(), "pattern"), "give texture or pattern, not both");
     else if (!pat.empty()) {
