@@ -10,6 +10,6 @@ void main() {
   v_world = p;
   v_normal = n;
   v_uv = a_uv;
-  v_color = a_color;
+  v_color = vertexColor();
   gl_Position = u_view_proj * vec4(p, 1.0);
 }

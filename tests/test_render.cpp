@@ -7,13 +7,16 @@
 
 #include "core/image_compare.h"
 #include "core/math.h"
+#include "core/mesh.h"
 #include "core/patterns.h"
 #include "core/scene_view.h"
 #include "helpers.h"
 #include "io/files.h"
 #include "io/png.h"
 #include "io/video.h"
+#include "render/projection.h"
 #include "render/renderer.h"
+#include "render/uploads.h"
 #include "sim/world.h"
 
 using namespace reel;
@@ -267,6 +270,253 @@ TEST_CASE("videos: frame count, size, rate, codec and pixel format; frames close
     REQUIRE(dec.value().size() == frames.size());
     for (int k = 0; k < N; k += 5) CHECK(compareImages(dec.value()[k], frames[k], 255).mean_abs < w.mean);
   }
+}
+
+namespace {
+
+// Draws hand-made draw lists at a small size with a renderer of its own.
+struct DirectRenderer {
+  std::unique_ptr<gl::Context> ctx;
+  std::unique_ptr<Renderer> r;
+  DirectRenderer(int w, int h, int samples) {
+    auto c = gl::createContext(gl::Backend::OSMesa);
+    REQUIRE_MESSAGE(c.ok(), (c.ok() ? "" : c.error().headline()));
+    ctx = std::move(c.value());
+    RenderSettings rs;
+    rs.width = w;
+    rs.height = h;
+    rs.samples = samples;
+    rs.shadow_map_size = 512;
+    auto made = Renderer::create(*ctx, rs, findShaderDir());
+    REQUIRE_MESSAGE(made.ok(), (made.ok() ? "" : made.error().headline()));
+    r = std::move(made.value());
+  }
+  Image draw(const DrawList& list) {
+    Image img;
+    REQUIRE(r->draw(list, img).ok());
+    return img;
+  }
+};
+
+// A list with one ambient light of intensity 1 on a black background, seen from `eye`.
+DrawList ambientList(const Vec3& eye, const Vec3& target, const Vec3& up = Vec3::UnitY()) {
+  DrawList list;
+  list.camera.position = eye;
+  list.camera.target = target;
+  list.camera.up = up;
+  list.camera.fov_deg = 40;
+  list.background_top = list.background_bottom = Vec3::Zero();
+  LightDesc amb;
+  amb.kind = LightKind::Ambient;
+  amb.intensity = 1.0;
+  list.lights = {amb};
+  return list;
+}
+
+// The 12 floats of a copy placed by rotation R (its columns the local axes), scale and origin.
+void addCopy(DrawInstances& d, const Mat3& R, double scale, const Vec3& origin) {
+  for (int a = 0; a < 3; ++a)
+    for (int k = 0; k < 3; ++k) d.transforms.push_back(static_cast<float>(scale * R(k, a)));
+  for (int k = 0; k < 3; ++k) d.transforms.push_back(static_cast<float>(origin[k]));
+}
+
+// The pixel where world point p appears (column, row from the top).
+std::pair<int, int> pixelOf(const DrawList& list, int W, int H, const Vec3& p) {
+  const DrawCamera& c = list.camera;
+  const Mat4f vp = perspective(c.fov_deg, double(W) / H, 0.5, 100) * lookAt(c.position, c.target, c.up);
+  const Eigen::Vector4f q = vp * Eigen::Vector4f(float(p.x()), float(p.y()), float(p.z()), 1.0f);
+  return {int((q.x() / q.w() * 0.5 + 0.5) * W), int((0.5 - q.y() / q.w() * 0.5) * H)};
+}
+
+// A mesh of one flat colour (per-vertex colours), to tell meshes apart in a picture.
+std::shared_ptr<const TriMesh> colouredMesh(TriMesh m, const Vec3& c) {
+  m.colors.clear();
+  for (std::size_t i = 0; i < m.vertexCount(); ++i)
+    for (int k = 0; k < 3; ++k) m.colors.push_back(static_cast<float>(c[k]));
+  return std::make_shared<const TriMesh>(std::move(m));
+}
+
+}  // namespace
+
+TEST_CASE("an instanced copy draws the pixels of the same mesh placed by a DrawMesh") {
+  DirectRenderer dr(96, 72, 4);
+  auto fish = std::make_shared<const TriMesh>(makeFishMesh(1));
+  const Mat3 R = rotationFromEulerDeg(Vec3(10, 35, 0));
+  const Vec3 t(0.1, 0.05, 0.4);
+  DrawList list = ambientList(Vec3(0.9, 0.6, 1.4), Vec3(0, 0, -0.1));
+  LightDesc key;
+  key.direction = Vec3(-0.4, -1.0, -0.3);
+  list.lights.push_back(key);
+  list.lights[0].intensity = 0.3;
+  DrawMaterial mat;
+  mat.color = Vec3(0.9, 0.6, 0.3);
+  mat.specular = 0.3;
+  // As a mesh, transformed on the CPU.
+  DrawList as_mesh = list;
+  TriMesh placed = *fish;
+  placed.transform(R, t);
+  as_mesh.meshes.push_back({std::make_shared<const TriMesh>(placed), false, mat});
+  // As one instanced copy.
+  DrawList as_copy = list;
+  DrawInstances d;
+  d.mesh = fish;
+  d.material = mat;
+  addCopy(d, R, 1.0, t);
+  as_copy.instances.push_back(d);
+  const Image a = dr.draw(as_mesh), b = dr.draw(as_copy);
+  const ImageDiff diff = compareImages(a, b, 8);
+  CHECK(diff.mean_abs < 0.2);
+  CHECK(diff.over <= 3);
+  CHECK(compareImages(a, dr.draw(list), 16).over > 100);  // the fish is there at all
+}
+
+TEST_CASE("instanced copies: per-copy colours, shadows, the far level of detail") {
+  const int W = 96, H = 48;
+  DirectRenderer dr(W, H, 1);
+  auto box = std::make_shared<const TriMesh>(makeBox(Vec3(0.4, 0.4, 0.4)));
+  // Two white boxes tinted red and blue, side by side, seen from the front.
+  DrawList list = ambientList(Vec3(0, 0, 2.5), Vec3(0, 0, 0));
+  DrawInstances d;
+  d.mesh = box;
+  d.material.color = Vec3(1, 1, 1);
+  addCopy(d, Mat3::Identity(), 1.0, Vec3(-0.6, 0, 0));
+  addCopy(d, Mat3::Identity(), 1.0, Vec3(0.6, 0, 0));
+  d.colors = {1.0f, 0.1f, 0.1f, 0.1f, 0.1f, 1.0f};
+  list.instances.push_back(d);
+  Image img = dr.draw(list);
+  const auto [lx, ly] = pixelOf(list, W, H, Vec3(-0.6, 0, 0.2));
+  const auto [rx, ry] = pixelOf(list, W, H, Vec3(0.6, 0, 0.2));
+  CHECK(img.pixel(lx, ly)[0] == 255);
+  CHECK(img.pixel(lx, ly)[2] < 100);
+  CHECK(img.pixel(rx, ry)[2] == 255);
+  CHECK(img.pixel(rx, ry)[0] < 100);
+  // Without colours both are white.
+  list.instances[0].colors.clear();
+  img = dr.draw(list);
+  CHECK(img.pixel(lx, ly)[2] == 255);
+  CHECK(img.pixel(rx, ry)[0] == 255);
+
+  // Level of detail: red near meshes, green far ones, switched at 2.5 m from the camera.
+  DrawInstances lod;
+  lod.mesh = colouredMesh(makeBox(Vec3(0.4, 0.4, 0.4)), Vec3(1, 0, 0));
+  lod.far_mesh = colouredMesh(makeBox(Vec3(0.4, 0.4, 0.4)), Vec3(0, 1, 0));
+  lod.far_distance = 2.5;
+  lod.material.color = Vec3(1, 1, 1);
+  addCopy(lod, Mat3::Identity(), 1.0, Vec3(-0.6, 0, 0.5));  // 2.09 m away
+  addCopy(lod, Mat3::Identity(), 1.0, Vec3(0.6, 0, -0.5));  // 3.06 m away
+  list.instances = {lod};
+  img = dr.draw(list);
+  const auto [nx, ny] = pixelOf(list, W, H, Vec3(-0.6, 0, 0.7));
+  const auto [fx, fy] = pixelOf(list, W, H, Vec3(0.6, 0, -0.3));
+  CHECK(img.pixel(nx, ny)[0] == 255);
+  CHECK(img.pixel(nx, ny)[1] == 0);
+  CHECK(img.pixel(fx, fy)[1] == 255);
+  CHECK(img.pixel(fx, fy)[0] == 0);
+  // The split keeps each part in the list's order.
+  DrawInstances many;
+  for (int i = 0; i < 6; ++i) addCopy(many, Mat3::Identity(), 1.0, Vec3(i, 0, 0));
+  std::array<std::vector<float>, 2> parts;
+  packInstances(many, Vec3(0, 0, 0), 2.5, parts);
+  REQUIRE(parts[0].size() == 3 * kInstanceFloats);
+  REQUIRE(parts[1].size() == 3 * kInstanceFloats);
+  for (int i = 0; i < 3; ++i) {
+    CHECK(parts[0][kInstanceFloats * i + 9] == float(i));
+    CHECK(parts[1][kInstanceFloats * i + 9] == float(i + 3));
+    CHECK(parts[0][kInstanceFloats * i + 12] == 1.0f);  // white without colours
+    CHECK(parts[0][kInstanceFloats * i + 15] == 0.0f);  // no phase without phases
+  }
+  packInstances(many, Vec3(0, 0, 0), 0.0, parts);
+  CHECK(parts[0].size() == 6 * kInstanceFloats);
+  CHECK(parts[1].empty());
+}
+
+TEST_CASE("instanced copies cast shadows") {
+  // A floor lit from straight above, a box held over it: the floor below the box is dark, the
+  // floor as far to the other side is not.
+  const int W = 96, H = 48;
+  DirectRenderer dr(W, H, 1);
+  DrawList lit = ambientList(Vec3(0, 4, 4), Vec3(0, 0, 0));
+  lit.lights[0].intensity = 0.2;
+  LightDesc sun;
+  sun.direction = Vec3(0, -1, 0);
+  sun.shadows = true;
+  lit.lights.push_back(sun);
+  lit.meshes.push_back({std::make_shared<const TriMesh>(makeQuad(6, 6)), false, DrawMaterial{}});
+  DrawInstances above;
+  above.mesh = std::make_shared<const TriMesh>(makeBox(Vec3(0.4, 0.4, 0.4)));
+  addCopy(above, Mat3::Identity(), 2.0, Vec3(1.2, 1.0, -0.8));
+  const Image bare = dr.draw(lit);
+  lit.instances.push_back(above);
+  const Image shadowed = dr.draw(lit);
+  const auto [sx, sy] = pixelOf(lit, W, H, Vec3(1.2, 0, -0.8));
+  const auto [ox, oy] = pixelOf(lit, W, H, Vec3(-1.2, 0, -0.8));
+  CHECK(shadowed.pixel(sx, sy)[0] + 40 < bare.pixel(sx, sy)[0]);
+  CHECK(std::abs(shadowed.pixel(ox, oy)[0] - bare.pixel(ox, oy)[0]) <= 1);
+}
+
+TEST_CASE("the travelling wave bends copies sideways: phase π mirrors phase 0") {
+  // A fish along z seen from straight above: image columns run along world x (mirrored), rows
+  // along z. Ambient light only, so the picture of a mirrored shape is the mirrored picture.
+  const int W = 80, H = 96;
+  DirectRenderer dr(W, H, 4);
+  DrawList list = ambientList(Vec3(0, 2.6, -0.5), Vec3(0, 0, -0.5), Vec3(0, 0, 1));
+  DrawInstances d;
+  d.mesh = std::make_shared<const TriMesh>(makeFishMesh(1));
+  d.material.color = Vec3(1, 1, 1);
+  addCopy(d, Mat3::Identity(), 1.0, Vec3(0, 0, 0));
+  d.wave_amplitude = 0.12f;
+  d.wave_number = float(kPi / 2);  // the tail tip is a quarter wave behind the start
+  d.wave_start = -0.2f;
+  d.wave_end = -1.0f;
+  list.instances.push_back(d);
+  const Image straight = dr.draw(list);
+  list.instances[0].phases = {0.0f};
+  const Image bent = dr.draw(list);
+  list.instances[0].phases = {float(kPi)};
+  const Image other = dr.draw(list);
+  CHECK(compareImages(straight, bent, 16).over > 40);
+  // Phase π displaces every point by minus what phase 0 does: the mirror image, row by row the
+  // same coverage about the mirrored centre (to a fraction of a pixel: the samples of a pixel are
+  // not placed symmetrically).
+  double total0 = 0, total1 = 0, worst = 0, mean = 0;
+  int rows = 0;
+  for (int y = 0; y < H; ++y) {
+    double s0 = 0, c0 = 0, s1 = 0, c1 = 0;
+    for (int x = 0; x < W; ++x) {
+      s0 += bent.pixel(x, y)[0];
+      c0 += bent.pixel(x, y)[0] * (x + 0.5);
+      s1 += other.pixel(x, y)[0];
+      c1 += other.pixel(x, y)[0] * (x + 0.5);
+    }
+    total0 += s0;
+    total1 += s1;
+    if (s0 < 255 || s1 < 255) continue;
+    ++rows;
+    worst = std::max(worst, std::abs(c0 / s0 + c1 / s1 - W));
+    mean += std::abs(c0 / s0 + c1 / s1 - W);
+  }
+  CHECK(rows > 30);
+  CHECK(total1 == doctest::Approx(total0).epsilon(0.01));
+  CHECK(mean / rows < 0.2);
+  CHECK(worst < 1.0);
+  // At phase 0 the tail fin (z from −0.9 to −1) moves by a(z)·sin(−k·(start − z)): −0.082 m to
+  // −0.114 m along x, to the right in the picture (the camera's right is −x).
+  auto tailCentre = [&](const Image& img) {
+    double sum = 0, weight = 0;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        // Rows of the tail: z from −0.9 to −1.0, the bottom of the picture (+z is up).
+        const double z = -0.5 - (y + 0.5 - H / 2.0) / (H / 2.0) * 2.6 * std::tan(20 * kPi / 180);
+        if (z > -0.9) continue;
+        sum += img.pixel(x, y)[0] * (x + 0.5);
+        weight += img.pixel(x, y)[0];
+      }
+    return sum / std::max(weight, 1.0);
+  };
+  const double px_per_m = (H / 2.0) / (2.6 * std::tan(20 * kPi / 180));
+  const double shift = tailCentre(bent) - tailCentre(straight);
+  CHECK(shift > 0.08 * px_per_m);
+  CHECK(shift < 0.115 * px_per_m);
 }
 
 TEST_CASE("the sand pattern: pale warm sand, varied, tileable") {

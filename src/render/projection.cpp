@@ -43,6 +43,34 @@ Mat4f ortho(double r, double n, double f) {
   return m.cast<float>();
 }
 
+namespace {
+
+// The largest distance of a mesh's vertices from its local origin.
+double meshRadius(const TriMesh* m) {
+  double r2 = 0;
+  if (m)
+    for (std::size_t i = 0; i + 2 < m->positions.size(); i += 3)
+      r2 = std::max(r2, double(Vec3f(m->positions[i], m->positions[i + 1], m->positions[i + 2]).squaredNorm()));
+  return std::sqrt(r2);
+}
+
+// Grows [lo, hi] by each copy's origin and a margin: the mesh's radius (plus the wave's sideways
+// reach) times the copy's largest axis length.
+void addInstances(const DrawInstances& d, Vec3& lo, Vec3& hi) {
+  if (!d.mesh || d.count() == 0) return;
+  const double r = std::max(meshRadius(d.mesh.get()), meshRadius(d.far_mesh.get())) + std::abs(d.wave_amplitude);
+  for (std::size_t i = 0; i < d.count(); ++i) {
+    const float* t = &d.transforms[12 * i];
+    double scale = 0;
+    for (int a = 0; a < 3; ++a) scale = std::max(scale, double(Vec3f(t[3 * a], t[3 * a + 1], t[3 * a + 2]).norm()));
+    const Vec3 o(t[9], t[10], t[11]);
+    lo = lo.cwiseMin(o - Vec3::Constant(r * scale));
+    hi = hi.cwiseMax(o + Vec3::Constant(r * scale));
+  }
+}
+
+}  // namespace
+
 void sceneBounds(const DrawList& list, Vec3& center, double& radius) {
   Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
   auto add = [&](const float* p) {
@@ -67,6 +95,7 @@ void sceneBounds(const DrawList& list, Vec3& center, double& radius) {
     for (std::size_t i = 0; i + 2 < s.centers.size(); i += 3) add(&s.centers[i]);
   for (const auto& t : list.tubes)
     for (std::size_t i = 0; i + 2 < t.ends.size(); i += 3) add(&t.ends[i]);
+  for (const auto& d : list.instances) addInstances(d, lo, hi);
   if (lo.x() > hi.x()) {
     center = list.camera.target;
     radius = 5.0;

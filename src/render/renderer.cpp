@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <deque>
 #include <filesystem>
 
 #include "core/math.h"
@@ -49,6 +50,17 @@ struct Renderer::Impl {
   // The DrawList's meshes and textures.
   MeshCache meshes;
   TextureCache textures;
+  // The frame's instanced meshes: one draw per DrawInstances and level of detail, its copies
+  // streamed once per frame into a buffer of its own and drawn by every pass.
+  struct InstanceDraw {
+    std::size_t item;  // into list.instances
+    const GpuMesh* proto;
+    const StreamBuffer* copies;
+    GLsizei count;
+  };
+  std::vector<InstanceDraw> instance_draws;
+  std::deque<StreamBuffer> instance_streams;  // reused frame to frame; deque: stable addresses
+  std::array<std::vector<float>, 2> packed;    // near and far copies of one DrawInstances
   // The frame's camera, for the level of detail.
   double px_per_m_at_1m = 1.0;  // pixels per metre at 1 m from the camera
   Vec3 eye{0, 0, 0};
@@ -78,6 +90,8 @@ struct Renderer::Impl {
   Status drawGeometry(const DrawList& list, Pass pass);
   Status drawSpheres(const DrawSpheres& s, Pass pass);
   Status drawTubes(const DrawTubes& t, Pass pass);
+  void prepareInstances(const DrawList& list);
+  Status drawInstances(const DrawInstances& d, const InstanceDraw& draw, Pass pass);
   Status bind(const DrawMaterial& m, Pass pass) { return pass.with_material ? surfaces.use(m, textures) : Status{}; }
   GLuint program(Pass pass) const { return pass.with_material ? surfaces.current() : shadow.id(); }
 };
@@ -175,6 +189,8 @@ Status Renderer::Impl::drawGeometry(const DrawList& list, Pass pass) {
     if (Status st = drawSpheres(s, pass); !st) return st;
   for (const auto& t : list.tubes)
     if (Status st = drawTubes(t, pass); !st) return st;
+  for (const InstanceDraw& d : instance_draws)
+    if (Status st = drawInstances(list.instances[d.item], d, pass); !st) return st;
   return {};
 }
 
@@ -246,6 +262,41 @@ Status Renderer::Impl::drawTubes(const DrawTubes& t, Pass pass) {
   return {};
 }
 
+// Splits each DrawInstances by level of detail and streams its copies to the GPU, once for all
+// the frame's passes.
+void Renderer::Impl::prepareInstances(const DrawList& list) {
+  instance_draws.clear();
+  std::size_t next = 0;  // the next stream buffer
+  for (std::size_t i = 0; i < list.instances.size(); ++i) {
+    const DrawInstances& d = list.instances[i];
+    const GpuMesh* near = meshes.prototype(d.mesh);
+    if (!near || d.count() == 0) continue;
+    const GpuMesh* far = d.far_distance > 0 ? meshes.prototype(d.far_mesh) : nullptr;
+    packInstances(d, eye, far ? d.far_distance : 0.0, packed);
+    for (std::size_t lod = 0; lod < 2; ++lod) {
+      if (packed[lod].empty()) continue;
+      if (next >= instance_streams.size()) instance_streams.emplace_back().buffer = gl::makeBuffer(*gl);
+      StreamBuffer& sb = instance_streams[next++];
+      sb.fill(*gl, packed[lod]);
+      instance_draws.push_back({i, lod == 0 ? near : far, &sb, static_cast<GLsizei>(packed[lod].size() / kInstanceFloats)});
+    }
+  }
+}
+
+Status Renderer::Impl::drawInstances(const DrawInstances& d, const InstanceDraw& draw, Pass pass) {
+  if (!pass.wants(d.material)) return {};
+  bindMeshInstances(*gl, *draw.proto, *draw.copies);
+  if (Status st = bind(d.material, pass); !st) return st;
+  const GLuint prog = program(pass);
+  // No phases, or no span to bend over: no wave.
+  const bool waving = d.phases.size() == d.count() && d.wave_start > d.wave_end;
+  const float span = waving ? d.wave_start - d.wave_end : 1.0f;
+  gl->Uniform1i(loc(prog, "u_mode"), 3);
+  gl->Uniform4f(loc(prog, "u_wave"), waving ? d.wave_amplitude : 0.0f, d.wave_number, d.wave_start, 1.0f / span);
+  gl->DrawElementsInstanced(GL_TRIANGLES, draw.proto->count, GL_UNSIGNED_INT, nullptr, draw.count);
+  return {};
+}
+
 Status Renderer::Impl::draw(const DrawList& list, Image& out) {
   Vec3 center;
   double radius;
@@ -256,6 +307,7 @@ Status Renderer::Impl::draw(const DrawList& list, Image& out) {
   meshes.prepare(list);
   eye = list.camera.position;
   px_per_m_at_1m = 0.5 * set.height / std::tan(list.camera.fov_deg * kPi / 360.0);
+  prepareInstances(list);
   std::vector<int> light_shadow(list.lights.size(), -1);
   std::array<Mat4f, 2> shadow_mats{Mat4f::Zero(), Mat4f::Zero()};
   if (Status st = shadowPasses(list, center, radius, light_shadow, shadow_mats); !st) return st;

@@ -88,8 +88,56 @@ void bindInstances(const gl::GlApi& gl, const GpuMesh& proto, StreamBuffer& inst
   }
 }
 
+void packInstances(const DrawInstances& d, const Vec3& eye, double far_distance,
+                   std::array<std::vector<float>, 2>& out) {
+  const std::size_t n = d.count();
+  const bool tinted = d.colors.size() == 3 * n, waving = d.phases.size() == n;
+  const bool lod = far_distance > 0;
+  const double far2 = far_distance * far_distance;
+  out[0].clear();
+  out[1].clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    const float* t = &d.transforms[12 * i];
+    const Vec3 origin(t[9], t[10], t[11]);
+    std::vector<float>& o = out[lod && (origin - eye).squaredNorm() > far2 ? 1 : 0];
+    o.insert(o.end(), t, t + 12);
+    if (tinted)
+      o.insert(o.end(), &d.colors[3 * i], &d.colors[3 * i] + 3);
+    else
+      o.insert(o.end(), {1.0f, 1.0f, 1.0f});
+    o.push_back(waving ? d.phases[i] : 0.0f);
+  }
+}
+
+void bindMeshInstances(const gl::GlApi& gl, const GpuMesh& proto, const StreamBuffer& inst) {
+  gl.BindVertexArray(proto.vao.id());
+  gl.BindBuffer(GL_ARRAY_BUFFER, inst.buffer.id());
+  const GLsizei stride = kInstanceFloats * static_cast<GLsizei>(sizeof(float));
+  for (GLuint a = 6; a <= 10; ++a) {
+    const std::size_t offset = (a - 6) * 3 * sizeof(float);
+    gl.EnableVertexAttribArray(a);
+    gl.VertexAttribPointer(a, a == 10 ? 4 : 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(offset));
+    gl.VertexAttribDivisor(a, 1);
+  }
+}
+
 void MeshCache::forgetExpired() {
   std::erase_if(static_, [](const auto& kv) { return kv.second.first.expired(); });
+  std::erase_if(prototypes_, [](const auto& kv) { return kv.second.first.expired(); });
+}
+
+GpuMesh& MeshCache::keep(StaticMeshes& cache, const std::shared_ptr<const TriMesh>& mesh) {
+  auto& entry = cache[mesh.get()];
+  if (entry.first.lock() != mesh) {  // new, or an old address reused by another mesh
+    entry.first = mesh;
+    upload(*gl_, entry.second, *mesh);
+  }
+  return entry.second;
+}
+
+const GpuMesh* MeshCache::prototype(const std::shared_ptr<const TriMesh>& mesh) {
+  if (!mesh || mesh->indices.empty()) return nullptr;
+  return &keep(prototypes_, mesh);
 }
 
 void MeshCache::prepare(const DrawList& list) {
@@ -104,12 +152,7 @@ void MeshCache::prepare(const DrawList& list) {
       upload(*gl_, *slots_[i], *m.mesh);
       continue;
     }
-    auto& entry = static_[m.mesh.get()];
-    slots_[i] = &entry.second;
-    if (entry.first.lock() != m.mesh) {  // new, or an old address reused by another mesh
-      entry.first = m.mesh;
-      upload(*gl_, entry.second, *m.mesh);
-    }
+    slots_[i] = &keep(static_, m.mesh);
   }
 }
 

@@ -41,8 +41,23 @@ struct StreamBuffer {
 void bindInstances(const gl::GlApi& gl, const GpuMesh& proto, StreamBuffer& inst, const std::vector<float>& data,
                    int floats_per_instance);
 
+// The copies of one DrawInstances for one level of detail, packed for attributes 6..10: per copy
+// 16 floats, the transform's X, Y, Z and origin (12), the tint (3, white without `colors`) and the
+// wave phase (1, 0 without `phases`).
+inline constexpr int kInstanceFloats = 16;
+
+// Splits d's copies by level of detail, each part in the DrawList's order: out[1] has the copies
+// whose origin is farther than `far_distance` from `eye` (none when far_distance <= 0), out[0]
+// the others.
+void packInstances(const DrawInstances& d, const Vec3& eye, double far_distance,
+                   std::array<std::vector<float>, 2>& out);
+
+// Binds `inst` (packed as above) to attributes 6..10 of a prototype's VAO, one step per instance.
+void bindMeshInstances(const gl::GlApi& gl, const GpuMesh& proto, const StreamBuffer& inst);
+
 // The DrawList's meshes on the GPU: static ones keep their copy while their owner lives,
-// per-frame ones are uploaded into reused slots every frame.
+// per-frame ones are uploaded into reused slots every frame; the prototypes of instanced meshes
+// likewise, in their own VAOs (which carry the instance attributes).
 class MeshCache {
  public:
   explicit MeshCache(const gl::GlApi& gl) : gl_(&gl) {}
@@ -51,11 +66,15 @@ class MeshCache {
   // Uploads what the frame needs; afterwards slot(i) is list.meshes[i]'s copy (null: nothing to draw).
   void prepare(const DrawList& list);
   const GpuMesh* slot(std::size_t i) const { return slots_[i]; }
+  // The copy of an instancing prototype, uploaded on first use; null for an empty mesh.
+  const GpuMesh* prototype(const std::shared_ptr<const TriMesh>& mesh);
 
  private:
   const gl::GlApi* gl_;
-  // Static meshes by address; the weak pointer tells a live owner from a reused address.
-  std::map<const TriMesh*, std::pair<std::weak_ptr<const TriMesh>, GpuMesh>> static_;
+  // Static meshes and prototypes by address; the weak pointer tells a live owner from a reused address.
+  using StaticMeshes = std::map<const TriMesh*, std::pair<std::weak_ptr<const TriMesh>, GpuMesh>>;
+  StaticMeshes static_, prototypes_;
+  GpuMesh& keep(StaticMeshes& cache, const std::shared_ptr<const TriMesh>& mesh);
   std::deque<GpuMesh> per_frame_;  // deque: slots stay valid as it grows
   std::vector<GpuMesh*> slots_;    // list.meshes[i]'s copy, into static_ or per_frame_
 };

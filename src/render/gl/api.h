@@ -86,6 +86,7 @@ namespace reel::gl {
   X(Uniform1i, PFNGLUNIFORM1IPROC)                                        \
   X(Uniform1f, PFNGLUNIFORM1FPROC)                                        \
   X(Uniform3f, PFNGLUNIFORM3FPROC)                                        \
+  X(Uniform4f, PFNGLUNIFORM4FPROC)                                        \
   X(Uniform1fv, PFNGLUNIFORM1FVPROC)                                      \
   X(Uniform3fv, PFNGLUNIFORM3FVPROC)                                      \
   X(Uniform1iv, PFNGLUNIFORM1IVPROC)                                      \
