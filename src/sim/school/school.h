@@ -6,6 +6,8 @@
 #include <array>
 #include <cstdint>
 #include <utility>
+
+#include <Eigen/Geometry>
 #include <string>
 #include <vector>
 
