@@ -1,23 +1,24 @@
 // Shared by surface.vert and shadow.vert: the world position and normal of a vertex of a plain
-// mesh (mode 0), an instanced sphere (mode 1: a_inst0 = centre, u_radius), an instanced tube
-// (mode 2: the unit tube mapped from a_inst0 to a_inst1, radius u_radius) or an instanced mesh
-// (mode 3: placed by a_axis_x, a_axis_y, a_axis_z, a_origin, bent by the travelling wave; see
-// DrawInstances in core/drawlist.h).
+// mesh (mode 0), an instanced sphere (mode 1: a_inst0 = centre, u_radius) or an instanced tube
+// (mode 2: the unit tube mapped from a_inst0 to a_inst1, radius u_radius); compiled with
+// INSTANCED, of an instanced mesh (placed by a_axis_x, a_axis_y, a_axis_z, a_origin, bent by the
+// travelling wave; see DrawInstances in core/drawlist.h). A variant of its own, not a fourth mode:
+// llvmpipe runs every side of a branch, and vertex shading is its serial part.
 layout(location = 0) in vec3 a_pos;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_uv;
 layout(location = 3) in vec3 a_inst0;
 layout(location = 4) in vec3 a_inst1;
 layout(location = 5) in vec3 a_color;  // per-vertex colour; (1, 1, 1) where a mesh has none
-layout(location = 6) in vec3 a_axis_x;  // mode 3, per instance: local axes in world space
+layout(location = 6) in vec3 a_axis_x;  // INSTANCED, per instance: local axes in world space
 layout(location = 7) in vec3 a_axis_y;
 layout(location = 8) in vec3 a_axis_z;
 layout(location = 9) in vec3 a_origin;
-layout(location = 10) in vec4 a_tint_phase;  // mode 3, per instance: rgb tint, wave phase
+layout(location = 10) in vec4 a_tint_phase;  // INSTANCED, per instance: rgb tint, wave phase
 
 uniform int u_mode;
 uniform float u_radius;
-uniform vec4 u_wave;  // mode 3: amplitude, wave number, wave_start, 1 / (wave_start − wave_end)
+uniform vec4 u_wave;  // INSTANCED: amplitude, wave number, wave_start, 1 / (wave_start − wave_end)
 
 // The wave's sideways displacement x += f(z) = a(z)·sin(phase − k·(start − z)), a = A·s²,
 // s = clamp((start − z)/(start − end), 0, 1); returns f and df/dz.
@@ -42,6 +43,10 @@ void instancedVertex(out vec3 p, out vec3 n) {
   n = sign(dot(a_axis_x, cx)) * (m.x * cx + m.y * cy + m.z * cz);
 }
 
+#ifdef INSTANCED
+void worldVertex(out vec3 p, out vec3 n) { instancedVertex(p, n); }
+vec3 vertexColor() { return a_color * a_tint_phase.rgb; }  // times the copy's tint
+#else
 void worldVertex(out vec3 p, out vec3 n) {
   if (u_mode == 1) {
     p = a_inst0 + u_radius * a_pos;
@@ -55,13 +60,10 @@ void worldVertex(out vec3 p, out vec3 n) {
     vec3 v = cross(w, u);
     p = a_inst0 + u_radius * (a_pos.x * u + a_pos.y * v) + a_pos.z * d;
     n = a_normal.x * u + a_normal.y * v;
-  } else if (u_mode == 3) {
-    instancedVertex(p, n);
   } else {
     p = a_pos;
     n = a_normal;
   }
 }
-
-// The per-vertex colour, times the instance's tint for instanced meshes.
-vec3 vertexColor() { return u_mode == 3 ? a_color * a_tint_phase.rgb : a_color; }
+vec3 vertexColor() { return a_color; }
+#endif

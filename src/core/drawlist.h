@@ -58,6 +58,13 @@ struct DrawTubes {
 //
 // Copies farther than `far_distance` from the camera are drawn with `far_mesh` when it is set (a
 // level of detail for small, distant copies); the wave bends both the same way.
+//
+// The renderer: normals go through the inverse transpose of [X Y Z], so any invertible transform
+// lights correctly; the wave needs wave_end < wave_start (else no bend). Meshes are taken as
+// closed, counter-clockwise from outside: back faces are culled unless material.double_sided
+// (give double_sided to open meshes and to mirroring transforms, det [X Y Z] < 0). Each mesh
+// costs one draw call for all its copies; on llvmpipe the time goes by triangles drawn, so a far
+// mesh of few triangles is what makes thousands of copies cheap.
 struct DrawInstances {
   std::shared_ptr<const TriMesh> mesh;      // local coordinates as above
   std::shared_ptr<const TriMesh> far_mesh;  // optional coarser version of `mesh`

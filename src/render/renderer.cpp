@@ -34,7 +34,7 @@ struct Renderer::Impl {
   RenderSettings set;
   gl::UniformCache uniforms;  // of every program below
   SurfaceShaders surfaces;
-  gl::Program shadow, background;
+  gl::Program shadow, shadow_instanced, background;
   gl::VertexArray empty_vao;  // the background's full-screen triangle needs no attributes
   // Multisampled colour + depth, resolved into a single-sample colour buffer; two shadow maps.
   gl::Renderbuffer msaa_color, msaa_depth, resolve_color;
@@ -94,6 +94,8 @@ struct Renderer::Impl {
   Status drawInstances(const DrawInstances& d, const InstanceDraw& draw, Pass pass);
   Status bind(const DrawMaterial& m, Pass pass) { return pass.with_material ? surfaces.use(m, textures) : Status{}; }
   GLuint program(Pass pass) const { return pass.with_material ? surfaces.current() : shadow.id(); }
+  // The same for instanced meshes: their own variants, which leave the shadow program bound.
+  Status bindInstanced(const DrawMaterial& m, Pass pass);
 };
 
 Status Renderer::Impl::init(const std::string& dir) {
@@ -101,6 +103,9 @@ Status Renderer::Impl::init(const std::string& dir) {
   auto sh = gl::buildProgram(*gl, dir, "shadow.vert", "shadow.frag", true);
   if (!sh.ok()) return sh.error();
   shadow = std::move(sh.value());
+  sh = gl::buildProgram(*gl, dir, "shadow.vert", "shadow.frag", true, "#define INSTANCED\n");
+  if (!sh.ok()) return sh.error();
+  shadow_instanced = std::move(sh.value());
   auto bg = gl::buildProgram(*gl, dir, "background.vert", "background.frag", false);
   if (!bg.ok()) return bg.error();
   background = std::move(bg.value());
@@ -283,17 +288,25 @@ void Renderer::Impl::prepareInstances(const DrawList& list) {
   }
 }
 
+Status Renderer::Impl::bindInstanced(const DrawMaterial& m, Pass pass) {
+  if (pass.with_material) return surfaces.use(m, textures, true);
+  gl->UseProgram(shadow_instanced.id());
+  return {};
+}
+
 Status Renderer::Impl::drawInstances(const DrawInstances& d, const InstanceDraw& draw, Pass pass) {
   if (!pass.wants(d.material)) return {};
   bindMeshInstances(*gl, *draw.proto, *draw.copies);
-  if (Status st = bind(d.material, pass); !st) return st;
-  const GLuint prog = program(pass);
+  if (Status st = bindInstanced(d.material, pass); !st) return st;
+  const GLuint prog = pass.with_material ? surfaces.current() : shadow_instanced.id();
   // No phases, or no span to bend over: no wave.
   const bool waving = d.phases.size() == d.count() && d.wave_start > d.wave_end;
   const float span = waving ? d.wave_start - d.wave_end : 1.0f;
-  gl->Uniform1i(loc(prog, "u_mode"), 3);
   gl->Uniform4f(loc(prog, "u_wave"), waving ? d.wave_amplitude : 0.0f, d.wave_number, d.wave_start, 1.0f / span);
+  // A closed mesh hides its back faces: culling them halves what the rasteriser fills.
+  if (!d.material.double_sided) gl->Enable(GL_CULL_FACE);
   gl->DrawElementsInstanced(GL_TRIANGLES, draw.proto->count, GL_UNSIGNED_INT, nullptr, draw.count);
+  gl->Disable(GL_CULL_FACE);
   return {};
 }
 
@@ -341,6 +354,8 @@ Status Renderer::Impl::shadowPasses(const DrawList& list, const Vec3& center, do
     gl->Viewport(0, 0, set.shadow_map_size, set.shadow_map_size);
     gl->ClearDepth(1.0);
     gl->Clear(GL_DEPTH_BUFFER_BIT);
+    gl->UseProgram(shadow_instanced.id());
+    gl->UniformMatrix4fv(loc(shadow_instanced.id(), "u_view_proj"), 1, GL_FALSE, vp.data());
     gl->UseProgram(shadow.id());
     gl->UniformMatrix4fv(loc(shadow.id(), "u_view_proj"), 1, GL_FALSE, vp.data());
     gl->Enable(GL_POLYGON_OFFSET_FILL);

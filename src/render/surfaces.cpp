@@ -51,9 +51,10 @@ void SurfaceShaders::beginFrame(const DrawList& list, const std::vector<int>& li
   current_ = 0;
 }
 
-Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures) {
+Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures, bool instanced) {
   // The variant: the frame's #defines and the material's.
   std::string key = frame_defines_;
+  if (instanced) key += "#define INSTANCED\n";
   if (m.specular > 0) key += "#define SPECULAR\n";
   if (m.double_sided) key += "#define DOUBLE_SIDED\n";
   if (m.checker) key += "#define CHECKER\n";

@@ -29,8 +29,9 @@ class SurfaceShaders {
   void beginFrame(const DrawList& list, const std::vector<int>& light_shadow, const Mat4f& view_proj,
                   const std::array<Mat4f, 2>& shadow_mats);
   // Binds the variant for a material (compiling it on first use), uploads the frame's uniforms to
-  // it once per frame, then binds the material's texture and sets its uniforms.
-  Status use(const DrawMaterial& m, TextureCache& textures);
+  // it once per frame, then binds the material's texture and sets its uniforms. `instanced`: the
+  // variant for instanced meshes (geometry.glsl's INSTANCED).
+  Status use(const DrawMaterial& m, TextureCache& textures, bool instanced = false);
   // The variant bound by the last use(), 0 after programChanged().
   GLuint current() const { return current_; }
   // Another program was bound: the next use() binds its variant again.

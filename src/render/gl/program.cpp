@@ -40,7 +40,7 @@ Result<Program> buildProgram(const GlApi& gl, const std::string& dir, const std:
       (with_geometry && !readText(dir + "/geometry.glsl", geo)))
     return Error(ErrorKind::Internal, "shaders not found in " + dir + " (set REEL_SHADERS)");
   const std::string head = "#version 330 core\n";
-  auto v = compile(gl, GL_VERTEX_SHADER, head + geo + vsrc, vs);
+  auto v = compile(gl, GL_VERTEX_SHADER, head + defines + geo + vsrc, vs);
   if (!v.ok()) return v.error();
   auto f = compile(gl, GL_FRAGMENT_SHADER, head + defines + fsrc, fs);
   if (!f.ok()) return f.error();
