@@ -67,8 +67,8 @@ def svg(results, out):
                 parts.append('<circle cx="%.1f" cy="%.1f" r="2.5" fill="%s" fill-opacity="0.45"/>' % (sx(d), sy(v), colour))
             pts.append("%.1f,%.1f" % (sx(d), sy(sum(vals) / len(vals))))
         parts.append('<polyline points="%s" fill="none" stroke="%s" stroke-width="2"/>' % (" ".join(pts), colour))
-        ly = y0 + (14 if key == "p" else 30)
-        parts.append('<text x="%d" y="%d" fill="%s">%s (mean of seeds, dots: each seed)</text>' % (x1 - 290, ly, colour, label))
+        ly = sy(0.62 if key == "p" else 0.56)
+        parts.append('<text x="%d" y="%.1f" fill="%s">%s (mean of seeds, dots: each seed)</text>' % (x1 - 290, ly, colour, label))
     for d, name in ((0, "swarm"), (1.2, "torus"), (5, "dynamic parallel"), (13.5, "highly parallel")):
         parts.append('<text x="%.1f" y="%d" text-anchor="middle" fill="#555">%s</text>' % (sx(d), y0 + 60, name))
     parts.append("</svg>")

@@ -41,7 +41,7 @@ void SchoolBody::draw(DrawList& out) const {
   } else {
     di.mesh = fishMesh(1);
     di.far_mesh = fishMesh(0);
-    di.far_distance = 30.0 * d.length;  // beyond, a fish is a few dozen pixels long at 720p
+    di.far_distance = 15.0 * d.length;  // beyond, a fish is under about 60 pixels long at 720p
   }
   const double span = z_hi - z_lo, scale = d.length / span;
   di.wave_start = static_cast<float>(z_hi - span / 3);
