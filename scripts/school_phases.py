@@ -7,6 +7,11 @@ parameters per frame (reel simulate --stats); the script averages polarisation p
 over the last 50 s and writes a table (stdout) and a plot (SVG).
 
     python3 scripts/school_phases.py build/release/reel docs/images/school_phases.svg [seeds]
+
+It then repeats the paper's Fig. 3, collective memory: dr_o rises slowly from 0.5 to 7 over
+700 s (from a torus) and falls back over another 700 s (from a parallel group), with r_o keyed
+over time in the scene ("orientation": [{"time", "value"}, ...]); p and m are averaged in bins of
+dr_o for each leg and plotted beside the first SVG (name_hysteresis.svg).
 """
 import csv
 import os
@@ -75,6 +80,63 @@ def svg(results, out):
     open(out, "w").write("\n".join(parts) + "\n")
 
 
+RAMP, LO, HI = 700.0, 0.5, 7.0
+
+
+def ramp_scene(seed):
+    keys = [(0.0, LO), (100.0, LO), (100.0 + RAMP, HI), (100.0 + 2 * RAMP, LO)]
+    ro = ", ".join('{"time": %g, "value": %g}' % (t, 1 + d) for t, d in keys)
+    return ('{"format": "reel/1", "name": "memory", "fps": 10, "substeps": 1, "duration": %g, "seed": %d,'
+            ' "bodies": [{"type": "school", "name": "s", "count": 100, "start": {"center": [0, 0, 0], "radius": 4},'
+            ' "zones": {"repulsion": 1, "orientation": [%s], "attraction": %g}}]}' % (100 + 2 * RAMP, seed, ro, 1 + HI + D_ATTRACT))
+
+
+def hysteresis(reel, seeds, tmp):
+    """Mean p and m per bin of dr_o, for the rising and the falling leg."""
+    bins = {}
+    for seed in seeds:
+        path, stats = os.path.join(tmp, "memory.json"), os.path.join(tmp, "memory.csv")
+        with open(path, "w") as f:
+            f.write(ramp_scene(seed))
+        subprocess.run([reel, "simulate", path, "--stats", stats], check=True, stdout=subprocess.DEVNULL)
+        for r in csv.DictReader(open(stats)):
+            t = float(r["time"]) - 100.0
+            if t < 0:
+                continue
+            leg = "up" if t < RAMP else "down"
+            d = LO + (HI - LO) * (t / RAMP if t < RAMP else 2 - t / RAMP)
+            key = (leg, round(d * 2) / 2)
+            acc = bins.setdefault(key, [0.0, 0.0, 0])
+            acc[0] += float(r["polarization"])
+            acc[1] += float(r["milling"])
+            acc[2] += 1
+    return {k: (v[0] / v[2], v[1] / v[2]) for k, v in bins.items()}
+
+
+def hysteresis_svg(bins, out):
+    w, h, x0, y0, x1, y1 = 640, 400, 60, 30, 610, 350
+    sx = lambda d: x0 + (x1 - x0) * (d - LO) / (HI - LO)
+    sy = lambda v: y1 - (y1 - y0) * v
+    parts = ['<svg xmlns="http://www.w3.org/2000/svg" width="%d" height="%d" font-family="sans-serif" font-size="12">' % (w, h),
+             '<rect width="100%" height="100%" fill="white"/>',
+             '<line x1="%d" y1="%d" x2="%d" y2="%d" stroke="black"/>' % (x0, y1, x1, y1),
+             '<line x1="%d" y1="%d" x2="%d" y2="%d" stroke="black"/>' % (x0, y0, x0, y1)]
+    for d in range(1, 8):
+        parts.append('<text x="%.1f" y="%d" text-anchor="middle">%d</text>' % (sx(d), y1 + 16, d))
+    for v in (0, 0.25, 0.5, 0.75, 1.0):
+        parts.append('<text x="%d" y="%.1f" text-anchor="end">%.2f</text>' % (x0 - 6, sy(v) + 4, v))
+    parts.append('<text x="%d" y="%d" text-anchor="middle">r_o - r_r, changed slowly (r_r = 1, r_a - r_o = 14 at the widest)</text>' % ((x0 + x1) // 2, h - 12))
+    styles = (("up", 0, "#1f5fbf", "", "p, r_o rising (from a torus)"), ("down", 0, "#1f5fbf", ' stroke-dasharray="6,4"', "p, r_o falling (from a parallel group)"),
+              ("up", 1, "#c0392b", "", "m, r_o rising"), ("down", 1, "#c0392b", ' stroke-dasharray="6,4"', "m, r_o falling"))
+    for n, (leg, k, colour, dash, label) in enumerate(styles):
+        pts = ["%.1f,%.1f" % (sx(d), sy(v[k])) for (l, d), v in sorted(bins.items()) if l == leg]
+        parts.append('<polyline points="%s" fill="none" stroke="%s" stroke-width="2"%s/>' % (" ".join(pts), colour, dash))
+        parts.append('<line x1="%d" y1="%d" x2="%d" y2="%d" stroke="%s" stroke-width="2"%s/>' % (x1 - 300, y0 + 150 + 16 * n, x1 - 270, y0 + 150 + 16 * n, colour, dash))
+        parts.append('<text x="%d" y="%d">%s</text>' % (x1 - 262, y0 + 154 + 16 * n, label))
+    parts.append("</svg>")
+    open(out, "w").write("\n".join(parts) + "\n")
+
+
 def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
@@ -90,6 +152,13 @@ def main():
             print("%5.1f  %8.3f  %8.3f  %s" % (d, p, m, state(p, m)))
             results.append((d, runs))
     svg(results, out)
+    with tempfile.TemporaryDirectory() as tmp:
+        bins = hysteresis(reel, seeds, tmp)
+    print("\nr_o - r_r  rising: p  m     falling: p  m")
+    for d in sorted({d for _, d in bins}):
+        u, v = bins.get(("up", d), (float("nan"),) * 2), bins.get(("down", d), (float("nan"),) * 2)
+        print("%5.1f      %5.2f  %5.2f       %5.2f  %5.2f" % (d, u[0], u[1], v[0], v[1]))
+    hysteresis_svg(bins, out.replace(".svg", "_hysteresis.svg"))
 
 
 if __name__ == "__main__":

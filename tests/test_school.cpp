@@ -153,6 +153,20 @@ TEST_CASE("Couzin's collective states: swarm, torus, dynamic parallel, highly pa
   }
 }
 
+TEST_CASE("r_o keyed over time: a torus opens into a parallel group as the zone of orientation widens") {
+  World w = worldFromText(R"({"format": "reel/1", "fps": 10, "substeps": 1, "duration": 200, "seed": 2,
+      "bodies": [{"type": "school", "name": "s", "count": 100, "start": {"center": [0, 0, 0], "radius": 4},
+                  "zones": {"repulsion": 1, "orientation": [{"time": 0, "value": 2}, {"time": 100, "value": 2}, {"time": 120, "value": 15}],
+                            "attraction": 16}}]})");
+  CHECK(schoolOf(w).desc.couzin.orientationAt(110) == doctest::Approx(8.5));
+  run(w, 1000);
+  const SchoolOrder torus = schoolOrder(schoolOf(w).x, schoolOf(w).v);
+  run(w, 999);
+  const SchoolOrder parallel = schoolOrder(schoolOf(w).x, schoolOf(w).v);
+  CHECK(torus.milling > 0.7);
+  CHECK(parallel.polarization > 0.95);
+}
+
 TEST_CASE("boids: separation keeps apart, alignment and cohesion make a flock; speeds stay in bounds") {
   World w = worldFromText(R"({"format": "reel/1", "fps": 30, "substeps": 2, "duration": 20, "seed": 5,
       "bodies": [{"type": "school", "name": "s", "model": "boids", "count": 200, "start": {"center": [0, 0, 0], "radius": 6},
@@ -281,6 +295,8 @@ TEST_CASE("bad school scenes: a clear error with the JSON path") {
   has(errors(s + R"("count": 10, "model": "boids", "min_speed": 5, "max_speed": 4})"), "/bodies/0/min_speed");
   has(errors(s + R"("count": 10, "heading": [0, 0, 0]})"), "/bodies/0/heading");
   has(errors(s + R"("count": 10, "model": "flock"})"), "/bodies/0/model");
+  has(errors(s + R"("count": 10, "zones": {"repulsion": 1, "orientation": [{"time": 0, "value": 2}, {"time": 5, "value": 30}], "attraction": 20}})"), "/bodies/0/zones/orientation");
+  has(errors(s + R"("count": 10, "zones": {"orientation": [{"time": 2, "value": 2}, {"time": 1, "value": 3}]}})"), "/bodies/0/zones/orientation/1/time");
   // A predator object that exists is fine.
   CHECK(app::parseScene(R"({"format": "reel/1", "duration": 1, "objects": [{"type": "sphere", "name": "rock", "radius": 1}], "bodies": [)" + s +
                             R"("count": 10, "predator": {"object": "rock"}}]})", "s.json").ok());

@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/mesh.h"
@@ -23,6 +24,20 @@ struct CouzinDesc {
   double max_turn_deg_per_s = 40.0;  // θ
   double noise = 0.05;               // σ, rad: s.d. of the spherically wrapped Gaussian turn
   double reaction_time = 0.1;        // τ, s: the model decides every τ
+  // r_o changing over time (Couzin et al.'s Fig. 3, collective memory): (time s, r_o m) keys,
+  // linear between them and held outside; empty: r_orientation throughout.
+  std::vector<std::pair<double, double>> orientation_keys;
+  double orientationAt(double t) const {
+    if (orientation_keys.empty()) return r_orientation;
+    if (t <= orientation_keys.front().first) return orientation_keys.front().second;
+    for (std::size_t k = 1; k < orientation_keys.size(); ++k)
+      if (t < orientation_keys[k].first) {
+        const auto& [t0, r0] = orientation_keys[k - 1];
+        const auto& [t1, r1] = orientation_keys[k];
+        return r0 + (t - t0) / (t1 - t0) * (r1 - r0);
+      }
+    return orientation_keys.back().second;
+  }
 };
 
 // Reynolds (1987, 1999): three rules, each with a radius (m) and a weight, and the limits.

@@ -66,13 +66,34 @@ void readAgents(Obj& o, SchoolDesc& s, long long max_agents) {
   s.start_heading = readHeading(o, "heading");
 }
 
+// `"orientation": [{"time": t, "value": r_o}, ...]`: r_o over time (times increasing).
+void readOrientationKeys(Obj& zo, CouzinDesc& c) {
+  readList(zo, "orientation", [&](Obj& k) {
+    const double t = k.number("time", kNonNeg, true).value_or(0.0);
+    const double r = k.number("value", kNonNeg, true).value_or(0.0);
+    if (!c.orientation_keys.empty() && t <= c.orientation_keys.back().first)
+      k.diag().error(childPath(k.path(), "time"), "times must increase");
+    c.orientation_keys.emplace_back(t, r);
+  });
+  if (c.orientation_keys.empty()) zo.diag().error(childPath(zo.path(), "orientation"), "must list at least one key");
+  else c.r_orientation = c.orientation_keys.front().second;
+}
+
 void readCouzin(Obj& o, SchoolDesc& s) {
   CouzinDesc& c = s.couzin;
   if (const Json* z = o.raw("zones")) {
     Obj zo(*z, childPath(o.path(), "zones"), o.diag());
     c.r_repulsion = zo.number("repulsion", c.r_repulsion, kNonNeg);
-    c.r_orientation = zo.number("orientation", c.r_orientation, kNonNeg);
+    const Json* ro = zo.raw("orientation");
+    if (ro && ro->is_array()) {
+      readOrientationKeys(zo, c);
+    } else {
+      c.r_orientation = zo.number("orientation", c.r_orientation, kNonNeg);
+    }
     c.r_attraction = zo.number("attraction", c.r_attraction, kPos);
+    for (const auto& [t, r] : c.orientation_keys)
+      if (!(c.r_repulsion <= r && r <= c.r_attraction))
+        o.diag().error(childPath(zo.path(), "orientation"), "every key's value must lie between repulsion and attraction (got " + formatNumber(r, 3) + " at " + formatNumber(t, 3) + " s)");
     if (!(c.r_repulsion <= c.r_orientation && c.r_orientation <= c.r_attraction))
       o.diag().error(zo.path(), "the radii must satisfy repulsion ≤ orientation ≤ attraction (got " +
                                     formatNumber(c.r_repulsion, 3) + ", " + formatNumber(c.r_orientation, 3) + ", " +

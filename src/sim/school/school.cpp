@@ -285,7 +285,9 @@ void forEachAgent(School& sc, double cell, bool unit_headings, F&& decide) {
 
 void couzinDecide(School& sc, const std::vector<Collider>& cs, const PredatorView& pv, double t) {
   const SchoolDesc& d = sc.desc;
-  const Perception p(d.couzin, d.field_of_view_deg);
+  CouzinDesc now = d.couzin;
+  now.r_orientation = d.couzin.orientationAt(t);
+  const Perception p(now, d.field_of_view_deg);
   forEachAgent(sc, d.couzin.r_attraction, true, [&](std::size_t i, std::uint32_t e, std::span<const Range32> ranges) {
     const Vec3 ui = sc.v[i].normalized();
     const ZoneSums z = couzinZones(sc.sorted, ranges, e, sc.x[i], ui, p);
