@@ -9,6 +9,7 @@
 #include "core/parallel.h"
 #include "helpers.h"
 #include "sim/school/school_body.h"
+#include "sim/union_find.h"
 #include "sim/world.h"
 
 using namespace reel;
@@ -194,16 +195,34 @@ TEST_CASE("steering: no agent ever inside an object; bounds hold; a goal draws; 
         "bodies": [{"type": "school", "name": "s", "count": 300, "start": {"center": [0, 0, 0], "radius": 2},
                     "heading": [1, 0, 0], "zones": {"repulsion": 0.5, "orientation": 3, "attraction": 8}, "length": 0.4}]})");
     const auto& cols = w.colliders();
+    int split = 0;  // frames with a fifth of the school on each side of the column, abreast of it
     for (int f = 0; f < 240; ++f) {
       run(w, 1);
-      for (const Vec3& x : schoolOf(w).x)
+      int left = 0, right = 0;
+      for (const Vec3& x : schoolOf(w).x) {
         for (const Collider& c : cols) {
           double d;
           Vec3 n;
           if (c.distance(x, d, n)) REQUIRE(d >= 0.0);
         }
+        if (std::abs(x.x() - 8) < 1.5) (x.z() < 0 ? left : right)++;
+      }
+      split += left > 60 && right > 60;
     }
-    CHECK(schoolOrder(schoolOf(w).x, schoolOf(w).v).centroid.x() > 10);  // they went past the column
+    CHECK(split > 3);
+    const School& s = schoolOf(w);
+    const SchoolOrder o = schoolOrder(s.x, s.v);
+    CHECK(o.centroid.x() > 10);  // they went past the column
+    // and re-formed behind it: one group, every fish linked to the rest well inside the
+    // orientation radius (within 2 m of another), not two halves.
+    std::vector<int> parent(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) parent[i] = static_cast<int>(i);
+    for (std::size_t i = 0; i < s.size(); ++i)
+      for (std::size_t j = i + 1; j < s.size(); ++j)
+        if ((s.x[i] - s.x[j]).norm() < 2) unite(parent, static_cast<int>(i), static_cast<int>(j));
+    std::vector<int> size(s.size(), 0);
+    for (std::size_t i = 0; i < s.size(); ++i) ++size[static_cast<std::size_t>(findRoot(parent, static_cast<int>(i)))];
+    CHECK(*std::max_element(size.begin(), size.end()) >= 285);  // a stray or two may trail
   }
   SUBCASE("a bounds box keeps the school in") {
     World w = worldFromText(R"({"format": "reel/1", "fps": 10, "substeps": 1, "duration": 60, "seed": 4,
