@@ -23,21 +23,18 @@ configure: deps
 build: configure
 	@cmake --build --preset $(PRESET) -j $(JOBS)
 
-demo: build
-	@mkdir -p render_out
-	@for s in $(DEMO_SCENES); do \
+# Renders each scene of $(1) into render_out/NAME.mp4, stopping at the first failure.
+render_all = @mkdir -p render_out && for s in $(1); do \
 	  n=$$(basename $$s .json); \
 	  echo "reel render $$s -o render_out/$$n.mp4"; \
 	  $(REEL) render $$s -o render_out/$$n.mp4 || exit $$?; \
 	done
 
+demo: build
+	$(call render_all,$(DEMO_SCENES))
+
 films: build
-	@mkdir -p render_out
-	@for s in $(FILM_SCENES); do \
-	  n=$$(basename $$s .json); \
-	  echo "reel render $$s -o render_out/$$n.mp4"; \
-	  $(REEL) render $$s -o render_out/$$n.mp4 || exit $$?; \
-	done
+	$(call render_all,$(FILM_SCENES))
 
 test: build
 	@cd $(BUILD) && ctest -j $(JOBS) --output-on-failure

@@ -1,6 +1,4 @@
 // The `fluid` kind's reader: species, interactions, blocks, particles, nozzles, limits and look.
-#include <unistd.h>
-
 #include <algorithm>
 #include <memory>
 
@@ -13,11 +11,7 @@ namespace {
 
 // Particles one machine holds: half its memory at about 1 KiB per particle (state, neighbour
 // list, drawing), at most 50 million.
-long long defaultMaxParticles() {
-  const long long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
-  if (pages <= 0 || page <= 0) return 4'000'000;
-  return std::clamp(pages / 2 * (page / 1024), 10'000ll, 50'000'000ll);
-}
+long long defaultMaxParticles() { return itemsInMemory(0.5, 1024, 10'000, 50'000'000, 4'000'000); }
 
 // A species named by `key` (default: the first), as an index.
 int readSpecies(Obj& o, const std::vector<std::string>& names, const std::string& key = "species") {

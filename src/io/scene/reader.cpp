@@ -1,6 +1,9 @@
 #include "io/scene/reader.h"
 
 #include <iterator>
+#include <unistd.h>
+
+#include <algorithm>
 #include <memory>
 
 #include "core/patterns.h"
@@ -132,6 +135,13 @@ std::shared_ptr<const TriMesh> readMeshFile(Obj& o, const std::string& key, bool
   if (m.ok()) return std::make_shared<const TriMesh>(std::move(m.value()));
   d.error(childPath(o.path(), key), r.ok() ? "\"" + *f + "\": " + m.error().headline() : m.error().headline());
   return nullptr;
+}
+
+long long itemsInMemory(double fraction, long long item_bytes, long long lo, long long hi, long long fallback) {
+  const long long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || page <= 0) return fallback;
+  const double n = fraction * static_cast<double>(pages) * static_cast<double>(page) / static_cast<double>(item_bytes);
+  return std::clamp(static_cast<long long>(n), lo, hi);
 }
 
 }  // namespace reel::io

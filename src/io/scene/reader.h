@@ -21,6 +21,10 @@ inline const Range kUnit = Range::closed(0.0, 1.0);
 // Appearance (stored for the renderer): color, texture or pattern, specular, shininess, opacity.
 void readMaterial(Obj& o, Material& m);
 
+// How many items of `item_bytes` fit in `fraction` of this machine's memory, clamped to [lo, hi]
+// (`fallback` when the memory size is unknown): the default caps of particles and agents.
+long long itemsInMemory(double fraction, long long item_bytes, long long lo, long long hi, long long fallback);
+
 // The mesh file named by `key` (resolved among the allowed folders and imported now), or nullptr
 // with an error naming the key; `file` gets the name as written.
 std::shared_ptr<const TriMesh> readMeshFile(Obj& o, const std::string& key, bool required, std::string* file = nullptr);

@@ -1,6 +1,4 @@
 // The `school` kind's reader: the agents, the model's keys, the shared steering and the look.
-#include <unistd.h>
-
 #include <algorithm>
 #include <memory>
 
@@ -14,11 +12,7 @@ namespace {
 
 // Agents one machine holds: a tenth of its memory at about 1 KiB per agent (state, grid, drawing
 // data), at most 50 million.
-long long defaultMaxAgents() {
-  const long long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
-  if (pages <= 0 || page <= 0) return 1'000'000;
-  return std::clamp(pages / 10 * (page / 1024), 10'000ll, 50'000'000ll);
-}
+long long defaultMaxAgents() { return itemsInMemory(0.1, 1024, 10'000, 50'000'000, 1'000'000); }
 
 // A unit heading: any non-zero vector, normalised.
 std::optional<Vec3> readHeading(Obj& o, const std::string& key) {
@@ -149,57 +143,65 @@ void readTarget(Obj& g, TargetDesc& t) {
   }
 }
 
+void readBounds(Obj& bo, SchoolDesc& s) {
+  SchoolBoundsDesc bd;
+  bd.sphere = bo.has("center") || bo.has("radius");
+  if (bd.sphere) {
+    bd.center = bo.vec3("center", bd.center);
+    bd.radius = bo.number("radius", kPos, true).value_or(bd.radius);
+  } else {
+    bd.min = bo.vec3("min", Range::any(), true).value_or(bd.min);
+    bd.max = bo.vec3("max", Range::any(), true).value_or(bd.max);
+    if (!(bd.min.array() < bd.max.array()).all()) bo.diag().error(childPath(bo.path(), "max"), "must be above min on every axis");
+  }
+  bd.margin = bo.number("margin", bd.margin, kPos);
+  s.bounds = bd;
+}
+
+void readGoal(Obj& go, SchoolDesc& s) {
+  SchoolGoalDesc gd;
+  readTarget(go, gd.target);
+  gd.weight = go.number("weight", gd.weight, kNonNeg);
+  gd.informed = go.number("informed", gd.informed, kUnit);
+  s.goal = gd;
+}
+
+void readPredator(Obj& po, SchoolDesc& s, const SceneDesc& scene) {
+  Diagnostics& d = po.diag();
+  SchoolPredatorDesc pd;
+  pd.path = po.path();
+  pd.is_school = po.has("school");
+  const std::string key = pd.is_school ? "school" : "object";
+  pd.name = po.string(key, true).value_or("");
+  if (pd.is_school && po.has("object")) d.error(childPath(po.path(), "object"), "give school or object, not both");
+  pd.fear_radius = po.number("fear_radius", pd.fear_radius, kPos);
+  // A predator school comes before its prey in `bodies`: it has moved when the prey looks.
+  const bool found = pd.is_school ? std::any_of(scene.bodies.begin(), scene.bodies.end(), [&](const BodyDesc& b) { return b.type == "school" && b.name == pd.name; })
+                                  : std::any_of(scene.objects.begin(), scene.objects.end(), [&](const ObjectDesc& b) { return b.name == pd.name; });
+  if (!found && !pd.name.empty())
+    d.error(childPath(po.path(), key), "names no " + key + " of the scene: \"" + pd.name + "\"" +
+                                            (pd.is_school ? " (a predator school must come before its prey in bodies)" : ""));
+  s.predator = pd;
+}
+
+// A sub-object `key` of o, read by f(Obj&) and then checked for unknown keys.
+template <class F>
+void readObjectKey(Obj& o, const std::string& key, F&& f) {
+  if (const Json* j = o.raw(key)) {
+    Obj sub(*j, childPath(o.path(), key), o.diag());
+    f(sub);
+    sub.finish();
+  }
+}
+
 void readSteering(Obj& o, SchoolDesc& s, const SceneDesc& scene) {
-  Diagnostics& d = o.diag();
-  if (const Json* a = o.raw("avoid")) {
-    Obj ao(*a, childPath(o.path(), "avoid"), d);
+  readObjectKey(o, "avoid", [&](Obj& ao) {
     s.look_ahead = ao.number("look_ahead", s.look_ahead, kNonNeg);
     s.avoid_margin = ao.number("margin", s.avoid_margin, kPos);
-    ao.finish();
-  }
-  if (const Json* b = o.raw("bounds")) {
-    Obj bo(*b, childPath(o.path(), "bounds"), d);
-    SchoolBoundsDesc bd;
-    bd.sphere = bo.has("center") || bo.has("radius");
-    if (bd.sphere) {
-      bd.center = bo.vec3("center", bd.center);
-      bd.radius = bo.number("radius", kPos, true).value_or(bd.radius);
-    } else {
-      bd.min = bo.vec3("min", Range::any(), true).value_or(bd.min);
-      bd.max = bo.vec3("max", Range::any(), true).value_or(bd.max);
-      if (!(bd.min.array() < bd.max.array()).all()) d.error(childPath(bo.path(), "max"), "must be above min on every axis");
-    }
-    bd.margin = bo.number("margin", bd.margin, kPos);
-    bo.finish();
-    s.bounds = bd;
-  }
-  if (const Json* g = o.raw("goal")) {
-    Obj go(*g, childPath(o.path(), "goal"), d);
-    SchoolGoalDesc gd;
-    readTarget(go, gd.target);
-    gd.weight = go.number("weight", gd.weight, kNonNeg);
-    gd.informed = go.number("informed", gd.informed, kUnit);
-    go.finish();
-    s.goal = gd;
-  }
-  if (const Json* p = o.raw("predator")) {
-    Obj po(*p, childPath(o.path(), "predator"), d);
-    SchoolPredatorDesc pd;
-    pd.path = po.path();
-    pd.is_school = po.has("school");
-    const std::string key = pd.is_school ? "school" : "object";
-    pd.name = po.string(key, true).value_or("");
-    if (pd.is_school && po.has("object")) d.error(childPath(po.path(), "object"), "give school or object, not both");
-    pd.fear_radius = po.number("fear_radius", pd.fear_radius, kPos);
-    po.finish();
-    // A predator school comes before its prey in `bodies`: it has moved when the prey looks.
-    const bool found = pd.is_school ? std::any_of(scene.bodies.begin(), scene.bodies.end(), [&](const BodyDesc& b) { return b.type == "school" && b.name == pd.name; })
-                                    : std::any_of(scene.objects.begin(), scene.objects.end(), [&](const ObjectDesc& b) { return b.name == pd.name; });
-    if (!found && !pd.name.empty())
-      d.error(childPath(po.path(), key), "names no " + key + " of the scene: \"" + pd.name + "\"" +
-                                              (pd.is_school ? " (a predator school must come before its prey in bodies)" : ""));
-    s.predator = pd;
-  }
+  });
+  readObjectKey(o, "bounds", [&](Obj& bo) { readBounds(bo, s); });
+  readObjectKey(o, "goal", [&](Obj& go) { readGoal(go, s); });
+  readObjectKey(o, "predator", [&](Obj& po) { readPredator(po, s, scene); });
 }
 
 }  // namespace
