@@ -118,24 +118,29 @@ TEST_CASE("a damaged snapshot is refused and leaves the world as it was; one tha
     run(w, 3);
     const WorldSnapshot good = w.snapshot();
     const std::uint64_t h = w.stateHash();
-    std::vector<WorldSnapshot> bad(4, good);
-    bad[0].bodies[0].bytes.resize(good.bodies[0].bytes.size() / 2);  // cut short
-    bad[1].bodies[0].bytes.push_back(std::byte{1});                   // a byte too many
-    std::fill_n(bad[2].bodies[0].bytes.begin(), 8, std::byte{0x7F});  // the first array's length
-    bad[3].step += 1;                                                 // not a frame of this scene
-    for (const WorldSnapshot& b : bad) {
-      CHECK(!w.restore(b).ok());
-      CHECK(w.stateHash() == h);
-    }
-    // Bytes overwritten all through: refused, or taken and stepped without crashing (a state that
-    // reads but makes no sense may stop the run with exit 3, never with a crash).
-    const std::size_t size = good.bodies[0].bytes.size();
-    for (std::size_t at = 8; at + 8 <= size; at += std::max<std::size_t>(8, size / 16)) {
-      CAPTURE(at);
-      WorldSnapshot c = good;
-      std::fill_n(c.bodies[0].bytes.begin() + static_cast<std::ptrdiff_t>(at), 8, std::byte{0xFF});
-      if (w.restore(c).ok()) (void)w.advanceFrame();
-      REQUIRE(w.restore(good).ok());
+    WorldSnapshot off_frame = good;
+    off_frame.step += 1;  // not a frame of this scene
+    CHECK(!w.restore(off_frame).ok());
+    for (std::size_t k = 0; k < good.bodies.size(); ++k) {  // every body of the scene, in turn
+      CAPTURE(k);
+      std::vector<WorldSnapshot> bad(3, good);
+      bad[0].bodies[k].bytes.resize(good.bodies[k].bytes.size() / 2);  // cut short
+      bad[1].bodies[k].bytes.push_back(std::byte{1});                   // a byte too many
+      std::fill_n(bad[2].bodies[k].bytes.begin(), 8, std::byte{0x7F});  // the first array's length
+      for (const WorldSnapshot& b : bad) {
+        CHECK(!w.restore(b).ok());
+        CHECK(w.stateHash() == h);
+      }
+      // Bytes overwritten all through: refused, or taken and stepped without crashing (a state
+      // that reads but makes no sense may stop the run with exit 3, never with a crash).
+      const std::size_t size = good.bodies[k].bytes.size();
+      for (std::size_t at = 8; at + 8 <= size; at += std::max<std::size_t>(8, size / 16)) {
+        CAPTURE(at);
+        WorldSnapshot c = good;
+        std::fill_n(c.bodies[k].bytes.begin() + static_cast<std::ptrdiff_t>(at), 8, std::byte{0xFF});
+        if (w.restore(c).ok()) (void)w.advanceFrame();
+        REQUIRE(w.restore(good).ok());
+      }
     }
     CHECK(w.stateHash() == h);
   }

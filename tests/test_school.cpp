@@ -100,6 +100,7 @@ TEST_CASE("the turn per decision is capped at θτ, and a smaller one is taken w
   CHECK(angle(turnToward(Vec3(1, 0, 0), Vec3(0, 1, 0), 4 * kDeg), Vec3(1, 0, 0)) == doctest::Approx(4 * kDeg).epsilon(1e-12));
   CHECK((turnToward(Vec3(1, 0, 0), Vec3(1, 0.01, 0).normalized(), 4 * kDeg) - Vec3(1, 0.01, 0).normalized()).norm() < 1e-15);
   CHECK(angle(turnToward(Vec3(1, 0, 0), Vec3(-1, 0, 0), 4 * kDeg), Vec3(1, 0, 0)) == doctest::Approx(4 * kDeg).epsilon(1e-12));
+  CHECK((turnToward(Vec3(1, 0, 0), Vec3(-1, 0.1, 0).normalized(), 1.5 * std::numbers::pi) - Vec3(-1, 0.1, 0).normalized()).norm() < 1e-15);
   // In a world stepping at τ: a neighbour half a metre to the side asks for a 90° turn; the agent
   // turns θτ = 40°/s · 0.1 s = 4° and swims speed·τ.
   World w = worldFromText(R"({"format": "reel/1", "fps": 10, "substeps": 1, "duration": 1,
@@ -203,7 +204,7 @@ TEST_CASE("steering: no agent ever inside an object; bounds hold; a goal draws; 
         for (const Collider& c : cols) {
           double d;
           Vec3 n;
-          if (c.distance(x, d, n)) REQUIRE(d >= 0.0);
+          if (c.distance(x, d, n)) REQUIRE(d > 0.05);  // the steering kept it clear: the last guard (0.04 m) never acted
         }
         if (std::abs(x.x() - 8) < 1.5) (x.z() < 0 ? left : right)++;
       }
@@ -271,7 +272,9 @@ TEST_CASE("schools are bit-identical for 1 and 2 threads (Couzin and boids, with
     const std::string text = std::string(R"({"format": "reel/1", "fps": 30, "substeps": 1, "duration": 1, "seed": 9,
         "objects": [{"type": "sphere", "center": [0, 0, 12], "radius": 3}],
         "bodies": [{"type": "school", "name": "s", "model": ")") + model +
-                             R"(", "count": 5000, "start": {"center": [0, 0, 0], "radius": 10}, "heading": [0, 0, 1]}]})";
+                             R"(", "count": 5000, "start": {"center": [0, 0, 0], "radius": 12}, "heading": [0, 0, 1], )" +
+                             (std::string(model) == "couzin" ? R"("zones": {"repulsion": 0.5, "orientation": 1.5, "attraction": 2.5}}]})"
+                                                             : R"("separation": {"radius": 0.5}, "alignment": {"radius": 1.5}, "cohesion": {"radius": 2.5}}]})");
     std::uint64_t h[2];
     for (int t : {1, 2}) {
       const int before = threadCount();

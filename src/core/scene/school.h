@@ -134,8 +134,11 @@ struct SchoolDesc : BodyParams {
   }
   // The fastest an agent swims, m/s.
   double maxSpeed() const { return model == SchoolModel::Couzin ? speed : boids.max_speed; }
-  // Colliders must find agents as far as they look ahead.
-  double contactRadius(double) const override { return maxSpeed() * look_ahead + avoid_margin; }
+  // How far from a surface colliders must find agents: the avoidance margin (the probes ahead are
+  // points of their own), the last guard's clearance, and the fear radius of an object predator.
+  double contactRadius(double) const override {
+    return std::max({avoid_margin, 0.1 * length, predator && !predator->is_school ? predator->fear_radius : 0.0});
+  }
 };
 
 }  // namespace reel

@@ -10,6 +10,10 @@
 namespace reel::io {
 namespace {
 
+// Bounded so that no product of them overflows: speeds, m/s; lengths, m; times, s.
+const Range kSpeed{0.0, 1000.0, true, false}, kLength{0.0, 1e4, true, false}, kTime{0.0, 1e4, false, false},
+    kWeight{0.0, 1e6, false, false};
+
 // Agents one machine holds: a tenth of its memory at about 1 KiB per agent (state, grid, drawing
 // data), at most 50 million.
 long long defaultMaxAgents() { return itemsInMemory(0.1, 1024, 10'000, 50'000'000, 1'000'000); }
@@ -32,7 +36,7 @@ void readAgents(Obj& o, SchoolDesc& s, long long max_agents) {
       SchoolAgentDesc ag;
       ag.position = a.vec3("position", Range::any(), true).value_or(Vec3::Zero());
       ag.heading = readHeading(a, "heading");
-      if (auto v = a.number("speed", kPos)) ag.speed = *v;
+      if (auto v = a.number("speed", kSpeed)) ag.speed = *v;
       s.agents.push_back(ag);
     });
     if (o.has("count")) o.diag().error(childPath(o.path(), "count"), "give count or agents, not both");
@@ -48,7 +52,7 @@ void readAgents(Obj& o, SchoolDesc& s, long long max_agents) {
     s.start_sphere = !so.has("min") && !so.has("max");
     if (s.start_sphere) {
       s.start_center = so.vec3("center", s.start_center);
-      s.start_radius = so.number("radius", s.start_radius, kPos);
+      s.start_radius = so.number("radius", s.start_radius, kLength);
     } else {
       s.start_min = so.vec3("min", Range::any(), true).value_or(s.start_min);
       s.start_max = so.vec3("max", Range::any(), true).value_or(s.start_max);
@@ -64,7 +68,7 @@ void readAgents(Obj& o, SchoolDesc& s, long long max_agents) {
 void readOrientationKeys(Obj& zo, CouzinDesc& c) {
   readList(zo, "orientation", [&](Obj& k) {
     const double t = k.number("time", kNonNeg, true).value_or(0.0);
-    const double r = k.number("value", kNonNeg, true).value_or(0.0);
+    const double r = k.number("value", Range::closed(0.0, 1e4), true).value_or(0.0);
     if (!c.orientation_keys.empty() && t <= c.orientation_keys.back().first)
       k.diag().error(childPath(k.path(), "time"), "times must increase");
     c.orientation_keys.emplace_back(t, r);
@@ -77,14 +81,14 @@ void readCouzin(Obj& o, SchoolDesc& s) {
   CouzinDesc& c = s.couzin;
   if (const Json* z = o.raw("zones")) {
     Obj zo(*z, childPath(o.path(), "zones"), o.diag());
-    c.r_repulsion = zo.number("repulsion", c.r_repulsion, kNonNeg);
+    c.r_repulsion = zo.number("repulsion", c.r_repulsion, Range::closed(0.0, 1e4));
     const Json* ro = zo.raw("orientation");
     if (ro && ro->is_array()) {
       readOrientationKeys(zo, c);
     } else {
-      c.r_orientation = zo.number("orientation", c.r_orientation, kNonNeg);
+      c.r_orientation = zo.number("orientation", c.r_orientation, Range::closed(0.0, 1e4));
     }
-    c.r_attraction = zo.number("attraction", c.r_attraction, kPos);
+    c.r_attraction = zo.number("attraction", c.r_attraction, kLength);
     for (const auto& [t, r] : c.orientation_keys)
       if (!(c.r_repulsion <= r && r <= c.r_attraction))
         o.diag().error(childPath(zo.path(), "orientation"), "every key's value must lie between repulsion and attraction (got " + formatNumber(r, 3) + " at " + formatNumber(t, 3) + " s)");
@@ -103,8 +107,8 @@ void readCouzin(Obj& o, SchoolDesc& s) {
 void readRule(Obj& o, const std::string& key, double& radius, double& weight) {
   if (const Json* r = o.raw(key)) {
     Obj ro(*r, childPath(o.path(), key), o.diag());
-    radius = ro.number("radius", radius, kPos);
-    weight = ro.number("weight", weight, kNonNeg);
+    radius = ro.number("radius", radius, kLength);
+    weight = ro.number("weight", weight, kWeight);
     ro.finish();
   }
 }
@@ -114,9 +118,9 @@ void readBoids(Obj& o, SchoolDesc& s) {
   readRule(o, "separation", b.separation_radius, b.separation_weight);
   readRule(o, "alignment", b.alignment_radius, b.alignment_weight);
   readRule(o, "cohesion", b.cohesion_radius, b.cohesion_weight);
-  b.max_speed = o.number("max_speed", std::max(b.max_speed, s.speed), kPos);
-  b.min_speed = o.number("min_speed", std::min(b.min_speed, b.max_speed), kPos);
-  b.max_accel = o.number("max_accel", b.max_accel, kPos);
+  b.max_speed = o.number("max_speed", std::max(b.max_speed, s.speed), kSpeed);
+  b.min_speed = o.number("min_speed", std::min(b.min_speed, b.max_speed), kSpeed);
+  b.max_accel = o.number("max_accel", b.max_accel, Range{0.0, 1e6, true, false});
   if (b.min_speed > b.max_speed)
     o.diag().error(childPath(o.path(), "min_speed"), "must not be above max_speed (" + formatNumber(b.max_speed, 3) + ")");
 }
@@ -148,20 +152,20 @@ void readBounds(Obj& bo, SchoolDesc& s) {
   bd.sphere = bo.has("center") || bo.has("radius");
   if (bd.sphere) {
     bd.center = bo.vec3("center", bd.center);
-    bd.radius = bo.number("radius", kPos, true).value_or(bd.radius);
+    bd.radius = bo.number("radius", kLength, true).value_or(bd.radius);
   } else {
     bd.min = bo.vec3("min", Range::any(), true).value_or(bd.min);
     bd.max = bo.vec3("max", Range::any(), true).value_or(bd.max);
     if (!(bd.min.array() < bd.max.array()).all()) bo.diag().error(childPath(bo.path(), "max"), "must be above min on every axis");
   }
-  bd.margin = bo.number("margin", bd.margin, kPos);
+  bd.margin = bo.number("margin", bd.margin, kLength);
   s.bounds = bd;
 }
 
 void readGoal(Obj& go, SchoolDesc& s) {
   SchoolGoalDesc gd;
   readTarget(go, gd.target);
-  gd.weight = go.number("weight", gd.weight, kNonNeg);
+  gd.weight = go.number("weight", gd.weight, kWeight);
   gd.informed = go.number("informed", gd.informed, kUnit);
   s.goal = gd;
 }
@@ -174,7 +178,7 @@ void readPredator(Obj& po, SchoolDesc& s, const SceneDesc& scene) {
   const std::string key = pd.is_school ? "school" : "object";
   pd.name = po.string(key, true).value_or("");
   if (pd.is_school && po.has("object")) d.error(childPath(po.path(), "object"), "give school or object, not both");
-  pd.fear_radius = po.number("fear_radius", pd.fear_radius, kPos);
+  pd.fear_radius = po.number("fear_radius", pd.fear_radius, kLength);
   // A predator school comes before its prey in `bodies`: it has moved when the prey looks.
   const bool found = pd.is_school ? std::any_of(scene.bodies.begin(), scene.bodies.end(), [&](const BodyDesc& b) { return b.type == "school" && b.name == pd.name; })
                                   : std::any_of(scene.objects.begin(), scene.objects.end(), [&](const ObjectDesc& b) { return b.name == pd.name; });
@@ -196,8 +200,8 @@ void readObjectKey(Obj& o, const std::string& key, F&& f) {
 
 void readSteering(Obj& o, SchoolDesc& s, const SceneDesc& scene) {
   readObjectKey(o, "avoid", [&](Obj& ao) {
-    s.look_ahead = ao.number("look_ahead", s.look_ahead, kNonNeg);
-    s.avoid_margin = ao.number("margin", s.avoid_margin, kPos);
+    s.look_ahead = ao.number("look_ahead", s.look_ahead, kTime);
+    s.avoid_margin = ao.number("margin", s.avoid_margin, kLength);
   });
   readObjectKey(o, "bounds", [&](Obj& bo) { readBounds(bo, s); });
   readObjectKey(o, "goal", [&](Obj& go) { readGoal(go, s); });
@@ -210,9 +214,9 @@ std::shared_ptr<const BodyParams> readSchoolBody(Obj& o, BodyDesc& body, const S
   auto s = std::make_shared<SchoolDesc>();
   const std::string model = o.choice("model", "couzin", {"couzin", "boids"});
   s->model = model == "boids" ? SchoolModel::Boids : SchoolModel::Couzin;
-  const long long max_agents = o.integer("max_agents", 1ll, 1'000'000'000ll).value_or(defaultMaxAgents());
+  const long long max_agents = o.integer("max_agents", 1ll, 50'000'000ll).value_or(defaultMaxAgents());
   readAgents(o, *s, max_agents);
-  s->speed = o.number("speed", s->speed, Range{0.0, 1000.0, true, false});
+  s->speed = o.number("speed", s->speed, kSpeed);
   s->field_of_view_deg = o.number("field_of_view_deg", s->field_of_view_deg, Range{0.0, 360.0, true, false});
   if (s->model == SchoolModel::Couzin) {
     readCouzin(o, *s);

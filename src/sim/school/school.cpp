@@ -78,7 +78,9 @@ ZoneSums couzinZones(const SortedAgents& s, std::span<const Range32> ranges, std
   const Lane4 x0 = zero + xi.x(), x1 = zero + xi.y(), x2 = zero + xi.z();
   const Lane4 u0 = zero + ui.x(), u1 = zero + ui.y(), u2 = zero + ui.z();
   const Lane4 rr2 = zero + p.rr2, ro2 = zero + p.ro2, ra2 = zero + p.ra2, c2 = zero + p.cos_half * p.cos_half;
+  // All round (360°): everyone is seen, whatever the rounding of the squared test.
   const Mask4 wide = Mask4{0, 0, 0, 0} + (p.cos_half < 0 ? -1ll : 0ll), step = {0, 1, 2, 3};
+  const Mask4 all_round = Mask4{0, 0, 0, 0} + (p.cos_half <= -1.0 ? -1ll : 0ll);
   Lane4 r0s = zero, r1s = zero, r2s = zero, o0s = zero, o1s = zero, o2s = zero, a0s = zero, a1s = zero, a2s = zero;
   Lane4 nr = zero, no = zero, na = zero;
   for (const Range32& rg : ranges)
@@ -90,7 +92,7 @@ ZoneSums couzinZones(const SortedAgents& s, std::span<const Range32> ranges, std
       const Lane4 d2 = Lane4{s.z[k], s.z[k + 1], s.z[k + 2], s.z[k + 3]} - x2;
       const Lane4 r2 = d0 * d0 + d1 * d1 + d2 * d2, dot = d0 * u0 + d1 * u1 + d2 * u2;
       const Mask4 ahead = dot >= zero, wide_ok = ahead | (dot * dot <= c2 * r2), narrow_ok = ahead & (dot * dot >= c2 * r2);
-      const Mask4 in = live & (r2 < ra2) & (r2 > zero) & (wide ? wide_ok : narrow_ok);
+      const Mask4 in = live & (r2 < ra2) & (r2 > zero) & (all_round | (wide ? wide_ok : narrow_ok));
       const Mask4 rep = in & (r2 < rr2), ori = in & ~rep & (r2 < ro2), att = in & ~rep & ~ori;
       Lane4 len = in ? r2 : one;
       for (int l = 0; l < 4; ++l) len[l] = std::sqrt(len[l]);
@@ -386,6 +388,7 @@ Vec3 couzinDirection(const CouzinDesc& c, double field_of_view_deg, const Vec3& 
 }
 
 Vec3 turnToward(const Vec3& from, const Vec3& to, double max_angle) {
+  if (max_angle >= kPi) return to;  // any turn is within reach
   return turnToward(from, to, std::cos(max_angle), std::sin(max_angle));
 }
 
@@ -454,7 +457,8 @@ void stepSchool(School& sc, const std::vector<Collider>& cs, const PredatorView&
       couzinDecide(sc, cs, pv, t0);
       if (h < tau) sc.decisions = std::max(sc.decisions, static_cast<std::int64_t>(std::floor(t0 / tau + 1e-9)) + 1);
     }
-    const double theta = d.couzin.max_turn_deg_per_s * kPi / 180.0, c1 = std::cos(theta * h), s1 = std::sin(theta * h);
+    const double theta = d.couzin.max_turn_deg_per_s * kPi / 180.0, a1 = std::min(theta * h, kPi);
+    const double c1 = std::cos(a1), s1 = std::sin(a1);
     parallelFor(n, [&](std::ptrdiff_t i) {
       const Vec3 from = sc.v[i].normalized();
       const Vec3 u = sc.turn[i] == 1.0 ? turnToward(from, sc.desired[i], c1, s1)
