@@ -405,3 +405,31 @@ TEST_CASE("fluid on the command line: dumps list species, bad input exits 2, a b
   CHECK(u.code == 3);
   CHECK(u.out.find("body 'goo' particle") != std::string::npos);
 }
+
+TEST_CASE("simulate --stats writes a school's order parameters per frame (CSV); its dump lists agents") {
+  const std::string scene = write("stats_school.json", R"({"format": "reel/1", "name": "stats", "fps": 10, "substeps": 1, "duration": 2,
+      "bodies": [{"type": "rope", "name": "r", "start": [0, 0, 0], "end": [1, 0, 0], "segments": 4, "stiffness": 1, "mass": 1},
+                 {"type": "school", "name": "fish, small", "count": 20, "heading": [1, 0, 0], "noise": 0}]})");
+  const std::string csv = (tmpDir() / "stats.csv").string(), dump = (tmpDir() / "stats_dump.json").string();
+  fs::remove(csv);
+  const Run r = runReel("simulate " + scene + " --stats " + csv + " --dump " + dump);
+  REQUIRE(r.code == 0);
+  CHECK(!fs::exists(csv + ".part"));
+  std::ifstream in(csv);
+  std::string line;
+  std::vector<std::string> lines;
+  while (std::getline(in, line)) lines.push_back(line);
+  REQUIRE(lines.size() == 21);  // the header, frames 0..19 of the one body with statistics
+  CHECK(lines[0] == "frame,time,body,polarization,milling,centroid_x,centroid_y,centroid_z,nearest_neighbour");
+  CHECK(lines[1].rfind("0,0,\"fish, small\",1,", 0) == 0);  // all heading +x at frame 0: p = 1
+  CHECK(lines[20].rfind("19,1.9,\"fish, small\",", 0) == 0);
+  const auto j = nlohmann::json::parse(std::ifstream(dump));
+  const auto& fish = j["frames"][0]["bodies"][1];
+  CHECK(fish["type"] == "agents");
+  CHECK(fish["generator"] == "school");
+  CHECK(fish["positions"].size() == 20);
+  CHECK(fish["velocities"].size() == 20);
+  CHECK(!fish.contains("springs"));
+  // An unwritable statistics file: exit 4 before anything is simulated.
+  CHECK(runReel("simulate " + scene + " --stats /proc/no/such/stats.csv").code == 4);
+}
