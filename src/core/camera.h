@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/drawlist.h"
+#include "core/keys.h"
 #include "core/scene.h"
 
 namespace reel {
@@ -18,22 +19,14 @@ inline DrawCamera cameraAt(const CameraDesc& c, double t) {
   out.fov_deg = c.fov_deg;
   const auto& k = c.keys;
   if (k.empty()) return out;
-  if (t <= k.front().time || k.size() == 1) {
-    out.position = k.front().position;
-    out.target = k.front().target;
-    out.fov_deg = k.front().fov_deg;
+  const auto [i, s] = keySpan(k, t, [](const CameraKey& key) { return key.time; });
+  if (s == 0.0) {  // at a key, or held before the first or after the last
+    out.position = k[i].position;
+    out.target = k[i].target;
+    out.fov_deg = k[i].fov_deg;
     return out;
   }
-  if (t >= k.back().time) {
-    out.position = k.back().position;
-    out.target = k.back().target;
-    out.fov_deg = k.back().fov_deg;
-    return out;
-  }
-  std::size_t i = 0;
-  while (k[i + 1].time < t) ++i;
   const std::size_t i0 = i == 0 ? 0 : i - 1, i3 = std::min(i + 2, k.size() - 1);
-  const double s = (t - k[i].time) / (k[i + 1].time - k[i].time);
   // Uniform Catmull–Rom: p(s) = ½[2p1 + (p2 − p0)s + (2p0 − 5p1 + 4p2 − p3)s² + (3p1 − p0 − 3p2 + p3)s³].
   auto cr = [s](const auto& p0, const auto& p1, const auto& p2, const auto& p3) {
     return 0.5 * (2.0 * p1 + (p2 - p0) * s + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * (s * s) +

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/keys.h"
 #include "core/math.h"
 #include "core/parallel.h"
 #include "sim/geometry.h"
@@ -112,19 +113,12 @@ void Collider::poseAt(double t, Mat3& r, Vec3& p) const {
     return;
   }
   auto quat = [](const MotionKey& k) { return Eigen::Quaterniond(rotationFromEulerDeg(k.rotation_deg)); };
-  if (t <= keys.front().time || keys.size() == 1) {
-    r = rotationFromEulerDeg(keys.front().rotation_deg);
-    p = keys.front().position;
+  const auto [i, s] = keySpan(keys, t, [](const MotionKey& k) { return k.time; });
+  if (s == 0.0) {  // at a key, or held before the first or after the last
+    r = rotationFromEulerDeg(keys[i].rotation_deg);
+    p = keys[i].position;
     return;
   }
-  if (t >= keys.back().time) {
-    r = rotationFromEulerDeg(keys.back().rotation_deg);
-    p = keys.back().position;
-    return;
-  }
-  std::size_t i = 0;
-  while (keys[i + 1].time < t) ++i;
-  const double s = (t - keys[i].time) / (keys[i + 1].time - keys[i].time);
   p = (1.0 - s) * keys[i].position + s * keys[i + 1].position;
   r = quat(keys[i]).slerp(s, quat(keys[i + 1])).toRotationMatrix();
 }

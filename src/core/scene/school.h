@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/keys.h"
 #include "core/mesh.h"
 #include "core/scene/body.h"
 #include "core/types.h"
@@ -29,14 +30,8 @@ struct CouzinDesc {
   std::vector<std::pair<double, double>> orientation_keys;
   double orientationAt(double t) const {
     if (orientation_keys.empty()) return r_orientation;
-    if (t <= orientation_keys.front().first) return orientation_keys.front().second;
-    for (std::size_t k = 1; k < orientation_keys.size(); ++k)
-      if (t < orientation_keys[k].first) {
-        const auto& [t0, r0] = orientation_keys[k - 1];
-        const auto& [t1, r1] = orientation_keys[k];
-        return r0 + (t - t0) / (t1 - t0) * (r1 - r0);
-      }
-    return orientation_keys.back().second;
+    using Key = std::pair<double, double>;
+    return keyedLinear(orientation_keys, t, [](const Key& k) { return k.first; }, [](const Key& k) { return k.second; });
   }
 };
 
@@ -58,13 +53,7 @@ struct TargetDesc {
   std::vector<Key> keys;  // one key: a fixed point
   Vec3 at(double t) const {
     if (keys.empty()) return Vec3::Zero();
-    if (t <= keys.front().time) return keys.front().position;
-    for (std::size_t k = 1; k < keys.size(); ++k)
-      if (t < keys[k].time) {
-        const double s = (t - keys[k - 1].time) / (keys[k].time - keys[k - 1].time);
-        return keys[k - 1].position + s * (keys[k].position - keys[k - 1].position);
-      }
-    return keys.back().position;
+    return keyedLinear(keys, t, [](const Key& k) { return k.time; }, [](const Key& k) -> Vec3 { return k.position; });
   }
 };
 

@@ -291,7 +291,7 @@ void couzinDecide(School& sc, const std::vector<Collider>& cs, const PredatorVie
   now.r_orientation = d.couzin.orientationAt(t);
   const Perception p(now, d.field_of_view_deg);
   forEachAgent(sc, d.couzin.r_attraction, true, [&](std::size_t i, std::uint32_t e, std::span<const Range32> ranges) {
-    const Vec3 ui = sc.v[i].normalized();
+    const Vec3 ui(sc.sorted.ux[e], sc.sorted.uy[e], sc.sorted.uz[e]);  // unit, from sortAgents
     const ZoneSums z = couzinZones(sc.sorted, ranges, e, sc.x[i], ui, p);
     const Steering s = steering(sc, cs, pv, i, t);
     const Vec3 dir = steerDirection(d, s, z.direction(ui));
