@@ -66,6 +66,27 @@ const std::map<std::string, std::string> kScenes = {
                   "zones": {"repulsion": 0.4, "orientation": 2, "attraction": 6}, "reaction_time": 0.05,
                   "bounds": {"center": [0, 0, 0], "radius": 12}, "predator": {"school": "shark", "fear_radius": 3},
                   "goal": {"position": [10, 0, 0], "informed": 0.3}}]})"},
+    // The fish world: a hook, a predator, a school of prey, pacifists, food, seaweed in a current.
+    {"fish", kHead + R"("duration": 1, "substeps": 6, "integrator": "implicit_euler",
+      "water": {"currents": [{"type": "uniform", "velocity": [0.05, 0, 0], "amplitude": [0, 0, 0.05], "period": 3}]},
+      "objects": [{"type": "plane", "point": [0, -2, 0]}, {"type": "sphere", "name": "rock", "center": [0, -1, 2], "radius": 0.5},
+                  {"type": "sphere", "name": "hook", "center": [0.3, 0, 0.6], "radius": 0.03,
+                   "motion": {"keys": [{"time": 0, "position": [0.3, 0, 0.6]}, {"time": 1, "position": [0.3, 0.3, 0.6]}]}}],
+      "bodies": [{"type": "fish", "name": "shark", "species": "predator", "position": [0, 0, -2.5], "length": 0.8},
+                 {"type": "fish", "name": "prey", "count": 6, "start": {"center": [0, 0, 0], "radius": 0.6},
+                  "mental": {"hunger": 0.9}, "hook": "hook"},
+                 {"type": "fish", "name": "pair", "species": "pacifist", "count": 2, "start": {"center": [1, 0, 1], "radius": 0.3},
+                  "mental": {"libido": 0.9, "hunger": 0}},
+                 {"type": "food", "name": "plankton", "region": {"min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 1]}, "initial": 30, "rate": 10},
+                 {"type": "seaweed", "name": "kelp", "count": 3, "region": {"min": [-1, -2, 1], "max": [1, -2, 2]}, "height": 1.2}]})"},
+    {"food", kHead + R"("duration": 1, "substeps": 2,
+      "water": {"currents": [{"type": "source", "object": "vent", "rate": 0.05}]},
+      "objects": [{"type": "sphere", "name": "vent", "center": [0, -1, 0], "radius": 0.1}],
+      "bodies": [{"type": "food", "name": "plankton", "region": {"min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.5]},
+                  "initial": 20, "rate": 30, "max_alive": 40}]})"},
+    {"seaweed", kHead + R"("duration": 1, "substeps": 20,
+      "water": {"currents": [{"type": "uniform", "velocity": [0.3, 0, 0], "amplitude": [0.2, 0, 0], "period": 2}]},
+      "bodies": [{"type": "seaweed", "name": "kelp", "bases": [[0, 0, 0], [0.3, 0, 0]], "height": 1, "segments": 8}]})"},
 };
 
 }  // namespace
@@ -188,6 +209,6 @@ TEST_CASE("the registry names every body kind once, and each has a resume test a
   // An unknown kind is named with the nearest from the table.
   auto r = app::parseScene(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "clth", "name": "x"}]})", "k.json");
   REQUIRE(!r.ok());
-  CHECK(r.error().headline().find("did you mean \"cloth\"? (one of: mass_spring, rope, net, lattice, cloth, fluid, school)") !=
+  CHECK(r.error().headline().find("did you mean \"cloth\"? (one of: mass_spring, rope, net, lattice, cloth, fluid, school, fish, food, seaweed)") !=
         std::string::npos);
 }

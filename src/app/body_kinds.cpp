@@ -2,6 +2,9 @@
 
 #include "io/scene/readers.h"
 #include "sim/cloth/cloth_body.h"
+#include "sim/fish/fish_body.h"
+#include "sim/fish/food.h"
+#include "sim/fish/seaweed.h"
 #include "sim/fluid/fluid_body.h"
 #include "sim/school/school_body.h"
 #include "sim/springs/springs_body.h"
@@ -9,9 +12,10 @@
 namespace reel::app {
 namespace {
 
-// Seed streams: the mass-spring kinds share one (a cloth's tear thresholds), liquids and schools
-// have theirs.
-constexpr std::uint64_t kSpringsStream = 0xC107, kFluidStream = 0xF1D0, kSchoolStream = 0x5C00;
+// Seed streams: the mass-spring kinds share one (a cloth's tear thresholds), liquids, schools and
+// the fish world's kinds have theirs.
+constexpr std::uint64_t kSpringsStream = 0xC107, kFluidStream = 0xF1D0, kSchoolStream = 0x5C00, kFishStream = 0xF154,
+                        kFoodStream = 0xF00D, kSeaweedStream = 0x5EA0;
 
 constexpr BodyKind kBodyKinds[] = {
     {"mass_spring", io::readMassSpringBody, buildMassSpringBody, kSpringsStream},
@@ -21,6 +25,9 @@ constexpr BodyKind kBodyKinds[] = {
     {"cloth", io::readClothBody, buildClothBody, kSpringsStream},
     {"fluid", io::readFluidBody, buildFluidBody, kFluidStream},
     {"school", io::readSchoolBody, buildSchoolBody, kSchoolStream},
+    {"fish", io::readFishBody, buildFishBody, kFishStream},
+    {"food", io::readFoodBody, buildFoodBody, kFoodStream},
+    {"seaweed", io::readSeaweedBody, buildSeaweedBody, kSeaweedStream},
 };
 
 template <class Row, class F>

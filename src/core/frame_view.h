@@ -10,6 +10,14 @@
 
 namespace reel {
 
+// Numbers a kind adds to its dump entry, per item (a fish's muscle contractions, its mental state):
+// `values` holds `per_item` numbers for each item, item after item.
+struct ViewField {
+  std::string name;
+  int per_item = 1;
+  std::vector<double> values;
+};
+
 struct BodyView {
   std::string name;
   std::string type;       // dump type: "mass_spring", "particles" or "agents"
@@ -19,6 +27,8 @@ struct BodyView {
   std::span<const int> spring_a, spring_b;  // intact springs as index pairs (springs)
   std::span<const int> species;              // particles: species index of each
   std::vector<std::string> species_names;    // particles: the species, by index
+  std::span<const double> masses;            // nodes' masses, kg (when the kind lists them)
+  std::vector<ViewField> fields;             // the kind's own numbers
 };
 
 // A quantity of a body at one frame, for `reel simulate --stats` (a school's polarisation, say).

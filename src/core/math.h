@@ -1,6 +1,9 @@
 // Small geometric helpers shared by sim and render.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+
 #include <Eigen/Geometry>
 
 #include "core/types.h"
@@ -20,6 +23,24 @@ inline Mat3 rotationFromEulerDeg(const Vec3& deg) {
 // Rotation taking +y onto the unit vector n (shortest arc); fixes the in-plane axes of a plane.
 inline Mat3 rotationFromUp(const Vec3& n) {
   return Eigen::Quaterniond::FromTwoVectors(Vec3::UnitY(), n.normalized()).toRotationMatrix();
+}
+
+// A unit vector perpendicular to unit d, fixed for each d.
+inline Vec3 perpendicular(const Vec3& d) {
+  const Vec3 a = std::abs(d.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  return a.cross(d).normalized();
+}
+
+// d made unit, or `fallback` when d is (nearly) zero.
+inline Vec3 unitOr(const Vec3& d, const Vec3& fallback) {
+  const double n = d.norm();
+  return n > 1e-12 ? Vec3(d / n) : fallback;
+}
+
+// A direction uniform on the sphere from two uniforms in [0, 1).
+inline Vec3 sphereDirection(double u, double w) {
+  const double z = 2 * u - 1, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * kPi * w;
+  return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
 }  // namespace reel

@@ -114,6 +114,41 @@ Image makeSandTexture(int size) {
   return img;
 }
 
+Image makeFishSkin(std::string_view pattern, const Vec3& base, const Vec3& mark, int width) {
+  const int height = width / 2;
+  Image img(width, height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const double u = (x + 0.5) / width, v = (y + 0.5) / height;
+      const double belly = 0.5 - 0.5 * std::cos(2 * kPi * v);  // 0 on the back, 1 underneath
+      Vec3 c = base;
+      double m = 0.0;  // how much of the mark
+      if (pattern == "stripes") {
+        // Dark bands across the flanks, narrowing to the tail, fading toward the belly.
+        const double band = std::sin(2 * kPi * (5.0 * u + 0.15 * std::sin(6 * v)));
+        m = std::clamp((band - 0.35) * 4.0, 0.0, 1.0) * std::clamp(1.6 - 2.2 * belly, 0.0, 1.0) * ((u > 0.12 && u < 0.9) ? 1.0 : 0.0);
+      } else if (pattern == "spots") {
+        // Round spots on a jittered grid.
+        const double gu = u * 14.0, gv = v * 10.0;
+        const double cu = std::floor(gu), cv = std::floor(gv);
+        const std::uint64_t h = static_cast<std::uint64_t>(cu) * 73856093u ^ static_cast<std::uint64_t>(cv) * 19349663u;
+        const double ju = 0.3 + 0.4 * static_cast<double>(h % 97) / 97.0, jv = 0.3 + 0.4 * static_cast<double>((h / 97) % 89) / 89.0;
+        const double du = gu - cu - ju, dv = (gv - cv - jv) * 0.7;
+        m = std::clamp((0.28 - std::sqrt(du * du + dv * dv)) * 12.0, 0.0, 1.0) * std::clamp(1.5 - 2.0 * belly, 0.0, 1.0);
+      } else if (pattern == "gradient") {
+        m = std::clamp(1.2 * u - 0.1, 0.0, 1.0) * (1.0 - 0.6 * belly);
+      }
+      c = (1 - m) * c + m * mark;
+      // Countershading: the back a little darker, the belly pale.
+      c *= 0.75 + 0.25 * belly;
+      c = (1 - 0.55 * belly * belly) * c + 0.55 * belly * belly * Vec3(0.9, 0.9, 0.85);
+      std::uint8_t* p = img.pixel(x, y);
+      for (int k = 0; k < 3; ++k)
+        p[k] = static_cast<std::uint8_t>(std::lround(255.0 * std::pow(std::clamp(c[k], 0.0, 1.0), 1.0 / 2.2)));
+    }
+  return img;
+}
+
 Image makeRugTexture(int size) {
   Image img(size, size);
   // 2 x 2 supersampling keeps the pattern's edges clean at every mip level.

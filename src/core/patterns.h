@@ -4,6 +4,7 @@
 #include <string_view>
 
 #include "core/image.h"
+#include "core/types.h"
 
 namespace reel {
 
@@ -16,6 +17,12 @@ Image makeRugTexture(int size);
 // darker and lighter grains. Tileable (the right edge continues into the left, the bottom into
 // the top), square, `size` pixels a side, sRGB; the same pixels on every machine.
 Image makeSandTexture(int size);
+
+// A fish's skin, unrolled: u (x) runs nose to tail, v (y) around the body from the back (top
+// row) over the left flank to the belly (middle row) and back up the right flank. `base` and
+// `mark` are linear colours; the pattern (stripes, spots, gradient or plain) is drawn in `mark` on
+// `base`, with the back darker and the belly pale (countershading). sRGB pixels.
+Image makeFishSkin(std::string_view pattern, const Vec3& base, const Vec3& mark, int width);
 
 // The pattern of that name at `size` pixels, or an empty image for an unknown name.
 Image makePattern(std::string_view name, int size);

@@ -38,6 +38,23 @@ struct WindDesc {
   double gust_period = 2.0;  // s, the mean period of the gusts
 };
 
+// The water the fish kinds live in (docs/fish.md): its density and its currents. Read by the
+// `fish`, `food` and `seaweed` kinds; a scene without `water` has still water of 1000 kg/m³.
+struct CurrentDesc {
+  enum class Kind { Uniform, Source, Sink } kind = Kind::Uniform;
+  Vec3 velocity{0, 0, 0};   // uniform: mean flow, m/s
+  Vec3 amplitude{0, 0, 0};  // uniform: the flow varies by amplitude·sin(2πt/period), m/s
+  double period = 10.0;     // s
+  std::string object;       // source, sink: the object it flows from or to
+  int collider = -1;        // that object's index in `objects`
+  double rate = 0.0;        // source, sink: volume flow, m³/s
+  double core = 0.5;        // m: inside this radius the flow falls linearly to zero
+};
+struct WaterDesc {
+  double density = 1000.0;  // kg/m³; 0: no water
+  std::vector<CurrentDesc> currents;
+};
+
 // --- what the renderer reads -------------------------------------------------------------------
 struct RenderDesc {
   int width = 1280, height = 720, samples = 4;
@@ -74,6 +91,7 @@ struct SceneDesc {
   std::uint64_t seed = 0;
   Vec3 gravity{0, -9.78, 0};
   WindDesc wind;
+  WaterDesc water;
   IntegratorKind integrator = IntegratorKind::SymplecticEuler;
   bool auto_substeps = false;  // subdivide a step above an explicit integrator's stability bound
   ImplicitSettings implicit;

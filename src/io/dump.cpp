@@ -29,6 +29,27 @@ std::string jsonString(const std::string& s) {
   return nlohmann::json(s).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
+// `"masses"` and the kind's own fields, each as ,"name":[...] (lists of per_item numbers).
+void putExtras(std::string& out, const BodyView& s) {
+  auto num = [&](double v) { appendNumber(out, v); };
+  if (!s.masses.empty()) {
+    out += ",\n  \"masses\":[";
+    for (std::size_t i = 0; i < s.masses.size(); ++i) out += i ? "," : "", num(s.masses[i]);
+    out += ']';
+  }
+  for (const ViewField& f : s.fields) {
+    out += ",\n  " + jsonString(f.name) + ":[";
+    const std::size_t per = static_cast<std::size_t>(f.per_item), n = per ? f.values.size() / per : 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      out += i ? "," : "";
+      if (per > 1) out += '[';
+      for (std::size_t k = 0; k < per; ++k) out += k ? "," : "", num(f.values[i * per + k]);
+      if (per > 1) out += ']';
+    }
+    out += ']';
+  }
+}
+
 }  // namespace
 
 Status DumpWriter::open(const std::string& path, const std::string& scene, int fps, int substeps) {
@@ -53,6 +74,7 @@ Status DumpWriter::write(const FrameView& f) {
     putVec3s(buf_, s.positions);
     buf_ += ",\n  \"velocities\":";
     putVec3s(buf_, s.velocities);
+    putExtras(buf_, s);
     if (!s.species_names.empty()) {
       buf_ += ",\n  \"species_names\":[";
       for (std::size_t k = 0; k < s.species_names.size(); ++k) buf_ += (k ? "," : "") + jsonString(s.species_names[k]);

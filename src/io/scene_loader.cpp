@@ -191,6 +191,34 @@ void readSceneKeys(Obj& o, SceneDesc& s) {
 
 }
 
+// `water`: density and currents; sources and sinks name objects (read after the objects).
+void readWater(Obj& o, SceneDesc& s) {
+  const Json* w = o.raw("water");
+  if (!w) return;
+  Obj wo(*w, "/water", o.diag());
+  s.water.density = wo.number("density", s.water.density, Range::closed(0.0, 1e5));
+  readList(wo, "currents", [&](Obj& c) {
+    CurrentDesc cd;
+    const std::string type = c.choice("type", "uniform", {"uniform", "source", "sink"});
+    if (type == "uniform") {
+      cd.velocity = c.vec3("velocity", cd.velocity, Range::closed(-1000.0, 1000.0));
+      cd.amplitude = c.vec3("amplitude", cd.amplitude, Range::closed(-1000.0, 1000.0));
+      cd.period = c.number("period", cd.period, Range{0.0, 1e6, true, false});
+    } else {
+      cd.kind = type == "source" ? CurrentDesc::Kind::Source : CurrentDesc::Kind::Sink;
+      cd.object = c.string("object", true).value_or("");
+      const auto it = std::find_if(s.objects.begin(), s.objects.end(), [&](const ObjectDesc& od) { return od.name == cd.object; });
+      if (it == s.objects.end() && !cd.object.empty())
+        c.diag().error(childPath(c.path(), "object"), "names no object of the scene: \"" + cd.object + "\"");
+      cd.collider = static_cast<int>(it - s.objects.begin());
+      cd.rate = c.number("rate", Range{0.0, 1e6, true, false}, true).value_or(0.0);
+      cd.core = c.number("core", cd.core, Range{0.0, 1e4, true, false});
+    }
+    s.water.currents.push_back(cd);
+  });
+  wo.finish();
+}
+
 void readObjects(Obj& o, SceneDesc& s, std::set<std::string>& names) {
   Diagnostics& d = o.diag();
   if (const Json* objs = o.raw("objects")) {
@@ -284,6 +312,7 @@ Result<SceneDesc> parseScene(const std::string& text, const std::string& file, s
   }
   std::set<std::string> names;  // of objects and bodies: each unique
   readObjects(o, s, names);
+  readWater(o, s);
   readBodies(o, s, names, kinds);
   checkBodies(s, d);
   o.finish();

@@ -26,6 +26,7 @@
 namespace reel {
 
 class Wind;
+class Water;
 
 // A state whose speed or distance from the origin passes these is a runaway (exit 3).
 inline constexpr double kRunawaySpeed = 1e4;     // m/s
@@ -62,6 +63,7 @@ struct StepContext {
   const ImplicitSettings* implicit = nullptr;
   Vec3 gravity{0, -9.78, 0};  // m/s²
   const Wind* wind = nullptr;
+  const Water* water = nullptr;  // the fish kinds' water
   std::vector<Collider>* colliders = nullptr;  // at their pose at t1 (keyframed ones moved)
   Coupling* coupling = nullptr;
   SolverStats* solver = nullptr;

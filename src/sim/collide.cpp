@@ -297,4 +297,26 @@ void resolveContacts(const std::vector<Collider>& colliders, double radius, doub
   });
 }
 
+bool segmentBlocked(const std::vector<Collider>& colliders, const Vec3& a, const Vec3& b, double step) {
+  const Vec3 d = b - a;
+  const double len = d.norm();
+  if (!(len > 1e-12)) return false;
+  const Vec3 u = d / len;
+  for (const Collider& c : colliders) {
+    // Beyond a mesh's reach its distance is unknown but at least the reach.
+    const double unknown = std::max(step, c.mesh ? c.mesh->reach : 0.0);
+    for (double t = 0.0; t <= len;) {
+      double dist;
+      Vec3 n;
+      if (!c.distance(a + t * u, dist, n)) {
+        t += unknown;
+        continue;
+      }
+      if (dist < 0.0) return true;
+      t += std::max(dist, step);
+    }
+  }
+  return false;
+}
+
 }  // namespace reel

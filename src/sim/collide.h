@@ -64,6 +64,10 @@ struct Collider {
   bool distanceAuthored(const Vec3& p, double& d, Vec3& n) const;
 };
 
+// Whether the segment from a to b passes through an object (sphere tracing along it with each
+// collider's signed distance, at least `step` at a time): what a fish cannot see through.
+bool segmentBlocked(const std::vector<Collider>& colliders, const Vec3& a, const Vec3& b, double step);
+
 // `reach`: how far from a mesh's surface points are still found (thickness plus contact radius
 // and a margin for one step's motion).
 Collider makeCollider(const ObjectDesc& o, double reach = 0.1);

@@ -50,6 +50,7 @@ Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow>
     w.object_pivots_.push_back(o.referencePoint());
   }
   w.wind_ = Wind(scene.wind, scene.seed);
+  w.water_ = Water(scene.water);
   w.gravity_ = scene.gravity;
   if (Status st = w.buildBodies(scene, kinds); !st) return st.error();
   for (auto& [name, obj] : free_objects) {
@@ -110,6 +111,7 @@ Status World::advanceFrame() {
   ctx.implicit = &implicit_;
   ctx.gravity = gravity_;
   ctx.wind = &wind_;
+  ctx.water = &water_;
   ctx.colliders = &colliders_;
   ctx.coupling = &coupling_;
   ctx.solver = &solver_;

@@ -20,6 +20,7 @@
 #include "core/state_blob.h"
 #include "sim/body.h"
 #include "sim/collide.h"
+#include "sim/water.h"
 #include "sim/wind.h"
 
 namespace reel {
@@ -102,6 +103,7 @@ class World {
   std::vector<Vec3> object_pivots_;
   Vec3 gravity_{0, -9.78, 0};
   Wind wind_;
+  Water water_;
   std::vector<std::unique_ptr<Body>> bodies_;
   Coupling coupling_;
   SolverStats solver_;

@@ -3,12 +3,16 @@
 // kinds' readers, sim builds it through their builders (app/body_kinds.cpp lists the kinds).
 #pragma once
 
+#include <cmath>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "core/math.h"
 #include "core/scene/material.h"
+#include "core/types.h"
 
 namespace reel {
 
@@ -24,6 +28,21 @@ struct BodyParams {
   virtual double adhesionRange() const { return 0.0; }
   // Species an object's per-species surface may name (liquids).
   virtual std::vector<std::string> speciesNames() const { return {}; }
+};
+
+// Where a group's members start (a school's agents, a body's fish): random points in a ball or a
+// box, with one heading for all or random headings.
+struct StartRegion {
+  bool sphere = true;
+  Vec3 center{0, 0, 0};
+  double radius = 5.0;                 // m
+  Vec3 min{-5, -5, -5}, max{5, 5, 5};  // m
+  std::optional<Vec3> heading;         // unit; absent: random
+  // The point of three uniforms in [0, 1): uniform in the ball or the box.
+  Vec3 point(double u0, double u1, double u2) const {
+    if (sphere) return center + radius * std::cbrt(u0) * sphereDirection(u1, u2);
+    return min + Vec3(u0, u1, u2).cwiseProduct(max - min);
+  }
 };
 
 struct BodyDesc {

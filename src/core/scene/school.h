@@ -96,11 +96,7 @@ struct SchoolDesc : BodyParams {
 
   long long count = 0;                  // random agents inside `start` (when `agents` is empty)
   std::vector<SchoolAgentDesc> agents;  // given agents
-  bool start_sphere = true;
-  Vec3 start_center{0, 0, 0};
-  double start_radius = 5.0;                       // m
-  Vec3 start_min{-5, -5, -5}, start_max{5, 5, 5};  // m
-  std::optional<Vec3> start_heading;               // all agents' heading; absent: random
+  StartRegion start;                    // where random agents start, and their heading
 
   // Steering both models share.
   double look_ahead = 1.0;      // s: agents see obstacles this far ahead at their speed

@@ -137,6 +137,33 @@ std::shared_ptr<const TriMesh> readMeshFile(Obj& o, const std::string& key, bool
   return nullptr;
 }
 
+std::optional<Vec3> readHeading(Obj& o, const std::string& key) {
+  auto h = o.vec3(key);
+  if (!h) return std::nullopt;
+  if (!(h->norm() > 1e-12)) {
+    o.diag().error(childPath(o.path(), key), "must not be the zero vector");
+    return std::nullopt;
+  }
+  return h->normalized();
+}
+
+void readStart(Obj& o, StartRegion& start) {
+  if (const Json* st = o.raw("start")) {
+    Obj so(*st, childPath(o.path(), "start"), o.diag());
+    start.sphere = !so.has("min") && !so.has("max");
+    if (start.sphere) {
+      start.center = so.vec3("center", start.center);
+      start.radius = so.number("radius", start.radius, Range{0.0, 1e4, true, false});
+    } else {
+      start.min = so.vec3("min", Range::any(), true).value_or(start.min);
+      start.max = so.vec3("max", Range::any(), true).value_or(start.max);
+      if (!(start.min.array() < start.max.array()).all()) o.diag().error(childPath(so.path(), "max"), "must be above min on every axis");
+    }
+    so.finish();
+  }
+  start.heading = readHeading(o, "heading");
+}
+
 long long itemsInMemory(double fraction, long long item_bytes, long long lo, long long hi, long long fallback) {
   const long long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
   if (pages <= 0 || page <= 0) return fallback;

@@ -9,6 +9,7 @@
 
 #include "core/scene.h"
 #include "core/scene/mass_spring.h"
+#include "core/scene/school.h"
 #include "io/json_reader.h"
 #include "io/scene_loader.h"
 
@@ -28,6 +29,15 @@ long long itemsInMemory(double fraction, long long item_bytes, long long lo, lon
 // The mesh file named by `key` (resolved among the allowed folders and imported now), or nullptr
 // with an error naming the key; `file` gets the name as written.
 std::shared_ptr<const TriMesh> readMeshFile(Obj& o, const std::string& key, bool required, std::string* file = nullptr);
+
+// A unit heading under `key`: any non-zero vector, normalised (absent: nullopt).
+std::optional<Vec3> readHeading(Obj& o, const std::string& key);
+
+// A group's `start` ({center, radius} or {min, max}) and its `heading` (both keys of o).
+void readStart(Obj& o, StartRegion& start);
+
+// A box ({min, max}) or ball ({center, radius}) that agents or fish keep inside, with its margin.
+void readBounds(Obj& o, SchoolBoundsDesc& b);
 
 // An object of type `type` (one of kObjectTypes).
 void readObject(Obj& o, ObjectDesc& ob, const std::string& type);

@@ -16,5 +16,8 @@ std::shared_ptr<const BodyParams> readLatticeBody(Obj& o, BodyDesc& body, const 
 std::shared_ptr<const BodyParams> readClothBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
 std::shared_ptr<const BodyParams> readFluidBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
 std::shared_ptr<const BodyParams> readSchoolBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
+std::shared_ptr<const BodyParams> readFishBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
+std::shared_ptr<const BodyParams> readFoodBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
+std::shared_ptr<const BodyParams> readSeaweedBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
 
 }  // namespace reel::io

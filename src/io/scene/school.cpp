@@ -18,17 +18,6 @@ const Range kSpeed{0.0, 1000.0, true, false}, kLength{0.0, 1e4, true, false}, kT
 // data), at most 50 million.
 long long defaultMaxAgents() { return itemsInMemory(0.1, 1024, 10'000, 50'000'000, 1'000'000); }
 
-// A unit heading: any non-zero vector, normalised.
-std::optional<Vec3> readHeading(Obj& o, const std::string& key) {
-  auto h = o.vec3(key);
-  if (!h) return std::nullopt;
-  if (!(h->norm() > 1e-12)) {
-    o.diag().error(childPath(o.path(), key), "must not be the zero vector");
-    return std::nullopt;
-  }
-  return h->normalized();
-}
-
 void readAgents(Obj& o, SchoolDesc& s, long long max_agents) {
   const bool listed = o.has("agents");
   if (listed) {
@@ -47,21 +36,7 @@ void readAgents(Obj& o, SchoolDesc& s, long long max_agents) {
   if (static_cast<long long>(s.agents.size()) > max_agents)
     o.diag().error(childPath(o.path(), "agents"), std::to_string(s.agents.size()) + " agents, more than max_agents = " +
                                                       std::to_string(max_agents));
-  if (const Json* st = o.raw("start")) {
-    Obj so(*st, childPath(o.path(), "start"), o.diag());
-    s.start_sphere = !so.has("min") && !so.has("max");
-    if (s.start_sphere) {
-      s.start_center = so.vec3("center", s.start_center);
-      s.start_radius = so.number("radius", s.start_radius, kLength);
-    } else {
-      s.start_min = so.vec3("min", Range::any(), true).value_or(s.start_min);
-      s.start_max = so.vec3("max", Range::any(), true).value_or(s.start_max);
-      if (!(s.start_min.array() < s.start_max.array()).all())
-        o.diag().error(childPath(so.path(), "max"), "must be above min on every axis");
-    }
-    so.finish();
-  }
-  s.start_heading = readHeading(o, "heading");
+  readStart(o, s.start);
 }
 
 // `"orientation": [{"time": t, "value": r_o}, ...]`: r_o over time (times increasing).
@@ -147,8 +122,9 @@ void readTarget(Obj& g, TargetDesc& t) {
   }
 }
 
-void readBounds(Obj& bo, SchoolDesc& s) {
-  SchoolBoundsDesc bd;
+}  // namespace
+
+void readBounds(Obj& bo, SchoolBoundsDesc& bd) {
   bd.sphere = bo.has("center") || bo.has("radius");
   if (bd.sphere) {
     bd.center = bo.vec3("center", bd.center);
@@ -159,8 +135,9 @@ void readBounds(Obj& bo, SchoolDesc& s) {
     if (!(bd.min.array() < bd.max.array()).all()) bo.diag().error(childPath(bo.path(), "max"), "must be above min on every axis");
   }
   bd.margin = bo.number("margin", bd.margin, kLength);
-  s.bounds = bd;
 }
+
+namespace {
 
 void readGoal(Obj& go, SchoolDesc& s) {
   SchoolGoalDesc gd;
@@ -203,7 +180,11 @@ void readSteering(Obj& o, SchoolDesc& s, const SceneDesc& scene) {
     s.look_ahead = ao.number("look_ahead", s.look_ahead, kTime);
     s.avoid_margin = ao.number("margin", s.avoid_margin, kLength);
   });
-  readObjectKey(o, "bounds", [&](Obj& bo) { readBounds(bo, s); });
+  readObjectKey(o, "bounds", [&](Obj& bo) {
+    SchoolBoundsDesc bd;
+    readBounds(bo, bd);
+    s.bounds = bd;
+  });
   readObjectKey(o, "goal", [&](Obj& go) { readGoal(go, s); });
   readObjectKey(o, "predator", [&](Obj& po) { readPredator(po, s, scene); });
 }

@@ -17,25 +17,7 @@
 namespace reel {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr std::uint64_t kStartStream = 0x5C0, kNoiseStream = 0x5C1;
-
-// A unit vector perpendicular to unit d, fixed for each d.
-Vec3 perpendicular(const Vec3& d) {
-  const Vec3 a = std::abs(d.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-  return a.cross(d).normalized();
-}
-
-Vec3 unitOr(const Vec3& d, const Vec3& fallback) {
-  const double n = d.norm();
-  return n > 1e-12 ? Vec3(d / n) : fallback;
-}
-
-// A direction uniform on the sphere from two uniforms.
-Vec3 sphereDirection(double u, double w) {
-  const double z = 2 * u - 1, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * kPi * w;
-  return {r * std::cos(phi), r * std::sin(phi), z};
-}
 
 // ---- Couzin, Krause, James, Ruxton & Franks, "Collective memory and spatial sorting in animal
 // groups", J. Theor. Biol. 218:1–11 (2002). Agent i sees neighbours outside the blind cone behind
@@ -126,21 +108,15 @@ Vec3 wrappedGaussian(const Vec3& d, double sigma, std::uint64_t seed, std::int64
   return (d * std::cos(a) + k.cross(d) * std::sin(a)).normalized();
 }
 
-// ---- Steering both models share: what the surroundings ask of an agent this moment.
-struct Steering {
-  Vec3 push{0, 0, 0};  // away from walls and obstacles (sum of unit normals times urgency)
-  double avoid = 0.0;  // the most urgent of them, 0..1
-  Vec3 away{0, 0, 0};  // unit, from the nearest predator
-  double fear = 0.0;   // 0..1
-  Vec3 goal{0, 0, 0};  // unit toward the goal (informed agents), or zero
-};
+}  // namespace
+
+// ---- Steering both models share (and the artificial fish): what the surroundings ask of an
+// agent this moment.
 
 // Reynolds (1999), "containment" and "obstacle avoidance": probes at the agent and ahead of it
 // along its heading; each surface nearer a probe than the margin pushes along its normal, more
 // urgently the nearer it is and the sooner the agent gets there.
-void avoidObstacles(const SchoolDesc& d, const std::vector<Collider>& cs, const Vec3& x, const Vec3& u, double speed,
-                    Steering& s) {
-  const double ahead = speed * d.look_ahead, m = d.avoid_margin;
+void avoidObstacles(const std::vector<Collider>& cs, const Vec3& x, const Vec3& ahead, double m, Steering& s) {
   for (const Collider& c : cs) {
     double best = 0.0;
     Vec3 bn{0, 0, 0};
@@ -148,7 +124,7 @@ void avoidObstacles(const SchoolDesc& d, const std::vector<Collider>& cs, const 
       const double f = 0.5 * k;  // probes at 0, ½ and 1 of the look-ahead
       double dist;
       Vec3 n;
-      if (!c.distance(x + f * ahead * u, dist, n)) continue;
+      if (!c.distance(x + f * ahead, dist, n)) continue;
       const double urgency = std::clamp(1.0 - dist / m, 0.0, 1.0) * (1.0 - 0.4 * f);
       if (urgency > best) best = urgency, bn = n;
     }
@@ -174,6 +150,8 @@ void containBounds(const SchoolBoundsDesc& b, const Vec3& p, Steering& s) {
     wall((b.min[k] + b.margin) - p[k], Vec3::Unit(k));
   }
 }
+
+namespace {
 
 // Flight: away from the nearest predator point inside the fear radius, more urgently the nearer
 // it is, and mostly sideways from its path (the "fountain" escape of fish schools, Pitcher &
@@ -205,7 +183,7 @@ Steering steering(const School& sc, const std::vector<Collider>& cs, const Preda
   Steering s;
   const double speed = sc.v[i].norm();
   const Vec3 u = sc.v[i] / speed;
-  avoidObstacles(d, cs, sc.x[i], u, speed, s);
+  avoidObstacles(cs, sc.x[i], speed * d.look_ahead * u, d.avoid_margin, s);
   if (d.bounds) containBounds(*d.bounds, sc.x[i] + 0.5 * speed * d.look_ahead * u, s);
   if (d.predator) fleePredator(d, pv, sc.x[i], s);
   if (d.goal && sc.informed[i]) s.goal = unitOr(d.goal->target.at(t) - sc.x[i], Vec3::Zero());
@@ -421,11 +399,8 @@ School makeSchool(const SchoolDesc& d, const std::string& name, std::uint64_t se
       heading = a.heading ? *a.heading : sphereDirection(u(i, 3), u(i, 4));
       if (a.speed) speed = *a.speed;
     } else {
-      if (d.start_sphere)
-        s.x[i] = d.start_center + d.start_radius * std::cbrt(u(i, 0)) * sphereDirection(u(i, 1), u(i, 2));
-      else
-        for (int k = 0; k < 3; ++k) s.x[i][k] = d.start_min[k] + u(i, k) * (d.start_max[k] - d.start_min[k]);
-      heading = d.start_heading ? *d.start_heading : sphereDirection(u(i, 3), u(i, 4));
+      s.x[i] = d.start.point(u(i, 0), u(i, 1), u(i, 2));
+      heading = d.start.heading ? *d.start.heading : sphereDirection(u(i, 3), u(i, 4));
     }
     if (d.model == SchoolModel::Boids) speed = std::clamp(speed, d.boids.min_speed, d.boids.max_speed);
     s.speed[i] = speed;

@@ -67,6 +67,19 @@ struct School : SchoolModelData, SchoolState, SchoolScratch {
   std::size_t size() const { return x.size(); }
 };
 
+// Steering both models share (and the artificial fish): what the surroundings ask of an agent.
+struct Steering {
+  Vec3 push{0, 0, 0};  // away from walls and obstacles (sum of unit normals times urgency)
+  double avoid = 0.0;  // the most urgent of them, 0..1
+  Vec3 away{0, 0, 0};  // unit, from the nearest predator
+  double fear = 0.0;   // 0..1
+  Vec3 goal{0, 0, 0};  // unit toward the goal (informed agents), or zero
+};
+// Obstacles within `margin` of probes at x, x + ahead/2 and x + ahead push the agent away.
+void avoidObstacles(const std::vector<Collider>& cs, const Vec3& x, const Vec3& ahead, double margin, Steering& s);
+// The walls of a bounding box or sphere within its margin push the agent back in.
+void containBounds(const SchoolBoundsDesc& b, const Vec3& p, Steering& s);
+
 // Builds the agents from the description (random ones from `seed`).
 School makeSchool(const SchoolDesc& d, const std::string& name, std::uint64_t seed);
 

@@ -1,0 +1,410 @@
+#include "sim/fish/fish_body.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/format.h"
+#include "core/math.h"
+#include "core/parallel.h"
+#include "core/patterns.h"
+#include "core/random.h"
+#include "sim/fish/food.h"
+#include "sim/water.h"
+
+namespace reel {
+namespace {
+
+using Index = std::ptrdiff_t;
+constexpr std::uint64_t kStartStream = 0xF150;
+constexpr double kMeal = 0.35;  // hunger a particle of food takes away
+
+// The pectoral fins sit at ring 2's sides (nodes 5, 8 on the left; 6, 7 on the right), each of
+// this area in lengths².
+constexpr double kFinArea = 0.012;
+
+// The world's bodies: the index of `self`.
+int indexOf(const StepContext& ctx, const Body* self) {
+  for (std::size_t b = 0; b < ctx.bodies->size(); ++b)
+    if ((*ctx.bodies)[b].get() == self) return static_cast<int>(b);
+  return -1;
+}
+
+// A hook's authored point for a world point p, and back (collide.h: x ↦ rot·(x − pivot) + pos).
+Vec3 toAuthored(const Collider& c, const Vec3& p) { return c.rot.transpose() * (p - c.pos) + c.pivot; }
+Vec3 fromAuthored(const Collider& c, const Vec3& a) { return c.rot * (a - c.pivot) + c.pos; }
+
+}  // namespace
+
+FishBody::FishBody(std::string name, const FishDesc& desc, const Material& material, std::uint64_t seed, int hook,
+                   double water_density)
+    : SpringNetworkBody(std::move(name), "fish"),
+      desc_(desc),
+      tmpl_(makeFishTemplate(desc.length, water_density)),
+      material_(material),
+      seed_(seed),
+      hook_(hook),
+      skin_(std::make_shared<const Image>(makeFishSkin(desc.pattern, material.color, desc.pattern_color, 256))) {
+  const auto n = static_cast<std::size_t>(desc.count);
+  motor_.resize(n);
+  mind_.resize(n);
+  command_.resize(n);
+  caught_.assign(n, 0);
+  hook_point_.assign(n, Vec3::Zero());
+  percept_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    FishMind& m = mind_[i];
+    m.hunger = desc.hunger, m.libido = desc.libido, m.fear = desc.fear;
+    motor_[i].phase = 2 * kPi * uniformAt(seed, kStartStream, 8 * i + 5);
+  }
+}
+
+FishFrame FishBody::frame(std::size_t i) const {
+  return fishFrame(&net_.state.x[kFishNodes * i], &net_.state.v[kFishNodes * i]);
+}
+
+MotorCommand FishBody::driveCommand(double t) const {
+  const FishDriveDesc& d = desc_.drive;
+  MotorCommand c;
+  c.speed = -1.0;  // frequency and amplitude given
+  if (t >= d.swim_start && t < d.swim_stop) c.frequency = d.swim_frequency, c.amplitude = d.swim_amplitude;
+  if (d.turn_side != 0 && t >= d.turn_start && t < d.turn_stop) c.bend = d.turn_side * d.turn_amount;
+  c.pitch = d.pitch_deg * kPi / 180.0;
+  return c;
+}
+
+void FishBody::addPatterns(double t, FishMotor& m) const {
+  for (const MusclePatternDesc& p : desc_.drive.muscles) {
+    if (t < p.start || t >= p.stop) continue;
+    const double c = p.frequency > 0 ? p.contraction * std::max(0.0, std::sin(2 * kPi * p.frequency * (t - p.start) + p.phase_deg * kPi / 180.0))
+                                     : p.contraction;
+    for (int k : p.muscles) m.contraction[static_cast<std::size_t>(k)] = std::clamp(m.contraction[static_cast<std::size_t>(k)] + c, 0.0, 1.0);
+  }
+}
+
+// Perception and behaviour of every fish, from what every body published at its last step.
+void FishBody::decide(StepContext& ctx, int self) {
+  everyone_.clear();
+  std::vector<std::pair<int, const std::vector<Vec3>*>> food;
+  double reach = desc_.vision_radius * 2.0;
+  for (std::size_t b = 0; b < ctx.bodies->size(); ++b) {
+    const Body* body = (*ctx.bodies)[b].get();
+    if (const auto* f = dynamic_cast<const FishBody*>(body)) {
+      const auto& s = body == this ? sightings_ : f->sightings();
+      everyone_.insert(everyone_.end(), s.begin(), s.end());
+    } else if (const auto* fd = dynamic_cast<const FoodBody*>(body)) {
+      food.emplace_back(static_cast<int>(b), &fd->particles());
+    }
+  }
+  std::vector<Vec3> lo(everyone_.size()), hi(everyone_.size());
+  for (std::size_t k = 0; k < everyone_.size(); ++k) lo[k] = hi[k] = everyone_[k].center;
+  grid_.build(lo, hi, reach);
+  obstacles_.clear();
+  for (std::size_t c = 0; c < ctx.colliders->size(); ++c)
+    if (static_cast<int>(c) != hook_) obstacles_.push_back((*ctx.colliders)[c]);
+  FishWorldView w;
+  w.fish = &everyone_;
+  w.fish_grid = &grid_;
+  w.food = food;
+  w.hook = hook_ >= 0 ? &(*ctx.colliders)[static_cast<std::size_t>(hook_)] : nullptr;
+  w.obstacles = &obstacles_;
+  const std::int64_t decision = decisions_++;
+  parallelFor(static_cast<Index>(count()), [&](Index i) {
+    const FishFrame f = frame(static_cast<std::size_t>(i));
+    FishMind& m = mind_[i];
+    if (caught_[i]) {
+      // On the line: struggling, thrashing from side to side.
+      m.intention = static_cast<int>(Intention::Caught);
+      command_[i] = MotorCommand{desc_.max_speed * desc_.length, 0, 0, std::sin(3.0 * ctx.t1 + static_cast<double>(i)), 0.0};
+      return;
+    }
+    perceive(desc_, f, self, static_cast<int>(i), w, percept_[i]);
+    updateMind(desc_, percept_[i], kFishDecision, m);
+    command_[i] = behave(desc_, f, percept_[i], kFishDecision, seed_, decision, static_cast<std::size_t>(i), m);
+  });
+  // A fish eating at the hook bites it when its mouth reaches it.
+  if (w.hook) {
+    const double bite = 0.1 * desc_.length;
+    for (std::size_t i = 0; i < count(); ++i) {
+      if (caught_[i] || mind_[i].intention != static_cast<int>(Intention::Eat)) continue;
+      const Vec3 mouth = net_.state.x[kFishNodes * i];
+      double dist;
+      Vec3 n;
+      if (w.hook->distance(mouth, dist, n) && dist < bite) {
+        caught_[i] = 1;
+        hook_point_[i] = toAuthored(*w.hook, mouth);
+        mind_[i].intention = static_cast<int>(Intention::Caught);
+      }
+    }
+  }
+}
+
+// The paper's fins also keep the fish upright: a couple on the flanks against roll, as a
+// damped rotational spring of about 1 Hz (in water only: the fins push on it).
+void FishBody::rollBalance() {
+  const auto& x = net_.state.x;
+  const auto& v = net_.state.v;
+  external_.assign(x.size(), Vec3::Zero());
+  const double L = desc_.length;
+  double mass = 0;
+  for (double m : tmpl_.mass) mass += m;
+  const double arm = 0.06 * L, inertia = mass * arm * arm, w = 2 * kPi;
+  for (std::size_t i = 0; i < count(); ++i) {
+    const FishFrame f = frame(i);
+    const std::size_t o = kFishNodes * i;
+    const double roll = std::asin(std::clamp(f.left.y(), -1.0, 1.0));  // left side up: > 0
+    const double rate = ((v[o + 5] + v[o + 8] + v[o + 9] + v[o + 12]) - (v[o + 6] + v[o + 7] + v[o + 10] + v[o + 11])).dot(f.up) /
+                        (4 * 2 * arm);
+    const double torque = -(inertia * w * w * roll + 2 * inertia * w * rate);
+    const Vec3 force = (torque / (2 * arm) / 4) * f.up;
+    for (int k : {5, 8, 9, 12}) external_[o + static_cast<std::size_t>(k)] += force;
+    for (int k : {6, 7, 10, 11}) external_[o + static_cast<std::size_t>(k)] -= force;
+  }
+}
+
+// Tu & Terzopoulos 1994, eq. (3): each surface triangle moving into the water feels
+// f = −ρ A (n·v) n (A its area, n its outward normal, v its velocity relative to the water),
+// a third on each corner; the pectoral fins are plates that feel it on either side, their normal
+// pitched from the body's up. Taken implicitly per node after the springs' step: node i with
+// D_i = Σ ρ (A/3) n nᵀ solves (m I + h D_i) v' = m v + h D_i u, so the stiff drag of a light node
+// cannot overshoot; positions take the change of velocity too.
+void FishBody::waterForces(const StepContext& ctx) {
+  const double rho = ctx.water ? ctx.water->density() : 0.0;
+  if (!(rho > 0)) return;
+  auto& x = net_.state.x;
+  auto& v = net_.state.v;
+  const double h = ctx.h, L = desc_.length;
+  const std::vector<Collider>& cs = *ctx.colliders;
+  parallelFor(static_cast<Index>(count()), [&](Index fi) {
+    const std::size_t o = kFishNodes * static_cast<std::size_t>(fi);
+    std::array<Mat3, kFishNodes> D;
+    std::array<Vec3, kFishNodes> Du;
+    for (int k = 0; k < kFishNodes; ++k) D[static_cast<std::size_t>(k)].setZero(), Du[static_cast<std::size_t>(k)].setZero();
+    for (const auto& t : tmpl_.surface) {
+      const Vec3 &a = x[o + t[0]], &b = x[o + t[1]], &c = x[o + t[2]];
+      const Vec3 cr = (b - a).cross(c - a);
+      const double len = cr.norm();
+      if (!(len > 1e-300)) continue;
+      const Vec3 n = cr / len;
+      const Vec3 centroid = (a + b + c) / 3.0;
+      const Vec3 u = ctx.water->at(centroid, ctx.t1, cs);
+      const Vec3 rel = (v[o + t[0]] + v[o + t[1]] + v[o + t[2]]) / 3.0 - u;
+      if (n.dot(rel) <= 0) continue;  // leaving the water behind it: no push
+      const Mat3 Dt = (rho * 0.5 * len / 3.0) * (n * n.transpose());
+      for (int k : t) D[static_cast<std::size_t>(k)] += Dt, Du[static_cast<std::size_t>(k)] += Dt * u;
+    }
+    const FishFrame f = fishFrame(&x[o], &v[o]);
+    const double p = motor_[fi].pitch;
+    const Vec3 nf = std::cos(p) * f.up - std::sin(p) * f.forward;
+    const Mat3 Df = (rho * kFinArea * L * L / 2) * (nf * nf.transpose());
+    for (int k : {5, 6, 7, 8}) {
+      const Vec3 u = ctx.water->at(x[o + static_cast<std::size_t>(k)], ctx.t1, cs);
+      D[static_cast<std::size_t>(k)] += Df, Du[static_cast<std::size_t>(k)] += Df * u;
+    }
+    for (int k = 0; k < kFishNodes; ++k) {
+      const std::size_t i = o + static_cast<std::size_t>(k);
+      const double m = tmpl_.mass[static_cast<std::size_t>(k)];
+      const Mat3 A = m * Mat3::Identity() + h * D[static_cast<std::size_t>(k)];
+      const Vec3 vn = A.ldlt().solve(m * v[i] + h * Du[static_cast<std::size_t>(k)]);
+      x[i] += h * (vn - v[i]);
+      v[i] = vn;
+    }
+  });
+}
+
+void FishBody::publish(int self) {
+  sightings_.resize(count());
+  for (std::size_t i = 0; i < count(); ++i) {
+    const FishFrame f = frame(i);
+    FishSighting& s = sightings_[i];
+    s.center = f.center, s.mouth = f.mouth, s.velocity = f.velocity, s.forward = f.forward;
+    s.length = desc_.length, s.body = self, s.index = static_cast<int>(i), s.species = desc_.species;
+    s.hunts = desc_.habits.hunts, s.mates = desc_.habits.mates, s.caught = caught_[i] != 0;
+    s.biting = mind_[i].intention == static_cast<int>(Intention::Eat);
+  }
+}
+
+void FishBody::step(StepContext& ctx) {
+  const int self = self_ = indexOf(ctx, this);
+  if (sightings_.size() != count()) publish(self);
+  // Meals the food bodies listed for this body's fish.
+  for (const auto& b : *ctx.bodies)
+    if (const auto* food = dynamic_cast<const FoodBody*>(b.get()))
+      for (const FoodMeal& meal : food->meals())
+        if (meal.body == self && meal.fish >= 0 && static_cast<std::size_t>(meal.fish) < count()) {
+          FishMind& m = mind_[static_cast<std::size_t>(meal.fish)];
+          m.hunger = std::max(0.0, m.hunger - kMeal);
+          ++meals_;
+        }
+  const bool decision = std::floor(ctx.t1 / kFishDecision) > std::floor(ctx.t0 / kFishDecision) || decisions_ == 0;
+  if (desc_.behaviour && decision) decide(ctx, self);
+
+  // Motor controllers, then the muscles' rest lengths.
+  Springs& sp = net_.model.springs;
+  parallelFor(static_cast<Index>(count()), [&](Index i) {
+    const FishFrame f = frame(static_cast<std::size_t>(i));
+    const MotorCommand cmd = desc_.behaviour ? command_[i] : driveCommand(ctx.t0);
+    motorControl(cmd, f.velocity.dot(f.forward), desc_.length, ctx.h, motor_[i]);
+    addPatterns(ctx.t0, motor_[i]);
+    const std::size_t so = kFishSprings * static_cast<std::size_t>(i);
+    for (int k = 0; k < kFishMuscles; ++k) {
+      const int s = tmpl_.muscle[static_cast<std::size_t>(k)];
+      sp.rest[so + static_cast<std::size_t>(s)] = tmpl_.springs.rest[static_cast<std::size_t>(s)] * (1.0 - kMaxContraction * motor_[i].contraction[static_cast<std::size_t>(k)]);
+    }
+  });
+  const bool water = ctx.water && ctx.water->density() > 0;
+  if (water) {
+    rollBalance();
+    net_.system->setExternalForces(external_.data());
+  } else {
+    net_.system->setExternalForces(nullptr);
+  }
+  net_.integrate(ctx);
+  waterForces(ctx);
+  net_.contacts(ctx);
+  // Caught fish hang from the hook by the mouth.
+  if (hook_ >= 0) {
+    const Collider& c = (*ctx.colliders)[static_cast<std::size_t>(hook_)];
+    for (std::size_t i = 0; i < count(); ++i)
+      if (caught_[i]) {
+        const Vec3 p = fromAuthored(c, hook_point_[i]);
+        net_.state.x[kFishNodes * i] = p;
+        net_.state.v[kFishNodes * i] = c.velocityAt(p);
+      }
+  }
+  publish(self);
+}
+
+bool FishBody::view(BodyView& out) const {
+  SpringNetworkBody::view(out);
+  out.masses = net_.model.mass;
+  ViewField muscles{"muscles", kFishMuscles, {}}, mental{"mental", 3, {}}, intention{"intention", 1, {}};
+  for (std::size_t i = 0; i < count(); ++i) {
+    for (double c : motor_[i].contraction) muscles.values.push_back(c);
+    mental.values.insert(mental.values.end(), {mind_[i].hunger, mind_[i].libido, mind_[i].fear});
+    intention.values.push_back(mind_[i].intention);
+  }
+  out.fields = {std::move(muscles), std::move(mental), std::move(intention)};
+  return true;
+}
+
+void FishBody::statistics(std::vector<Statistic>& out) const {
+  double hunger = 0, fear = 0, libido = 0, speed = 0;
+  const double n = static_cast<double>(count());
+  for (std::size_t i = 0; i < count(); ++i) {
+    hunger += mind_[i].hunger, fear += mind_[i].fear, libido += mind_[i].libido;
+    const FishFrame f = frame(i);
+    speed += f.velocity.dot(f.forward);
+  }
+  out.push_back({"hunger", hunger / n});
+  out.push_back({"libido", libido / n});
+  out.push_back({"fear", fear / n});
+  out.push_back({"speed", speed / n});
+  out.push_back({"meals", static_cast<double>(meals_)});
+}
+
+std::vector<std::string> FishBody::notes(double) const {
+  double mass = 0;
+  for (double m : tmpl_.mass) mass += m;
+  return {"fish '" + name() + "': " + std::to_string(count()) + " " + kFishSpeciesNames[static_cast<std::size_t>(desc_.species)] +
+          " fish of " + formatNumber(desc_.length, 3) + " m and " + formatNumber(mass, 3) + " kg, " +
+          (desc_.behaviour ? "deciding every " + formatNumber(kFishDecision, 3) + " s" : "driven")};
+}
+
+void FishBody::snapshotMore(StateWriter& w) const {
+  w.put(motor_);
+  w.put(mind_);
+  w.put(command_);
+  w.put(caught_);
+  w.put(hook_point_);
+  w.put(decisions_);
+  w.put(meals_);
+  w.put(self_);
+}
+
+bool FishBody::restoreMore(StateReader& r) {
+  const std::size_t n = count();
+  std::vector<FishMotor> motor;
+  std::vector<FishMind> mind;
+  std::vector<MotorCommand> command;
+  std::vector<std::uint8_t> caught;
+  std::vector<Vec3> hook;
+  std::int64_t decisions = 0, meals = 0;
+  int self = -1;
+  r.get(motor), r.get(mind), r.get(command), r.get(caught), r.get(hook), r.get(decisions), r.get(meals), r.get(self);
+  if (motor.size() != n || mind.size() != n || command.size() != n || caught.size() != n || hook.size() != n ||
+      decisions < 0 || meals < 0 || self < -1)
+    return false;
+  for (std::size_t i = 0; i < n; ++i) {
+    const FishMind& m = mind[i];
+    if (!(m.hunger >= 0 && m.hunger <= 1 && m.libido >= 0 && m.libido <= 1 && m.fear >= 0 && m.fear <= 1) ||
+        m.intention < 0 || m.intention >= static_cast<int>(kIntentionNames.size()) || m.previous < 0 ||
+        m.previous >= static_cast<int>(kIntentionNames.size()) || !std::isfinite(motor[i].phase) ||
+        !std::isfinite(motor[i].frequency) || !allWithin(hook, kRunawayDistance))
+      return false;
+    for (double c : motor[i].contraction)
+      if (!(c >= 0 && c <= 1)) return false;
+  }
+  motor_ = std::move(motor), mind_ = std::move(mind), command_ = std::move(command), caught_ = std::move(caught);
+  hook_point_ = std::move(hook), decisions_ = decisions, meals_ = meals, self_ = self;
+  // What the others see is the state just restored, as the last step published it.
+  if (self_ >= 0) publish(self_);
+  else sightings_.clear();
+  return true;
+}
+
+Result<std::unique_ptr<Body>> buildFishBody(const BodyDesc& desc, const BuildContext& ctx) {
+  const auto& d = desc.as<FishDesc>();
+  int hook = -1;
+  if (!d.hook.empty()) {
+    const auto& objs = ctx.scene->objects;
+    const auto it = std::find_if(objs.begin(), objs.end(), [&](const ObjectDesc& o) { return o.name == d.hook; });
+    if (it != objs.end()) hook = static_cast<int>(it - objs.begin());
+  }
+  auto body = std::make_unique<FishBody>(desc.name, d, desc.material, ctx.seed, hook, ctx.scene->water.density);
+  const FishTemplate& t = body->fishTemplate();
+  // Every fish: the template turned to its heading and moved so its centre of mass is at its
+  // start point.
+  MassSpringDesc ms;
+  const auto n = static_cast<std::size_t>(d.count);
+  for (std::size_t i = 0; i < n; ++i) {
+    auto u = [&](int k) { return uniformAt(ctx.seed, kStartStream, 8 * i + static_cast<std::size_t>(k)); };
+    const bool one = !d.start_given;
+    const Vec3 at = one ? d.position : d.start.point(u(0), u(1), u(2));
+    Vec3 heading = one ? d.heading.value_or(Vec3::UnitZ()) : d.start.heading.value_or(Vec3::Zero());
+    if (heading.squaredNorm() == 0) {
+      const double a = 2 * kPi * u(3);
+      heading = Vec3(std::sin(a), 0.0, std::cos(a));  // random, level
+    }
+    const Vec3 fwd = heading.normalized();
+    body->mind_[i].wander = {fwd.x(), fwd.y(), fwd.z()};
+    const Vec3 left = unitOr(Vec3::UnitY().cross(fwd), Vec3::UnitX());
+    const Vec3 up = fwd.cross(left);
+    Mat3 R;
+    R.col(0) = left, R.col(1) = up, R.col(2) = fwd;
+    const std::size_t base = ms.nodes.size();
+    for (int k = 0; k < kFishNodes; ++k) {
+      NodeDesc nd;
+      nd.position = at + R * (t.x[static_cast<std::size_t>(k)] - t.center_of_mass);
+      nd.mass = t.mass[static_cast<std::size_t>(k)];
+      nd.velocity = Vec3::Zero();
+      ms.nodes.push_back(nd);
+    }
+    for (std::size_t s = 0; s < t.springs.size(); ++s) {
+      SpringDesc sd;
+      sd.a = static_cast<int>(base) + t.springs.a[s];
+      sd.b = static_cast<int>(base) + t.springs.b[s];
+      sd.stiffness = t.springs.stiffness[s];
+      sd.damping = t.springs.damping[s];
+      sd.rest_length = t.springs.rest[s];
+      ms.springs.push_back(sd);
+    }
+  }
+  // Fish are neutrally buoyant (their weight and the water's lift cancel): no gravity.
+  SpringNetwork& net = body->network();
+  net.build(ms, Vec3::Zero(), ctx.scene->integrator, d.contactRadius(0));
+  if (std::string e = net.unstableMethod(desc.name, ctx.scene->integrator); !e.empty())
+    return Error(ErrorKind::BadInput, ctx.scene->file + ": " + e);
+  return std::unique_ptr<Body>(std::move(body));
+}
+
+}  // namespace reel

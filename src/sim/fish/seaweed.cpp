@@ -1,0 +1,98 @@
+#include "sim/fish/seaweed.h"
+
+#include <cmath>
+
+#include "core/random.h"
+#include "sim/draw_material.h"
+#include "sim/water.h"
+
+namespace reel {
+
+void SeaweedBody::step(StepContext& ctx) {
+  const MassSpringModel& m = net_.model;
+  if (lift_.size() != m.nodes()) {
+    lift_.resize(m.nodes());
+    for (std::size_t i = 0; i < m.nodes(); ++i) lift_[i] = -desc_.buoyancy * m.mass[i] * m.gravity;
+  }
+  net_.system->setExternalForces(lift_.data());
+  net_.integrate(ctx);
+  // Drag toward the water's velocity, implicitly per node: (m + hc) v' = m v + hc u.
+  auto& x = net_.state.x;
+  auto& v = net_.state.v;
+  const double c = desc_.drag, h = ctx.h;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (m.fixed[i]) continue;
+    const Vec3 u = ctx.water ? ctx.water->at(x[i], ctx.t1, *ctx.colliders) : Vec3::Zero();
+    const Vec3 vn = (m.mass[i] * v[i] + h * c * u) / (m.mass[i] + h * c);
+    x[i] += h * (vn - v[i]);
+    v[i] = vn;
+  }
+  net_.contacts(ctx);
+}
+
+// Each strand a ribbon through its nodes, turned across the flow's plane: its width lies
+// horizontal and perpendicular to the strand.
+void SeaweedBody::draw(DrawList& out) const {
+  auto mesh = std::make_shared<TriMesh>();
+  const auto& x = net_.state.x;
+  const std::size_t per = static_cast<std::size_t>(desc_.segments) + 1;
+  for (std::size_t s = 0; s < strands(); ++s) {
+    const auto base = static_cast<std::uint32_t>(mesh->vertexCount());
+    for (std::size_t j = 0; j < per; ++j) {
+      const std::size_t i = s * per + j;
+      const Vec3 along = (x[s * per + std::min(j + 1, per - 1)] - x[s * per + (j == 0 ? 0 : j - 1)]).normalized();
+      Vec3 side = along.cross(Vec3::UnitX());
+      if (side.squaredNorm() < 1e-6) side = along.cross(Vec3::UnitZ());
+      side.normalize();
+      // Narrowing to the tip.
+      const double w = 0.5 * desc_.width * (1.0 - 0.6 * static_cast<double>(j) / static_cast<double>(per - 1));
+      const Vec3 n = side.cross(along).normalized();
+      const double v = static_cast<double>(j) / static_cast<double>(per - 1);
+      mesh->addVertex(x[i] - w * side, n, 0, v);
+      mesh->addVertex(x[i] + w * side, n, 1, v);
+    }
+    for (std::uint32_t j = 0; j + 1 < per; ++j) {
+      const std::uint32_t a = base + 2 * j;
+      mesh->indices.insert(mesh->indices.end(), {a, a + 1, a + 3, a, a + 3, a + 2});
+    }
+  }
+  DrawMesh dm;
+  dm.mesh = std::move(mesh);
+  dm.per_frame = true;
+  dm.material = drawMaterial(material_);
+  dm.material.double_sided = true;
+  out.meshes.push_back(std::move(dm));
+}
+
+Result<std::unique_ptr<Body>> buildSeaweedBody(const BodyDesc& desc, const BuildContext& ctx) {
+  const auto& d = desc.as<SeaweedDesc>();
+  std::vector<Vec3> bases = d.bases;
+  for (long long k = 0; bases.empty() && k < d.count; ++k) {
+    const auto i = static_cast<std::uint64_t>(k);
+    bases.push_back(Vec3(d.min.x() + uniformAt(ctx.seed, 0x5EA, 3 * i) * (d.max.x() - d.min.x()), d.min.y(),
+                         d.min.z() + uniformAt(ctx.seed, 0x5EA, 3 * i + 1) * (d.max.z() - d.min.z())));
+  }
+  MassSpringDesc ms;
+  const int n = d.segments;
+  for (std::size_t s = 0; s < bases.size(); ++s) {
+    const double height = d.height * (1.0 - d.height_variation * uniformAt(ctx.seed, 0x5EA, 3 * s + 2));
+    const double m = d.mass / (n + 1), seg = height / n;
+    const int first = static_cast<int>(ms.nodes.size());
+    for (int j = 0; j <= n; ++j) {
+      NodeDesc nd;
+      nd.position = bases[s] + Vec3(0, seg * j, 0);
+      nd.mass = m;
+      nd.fixed = j == 0;
+      ms.nodes.push_back(nd);
+    }
+    // Stretch springs between neighbours, bend springs across two; damped at a tenth of critical.
+    const double damping = 0.2 * std::sqrt(d.stiffness * m);
+    for (int j = 0; j < n; ++j) ms.springs.push_back({first + j, first + j + 1, d.stiffness, damping, -1.0});
+    for (int j = 0; j + 2 <= n; ++j) ms.springs.push_back({first + j, first + j + 2, 0.25 * d.stiffness, damping, -1.0});
+  }
+  auto body = std::make_unique<SeaweedBody>(desc.name, d, desc.material);
+  if (Status st = buildNetwork(*body, ms, desc, ctx, 0.5 * d.width); !st) return st.error();
+  return std::unique_ptr<Body>(std::move(body));
+}
+
+}  // namespace reel
