@@ -265,6 +265,9 @@ TEST_CASE("seaweed sways with the current and food drifts with it") {
                   "sink_speed": 0, "jitter": 0}]})");
   run(w, 90);
   const auto& kelp = dynamic_cast<const SeaweedBody&>(*w.bodies()[0]);
+  World many = worldFromText(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "seaweed", "name": "k", "count": 7,
+      "region": {"min": [0, 0, 0], "max": [3, 0, 3]}, "segments": 4}]})");
+  CHECK(dynamic_cast<const SeaweedBody&>(*many.bodies()[0]).strands() == 7);
   const Vec3 tip = kelp.network().state.x.back();
   CHECK(tip.x() > 0.2);   // leaning downstream
   CHECK(tip.y() > 0.3);   // but still standing (buoyant)

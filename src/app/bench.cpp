@@ -496,14 +496,50 @@ int benchSchool(double seconds) {
   return 0;
 }
 
+// Artificial fish: 10, 100 and 1,000 prey schooling in water (perception and behaviour every
+// 0.1 s, implicit Euler at 30 fps × 6 substeps, as the film runs them): fish-steps per second and
+// how many times faster than real time at 30 fps.
+int benchFish(double seconds) {
+  for (const long long n : {10ll, 100ll, 1000ll}) {
+    const double radius = 0.6 * std::cbrt(static_cast<double>(n));  // about 5 fish per m³
+    const int frames = std::max(3, static_cast<int>(std::lround(std::max(seconds, 0.1) * 3000.0 / static_cast<double>(n))));
+    auto num = [](double x) { return std::to_string(x); };
+    const std::string text = R"({"format": "reel/1", "name": "bench_fish", "fps": 30, "substeps": 6, "integrator": "implicit_euler",
+        "implicit": {"cg_tolerance": 1e-4}, "duration": )" + num((frames + 1) / 30.0) +
+                             R"(, "bodies": [{"type": "fish", "name": "f", "count": )" + std::to_string(n) +
+                             R"(, "start": {"center": [0, 0, 0], "radius": )" + num(radius) + R"(}, "mental": {"hunger": 0}}]})";
+    auto scene = parseScene(text, "bench_fish.json");
+    if (!scene.ok()) return report(scene.error());
+    auto world = makeWorld(scene.value());
+    if (!world.ok()) return report(world.error());
+    World& w = world.value();
+    const auto t0 = Clock::now();
+    for (int k = 0; k < frames; ++k)
+      if (Status st = w.advanceFrame(); !st) return report(st.error());
+    const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+    const double fish_steps = static_cast<double>(n) * frames * w.stepsPerFrame();
+    nlohmann::ordered_json j = {{"name", "fish"},
+                                {"fish", n},
+                                {"frames", frames},
+                                {"steps_per_frame", w.stepsPerFrame()},
+                                {"threads", threadCount()},
+                                {"wall_s", wall},
+                                {"fish_steps_per_s", fish_steps / wall},
+                                {"times_real_time", frames / 30.0 / wall}};
+    std::printf("%s\n", j.dump().c_str());
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int bench(const std::vector<std::string>& names, double seconds) {
-  const std::vector<std::string> all = {"springs", "render", "film", "cloth", "fluid", "school"};
+  const std::vector<std::string> all = {"springs", "render", "film", "cloth", "fluid", "school", "fish"};
   const std::vector<std::string>& run = names.empty() ? all : names;
   for (const auto& n : run) {
     if (std::find(all.begin(), all.end(), n) == all.end()) {
-      std::fprintf(stderr, "reel: unknown benchmark \"%s\" (available: springs, render, film, cloth, fluid, school)\n", n.c_str());
+      std::fprintf(stderr, "reel: unknown benchmark \"%s\" (available: springs, render, film, cloth, fluid, school, fish)\n", n.c_str());
       return 2;
     }
   }
@@ -515,6 +551,7 @@ int bench(const std::vector<std::string>& names, double seconds) {
     if (n == "cloth") rc = benchCloth(std::max(1.0 / 30.0, seconds));
     if (n == "fluid") rc = benchFluid(std::max(4.0 / 30.0, 0.1 * seconds));
     if (n == "school") rc = benchSchool(seconds);
+    if (n == "fish") rc = benchFish(seconds);
     if (rc != 0) return rc;
   }
   return 0;

@@ -84,8 +84,8 @@ struct FishDesc final : BodyParams {
 
   // Look.
   bool wireframe = false;          // "draw": "wireframe": nodes, springs and muscles
-  std::string pattern = "stripes"; // stripes | spots | gradient | plain
-  Vec3 pattern_color{0.1, 0.1, 0.12};  // linear rgb of the stripes, spots or back
+  std::string pattern = "stripes"; // `skin`: stripes | spots | gradient | plain
+  Vec3 pattern_color{0.1, 0.1, 0.12};  // `skin_color`: linear rgb of the stripes, spots or back
 
   std::pair<long long, long long> nodesAndSprings() const override { return {23 * count, 91 * count}; }
   double contactRadius(double) const override { return 0.04 * length; }

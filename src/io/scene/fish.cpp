@@ -149,8 +149,8 @@ std::shared_ptr<const BodyParams> readFishBody(Obj& o, BodyDesc& body, const Sce
   }
   f->wireframe = o.choice("draw", "skin", {"skin", "wireframe"}) == "wireframe";
   std::vector<std::string> patterns(std::begin(kFishPatternNames), std::end(kFishPatternNames));
-  f->pattern = o.choice("pattern", f->pattern, patterns);
-  f->pattern_color = o.vec3("pattern_color", f->pattern_color, kUnit);
+  f->pattern = o.choice("skin", f->pattern, patterns);
+  f->pattern_color = o.vec3("skin_color", f->pattern_color, kUnit);
   return f;
 }
 

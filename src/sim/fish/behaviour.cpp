@@ -18,6 +18,14 @@ bool nearer(const Seen& a, const Seen& b) {
   return a.index < b.index;
 }
 
+// The sight line from a to b stops `short_by` before b: what touches the thing seen (the seabed
+// under it, a hook's line) does not hide it.
+Vec3 shortOf(const Vec3& a, const Vec3& b, double short_by) {
+  const Vec3 d = b - a;
+  const double len = d.norm();
+  return len > short_by ? Vec3(b - (short_by / len) * d) : a;
+}
+
 }  // namespace
 
 // Tu & Terzopoulos 1994 §4: the eyes see within a 300° solid angle and a radius, and an object is
@@ -57,7 +65,7 @@ void perceive(const FishDesc& d, const FishFrame& self, int self_body, int self_
   const double step = 0.25 * d.length;
   for (const Seen& s : fish) {
     if (out.seen.size() >= kMaxSeen - kMaxFood - 1) break;
-    if (!w.obstacles || !segmentBlocked(*w.obstacles, eye, s.x, step)) out.seen.push_back(s);
+    if (!w.obstacles || !segmentBlocked(*w.obstacles, eye, shortOf(eye, s.x, 0.5 * s.length), step)) out.seen.push_back(s);
   }
   std::vector<Seen> food;
   for (const auto& [body, particles] : w.food)
@@ -73,7 +81,7 @@ void perceive(const FishDesc& d, const FishFrame& self, int self_body, int self_
   if (w.hook) {
     double dist;
     const Vec3 p = w.hook->pos;
-    if (inCone(p, dist) && dist <= d.vision_radius && !(w.obstacles && segmentBlocked(*w.obstacles, eye, p, step))) {
+    if (inCone(p, dist) && dist <= d.vision_radius && !(w.obstacles && segmentBlocked(*w.obstacles, eye, shortOf(eye, p, 0.1 * d.length), step))) {
       Seen s;
       s.kind = Seen::Kind::Hook, s.x = p, s.v = w.hook->velocityAt(p), s.distance = dist;
       out.seen.push_back(s);
@@ -122,7 +130,7 @@ Intention choose(const FishDesc& d, const Percept& p, FishMind& m, const Seen*& 
   focus = nullptr;
   const auto cur = static_cast<Intention>(m.intention);
   const bool avoiding = cur == Intention::AvoidObstacle || cur == Intention::AvoidFish;
-  if (p.surroundings.avoid > 0.05) return Intention::AvoidObstacle;
+  if (p.surroundings.avoid > 0.25) return Intention::AvoidObstacle;  // imminent; nearer walls only bias
   for (const Seen& s : p.seen)
     if (s.kind == Seen::Kind::Fish && s.distance < 0.6 * std::max(d.length, s.length) &&
         !(cur == Intention::Chase && s.body == m.target_body && s.index == m.target_index) &&

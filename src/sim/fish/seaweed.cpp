@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "core/math.h"
 #include "core/random.h"
 #include "sim/draw_material.h"
 #include "sim/water.h"
@@ -30,8 +31,7 @@ void SeaweedBody::step(StepContext& ctx) {
   net_.contacts(ctx);
 }
 
-// Each strand a ribbon through its nodes, turned across the flow's plane: its width lies
-// horizontal and perpendicular to the strand.
+// Each strand a ribbon (a kelp blade) through its nodes, narrowing to the tip.
 void SeaweedBody::draw(DrawList& out) const {
   auto mesh = std::make_shared<TriMesh>();
   const auto& x = net_.state.x;
@@ -41,9 +41,11 @@ void SeaweedBody::draw(DrawList& out) const {
     for (std::size_t j = 0; j < per; ++j) {
       const std::size_t i = s * per + j;
       const Vec3 along = (x[s * per + std::min(j + 1, per - 1)] - x[s * per + (j == 0 ? 0 : j - 1)]).normalized();
-      Vec3 side = along.cross(Vec3::UnitX());
-      if (side.squaredNorm() < 1e-6) side = along.cross(Vec3::UnitZ());
-      side.normalize();
+      // The blade twists up the strand (and each strand starts at its own angle), so it shows
+      // its face from every side.
+      const Vec3 e1 = perpendicular(along), e2 = along.cross(e1);
+      const double turn = 2.39996 * static_cast<double>(s) + 0.45 * static_cast<double>(j);
+      const Vec3 side = std::cos(turn) * e1 + std::sin(turn) * e2;
       // Narrowing to the tip.
       const double w = 0.5 * desc_.width * (1.0 - 0.6 * static_cast<double>(j) / static_cast<double>(per - 1));
       const Vec3 n = side.cross(along).normalized();
@@ -67,7 +69,7 @@ void SeaweedBody::draw(DrawList& out) const {
 Result<std::unique_ptr<Body>> buildSeaweedBody(const BodyDesc& desc, const BuildContext& ctx) {
   const auto& d = desc.as<SeaweedDesc>();
   std::vector<Vec3> bases = d.bases;
-  for (long long k = 0; bases.empty() && k < d.count; ++k) {
+  for (long long k = 0; d.bases.empty() && k < d.count; ++k) {
     const auto i = static_cast<std::uint64_t>(k);
     bases.push_back(Vec3(d.min.x() + uniformAt(ctx.seed, 0x5EA, 3 * i) * (d.max.x() - d.min.x()), d.min.y(),
                          d.min.z() + uniformAt(ctx.seed, 0x5EA, 3 * i + 1) * (d.max.z() - d.min.z())));
