@@ -1,13 +1,13 @@
 # reel: the two commands of the README.
 #   make demo   installs what is missing, builds Release, renders the headline films into
-#               render_out/ (the flying carpet, then the school of fish)
+#               render_out/ (the flying carpet, the school of fish, then Go Fish!)
 #   make films  the same for every film in scenes/
 #   make test   installs what is missing, builds Release, runs every test through ctest
 PRESET ?= release
 JOBS   ?= $(shell nproc)
 BUILD  := build/$(PRESET)
 REEL   := $(BUILD)/reel
-DEMO_SCENES := scenes/flying_carpet.json scenes/school.json
+DEMO_SCENES := scenes/flying_carpet.json scenes/school.json scenes/go_fish.json
 FILM_SCENES := $(sort $(wildcard scenes/*.json))
 
 .PHONY: all deps configure build demo films test clean

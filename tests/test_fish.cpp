@@ -139,6 +139,25 @@ TEST_CASE("the turn command turns the fish toward the side asked") {
   }
 }
 
+TEST_CASE("asked to turn 90° a fish turns about that much, either way") {
+  for (int side : {1, -1}) {
+    CAPTURE(side);
+    World w = worldFromText(driven(std::string(R"({"swim": {"frequency": 2.5, "amplitude": 1}, "turn": {"side": ")") +
+                                       (side > 0 ? "left" : "right") + R"(", "start": 1, "angle_deg": 90}})",
+                                   12));
+    const FishBody& f = fishOf(w, "f");
+    const double before = pathAngle(w, f, 30);
+    run(w, 270);
+    const double after = pathAngle(w, f, 30);
+    double turned = (after - before) * 180 / 3.14159265358979;
+    if (turned > 180) turned -= 360;
+    if (turned < -180) turned += 360;
+    CAPTURE(turned);
+    CHECK(side * turned == doctest::Approx(90).epsilon(0.3));
+    CHECK(f.motor(0).turn_done);
+  }
+}
+
 TEST_CASE("the swim controller reaches the speed the behaviour asks") {
   // A wandering fish in open water, nothing else: its speed settles near its cruise speed.
   World w = worldFromText(R"({"format": "reel/1", "fps": 30, "substeps": 10, "duration": 8, "integrator": "implicit_euler",

@@ -39,6 +39,7 @@ struct FishDriveDesc {
   int turn_side = 0;            // +1 left, −1 right, 0 none
   double turn_amount = 1.0;     // 0..1 of the largest bend
   double turn_start = 0.0, turn_stop = 0.0;  // s
+  double turn_angle_deg = 0.0;  // > 0: turn by this angle (closed loop) instead of until turn_stop
   double pitch_deg = 0.0;       // pectoral fins: + rises, − dives
   std::vector<MusclePatternDesc> muscles;
 };
@@ -80,6 +81,7 @@ struct FishDesc final : BodyParams {
   double field_of_view_deg = 300.0;
   double smell_radius = 20.0;       // m: food is smelt (not seen) within this
   std::string hook;                 // an object the fish may bite (and be caught on)
+  std::vector<std::string> ignore;  // objects the fish do not steer around (a fishing line)
   std::optional<SchoolBoundsDesc> bounds;  // a box or ball the fish turn back from
 
   // Look.

@@ -65,8 +65,14 @@ void readDrive(Obj& o, FishDesc& f) {
     d.turn_side = to.choice("side", "left", {"left", "right"}) == "left" ? 1 : -1;
     d.turn_amount = to.number("amount", d.turn_amount, kUnit);
     d.turn_start = to.number("start", 0.0, kTimes);
-    d.turn_stop = to.number("stop", Range::nonNegative(), true).value_or(0.0);
-    if (d.turn_stop <= d.turn_start) o.diag().error(childPath(to.path(), "stop"), "must be after start");
+    if (to.has("angle_deg")) {
+      d.turn_angle_deg = to.number("angle_deg", Range{0.0, 3600.0, true, false}, true).value_or(0.0);
+      d.turn_stop = 1e30;
+      if (to.has("stop")) o.diag().error(childPath(to.path(), "stop"), "give angle_deg or stop, not both");
+    } else {
+      d.turn_stop = to.number("stop", Range::nonNegative(), true).value_or(0.0);
+      if (d.turn_stop <= d.turn_start) o.diag().error(childPath(to.path(), "stop"), "must be after start");
+    }
     to.finish();
   }
   d.pitch_deg = o.number("pitch_deg", d.pitch_deg, Range::closed(-60.0, 60.0));
@@ -139,6 +145,17 @@ std::shared_ptr<const BodyParams> readFishBody(Obj& o, BodyDesc& body, const Sce
     f->hook = *hook;
     if (std::none_of(scene.objects.begin(), scene.objects.end(), [&](const ObjectDesc& ob) { return ob.name == *hook; }))
       o.diag().error(childPath(o.path(), "hook"), "names no object of the scene: \"" + *hook + "\"");
+  }
+  if (const Json* ig = o.raw("ignore")) {
+    const std::string path = childPath(o.path(), "ignore");
+    if (!ig->is_array()) o.diag().error(path, "expected a list of object names");
+    for (std::size_t k = 0; ig->is_array() && k < ig->size(); ++k) {
+      const Json& e = (*ig)[k];
+      const std::string name = e.is_string() ? e.get<std::string>() : "";
+      if (std::none_of(scene.objects.begin(), scene.objects.end(), [&](const ObjectDesc& ob) { return ob.name == name; }))
+        o.diag().error(childPath(path, k), "names no object of the scene" + (name.empty() ? std::string() : ": \"" + name + "\""));
+      else f->ignore.push_back(name);
+    }
   }
   if (const Json* b = o.raw("bounds")) {
     Obj bo(*b, childPath(o.path(), "bounds"), o.diag());

@@ -262,9 +262,10 @@ MotorCommand behave(const FishDesc& d, const FishFrame& self, const Percept& p, 
 
   // The turn-MC bends toward the side of the desired direction, the fins pitch toward its
   // elevation.
+  // elevation. A fish slows to turn sharply (a tighter circle).
   MotorCommand cmd;
-  cmd.speed = speed;
   const double yaw = std::atan2(dir.dot(self.left), dir.dot(self.forward));
+  cmd.speed = speed * std::clamp(0.5 + 0.5 * std::cos(yaw), 0.3, 1.0);
   cmd.bend = std::clamp(yaw / (kPi / 3), -1.0, 1.0);
   const double elevation = std::asin(std::clamp(dir.y(), -1.0, 1.0)) - std::asin(std::clamp(self.forward.y(), -1.0, 1.0));
   cmd.pitch = std::clamp(1.5 * elevation, -0.5, 0.5);

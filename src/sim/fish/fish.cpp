@@ -136,10 +136,32 @@ void motorControl(const MotorCommand& cmd, double forward_speed, double length, 
   }
   for (int seg = 0; seg <= 1; ++seg) {
     const int side = m.bend > 0 ? 0 : 1;  // left muscles bend the body to the left
-    const double amount = std::abs(m.bend) * (seg == 0 ? 1.0 : 0.6);
+    const double amount = std::abs(m.bend);
     for (int lower = 0; lower < 2; ++lower) m.contraction[static_cast<std::size_t>(4 * seg + 2 * side + lower)] += amount;
   }
   for (double& c : m.contraction) c = std::clamp(c, 0.0, 1.0);
+}
+
+void trackHeading(FishMotor& m, const Vec3& forward, double h) {
+  Vec3 c(m.heading[0], m.heading[1], m.heading[2]);
+  c = unitOr(c + std::min(1.0, h / 0.3) * (forward - c), forward);
+  m.heading = {c.x(), c.y(), c.z()};
+}
+
+double turnByAngle(FishMotor& m, int side, double angle, double amount) {
+  if (m.turn_done) return 0.0;
+  const Vec3 now(m.heading[0], 0.0, m.heading[2]);
+  if (m.turn_from[0] == 0 && m.turn_from[2] == 0) m.turn_from = {now.x(), 0.0, now.z()};
+  const Vec3 from(m.turn_from[0], 0.0, m.turn_from[2]);
+  // Turned so far about +y (left +), unwrapped through the half turn by the side asked.
+  double turned = std::atan2(from.cross(now).y(), from.dot(now));
+  if (side * turned < -0.5 * kPi) turned += side * 2 * kPi;
+  const double left = side * angle - turned;
+  if (side * left <= 0) {
+    m.turn_done = true;
+    return 0.0;
+  }
+  return amount * std::clamp(left / (kPi / 6), -1.0, 1.0);
 }
 
 FishFrame fishFrame(const Vec3* x, const Vec3* v) {

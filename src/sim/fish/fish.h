@@ -54,6 +54,9 @@ struct FishMotor {
   double bend = 0.0;       // turn: −1 (full right) .. 1 (full left)
   double pitch = 0.0;      // pectoral fins, rad: + rises
   std::array<double, kFishMuscles> contraction{};  // 0..1 each
+  std::array<double, 3> heading{0, 0, 1};  // the course: the forward axis smoothed over a beat, unit
+  std::array<double, 3> turn_from{0, 0, 0};  // a turn by angle: the course when it began (0: not begun)
+  bool turn_done = false;
 };
 
 // What the behaviour (or the drive) asks of the motor controllers.
@@ -69,6 +72,14 @@ struct MotorCommand {
 // left and right in antiphase, the rear lagging the middle by a quarter beat, so a wave runs to
 // the tail; turning: the front and middle segments contract on the side turned to.
 void motorControl(const MotorCommand& cmd, double forward_speed, double length, double h, FishMotor& m);
+
+// The course (the forward axis smoothed over about a third of a second, so the swim's wiggle
+// does not read as turning), advanced by h.
+void trackHeading(FishMotor& m, const Vec3& forward, double h);
+
+// The turn-MC asked to turn by `angle` (rad) to `side` (+1 left): the bend that brings the course
+// round, in proportion to what is left of the angle (full at 30° or more), and 0 once turned.
+double turnByAngle(FishMotor& m, int side, double angle, double amount);
 
 // Frame of a fish from its nodes: centre (mean of ring centres), forward (unit, tail → nose), up.
 struct FishFrame {

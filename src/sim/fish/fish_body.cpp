@@ -20,7 +20,7 @@ constexpr double kMeal = 0.35;  // hunger a particle of food takes away
 
 // The pectoral fins sit at ring 2's sides (nodes 5, 8 on the left; 6, 7 on the right), each of
 // this area in lengths².
-constexpr double kFinArea = 0.012;
+constexpr double kFinArea = 0.04;
 
 // The world's bodies: the index of `self`.
 int indexOf(const StepContext& ctx, const Body* self) {
@@ -62,12 +62,13 @@ FishFrame FishBody::frame(std::size_t i) const {
   return fishFrame(&net_.state.x[kFishNodes * i], &net_.state.v[kFishNodes * i]);
 }
 
-MotorCommand FishBody::driveCommand(double t) const {
+MotorCommand FishBody::driveCommand(double t, FishMotor& m) const {
   const FishDriveDesc& d = desc_.drive;
   MotorCommand c;
   c.speed = -1.0;  // frequency and amplitude given
   if (t >= d.swim_start && t < d.swim_stop) c.frequency = d.swim_frequency, c.amplitude = d.swim_amplitude;
-  if (d.turn_side != 0 && t >= d.turn_start && t < d.turn_stop) c.bend = d.turn_side * d.turn_amount;
+  if (d.turn_side != 0 && t >= d.turn_start && t < d.turn_stop)
+    c.bend = d.turn_angle_deg > 0 ? turnByAngle(m, d.turn_side, d.turn_angle_deg * kPi / 180.0, d.turn_amount) : d.turn_side * d.turn_amount;
   c.pitch = d.pitch_deg * kPi / 180.0;
   return c;
 }
@@ -100,7 +101,7 @@ void FishBody::decide(StepContext& ctx, int self) {
   grid_.build(lo, hi, reach);
   obstacles_.clear();
   for (std::size_t c = 0; c < ctx.colliders->size(); ++c)
-    if (static_cast<int>(c) != hook_) obstacles_.push_back((*ctx.colliders)[c]);
+    if (static_cast<int>(c) != hook_ && !ignored_[c]) obstacles_.push_back((*ctx.colliders)[c]);
   FishWorldView w;
   w.fish = &everyone_;
   w.fish_grid = &grid_;
@@ -242,7 +243,8 @@ void FishBody::step(StepContext& ctx) {
   Springs& sp = net_.model.springs;
   parallelFor(static_cast<Index>(count()), [&](Index i) {
     const FishFrame f = frame(static_cast<std::size_t>(i));
-    const MotorCommand cmd = desc_.behaviour ? command_[i] : driveCommand(ctx.t0);
+    trackHeading(motor_[i], f.forward, ctx.h);
+    const MotorCommand cmd = desc_.behaviour ? command_[i] : driveCommand(ctx.t0, motor_[i]);
     motorControl(cmd, f.velocity.dot(f.forward), desc_.length, ctx.h, motor_[i]);
     addPatterns(ctx.t0, motor_[i]);
     const std::size_t so = kFishSprings * static_cast<std::size_t>(i);
@@ -339,7 +341,8 @@ bool FishBody::restoreMore(StateReader& r) {
     if (!(m.hunger >= 0 && m.hunger <= 1 && m.libido >= 0 && m.libido <= 1 && m.fear >= 0 && m.fear <= 1) ||
         m.intention < 0 || m.intention >= static_cast<int>(kIntentionNames.size()) || m.previous < 0 ||
         m.previous >= static_cast<int>(kIntentionNames.size()) || !std::isfinite(motor[i].phase) ||
-        !std::isfinite(motor[i].frequency) || !allWithin(hook, kRunawayDistance))
+        !std::isfinite(motor[i].frequency) || !allWithin(hook, kRunawayDistance) ||
+        !(std::abs(Vec3(motor[i].heading[0], motor[i].heading[1], motor[i].heading[2]).norm() - 1) < 1e-6))
       return false;
     for (double c : motor[i].contraction)
       if (!(c >= 0 && c <= 1)) return false;
@@ -361,6 +364,9 @@ Result<std::unique_ptr<Body>> buildFishBody(const BodyDesc& desc, const BuildCon
     if (it != objs.end()) hook = static_cast<int>(it - objs.begin());
   }
   auto body = std::make_unique<FishBody>(desc.name, d, desc.material, ctx.seed, hook, ctx.scene->water.density);
+  body->ignored_.assign(ctx.scene->objects.size(), 0);
+  for (std::size_t c = 0; c < ctx.scene->objects.size(); ++c)
+    body->ignored_[c] = std::find(d.ignore.begin(), d.ignore.end(), ctx.scene->objects[c].name) != d.ignore.end();
   const FishTemplate& t = body->fishTemplate();
   // Every fish: the template turned to its heading and moved so its centre of mass is at its
   // start point.
@@ -377,6 +383,7 @@ Result<std::unique_ptr<Body>> buildFishBody(const BodyDesc& desc, const BuildCon
     }
     const Vec3 fwd = heading.normalized();
     body->mind_[i].wander = {fwd.x(), fwd.y(), fwd.z()};
+    body->motor_[i].heading = {fwd.x(), fwd.y(), fwd.z()};
     const Vec3 left = unitOr(Vec3::UnitY().cross(fwd), Vec3::UnitX());
     const Vec3 up = fwd.cross(left);
     Mat3 R;

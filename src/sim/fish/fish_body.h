@@ -47,7 +47,7 @@ class FishBody final : public SpringNetworkBody {
  private:
   friend Result<std::unique_ptr<Body>> buildFishBody(const BodyDesc& desc, const BuildContext& ctx);
   void decide(StepContext& ctx, int self);
-  MotorCommand driveCommand(double t) const;
+  MotorCommand driveCommand(double t, FishMotor& m) const;
   void addPatterns(double t, FishMotor& m) const;
   void rollBalance();
   void waterForces(const StepContext& ctx);
@@ -58,6 +58,7 @@ class FishBody final : public SpringNetworkBody {
   Material material_;
   std::uint64_t seed_ = 0;
   int hook_ = -1;  // the collider of the hook object
+  std::vector<std::uint8_t> ignored_;  // per collider: 1 for the objects the fish do not steer around
   std::shared_ptr<const Image> skin_;  // the species' pattern
 
   // State (snapshots keep it).
