@@ -433,3 +433,32 @@ TEST_CASE("simulate --stats writes a school's order parameters per frame (CSV); 
   // An unwritable statistics file: exit 4 before anything is simulated.
   CHECK(runReel("simulate " + scene + " --stats /proc/no/such/stats.csv").code == 4);
 }
+
+TEST_CASE("a fish body's dump lists its nodes' masses, muscles and mental state; a bad fish scene exits 2") {
+  const std::string scene = write("dump_fish.json", R"({"format": "reel/1", "name": "fish", "fps": 10, "substeps": 4, "duration": 0.3,
+      "integrator": "implicit_euler", "bodies": [{"type": "fish", "name": "f", "count": 2, "start": {"center": [0, 0, 0], "radius": 1},
+      "mental": {"hunger": 0.4, "libido": 0.1, "fear": 0}}]})");
+  const std::string dump = (tmpDir() / "fish_dump.json").string(), csv = (tmpDir() / "fish.csv").string();
+  const Run r = runReel("simulate " + scene + " --dump " + dump + " --stats " + csv);
+  REQUIRE(r.code == 0);
+  const auto j = nlohmann::json::parse(std::ifstream(dump));
+  const auto& f = j["frames"][0]["bodies"][0];
+  CHECK(f["generator"] == "fish");
+  CHECK(f["positions"].size() == 46);
+  CHECK(f["masses"].size() == 46);
+  CHECK(f["springs"].size() == 182);
+  REQUIRE(f["muscles"].size() == 2);
+  CHECK(f["muscles"][0].size() == 12);
+  REQUIRE(f["mental"].size() == 2);
+  CHECK(f["mental"][1][0].get<double>() == doctest::Approx(0.4));
+  CHECK(f["mental"][1][1].get<double>() == doctest::Approx(0.1));
+  CHECK(f["intention"].size() == 2);
+  std::ifstream in(csv);
+  std::string header;
+  std::getline(in, header);
+  CHECK(header == "frame,time,body,hunger,libido,fear,speed,meals");
+  const std::string bad = write("bad_fish.json", R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "fish", "name": "f", "species": "shark"}]})");
+  const Run b = runReel("check " + bad);
+  CHECK(b.code == 2);
+  CHECK(b.out.find("/bodies/0/species") != std::string::npos);
+}

@@ -154,7 +154,7 @@ TEST_CASE("asked to turn 90° a fish turns about that much, either way") {
     if (turned < -180) turned += 360;
     CAPTURE(turned);
     CHECK(side * turned == doctest::Approx(90).epsilon(0.3));
-    CHECK(f.motor(0).turn_done);
+    CHECK(f.motor(0).turn_done == 1);
   }
 }
 
@@ -200,7 +200,7 @@ TEST_CASE("perception: a fish behind an object or in the blind angle is not seen
 TEST_CASE("behaviour: a hungry fish with food in view eats it") {
   World w = worldFromText(R"({"format": "reel/1", "fps": 30, "substeps": 6, "duration": 12, "integrator": "implicit_euler",
       "bodies": [{"type": "fish", "name": "f", "species": "pacifist", "position": [0, 0, 0], "heading": [0, 0, 1],
-                  "mental": {"hunger": 0.9, "libido": 0}},
+                  "mental": {"hunger": 0.9, "libido": 0}, "digestion": 0},
                  {"type": "food", "name": "plankton", "region": {"min": [-0.3, -0.2, 0.8], "max": [0.3, 0.2, 1.6]},
                   "initial": 8, "rate": 0, "sink_speed": 0, "jitter": 0}]})");
   const FishBody& f = fishOf(w, "f");
@@ -212,7 +212,7 @@ TEST_CASE("behaviour: a hungry fish with food in view eats it") {
 }
 
 TEST_CASE("behaviour: a fish that sees a predator flees, and prey of one body school") {
-  World w = worldFromText(R"({"format": "reel/1", "fps": 30, "substeps": 6, "duration": 10, "integrator": "implicit_euler", "seed": 3,
+  World w = worldFromText(R"({"format": "reel/1", "fps": 30, "substeps": 10, "duration": 10, "integrator": "implicit_euler", "seed": 3,
       "bodies": [{"type": "fish", "name": "shark", "species": "predator", "behaviour": "none", "position": [0, 0, -1.5], "heading": [0, 0, 1]},
                  {"type": "fish", "name": "prey", "species": "prey", "position": [0, 0, 0], "heading": [1, 0, 0], "mental": {"hunger": 0}}]})");
   const FishBody& prey = fishOf(w, "prey");
@@ -222,7 +222,7 @@ TEST_CASE("behaviour: a fish that sees a predator flees, and prey of one body sc
   CHECK(prey.mind(0).fear > 0.2);
   CHECK(prey.mind(0).intention == static_cast<int>(Intention::Escape));
   run(w, 135);
-  CHECK((centerOfMass(prey) - centerOfMass(shark)).norm() > d0 + 0.4);
+  CHECK((centerOfMass(prey) - centerOfMass(shark)).norm() > d0 + 0.5);
 
   // Twelve prey with random headings line up.
   World s = worldFromText(R"({"format": "reel/1", "fps": 30, "substeps": 6, "duration": 20, "integrator": "implicit_euler", "seed": 5,
@@ -230,7 +230,10 @@ TEST_CASE("behaviour: a fish that sees a predator flees, and prey of one body sc
   const FishBody& school = fishOf(s, "prey");
   auto polarization = [&] {
     std::vector<Vec3> x, v;
-    for (std::size_t i = 0; i < school.count(); ++i) x.push_back(school.frame(i).center), v.push_back(school.frame(i).forward);
+    for (std::size_t i = 0; i < school.count(); ++i) {
+      const auto& h = school.motor(i).heading;  // the course, without the swim's wiggle
+      x.push_back(school.frame(i).center), v.push_back(Vec3(h[0], h[1], h[2]));
+    }
     return schoolOrder(x, v).polarization;
   };
   const double p0 = polarization();

@@ -106,4 +106,11 @@ struct SceneDesc {
   int frameCount() const { return static_cast<int>(std::lround(duration * fps)); }
 };
 
+// The index of the object named `name` in scene.objects (its collider's index too), or −1.
+inline int objectIndex(const SceneDesc& scene, const std::string& name) {
+  for (std::size_t k = 0; k < scene.objects.size(); ++k)
+    if (scene.objects[k].name == name) return static_cast<int>(k);
+  return -1;
+}
+
 }  // namespace reel

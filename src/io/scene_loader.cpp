@@ -207,10 +207,9 @@ void readWater(Obj& o, SceneDesc& s) {
     } else {
       cd.kind = type == "source" ? CurrentDesc::Kind::Source : CurrentDesc::Kind::Sink;
       cd.object = c.string("object", true).value_or("");
-      const auto it = std::find_if(s.objects.begin(), s.objects.end(), [&](const ObjectDesc& od) { return od.name == cd.object; });
-      if (it == s.objects.end() && !cd.object.empty())
+      cd.collider = objectIndex(s, cd.object);
+      if (cd.collider < 0 && !cd.object.empty())
         c.diag().error(childPath(c.path(), "object"), "names no object of the scene: \"" + cd.object + "\"");
-      cd.collider = static_cast<int>(it - s.objects.begin());
       cd.rate = c.number("rate", Range{0.0, 1e6, true, false}, true).value_or(0.0);
       cd.core = c.number("core", cd.core, Range{0.0, 1e4, true, false});
     }

@@ -134,15 +134,13 @@ void Collider::moveTo(double t, double dt_since) {
 Vec3 Collider::velocityAt(const Vec3& p) const {
   if (!moving() || !(dt > 0)) return Vec3::Zero();
   // Where the material point now at p was one step ago: authored point, then the old pose.
-  const Vec3 authored = rot.transpose() * (p - pos) + pivot;
-  const Vec3 before = rot_prev * (authored - pivot) + pos_prev;
+  const Vec3 before = rot_prev * (toAuthored(p) - pivot) + pos_prev;
   return (p - before) / dt;
 }
 
 bool Collider::distance(const Vec3& p, double& d, Vec3& n) const {
   if (!moving()) return distanceAuthored(p, d, n);
-  const Vec3 q = rot.transpose() * (p - pos) + pivot;
-  if (!distanceAuthored(q, d, n)) return false;
+  if (!distanceAuthored(toAuthored(p), d, n)) return false;
   n = rot * n;
   return true;
 }

@@ -57,6 +57,9 @@ struct Collider {
   // Returns false when p is outside the collider's reach: beside a finite plane, more than its
   // thickness plus 5% of its smaller half-size below it, or farther than a mesh's reach.
   bool distance(const Vec3& p, double& d, Vec3& n) const;
+  // The authored point of the material point now at p, and back (the current pose).
+  Vec3 toAuthored(const Vec3& p) const { return rot.transpose() * (p - pos) + pivot; }
+  Vec3 fromAuthored(const Vec3& a) const { return rot * (a - pivot) + pos; }
   // Velocity of the surface point now at p (zero for a static collider), m/s.
   Vec3 velocityAt(const Vec3& p) const;
 

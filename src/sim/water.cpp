@@ -8,6 +8,7 @@ namespace reel {
 
 Vec3 Water::at(const Vec3& x, double t, const std::vector<Collider>& colliders) const {
   Vec3 u{0, 0, 0};
+  if (!(desc_.density > 0)) return u;  // no water, no flow
   for (const CurrentDesc& c : desc_.currents) {
     if (c.kind == CurrentDesc::Kind::Uniform) {
       u += c.velocity + std::sin(2 * kPi * t / c.period) * c.amplitude;

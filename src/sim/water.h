@@ -17,6 +17,7 @@ class Water {
   explicit Water(const WaterDesc& d) : desc_(d) {}
   double density() const { return desc_.density; }
   // The flow at x at time t, m/s; `colliders` at their pose at t (sources move with their object).
+  // Without water (density 0) there is no flow.
   Vec3 at(const Vec3& x, double t, const std::vector<Collider>& colliders) const;
   bool still() const { return desc_.currents.empty(); }
 

@@ -10,7 +10,7 @@
 namespace reel::io {
 namespace {
 
-const Range kLength{0.0, 1e4, true, false}, kSpeedBl{0.0, 100.0, true, false}, kTimes{0.0, 1e6, false, false};
+const Range kSpeedBl{0.0, 100.0, true, false}, kTimes{0.0, 1e6, false, false};
 
 // The species presets: habits, size, speeds, senses, mood and look.
 void preset(FishDesc& f, BodyDesc& body) {
@@ -52,16 +52,13 @@ std::vector<int> muscleNames(const std::string& name) {
 
 void readDrive(Obj& o, FishDesc& f) {
   FishDriveDesc& d = f.drive;
-  if (const Json* s = o.raw("swim")) {
-    Obj so(*s, childPath(o.path(), "swim"), o.diag());
+  readObjectKey(o, "swim", [&](Obj& so) {
     d.swim_frequency = so.number("frequency", d.swim_frequency, Range::closed(0.0, 100.0));
     d.swim_amplitude = so.number("amplitude", d.swim_amplitude, kUnit);
     d.swim_start = so.number("start", d.swim_start, kTimes);
     d.swim_stop = so.number("stop", d.swim_stop, kTimes);
-    so.finish();
-  }
-  if (const Json* t = o.raw("turn")) {
-    Obj to(*t, childPath(o.path(), "turn"), o.diag());
+  });
+  readObjectKey(o, "turn", [&](Obj& to) {
     d.turn_side = to.choice("side", "left", {"left", "right"}) == "left" ? 1 : -1;
     d.turn_amount = to.number("amount", d.turn_amount, kUnit);
     d.turn_start = to.number("start", 0.0, kTimes);
@@ -73,8 +70,7 @@ void readDrive(Obj& o, FishDesc& f) {
       d.turn_stop = to.number("stop", Range::nonNegative(), true).value_or(0.0);
       if (d.turn_stop <= d.turn_start) o.diag().error(childPath(to.path(), "stop"), "must be after start");
     }
-    to.finish();
-  }
+  });
   d.pitch_deg = o.number("pitch_deg", d.pitch_deg, Range::closed(-60.0, 60.0));
   readList(o, "muscles", [&](Obj& m) {
     MusclePatternDesc p;
@@ -107,43 +103,35 @@ std::shared_ptr<const BodyParams> readFishBody(Obj& o, BodyDesc& body, const Sce
   } else if (o.has("position")) {
     o.diag().error(childPath(o.path(), "position"), "give position (one fish) or start and count, not both");
   }
-  f->length = o.number("length", f->length, Range{0.0, 100.0, true, false});
+  // At least a centimetre: smaller bodies have nodes below reel's smallest mass.
+  f->length = o.number("length", f->length, Range::closed(0.01, 100.0));
   f->cruise_speed = o.number("cruise_speed", f->cruise_speed, kSpeedBl);
   f->max_speed = o.number("max_speed", std::max(f->max_speed, f->cruise_speed), kSpeedBl);
   f->behaviour = o.choice("behaviour", "full", {"full", "none"}) == "full";
-  if (const Json* d = o.raw("drive")) {
-    Obj dobj(*d, childPath(o.path(), "drive"), o.diag());
-    readDrive(dobj, *f);
-    dobj.finish();
-    if (f->behaviour) o.diag().error(childPath(o.path(), "drive"), "needs \"behaviour\": \"none\" (the behaviour drives the motor controllers otherwise)");
-  }
-  if (const Json* m = o.raw("mental")) {
-    Obj mo(*m, childPath(o.path(), "mental"), o.diag());
+  readObjectKey(o, "drive", [&](Obj& dobj) { readDrive(dobj, *f); });
+  if (f->behaviour && o.has("drive"))
+    o.diag().error(childPath(o.path(), "drive"), "needs \"behaviour\": \"none\" (the behaviour drives the motor controllers otherwise)");
+  readObjectKey(o, "mental", [&](Obj& mo) {
     f->hunger = mo.number("hunger", f->hunger, kUnit);
     f->libido = mo.number("libido", f->libido, kUnit);
     f->fear = mo.number("fear", f->fear, kUnit);
-    mo.finish();
-  }
+  });
   f->digestion = o.number("digestion", f->digestion, Range::closed(0.0, 100.0));
   f->urge = o.number("urge", f->urge, Range::closed(0.0, 100.0));
-  if (const Json* p = o.raw("perception")) {
-    Obj po(*p, childPath(o.path(), "perception"), o.diag());
+  readObjectKey(o, "perception", [&](Obj& po) {
     f->vision_radius = po.number("vision_radius", f->vision_radius, kLength);
     f->field_of_view_deg = po.number("field_of_view_deg", f->field_of_view_deg, Range{0.0, 360.0, true, false});
     f->smell_radius = po.number("smell_radius", std::max(f->smell_radius, f->vision_radius), kLength);
-    po.finish();
-  }
-  if (const Json* h = o.raw("habits")) {
-    Obj ho(*h, childPath(o.path(), "habits"), o.diag());
+  });
+  readObjectKey(o, "habits", [&](Obj& ho) {
     f->habits.schools = ho.boolean("schools", f->habits.schools);
     f->habits.hunts = ho.boolean("hunts", f->habits.hunts);
     f->habits.mates = ho.boolean("mates", f->habits.mates);
     f->habits.timidity = ho.number("timidity", f->habits.timidity, kUnit);
-    ho.finish();
-  }
+  });
   if (auto hook = o.string("hook")) {
     f->hook = *hook;
-    if (std::none_of(scene.objects.begin(), scene.objects.end(), [&](const ObjectDesc& ob) { return ob.name == *hook; }))
+    if (objectIndex(scene, *hook) < 0)
       o.diag().error(childPath(o.path(), "hook"), "names no object of the scene: \"" + *hook + "\"");
   }
   if (const Json* ig = o.raw("ignore")) {
@@ -152,18 +140,16 @@ std::shared_ptr<const BodyParams> readFishBody(Obj& o, BodyDesc& body, const Sce
     for (std::size_t k = 0; ig->is_array() && k < ig->size(); ++k) {
       const Json& e = (*ig)[k];
       const std::string name = e.is_string() ? e.get<std::string>() : "";
-      if (std::none_of(scene.objects.begin(), scene.objects.end(), [&](const ObjectDesc& ob) { return ob.name == name; }))
+      if (objectIndex(scene, name) < 0)
         o.diag().error(childPath(path, k), "names no object of the scene" + (name.empty() ? std::string() : ": \"" + name + "\""));
       else f->ignore.push_back(name);
     }
   }
-  if (const Json* b = o.raw("bounds")) {
-    Obj bo(*b, childPath(o.path(), "bounds"), o.diag());
+  readObjectKey(o, "bounds", [&](Obj& bo) {
     SchoolBoundsDesc bd;
     readBounds(bo, bd);
     f->bounds = bd;
-    bo.finish();
-  }
+  });
   f->wireframe = o.choice("draw", "skin", {"skin", "wireframe"}) == "wireframe";
   std::vector<std::string> patterns(std::begin(kFishPatternNames), std::end(kFishPatternNames));
   f->pattern = o.choice("skin", f->pattern, patterns);
@@ -173,15 +159,12 @@ std::shared_ptr<const BodyParams> readFishBody(Obj& o, BodyDesc& body, const Sce
 
 std::shared_ptr<const BodyParams> readFoodBody(Obj& o, BodyDesc& body, const SceneDesc&) {
   auto f = std::make_shared<FoodDesc>();
-  if (const Json* r = o.raw("region")) {
-    Obj ro(*r, childPath(o.path(), "region"), o.diag());
+  if (!o.has("region")) o.diag().error(childPath(o.path(), "region"), "missing required key: the box food is emitted in ({\"min\": [...], \"max\": [...]})");
+  readObjectKey(o, "region", [&](Obj& ro) {
     f->min = ro.vec3("min", Range::any(), true).value_or(f->min);
     f->max = ro.vec3("max", Range::any(), true).value_or(f->max);
     if (!(f->min.array() < f->max.array()).all()) o.diag().error(childPath(ro.path(), "max"), "must be above min on every axis");
-    ro.finish();
-  } else {
-    o.diag().error(childPath(o.path(), "region"), "missing required key: the box food is emitted in ({\"min\": [...], \"max\": [...]})");
-  }
+  });
   f->max_alive = o.integer("max_alive", 0ll, 1'000'000ll).value_or(f->max_alive);
   f->initial = o.integer("initial", 0ll, f->max_alive).value_or(std::min(f->initial, f->max_alive));
   f->rate = o.number("rate", f->rate, Range::closed(0.0, 1e6));
@@ -200,23 +183,23 @@ std::shared_ptr<const BodyParams> readSeaweedBody(Obj& o, BodyDesc& body, const 
     if (!b->is_array() || b->empty()) {
       o.diag().error(childPath(o.path(), "bases"), "expected a list of points [x, y, z]");
     } else {
+      if (b->size() > 100'000) o.diag().error(childPath(o.path(), "bases"), std::to_string(b->size()) + " strands, more than 100000");
       for (std::size_t k = 0; k < b->size() && k < 100'000; ++k)
         if (auto p = readVec3((*b)[k], childPath(childPath(o.path(), "bases"), k), o.diag(), Range::any())) s->bases.push_back(*p);
     }
     if (o.has("count")) o.diag().error(childPath(o.path(), "count"), "give bases or count, not both");
   } else {
     s->count = o.integer("count", 1ll, 100'000ll, true).value_or(0);
-    if (const Json* r = o.raw("region")) {
-      Obj ro(*r, childPath(o.path(), "region"), o.diag());
+    readObjectKey(o, "region", [&](Obj& ro) {
       s->min = ro.vec3("min", Range::any(), true).value_or(s->min);
       s->max = ro.vec3("max", Range::any(), true).value_or(s->max);
-      ro.finish();
-    }
+    });
   }
   s->height = o.number("height", s->height, kLength);
   s->height_variation = o.number("height_variation", s->height_variation, Range{0.0, 1.0, false, true});
   s->segments = o.integer("segments", s->segments, 2, 200);
   s->mass = o.number("mass", s->mass, Range{0.0, 1e6, true, false});
+  checkNodeMass(o, s->mass, s->segments + 1);
   s->stiffness = o.number("stiffness", s->stiffness, Range{0.0, 1e9, true, false});
   s->buoyancy = o.number("buoyancy", s->buoyancy, Range::closed(0.0, 100.0));
   s->drag = o.number("drag", s->drag, Range::closed(0.0, 1e6));

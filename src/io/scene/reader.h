@@ -18,6 +18,7 @@ namespace reel::io {
 inline const Range kPos = Range::positive();
 inline const Range kNonNeg = Range::nonNegative();
 inline const Range kUnit = Range::closed(0.0, 1.0);
+inline const Range kLength{0.0, 1e4, true, false};  // a length that must be positive, m
 
 // Appearance (stored for the renderer): color, texture or pattern, specular, shininess, opacity.
 void readMaterial(Obj& o, Material& m);
@@ -81,6 +82,16 @@ void readList(Obj& o, const std::string& key, F&& f, bool required = false) {
     Obj e((*j)[k], childPath(p, k), o.diag());
     f(e);
     e.finish();
+  }
+}
+
+// A sub-object `key` of o, read by f(Obj&) and then checked for unknown keys.
+template <class F>
+void readObjectKey(Obj& o, const std::string& key, F&& f) {
+  if (const Json* j = o.raw(key)) {
+    Obj sub(*j, childPath(o.path(), key), o.diag());
+    f(sub);
+    sub.finish();
   }
 }
 

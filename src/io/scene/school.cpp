@@ -11,7 +11,7 @@ namespace reel::io {
 namespace {
 
 // Bounded so that no product of them overflows: speeds, m/s; lengths, m; times, s.
-const Range kSpeed{0.0, 1000.0, true, false}, kLength{0.0, 1e4, true, false}, kTime{0.0, 1e4, false, false},
+const Range kSpeed{0.0, 1000.0, true, false}, kTime{0.0, 1e4, false, false},
     kWeight{0.0, 1e6, false, false};
 
 // Agents one machine holds: a tenth of its memory at about 1 KiB per agent (state, grid, drawing
@@ -158,21 +158,11 @@ void readPredator(Obj& po, SchoolDesc& s, const SceneDesc& scene) {
   pd.fear_radius = po.number("fear_radius", pd.fear_radius, kLength);
   // A predator school comes before its prey in `bodies`: it has moved when the prey looks.
   const bool found = pd.is_school ? std::any_of(scene.bodies.begin(), scene.bodies.end(), [&](const BodyDesc& b) { return b.type == "school" && b.name == pd.name; })
-                                  : std::any_of(scene.objects.begin(), scene.objects.end(), [&](const ObjectDesc& b) { return b.name == pd.name; });
+                                  : objectIndex(scene, pd.name) >= 0;
   if (!found && !pd.name.empty())
     d.error(childPath(po.path(), key), "names no " + key + " of the scene: \"" + pd.name + "\"" +
                                             (pd.is_school ? " (a predator school must come before its prey in bodies)" : ""));
   s.predator = pd;
-}
-
-// A sub-object `key` of o, read by f(Obj&) and then checked for unknown keys.
-template <class F>
-void readObjectKey(Obj& o, const std::string& key, F&& f) {
-  if (const Json* j = o.raw(key)) {
-    Obj sub(*j, childPath(o.path(), key), o.diag());
-    f(sub);
-    sub.finish();
-  }
 }
 
 void readSteering(Obj& o, SchoolDesc& s, const SceneDesc& scene) {

@@ -68,12 +68,12 @@ void perceive(const FishDesc& d, const FishFrame& self, int self_body, int self_
     if (!w.obstacles || !segmentBlocked(*w.obstacles, eye, shortOf(eye, s.x, 0.5 * s.length), step)) out.seen.push_back(s);
   }
   std::vector<Seen> food;
-  for (const auto& [body, particles] : w.food)
-    for (std::size_t k = 0; k < particles->size(); ++k) {
-      const double dist = ((*particles)[k] - eye).norm();
+  for (const FishWorldView::Food& f : w.food)
+    for (std::size_t k = 0; k < f.x->size(); ++k) {
+      const double dist = ((*f.x)[k] - eye).norm();
       if (dist > d.smell_radius) continue;
       Seen s;
-      s.kind = Seen::Kind::Food, s.body = body, s.index = static_cast<int>(k), s.x = (*particles)[k], s.distance = dist;
+      s.kind = Seen::Kind::Food, s.body = f.body, s.index = static_cast<int>((*f.id)[k]), s.x = (*f.x)[k], s.distance = dist;
       food.push_back(s);
     }
   std::sort(food.begin(), food.end(), nearer);
@@ -265,8 +265,8 @@ MotorCommand behave(const FishDesc& d, const FishFrame& self, const Percept& p, 
   // elevation. A fish slows to turn sharply (a tighter circle).
   MotorCommand cmd;
   const double yaw = std::atan2(dir.dot(self.left), dir.dot(self.forward));
-  cmd.speed = speed * std::clamp(0.5 + 0.5 * std::cos(yaw), 0.3, 1.0);
-  cmd.bend = std::clamp(yaw / (kPi / 3), -1.0, 1.0);
+  cmd.speed = speed;
+  cmd.bend = std::clamp(yaw / (kPi / 2), -1.0, 1.0);
   const double elevation = std::asin(std::clamp(dir.y(), -1.0, 1.0)) - std::asin(std::clamp(self.forward.y(), -1.0, 1.0));
   cmd.pitch = std::clamp(1.5 * elevation, -0.5, 0.5);
   return cmd;

@@ -35,7 +35,7 @@ struct FishSighting {
 // One thing a fish perceives.
 struct Seen {
   enum class Kind : int { Fish, Food, Hook } kind = Kind::Fish;
-  int body = -1, index = -1;  // fish or food: its body and index; hook: −1
+  int body = -1, index = -1;  // its body and, for a fish, its index there, for food its id; hook: −1
   Vec3 x{0, 0, 0}, v{0, 0, 0};
   double distance = 0.0;
   double length = 0.0;           // fish: its length
@@ -55,7 +55,12 @@ inline constexpr std::size_t kMaxSeen = 16;
 struct FishWorldView {
   const std::vector<FishSighting>* fish = nullptr;  // all fish of the world
   const BoxGrid* fish_grid = nullptr;               // over their centres, cell ≥ the largest vision radius
-  std::vector<std::pair<int, const std::vector<Vec3>*>> food;  // (body, particle positions)
+  struct Food {
+    int body = -1;
+    const std::vector<Vec3>* x = nullptr;            // particle positions
+    const std::vector<std::int64_t>* id = nullptr;   // and their ids (what a Seen's index holds)
+  };
+  std::vector<Food> food;
   const Collider* hook = nullptr;
   const std::vector<Collider>* obstacles = nullptr;  // the objects but the hook
 };

@@ -150,15 +150,15 @@ void trackHeading(FishMotor& m, const Vec3& forward, double h) {
 
 double turnByAngle(FishMotor& m, int side, double angle, double amount) {
   if (m.turn_done) return 0.0;
-  const Vec3 now(m.heading[0], 0.0, m.heading[2]);
+  const Vec3 now = unitOr(Vec3(m.heading[0], 0.0, m.heading[2]), Vec3::UnitZ());
   if (m.turn_from[0] == 0 && m.turn_from[2] == 0) m.turn_from = {now.x(), 0.0, now.z()};
+  // The level course's change since the last step, added up: any angle, whole turns included.
   const Vec3 from(m.turn_from[0], 0.0, m.turn_from[2]);
-  // Turned so far about +y (left +), unwrapped through the half turn by the side asked.
-  double turned = std::atan2(from.cross(now).y(), from.dot(now));
-  if (side * turned < -0.5 * kPi) turned += side * 2 * kPi;
-  const double left = side * angle - turned;
+  m.turned += std::atan2(from.cross(now).y(), from.dot(now));
+  m.turn_from = {now.x(), 0.0, now.z()};
+  const double left = side * angle - m.turned;
   if (side * left <= 0) {
-    m.turn_done = true;
+    m.turn_done = 1;
     return 0.0;
   }
   return amount * std::clamp(left / (kPi / 6), -1.0, 1.0);

@@ -55,8 +55,9 @@ struct FishMotor {
   double pitch = 0.0;      // pectoral fins, rad: + rises
   std::array<double, kFishMuscles> contraction{};  // 0..1 each
   std::array<double, 3> heading{0, 0, 1};  // the course: the forward axis smoothed over a beat, unit
-  std::array<double, 3> turn_from{0, 0, 0};  // a turn by angle: the course when it began (0: not begun)
-  bool turn_done = false;
+  std::array<double, 3> turn_from{0, 0, 0};  // a turn by angle: the level course at the last step (0: not begun)
+  double turned = 0.0;     // rad turned so far about +y (left +), step by step
+  std::int64_t turn_done = 0;  // 1 once a turn by angle is done (a whole word: no padding in snapshots)
 };
 
 // What the behaviour (or the drive) asks of the motor controllers.

@@ -29,10 +29,6 @@ int indexOf(const StepContext& ctx, const Body* self) {
   return -1;
 }
 
-// A hook's authored point for a world point p, and back (collide.h: x ↦ rot·(x − pivot) + pos).
-Vec3 toAuthored(const Collider& c, const Vec3& p) { return c.rot.transpose() * (p - c.pos) + c.pivot; }
-Vec3 fromAuthored(const Collider& c, const Vec3& a) { return c.rot * (a - c.pivot) + c.pos; }
-
 }  // namespace
 
 FishBody::FishBody(std::string name, const FishDesc& desc, const Material& material, std::uint64_t seed, int hook,
@@ -85,7 +81,7 @@ void FishBody::addPatterns(double t, FishMotor& m) const {
 // Perception and behaviour of every fish, from what every body published at its last step.
 void FishBody::decide(StepContext& ctx, int self) {
   everyone_.clear();
-  std::vector<std::pair<int, const std::vector<Vec3>*>> food;
+  std::vector<FishWorldView::Food> food;
   double reach = desc_.vision_radius * 2.0;
   for (std::size_t b = 0; b < ctx.bodies->size(); ++b) {
     const Body* body = (*ctx.bodies)[b].get();
@@ -93,7 +89,7 @@ void FishBody::decide(StepContext& ctx, int self) {
       const auto& s = body == this ? sightings_ : f->sightings();
       everyone_.insert(everyone_.end(), s.begin(), s.end());
     } else if (const auto* fd = dynamic_cast<const FoodBody*>(body)) {
-      food.emplace_back(static_cast<int>(b), &fd->particles());
+      food.push_back({static_cast<int>(b), &fd->particles(), &fd->ids()});
     }
   }
   std::vector<Vec3> lo(everyone_.size()), hi(everyone_.size());
@@ -132,7 +128,7 @@ void FishBody::decide(StepContext& ctx, int self) {
       Vec3 n;
       if (w.hook->distance(mouth, dist, n) && dist < bite) {
         caught_[i] = 1;
-        hook_point_[i] = toAuthored(*w.hook, mouth);
+        hook_point_[i] = w.hook->toAuthored(mouth);
         mind_[i].intention = static_cast<int>(Intention::Caught);
       }
     }
@@ -268,7 +264,7 @@ void FishBody::step(StepContext& ctx) {
     const Collider& c = (*ctx.colliders)[static_cast<std::size_t>(hook_)];
     for (std::size_t i = 0; i < count(); ++i)
       if (caught_[i]) {
-        const Vec3 p = fromAuthored(c, hook_point_[i]);
+        const Vec3 p = c.fromAuthored(hook_point_[i]);
         net_.state.x[kFishNodes * i] = p;
         net_.state.v[kFishNodes * i] = c.velocityAt(p);
       }
@@ -333,19 +329,30 @@ bool FishBody::restoreMore(StateReader& r) {
   std::int64_t decisions = 0, meals = 0;
   int self = -1;
   r.get(motor), r.get(mind), r.get(command), r.get(caught), r.get(hook), r.get(decisions), r.get(meals), r.get(self);
+  // The network was read first: its sizes are checked here too, before anything reads its nodes.
   if (motor.size() != n || mind.size() != n || command.size() != n || caught.size() != n || hook.size() != n ||
-      decisions < 0 || meals < 0 || self < -1)
+      decisions < 0 || meals < 0 || self < -1 || net_.state.x.size() != kFishNodes * n || net_.state.v.size() != kFishNodes * n ||
+      !allWithin(hook, kRunawayDistance))
     return false;
+  auto finite = [](std::initializer_list<double> xs) {
+    for (double x : xs)
+      if (!std::isfinite(x)) return false;
+    return true;
+  };
+  auto unit = [](const std::array<double, 3>& a) { return std::abs(Vec3(a[0], a[1], a[2]).norm() - 1) < 1e-6; };
   for (std::size_t i = 0; i < n; ++i) {
     const FishMind& m = mind[i];
+    const FishMotor& mo = motor[i];
+    const MotorCommand& c = command[i];
     if (!(m.hunger >= 0 && m.hunger <= 1 && m.libido >= 0 && m.libido <= 1 && m.fear >= 0 && m.fear <= 1) ||
         m.intention < 0 || m.intention >= static_cast<int>(kIntentionNames.size()) || m.previous < 0 ||
-        m.previous >= static_cast<int>(kIntentionNames.size()) || !std::isfinite(motor[i].phase) ||
-        !std::isfinite(motor[i].frequency) || !allWithin(hook, kRunawayDistance) ||
-        !(std::abs(Vec3(motor[i].heading[0], motor[i].heading[1], motor[i].heading[2]).norm() - 1) < 1e-6))
+        m.previous >= static_cast<int>(kIntentionNames.size()) || !finite({m.since, m.courting}) || !unit(m.wander) ||
+        !finite({mo.phase, mo.frequency, mo.amplitude, mo.speed_error, mo.bend, mo.pitch, mo.turned, mo.turn_from[0],
+                 mo.turn_from[2]}) ||
+        !unit(mo.heading) || (mo.turn_done != 0 && mo.turn_done != 1) || !finite({c.speed, c.frequency, c.amplitude, c.bend, c.pitch}))
       return false;
-    for (double c : motor[i].contraction)
-      if (!(c >= 0 && c <= 1)) return false;
+    for (double x : mo.contraction)
+      if (!(x >= 0 && x <= 1)) return false;
   }
   motor_ = std::move(motor), mind_ = std::move(mind), command_ = std::move(command), caught_ = std::move(caught);
   hook_point_ = std::move(hook), decisions_ = decisions, meals_ = meals, self_ = self;
@@ -355,14 +362,18 @@ bool FishBody::restoreMore(StateReader& r) {
   return true;
 }
 
+void FishBody::hash(Hasher& h) const {
+  SpringNetworkBody::hash(h);
+  h.add(std::span<const FishMotor>(motor_));
+  for (const FishMind& m : mind_) {
+    const double v[] = {m.hunger, m.libido, m.fear, static_cast<double>(m.intention)};
+    h.add(std::span<const double>(v));
+  }
+}
+
 Result<std::unique_ptr<Body>> buildFishBody(const BodyDesc& desc, const BuildContext& ctx) {
   const auto& d = desc.as<FishDesc>();
-  int hook = -1;
-  if (!d.hook.empty()) {
-    const auto& objs = ctx.scene->objects;
-    const auto it = std::find_if(objs.begin(), objs.end(), [&](const ObjectDesc& o) { return o.name == d.hook; });
-    if (it != objs.end()) hook = static_cast<int>(it - objs.begin());
-  }
+  const int hook = d.hook.empty() ? -1 : objectIndex(*ctx.scene, d.hook);
   auto body = std::make_unique<FishBody>(desc.name, d, desc.material, ctx.seed, hook, ctx.scene->water.density);
   body->ignored_.assign(ctx.scene->objects.size(), 0);
   for (std::size_t c = 0; c < ctx.scene->objects.size(); ++c)

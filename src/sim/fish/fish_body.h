@@ -27,6 +27,7 @@ class FishBody final : public SpringNetworkBody {
   void draw(DrawList& out) const override;
   void statistics(std::vector<Statistic>& out) const override;
   std::vector<std::string> notes(double h) const override;
+  void hash(Hasher& h) const override;
 
   const FishDesc& desc() const { return desc_; }
   const FishTemplate& fishTemplate() const { return tmpl_; }

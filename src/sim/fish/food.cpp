@@ -52,7 +52,8 @@ void FoodBody::step(StepContext& ctx) {
     v_[i] = u + desc_.jitter * swim - Vec3(0, desc_.sink_speed, 0);
     x_[i] += ctx.h * v_[i];
   }
-  // Eaten: a particle within the mouth of a fish that is biting (nearest fish first; ties by order).
+  // Eaten: for each biting mouth, body by body and fish by fish, the first particle (in the order
+  // they were emitted) within its reach.
   std::vector<std::uint8_t> gone(x_.size(), 0);
   for (std::size_t b = 0; b < ctx.bodies->size(); ++b) {
     const auto* fish = dynamic_cast<const FishBody*>((*ctx.bodies)[b].get());

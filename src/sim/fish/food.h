@@ -31,6 +31,8 @@ class FoodBody final : public Body {
   void statistics(std::vector<Statistic>& out) const override;
 
   const std::vector<Vec3>& particles() const { return x_; }
+  // Each particle's emission number: what names it while others are eaten around it.
+  const std::vector<std::int64_t>& ids() const { return id_; }
   // Meals of the last step this body took.
   const std::vector<FoodMeal>& meals() const { return meals_; }
 

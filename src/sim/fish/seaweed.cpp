@@ -11,16 +11,18 @@ namespace reel {
 
 void SeaweedBody::step(StepContext& ctx) {
   const MassSpringModel& m = net_.model;
+  // In water: buoyancy, and drag toward the water's velocity (without water, neither).
+  const bool water = ctx.water && ctx.water->density() > 0;
   if (lift_.size() != m.nodes()) {
     lift_.resize(m.nodes());
     for (std::size_t i = 0; i < m.nodes(); ++i) lift_[i] = -desc_.buoyancy * m.mass[i] * m.gravity;
   }
-  net_.system->setExternalForces(lift_.data());
+  net_.system->setExternalForces(water ? lift_.data() : nullptr);
   net_.integrate(ctx);
-  // Drag toward the water's velocity, implicitly per node: (m + hc) v' = m v + hc u.
+  // The drag implicitly per node: (m + hc) v' = m v + hc u.
   auto& x = net_.state.x;
   auto& v = net_.state.v;
-  const double c = desc_.drag, h = ctx.h;
+  const double c = water ? desc_.drag : 0.0, h = ctx.h;
   for (std::size_t i = 0; i < x.size(); ++i) {
     if (m.fixed[i]) continue;
     const Vec3 u = ctx.water ? ctx.water->at(x[i], ctx.t1, *ctx.colliders) : Vec3::Zero();

@@ -104,9 +104,7 @@ Result<std::unique_ptr<Body>> buildSchoolBody(const BodyDesc& desc, const BuildC
   int object = -1;
   if (d.predator) {
     // The loader checked that the name is an object or a school of the scene.
-    const auto& objs = ctx.scene->objects;
-    const auto it = std::find_if(objs.begin(), objs.end(), [&](const ObjectDesc& o) { return o.name == d.predator->name; });
-    if (!d.predator->is_school && it != objs.end()) object = static_cast<int>(it - objs.begin());
+    if (!d.predator->is_school) object = objectIndex(*ctx.scene, d.predator->name);
   }
   School s = makeSchool(d, desc.name, ctx.seed);
   return std::unique_ptr<Body>(std::make_unique<SchoolBody>(std::move(s), desc.material, object));
