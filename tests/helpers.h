@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/parallel.h"
 #include "core/scene.h"
 #include "app/body_kinds.h"
 #include "sim/integrators.h"
@@ -100,6 +101,16 @@ inline void run(World& w, int frames) {
     const Status st = w.advanceFrame();
     REQUIRE_MESSAGE(st.ok(), (st.ok() ? "" : st.error().headline()));
   }
+}
+
+// The state hash of the scene `text` after `frames` frames on `threads` threads (determinism).
+inline std::uint64_t runHash(const std::string& text, int threads, int frames) {
+  const int before = threadCount();
+  setThreadCount(threads);
+  World w = worldFromText(text);
+  run(w, frames);
+  setThreadCount(before);
+  return w.stateHash();
 }
 
 inline const std::vector<IntegratorKind>& allIntegrators() {

@@ -10,17 +10,6 @@ using namespace reel::test;
 
 namespace {
 
-std::uint64_t runHash(const std::string& text, int threads, int frames) {
-  const int before = threadCount();
-  setThreadCount(threads);
-  auto w = app::makeWorld(sceneFromText(text));
-  REQUIRE(w.ok());
-  for (int f = 0; f < frames; ++f) REQUIRE(w.value().advanceFrame().ok());
-  const std::uint64_t h = w.value().stateHash();
-  setThreadCount(before);
-  return h;
-}
-
 // A 64 x 64 net (4096 nodes, above the parallel threshold) falling onto a sphere and the floor.
 std::string netScene(const std::string& integrator) {
   return R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 10, "auto_substeps": true,

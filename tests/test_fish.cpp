@@ -302,16 +302,7 @@ TEST_CASE("fish are bit-identical for 1 and 2 threads") {
       "bodies": [{"type": "fish", "name": "shark", "species": "predator", "position": [0, 0, -3]},
                  {"type": "fish", "name": "prey", "count": 40, "start": {"center": [0, 0, 0], "radius": 2}},
                  {"type": "food", "name": "p", "region": {"min": [-1, -1, -1], "max": [1, 1, 1]}}]})";
-  std::uint64_t h[2];
-  for (int t : {1, 2}) {
-    const int before = threadCount();
-    setThreadCount(t);
-    World w = worldFromText(text);
-    run(w, 20);
-    h[t - 1] = w.stateHash();
-    setThreadCount(before);
-  }
-  CHECK(h[0] == h[1]);
+  CHECK(runHash(text, 1, 20) == runHash(text, 2, 20));
 }
 
 TEST_CASE("bad fish scenes: a clear error with the JSON path") {
