@@ -31,20 +31,31 @@ std::string jsonString(const std::string& s) {
 
 // `"masses"` and the kind's own fields, each as ,"name":[...] (lists of per_item numbers).
 void putExtras(std::string& out, const BodyView& s) {
-  auto num = [&](double v) { appendNumber(out, v); };
+  // The numbers of v, comma-separated.
+  auto numbers = [&](std::span<const double> v) {
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (i) out += ',';
+      appendNumber(out, v[i]);
+    }
+  };
   if (!s.masses.empty()) {
     out += ",\n  \"masses\":[";
-    for (std::size_t i = 0; i < s.masses.size(); ++i) out += i ? "," : "", num(s.masses[i]);
+    numbers(s.masses);
     out += ']';
   }
   for (const ViewField& f : s.fields) {
     out += ",\n  " + jsonString(f.name) + ":[";
     const std::size_t per = static_cast<std::size_t>(f.per_item), n = per ? f.values.size() / per : 0;
     for (std::size_t i = 0; i < n; ++i) {
-      out += i ? "," : "";
-      if (per > 1) out += '[';
-      for (std::size_t k = 0; k < per; ++k) out += k ? "," : "", num(f.values[i * per + k]);
-      if (per > 1) out += ']';
+      if (i) out += ',';
+      const std::span<const double> item(f.values.data() + i * per, per);
+      if (per == 1) {
+        numbers(item);
+        continue;
+      }
+      out += '[';
+      numbers(item);
+      out += ']';
     }
     out += ']';
   }
