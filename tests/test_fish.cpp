@@ -139,6 +139,28 @@ TEST_CASE("the turn command turns the fish toward the side asked") {
   }
 }
 
+TEST_CASE("the pectoral fins: pitched they raise or lower a swimming fish, one opened yaws it to its side") {
+  // What fins set this way do in 3 s: the rise of the centre of mass (m) and the turn of the course (°, left +).
+  auto swim = [](const std::string& fins) {
+    World w = worldFromText(driven(R"({"swim": {"frequency": 2.5, "amplitude": 1}, )" + fins + "}", 4));
+    const FishBody& f = fishOf(w, "f");
+    const Vec3 c0 = centerOfMass(f);
+    run(w, 90);
+    const auto& h = f.motor(0).heading;  // the course, from +z
+    return std::make_pair(Vec3(centerOfMass(f) - c0).y(), std::atan2(h[0], h[2]) * 180 / 3.14159265358979);
+  };
+  CHECK(swim(R"("pitch_deg": 20)").first > 0.1);
+  CHECK(swim(R"("pitch_deg": -20)").first < -0.1);
+  const double straight = swim(R"("yaw_deg": 0)").second;
+  const double left = swim(R"("yaw_deg": 60)").second, right = swim(R"("yaw_deg": -60)").second;
+  CAPTURE(straight);
+  CAPTURE(left);
+  CAPTURE(right);
+  // The left fin brakes: a left turn (weak beside the body's bend: a few degrees a second).
+  CHECK(left > straight + 3);
+  CHECK(right < straight - 3);
+}
+
 TEST_CASE("asked to turn 90° a fish turns about that much, either way") {
   for (int side : {1, -1}) {
     CAPTURE(side);

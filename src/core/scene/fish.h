@@ -41,6 +41,7 @@ struct FishDriveDesc {
   double turn_start = 0.0, turn_stop = 0.0;  // s
   double turn_angle_deg = 0.0;  // > 0: turn by this angle (closed loop) instead of until turn_stop
   double pitch_deg = 0.0;       // pectoral fins: + rises, − dives
+  double yaw_deg = 0.0;         // pectoral fins: + opens the left fin (yaws left), − the right
   std::vector<MusclePatternDesc> muscles;
 };
 

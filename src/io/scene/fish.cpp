@@ -72,6 +72,7 @@ void readDrive(Obj& o, FishDesc& f) {
     }
   });
   d.pitch_deg = o.number("pitch_deg", d.pitch_deg, Range::closed(-60.0, 60.0));
+  d.yaw_deg = o.number("yaw_deg", d.yaw_deg, Range::closed(-60.0, 60.0));
   readList(o, "muscles", [&](Obj& m) {
     MusclePatternDesc p;
     const std::string name = m.string("muscle", true).value_or("");

@@ -261,14 +261,14 @@ MotorCommand behave(const FishDesc& d, const FishFrame& self, const Percept& p, 
     dir = unitOr(dir + 2.0 * p.surroundings.avoid * unitOr(p.surroundings.push, Vec3::Zero()), dir);
 
   // The turn-MC bends toward the side of the desired direction, the fins pitch toward its
-  // elevation.
-  // elevation. A fish slows to turn sharply (a tighter circle).
+  // elevation and the inner fin opens as a brake on that side.
   MotorCommand cmd;
   const double yaw = std::atan2(dir.dot(self.left), dir.dot(self.forward));
   cmd.speed = speed;
   cmd.bend = std::clamp(yaw / (kPi / 2), -1.0, 1.0);
   const double elevation = std::asin(std::clamp(dir.y(), -1.0, 1.0)) - std::asin(std::clamp(self.forward.y(), -1.0, 1.0));
   cmd.pitch = std::clamp(1.5 * elevation, -0.5, 0.5);
+  cmd.yaw = cmd.bend * (kPi / 4);  // the fin on the inner side brakes, helping the turn
   return cmd;
 }
 

@@ -123,6 +123,7 @@ void motorControl(const MotorCommand& cmd, double forward_speed, double length, 
   const double rate = std::min(1.0, h / 0.1);
   m.bend += rate * (std::clamp(cmd.bend, -1.0, 1.0) - m.bend);
   m.pitch += rate * (cmd.pitch - m.pitch);
+  m.yaw += rate * (std::clamp(cmd.yaw, -kPi / 3, kPi / 3) - m.yaw);
   m.phase = std::fmod(m.phase + 2 * kPi * m.frequency * h, 2 * kPi);
 
   // Contractions: middle and rear segments swim (the rear lags by π/2), front and middle turn.

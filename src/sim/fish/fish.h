@@ -53,6 +53,7 @@ struct FishMotor {
   double speed_error = 0.0;  // ∫(target − actual speed) dt, m (the swim controller's integral)
   double bend = 0.0;       // turn: −1 (full right) .. 1 (full left)
   double pitch = 0.0;      // pectoral fins, rad: + rises
+  double yaw = 0.0;        // pectoral fins, rad: the left fin opens (> 0, yaws left) or the right (< 0)
   std::array<double, kFishMuscles> contraction{};  // 0..1 each
   std::array<double, 3> heading{0, 0, 1};  // the course: the forward axis smoothed over a beat, unit
   std::array<double, 3> turn_from{0, 0, 0};  // a turn by angle: the level course at the last step (0: not begun)
@@ -66,6 +67,7 @@ struct MotorCommand {
   double frequency = 0.0, amplitude = 0.0;
   double bend = 0.0;           // turn-MC: −1..1 (left +)
   double pitch = 0.0;          // pectoral fins, rad
+  double yaw = 0.0;            // pectoral fins, rad (left +): one fin opened as a brake
 };
 
 // The swim and turn motor controllers (thesis §4.4): set the muscles' contractions of one fish

@@ -66,6 +66,7 @@ MotorCommand FishBody::driveCommand(double t, FishMotor& m) const {
   if (d.turn_side != 0 && t >= d.turn_start && t < d.turn_stop)
     c.bend = d.turn_angle_deg > 0 ? turnByAngle(m, d.turn_side, d.turn_angle_deg * kPi / 180.0, d.turn_amount) : d.turn_side * d.turn_amount;
   c.pitch = d.pitch_deg * kPi / 180.0;
+  c.yaw = d.yaw_deg * kPi / 180.0;
   return c;
 }
 
@@ -111,7 +112,7 @@ void FishBody::decide(StepContext& ctx, int self) {
     if (caught_[i]) {
       // On the line: struggling, thrashing from side to side.
       m.intention = static_cast<int>(Intention::Caught);
-      command_[i] = MotorCommand{desc_.max_speed * desc_.length, 0, 0, std::sin(3.0 * ctx.t1 + static_cast<double>(i)), 0.0};
+      command_[i] = MotorCommand{desc_.max_speed * desc_.length, 0, 0, std::sin(3.0 * ctx.t1 + static_cast<double>(i)), 0.0, 0.0};
       return;
     }
     perceive(desc_, f, self, static_cast<int>(i), w, percept_[i]);
@@ -190,12 +191,18 @@ void FishBody::waterForces(const StepContext& ctx) {
       for (int k : t) D[static_cast<std::size_t>(k)] += Dt, Du[static_cast<std::size_t>(k)] += Dt * u;
     }
     const FishFrame f = fishFrame(&x[o], &v[o]);
-    const double p = motor_[fi].pitch;
-    const Vec3 nf = std::cos(p) * f.up - std::sin(p) * f.forward;
-    const Mat3 Df = (rho * kFinArea * L * L / 2) * (nf * nf.transpose());
-    for (int k : {5, 6, 7, 8}) {
-      const Vec3 u = ctx.water->at(x[o + static_cast<std::size_t>(k)], ctx.t1, cs);
-      D[static_cast<std::size_t>(k)] += Df, Du[static_cast<std::size_t>(k)] += Df * u;
+    // Each fin's normal: the body's up pitched by the fin angle; a yawing fin (the left for a
+    // positive yaw) also opens toward the flow, a brake on its side.
+    const double p = motor_[fi].pitch, yaw = motor_[fi].yaw;
+    const Vec3 pitched = std::cos(p) * f.up - std::sin(p) * f.forward;
+    for (int side = 0; side < 2; ++side) {
+      const double open = side == 0 ? std::max(yaw, 0.0) : std::max(-yaw, 0.0);
+      const Vec3 nf = unitOr(std::cos(open) * pitched - std::sin(open) * f.forward, pitched);
+      const Mat3 Df = (rho * kFinArea * L * L / 2) * (nf * nf.transpose());
+      for (int k : side == 0 ? std::array<int, 2>{5, 8} : std::array<int, 2>{6, 7}) {
+        const Vec3 u = ctx.water->at(x[o + static_cast<std::size_t>(k)], ctx.t1, cs);
+        D[static_cast<std::size_t>(k)] += Df, Du[static_cast<std::size_t>(k)] += Df * u;
+      }
     }
     for (int k = 0; k < kFishNodes; ++k) {
       const std::size_t i = o + static_cast<std::size_t>(k);
@@ -347,9 +354,9 @@ bool FishBody::restoreMore(StateReader& r) {
     if (!(m.hunger >= 0 && m.hunger <= 1 && m.libido >= 0 && m.libido <= 1 && m.fear >= 0 && m.fear <= 1) ||
         m.intention < 0 || m.intention >= static_cast<int>(kIntentionNames.size()) || m.previous < 0 ||
         m.previous >= static_cast<int>(kIntentionNames.size()) || !finite({m.since, m.courting}) || !unit(m.wander) ||
-        !finite({mo.phase, mo.frequency, mo.amplitude, mo.speed_error, mo.bend, mo.pitch, mo.turned, mo.turn_from[0],
+        !finite({mo.phase, mo.frequency, mo.amplitude, mo.speed_error, mo.bend, mo.pitch, mo.yaw, mo.turned, mo.turn_from[0],
                  mo.turn_from[2]}) ||
-        !unit(mo.heading) || (mo.turn_done != 0 && mo.turn_done != 1) || !finite({c.speed, c.frequency, c.amplitude, c.bend, c.pitch}))
+        !unit(mo.heading) || (mo.turn_done != 0 && mo.turn_done != 1) || !finite({c.speed, c.frequency, c.amplitude, c.bend, c.pitch, c.yaw}))
       return false;
     for (double x : mo.contraction)
       if (!(x >= 0 && x <= 1)) return false;
