@@ -35,6 +35,7 @@ void perceive(const FishDesc& d, const FishFrame& self, int self_body, int self_
               Percept& out) {
   out.seen.clear();
   out.surroundings = Steering{};
+  out.bounds = Steering{};
   const Vec3 eye = self.mouth;
   const double cos_half = std::cos(0.5 * d.field_of_view_deg * kPi / 180.0);
   auto inCone = [&](const Vec3& p, double& dist) {
@@ -93,7 +94,7 @@ void perceive(const FishDesc& d, const FishFrame& self, int self_body, int self_
     const double speed = std::max(self.velocity.dot(self.forward), 0.0);
     avoidObstacles(*w.obstacles, eye, (speed + d.length) * self.forward, 1.5 * d.length, out.surroundings);
   }
-  if (d.bounds) containBounds(*d.bounds, self.center + d.length * self.forward, out.surroundings);
+  if (d.bounds) containBounds(*d.bounds, self.center + d.length * self.forward, out.bounds);
 }
 
 void updateMind(const FishDesc& d, const Percept& p, double dt, FishMind& m) {
@@ -256,9 +257,10 @@ MotorCommand behave(const FishDesc& d, const FishFrame& self, const Percept& p, 
       break;
     }
   }
-  // Walls and objects still within reach push whatever the intention.
+  // Objects still within reach, and the bounds' walls, push whatever the intention.
   if (next != Intention::AvoidObstacle && p.surroundings.avoid > 0)
     dir = unitOr(dir + 2.0 * p.surroundings.avoid * unitOr(p.surroundings.push, Vec3::Zero()), dir);
+  if (p.bounds.avoid > 0) dir = unitOr(dir + 2.0 * p.bounds.avoid * unitOr(p.bounds.push, Vec3::Zero()), dir);
 
   // The turn-MC bends toward the side of the desired direction, the fins pitch toward its
   // elevation and the inner fin opens as a brake on that side.

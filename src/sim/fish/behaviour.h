@@ -47,7 +47,8 @@ struct Seen {
 
 struct Percept {
   std::vector<Seen> seen;  // nearest first, at most kMaxSeen
-  Steering surroundings;   // obstacles and bounds ahead (push, urgency)
+  Steering surroundings;   // objects ahead (push, urgency)
+  Steering bounds;         // the walls of the fish's bounds ahead (a bias on the course)
 };
 inline constexpr std::size_t kMaxSeen = 16;
 
