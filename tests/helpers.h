@@ -103,6 +103,20 @@ inline void run(World& w, int frames) {
   }
 }
 
+// The first error line of a scene text that must be refused as bad input.
+inline std::string badInputError(const std::string& text) {
+  auto r = app::parseScene(text, "s.json");
+  REQUIRE(!r.ok());
+  CHECK(r.error().kind == ErrorKind::BadInput);
+  return r.error().messages.front();
+}
+
+// Checks that `line` holds `part` (and shows the line when it does not).
+inline void checkHas(const std::string& line, const std::string& part) {
+  CAPTURE(line);
+  CHECK(line.find(part) != std::string::npos);
+}
+
 // The state hash of the scene `text` after `frames` frames on `threads` threads (determinism).
 inline std::uint64_t runHash(const std::string& text, int threads, int frames) {
   const int before = threadCount();

@@ -42,15 +42,6 @@ int edgeCrossings(const ClothBody& b) {
   return crossings;
 }
 
-std::uint64_t hashWith(const std::string& text, int threads, int frames) {
-  const int before = threadCount();
-  setThreadCount(threads);
-  World w = makeWorld(text);
-  run(w, frames);
-  setThreadCount(before);
-  return w.stateHash();
-}
-
 }  // namespace
 
 TEST_CASE("a sheet draped over a sphere comes to rest on it without sinking into it") {
@@ -133,7 +124,7 @@ TEST_CASE("a sheet pulled at two opposite edges tears into exactly two pieces") 
   for (std::size_t k = 0; k < s.size(); ++k)
     CHECK((b.network().state.x[s.b[k]] - b.network().state.x[s.a[k]]).norm() <= (1.0 + b.cloth().tear_strain[k]) * s.rest[k]);
   // Tears are deterministic: same bits for 1 and 2 threads.
-  CHECK(hashWith(scene, 1, 60) == hashWith(scene, 2, 60));
+  CHECK(runHash(scene, 1, 60) == runHash(scene, 2, 60));
 }
 
 TEST_CASE("a tear through a line of nodes gives each side its own vertices, UVs and normals") {
@@ -329,9 +320,9 @@ TEST_CASE("cloth state is bit-identical for 1 and 2 threads (wind, self-collisio
     "bodies": [{"type": "cloth", "name": "s", "position": [0, 0.5, 0], "size": [1.5, 1.5], "resolution": [48, 48],
                 "mass": 0.3, "stiffness": 400, "damping": 0.1, "self_collision": true, "strain_limit": 0.2,
                 "air": {"viscous": 0.5, "drag": 0.3, "lift": 0.2}, "tear": {"strain": 0.3, "variation": 0.3}}]})";
-  const std::uint64_t h1 = hashWith(scene, 1, 6);
-  CHECK(hashWith(scene, 2, 6) == h1);
-  CHECK(hashWith(scene, 1, 6) == h1);
+  const std::uint64_t h1 = runHash(scene, 1, 6);
+  CHECK(runHash(scene, 2, 6) == h1);
+  CHECK(runHash(scene, 1, 6) == h1);
 }
 
 TEST_CASE("implicit Euler cloth is bit-identical for 1 and 2 threads (block-Jacobi CG, self-collision, tearing)") {
@@ -343,8 +334,8 @@ TEST_CASE("implicit Euler cloth is bit-identical for 1 and 2 threads (block-Jaco
     "bodies": [{"type": "cloth", "name": "s", "position": [0, 0.5, 0], "size": [1.5, 1.5], "resolution": [48, 48],
                 "mass": 0.3, "stiffness": 2000, "damping": 0.5, "self_collision": true,
                 "pinned": ["corner_00", "corner_10", "corner_01", "corner_11"], "tear": {"strain": 0.03, "variation": 0.3}}]})";
-  const std::uint64_t h1 = hashWith(scene, 1, 12);
-  CHECK(hashWith(scene, 2, 12) == h1);
+  const std::uint64_t h1 = runHash(scene, 1, 12);
+  CHECK(runHash(scene, 2, 12) == h1);
   World w = makeWorld(scene);
   const std::size_t springs = body(w).network().model.springs.size();
   run(w, 12);

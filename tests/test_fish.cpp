@@ -328,16 +328,8 @@ TEST_CASE("fish are bit-identical for 1 and 2 threads") {
 }
 
 TEST_CASE("bad fish scenes: a clear error with the JSON path") {
-  auto error = [](const std::string& body) {
-    auto r = app::parseScene(R"({"format": "reel/1", "duration": 1, "bodies": [)" + body + "]}", "s.json");
-    REQUIRE(!r.ok());
-    CHECK(r.error().kind == ErrorKind::BadInput);
-    return r.error().messages.front();
-  };
-  auto has = [](const std::string& line, const std::string& part) {
-    CAPTURE(line);
-    CHECK(line.find(part) != std::string::npos);
-  };
+  auto error = [](const std::string& body) { return badInputError(R"({"format": "reel/1", "duration": 1, "bodies": [)" + body + "]}"); };
+  auto has = checkHas;
   has(error(R"({"type": "fish", "name": "f", "length": 0})"), "/bodies/0/length");
   has(error(R"({"type": "fish", "name": "f", "length": -1})"), "/bodies/0/length");
   has(error(R"({"type": "fish", "name": "f", "behaviour": "none", "drive": {"muscles": [{"muscle": "tail_left", "contraction": 1}]}})"),

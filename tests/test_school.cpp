@@ -281,15 +281,9 @@ TEST_CASE("schools are bit-identical for 1 and 2 threads (Couzin and boids, with
 
 TEST_CASE("bad school scenes: a clear error with the JSON path") {
   auto errors = [](const std::string& body) {
-    auto r = app::parseScene(R"({"format": "reel/1", "duration": 1, "objects": [{"type": "sphere", "name": "rock", "radius": 1}], "bodies": [)" + body + "]}", "s.json");
-    REQUIRE(!r.ok());
-    CHECK(r.error().kind == ErrorKind::BadInput);
-    return r.error().messages.front();
+    return badInputError(R"({"format": "reel/1", "duration": 1, "objects": [{"type": "sphere", "name": "rock", "radius": 1}], "bodies": [)" + body + "]}");
   };
-  auto has = [](const std::string& line, const std::string& part) {
-    CAPTURE(line);
-    CHECK(line.find(part) != std::string::npos);
-  };
+  auto has = checkHas;
   const std::string s = R"({"type": "school", "name": "f", )";
   has(errors(s + R"("count": 10, "zones": {"repulsion": 3, "orientation": 2, "attraction": 5}})"), "/bodies/0/zones");
   has(errors(s + R"("count": 10, "zones": {"repulsion": -1}})"), "/bodies/0/zones/repulsion");

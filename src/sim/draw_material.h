@@ -1,5 +1,9 @@
-// The renderer's material of a scene material (shared by every *_draw.cpp).
+// The renderer's material of a scene material, and points as draw-list floats (shared by every
+// *_draw.cpp).
 #pragma once
+
+#include <span>
+#include <vector>
 
 #include "core/drawlist.h"
 #include "core/scene/material.h"
@@ -14,6 +18,13 @@ inline DrawMaterial drawMaterial(const Material& m) {
   d.shininess = m.shininess;
   d.opacity = m.opacity;
   return d;
+}
+
+// Appends points as the float xyz triples a DrawSpheres (or DrawTubes) list holds.
+inline void appendPoints(std::vector<float>& out, std::span<const Vec3> points) {
+  out.reserve(out.size() + 3 * points.size());
+  for (const Vec3& p : points)
+    for (int k = 0; k < 3; ++k) out.push_back(static_cast<float>(p[k]));
 }
 
 }  // namespace reel

@@ -43,6 +43,7 @@ FishTemplate makeFishTemplate(double L, double density) {
   double total = 0;
   for (int i = 0; i < kFishNodes; ++i) total += t.mass[static_cast<std::size_t>(i)], t.center_of_mass += t.mass[static_cast<std::size_t>(i)] * t.x[static_cast<std::size_t>(i)];
   t.center_of_mass /= total;
+  t.total_mass = total;
 
   // Stiffness: the cross struts keep the body's section and are the stiffest, the muscles the
   // softest (thesis §4.1, footnote to Table 4.1). The scale is set so that the muscles bend the

@@ -31,6 +31,7 @@ inline constexpr int kFishNodes = 23, kFishSprings = 91, kFishTriangles = 42;
 struct FishTemplate {
   std::array<Vec3, kFishNodes> x;
   std::array<double, kFishNodes> mass;  // kg
+  double total_mass = 0.0;              // kg, the fish's
   Vec3 center_of_mass{0, 0, 0};
   Springs springs;                                  // 91 units
   std::array<int, kFishMuscles> muscle;             // the muscles' unit indices (core/scene/fish.h order)

@@ -142,12 +142,9 @@ void FishBody::rollBalance() {
   const auto& x = net_.state.x;
   const auto& v = net_.state.v;
   external_.assign(x.size(), Vec3::Zero());
-  const double L = desc_.length;
-  double mass = 0;
-  for (double m : tmpl_.mass) mass += m;
-  const double arm = 0.06 * L, inertia = mass * arm * arm, w = 2 * kPi;
+  const double arm = 0.06 * desc_.length, inertia = tmpl_.total_mass * arm * arm, w = 2 * kPi;
   for (std::size_t i = 0; i < count(); ++i) {
-    const FishFrame f = frame(i);
+    const FishFrame& f = frames_[i];  // of this state, from the motor pass
     const std::size_t o = kFishNodes * i;
     const double roll = std::asin(std::clamp(f.left.y(), -1.0, 1.0));  // left side up: > 0
     const double rate = ((v[o + 5] + v[o + 8] + v[o + 9] + v[o + 12]) - (v[o + 6] + v[o + 7] + v[o + 10] + v[o + 11])).dot(f.up) /
@@ -244,8 +241,9 @@ void FishBody::step(StepContext& ctx) {
 
   // Motor controllers, then the muscles' rest lengths.
   Springs& sp = net_.model.springs;
+  frames_.resize(count());
   parallelFor(static_cast<Index>(count()), [&](Index i) {
-    const FishFrame f = frame(static_cast<std::size_t>(i));
+    const FishFrame& f = frames_[i] = frame(static_cast<std::size_t>(i));
     trackHeading(motor_[i], f.forward, ctx.h);
     const MotorCommand cmd = desc_.behaviour ? command_[i] : driveCommand(ctx.t0, motor_[i]);
     motorControl(cmd, f.velocity.dot(f.forward), desc_.length, ctx.h, motor_[i]);
@@ -308,8 +306,7 @@ void FishBody::statistics(std::vector<Statistic>& out) const {
 }
 
 std::vector<std::string> FishBody::notes(double) const {
-  double mass = 0;
-  for (double m : tmpl_.mass) mass += m;
+  const double mass = tmpl_.total_mass;
   return {"fish '" + name() + "': " + std::to_string(count()) + " " + kFishSpeciesNames[static_cast<std::size_t>(desc_.species)] +
           " fish of " + formatNumber(desc_.length, 3) + " m and " + formatNumber(mass, 3) + " kg, " +
           (desc_.behaviour ? "deciding every " + formatNumber(kFishDecision, 3) + " s" : "driven")};

@@ -50,7 +50,7 @@ class FishBody final : public SpringNetworkBody {
   void decide(StepContext& ctx, int self);
   MotorCommand driveCommand(double t, FishMotor& m) const;
   void addPatterns(double t, FishMotor& m) const;
-  void rollBalance();
+  void rollBalance();  // from frames_
   void waterForces(const StepContext& ctx);
   void publish(int self);
 
@@ -75,6 +75,7 @@ class FishBody final : public SpringNetworkBody {
   // Scratch.
   std::vector<Percept> percept_;
   std::vector<FishSighting> sightings_;
+  std::vector<FishFrame> frames_;  // each fish's frame at the start of the step
   std::vector<Vec3> external_;  // roll balance, N per node
   std::vector<FishSighting> everyone_;
   BoxGrid grid_;

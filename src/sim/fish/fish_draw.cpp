@@ -106,8 +106,7 @@ void FishBody::draw(DrawList& out) const {
     DrawSpheres nodes;
     nodes.radius = static_cast<float>(0.012 * desc_.length);
     nodes.material.color = Vec3(0.9, 0.9, 0.85);
-    for (const Vec3& p : x)
-      for (int k = 0; k < 3; ++k) nodes.centers.push_back(static_cast<float>(p[k]));
+    appendPoints(nodes.centers, x);
     DrawTubes passive;
     passive.radius = static_cast<float>(0.004 * desc_.length);
     passive.material.color = Vec3(0.6, 0.75, 0.9);

@@ -119,9 +119,7 @@ void FoodBody::draw(DrawList& out) const {
   DrawSpheres s;
   s.radius = static_cast<float>(desc_.size);
   s.material = drawMaterial(material_);
-  s.centers.reserve(3 * x_.size());
-  for (const Vec3& p : x_)
-    for (int k = 0; k < 3; ++k) s.centers.push_back(static_cast<float>(p[k]));
+  appendPoints(s.centers, x_);
   if (!s.centers.empty()) out.spheres.push_back(std::move(s));
 }
 

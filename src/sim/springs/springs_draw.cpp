@@ -9,9 +9,7 @@ void SpringsBody::draw(DrawList& out) const {
   DrawSpheres nodes;
   nodes.radius = static_cast<float>(net_.radius);
   nodes.material = drawMaterial(material_);
-  nodes.centers.reserve(3 * x.size());
-  for (const Vec3& p : x)
-    for (int k = 0; k < 3; ++k) nodes.centers.push_back(static_cast<float>(p[k]));
+  appendPoints(nodes.centers, x);
   DrawTubes springs;
   springs.radius = static_cast<float>(0.35 * net_.radius);
   springs.material = nodes.material;
