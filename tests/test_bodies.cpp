@@ -87,6 +87,13 @@ const std::map<std::string, std::string> kScenes = {
     {"seaweed", kHead + R"("duration": 1, "substeps": 20,
       "water": {"currents": [{"type": "uniform", "velocity": [0.3, 0, 0], "amplitude": [0.2, 0, 0], "period": 2}]},
       "bodies": [{"type": "seaweed", "name": "kelp", "bases": [[0, 0, 0], [0.3, 0, 0]], "height": 1, "segments": 8}]})"},
+    {"rigid", kHead + R"("duration": 1, "substeps": 4,
+      "objects": [{"type": "plane", "name": "floor"}],
+      "bodies": [{"type": "rigid", "name": "crates", "shape": "box", "size": [0.3, 0.3, 0.3], "position": [0, 0.3, 0],
+                  "rotation_deg": [20, 10, 0], "angular_velocity": [0, 3, 0], "array": {"count": [2, 2, 1], "spacing": [0.32, 0.35, 0]}},
+                 {"type": "rigid", "name": "ball", "shape": "sphere", "radius": 0.1, "position": [0.1, 1.2, 0], "velocity": [0, -1, 0]},
+                 {"type": "rigid", "name": "hanger", "shape": "capsule", "radius": 0.05, "length": 0.5, "position": [0.8, 0.5, 0],
+                  "motion": {"keys": [{"time": 0, "position": [0.8, 0.5, 0]}, {"time": 1, "position": [0.2, 0.5, 0], "rotation_deg": [0, 0, 60]}]}}]})"},
 };
 
 }  // namespace
@@ -209,6 +216,6 @@ TEST_CASE("the registry names every body kind once, and each has a resume test a
   // An unknown kind is named with the nearest from the table.
   auto r = app::parseScene(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "clth", "name": "x"}]})", "k.json");
   REQUIRE(!r.ok());
-  CHECK(r.error().headline().find("did you mean \"cloth\"? (one of: mass_spring, rope, net, lattice, cloth, fluid, school, fish, food, seaweed)") !=
+  CHECK(r.error().headline().find("did you mean \"cloth\"? (one of: mass_spring, rope, net, lattice, cloth, fluid, school, fish, food, seaweed, rigid)") !=
         std::string::npos);
 }

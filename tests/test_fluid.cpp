@@ -14,7 +14,6 @@
 #include "core/parallel.h"
 #include "core/random.h"
 #include "fluid_helpers.h"
-#include "sim/free_object.h"
 
 using namespace reel;
 using namespace reel::test;

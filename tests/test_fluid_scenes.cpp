@@ -13,7 +13,7 @@
 #include "core/parallel.h"
 #include "core/random.h"
 #include "fluid_helpers.h"
-#include "sim/free_object.h"
+#include "sim/rigid/rigid_body.h"
 
 using namespace reel;
 using namespace reel::test;
@@ -27,9 +27,9 @@ TEST_CASE("dynamic objects: momentum is exchanged exactly; a light ball floats, 
         "blocks": [{"min": [0, 0, 0], "max": [0.1, 0.1, 0.1], "spacing": 0.02, "velocity": [2, 0, 0]}]}]})");
     const Vec3 p0 = momentum(fluid(w));
     run(w, 15);
-    const FreeObject& ball = w.first<FreeObjectBody>()->object();
-    CHECK(ball.v.x() > 0.1);  // it was pushed
-    CHECK((momentum(fluid(w)) + ball.mass * ball.v - p0).norm() < 1e-9 * p0.norm());
+    const RigidBody& ball = *w.first<RigidBody>();
+    CHECK(ball.states()[0].v.x() > 0.1);  // it was pushed
+    CHECK((momentum(fluid(w)) + ball.models()[0].mass * ball.states()[0].v - p0).norm() < 1e-9 * p0.norm());
   }
   // A pool about 7 cm deep once settled; balls of 3 cm radius, lighter and heavier than the liquid,
   // dropped in from above. (A thin liquid: a resting, very viscous one is a glass that holds even a

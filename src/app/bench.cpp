@@ -17,6 +17,7 @@
 #include "core/scene_view.h"
 #include "io/video.h"
 #include "render/renderer.h"
+#include "sim/rigid/rigid_body.h"
 #include "sim/world.h"
 #include "core/parallel.h"
 #include "sim/cloth/cloth_body.h"
@@ -532,14 +533,65 @@ int benchFish(double seconds) {
   return 0;
 }
 
+// Rigid bodies: 1,000 cubes of 0.5 m (125 kg, friction 0.5) dropped in a 10 × 10 × 10 block onto
+// the ground, each turned about y, for 5 s at h = 1/120 s with 10 iterations (the pile of
+// docs/bench/bullet_pile.cpp, which runs it in Bullet): steps and contact points per second, and
+// how still the pile ends (its fastest box, its mean height).
+int benchRigid() {
+  const int n = 1000, frames = 150;
+  std::string bodies;
+  for (int i = 0; i < n; ++i) {
+    const double x = (i % 10 - 4.5) * 0.75, z = ((i / 10) % 10 - 4.5) * 0.75, y = 0.3 + (i / 100) * 0.55;
+    bodies += std::string(i ? ", " : "") + R"({"type": "rigid", "name": "box)" + std::to_string(i) +
+              R"(", "shape": "box", "size": [0.5, 0.5, 0.5], "surface": {"friction": 0.5}, "position": [)" +
+              std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z) + R"(], "rotation_deg": [0, )" +
+              std::to_string(7 * ((i * 37) % 13)) + ", 0]}";
+  }
+  const std::string text = R"({"format": "reel/1", "name": "bench_rigid", "fps": 30, "substeps": 4, "duration": 5,
+      "gravity": [0, -9.81, 0], "objects": [{"type": "plane", "name": "ground", "surface": {"friction": 0.5}}],
+      "bodies": [)" + bodies + "]}";
+  auto scene = parseScene(text, "bench_rigid.json");
+  if (!scene.ok()) return report(scene.error());
+  auto world = makeWorld(scene.value());
+  if (!world.ok()) return report(world.error());
+  World& w = world.value();
+  const auto t0 = Clock::now();
+  for (int k = 0; k < frames; ++k)
+    if (Status st = w.advanceFrame(); !st) return report(st.error());
+  const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+  const auto* first = w.first<RigidBody>();
+  double fastest = 0.0, height = 0.0;
+  for (const auto& b : w.bodies())
+    if (const auto* r = dynamic_cast<const RigidBody*>(b.get()))
+      for (const RigidState& s : r->states()) {
+        fastest = std::max(fastest, s.v.norm());
+        height += s.x.y() / n;
+      }
+  const double steps = static_cast<double>(frames) * w.stepsPerFrame();
+  nlohmann::ordered_json j = {{"name", "rigid"},
+                              {"boxes", n},
+                              {"steps", steps},
+                              {"threads", threadCount()},
+                              {"wall_s", wall},
+                              {"steps_per_s", steps / wall},
+                              {"contacts_per_s", static_cast<double>(first->solverStats().contact_total) / wall},
+                              {"mean_contacts", static_cast<double>(first->solverStats().contact_total) / steps},
+                              {"final_max_speed", fastest},
+                              {"final_mean_height", height},
+                              {"asleep", first->solverStats().asleep}};
+  std::printf("%s\n", j.dump().c_str());
+  std::fflush(stdout);
+  return 0;
+}
+
 }  // namespace
 
 int bench(const std::vector<std::string>& names, double seconds) {
-  const std::vector<std::string> all = {"springs", "render", "film", "cloth", "fluid", "school", "fish"};
+  const std::vector<std::string> all = {"springs", "render", "film", "cloth", "fluid", "school", "fish", "rigid"};
   const std::vector<std::string>& run = names.empty() ? all : names;
   for (const auto& n : run) {
     if (std::find(all.begin(), all.end(), n) == all.end()) {
-      std::fprintf(stderr, "reel: unknown benchmark \"%s\" (available: springs, render, film, cloth, fluid, school, fish)\n", n.c_str());
+      std::fprintf(stderr, "reel: unknown benchmark \"%s\" (available: springs, render, film, cloth, fluid, school, fish, rigid)\n", n.c_str());
       return 2;
     }
   }
@@ -552,6 +604,7 @@ int bench(const std::vector<std::string>& names, double seconds) {
     if (n == "fluid") rc = benchFluid(std::max(4.0 / 30.0, 0.1 * seconds));
     if (n == "school") rc = benchSchool(seconds);
     if (n == "fish") rc = benchFish(seconds);
+    if (n == "rigid") rc = benchRigid();
     if (rc != 0) return rc;
   }
   return 0;

@@ -6,6 +6,7 @@
 #include "sim/fish/food.h"
 #include "sim/fish/seaweed.h"
 #include "sim/fluid/fluid_body.h"
+#include "sim/rigid/rigid_body.h"
 #include "sim/school/school_body.h"
 #include "sim/springs/springs_body.h"
 
@@ -15,7 +16,8 @@ namespace {
 // Seed streams: the mass-spring kinds share one (a cloth's tear thresholds), liquids, schools and
 // the fish world's kinds have theirs.
 constexpr std::uint64_t kSpringsStream = 0xC107, kFluidStream = 0xF1D0, kSchoolStream = 0x5C00, kFishStream = 0xF154,
-                        kFoodStream = 0xF00D, kSeaweedStream = 0x5EA0;
+                        kFoodStream = 0xF00D, kSeaweedStream = 0x5EA0,
+                        kRigidStream = 0x816D;
 
 constexpr BodyKind kBodyKinds[] = {
     {"mass_spring", io::readMassSpringBody, buildMassSpringBody, kSpringsStream},
@@ -28,6 +30,7 @@ constexpr BodyKind kBodyKinds[] = {
     {"fish", io::readFishBody, buildFishBody, kFishStream},
     {"food", io::readFoodBody, buildFoodBody, kFoodStream},
     {"seaweed", io::readSeaweedBody, buildSeaweedBody, kSeaweedStream},
+    {"rigid", io::readRigidBody, buildRigidBody, kRigidStream},
 };
 
 template <class Row, class F>

@@ -10,8 +10,10 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "core/mass_properties.h"
 #include "core/parallel.h"
 #include "io/dump.h"
+#include "io/mesh_import.h"
 #include "io/stats.h"
 #include "io/video.h"
 #include "render/gl/context.h"
@@ -143,6 +145,27 @@ int check(const std::vector<std::string>& scenes) {
     worst = std::max(worst, report(err));
   }
   return worst;
+}
+
+int meshMass(const std::string& file, double density) {
+  auto mesh = io::importMesh(file);
+  if (!mesh.ok()) return report(mesh.error());
+  auto m = solidMassProperties(mesh.value(), density);
+  if (!m.ok()) {
+    Error e = m.error();
+    for (std::string& line : e.messages) line = file + ": " + line;
+    return report(e);
+  }
+  const MassProperties& p = m.value();
+  auto vec = [](const auto& v) { return nlohmann::json::array({v[0], v[1], v[2]}); };
+  const nlohmann::json out = {{"file", file},
+                              {"density", density},
+                              {"volume", p.volume},
+                              {"mass", p.mass},
+                              {"center_of_mass", vec(p.center_of_mass)},
+                              {"inertia", {vec(p.inertia.row(0)), vec(p.inertia.row(1)), vec(p.inertia.row(2))}}};
+  std::printf("%s\n", out.dump().c_str());
+  return 0;
 }
 
 int info() {

@@ -22,6 +22,10 @@ struct SimulateOptions {
 };
 int simulate(const SimulateOptions& opt);
 int check(const std::vector<std::string>& scenes);
+// `reel info --mass FILE`: the mass properties of a closed mesh at a density (kg/m³) as one JSON
+// object: volume (m³), mass (kg), center_of_mass (m) and inertia (kg·m², about the centre of mass
+// in the mesh's axes). An open, inside-out or self-intersecting mesh is refused (exit 2).
+int meshMass(const std::string& file, double density);
 
 struct RenderOptions {
   std::string scene;

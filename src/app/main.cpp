@@ -41,6 +41,8 @@ struct Cli {
   reel::app::CompareOptions cmp;
   std::vector<std::string> bench_names;
   double bench_seconds = 1.0;
+  std::string mass_file;   // info --mass
+  double density = 1000.0;  // info --density, kg/m³
   CLI::App *simulate = nullptr, *check = nullptr, *info = nullptr, *still = nullptr, *render = nullptr,
            *compare = nullptr, *bench = nullptr;
 
@@ -72,7 +74,9 @@ struct Cli {
     addThreads(simulate);
     check = app.add_subcommand("check", "validate scene files without simulating");
     check->add_option("scenes", scenes, "scene files")->required();
-    info = app.add_subcommand("info", "versions, build type, threads");
+    info = app.add_subcommand("info", "versions, build type, threads; or a mesh's mass properties");
+    info->add_option("--mass", mass_file, "print the volume, mass, centre of mass and inertia tensor of a closed mesh (JSON)");
+    info->add_option("--density", density, "kg/m³ for --mass (default 1000)")->check(CLI::PositiveNumber);
   }
 
   // still, render.
@@ -122,7 +126,7 @@ struct Cli {
     }
     if (*simulate) return reel::app::simulate(sim);
     if (*check) return reel::app::check(scenes);
-    if (*info) return reel::app::info();
+    if (*info) return mass_file.empty() ? reel::app::info() : reel::app::meshMass(mass_file, density);
     if (!size.empty()) {
       int w = 0, h = 0;
       char x = 0;

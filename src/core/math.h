@@ -20,6 +20,12 @@ inline Mat3 rotationFromEulerDeg(const Vec3& deg) {
       .toRotationMatrix();
 }
 
+// The XYZ Euler angles in degrees of a rotation (the inverse of rotationFromEulerDeg).
+inline Vec3 eulerDegFromRotation(const Mat3& R) {
+  const Vec3 zyx = R.eulerAngles(2, 1, 0);
+  return Vec3(zyx[2], zyx[1], zyx[0]) * (180.0 / kPi);
+}
+
 // Rotation taking +y onto the unit vector n (shortest arc); fixes the in-plane axes of a plane.
 inline Mat3 rotationFromUp(const Vec3& n) {
   return Eigen::Quaterniond::FromTwoVectors(Vec3::UnitY(), n.normalized()).toRotationMatrix();

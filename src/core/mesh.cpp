@@ -130,6 +130,31 @@ TriMesh makeQuad(double width, double depth, double tile) {
   return m;
 }
 
+TriMesh makeCylinder(double radius, double height, int slices) {
+  TriMesh m;
+  const double h2 = 0.5 * height;
+  addGrid(m, slices, 1, [&](double u, double v, Vec3& p, Vec3& n) {
+    const double phi = 2 * kPi * u;
+    n = Vec3(std::cos(phi), 0, -std::sin(phi));
+    p = radius * n + Vec3(0, (2 * v - 1) * h2, 0);
+  });
+  // The caps: a fan around each centre, counter-clockwise seen from outside.
+  for (const double side : {1.0, -1.0}) {
+    const auto c = static_cast<std::uint32_t>(m.vertexCount());
+    m.addVertex(Vec3(0, side * h2, 0), Vec3(0, side, 0), 0.5, 0.5);
+    for (int i = 0; i <= slices; ++i) {
+      const double phi = 2 * kPi * i / slices;
+      m.addVertex(Vec3(radius * std::cos(phi), side * h2, -radius * std::sin(phi)), Vec3(0, side, 0),
+                  0.5 + 0.5 * std::cos(phi), 0.5 + 0.5 * std::sin(phi));
+    }
+    for (std::uint32_t i = 1; i <= static_cast<std::uint32_t>(slices); ++i) {
+      if (side > 0) m.indices.insert(m.indices.end(), {c, c + i, c + i + 1});
+      else m.indices.insert(m.indices.end(), {c, c + i + 1, c + i});
+    }
+  }
+  return m;
+}
+
 TriMesh makeTube(int slices) {
   TriMesh m;
   addGrid(m, slices, 1, [&](double u, double v, Vec3& p, Vec3& n) {

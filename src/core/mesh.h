@@ -43,6 +43,8 @@ std::array<std::pair<Vec3, Vec3>, 5> containerBoxes(const Vec3& size, double wal
 // in the disc's own (u, v) coordinates, m. A liquid nozzle's cross-section.
 std::vector<std::array<double, 2>> hexDisc(double radius, double spacing);
 
+// A closed cylinder along y, centred: smooth sides and flat caps.
+TriMesh makeCylinder(double radius, double height, int slices);
 // A unit cylinder along +z from z = 0 to 1, radius 1, open ends (instanced tubes).
 TriMesh makeTube(int slices);
 

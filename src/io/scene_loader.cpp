@@ -9,6 +9,7 @@
 #include "io/files.h"
 #include "io/json_reader.h"
 #include "io/scene/reader.h"
+#include "io/scene/readers.h"
 
 namespace reel::io {
 namespace {
@@ -313,6 +314,18 @@ Result<SceneDesc> parseScene(const std::string& text, const std::string& file, s
   readObjects(o, s, names);
   readWater(o, s);
   readBodies(o, s, names, kinds);
+  // Each dynamic object moves as a rigid body of its own, after the scene's bodies.
+  for (std::size_t k = 0; k < s.objects.size(); ++k) {
+    const ObjectDesc& ob = s.objects[k];
+    if (!ob.free_body) continue;
+    BodyDesc bd;
+    bd.name = ob.name;
+    bd.type = "rigid";
+    bd.path = ob.path;
+    bd.material = ob.material;
+    bd.params = rigidFromObject(ob, k, d);
+    s.bodies.push_back(std::move(bd));
+  }
   checkBodies(s, d);
   o.finish();
   if (!d.empty()) return Error(ErrorKind::BadInput, d.lines());

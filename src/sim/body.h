@@ -32,21 +32,6 @@ class Water;
 inline constexpr double kRunawaySpeed = 1e4;     // m/s
 inline constexpr double kRunawayDistance = 1e6;  // m
 
-// The coupling stage: how bodies of different kinds act on each other within one step, equal and
-// opposite so momentum is conserved. The order is fixed: the scene's bodies step first, in scene
-// order; what their contacts do to a free object (a liquid's particles pushed off it) is
-// gathered here, per collider, in that order; then the free objects step and take it.
-//   liquid → free object: the impulses the particles took from it, opposite (fluid contacts).
-// Coming: liquid ↔ cloth, rigid ↔ everything, schools ↔ obstacles.
-struct Coupling {
-  std::vector<Vec3> impulse;  // per collider: linear impulse handed to it this step, N·s
-  std::vector<Vec3> angular;  // per collider: angular impulse about its reference point, N·m·s
-  void reset(std::size_t colliders) {
-    impulse.assign(colliders, Vec3::Zero());
-    angular.assign(colliders, Vec3::Zero());
-  }
-};
-
 // The implicit solves of a run: the last step's, and how many stopped short of their tolerance.
 struct SolverStats {
   StepStats last;
@@ -78,6 +63,7 @@ struct StepContext {
 struct BuildContext {
   const SceneDesc* scene = nullptr;
   const std::vector<Collider>* colliders = nullptr;
+  std::size_t first_object = 0;  // the collider of the body's first own object (BodyParams::ownObjects)
   std::uint64_t seed = 0;
 };
 

@@ -279,20 +279,39 @@ void contactNode(const Collider& c, const Surface& s, double reach, double d, co
   x += (h * (keep - 1.0)) * vt;  // the step's tangential drift, redone at the new velocity
 }
 
-void resolveContacts(const std::vector<Collider>& colliders, double radius, double h,
-                     const std::uint8_t* fixed, std::vector<Vec3>& x, std::vector<Vec3>& v) {
+void resolveContacts(const std::vector<Collider>& colliders, double radius, double h, const std::uint8_t* fixed,
+                     std::vector<Vec3>& x, std::vector<Vec3>& v, const std::vector<double>& mass, Coupling& coupling) {
   if (colliders.empty()) return;
+  auto touch = [&](const Collider& c, std::size_t i) {
+    double d;
+    Vec3 n;
+    if (!c.distance(x[i], d, n)) return false;
+    const double reach = c.thickness + radius;
+    if (d >= reach) return false;
+    contactNode(c, c.surface, reach, d, n, h, x[i], v[i]);
+    return true;
+  };
+  bool any_free = false;
   parallelFor(static_cast<std::ptrdiff_t>(x.size()), [&](std::ptrdiff_t i) {
     if (fixed[i]) return;
-    for (const Collider& c : colliders) {
-      double d;
-      Vec3 n;
-      if (!c.distance(x[i], d, n)) continue;
-      const double reach = c.thickness + radius;
-      if (d >= reach) continue;
-      contactNode(c, c.surface, reach, d, n, h, x[i], v[i]);
-    }
+    for (const Collider& c : colliders)
+      if (!c.free_body) touch(c, static_cast<std::size_t>(i));
   });
+  for (const Collider& c : colliders) any_free = any_free || c.free_body;
+  if (!any_free) return;
+  // Rigid bodies: node by node, each impulse handed back to the body, in a fixed order.
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (fixed[i]) continue;
+    for (std::size_t k = 0; k < colliders.size(); ++k) {
+      const Collider& c = colliders[k];
+      if (!c.free_body) continue;
+      const Vec3 before = v[i];
+      if (!touch(c, i)) continue;
+      const Vec3 J = mass[i] * (v[i] - before);
+      coupling.impulse[k] -= J;
+      coupling.angular[k] -= (x[i] - c.pos).cross(J);
+    }
+  }
 }
 
 bool segmentBlocked(const std::vector<Collider>& colliders, const Vec3& a, const Vec3& b, double step) {

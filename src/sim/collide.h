@@ -45,7 +45,7 @@ struct Collider {
   Mat3 rot = Mat3::Identity(), rot_prev = Mat3::Identity();
   Vec3 pos{0, 0, 0}, pos_prev{0, 0, 0};
   double dt = 0.0;  // time between the previous and the current pose, s
-  bool free_body = false;  // posed by its free object's motion (sim/free_object.h), not by keys
+  bool free_body = false;  // a rigid body's: posed by its motion (sim/rigid/rigid_body.h), not by keys
   std::vector<std::pair<std::string, Surface>> species_surface;  // per-species surfaces (liquids)
   bool moving() const { return free_body || !keys.empty(); }
   // The pose at time t (keys interpolated: position linearly, rotation by slerp, held outside).
@@ -71,6 +71,22 @@ struct Collider {
 // collider's signed distance, at least `step` at a time): what a fish cannot see through.
 bool segmentBlocked(const std::vector<Collider>& colliders, const Vec3& a, const Vec3& b, double step);
 
+// The coupling stage: how bodies of different kinds act on each other within one step, equal and
+// opposite so momentum is conserved. The order is fixed: the scene's bodies step first, in scene
+// order; what their contacts do to a rigid body (a liquid's particles or a cloth's nodes pushed
+// off it) is gathered here, per collider, in that order; then the rigid bodies step and take it.
+//   liquid → rigid: the impulses the particles took from it, opposite (fluid contacts);
+//   nodes (cloth, ropes, nets, fish, kelp) → rigid: the same for nodes (resolveContacts).
+// Schools and fish steer around rigid bodies as around any moving object.
+struct Coupling {
+  std::vector<Vec3> impulse;  // per collider: linear impulse handed to it this step, N·s
+  std::vector<Vec3> angular;  // per collider: angular impulse about its reference point, N·m·s
+  void reset(std::size_t colliders) {
+    impulse.assign(colliders, Vec3::Zero());
+    angular.assign(colliders, Vec3::Zero());
+  }
+};
+
 // `reach`: how far from a mesh's surface points are still found (thickness plus contact radius
 // and a margin for one step's motion).
 Collider makeCollider(const ObjectDesc& o, double reach = 0.1);
@@ -83,9 +99,11 @@ std::shared_ptr<MeshShape> makeMeshShape(const TriMesh& placed, double reach);
 // impulse per node):  v_n' = −e·v_n,  |v_t'| = max(0, |v_t| − μ(1 + e)|v_n|).
 // Friction also takes back the tangential distance the step moved at the old velocity
 // (x += h·(v_t' − v_t)), so static friction holds a node in place instead of letting it creep.
-// Fixed nodes are left alone.
-void resolveContacts(const std::vector<Collider>& colliders, double radius, double h,
-                     const std::uint8_t* fixed, std::vector<Vec3>& x, std::vector<Vec3>& v);
+// Fixed nodes are left alone. Rigid bodies' colliders come after the others, node by node in
+// index order, and each takes the opposite of the impulses its contacts gave the nodes (masses
+// `mass`, kg) through `coupling`.
+void resolveContacts(const std::vector<Collider>& colliders, double radius, double h, const std::uint8_t* fixed,
+                     std::vector<Vec3>& x, std::vector<Vec3>& v, const std::vector<double>& mass, Coupling& coupling);
 
 // The response above for one node at signed distance d (< reach) along the outward normal n of
 // collider c, with surface s.

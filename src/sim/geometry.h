@@ -42,6 +42,51 @@ inline Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const
   return {1 - v - w, v, w};
 }
 
+// The parameter t in [0, 1] of the point a + t·(b − a) of segment a–b closest to p.
+inline double closestOnSegment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 d = b - a;
+  const double dd = d.squaredNorm();
+  if (!(dd > 0)) return 0.0;  // a point
+  return std::clamp((p - a).dot(d) / dd, 0.0, 1.0);
+}
+
+// Closest points of segments p1–q1 and p2–q2 as parameters s, t in [0, 1] of p1 + s·(q1 − p1) and
+// p2 + t·(q2 − p2). The squared distance is a convex quadratic in (s, t): its unconstrained
+// minimum is clamped to the unit square one parameter at a time (Ericson, "Real-Time Collision
+// Detection", 5.1.9). Parallel segments get s = 0 (any point of the overlap is as close).
+inline void closestSegmentSegment(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2,
+                                  double& s, double& t) {
+  const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  // One or both segments a point
+  if (!(a > 0) && !(e > 0)) {
+    s = t = 0.0;
+    return;
+  }
+  if (!(a > 0)) {
+    s = 0.0;
+    t = std::clamp(f / e, 0.0, 1.0);
+    return;
+  }
+  const double c = d1.dot(r);
+  if (!(e > 0)) {
+    t = 0.0;
+    s = std::clamp(-c / a, 0.0, 1.0);
+    return;
+  }
+  // s on the lines' common perpendicular, then t for that s; a clamped t moves s once more
+  const double b = d1.dot(d2), denom = a * e - b * b;
+  s = denom > 1e-12 * a * e ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+  t = (b * s + f) / e;
+  if (t < 0) {
+    t = 0.0;
+    s = std::clamp(-c / a, 0.0, 1.0);
+  } else if (t > 1) {
+    t = 1.0;
+    s = std::clamp((b - c) / a, 0.0, 1.0);
+  }
+}
+
 // Whether segment p→q crosses triangle (a, b, c) (Möller–Trumbore with the segment parameter in
 // [0, 1]). A segment (nearly) in the triangle's plane does not cross it.
 inline bool segmentCrossesTriangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,

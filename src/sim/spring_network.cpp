@@ -22,7 +22,7 @@ void SpringNetwork::integrate(StepContext& ctx) {
 }
 
 void SpringNetwork::contacts(const StepContext& ctx) {
-  resolveContacts(*ctx.colliders, radius, ctx.h, model.fixed.data(), state.x, state.v);
+  resolveContacts(*ctx.colliders, radius, ctx.h, model.fixed.data(), state.x, state.v, model.mass, *ctx.coupling);
 }
 
 std::string SpringNetwork::unstableMethod(const std::string& body, IntegratorKind integrator) const {

@@ -6,7 +6,6 @@
 
 #include "core/format.h"
 #include "core/random.h"
-#include "sim/free_object.h"
 #include "sim/object_draw.h"
 
 namespace reel {
@@ -33,30 +32,32 @@ Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow>
   double radius = 0.0, adhesion_range = 0.0;
   bodyReach(scene, radius, adhesion_range);
   const double h_max = 1.0 / (static_cast<double>(scene.fps) * scene.substeps);
-  std::vector<std::pair<std::string, FreeObject>> free_objects;
-  for (const ObjectDesc& o : scene.objects) {
+  // A collider of each object, built once with its drawn mesh; then the objects bodies are
+  // (rigid bodies), after the scene's.
+  auto addObject = [&](const ObjectDesc& o) {
     // A moving mesh also reaches as far as its fastest key moves it in one step.
     double speed = 0.0;
     for (std::size_t k = 1; k < o.motion.size(); ++k)
       speed = std::max(speed, (o.motion[k].position - o.motion[k - 1].position).norm() / (o.motion[k].time - o.motion[k - 1].time));
     if (!o.motion.empty()) w.moving_objects_.push_back(w.colliders_.size());
     if (!o.motion.empty() || o.free_body) w.posed_objects_.push_back(w.colliders_.size());
-    if (o.free_body) free_objects.emplace_back(o.name, makeFreeObject(o, w.colliders_.size()));
     bool sticky = o.surface.adhesion > 0;
     for (const auto& [name, sf] : o.species_surface) sticky = sticky || sf.adhesion > 0;
     // A 2 cm margin for a step's motion.
     w.colliders_.push_back(makeCollider(o, radius + (sticky ? adhesion_range : 0.0) + 0.02 + speed * h_max));
     w.object_meshes_.push_back(objectMesh(o));
     w.object_pivots_.push_back(o.referencePoint());
+  };
+  for (const ObjectDesc& o : scene.objects) addObject(o);
+  std::vector<std::size_t> first_object;  // per body: its first own object's collider
+  for (const BodyDesc& bd : scene.bodies) {
+    first_object.push_back(w.colliders_.size());
+    for (const ObjectDesc& o : bd.params->ownObjects()) addObject(o);
   }
   w.wind_ = Wind(scene.wind, scene.seed);
   w.water_ = Water(scene.water);
   w.gravity_ = scene.gravity;
-  if (Status st = w.buildBodies(scene, kinds); !st) return st.error();
-  for (auto& [name, obj] : free_objects) {
-    const Collider& c = w.colliders_[obj.collider];
-    w.bodies_.push_back(std::make_unique<FreeObjectBody>(name, std::move(obj), c));
-  }
+  if (Status st = w.buildBodies(scene, kinds, first_object); !st) return st.error();
   w.coupling_.reset(w.colliders_.size());
   return w;
 }
@@ -64,17 +65,20 @@ Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow>
 // Each body from its kind's builder, drawing random numbers from its own stream of the scene
 // seed. A step above a body's stable bound is subdivided under auto_substeps; otherwise it is an
 // error naming what sets the bound and what else would do. All errors are reported at once.
-Status World::buildBodies(const SceneDesc& scene, std::span<const BodyKindRow> kinds) {
+Status World::buildBodies(const SceneDesc& scene, std::span<const BodyKindRow> kinds,
+                          const std::vector<std::size_t>& first_object) {
   const double h = 1.0 / (static_cast<double>(scene.fps) * scene.substeps);
   auto num = [](double x) { return formatNumber(x, 3); };
   std::vector<std::string> errors;
   std::map<std::uint64_t, std::uint64_t> ordinal;  // bodies so far per seed stream
-  for (const BodyDesc& bd : scene.bodies) {
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const BodyDesc& bd = scene.bodies[i];
     const auto row = std::find_if(kinds.begin(), kinds.end(), [&](const BodyKindRow& k) { return bd.type == k.type; });
     REEL_CHECK(row != kinds.end(), "no builder for body type " + bd.type);
     BuildContext ctx;
     ctx.scene = &scene;
     ctx.colliders = &colliders_;
+    ctx.first_object = first_object[i];
     ctx.seed = splitmix64(scene.seed ^ (row->seed_stream << 32) ^ ordinal[row->seed_stream]++);
     auto made = row->build(bd, ctx);
     if (!made.ok()) {

@@ -89,7 +89,7 @@ class World {
   double worstResidual() const { return solver_.worst_residual; }
 
  private:
-  Status buildBodies(const SceneDesc& scene, std::span<const BodyKindRow> kinds);
+  Status buildBodies(const SceneDesc& scene, std::span<const BodyKindRow> kinds, const std::vector<std::size_t>& first_object);
   IntegratorKind integrator_ = IntegratorKind::SymplecticEuler;
   ImplicitSettings implicit_;
   int fps_ = 30, substeps_ = 1;

@@ -6,12 +6,14 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/math.h"
 #include "core/scene/material.h"
+#include "core/scene/object.h"
 #include "core/types.h"
 
 namespace reel {
@@ -28,6 +30,9 @@ struct BodyParams {
   virtual double adhesionRange() const { return 0.0; }
   // Species an object's per-species surface may name (liquids).
   virtual std::vector<std::string> speciesNames() const { return {}; }
+  // Objects the body is and moves (rigid bodies): the World makes a collider of each after the
+  // scene's objects, draws them at their pose, and tells the builder where they start.
+  virtual std::span<const ObjectDesc> ownObjects() const { return {}; }
 };
 
 // Where a group's members start (a school's agents, a body's fish): random points in a ball or a

@@ -70,10 +70,10 @@ struct ObjectDesc {
   Surface surface;
   // Per-species surfaces for liquids: species name → surface (keys not given keep `surface`'s).
   std::vector<std::pair<std::string, Surface>> species_surface;
-  // A free body (scene key `dynamic`): moved by gravity and the liquid's push, momentum exchanged
-  // both ways (sim/free_object.h).
+  // A free body (scene key `dynamic`, or a rigid body's object): moved by the rigid-body solver
+  // (core/scene/rigid.h), momentum exchanged both ways with liquids and nodes.
   bool free_body = false;
-  double mass = 1.0;  // kg (free bodies)
+  double mass = 1.0;  // kg (`dynamic` objects)
   Material material;
   std::vector<MotionKey> motion;  // keyframes (times increasing); empty: static
 

@@ -14,7 +14,8 @@ void readSurface(Obj& so, Surface& sf) {
   sf.adhesion = so.number("adhesion", sf.adhesion, Range::closed(0.0, 1e4));
 }
 
-// An imported mesh: its file (resolved and imported now), placement and scale.
+}  // namespace
+
 MeshObjectShape readMeshShape(Obj& o) {
   Diagnostics& d = o.diag();
   const std::string& p = o.path();
@@ -31,6 +32,8 @@ MeshObjectShape readMeshShape(Obj& o) {
   s.mesh = readMeshFile(o, "file", true, &s.file);
   return s;
 }
+
+namespace {
 
 // The keys of each shape.
 ObjectShape readShape(Obj& o, const std::string& type, bool& checker) {
@@ -80,7 +83,8 @@ ObjectShape readShape(Obj& o, const std::string& type, bool& checker) {
   return readMeshShape(o);
 }
 
-// `motion`: keyframes of the reference point's position and the rotation.
+}  // namespace
+
 void readMotion(Obj& o, ObjectDesc& ob) {
   Diagnostics& d = o.diag();
   const std::string& p = o.path();
@@ -109,7 +113,6 @@ void readMotion(Obj& o, ObjectDesc& ob) {
   }
 }
 
-// `surface`, with per-species surfaces for liquids.
 void readSurfaces(Obj& o, ObjectDesc& ob) {
   Diagnostics& d = o.diag();
   const std::string& p = o.path();
@@ -134,8 +137,6 @@ void readSurfaces(Obj& o, ObjectDesc& ob) {
     so.finish();
   }
 }
-
-}  // namespace
 
 void readObject(Obj& o, ObjectDesc& ob, const std::string& type) {
   Diagnostics& d = o.diag();

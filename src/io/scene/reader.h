@@ -40,6 +40,14 @@ void readStart(Obj& o, StartRegion& start);
 // A box ({min, max}) or ball ({center, radius}) that agents or fish keep inside, with its margin.
 void readBounds(Obj& o, SchoolBoundsDesc& b);
 
+// An imported mesh: its file (resolved and imported now), placement (`position`, `rotation_deg`)
+// and `scale` (a number or one per axis).
+MeshObjectShape readMeshShape(Obj& o);
+// `motion`: keyframes of the reference point's position and the rotation.
+void readMotion(Obj& o, ObjectDesc& ob);
+// `surface`, with per-species surfaces for liquids.
+void readSurfaces(Obj& o, ObjectDesc& ob);
+
 // An object of type `type` (one of kObjectTypes).
 void readObject(Obj& o, ObjectDesc& ob, const std::string& type);
 inline const std::vector<std::string> kObjectTypes = {"plane", "sphere", "box", "capsule", "mesh", "container"};

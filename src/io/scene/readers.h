@@ -5,6 +5,8 @@
 #include <memory>
 
 #include "core/scene.h"
+#include "core/scene/rigid.h"
+#include "io/json_reader.h"
 #include "io/scene_loader.h"
 
 namespace reel::io {
@@ -19,5 +21,10 @@ std::shared_ptr<const BodyParams> readSchoolBody(Obj& o, BodyDesc& body, const S
 std::shared_ptr<const BodyParams> readFishBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
 std::shared_ptr<const BodyParams> readFoodBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
 std::shared_ptr<const BodyParams> readSeaweedBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
+std::shared_ptr<const BodyParams> readRigidBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
+
+// The rigid body that moves the scene's object `index` (`"dynamic": true`, its `mass`); a shape
+// without a finite solid (an open mesh) is reported at the object's path.
+std::shared_ptr<const RigidDesc> rigidFromObject(const ObjectDesc& ob, std::size_t index, Diagnostics& d);
 
 }  // namespace reel::io

@@ -379,7 +379,7 @@ Result<std::unique_ptr<Body>> buildFishBody(const BodyDesc& desc, const BuildCon
   const auto& d = desc.as<FishDesc>();
   const int hook = d.hook.empty() ? -1 : objectIndex(*ctx.scene, d.hook);
   auto body = std::make_unique<FishBody>(desc.name, d, desc.material, ctx.seed, hook, ctx.scene->water.density);
-  body->ignored_.assign(ctx.scene->objects.size(), 0);
+  body->ignored_.assign(ctx.colliders->size(), 0);  // rigid bodies' colliders come after the scene's objects
   for (std::size_t c = 0; c < ctx.scene->objects.size(); ++c)
     body->ignored_[c] = std::find(d.ignore.begin(), d.ignore.end(), ctx.scene->objects[c].name) != d.ignore.end();
   const FishTemplate& t = body->fishTemplate();

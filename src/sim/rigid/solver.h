@@ -1,0 +1,77 @@
+// The joint step of every rigid body of a World: the coupling stage's impulses and gravity,
+// contacts between bodies and with every object, a sequential-impulse solver with warm starting,
+// and islands of resting bodies that sleep.
+//
+// Contacts: a broad phase sorts the bodies' boxes along x and sweeps them (objects are tested
+// box against box, a triangle mesh through its grid); the narrow phase (sim/rigid/contact.h) gives
+// up to 4 points per pair, each with a feature key. Points closer than a margin that grows with
+// the bodies' speed are kept as speculative contacts, so fast bodies do not tunnel.
+//
+// The solver is Box2D v3's soft step (Catto, "Solver2D", 2024) in 3D: the impulses of last step's
+// matching points start the solve (warm starting: Catto, "Iterative Dynamics with Temporal
+// Coherence", GDC 2005); the step is cut into `iterations` sub-steps, each: gravity, the warm
+// start, one pass of sequential impulses over every point (the normal, with an overlap beyond the
+// slop pushed out as a stiff damped spring, 60 Hz and damping ratio 10, at most 3 m/s; then Coulomb
+// friction in a circle of radius μ·λ_n), the move (sim/rigid/rigid.h), and a pass without the
+// push (relax) that takes back the velocity it added. Each point's separation is followed through
+// the sub-steps from how far its anchors on the two bodies moved apart. Last, restitution: a point
+// that was approaching faster than 0.5 m/s leaves at e times that speed. Friction μ = √(μ_a·μ_b),
+// restitution e = max(e_a, e_b).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "sim/body.h"
+#include "sim/rigid/contact.h"
+
+namespace reel {
+
+class RigidBody;
+
+// A contact point's accumulated impulses, kept for the next step's warm start: a point of the
+// same bodies takes those of last step's nearest point within 2% of the smaller body's size
+// (measured on body A; feature keys alone can swap between the corners of aligned faces).
+struct CachedImpulse {
+  std::uint32_t a = 0, b = 0, id = 0;  // bodies (b: 0x80000000 | object part) and feature key
+  double normal = 0.0, t1 = 0.0, t2 = 0.0;  // N·s
+  std::array<double, 3> anchor{};  // the point relative to A's centre of mass, in A's body frame, m
+  bool operator<(const CachedImpulse& o) const {
+    return a != o.a ? a < o.a : b != o.b ? b < o.b : id < o.id;
+  }
+};
+
+// A convex part of an object the rigid bodies touch: a whole shape, one of a container's boxes,
+// one triangle of a mesh, or a plane's half-space.
+struct ObjectPart {
+  std::size_t collider = 0;
+  bool half_space = false;
+  Vec3 normal{0, 1, 0};           // half-space: outward normal (authored), and its offset n·x
+  double offset = 0.0;
+  double half_w = 0.0, half_d = 0.0;  // a finite plane's half extents (0: infinite)
+  Mat3 frame = Mat3::Identity();      // a plane's axes (x, normal, z), authored
+  ConvexShape shape;              // authored frame (the collider's pose carries it)
+  Vec3 lo{0, 0, 0}, hi{0, 0, 0};  // authored bounds
+};
+
+struct RigidSolverCache {
+  std::vector<CachedImpulse> impulses;  // sorted
+  // Scratch, rebuilt from the colliders when empty (not part of the state).
+  std::vector<ObjectPart> parts;
+  std::vector<std::pair<std::size_t, std::size_t>> mesh_parts;  // per collider: first part, count (meshes)
+  bool built = false;
+};
+
+struct RigidSolverStats {
+  int contacts = 0;  // points touching or speculative, last step
+  long long contact_total = 0;  // over every step so far
+  int awake = 0, asleep = 0;
+};
+
+// One step of every rigid entry (the first entry's cache and statistics).
+void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, RigidSolverCache& cache,
+                     RigidSolverStats& stats);
+
+}  // namespace reel
