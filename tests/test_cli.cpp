@@ -462,3 +462,23 @@ TEST_CASE("a fish body's dump lists its nodes' masses, muscles and mental state;
   CHECK(b.code == 2);
   CHECK(b.out.find("/bodies/0/species") != std::string::npos);
 }
+
+TEST_CASE("info --mass prints a closed mesh's mass properties as JSON and refuses an open one") {
+  // A 2 × 1 × 1 box from (1, 0, 0): the centre at (2, 0.5, 0.5), I = m (b² + c²)/12 and so on.
+  const std::string box = write("box.obj", "v 1 0 0\nv 3 0 0\nv 3 1 0\nv 1 1 0\nv 1 0 1\nv 3 0 1\nv 3 1 1\nv 1 1 1\n"
+                                           "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\n"
+                                           "f 4 8 7\nf 4 7 3\nf 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n");
+  const Run r = runReel("info --mass " + box + " --density 3");
+  REQUIRE(r.code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["volume"].get<double>() == doctest::Approx(2.0).epsilon(1e-12));
+  CHECK(j["mass"].get<double>() == doctest::Approx(6.0).epsilon(1e-12));
+  CHECK(j["center_of_mass"][0].get<double>() == doctest::Approx(2.0).epsilon(1e-12));
+  CHECK(j["inertia"][0][0].get<double>() == doctest::Approx(6.0 * 2 / 12).epsilon(1e-12));
+  CHECK(j["inertia"][1][1].get<double>() == doctest::Approx(6.0 * 5 / 12).epsilon(1e-12));
+  CHECK(std::abs(j["inertia"][0][1].get<double>()) < 1e-12);
+  const std::string open = write("open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n");
+  const Run bad = runReel("info --mass " + open);
+  CHECK(bad.code == 2);
+  CHECK(bad.out.find("not closed") != std::string::npos);
+}

@@ -497,6 +497,19 @@ int benchSchool(double seconds) {
   return 0;
 }
 
+// The World of a benchmark's scene, advanced `frames` frames; `wall`: the time the frames took, s.
+Result<World> runFrames(const std::string& text, const char* file, int frames, double& wall) {
+  auto scene = parseScene(text, file);
+  if (!scene.ok()) return scene.error();
+  auto world = makeWorld(scene.value());
+  if (!world.ok()) return world.error();
+  const auto t0 = Clock::now();
+  for (int k = 0; k < frames; ++k)
+    if (Status st = world.value().advanceFrame(); !st) return st.error();
+  wall = std::chrono::duration<double>(Clock::now() - t0).count();
+  return world;
+}
+
 // Artificial fish: 10, 100 and 1,000 prey schooling in water (perception and behaviour every
 // 0.1 s, implicit Euler at 30 fps × 10 substeps, as the film runs them): fish-steps per second and
 // how many times faster than real time at 30 fps.
@@ -509,15 +522,10 @@ int benchFish(double seconds) {
         "implicit": {"cg_tolerance": 1e-4}, "duration": )" + num((frames + 1) / 30.0) +
                              R"(, "bodies": [{"type": "fish", "name": "f", "count": )" + std::to_string(n) +
                              R"(, "start": {"center": [0, 0, 0], "radius": )" + num(radius) + R"(}, "mental": {"hunger": 0}}]})";
-    auto scene = parseScene(text, "bench_fish.json");
-    if (!scene.ok()) return report(scene.error());
-    auto world = makeWorld(scene.value());
+    double wall = 0.0;
+    auto world = runFrames(text, "bench_fish.json", frames, wall);
     if (!world.ok()) return report(world.error());
     World& w = world.value();
-    const auto t0 = Clock::now();
-    for (int k = 0; k < frames; ++k)
-      if (Status st = w.advanceFrame(); !st) return report(st.error());
-    const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
     const double fish_steps = static_cast<double>(n) * frames * w.stepsPerFrame();
     nlohmann::ordered_json j = {{"name", "fish"},
                                 {"fish", n},
@@ -550,15 +558,10 @@ int benchRigid() {
   const std::string text = R"({"format": "reel/1", "name": "bench_rigid", "fps": 30, "substeps": 4, "duration": 5,
       "gravity": [0, -9.81, 0], "objects": [{"type": "plane", "name": "ground", "surface": {"friction": 0.5}}],
       "bodies": [)" + bodies + "]}";
-  auto scene = parseScene(text, "bench_rigid.json");
-  if (!scene.ok()) return report(scene.error());
-  auto world = makeWorld(scene.value());
+  double wall = 0.0;
+  auto world = runFrames(text, "bench_rigid.json", frames, wall);
   if (!world.ok()) return report(world.error());
   World& w = world.value();
-  const auto t0 = Clock::now();
-  for (int k = 0; k < frames; ++k)
-    if (Status st = w.advanceFrame(); !st) return report(st.error());
-  const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
   const auto* first = w.first<RigidBody>();
   double fastest = 0.0, height = 0.0;
   for (const auto& b : w.bodies())

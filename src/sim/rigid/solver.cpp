@@ -340,11 +340,12 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
     }
   }
   std::vector<std::uint32_t> near;
+  // A sleeping body meets only moving objects (which may wake it).
   for (int i = 0; i < nb; ++i) {
     const SolverBody& A = bodies[static_cast<std::size_t>(i)];
-    if (A.state->asleep) continue;
     partsNear(cache, colliders, A.lo, A.hi, near);
-    for (std::uint32_t p : near) pairs.push_back({i, -1, p});
+    for (std::uint32_t p : near)
+      if (!A.state->asleep || colliders[cache.parts[p].collider].moving()) pairs.push_back({i, -1, p});
   }
   std::sort(pairs.begin(), pairs.end(), [](const Pair& p, const Pair& q) {
     return p.a != q.a ? p.a < q.a : p.b != q.b ? p.b < q.b : p.part < q.part;
@@ -398,6 +399,11 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   stats.contacts = static_cast<int>(rows.size());
   stats.contact_total += stats.contacts;
 
+  // An object moving at a body's contact wakes it.
+  for (const Row& r : rows) {
+    RigidState& s = *bodies[static_cast<std::size_t>(r.a)].state;
+    if (r.b < 0 && r.vs.norm() > kSleepSpeed) s.rest = 0.0, s.asleep = false;
+  }
   // Islands: bodies joined by contacts sleep together once every one has rested long enough.
   std::vector<int> parent(static_cast<std::size_t>(nb));
   for (int i = 0; i < nb; ++i) parent[static_cast<std::size_t>(i)] = i;
