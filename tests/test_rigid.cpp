@@ -128,6 +128,28 @@ TEST_CASE("a stack of ten boxes stands still for ten seconds, asleep or awake") 
   }
 }
 
+TEST_CASE("a ball and a box dropped into a concave mesh (a bowl) come to rest inside it") {
+  const std::string scene = R"({"format": "reel/1", "duration": 3, "fps": 30, "substeps": 8,
+    "objects": [{"type": "mesh", "name": "bowl", "file": ")" + std::string(REEL_SOURCE_DIR) + R"(/scenes/meshes/bowl.obj"}],
+    "bodies": [{"type": "rigid", "name": "ball", "shape": "sphere", "radius": 0.05, "position": [0.12, 0.5, 0.03],
+                "surface": {"friction": 0.4}},
+               {"type": "rigid", "name": "box", "shape": "box", "size": [0.08, 0.08, 0.08], "position": [-0.1, 0.7, 0],
+                "rotation_deg": [30, 20, 10]}]})";
+  World w = worldFromText(scene, std::string(REEL_SOURCE_DIR) + "/scenes/test.json");
+  run(w, 90);
+  const RigidState& ball = rigid(w, 0).states()[0];
+  const RigidState& box = rigid(w, 1).states()[0];
+  MESSAGE("ball at " << ball.x.transpose() << ", box at " << box.x.transpose());
+  // The bowl's inner floor is at y = 0.04, its rim 0.4 m across: both end inside, at rest.
+  CHECK(ball.x.y() == doctest::Approx(0.04 + 0.05).epsilon(0.1));
+  CHECK(std::hypot(ball.x.x(), ball.x.z()) < 0.3);
+  CHECK(box.x.y() > 0.04);
+  CHECK(box.x.y() < 0.2);
+  CHECK(std::hypot(box.x.x(), box.x.z()) < 0.3);
+  CHECK(ball.v.norm() < 0.05);
+  CHECK(box.v.norm() < 0.05);
+}
+
 TEST_CASE("a crate thrown into a free cloth: cloth and crate exchange momentum, the total is kept") {
   World w = worldFromText(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 20, "auto_substeps": true, "gravity": [0, 0, 0],
     "bodies": [{"type": "cloth", "name": "sheet", "size": [1, 1], "resolution": [12, 12], "position": [0, 0, 0], "mass": 0.5},
