@@ -65,6 +65,23 @@ TEST_CASE("torque-free tumbling keeps angular momentum; the intermediate axis fl
   }
 }
 
+TEST_CASE("a constant force and torque accelerate a free body by F/m and τ/I; damping slows it as exp(−c t)") {
+  // A 2 × 1 × 1 m box of 10 kg without gravity: I_xx = m (1 + 1)/12, a torque about x.
+  World w = worldFromText(R"({"format": "reel/1", "duration": 2, "fps": 30, "substeps": 10, "gravity": [0, 0, 0],
+    "bodies": [{"type": "rigid", "name": "pushed", "shape": "box", "size": [2, 1, 1], "mass": 10,
+                "force": [5, 0, 0], "torque": [0.5, 0, 0], "sleep_time": 0},
+               {"type": "rigid", "name": "damped", "shape": "sphere", "radius": 0.5, "position": [0, 5, 0],
+                "velocity": [2, 0, 0], "angular_velocity": [0, 3, 0], "linear_damping": 0.5, "angular_damping": 1}]})");
+  run(w, 30);  // 1 s
+  const RigidState& s = rigid(w, 0).states()[0];
+  CHECK(s.v.x() == doctest::Approx(0.5).epsilon(1e-9));
+  CHECK(s.x.x() == doctest::Approx(0.25).epsilon(1e-2));
+  CHECK(s.w.x() == doctest::Approx(0.5 / (10.0 * 2 / 12)).epsilon(1e-9));
+  const RigidState& d = rigid(w, 1).states()[0];
+  CHECK(d.v.x() == doctest::Approx(2 * std::exp(-0.5)).epsilon(1e-3));
+  CHECK(d.w.y() == doctest::Approx(3 * std::exp(-1.0)).epsilon(1e-3));
+}
+
 TEST_CASE("a box on an incline stays when tan θ < μ and slides with g (sin θ − μ cos θ) otherwise") {
   for (double deg : {20.0, 35.0}) {
     const double th = deg * kPi / 180.0;
@@ -234,6 +251,9 @@ TEST_CASE("rigid bodies: bad input is refused with its JSON path") {
   checkHas(badInputError(scene(R"("surface": {"restitution": 1.5})")), "/bodies/0/surface/restitution");
   checkHas(badInputError(scene(R"("mass": 1, "density": 2)")), "/bodies/0/mass");
   checkHas(badInputError(scene(R"("fixed": true, "velocity": [1, 0, 0])")), "/bodies/0/velocity");
+  checkHas(badInputError(scene(R"("fixed": true, "torque": [1, 0, 0])")), "/bodies/0/torque");
+  checkHas(badInputError(scene(R"("linear_damping": -1)")), "/bodies/0/linear_damping");
+  checkHas(badInputError(scene(R"("size": [1, 0, 1])")), "/bodies/0/size");
   // Meshes that bound no solid.
   const fs::path dir = fs::temp_directory_path() / "reel_rigid_test";
   fs::create_directories(dir);

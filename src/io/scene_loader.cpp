@@ -280,13 +280,17 @@ void checkBodies(const SceneDesc& s, Diagnostics& d) {
     springs += bs;
     for (std::string& sp : b.params->speciesNames()) species.push_back(std::move(sp));
   }
-  for (const ObjectDesc& ob : s.objects)
+  auto checkSpecies = [&](const ObjectDesc& ob) {
     for (const auto& [name, sf] : ob.species_surface)
       if (std::find(species.begin(), species.end(), name) == species.end()) {
         const std::string near = nearest(name, species);
         d.error(childPath(childPath(childPath(ob.path, "surface"), "species"), name),
                 "unknown species \"" + name + "\"" + (near.empty() ? "" : " (did you mean \"" + near + "\"?)"));
       }
+  };
+  for (const ObjectDesc& ob : s.objects) checkSpecies(ob);
+  for (const BodyDesc& b : s.bodies)  // the objects rigid bodies are (their first copy: the same keys)
+    if (!b.params->ownObjects().empty()) checkSpecies(b.params->ownObjects().front());
   if (nodes > kMaxSceneNodes)
     d.error("/bodies", std::to_string(nodes) + " nodes in all, more than the limit of " + std::to_string(kMaxSceneNodes));
   if (springs > kMaxSceneSprings)

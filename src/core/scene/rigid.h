@@ -28,6 +28,10 @@ struct RigidItem {
   Vec3 velocity{0, 0, 0};          // of the centre of mass, m/s
   Vec3 angular_velocity{0, 0, 0};  // rad/s, world frame
   bool kinematic = false;          // fixed or moved by keys: infinite mass
+  Vec3 force{0, 0, 0};             // constant, at the centre of mass, world frame, N
+  Vec3 torque{0, 0, 0};            // constant, world frame, N·m
+  double linear_damping = 0.0;     // 1/s: v loses this share per second (0: none)
+  double angular_damping = 0.0;    // 1/s: ω likewise
 };
 
 struct RigidDesc final : BodyParams {

@@ -50,8 +50,7 @@ Result<MassProperties> objectMass(const ObjectDesc& o, double density) {
     case ObjectKind::Capsule: {
       const auto& s = o.as<CapsuleShape>();
       const Vec3 ab = s.b - s.a;
-      const Mat3 R = ab.norm() > 0 ? Mat3(Eigen::Quaterniond::FromTwoVectors(Vec3::UnitY(), ab).toRotationMatrix())
-                                   : Mat3::Identity();
+      const Mat3 R = ab.norm() > 0 ? rotationFromUp(ab) : Mat3::Identity();
       return placed(capsuleMass(ab.norm(), s.radius, density), R, 0.5 * (s.a + s.b));
     }
     case ObjectKind::Container: {
@@ -132,11 +131,11 @@ std::shared_ptr<const BodyParams> readRigidBody(Obj& o, BodyDesc& body, const Sc
   const Vec3 euler = eulerDegFromRotation(R);
   const bool round = shape == "capsule" || shape == "cylinder";
   const double radius = round || shape == "sphere" ? o.number("radius", shape == "capsule" ? 0.25 : 0.5, kLength) : 0.0;
-  const double length = round ? o.number("length", 1.0, shape == "capsule" ? kNonNeg : kLength) : 0.0;
+  const double length = round ? o.number("length", 1.0, shape == "capsule" ? Range::closed(0.0, 1e4) : kLength) : 0.0;
   if (shape == "sphere") {
     ob.shape = SphereShape{position, radius};
   } else if (shape == "box") {
-    ob.shape = BoxShape{position, o.vec3("size", Vec3(1, 1, 1), kPos), euler};
+    ob.shape = BoxShape{position, o.vec3("size", Vec3(1, 1, 1), kLength), euler};
   } else if (shape == "capsule") {
     const Vec3 axis = R * Vec3(0, 0.5 * length, 0);
     ob.shape = CapsuleShape{position - axis, position + axis, radius};
@@ -165,10 +164,22 @@ std::shared_ptr<const BodyParams> readRigidBody(Obj& o, BodyDesc& body, const Sc
   item.kinematic = !ob.free_body;
   item.velocity = o.vec3("velocity", Vec3::Zero());
   item.angular_velocity = o.vec3("angular_velocity", Vec3::Zero());
-  if (item.kinematic && (o.has("velocity") || o.has("angular_velocity")))
-    d.error(childPath(p, o.has("velocity") ? "velocity" : "angular_velocity"), "a fixed or keyed body moves only as it is told");
+  item.force = o.vec3("force", Vec3::Zero());
+  item.torque = o.vec3("torque", Vec3::Zero());
+  item.linear_damping = o.number("linear_damping", 0.0, Range::closed(0.0, 1e6));
+  item.angular_damping = o.number("angular_damping", 0.0, Range::closed(0.0, 1e6));
+  for (const char* key : {"velocity", "angular_velocity", "force", "torque"})
+    if (item.kinematic && o.has(key)) d.error(childPath(p, key), "a fixed or keyed body moves only as it is told");
+
   r->iterations = o.integer("iterations", r->iterations, 1, 1000);
   r->sleep_time = o.number("sleep_time", r->sleep_time, Range::closed(0.0, 1e6));
+  // Copies on a grid: `array` {count [nx, ny, nz], spacing [dx, dy, dz] m}.
+  std::array<long long, 3> count{1, 1, 1};
+  Vec3 spacing(1, 1, 1);
+  readObjectKey(o, "array", [&](Obj& ao) {
+    if (auto c = ao.integers<3>("count", 1, 100'000, true)) count = *c;
+    spacing = ao.vec3("spacing", spacing);
+  });
   const bool is_mesh = ob.kind() == ObjectKind::Mesh;
   if (is_mesh && !ob.as<MeshObjectShape>().mesh) return r;  // its error is reported
   std::optional<MassProperties> mp;
@@ -182,13 +193,11 @@ std::shared_ptr<const BodyParams> readRigidBody(Obj& o, BodyDesc& body, const Sc
     mp = massOf(o, ob, density, mass, childPath(p, shape == "mesh" ? "file" : "shape"));
   }
   if (!mp) return r;
-  // Copies on a grid: `array` {count [nx, ny, nz], spacing [dx, dy, dz] m}.
-  std::array<long long, 3> count{1, 1, 1};
-  Vec3 spacing(1, 1, 1);
-  readObjectKey(o, "array", [&](Obj& ao) {
-    if (auto c = ao.integers<3>("count", 1, 100'000, true)) count = *c;
-    spacing = ao.vec3("spacing", spacing);
-  });
+  if (!(std::isfinite(mp->mass) && mp->mass > 0 && mp->inertia.allFinite() && mp->inertia.diagonal().minCoeff() > 0)) {
+    d.error(childPath(p, "shape"), "the body's mass properties are not usable (mass " + formatNumber(mp->mass, 3) +
+                                       " kg): check its size, density and mass");
+    return r;
+  }
   const long long copies = count[0] * count[1] * count[2];
   if (copies > 100'000) {
     d.error(childPath(p, "array"), std::to_string(copies) + " copies, more than the limit of 100000");

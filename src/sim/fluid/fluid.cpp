@@ -371,39 +371,37 @@ void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, Coupling&
     fl.x[i] += h * fl.v[i];
   });
   if (colliders.empty()) return;
-  const auto D = static_cast<std::size_t>(fl.object_count);
-  if (D > 0) fl.object_impulse.assign(static_cast<std::size_t>(n) * D, Vec3::Zero());
-  parallelFor(n, [&](std::ptrdiff_t ii) {
-    const auto i = static_cast<std::size_t>(ii);
+  // One particle against one collider: adhesion, then the contact; the impulse it took.
+  auto touch = [&](std::size_t i, std::size_t k) -> Vec3 {
     const auto si = static_cast<std::size_t>(fl.s[i]);
     const double range = fl.pairs[si * S + si].cutoff;
-    for (std::size_t k = 0; k < colliders.size(); ++k) {
-      const Collider& c = colliders[k];
-      double d;
-      Vec3 nrm;
-      if (!c.distance(fl.x[i], d, nrm)) continue;
-      const Surface& sf = fl.surfaces[k * S + si];
-      const double reach = c.thickness + fl.radius;
-      if (d >= reach + (sf.adhesion > 0 ? range : 0.0)) continue;
-      const Vec3 v_before = fl.v[i];
-      // Adhesion: an acceleration towards the surface, full in contact, fading to 0 one cutoff away.
-      if (sf.adhesion > 0) fl.v[i] -= (h * sf.adhesion * std::clamp(1.0 - (d - reach) / range, 0.0, 1.0)) * nrm;
-      if (d < reach) contactNode(c, sf, reach, d, nrm, h, fl.x[i], fl.v[i]);
-      if (fl.collider_object[k] >= 0) fl.object_impulse[i * D + static_cast<std::size_t>(fl.collider_object[k])] += fl.m[i] * (fl.v[i] - v_before);
-    }
+    const Collider& c = colliders[k];
+    double d;
+    Vec3 nrm;
+    if (!c.distance(fl.x[i], d, nrm)) return Vec3::Zero();
+    const Surface& sf = fl.surfaces[k * S + si];
+    const double reach = c.thickness + fl.radius;
+    if (d >= reach + (sf.adhesion > 0 ? range : 0.0)) return Vec3::Zero();
+    const Vec3 v_before = fl.v[i];
+    // Adhesion: an acceleration towards the surface, full in contact, fading to 0 one cutoff away.
+    if (sf.adhesion > 0) fl.v[i] -= (h * sf.adhesion * std::clamp(1.0 - (d - reach) / range, 0.0, 1.0)) * nrm;
+    if (d < reach) contactNode(c, sf, reach, d, nrm, h, fl.x[i], fl.v[i]);
+    return fl.m[i] * (fl.v[i] - v_before);
+  };
+  parallelFor(n, [&](std::ptrdiff_t ii) {
+    for (std::size_t k = 0; k < colliders.size(); ++k)
+      if (fl.collider_object[k] < 0) touch(static_cast<std::size_t>(ii), k);
   });
-  // Each free object takes the opposite of the particles' impulses, summed in index order.
-  for (std::size_t k = 0; k < colliders.size(); ++k) {
-    const int q = k < fl.collider_object.size() ? fl.collider_object[k] : -1;
-    if (q < 0) continue;
-    const Vec3 centre = colliders[k].pos;
-    for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
-      const Vec3& J = fl.object_impulse[i * D + static_cast<std::size_t>(q)];
+  if (fl.object_count == 0) return;
+  // Rigid bodies: particle by particle, each taking the opposite of the impulses it gave.
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i)
+    for (std::size_t k = 0; k < colliders.size(); ++k) {
+      if (fl.collider_object[k] < 0) continue;
+      const Vec3 J = touch(i, k);
       if (J.isZero()) continue;
       coupling.impulse[k] -= J;
-      coupling.angular[k] -= (fl.x[i] - centre).cross(J);
+      coupling.angular[k] -= (fl.x[i] - colliders[k].pos).cross(J);
     }
-  }
 }
 
 }  // namespace

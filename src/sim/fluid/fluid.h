@@ -107,7 +107,6 @@ struct FluidState {
 // Arrays reused from step to step; their contents do not outlive a step (the grid: a list build).
 struct FluidScratch {
   std::vector<Vec3> f;  // force per particle, N
-  std::vector<Vec3> object_impulse;  // particles × free objects: impulse the particle took, N·s
   std::vector<std::vector<std::int32_t>> chunk_lists;  // neighbour-list scratch
   std::vector<double> cell_x;  // positions in the grid's bucket order (list builds)
   struct alignas(64) Packed {  // what the force loop reads of a neighbour, in one cache line

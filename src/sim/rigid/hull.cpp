@@ -321,6 +321,7 @@ std::optional<ConvexPolytope> convexHull(std::span<const Vec3> points) {
         if (findRoot(parent, across(a, b)) != root) next[a] = b;
       }
     }
+    if (next.empty()) return std::nullopt;  // every triangle in one group: no solid
     std::vector<int> loop;
     const int start = tris[t].v[0];
     int at = next.count(start) ? start : next.begin()->first;

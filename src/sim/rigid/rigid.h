@@ -34,6 +34,9 @@ struct RigidModel {
   ConvexShape shape;                   // body frame, about the centre of mass
   double extent = 0.0;                 // farthest surface point from the centre of mass, m
   Surface surface;
+  Vec3 force{0, 0, 0}, torque{0, 0, 0};  // constant external force (N) and torque (N·m), world
+  double linear_damping = 0.0, angular_damping = 0.0;  // 1/s
+  double sleep_time = 0.5;  // s at rest before it may sleep; 0: never
 };
 
 struct RigidState {

@@ -1,15 +1,16 @@
 #include "sim/rigid/rigid_body.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <Eigen/Eigenvalues>
 
 #include "core/math.h"
 
 namespace reel {
 
-RigidBody::RigidBody(std::string name, std::vector<RigidModel> models, std::vector<RigidState> states, int iterations,
-                     double sleep_time)
-    : Body(std::move(name)), models_(std::move(models)), states_(std::move(states)), iterations_(iterations),
-      sleep_time_(sleep_time) {
+RigidBody::RigidBody(std::string name, std::vector<RigidModel> models, std::vector<RigidState> states, int iterations)
+    : Body(std::move(name)), models_(std::move(models)), states_(std::move(states)), iterations_(iterations) {
   for (const RigidModel& m : models_) mass_view_.push_back(m.mass);
   refreshView();
 }
@@ -136,7 +137,15 @@ bool RigidBody::restore(const StateBlob& in) {
   r.get(impulses);
   if (!r.done()) return false;
   for (const RigidState& s : states)
-    if (!allWithin({s.x}, kRunawayDistance) || !allWithin({s.v, s.w}, kRunawaySpeed)) return false;
+    if (!allWithin({s.x}, kRunawayDistance) || !allWithin({s.v, s.w}, kRunawaySpeed) || !(s.rest >= 0 && s.rest < 1e300))
+      return false;
+  // The warm-start cache: finite, sorted (it is searched), and only the leading entry's.
+  if (role_ == Role::Member && !impulses.empty()) return false;
+  if (!std::is_sorted(impulses.begin(), impulses.end())) return false;
+  for (const CachedImpulse& c : impulses)
+    if (!std::isfinite(c.normal) || !std::isfinite(c.t1) || !std::isfinite(c.t2) || !std::isfinite(c.anchor[0]) ||
+        !std::isfinite(c.anchor[1]) || !std::isfinite(c.anchor[2]))
+      return false;
   states_ = std::move(states);
   cache_.impulses = std::move(impulses);
   refreshView();
@@ -145,8 +154,8 @@ bool RigidBody::restore(const StateBlob& in) {
 
 void RigidBody::hash(Hasher& h) const {
   for (const RigidState& s : states_) {
-    const Vec3 state[4] = {s.x, s.v, s.w, s.q.vec() + Vec3::Constant(s.q.w())};
-    h.add(std::span<const Vec3>(state, 4));
+    const Vec3 state[5] = {s.x, s.v, s.w, s.q.vec(), Vec3(s.q.w(), s.rest, s.asleep ? 1.0 : 0.0)};
+    h.add(std::span<const Vec3>(state, 5));
   }
 }
 
@@ -154,7 +163,7 @@ void RigidBody::statistics(std::vector<Statistic>& out) const {
   double energy = 0.0;
   for (std::size_t i = 0; i < states_.size(); ++i) energy += kineticEnergy(models_[i], states_[i]);
   out.push_back({"kinetic_energy", energy});
-  if (stats_.awake + stats_.asleep > 0) {
+  if (role_ != Role::Member) {  // the leader (or, before the first step, maybe): the whole World's
     out.push_back({"contacts", static_cast<double>(stats_.contacts)});
     out.push_back({"asleep", static_cast<double>(stats_.asleep)});
   }
@@ -243,6 +252,11 @@ Result<std::unique_ptr<Body>> buildRigidBody(const BodyDesc& desc, const BuildCo
     const Collider& c = (*ctx.colliders)[m.collider];
     m.pivot = it.axes.transpose() * (c.pivot - m.center0);
     m.surface = o.surface;
+    m.sleep_time = d.sleep_time;
+    m.force = it.force;
+    m.torque = it.torque;
+    m.linear_damping = it.linear_damping;
+    m.angular_damping = it.angular_damping;
     auto shape = bodyShape(o, it.axes, m.center0);
     if (!shape.ok()) return shape.error();
     m.shape = shape.value();
@@ -257,7 +271,7 @@ Result<std::unique_ptr<Body>> buildRigidBody(const BodyDesc& desc, const BuildCo
     models.push_back(std::move(m));
     states.push_back(s);
   }
-  return std::unique_ptr<Body>(std::make_unique<RigidBody>(desc.name, std::move(models), std::move(states), d.iterations, d.sleep_time));
+  return std::unique_ptr<Body>(std::make_unique<RigidBody>(desc.name, std::move(models), std::move(states), d.iterations));
 }
 
 }  // namespace reel

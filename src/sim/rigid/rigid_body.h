@@ -18,8 +18,7 @@ namespace reel {
 
 class RigidBody final : public Body {
  public:
-  RigidBody(std::string name, std::vector<RigidModel> models, std::vector<RigidState> states, int iterations,
-            double sleep_time);
+  RigidBody(std::string name, std::vector<RigidModel> models, std::vector<RigidState> states, int iterations);
   StepLimit stepLimit(IntegratorKind) const override { return {}; }
   bool coupled() const override { return true; }
   void step(StepContext& ctx) override;
@@ -35,7 +34,6 @@ class RigidBody final : public Body {
   const std::vector<RigidState>& states() const { return states_; }
   std::vector<RigidState>& states() { return states_; }
   int iterations() const { return iterations_; }
-  double sleepTime() const { return sleep_time_; }
   const RigidSolverStats& solverStats() const { return stats_; }
   // Kinematic bodies take their state from their colliders (moved by their keys).
   void follow(const std::vector<Collider>& colliders);
@@ -47,7 +45,6 @@ class RigidBody final : public Body {
   std::vector<RigidModel> models_;
   std::vector<RigidState> states_;
   int iterations_ = 10;
-  double sleep_time_ = 0.5;
   enum class Role { Unknown, Leader, Member };
   Role role_ = Role::Unknown;         // the first entry leads the joint step
   std::vector<RigidBody*> entries_;   // the leader's: every rigid entry, in stepping order

@@ -140,12 +140,15 @@ void partsNear(const RigidSolverCache& cache, const std::vector<Collider>& colli
       const BoxGrid& g = c.mesh->grid;
       const double cell = g.cell();
       const std::size_t start = out.size();
-      const Vec3 span = (ahi - alo) / cell;
-      if (g.entries() > 0 && span.x() * span.y() * span.z() < 4096.0) {
-        for (double z = alo.z(); z < ahi.z() + cell; z += cell)
-          for (double y = alo.y(); y < ahi.y() + cell; y += cell)
-            for (double x = alo.x(); x < ahi.x() + cell; x += cell)
-              g.forEachAt(Vec3(std::min(x, ahi.x()), std::min(y, ahi.y()), std::min(z, ahi.z())),
+      const auto c0 = g.cellOf(alo), c1 = g.cellOf(ahi);
+      double cells = 1.0;
+      for (int k = 0; k < 3; ++k) cells *= static_cast<double>(c1[static_cast<std::size_t>(k)] - c0[static_cast<std::size_t>(k)] + 1);
+      if (g.entries() > 0 && cells <= 4096.0) {
+        // Each cell the box meets, by its centre.
+        for (std::int64_t k = c0[2]; k <= c1[2]; ++k)
+          for (std::int64_t j = c0[1]; j <= c1[1]; ++j)
+            for (std::int64_t i = c0[0]; i <= c1[0]; ++i)
+              g.forEachAt(Vec3((static_cast<double>(i) + 0.5) * cell, (static_cast<double>(j) + 0.5) * cell, (static_cast<double>(k) + 0.5) * cell),
                           [&](std::int32_t t) { out.push_back(static_cast<std::uint32_t>(first + static_cast<std::size_t>(t))); });
       } else {
         for (std::size_t t = 0; t < count; ++t) out.push_back(static_cast<std::uint32_t>(first + t));
@@ -278,10 +281,8 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   const double h = ctx.h;
   if (!cache.built) buildParts(colliders, cache);
   int iterations = 1;
-  double sleep_time = 0.0;
   for (RigidBody* e : entries) {
     iterations = std::max(iterations, e->iterations());
-    sleep_time = std::max(sleep_time, e->sleepTime());
   }
   // Kinematic bodies follow their colliders; the others take gravity and what was handed them.
   std::vector<SolverBody> bodies;
@@ -297,7 +298,8 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
       const std::size_t c = m.collider;
       const Vec3 J = ctx.coupling->impulse[c];
       const Vec3 L = ctx.coupling->angular[c] + (colliders[c].pos - s.x).cross(J);
-      if (s.asleep && (J.norm() > 1e-3 * m.mass * kSleepSpeed || L.norm() > 0)) s.asleep = false, s.rest = 0.0;
+      const double wake = 1e-3 * m.mass * kSleepSpeed;  // N·s: a push that would move it a little
+      if (s.asleep && (J.norm() > wake || L.norm() > wake * m.extent)) s.asleep = false, s.rest = 0.0;
       SolverBody b;
       b.model = &m;
       b.state = &s;
@@ -325,15 +327,23 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   std::vector<Pair> pairs;
   std::vector<int> order(static_cast<std::size_t>(nb));
   for (int i = 0; i < nb; ++i) order[static_cast<std::size_t>(i)] = i;
+  // Along the axis the bodies spread most (a tall stack is swept along y).
+  Vec3 spread_lo = Vec3::Constant(1e300), spread_hi = Vec3::Constant(-1e300);
+  for (const SolverBody& b : bodies) {
+    spread_lo = spread_lo.cwiseMin(b.lo);
+    spread_hi = spread_hi.cwiseMax(b.lo);
+  }
+  int axis = 0;
+  (spread_hi - spread_lo).maxCoeff(&axis);
   std::sort(order.begin(), order.end(), [&](int p, int q) {
-    const double a = bodies[static_cast<std::size_t>(p)].lo.x(), b = bodies[static_cast<std::size_t>(q)].lo.x();
+    const double a = bodies[static_cast<std::size_t>(p)].lo[axis], b = bodies[static_cast<std::size_t>(q)].lo[axis];
     return a != b ? a < b : p < q;
   });
   for (std::size_t oi = 0; oi < order.size(); ++oi) {
     const SolverBody& A = bodies[static_cast<std::size_t>(order[oi])];
     for (std::size_t oj = oi + 1; oj < order.size(); ++oj) {
       const SolverBody& B = bodies[static_cast<std::size_t>(order[oj])];
-      if (B.lo.x() > A.hi.x()) break;
+      if (B.lo[axis] > A.hi[axis]) break;
       if (A.state->asleep && B.state->asleep) continue;
       if (!overlaps(A.lo, A.hi, B.lo, B.hi)) continue;
       pairs.push_back({std::min(order[oi], order[oj]), std::max(order[oi], order[oj])});
@@ -409,17 +419,20 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   for (int i = 0; i < nb; ++i) parent[static_cast<std::size_t>(i)] = i;
   for (const Row& r : rows)
     if (r.b >= 0) unite(parent, r.a, r.b);
+  // An island sleeps when each of its bodies has rested its own sleep time (a body that never
+  // sleeps keeps its island awake).
   std::vector<double> island_rest(static_cast<std::size_t>(nb), 1e300);
   for (int i = 0; i < nb; ++i) {
-    const RigidState& s = *bodies[static_cast<std::size_t>(i)].state;
+    const SolverBody& b = bodies[static_cast<std::size_t>(i)];
+    const double spare = b.model->sleep_time <= 0 ? -1e300 : b.state->asleep ? 1e300 : b.state->rest - b.model->sleep_time;
     double& ir = island_rest[static_cast<std::size_t>(findRoot(parent, i))];
-    ir = std::min(ir, s.asleep ? 1e300 : s.rest);
+    ir = std::min(ir, spare);
   }
   stats.awake = stats.asleep = 0;
   for (int i = 0; i < nb; ++i) {
     RigidState& s = *bodies[static_cast<std::size_t>(i)].state;
     const double ir = island_rest[static_cast<std::size_t>(findRoot(parent, i))];
-    const bool sleep = sleep_time > 0 && ir >= sleep_time;
+    const bool sleep = ir >= 0;
     if (sleep && !s.asleep) s.v = s.w = Vec3::Zero();
     if (!sleep && s.asleep) s.rest = 0.0;
     s.asleep = sleep;
@@ -464,7 +477,15 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   const Soft soft(std::min(kContactHertz, 0.25 / hs), 10.0, hs);
   for (int sub = 0; sub < iterations; ++sub) {
     for (SolverBody& b : bodies)
-      if (!b.state->asleep) b.state->v += hs * ctx.gravity;
+      if (!b.state->asleep) {
+        // Gravity, the body's own force and torque, damping (implicit, so any rate is stable).
+        RigidState& st = *b.state;
+        const RigidModel& m = *b.model;
+        st.v += hs * (ctx.gravity + m.inv_mass * m.force);
+        st.w += hs * (b.inv_inertia * m.torque);
+        if (m.linear_damping > 0) st.v /= 1.0 + hs * m.linear_damping;
+        if (m.angular_damping > 0) st.w /= 1.0 + hs * m.angular_damping;
+      }
     for (const Row& r : rows) applyImpulse(bodies, r, r.ln * r.n + r.lt1 * r.t1 + r.lt2 * r.t2);
     solvePass(bodies, rows, hs, soft, true);
     for (SolverBody& b : bodies) {

@@ -36,6 +36,7 @@ class RigidBody;
 // (measured on body A; feature keys alone can swap between the corners of aligned faces).
 struct CachedImpulse {
   std::uint32_t a = 0, b = 0, id = 0;  // bodies (b: 0x80000000 | object part) and feature key
+  std::uint32_t pad = 0;               // (so that a snapshot's bytes are all defined)
   double normal = 0.0, t1 = 0.0, t2 = 0.0;  // N·s
   std::array<double, 3> anchor{};  // the point relative to A's centre of mass, in A's body frame, m
   bool operator<(const CachedImpulse& o) const {
