@@ -544,8 +544,9 @@ int benchFish(double seconds) {
 // Rigid bodies: 1,000 cubes of 0.5 m (125 kg, friction 0.5) dropped in a 10 × 10 × 10 block onto
 // the ground, each turned about y, for 5 s at h = 1/120 s with 10 iterations (the pile of
 // docs/bench/bullet_pile.cpp, which runs it in Bullet): steps and contact points per second, and
-// how still the pile ends (its fastest box, its mean height).
+// how still the pile ends (its fastest box, its mean height); with sleeping and without.
 int benchRigid() {
+  for (const bool sleeping : {true, false}) {
   const int n = 1000, frames = 150;
   std::string bodies;
   for (int i = 0; i < n; ++i) {
@@ -553,7 +554,7 @@ int benchRigid() {
     bodies += std::string(i ? ", " : "") + R"({"type": "rigid", "name": "box)" + std::to_string(i) +
               R"(", "shape": "box", "size": [0.5, 0.5, 0.5], "surface": {"friction": 0.5}, "position": [)" +
               std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z) + R"(], "rotation_deg": [0, )" +
-              std::to_string(7 * ((i * 37) % 13)) + ", 0]}";
+              std::to_string(7 * ((i * 37) % 13)) + ", 0]" + (sleeping ? "" : R"(, "sleep_time": 0)") + "}";
   }
   const std::string text = R"({"format": "reel/1", "name": "bench_rigid", "fps": 30, "substeps": 4, "duration": 5,
       "gravity": [0, -9.81, 0], "objects": [{"type": "plane", "name": "ground", "surface": {"friction": 0.5}}],
@@ -581,9 +582,11 @@ int benchRigid() {
                               {"mean_contacts", static_cast<double>(first->solverStats().contact_total) / steps},
                               {"final_max_speed", fastest},
                               {"final_mean_height", height},
-                              {"asleep", first->solverStats().asleep}};
+                              {"asleep", first->solverStats().asleep},
+                              {"sleeping", sleeping}};
   std::printf("%s\n", j.dump().c_str());
   std::fflush(stdout);
+  }
   return 0;
 }
 
