@@ -9,7 +9,7 @@
 #include "core/parallel.h"
 #include "helpers.h"
 #include "sim/school/school_body.h"
-#include "sim/union_find.h"
+#include "core/union_find.h"
 #include "sim/world.h"
 
 using namespace reel;

@@ -10,6 +10,7 @@
 
 #include "core/format.h"
 #include "core/math.h"
+#include "core/union_find.h"
 
 namespace reel {
 
@@ -177,16 +178,6 @@ double solidAngle(const Vec3& a, const Vec3& b, const Vec3& c) {
 
 std::string formatPoint(const Vec3& p) {
   return "(" + formatNumber(p.x(), 6) + ", " + formatNumber(p.y(), 6) + ", " + formatNumber(p.z(), 6) + ")";
-}
-
-// The representative of i's set, halving paths as it goes.
-int findRoot(std::vector<int>& parent, int i) {
-  while (parent[static_cast<std::size_t>(i)] != i) {
-    const auto k = static_cast<std::size_t>(i);
-    parent[k] = parent[static_cast<std::size_t>(parent[k])];
-    i = parent[k];
-  }
-  return i;
 }
 
 Error badInput(std::string message) { return Error(ErrorKind::BadInput, std::move(message)); }
@@ -388,8 +379,7 @@ Result<MassProperties> solidMassProperties(const TriMesh& mesh, double density) 
   std::iota(parent.begin(), parent.end(), 0);
   for (const auto& t : tris)
     for (int k = 1; k < 3; ++k) {
-      const int a = findRoot(parent, t[0]), b = findRoot(parent, t[static_cast<std::size_t>(k)]);
-      if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+      unite(parent, t[0], t[static_cast<std::size_t>(k)]);
     }
   Vec3 lo = verts[0], hi = verts[0];
   for (const Vec3& v : verts) {
@@ -560,6 +550,33 @@ MassProperties capsuleMass(double length, double r, double density) {
   mp.inertia = cyl.inertia;
   mp.inertia.diagonal() += 2 * Vec3(hemiAcross, hemiAlong, hemiAcross);
   return mp;
+}
+
+MassProperties placed(MassProperties m, const Mat3& R, const Vec3& t) {
+  m.center_of_mass = R * m.center_of_mass + t;
+  m.inertia = R * m.inertia * R.transpose();
+  return m;
+}
+
+MassProperties combined(std::span<const MassProperties> parts) {
+  MassProperties s;
+  for (const MassProperties& p : parts) {
+    s.volume += p.volume;
+    s.mass += p.mass;
+    s.center_of_mass += p.mass * p.center_of_mass;
+  }
+  s.center_of_mass /= s.mass;
+  for (const MassProperties& p : parts) {
+    const Vec3 d = p.center_of_mass - s.center_of_mass;
+    s.inertia += p.inertia + p.mass * (d.squaredNorm() * Mat3::Identity() - d * d.transpose());
+  }
+  return s;
+}
+
+MassProperties withMass(MassProperties m, double mass) {
+  m.inertia *= mass / m.mass;
+  m.mass = mass;
+  return m;
 }
 
 }  // namespace reel

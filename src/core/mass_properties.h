@@ -36,6 +36,14 @@ MassProperties polyhedronMass(std::span<const Vec3> vertices, std::span<const st
 // only touch, e.g. two boxes stacked, do not count); and density is positive and finite.
 Result<MassProperties> solidMassProperties(const TriMesh& mesh, double density);
 
+// A body's properties carried to where it is placed (x ↦ R·x + t): the centre moves, the inertia
+// turns (R·I·Rᵀ).
+MassProperties placed(MassProperties m, const Mat3& R, const Vec3& t);
+// The sum of parts, about their common centre of mass (parallel axes).
+MassProperties combined(std::span<const MassProperties> parts);
+// The same shape at another total mass, kg (the inertia scales with it).
+MassProperties withMass(MassProperties m, double mass);
+
 // Closed forms, centred at the origin, diagonal inertia. A sphere of radius r; a box of full size;
 // a capsule of segment length L along y and radius r (a cylinder and two hemispheres); a cylinder
 // of radius r and height H along y. Lengths m, density kg/m³.

@@ -12,29 +12,6 @@ namespace {
 
 constexpr int kCylinderSlices = 32;  // sides of a cylinder's drawn mesh and contact prism
 
-// A body's properties of a part in its own axes, carried to where it is placed: x ↦ R·x + t.
-MassProperties placed(MassProperties m, const Mat3& R, const Vec3& t) {
-  m.center_of_mass = R * m.center_of_mass + t;
-  m.inertia = R * m.inertia * R.transpose();
-  return m;
-}
-
-// The sum of parts, about their common centre of mass (parallel axes).
-MassProperties combined(std::span<const MassProperties> parts) {
-  MassProperties s;
-  for (const MassProperties& p : parts) {
-    s.volume += p.volume;
-    s.mass += p.mass;
-    s.center_of_mass += p.mass * p.center_of_mass;
-  }
-  s.center_of_mass /= s.mass;
-  for (const MassProperties& p : parts) {
-    const Vec3 d = p.center_of_mass - s.center_of_mass;
-    s.inertia += p.inertia + p.mass * (d.squaredNorm() * Mat3::Identity() - d * d.transpose());
-  }
-  return s;
-}
-
 // The mass properties of an object's shape as placed (world axes), at a density; a mesh must be a
 // closed, outward, non-self-intersecting solid.
 Result<MassProperties> objectMass(const ObjectDesc& o, double density) {
@@ -78,13 +55,7 @@ std::optional<MassProperties> massOf(Obj& o, const ObjectDesc& ob, double densit
     o.diag().error(path, m.error().messages.front());
     return std::nullopt;
   }
-  MassProperties mp = m.value();
-  if (mass) {
-    const double k = *mass / mp.mass;
-    mp.mass = *mass;
-    mp.inertia *= k;
-  }
-  return mp;
+  return mass ? withMass(m.value(), *mass) : m.value();
 }
 
 // A shape moved by `shift`.
@@ -185,10 +156,7 @@ std::shared_ptr<const BodyParams> readRigidBody(Obj& o, BodyDesc& body, const Sc
   std::optional<MassProperties> mp;
   if (shape == "cylinder") {
     mp = placed(cylinderMass(radius, length, density), R, position);
-    if (mass) {
-      mp->inertia *= *mass / mp->mass;
-      mp->mass = *mass;
-    }
+    if (mass) mp = withMass(*mp, *mass);
   } else {
     mp = massOf(o, ob, density, mass, childPath(p, shape == "mesh" ? "file" : "shape"));
   }
@@ -232,9 +200,7 @@ std::shared_ptr<const RigidDesc> rigidFromObject(const ObjectDesc& ob, std::size
   RigidItem it;
   it.name = ob.name;
   it.object = index;
-  it.mass = m.value();
-  it.mass.inertia *= ob.mass / it.mass.mass;
-  it.mass.mass = ob.mass;
+  it.mass = withMass(m.value(), ob.mass);
   r->items.push_back(std::move(it));
   return r;
 }

@@ -10,7 +10,7 @@
 #include "core/parallel.h"
 #include "core/random.h"
 #include "sim/geometry.h"
-#include "sim/union_find.h"
+#include "core/union_find.h"
 
 namespace reel {
 

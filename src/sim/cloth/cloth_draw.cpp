@@ -4,7 +4,7 @@
 #include "core/math.h"
 #include "sim/cloth/cloth_body.h"
 #include "sim/draw_material.h"
-#include "sim/union_find.h"
+#include "core/union_find.h"
 
 namespace reel {
 

@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "core/math.h"
-#include "sim/union_find.h"
+#include "core/union_find.h"
 
 namespace reel {
 

@@ -6,7 +6,7 @@
 #include "core/math.h"
 #include "core/parallel.h"
 #include "sim/rigid/rigid_body.h"
-#include "sim/union_find.h"
+#include "core/union_find.h"
 
 namespace reel {
 namespace {
