@@ -14,6 +14,12 @@ ConvexPolytope transformedPolytope(const ConvexPolytope& p, const Mat3& R, const
 
 void rotateFree(const RigidModel& m, RigidState& s, double h) {
   if (m.kinematic) return;
+  // Equal moments (a sphere, a cube): ω is constant and the rotation is exactly exp(h·ω).
+  if (m.moments.maxCoeff() - m.moments.minCoeff() <= 1e-12 * m.moments.maxCoeff()) {
+    const double angle = s.w.norm() * h;
+    if (angle > 0) s.q = (Eigen::Quaterniond(Eigen::AngleAxisd(angle, s.w / s.w.norm())) * s.q).normalized();
+    return;
+  }
   // The principal frame's orientation and the angular momentum in it.
   const Eigen::Quaterniond qP(m.principal);
   Eigen::Quaterniond qp = s.q * qP;

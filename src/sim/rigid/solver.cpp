@@ -264,7 +264,7 @@ void solvePass(std::vector<SolverBody>& bodies, std::vector<Row>& rows, double h
     r.ln = ln;
     const double l1 = r.lt1 - r.mt1 * relativeAlong(bodies, r, r.t1);
     const double l2 = r.lt2 - r.mt2 * relativeAlong(bodies, r, r.t2);
-    const double lim = r.mu * r.ln, len = std::hypot(l1, l2);
+    const double lim = r.mu * r.ln, len = std::sqrt(l1 * l1 + l2 * l2);
     const double scale = len > lim && len > 0 ? lim / len : 1.0;
     const double d1 = l1 * scale - r.lt1, d2 = l2 * scale - r.lt2;
     r.lt1 += d1;
@@ -319,7 +319,7 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   }
   const int nb = static_cast<int>(bodies.size());
 
-  // Broad phase: body pairs by sweeping boxes sorted along x; each body's object parts.
+  // Broad phase: body pairs by sweeping boxes sorted along an axis; each body's object parts.
   struct Pair {
     int a, b;           // b < 0: object part −b − 1
     std::uint32_t part = 0;

@@ -2,7 +2,7 @@
 // contacts between bodies and with every object, a sequential-impulse solver with warm starting,
 // and islands of resting bodies that sleep.
 //
-// Contacts: a broad phase sorts the bodies' boxes along x and sweeps them (objects are tested
+// Contacts: a broad phase sorts the bodies' boxes along the axis they spread most and sweeps them (objects are tested
 // box against box, a triangle mesh through its grid); the narrow phase (sim/rigid/contact.h) gives
 // up to 4 points per pair, each with a feature key. Points closer than a margin that grows with
 // the bodies' speed are kept as speculative contacts, so fast bodies do not tunnel.
