@@ -1,0 +1,14 @@
+// The benchmarks of simulation (reel bench springs cloth fluid school fish rigid), in
+// bench_sim.cpp; the rendering ones and the dispatcher are in bench.cpp.
+#pragma once
+
+namespace reel::app {
+
+void benchSprings(double seconds);
+int benchCloth(double simulated_64);
+int benchFluid(double simulated);
+int benchSchool(double seconds);
+int benchFish(double seconds);
+int benchRigid();
+
+}  // namespace reel::app

@@ -1,0 +1,359 @@
+// reel bench: the simulation benchmarks, one JSON line per measurement (app/bench.h).
+#include "app/bench.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/body_kinds.h"
+#include "app/commands.h"
+#include "core/math.h"
+#include "core/mesh.h"
+#include "core/parallel.h"
+#include "core/random.h"
+#include "sim/cloth/cloth_body.h"
+#include "sim/fluid/fluid_body.h"
+#include "sim/integrators.h"
+#include "sim/mass_spring.h"
+#include "sim/rigid/rigid_body.h"
+#include "sim/school/school_body.h"
+#include "sim/springs/generators.h"
+#include "sim/world.h"
+
+namespace reel::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The World of a benchmark's scene, advanced `frames` frames; `wall`: the time the frames took, s.
+Result<World> runFrames(const std::string& text, const char* file, int frames, double& wall) {
+  auto scene = parseScene(text, file);
+  if (!scene.ok()) return scene.error();
+  auto world = makeWorld(scene.value());
+  if (!world.ok()) return world.error();
+  const auto t0 = Clock::now();
+  for (int k = 0; k < frames; ++k)
+    if (Status st = world.value().advanceFrame(); !st) return st.error();
+  wall = std::chrono::duration<double>(Clock::now() - t0).count();
+  return world;
+}
+
+}  // namespace
+
+// Spring-network throughput: a 256 x 256 net (1 cm spacing, pinned at two corners) stepped
+// under gravity with each integrator. A spring update is one evaluation of one spring's force.
+void benchSprings(double seconds) {
+  NetDesc net;
+  net.resolution = {256, 256};
+  net.size = {2.55, 2.55};
+  net.mass = 65.536;  // 1 g per node
+  net.structural = {100.0, 0.05};
+  net.shear = {100.0, 0.05};
+  net.pinned = {0, 255};
+  const MassSpringDesc desc = buildNet(net);
+  const double h = 2e-4;  // inside every explicit integrator's bound for this net
+  for (auto name : kIntegratorNames) {
+    const IntegratorKind kind = *integratorFromName(name);
+    MassSpringModel model;
+    MassSpringState state;
+    buildMassSpring(desc, Vec3(0, -9.78, 0), model, state);
+    MassSpringSystem dyn(model);
+    IntegratorWorkspace ws;
+    ImplicitSettings implicit;
+    StepStats stats;
+    double cg_iterations = 0;
+    // Warm up (allocations, caches), then step until the time is spent.
+    integrate(kind, dyn, state.x, state.v, h, ws, implicit, &stats);
+    const std::uint64_t evals0 = dyn.springEvaluations();
+    double steps = 0;
+    const auto t0 = Clock::now();
+    double elapsed = 0.0;
+    do {
+      for (int i = 0; i < 5; ++i) {
+        integrate(kind, dyn, state.x, state.v, h, ws, implicit, &stats);
+        cg_iterations += stats.cg_iterations;
+      }
+      steps += 5;
+      elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
+    } while (elapsed < seconds);
+    const double evals = static_cast<double>(dyn.springEvaluations() - evals0);
+    nlohmann::ordered_json j = {
+        {"name", "springs"},
+        {"integrator", name},
+        {"nodes", model.nodes()},
+        {"springs", model.springs.size()},
+        {"threads", threadCount()},
+        {"steps", steps},
+        {"seconds", elapsed},
+        {"steps_per_s", steps / elapsed},
+        {"spring_updates_per_s", evals / elapsed},
+        {"spring_steps_per_s", static_cast<double>(model.springs.size()) * steps / elapsed},
+    };
+    if (kind == IntegratorKind::ImplicitEuler)
+      j["cg_iterations_per_step"] = cg_iterations / steps;
+    std::printf("%s\n", j.dump().c_str());
+    std::fflush(stdout);
+  }
+}
+
+// Cloth: a 2 m x 2 m sheet of n x n nodes dropped from 1.5 m onto a sphere of radius 0.5 m at the
+// origin (the setup of docs/bench/blender_cloth.py), self-collision off and on. Wall seconds per
+// simulated second of the whole World step (integration, contacts, self-collision), and spring
+// updates per second. Implicit Euler runs with the conjugate gradients stopped at a relative
+// residual of 1e-2 (Blender's criterion: its cloth solver stops at ‖r‖ ≤ 0.01‖b‖) and of 1e-3.
+int benchCloth(double simulated_64) {
+  struct Case { int n; double seconds; };
+  struct Solver { std::string integrator; double tolerance; };
+  for (const Case cs : {Case{64, simulated_64}, Case{128, simulated_64}, Case{256, simulated_64}})
+    for (const bool self : {false, true})
+      for (const Solver& solver : {Solver{"implicit_euler", 1e-2}, Solver{"implicit_euler", 1e-3}, Solver{"symplectic_euler", 0}}) {
+        const std::string& integrator = solver.integrator;
+        // Air drag of 1.7 per second on every node's mass (nodal drag is per node, N·s/m: an
+        // interior node's mass times 1.7), the same sheet at every grid. With it the sheet falls
+        // the 0.95 m to the sphere in 0.5 s, as Blender's (air viscosity 1) does.
+        const double node_damping = 1.7 * 0.15 * 4.0 / ((cs.n - 1.0) * (cs.n - 1.0));
+        if (integrator == "symplectic_euler" && cs.n > 64) continue;  // its step shrinks with the grid
+        const std::string substeps = integrator == "implicit_euler"
+                                         ? R"("substeps": 5, "implicit": {"cg_tolerance": )" + nlohmann::json(solver.tolerance).dump() +
+                                               R"(, "cg_max_iterations": 200})"
+                                         : R"("substeps": 10, "auto_substeps": true)";
+        const std::string text = R"({"format": "reel/1", "name": "bench_cloth", "fps": 30, "duration": )" +
+                                 std::to_string(cs.seconds) + ", " + substeps + R"(, "integrator": ")" + integrator + R"(",
+          "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 0.5, "surface": {"friction": 0.3}}],
+          "bodies": [{"type": "cloth", "name": "sheet", "position": [0, 1.5, 0], "size": [2, 2],
+                      "resolution": [)" + std::to_string(cs.n) + ", " + std::to_string(cs.n) + R"(], "density": 0.15,
+                      "stiffness": 1000, "damping": 0.5, "shear_stiffness": 200, "shear_damping": 0.1,
+                      "bend_stiffness": 0.5, "bend_damping": 0.005, "node_damping": )" + nlohmann::json(node_damping).dump() + R"(,
+                      "thickness": 0.004, "self_collision": )" + (self ? "true" : "false") + "}]}";
+        auto scene = parseScene(text, "bench_cloth.json");
+        if (!scene.ok()) return report(scene.error());
+        auto world = makeWorld(scene.value());
+        if (!world.ok()) return report(world.error());
+        World& w = world.value();
+        const int frames = scene.value().frameCount();
+        const auto t0 = Clock::now();
+        double cg = 0;
+        for (int k = 0; k < frames; ++k) {
+          if (Status st = w.advanceFrame(); !st) return report(st.error());
+          cg += w.lastStepStats().cg_iterations;
+        }
+        const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+        const auto& body = *w.first<ClothBody>();
+        const SpringNetwork& b = body.network();
+        const double simulated = static_cast<double>(frames) / 30.0;
+        nlohmann::ordered_json j = {{"name", "cloth"},
+                                    {"grid", std::to_string(cs.n) + "x" + std::to_string(cs.n)},
+                                    {"nodes", b.model.nodes()},
+                                    {"springs", b.model.springs.size()},
+                                    {"self_collision", self},
+                                    {"integrator", integrator},
+                                    {"steps_per_frame", w.stepsPerFrame()},
+                                    {"threads", threadCount()},
+                                    {"simulated_s", simulated},
+                                    {"wall_s", wall},
+                                    {"wall_per_simulated_s", wall / simulated},
+                                    {"spring_updates_per_s", static_cast<double>(b.system->springEvaluations()) / wall}};
+        if (integrator == "implicit_euler") {
+          j["cg_tolerance"] = solver.tolerance;
+          j["cg_iterations_last_step"] = cg / frames;
+          j["cg_spring_products_per_s"] = static_cast<double>(b.system->springProducts()) / wall;
+        }
+        if (self) j["self_collision_passes"] = body.cloth().self_passes;
+        std::printf("%s\n", j.dump().c_str());
+        std::fflush(stdout);
+      }
+  return 0;
+}
+
+// Fluid: n³ particles (8k, 32k, 128k) in a closed box that they fill at a 2 cm spacing (a
+// repulsive gas, no gravity, so every size has the same density): about 40 neighbours inside the
+// 4.6 cm cutoff. Timed over the second half of the run (the first lets the jittered block relax).
+// Particle-steps and pair evaluations (neighbour-list entries the force loop visits) per second;
+// the cost per particle-step should stay flat as n grows.
+int benchFluid(double simulated) {
+  for (const int n : {20, 32, 50}) {
+    const double side = n * 0.02;
+    auto num = [](double x) { return std::to_string(x); };
+    const std::string text = R"({"format": "reel/1", "name": "bench_fluid", "fps": 30, "duration": )" + num(simulated) +
+                             R"(, "substeps": 20, "auto_substeps": true, "gravity": [0, 0, 0],
+      "objects": [{"type": "container", "center": [0, )" + num(side / 2 - 0.05) + R"(, 0], "size": [)" +
+                             num(side + 0.14) + ", " + num(side + 0.12) + ", " + num(side + 0.14) + R"(], "wall": 0.05},
+                  {"type": "plane", "point": [0, )" + num(side + 0.01) + R"(, 0], "normal": [0, -1, 0]}],
+      "bodies": [{"type": "fluid", "name": "bench", "radius": 0.009,
+        "species": [{"name": "gas", "mass": 0.008, "alpha": 0, "beta": 0.01, "cutoff": 0.046, "viscosity": 10}],
+        "blocks": [{"min": [)" + num(-side / 2) + R"(, 0, )" + num(-side / 2) + R"(], "max": [)" + num(side / 2) + ", " +
+                             num(side) + ", " + num(side / 2) + R"(], "spacing": 0.02, "jitter": 0.3}]}]})";
+    auto scene = parseScene(text, "bench_fluid.json");
+    if (!scene.ok()) return report(scene.error());
+    auto world = makeWorld(scene.value());
+    if (!world.ok()) return report(world.error());
+    World& w = world.value();
+    // The first half settles the block (untimed); the second half is measured.
+    const int frames = scene.value().frameCount() / 2, settle = scene.value().frameCount() - frames;
+    for (int k = 0; k < settle; ++k)
+      if (Status st = w.advanceFrame(); !st) return report(st.error());
+    const Fluid& fl = w.first<FluidBody>()->fluid();
+    const long long pairs0 = fl.pair_tests, rebuilds0 = fl.rebuilds, split0 = fl.split_steps;
+    const auto t0 = Clock::now();
+    for (int k = 0; k < frames; ++k)
+      if (Status st = w.advanceFrame(); !st) return report(st.error());
+    const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+    // Neighbours inside the cutoff now (the list also holds the skin).
+    long long inside = 0;
+    for (std::size_t i = 0; i < fl.size(); ++i)
+      for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e)
+        inside += (fl.x[i] - fl.x[static_cast<std::size_t>(fl.nbr[e])]).norm() < fl.cutoff_max;
+    const double steps = static_cast<double>(frames) * w.stepsPerFrame() + static_cast<double>(fl.split_steps - split0);
+    const double particle_steps = steps * static_cast<double>(fl.size());
+    nlohmann::ordered_json j = {{"name", "fluid"},
+                                {"particles", fl.size()},
+                                {"neighbours_per_particle", static_cast<double>(inside) / static_cast<double>(fl.size())},
+                                {"list_entries_per_particle", static_cast<double>(fl.nbr.size()) / static_cast<double>(fl.size())},
+                                {"steps", steps},
+                                {"list_rebuilds", fl.rebuilds - rebuilds0},
+                                {"threads", threadCount()},
+                                {"simulated_s", static_cast<double>(frames) / 30.0},
+                                {"wall_s", wall},
+                                {"particle_steps_per_s", particle_steps / wall},
+                                {"pair_evaluations_per_s", static_cast<double>(fl.pair_tests - pairs0) / wall},
+                                {"ns_per_particle_step", 1e9 * wall / particle_steps}};
+    std::printf("%s\n", j.dump().c_str());
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+// Schools of 1k, 10k and 100k agents of Couzin's model at about 20 neighbours inside the
+// attraction radius (r_a = 3 m, a random box at 20 agents per (4/3)π r_a³), deciding every step
+// (h = τ): agent-steps per second and the candidates the grid hands each agent (its 27 cells).
+int benchSchool(double seconds) {
+  for (const long long n : {1000ll, 10000ll, 100000ll}) {
+    const double ra = 3.0, side = std::cbrt(static_cast<double>(n) * (4.0 / 3.0) * 3.14159265358979 * ra * ra * ra / 20.0);
+    const int steps = std::max(5, static_cast<int>(std::lround(2e6 * std::max(seconds, 0.1) / static_cast<double>(n))));
+    auto num = [](double x) { return std::to_string(x); };
+    const std::string text = R"({"format": "reel/1", "name": "bench_school", "fps": 10, "substeps": 1, "duration": )" +
+                             num((steps + 1) / 10.0) + R"(, "bodies": [{"type": "school", "name": "s", "count": )" +
+                             std::to_string(n) + R"(, "start": {"min": [0, 0, 0], "max": [)" + num(side) + ", " + num(side) + ", " +
+                             num(side) + R"(]}, "zones": {"repulsion": 1, "orientation": 2, "attraction": 3}}]})";
+    auto scene = parseScene(text, "bench_school.json");
+    if (!scene.ok()) return report(scene.error());
+    auto world = makeWorld(scene.value());
+    if (!world.ok()) return report(world.error());
+    World& w = world.value();
+    const School& sc = w.first<SchoolBody>()->school();
+    // Neighbours inside r_a and the grid's candidates, at the start.
+    BoxGrid g;
+    g.build(sc.x, sc.x, ra);
+    double neighbours = 0, candidates = 0;
+    for (const Vec3& p : sc.x)
+      g.forEachNear(p, [&](std::int32_t j) {
+        candidates += 1;
+        neighbours += (sc.x[static_cast<std::size_t>(j)] - p).squaredNorm() < ra * ra;
+      });
+    const auto t0 = Clock::now();
+    for (int k = 0; k < steps; ++k)
+      if (Status st = w.advanceFrame(); !st) return report(st.error());
+    const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+    const double agent_steps = static_cast<double>(n) * steps;
+    nlohmann::ordered_json j = {{"name", "school"},
+                                {"agents", n},
+                                {"neighbours_per_agent", neighbours / static_cast<double>(n) - 1},
+                                {"candidates_per_agent", candidates / static_cast<double>(n) - 1},
+                                {"steps", steps},
+                                {"threads", threadCount()},
+                                {"wall_s", wall},
+                                {"agent_steps_per_s", agent_steps / wall},
+                                {"ns_per_agent_step", 1e9 * wall / agent_steps},
+                                {"ns_per_candidate", 1e9 * wall / (agent_steps * (candidates / static_cast<double>(n) - 1))}};
+    std::printf("%s\n", j.dump().c_str());
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+// Artificial fish: 10, 100 and 1,000 prey schooling in water (perception and behaviour every
+// 0.1 s, implicit Euler at 30 fps × 10 substeps, as the film runs them): fish-steps per second and
+// how many times faster than real time at 30 fps.
+int benchFish(double seconds) {
+  for (const long long n : {10ll, 100ll, 1000ll}) {
+    const double radius = 0.6 * std::cbrt(static_cast<double>(n));  // about 5 fish per m³
+    const int frames = std::max(3, static_cast<int>(std::lround(std::max(seconds, 0.1) * 3000.0 / static_cast<double>(n))));
+    auto num = [](double x) { return std::to_string(x); };
+    const std::string text = R"({"format": "reel/1", "name": "bench_fish", "fps": 30, "substeps": 10, "integrator": "implicit_euler",
+        "implicit": {"cg_tolerance": 1e-4}, "duration": )" + num((frames + 1) / 30.0) +
+                             R"(, "bodies": [{"type": "fish", "name": "f", "count": )" + std::to_string(n) +
+                             R"(, "start": {"center": [0, 0, 0], "radius": )" + num(radius) + R"(}, "mental": {"hunger": 0}}]})";
+    double wall = 0.0;
+    auto world = runFrames(text, "bench_fish.json", frames, wall);
+    if (!world.ok()) return report(world.error());
+    World& w = world.value();
+    const double fish_steps = static_cast<double>(n) * frames * w.stepsPerFrame();
+    nlohmann::ordered_json j = {{"name", "fish"},
+                                {"fish", n},
+                                {"frames", frames},
+                                {"steps_per_frame", w.stepsPerFrame()},
+                                {"threads", threadCount()},
+                                {"wall_s", wall},
+                                {"fish_steps_per_s", fish_steps / wall},
+                                {"times_real_time", frames / 30.0 / wall}};
+    std::printf("%s\n", j.dump().c_str());
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+// Rigid bodies: 1,000 cubes of 0.5 m (125 kg, friction 0.5) dropped in a 10 × 10 × 10 block onto
+// the ground, each turned about y, for 5 s at h = 1/120 s with 10 iterations (the pile of
+// docs/bench/bullet_pile.cpp, which runs it in Bullet): steps and contact points per second, and
+// how still the pile ends (its fastest box, its mean height); with sleeping and without.
+int benchRigid() {
+  for (const bool sleeping : {true, false}) {
+  const int n = 1000, frames = 150;
+  std::string bodies;
+  for (int i = 0; i < n; ++i) {
+    const double x = (i % 10 - 4.5) * 0.75, z = ((i / 10) % 10 - 4.5) * 0.75, y = 0.3 + (i / 100) * 0.55;
+    bodies += std::string(i ? ", " : "") + R"({"type": "rigid", "name": "box)" + std::to_string(i) +
+              R"(", "shape": "box", "size": [0.5, 0.5, 0.5], "surface": {"friction": 0.5}, "position": [)" +
+              std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z) + R"(], "rotation_deg": [0, )" +
+              std::to_string(7 * ((i * 37) % 13)) + ", 0]" + (sleeping ? "" : R"(, "sleep_time": 0)") + "}";
+  }
+  const std::string text = R"({"format": "reel/1", "name": "bench_rigid", "fps": 30, "substeps": 4, "duration": 5,
+      "gravity": [0, -9.81, 0], "objects": [{"type": "plane", "name": "ground", "surface": {"friction": 0.5}}],
+      "bodies": [)" + bodies + "]}";
+  double wall = 0.0;
+  auto world = runFrames(text, "bench_rigid.json", frames, wall);
+  if (!world.ok()) return report(world.error());
+  World& w = world.value();
+  const auto* first = w.first<RigidBody>();
+  double fastest = 0.0, height = 0.0;
+  for (const auto& b : w.bodies())
+    if (const auto* r = dynamic_cast<const RigidBody*>(b.get()))
+      for (const RigidState& s : r->states()) {
+        fastest = std::max(fastest, s.v.norm());
+        height += s.x.y() / n;
+      }
+  const double steps = static_cast<double>(frames) * w.stepsPerFrame();
+  nlohmann::ordered_json j = {{"name", "rigid"},
+                              {"boxes", n},
+                              {"steps", steps},
+                              {"threads", threadCount()},
+                              {"wall_s", wall},
+                              {"steps_per_s", steps / wall},
+                              {"contacts_per_s", static_cast<double>(first->solverStats().contact_total) / wall},
+                              {"mean_contacts", static_cast<double>(first->solverStats().contact_total) / steps},
+                              {"final_max_speed", fastest},
+                              {"final_mean_height", height},
+                              {"asleep", first->solverStats().asleep},
+                              {"sleeping", sleeping}};
+  std::printf("%s\n", j.dump().c_str());
+  std::fflush(stdout);
+  }
+  return 0;
+}
+
+}  // namespace reel::app
