@@ -291,14 +291,12 @@ void resolveContacts(const std::vector<Collider>& colliders, double radius, doub
     contactNode(c, c.surface, reach, d, n, h, x[i], v[i]);
     return true;
   };
-  bool any_free = false;
   parallelFor(static_cast<std::ptrdiff_t>(x.size()), [&](std::ptrdiff_t i) {
     if (fixed[i]) return;
     for (const Collider& c : colliders)
       if (!c.free_body) touch(c, static_cast<std::size_t>(i));
   });
-  for (const Collider& c : colliders) any_free = any_free || c.free_body;
-  if (!any_free) return;
+  if (std::none_of(colliders.begin(), colliders.end(), [](const Collider& c) { return c.free_body; })) return;
   // Rigid bodies: node by node, each impulse handed back to the body, in a fixed order.
   for (std::size_t i = 0; i < x.size(); ++i) {
     if (fixed[i]) continue;
@@ -308,8 +306,7 @@ void resolveContacts(const std::vector<Collider>& colliders, double radius, doub
       const Vec3 before = v[i];
       if (!touch(c, i)) continue;
       const Vec3 J = mass[i] * (v[i] - before);
-      coupling.impulse[k] -= J;
-      coupling.angular[k] -= (x[i] - c.pos).cross(J);
+      coupling.handBack(k, x[i], c.pos, J);
     }
   }
 }

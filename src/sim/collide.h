@@ -85,6 +85,12 @@ struct Coupling {
     impulse.assign(colliders, Vec3::Zero());
     angular.assign(colliders, Vec3::Zero());
   }
+  // Collider k (its reference point `centre`) takes the opposite of impulse J that a contact at
+  // `at` gave a particle or node.
+  void handBack(std::size_t k, const Vec3& at, const Vec3& centre, const Vec3& J) {
+    impulse[k] -= J;
+    angular[k] -= (at - centre).cross(J);
+  }
 };
 
 // `reach`: how far from a mesh's surface points are still found (thickness plus contact radius

@@ -399,8 +399,7 @@ void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, Coupling&
       if (fl.collider_object[k] < 0) continue;
       const Vec3 J = touch(i, k);
       if (J.isZero()) continue;
-      coupling.impulse[k] -= J;
-      coupling.angular[k] -= (fl.x[i] - colliders[k].pos).cross(J);
+      coupling.handBack(k, fl.x[i], colliders[k].pos, J);
     }
 }
 
