@@ -57,6 +57,13 @@ const std::map<std::string, std::string> kScenes = {
         "blocks": [{"min": [-0.18, 0.02, -0.13], "max": [0.0, 0.12, 0.13], "spacing": 0.02, "jitter": 0.1}],
         "emitters": [{"species": "oil", "position": [0.1, 0.3, 0], "direction": [0, -1, 0], "speed": 1, "radius": 0.03,
                       "rate": 400}]}]})"},
+    // Cloth and liquid exchanging momentum; the sheet soaks some up and drips (its wetness resumes).
+    {"cloth+fluid", kHead + R"("duration": 0.8, "substeps": 24, "integrator": "implicit_euler",
+      "bodies": [{"type": "cloth", "name": "c", "position": [0, 0, 0], "size": [0.4, 0.4], "resolution": [8, 8], "mass": 0.05,
+                  "pinned": ["edge_z0"], "absorbency": 0.5, "surface": {"adhesion": 2}},
+                 {"type": "fluid", "name": "f",
+                  "species": [{"name": "water", "mass": 0.008, "alpha": 212.6, "beta": 0.085, "cutoff": 0.02725, "viscosity": 10}],
+                  "emitters": [{"position": [0, 0.2, 0.05], "direction": [0, -1, 0], "speed": 1, "radius": 0.03, "rate": 400}]}]})"},
     {"school", kHead + R"("duration": 1, "substeps": 3,
       "objects": [{"type": "capsule", "name": "kelp", "start": [4, -3, 0], "end": [4, 3, 0], "radius": 0.8,
                    "motion": {"keys": [{"time": 0, "position": [4, 0, 0]}, {"time": 1, "position": [3, 0, 1]}]}}],

@@ -2,6 +2,7 @@
 
 #include "io/scene/readers.h"
 #include "sim/cloth/cloth_body.h"
+#include "sim/coupling/cloth_liquid.h"
 #include "sim/fish/fish_body.h"
 #include "sim/fish/food.h"
 #include "sim/fish/seaweed.h"
@@ -33,6 +34,11 @@ constexpr BodyKind kBodyKinds[] = {
     {"rigid", io::readRigidBody, buildRigidBody, kRigidStream},
 };
 
+// Exchanges between kinds in the coupling stage, in this order.
+constexpr InteractionRow kInteractions[] = {
+    {"fluid", "cloth", exchangeClothLiquid},
+};
+
 template <class Row, class F>
 std::vector<Row> rows(F&& f) {
   std::vector<Row> out;
@@ -58,6 +64,6 @@ Result<SceneDesc> loadScene(const std::string& path) { return io::loadScene(path
 Result<SceneDesc> parseScene(const std::string& text, const std::string& file) {
   return io::parseScene(text, file, bodyReaders());
 }
-Result<World> makeWorld(const SceneDesc& scene) { return World::create(scene, bodyBuilders()); }
+Result<World> makeWorld(const SceneDesc& scene) { return World::create(scene, bodyBuilders(), kInteractions); }
 
 }  // namespace reel::app

@@ -280,17 +280,20 @@ void checkBodies(const SceneDesc& s, Diagnostics& d) {
     springs += bs;
     for (std::string& sp : b.params->speciesNames()) species.push_back(std::move(sp));
   }
-  auto checkSpecies = [&](const ObjectDesc& ob) {
-    for (const auto& [name, sf] : ob.species_surface)
+  auto checkSpecies = [&](const SpeciesSurfaces& per, const std::string& path) {
+    for (const auto& [name, sf] : per)
       if (std::find(species.begin(), species.end(), name) == species.end()) {
         const std::string near = nearest(name, species);
-        d.error(childPath(childPath(childPath(ob.path, "surface"), "species"), name),
+        d.error(childPath(childPath(childPath(path, "surface"), "species"), name),
                 "unknown species \"" + name + "\"" + (near.empty() ? "" : " (did you mean \"" + near + "\"?)"));
       }
   };
-  for (const ObjectDesc& ob : s.objects) checkSpecies(ob);
-  for (const BodyDesc& b : s.bodies)  // the objects rigid bodies are (their first copy: the same keys)
-    if (!b.params->ownObjects().empty()) checkSpecies(b.params->ownObjects().front());
+  for (const ObjectDesc& ob : s.objects) checkSpecies(ob.species_surface, ob.path);
+  for (const BodyDesc& b : s.bodies) {
+    // The objects rigid bodies are (their first copy: the same keys), and bodies' own surfaces.
+    if (!b.params->ownObjects().empty()) checkSpecies(b.params->ownObjects().front().species_surface, b.params->ownObjects().front().path);
+    if (const SpeciesSurfaces* per = b.params->speciesSurfaces()) checkSpecies(*per, b.path);
+  }
   if (nodes > kMaxSceneNodes)
     d.error("/bodies", std::to_string(nodes) + " nodes in all, more than the limit of " + std::to_string(kMaxSceneNodes));
   if (springs > kMaxSceneSprings)

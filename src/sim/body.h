@@ -134,4 +134,13 @@ struct BodyKindRow {
   std::uint64_t seed_stream;
 };
 
+// An exchange between two kinds in the coupling stage (a liquid and a cloth): after every body
+// not coupled has stepped, `exchange` runs once for every pair of a body of kind `first` and one
+// of kind `second`, rows in order, pairs in scene order; it acts on both, equal and opposite.
+struct InteractionRow {
+  const char* first;
+  const char* second;
+  void (*exchange)(Body& first, Body& second, StepContext& ctx);
+};
+
 }  // namespace reel

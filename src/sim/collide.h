@@ -46,7 +46,7 @@ struct Collider {
   Vec3 pos{0, 0, 0}, pos_prev{0, 0, 0};
   double dt = 0.0;  // time between the previous and the current pose, s
   bool free_body = false;  // a rigid body's: posed by its motion (sim/rigid/rigid_body.h), not by keys
-  std::vector<std::pair<std::string, Surface>> species_surface;  // per-species surfaces (liquids)
+  SpeciesSurfaces species_surface;  // per-species surfaces (liquids)
   bool moving() const { return free_body || !keys.empty(); }
   // The pose at time t (keys interpolated: position linearly, rotation by slerp, held outside).
   void poseAt(double t, Mat3& r, Vec3& p) const;

@@ -49,6 +49,12 @@ struct MassSpringModel {
   std::size_t nodes() const { return mass.size(); }
 };
 
+// Sets node i's mass (a cloth soaking up liquid); a fixed node keeps inverse mass 0.
+inline void setNodeMass(MassSpringModel& m, std::size_t i, double mass) {
+  m.mass[i] = mass;
+  m.inv_mass[i] = m.fixed[i] ? 0.0 : 1.0 / mass;
+}
+
 struct MassSpringState {
   std::vector<Vec3> x;  // positions, m (nodes)
   std::vector<Vec3> v;  // velocities, m/s (nodes)

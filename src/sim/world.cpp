@@ -23,7 +23,8 @@ void bodyReach(const SceneDesc& scene, double& radius, double& adhesion_range) {
 
 }  // namespace
 
-Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow> kinds) {
+Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow> kinds,
+                            std::span<const InteractionRow> interactions) {
   World w;
   w.integrator_ = scene.integrator;
   w.implicit_ = scene.implicit;
@@ -58,6 +59,11 @@ Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow>
   w.water_ = Water(scene.water);
   w.gravity_ = scene.gravity;
   if (Status st = w.buildBodies(scene, kinds, first_object); !st) return st.error();
+  for (const InteractionRow& row : interactions)
+    for (std::size_t a = 0; a < scene.bodies.size(); ++a)
+      for (std::size_t b = 0; b < scene.bodies.size(); ++b)
+        if (scene.bodies[a].type == row.first && scene.bodies[b].type == row.second)
+          w.exchanges_.push_back({a, b, row.exchange});
   w.coupling_.reset(w.colliders_.size());
   return w;
 }
@@ -133,7 +139,13 @@ Status World::advanceFrame() {
       b->step(ctx);
       if (Status st = b->checkState(ctx); !st) return st;
     }
-    // The coupling stage: free objects take what the bodies handed them, in order.
+    // The coupling stage: the exchanges between kinds, then the free objects take what the bodies
+    // handed them, in order.
+    for (const Exchange& x : exchanges_) {
+      x.run(*bodies_[x.first], *bodies_[x.second], ctx);
+      for (std::size_t k : {x.first, x.second})
+        if (Status st = bodies_[k]->checkState(ctx); !st) return st;
+    }
     for (auto& b : bodies_) {
       if (!b->coupled()) continue;
       b->step(ctx);

@@ -3,7 +3,8 @@
 //
 // A step: keyframed objects move to the step's end; every body steps (the scene's bodies in
 // scene order, each checked for a bad state); then the coupling stage: the free objects take what
-// the bodies handed them (sim/body.h: Coupling) and step. The World knows no body kind: the
+// the bodies handed them (sim/body.h: Coupling) and step, after the exchanges between kinds
+// (InteractionRow: liquid ↔ cloth). The World knows no body kind: the
 // builders come from the registry of kinds (app/body_kinds.cpp).
 #pragma once
 
@@ -48,7 +49,9 @@ class World {
   // Builds the colliders and, through `kinds`, the bodies; refuses (BadInput) a step above an
   // explicit integrator's stability bound unless the scene sets `auto_substeps`, in which case
   // steps are subdivided.
-  static Result<World> create(const SceneDesc& scene, std::span<const BodyKindRow> kinds);
+  // `interactions`: the exchanges between kinds (the registry's), run in the coupling stage.
+  static Result<World> create(const SceneDesc& scene, std::span<const BodyKindRow> kinds,
+                              std::span<const InteractionRow> interactions = {});
 
   // Advances from the current frame k to k + 1: substeps × step(h). Fails with an Unstable
   // error naming frame, time, body, node and quantity when the state goes bad.
@@ -105,6 +108,11 @@ class World {
   Wind wind_;
   Water water_;
   std::vector<std::unique_ptr<Body>> bodies_;
+  struct Exchange {
+    std::size_t first, second;  // bodies
+    void (*run)(Body&, Body&, StepContext&);
+  };
+  std::vector<Exchange> exchanges_;  // the coupling stage's exchanges, in order
   Coupling coupling_;
   SolverStats solver_;
 };

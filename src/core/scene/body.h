@@ -30,6 +30,9 @@ struct BodyParams {
   virtual double adhesionRange() const { return 0.0; }
   // Species an object's per-species surface may name (liquids).
   virtual std::vector<std::string> speciesNames() const { return {}; }
+  // The body's own per-species surfaces (a cloth's, for the liquids it meets), under its
+  // `surface` key: each must name a species of some body.
+  virtual const SpeciesSurfaces* speciesSurfaces() const { return nullptr; }
   // Objects the body is and moves (rigid bodies): the World makes a collider of each after the
   // scene's objects, draws them at their pose, and tells the builder where they start.
   virtual std::span<const ObjectDesc> ownObjects() const { return {}; }

@@ -9,6 +9,7 @@
 
 #include "core/scene/body.h"
 #include "core/scene/mass_spring.h"
+#include "core/scene/material.h"
 #include "core/types.h"
 
 namespace reel {
@@ -32,12 +33,29 @@ struct TearDesc {
   double variation = 0.0;  // 0..1
 };
 
-// Pinned nodes moved at a constant velocity between two times (a hand pulling an edge).
+// Pinned nodes moved at a constant velocity between two times (a hand pulling an edge), or along
+// keyframes: `keys` (time, offset from where the nodes start), linear between keys, held outside.
 struct GripDesc {
   std::vector<int> nodes;
   Vec3 velocity{0, 0, 0};  // m/s
   double start = 0.0, stop = std::numeric_limits<double>::infinity();  // s
+  std::vector<std::pair<double, Vec3>> keys;  // (s, m); non-empty: used instead of the velocity
 };
+
+// How a sheet meets a liquid (the cloth–liquid exchange, sim/coupling/cloth_liquid.h).
+struct WettingDesc {
+  Surface surface;                  // friction, restitution, adhesion of the liquid on the sheet
+  SpeciesSurfaces species_surface;  // per species
+  // 0: impermeable; up to 1: liquid seeps through as through a permeable membrane (Darcy): the
+  // sheet resists the liquid's normal speed through it with a drag of time constant
+  // kSeepTime·p/(1 − p), so a drop pressed by its own weight seeps at g·that; 1: no resistance.
+  double porosity = 0.0;
+  // 0: the liquid only runs off; up to 1: the fabric soaks up touching particles until it holds
+  // absorbency × kFabricHolds × its dry mass (per node), wicks, drains and drips.
+  double absorbency = 0.0;
+};
+inline constexpr double kSeepTime = 0.01;   // s
+inline constexpr double kFabricHolds = 4.0;  // kg of liquid per kg of dry fabric at absorbency 1
 
 // A rectangular sheet of nx × ny nodes in the local x–z plane: structural springs along the
 // grid lines, shear springs across each cell, bend springs over every second node.
@@ -58,7 +76,9 @@ struct ClothDesc final : BodyParams {
   TearDesc tear;
   AirDesc air;
   std::array<double, 2> uv_scale{1.0, 1.0};  // texture repeats across the sheet
+  WettingDesc wetting;
   std::pair<long long, long long> nodesAndSprings() const override;
+  const SpeciesSurfaces* speciesSurfaces() const override { return &wetting.species_surface; }
   double contactRadius(double) const override { return thickness; }
 };
 

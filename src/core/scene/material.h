@@ -4,6 +4,8 @@
 
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/image.h"
 #include "core/types.h"
@@ -26,5 +28,15 @@ struct Surface {
   double restitution = 0.0;  // normal velocity kept after a bounce, 0..1
   double adhesion = 0.0;     // liquids: pull towards the surface within reach, m/s² (acceleration)
 };
+
+// Surfaces for particular liquid species (by species name), each overriding the base surface.
+using SpeciesSurfaces = std::vector<std::pair<std::string, Surface>>;
+
+// The surface a species meets: its own entry, or `base`.
+inline Surface surfaceFor(const Surface& base, const SpeciesSurfaces& per, const std::string& species) {
+  for (const auto& [name, sf] : per)
+    if (name == species) return sf;
+  return base;
+}
 
 }  // namespace reel

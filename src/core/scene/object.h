@@ -69,7 +69,7 @@ struct ObjectDesc {
   double thickness = 0.0;  // contact offset added to the surface, m
   Surface surface;
   // Per-species surfaces for liquids: species name → surface (keys not given keep `surface`'s).
-  std::vector<std::pair<std::string, Surface>> species_surface;
+  SpeciesSurfaces species_surface;
   // A free body (scene key `dynamic`, or a rigid body's object): moved by the rigid-body solver
   // (core/scene/rigid.h), momentum exchanged both ways with liquids and nodes.
   bool free_body = false;

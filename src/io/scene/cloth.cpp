@@ -57,6 +57,10 @@ void readCloth(Obj& o, ClothDesc& c) {
     c.tear.variation = to.number("variation", 0.0, Range{0.0, 1.0, false, true});  // below 1: no thread breaks at rest
     to.finish();
   }
+  // The liquid on the sheet: its surface, porosity and absorbency.
+  readSurfaces(o, c.wetting.surface, c.wetting.species_surface);
+  c.wetting.porosity = o.number("porosity", 0.0, kUnit);
+  c.wetting.absorbency = o.number("absorbency", 0.0, kUnit);
   if (const Json* a = o.raw("air")) {
     Obj ao(*a, childPath(p, "air"), d);
     c.air.viscous = ao.number("viscous", 0.0, kNonNeg);
@@ -74,10 +78,22 @@ void readCloth(Obj& o, ClothDesc& c) {
         Obj go((*g)[k], childPath(gp, k), d);
         GripDesc grip;
         readPins(go, {nx, ny}, nx * ny, names, grip.nodes, "nodes", true);
-        grip.velocity = go.vec3("velocity", grip.velocity);
-        grip.start = go.number("start", 0.0, kNonNeg);
-        grip.stop = go.number("stop", std::numeric_limits<double>::infinity(), kNonNeg);
-        if (grip.stop <= grip.start) d.error(childPath(go.path(), "stop"), "must be after start");
+        if (go.has("keys")) {
+          for (const char* k : {"velocity", "start", "stop"})
+            if (go.has(k)) d.error(childPath(go.path(), k), "a grip moves by its keys or by a velocity, not both");
+          readList(go, "keys", [&](Obj& ko) {
+            const double t = ko.number("time", kNonNeg, true).value_or(0.0);
+            const Vec3 off = ko.vec3("offset", Vec3::Zero());
+            if (!grip.keys.empty() && t <= grip.keys.back().first)
+              d.error(childPath(ko.path(), "time"), "keyframe times must increase");
+            grip.keys.emplace_back(t, off);
+          });
+        } else {
+          grip.velocity = go.vec3("velocity", grip.velocity);
+          grip.start = go.number("start", 0.0, kNonNeg);
+          grip.stop = go.number("stop", std::numeric_limits<double>::infinity(), kNonNeg);
+          if (grip.stop <= grip.start) d.error(childPath(go.path(), "stop"), "must be after start");
+        }
         go.finish();
         c.grips.push_back(std::move(grip));
       }

@@ -113,12 +113,12 @@ void readMotion(Obj& o, ObjectDesc& ob) {
   }
 }
 
-void readSurfaces(Obj& o, ObjectDesc& ob) {
+void readSurfaces(Obj& o, Surface& surface, SpeciesSurfaces& species_surface) {
   Diagnostics& d = o.diag();
   const std::string& p = o.path();
   if (const Json* s = o.raw("surface")) {
     Obj so(*s, childPath(p, "surface"), d);
-    readSurface(so, ob.surface);
+    readSurface(so, surface);
     // Per-species surfaces: {"species": {"honey": {"adhesion": 20}}}; unset keys keep the above.
     if (const Json* sp = so.raw("species")) {
       const std::string spp = childPath(so.path(), "species");
@@ -127,10 +127,10 @@ void readSurfaces(Obj& o, ObjectDesc& ob) {
       } else {
         for (const auto& [name, val] : sp->items()) {
           Obj one(val, childPath(spp, name), d);
-          Surface sf = ob.surface;
+          Surface sf = surface;
           readSurface(one, sf);
           one.finish();
-          ob.species_surface.emplace_back(name, sf);
+          species_surface.emplace_back(name, sf);
         }
       }
     }
@@ -144,7 +144,7 @@ void readObject(Obj& o, ObjectDesc& ob, const std::string& type) {
   ob.shape = readShape(o, type, ob.checker);
   ob.thickness = o.number("thickness", 0.0, Range::closed(0.0, 10.0));
   readMotion(o, ob);
-  readSurfaces(o, ob);
+  readSurfaces(o, ob.surface, ob.species_surface);
   ob.free_body = o.boolean("dynamic", false);
   if (ob.free_body) {
     ob.mass = o.number("mass", kPos, true).value_or(ob.mass);

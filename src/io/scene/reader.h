@@ -46,7 +46,7 @@ MeshObjectShape readMeshShape(Obj& o);
 // `motion`: keyframes of the reference point's position and the rotation.
 void readMotion(Obj& o, ObjectDesc& ob);
 // `surface`, with per-species surfaces for liquids.
-void readSurfaces(Obj& o, ObjectDesc& ob);
+void readSurfaces(Obj& o, Surface& surface, SpeciesSurfaces& species_surface);
 
 // An object of type `type` (one of kObjectTypes).
 void readObject(Obj& o, ObjectDesc& ob, const std::string& type);

@@ -119,7 +119,7 @@ std::shared_ptr<const BodyParams> readRigidBody(Obj& o, BodyDesc& body, const Sc
     s.rotation_deg = euler;
     ob.shape = s;
   }
-  readSurfaces(o, ob);
+  readSurfaces(o, ob.surface, ob.species_surface);
   readMotion(o, ob);
   readMaterial(o, body.material);
   ob.material = body.material;

@@ -198,6 +198,13 @@ MassSpringDesc buildCloth(const ClothDesc& d, std::uint64_t seed, Cloth& c) {
   c.thickness = d.thickness;
   c.self_collision = d.self_collision;
   c.air = d.air;
+  c.wetting = d.wetting;
+  for (const NodeDesc& n : out.nodes) c.dry_mass.push_back(n.mass);
+  if (d.wetting.absorbency > 0) {
+    for (double m : c.dry_mass) c.capacity.push_back(d.wetting.absorbency * kFabricHolds * m);
+    c.wet.assign(c.dry_mass.size(), 0.0);
+    c.wet_species.assign(c.dry_mass.size(), 0);
+  }
   return out;
 }
 
@@ -251,18 +258,44 @@ void airForces(Cloth& c, const Wind& wind, double t, const std::vector<Vec3>& x,
 }
 
 // --- grips ----------------------------------------------------------------------------------
+namespace {
+
+// A grip's offset from where its nodes start, at time t.
+Vec3 gripOffset(const GripDesc& g, double t) {
+  if (g.keys.empty()) return std::min(std::max(t - g.start, 0.0), std::max(g.stop - g.start, 0.0)) * g.velocity;
+  if (t <= g.keys.front().first) return g.keys.front().second;
+  for (std::size_t k = 1; k < g.keys.size(); ++k)
+    if (t < g.keys[k].first) {
+      const auto& [t0, a] = g.keys[k - 1];
+      const auto& [t1, b] = g.keys[k];
+      return a + ((t - t0) / (t1 - t0)) * (b - a);
+    }
+  return g.keys.back().second;
+}
+
+// Its velocity over the step that starts at t (the slope of the segment t lies in).
+Vec3 gripVelocity(const GripDesc& g, double t) {
+  if (g.keys.empty()) return t >= g.start && t < g.stop ? g.velocity : Vec3::Zero();
+  for (std::size_t k = 1; k < g.keys.size(); ++k)
+    if (t >= g.keys[k - 1].first && t < g.keys[k].first)
+      return (g.keys[k].second - g.keys[k - 1].second) / (g.keys[k].first - g.keys[k - 1].first);
+  return Vec3::Zero();
+}
+
+}  // namespace
+
 void gripVelocities(const Cloth& c, double t, std::vector<Vec3>& v) {
   for (const GripDesc& g : c.grips) {
-    const bool on = t >= g.start && t < g.stop;
-    for (int p : g.nodes) v[static_cast<std::size_t>(p)] = on ? g.velocity : Vec3::Zero();
+    const Vec3 u = gripVelocity(g, t);
+    for (int p : g.nodes) v[static_cast<std::size_t>(p)] = u;
   }
 }
 
 void gripPositions(const Cloth& c, double t, std::vector<Vec3>& x) {
   std::size_t k = 0;
   for (const GripDesc& g : c.grips) {
-    const double moved = std::min(std::max(t - g.start, 0.0), std::max(g.stop - g.start, 0.0));
-    for (int p : g.nodes) x[static_cast<std::size_t>(p)] = c.grip_origin[k++] + moved * g.velocity;
+    const Vec3 off = gripOffset(g, t);
+    for (int p : g.nodes) x[static_cast<std::size_t>(p)] = c.grip_origin[k++] + off;
   }
 }
 

@@ -34,6 +34,9 @@ struct ClothModel {
   AirDesc air;
   std::vector<GripDesc> grips;
   std::vector<Vec3> grip_origin;  // where each gripped node starts, per grip in order of nodes
+  WettingDesc wetting;            // how it meets liquids (sim/coupling/cloth_liquid.h)
+  std::vector<double> dry_mass;   // kg (nodes): a node's mass is this plus its wetness
+  std::vector<double> capacity;   // liquid a node holds before it drips, kg (nodes; empty: not absorbent)
 };
 
 // What changes as the sheet moves and tears (besides the nodes and the springs themselves, in the
@@ -47,6 +50,12 @@ struct ClothState {
   std::vector<Vec3> x_prev;  // node positions at the last self-collision pass, m (nodes)
   long long self_passes = 0;
   long long springs_broken = 0;
+  // Liquid soaked up (absorbent sheets): kg per node, and the species of the last particle each
+  // node took (what it drips).
+  std::vector<double> wet;
+  std::vector<int> wet_species;
+  long long absorbed = 0, dripped = 0;  // particles soaked up and drops released so far
+  Vec3 pin_liquid_force{0, 0, 0};  // the liquid's force on pinned and gripped nodes over the last step, N
 };
 
 // Arrays reused from step to step; their contents do not outlive a step.
@@ -105,6 +114,23 @@ void refreshTriangles(Cloth& c);
 // joined through intact edges (torn edges get their own vertices), each with its own smooth
 // normal and the node's UV.
 TriMesh clothMesh(const Cloth& c, const std::vector<Vec3>& x);
+
+// --- wetness (cloth_wet.cpp): an absorbent sheet's liquid ----------------------------------
+// Wicking and drainage over one step h: liquid spreads between structurally joined nodes towards
+// the drier one (kWickRate, on wetness relative to capacity), and what a node holds beyond its
+// capacity runs to its lowest neighbour below it (kDrainRate). Each move of mass dm from node i
+// to j carries its momentum dm·v_i, so the sheet's momentum is unchanged.
+inline constexpr double kWickRate = 4.0;    // 1/s
+inline constexpr double kDrainRate = 12.0;  // 1/s
+void spreadWetness(Cloth& c, MassSpringModel& m, const std::vector<Vec3>& x, std::vector<Vec3>& v,
+                   const Vec3& gravity, double h);
+// Node i takes or loses liquid mass dm (kg) moving at velocity u: its mass becomes dry + wet and
+// its velocity the mass-weighted mean (a fixed node keeps its own).
+void wetNode(Cloth& c, MassSpringModel& m, std::vector<Vec3>& v, std::size_t i, double dm, const Vec3& u);
+
+// The force the pinned and gripped nodes hold the sheet with (their reaction: minus the springs,
+// weight and liquid acting on them), N; at rest it balances the weight of sheet and liquid.
+Vec3 supportForce(const Cloth& c, const MassSpringModel& m, const MassSpringState& s);
 
 // Connected pieces of the sheet (union of nodes over intact springs).
 int clothPieces(std::size_t nodes, const Springs& s);

@@ -16,7 +16,26 @@ void ClothBody::step(StepContext& ctx) {
   limitStrain(cloth_, net_.model, ctx.h, s.x, s.v);
   if (cloth_.self_collision) selfCollide(cloth_, net_.model, s.x, s.v);
   net_.contacts(ctx);
+  spreadWetness(cloth_, net_.model, s.x, s.v, ctx.gravity, ctx.h);
   tearSprings(cloth_, net_.model, s.x);
+}
+
+bool ClothBody::view(BodyView& out) const {
+  SpringNetworkBody::view(out);
+  out.masses = net_.model.mass;  // they grow as the sheet soaks liquid up
+  return true;
+}
+
+void ClothBody::statistics(std::vector<Statistic>& out) const {
+  const Vec3& g = net_.model.gravity;
+  const Vec3 up = g.norm() > 0 ? Vec3(-g.normalized()) : Vec3::UnitY();
+  out.push_back({"support_force", supportForce(cloth_, net_.model, net_.state).dot(up)});
+  if (cloth_.capacity.empty()) return;
+  double wet = 0.0;
+  for (double w : cloth_.wet) wet += w;
+  out.push_back({"wet_mass", wet});
+  out.push_back({"absorbed", static_cast<double>(cloth_.absorbed)});
+  out.push_back({"dripped", static_cast<double>(cloth_.dripped)});
 }
 
 // Besides the nodes: the springs left (tearing removes them) and the sheet's state, in one order
@@ -27,6 +46,7 @@ void ClothBody::fields(Self& self, Archive& a) {
   auto& c = self.cloth_;
   a(sp.a)(sp.b)(sp.stiffness)(sp.damping)(sp.rest);
   a(c.spring_id)(c.intact)(c.limited)(c.tear_strain)(c.tri_alive)(c.x_prev)(c.self_passes)(c.springs_broken);
+  a(c.wet)(c.wet_species)(c.absorbed)(c.dripped)(c.pin_liquid_force);
 }
 
 void ClothBody::snapshotMore(StateWriter& w) const { fields(*this, w); }
@@ -44,11 +64,16 @@ bool ClothBody::restoreMore(StateReader& r) {
   if (!r.ok() || ns > ids || c.intact.size() != ids || c.tri_alive.size() != cloth_.tris.size() ||
       !(c.tear_strain.empty() || c.tear_strain.size() == ns) || !(c.x_prev.empty() || c.x_prev.size() == n))
     return false;
+  if (c.wet.size() != cloth_.capacity.size() || c.wet_species.size() != c.wet.size()) return false;
+  for (std::size_t i = 0; i < c.wet.size(); ++i)
+    if (!(c.wet[i] >= 0 && c.wet[i] < 1e6) || c.wet_species[i] < 0) return false;
   for (std::size_t k = 0; k < ns; ++k)
     if (sp.a[k] < 0 || sp.b[k] < 0 || static_cast<std::size_t>(sp.a[k]) >= n || static_cast<std::size_t>(sp.b[k]) >= n ||
         c.spring_id[k] < 0 || static_cast<std::size_t>(c.spring_id[k]) >= ids)
       return false;
   net_.model.incidence.build(n, sp);
+  // Node masses: dry plus the liquid held.
+  for (std::size_t i = 0; i < n; ++i) setNodeMass(net_.model, i, cloth_.dry_mass[i] + (c.wet.empty() ? 0.0 : c.wet[i]));
   return true;
 }
 

@@ -17,6 +17,8 @@ class ClothBody final : public SpringNetworkBody {
       : SpringNetworkBody(std::move(name), std::move(generator)), material_(material) {}
   void step(StepContext& ctx) override;
   void draw(DrawList& out) const override;
+  bool view(BodyView& out) const override;
+  void statistics(std::vector<Statistic>& out) const override;
   Cloth& cloth() { return cloth_; }
   const Cloth& cloth() const { return cloth_; }
 

@@ -7,6 +7,9 @@
 #include "core/union_find.h"
 
 namespace reel {
+namespace {
+constexpr double kWetDarkening = 0.45;  // albedo lost when soaked
+}  // namespace
 
 TriMesh clothMesh(const Cloth& c, const std::vector<Vec3>& x) {
   const std::size_t nt = c.tris.size();
@@ -41,6 +44,12 @@ TriMesh clothMesh(const Cloth& c, const std::vector<Vec3>& x) {
         vi = static_cast<int>(mesh.vertexCount());
         const auto node = static_cast<std::size_t>(tri[k]);
         mesh.addVertex(x[node], Vec3::UnitY(), c.uv[2 * node], c.uv[2 * node + 1]);
+        if (!c.capacity.empty()) {
+          // Wet fabric is darker: light scatters less out of a soaked weave.
+          const double soaked = std::min(1.0, c.wet[node] / c.capacity[node]);
+          const auto shade = static_cast<float>(1.0 - kWetDarkening * soaked);
+          mesh.colors.insert(mesh.colors.end(), {shade, shade, shade});
+        }
         normal.push_back(Vec3::Zero());
       }
       normal[static_cast<std::size_t>(vi)] += cr;

@@ -434,6 +434,50 @@ void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, Coupling& coup
   }
 }
 
+void removeParticles(Fluid& fl, const std::vector<std::uint8_t>& gone) {
+  const std::size_t n = fl.x.size();
+  // New ids: each particle's rank in order of creation among those left.
+  std::vector<std::int32_t> rank(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (!gone[i]) rank[static_cast<std::size_t>(fl.id[i])] = 1;
+  std::int32_t next = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::int32_t keep = rank[k];
+    rank[k] = next;
+    next += keep;
+  }
+  std::size_t w = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (gone[i]) continue;
+    fl.x[w] = fl.x[i];
+    fl.v[w] = fl.v[i];
+    fl.s[w] = fl.s[i];
+    fl.m[w] = fl.m[i];
+    fl.id[w] = rank[static_cast<std::size_t>(fl.id[i])];
+    ++w;
+  }
+  if (w == n) return;
+  for (auto* a : {&fl.x, &fl.v}) a->resize(w);
+  fl.s.resize(w);
+  fl.m.resize(w);
+  fl.id.resize(w);
+  if (w == 0) {
+    fl.x_built.clear();
+    fl.nbr_start.clear();
+    fl.nbr.clear();
+    return;
+  }
+  buildNeighbours(fl);
+}
+
+void addParticle(Fluid& fl, const Vec3& x, const Vec3& v, int species) {
+  fl.id.push_back(static_cast<std::int32_t>(fl.id.size()));
+  fl.x.push_back(x);
+  fl.v.push_back(v);
+  fl.s.push_back(species);
+  fl.m.push_back(fl.species_mass[static_cast<std::size_t>(species)]);
+}
+
 double kineticEnergy(const Fluid& fl) {
   return deterministicSum(static_cast<std::ptrdiff_t>(fl.x.size()), [&](std::ptrdiff_t i) {
     return 0.5 * fl.m[static_cast<std::size_t>(i)] * fl.v[static_cast<std::size_t>(i)].squaredNorm();

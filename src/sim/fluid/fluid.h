@@ -155,6 +155,13 @@ void rebuildGrid(Fluid& fl);
 // list must be rebuilt after. Particles keep their ids (`id`), so dumps keep following them.
 void sortParticles(Fluid& fl);
 
+// Particles taken from the liquid and given to it by another body (a cloth soaking liquid up,
+// dripping it back). Removing renumbers the ids of those left in order of creation (so ids stay
+// 0..n−1) and rebuilds the neighbour list; an added particle gets the next id, and the next step
+// lists it. `gone`: one flag per slot.
+void removeParticles(Fluid& fl, const std::vector<std::uint8_t>& gone);
+void addParticle(Fluid& fl, const Vec3& x, const Vec3& v, int species);
+
 // Fills x_by_id, v_by_id and s_by_id: the state in order of creation.
 void fluidById(Fluid& fl);
 

@@ -206,12 +206,7 @@ Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<
   // Surfaces per collider and species; free objects by collider.
   fl.surfaces.reserve(colliders.size() * S);
   for (const Collider& o : colliders) {
-    for (std::size_t k = 0; k < S; ++k) {
-      Surface sf = o.surface;
-      for (const auto& [sp, surf] : o.species_surface)
-        if (sp == fl.species_names[k]) sf = surf;
-      fl.surfaces.push_back(sf);
-    }
+    for (std::size_t k = 0; k < S; ++k) fl.surfaces.push_back(surfaceFor(o.surface, o.species_surface, fl.species_names[k]));
     fl.collider_object.push_back(o.free_body ? fl.object_count++ : -1);
   }
   addBlocks(fl, d, colliders, seed);
