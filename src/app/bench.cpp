@@ -263,11 +263,13 @@ int benchFilm(const std::string& scene_path) {
 }  // namespace
 
 int bench(const std::vector<std::string>& names, double seconds) {
-  const std::vector<std::string> all = {"springs", "render", "film", "cloth", "fluid", "school", "fish", "rigid"};
+  const std::vector<std::string> all = {"springs", "render", "film", "cloth", "fluid", "school", "fish", "rigid", "cloth_liquid"};
   const std::vector<std::string>& run = names.empty() ? all : names;
   for (const auto& n : run) {
     if (std::find(all.begin(), all.end(), n) == all.end()) {
-      std::fprintf(stderr, "reel: unknown benchmark \"%s\" (available: springs, render, film, cloth, fluid, school, fish, rigid)\n", n.c_str());
+      std::string names_list;
+      for (const auto& a : all) names_list += (names_list.empty() ? "" : ", ") + a;
+      std::fprintf(stderr, "reel: unknown benchmark \"%s\" (available: %s)\n", n.c_str(), names_list.c_str());
       return 2;
     }
   }
@@ -281,6 +283,7 @@ int bench(const std::vector<std::string>& names, double seconds) {
     if (n == "school") rc = benchSchool(seconds);
     if (n == "fish") rc = benchFish(seconds);
     if (n == "rigid") rc = benchRigid();
+    if (n == "cloth_liquid") rc = benchClothLiquid();
     if (rc != 0) return rc;
   }
   return 0;

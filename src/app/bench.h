@@ -10,5 +10,6 @@ int benchFluid(double simulated);
 int benchSchool(double seconds);
 int benchFish(double seconds);
 int benchRigid();
+int benchClothLiquid();
 
 }  // namespace reel::app

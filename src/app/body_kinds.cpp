@@ -64,6 +64,8 @@ Result<SceneDesc> loadScene(const std::string& path) { return io::loadScene(path
 Result<SceneDesc> parseScene(const std::string& text, const std::string& file) {
   return io::parseScene(text, file, bodyReaders());
 }
+std::span<const InteractionRow> interactions() { return kInteractions; }
+
 Result<World> makeWorld(const SceneDesc& scene) { return World::create(scene, bodyBuilders(), kInteractions); }
 
 }  // namespace reel::app

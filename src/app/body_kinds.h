@@ -23,6 +23,8 @@ struct BodyKind {
 std::span<const BodyKind> bodyKinds();
 std::span<const io::BodyReaderRow> bodyReaders();
 std::span<const BodyKindRow> bodyBuilders();
+// The exchanges between kinds in the coupling stage, in order.
+std::span<const InteractionRow> interactions();
 
 // The scene and the world with every kind reel has.
 Result<SceneDesc> loadScene(const std::string& path);

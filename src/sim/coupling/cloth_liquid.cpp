@@ -34,6 +34,8 @@ struct Exchange {
   double reach = 0.0;            // contact distance: thickness plus particle radius, m
   double grow = 0.0;             // how far from a triangle particles are looked for, m
   std::vector<int> alive;        // drawn triangles
+  Vec3 lo{0, 0, 0}, hi{0, 0, 0};  // the box of their grown boxes: particles outside meet none
+  std::vector<double> edge;       // each one's largest extent over the step, m
   // Area-weighted normals of the triangles (triangles) and their sums at the nodes (nodes): now
   // and a step back, the pseudo-normals that tell the sides of an edge or a corner.
   std::vector<Vec3> tri_n1, tri_n0, node_n1, node_n0;
@@ -46,21 +48,24 @@ void buildNormals(Exchange& e) {
   const std::size_t nt = c.tris.size(), nn = e.x.size();
   e.tri_n1.assign(nt, Vec3::Zero());
   e.tri_n0.assign(nt, Vec3::Zero());
-  for (int t : e.alive) {
+  parallelFor(static_cast<std::ptrdiff_t>(e.alive.size()), [&](std::ptrdiff_t k) {
+    const int t = e.alive[static_cast<std::size_t>(k)];
     const auto& tri = c.tris[static_cast<std::size_t>(t)];
     const auto a = static_cast<std::size_t>(tri[0]), b = static_cast<std::size_t>(tri[1]), d = static_cast<std::size_t>(tri[2]);
     e.tri_n1[static_cast<std::size_t>(t)] = (e.x[b] - e.x[a]).cross(e.x[d] - e.x[a]);
     const Vec3 pa = e.x[a] - e.h * e.v[a], pb = e.x[b] - e.h * e.v[b], pd = e.x[d] - e.h * e.v[d];
     e.tri_n0[static_cast<std::size_t>(t)] = (pb - pa).cross(pd - pa);
-  }
+  });
   e.node_n1.assign(nn, Vec3::Zero());
   e.node_n0.assign(nn, Vec3::Zero());
-  for (std::size_t i = 0; i < nn; ++i)
+  parallelFor(static_cast<std::ptrdiff_t>(nn), [&](std::ptrdiff_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
     for (int k = c.node_tri_start[i]; k < c.node_tri_start[i + 1]; ++k) {
       const auto t = static_cast<std::size_t>(c.node_tri[static_cast<std::size_t>(k)]);
       e.node_n1[i] += e.tri_n1[t];
       e.node_n0[i] += e.tri_n0[t];
     }
+  });
 }
 
 // Grid of the drawn triangles' boxes, over where each was a step back and is now, grown by the
@@ -72,8 +77,9 @@ void buildTriangleGrid(Exchange& e) {
     if (c.tri_alive[t]) e.alive.push_back(static_cast<int>(t));
   c.lo.resize(e.alive.size());
   c.hi.resize(e.alive.size());
-  double edge = 0.0;
-  for (std::size_t k = 0; k < e.alive.size(); ++k) {
+  e.edge.resize(e.alive.size());
+  parallelFor(static_cast<std::ptrdiff_t>(e.alive.size()), [&](std::ptrdiff_t kk) {
+    const auto k = static_cast<std::size_t>(kk);
     const auto& tri = c.tris[static_cast<std::size_t>(e.alive[k])];
     Vec3 lo = e.x[static_cast<std::size_t>(tri[0])], hi = lo;
     for (int q : tri) {
@@ -83,9 +89,17 @@ void buildTriangleGrid(Exchange& e) {
         hi = hi.cwiseMax(p);
       }
     }
-    edge = std::max(edge, (hi - lo).maxCoeff());
+    e.edge[k] = (hi - lo).maxCoeff();
     c.lo[k] = lo - Vec3::Constant(e.grow);
     c.hi[k] = hi + Vec3::Constant(e.grow);
+  });
+  double edge = 0.0;
+  e.lo = Vec3::Constant(1e300);
+  e.hi = Vec3::Constant(-1e300);
+  for (std::size_t k = 0; k < e.alive.size(); ++k) {
+    edge = std::max(edge, e.edge[k]);
+    e.lo = e.lo.cwiseMin(c.lo[k]);
+    e.hi = e.hi.cwiseMax(c.hi[k]);
   }
   c.grid.build(c.lo, c.hi, edge + 2.0 * e.grow);
 }
@@ -95,6 +109,8 @@ SheetContact closest(const Exchange& e, std::size_t i) {
   const Vec3 p1 = e.fl.x[i], p0 = p1 - e.h * e.fl.v[i];
   const auto si = static_cast<std::size_t>(e.fl.s[i]);
   const double within = e.reach + e.range[si];
+  SheetContact ct;
+  if (!((p1.array() >= e.lo.array()).all() && (p1.array() <= e.hi.array()).all())) return ct;
   // The closest point of the sheet (the first triangle on a tie: the grid's order is fixed).
   int t = -1;
   Vec3 w = Vec3::Zero(), q = Vec3::Zero();
@@ -104,12 +120,15 @@ SheetContact closest(const Exchange& e, std::size_t i) {
     const auto& tri = e.c.tris[static_cast<std::size_t>(tk)];
     const Vec3 &a = e.x[static_cast<std::size_t>(tri[0])], &b = e.x[static_cast<std::size_t>(tri[1])],
                &c = e.x[static_cast<std::size_t>(tri[2])];
+    // Farther from the triangle's plane than the best so far: not closer (a cheap test first).
+    const Vec3& nk = e.tri_n1[static_cast<std::size_t>(tk)];
+    const double plane = nk.dot(p1 - a);
+    if (plane * plane >= dist2 * nk.squaredNorm()) return;
     const Vec3 wk = closestOnTriangle(p1, a, b, c);
     const Vec3 qk = wk[0] * a + wk[1] * b + wk[2] * c;
     const double d2 = (p1 - qk).squaredNorm();
     if (d2 < dist2) dist2 = d2, t = tk, w = wk, q = qk;
   });
-  SheetContact ct;
   if (t < 0) return ct;
   const auto& tri = e.c.tris[static_cast<std::size_t>(t)];
   // Which side: the pseudo-normal of the closest feature (Bærentzen & Aanæs 2005, "Signed distance

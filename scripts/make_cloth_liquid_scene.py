@@ -1,0 +1,130 @@
+#!/usr/bin/env python3
+"""Writes scenes/cloth_liquid.json: cloth and liquid acting on each other, four shots in one world,
+the camera moving from one to the next (docs/cloth_liquid.md).
+
+  0-6 s      water poured into a sheet held at its four corners: it sags, fills and overflows;
+  6-12 s     a weaker sheet under a heavier pour tears, and the water pours through the tear;
+  12-18 s    an absorbent flag dipped into a pool on its pole, lifted out darker, dripping;
+  18-24 s    a towel pulled across a puddle soaks it up.
+Run from the repository root: python3 scripts/make_cloth_liquid_scene.py
+"""
+import json
+
+G = 9.81
+WATER = {"name": "water", "mass": 0.008, "alpha": 212.6, "beta": 0.085, "cutoff": 0.02725, "viscosity": 6,
+         "color": [0.22, 0.5, 0.92]}
+
+
+def r(x, n=4):
+    return round(x, n)
+
+
+def vec(*v):
+    return [r(x) for x in v]
+
+
+def posts(objects, x0, half, top, name):
+    """Four wooden posts whose tops hold a sheet's corners."""
+    for k, (sx, sz) in enumerate(((-1, -1), (1, -1), (-1, 1), (1, 1))):
+        x, z = x0 + sx * (half + 0.025), sz * (half + 0.025)
+        objects.append({"type": "capsule", "name": "%s_post%d" % (name, k), "start": vec(x, 0.0, z),
+                        "end": vec(x, top + 0.02, z), "radius": 0.025, "color": [0.45, 0.32, 0.2], "specular": 0.1})
+
+
+def nozzle(objects, x, y, z, name):
+    """A copper pipe coming in from above and behind, its mouth at (x, y, z)."""
+    objects.append({"type": "capsule", "name": name, "start": vec(x, y + 0.03, z), "end": vec(x, y + 0.9, z - 0.9),
+                    "radius": 0.035, "color": [0.72, 0.42, 0.25], "specular": 0.7, "shininess": 60})
+
+
+def hammock(objects, bodies, emitters, x0, t0, name, tear, rate, stop, color):
+    half = 0.5
+    posts(objects, x0, half, 1.0, name)
+    cloth = {"type": "cloth", "name": name, "position": [x0, 1.0, 0], "size": [2 * half, 2 * half],
+             "resolution": [26, 26], "mass": 0.25, "stiffness": 2500, "damping": 2, "shear_stiffness": 600,
+             "bend_stiffness": 1, "node_damping": 0.01, "thickness": 0.006,
+             "pinned": ["corner_00", "corner_10", "corner_01", "corner_11"], "surface": {"friction": 0.4},
+             "color": color, "specular": 0.08}
+    if tear:
+        cloth["tear"] = {"strain": tear, "variation": 0.3}
+    bodies.append(cloth)
+    nozzle(objects, x0 + 0.05, 1.75, 0.0, name + "_pipe")
+    emitters.append({"position": vec(x0 + 0.05, 1.72, 0.0), "direction": [0, -1, 0], "speed": 1.2, "radius": 0.035,
+                     "rate": rate, "start": t0, "stop": stop})
+
+
+def flag(objects, bodies, x0):
+    """A pool, and a flag on a pole lowered into it at 13 s and lifted out at 15 s."""
+    objects.append({"type": "container", "name": "pool", "center": [x0, 0.14, 0], "size": [0.8, 0.28, 0.34],
+                    "wall": 0.02, "color": [0.7, 0.74, 0.78], "opacity": 0.3, "specular": 0.6})
+    top = 1.15  # the pole's top at rest; the flag hangs from it, 0.5 m wide, 0.42 m tall
+    keys = [(0.0, 0.0), (12.8, 0.0), (13.8, -0.7), (14.8, -0.7), (15.8, 0.0), (24.0, 0.0)]
+    pole_a, pole_b = (x0 - 0.27, top - 0.75, 0.0), (x0 - 0.27, top + 0.05, 0.0)
+    mid = [(pole_a[k] + pole_b[k]) / 2 for k in range(3)]
+    objects.append({"type": "capsule", "name": "pole", "start": vec(*pole_a), "end": vec(*pole_b), "radius": 0.015,
+                    "color": [0.3, 0.3, 0.32], "specular": 0.5,
+                    "motion": {"keys": [{"time": t, "position": vec(mid[0], mid[1] + dy, mid[2])} for t, dy in keys]}})
+    # The sheet in the x–z plane turned upright (x along the flag, z down the pole): its edge
+    # z0 is at the top, x0 along the pole.
+    bodies.append({"type": "cloth", "name": "flag", "position": [x0 - 0.02, top - 0.21, 0.0], "size": [0.5, 0.42],
+                   "rotation_deg": [90, 0, 0], "resolution": [22, 19], "mass": 0.08, "stiffness": 1500,
+                   "damping": 1, "shear_stiffness": 400, "bend_stiffness": 0.5, "node_damping": 0.004,
+                   "thickness": 0.005, "absorbency": 0.9, "surface": {"friction": 0.3},
+                   "grips": [{"nodes": ["edge_x0"], "keys": [{"time": t, "offset": [0, r(dy), 0]} for t, dy in keys]}],
+                   "air": {"viscous": 0.3, "drag": 0.2}, "color": [0.85, 0.16, 0.12], "specular": 0.05})
+
+
+def towel(objects, bodies, x0):
+    """A towel on the floor pulled by a wooden bar across a puddle, 19-23 s."""
+    keys = [(0.0, 0.0), (19.0, 0.0), (23.0, 1.05), (24.0, 1.05)]
+    bar = (x0 - 0.18, 0.07, 0.0)
+    objects.append({"type": "box", "name": "bar", "center": vec(*bar), "size": [0.05, 0.05, 0.5],
+                    "color": [0.5, 0.36, 0.22], "specular": 0.1,
+                    "motion": {"keys": [{"time": t, "position": vec(bar[0] + dx, bar[1], bar[2])} for t, dx in keys]}})
+    bodies.append({"type": "cloth", "name": "towel", "position": [x0 - 0.39, 0.008, 0.0], "size": [0.42, 0.42],
+                   "resolution": [18, 18], "mass": 0.35, "stiffness": 1200, "damping": 1, "shear_stiffness": 300,
+                   "bend_stiffness": 0.3, "node_damping": 0.01, "thickness": 0.006, "absorbency": 1,
+                   "surface": {"friction": 0.5},
+                   "grips": [{"nodes": ["edge_x1"], "keys": [{"time": t, "offset": [r(dx), 0.03, 0]} for t, dx in keys]}],
+                   "pattern": "rug", "color": [0.95, 0.95, 0.92], "specular": 0.03})
+    return {"min": vec(x0 + 0.05, 0.002, -0.16), "max": vec(x0 + 0.37, 0.045, 0.16), "spacing": 0.02}
+
+
+def main():
+    objects = [{"type": "plane", "name": "floor", "checker": True, "color": [0.7, 0.68, 0.64],
+                "surface": {"friction": 0.5}}]
+    bodies, emitters = [], []
+    hammock(objects, bodies, emitters, 0.0, 0.4, "hammock", None, 900, 4.6, [0.9, 0.78, 0.55])
+    hammock(objects, bodies, emitters, 4.0, 6.3, "sling", 0.09, 1300, 10.5, [0.55, 0.7, 0.85])
+    flag(objects, bodies, 8.0)
+    puddle = towel(objects, bodies, 12.0)
+    blocks = [{"min": [7.62, 0.0, -0.15], "max": [8.38, 0.22, 0.15], "spacing": 0.02, "jitter": 0.1},
+              puddle]
+    bodies.append({"type": "fluid", "name": "water", "radius": 0.01, "draw": "surface", "species": [WATER],
+                   "blocks": blocks, "emitters": emitters, "specular": 0.8, "shininess": 90})
+    cam = [(0.0, (0.9, 1.75, 2.3), (0.0, 0.9, 0.0)), (5.6, (-0.6, 1.7, 2.2), (0.0, 0.8, 0.0)),
+           (6.2, (4.9, 1.6, 2.3), (4.0, 0.8, 0.0)), (11.6, (3.2, 1.3, 2.2), (4.0, 0.6, 0.0)),
+           (12.2, (8.4, 1.2, 1.7), (8.0, 0.55, 0.0)), (17.6, (7.5, 1.1, 1.6), (8.0, 0.5, 0.0)),
+           (18.2, (12.0, 1.0, 1.25), (12.1, 0.0, 0.0)), (24.0, (12.7, 0.9, 1.1), (12.5, 0.0, 0.0))]
+    scene = {"format": "reel/1", "name": "cloth_liquid", "duration": 24.0, "fps": 30, "substeps": 24,
+             "auto_substeps": True, "integrator": "implicit_euler", "seed": 16, "gravity": [0, -G, 0],
+             "wind": {"velocity": [1.2, 0, 0.4], "gust": 0.8},
+             "render": {"width": 1280, "height": 720, "samples": 4,
+                        "background": {"top": [0.3, 0.42, 0.62], "bottom": [0.86, 0.84, 0.8]}},
+             "camera": {"position": list(cam[0][1]), "target": list(cam[0][2]), "fov_deg": 45,
+                        "keys": [{"time": t, "position": list(p), "target": list(q)} for t, p, q in cam]},
+             "lights": [{"type": "directional", "direction": [-0.45, -1.0, -0.35], "color": [1.0, 0.96, 0.9],
+                         "intensity": 1.15, "shadows": True},
+                        {"type": "ambient", "color": [0.55, 0.62, 0.75], "intensity": 0.5}],
+             "objects": objects, "bodies": bodies}
+    with open("scenes/cloth_liquid.json", "w") as f:
+        f.write("// Cloth and liquid acting on each other (made by scripts/make_cloth_liquid_scene.py): water\n"
+                "// poured into a sheet held at its corners, a weaker one that tears under the load, an absorbent\n"
+                "// flag dipped into a pool and lifted out dripping, a towel pulled across a puddle.\n"
+                "// Docs: docs/cloth_liquid.md\n")
+        json.dump(scene, f, indent=1)
+        f.write("\n")
+
+
+if __name__ == "__main__":
+    main()
