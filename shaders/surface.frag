@@ -11,6 +11,7 @@ in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv;
 in vec3 v_color;
+in float v_gloss;
 out vec4 o_color;
 
 uniform vec3 u_light_vec[8];       // direction the light travels, or its position
@@ -61,7 +62,9 @@ vec3 shade(vec3 n, vec3 view, vec3 l, vec3 radiance, vec3 albedo) {
   vec3 c = albedo * ndl;
 #ifdef SPECULAR
   vec3 h = normalize(l + view);
-  c += vec3(u_specular * pow(max(dot(n, h), 0.0), u_shininess) * ndl);
+  // A wet sheen (per-vertex gloss g): the highlight grows by 0.5 g and sharpens towards 120.
+  float shininess = mix(u_shininess, max(u_shininess, 120.0), v_gloss);
+  c += vec3((u_specular + 0.5 * v_gloss) * pow(max(dot(n, h), 0.0), shininess) * ndl);
 #endif
   return radiance * c;
 }

@@ -3,6 +3,7 @@ out vec3 v_world;
 out vec3 v_normal;
 out vec2 v_uv;
 out vec3 v_color;
+out float v_gloss;
 
 void main() {
   vec3 p, n;
@@ -11,5 +12,6 @@ void main() {
   v_normal = n;
   v_uv = a_uv;
   v_color = vertexColor();
+  v_gloss = a_gloss;
   gl_Position = u_view_proj * vec4(p, 1.0);
 }

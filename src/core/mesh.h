@@ -16,6 +16,7 @@ struct TriMesh {
   std::vector<float> normals;    // xyz per vertex, unit
   std::vector<float> uvs;        // uv per vertex (may be empty)
   std::vector<float> colors;     // linear rgb per vertex, multiplied into the albedo (may be empty)
+  std::vector<float> gloss;      // per vertex 0..1: a wet sheen added to the material's highlight (may be empty)
   std::vector<std::uint32_t> indices;  // three per triangle, counter-clockwise seen from outside
   std::size_t vertexCount() const { return positions.size() / 3; }
   std::size_t triangleCount() const { return indices.size() / 3; }

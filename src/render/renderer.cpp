@@ -380,6 +380,7 @@ Status Renderer::Impl::mainPass(const DrawList& list, const Vec3& center, double
   gl->ClearDepth(1.0);
   gl->Clear(GL_DEPTH_BUFFER_BIT);
   gl->VertexAttrib3f(5, 1.0f, 1.0f, 1.0f);  // white where no per-vertex colour is given
+  gl->VertexAttrib1f(11, 0.0f);              // no sheen where no per-vertex gloss is given
   // The frame's uniforms and the #defines of its surface variants.
   const DrawCamera& cam = list.camera;
   const double dist = (cam.position - center).norm();

@@ -58,6 +58,20 @@ void upload(const gl::GlApi& gl, GpuMesh& m, const TriMesh& t) {
     gl.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, ibytes, t.indices.data());
   m.capacity_v = std::max(m.capacity_v, nv);
   if (coloured) m.capacity_c = std::max(m.capacity_c, nv);
+  // Attribute 11: per-vertex gloss when the mesh has it, else the constant 0 set per frame.
+  if (t.gloss.size() == nv) {
+    gl.BindBuffer(GL_ARRAY_BUFFER, m.vbo[4].id());
+    const auto bytes = static_cast<GLsizeiptr>(nv * sizeof(float));
+    if (nv > m.capacity_g)
+      gl.BufferData(GL_ARRAY_BUFFER, bytes, t.gloss.data(), GL_DYNAMIC_DRAW);
+    else
+      gl.BufferSubData(GL_ARRAY_BUFFER, 0, bytes, t.gloss.data());
+    gl.EnableVertexAttribArray(11);
+    gl.VertexAttribPointer(11, 1, GL_FLOAT, GL_FALSE, 0, nullptr);
+    m.capacity_g = std::max(m.capacity_g, nv);
+  } else {
+    gl.DisableVertexAttribArray(11);
+  }
   m.capacity_i = std::max(m.capacity_i, t.indices.size());
   m.count = static_cast<GLsizei>(t.indices.size());
 }

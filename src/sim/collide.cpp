@@ -71,33 +71,41 @@ Collider makeCollider(const ObjectDesc& o, double reach) {
       c.p0 = s.point;
       c.R = rotationFromUp(s.normal);
       if (s.extent) c.half = Vec3((*s.extent)[0] / 2, 0, (*s.extent)[1] / 2);
+      c.bound_radius = std::numeric_limits<double>::infinity();
     }
     void operator()(const SphereShape& s) const {
-      c.p0 = s.center;
-      c.radius = s.radius;
+      c.p0 = c.bound_center = s.center;
+      c.bound_radius = c.radius = s.radius;
     }
     void operator()(const BoxShape& s) const {
-      c.p0 = s.center;
+      c.p0 = c.bound_center = s.center;
       c.half = s.size / 2;
       c.R = rotationFromEulerDeg(s.rotation_deg);
+      c.bound_radius = c.half.norm();
     }
     void operator()(const ContainerShape& s) const {
-      c.p0 = s.center;
+      c.p0 = c.bound_center = s.center;
       c.half = s.size / 2;
       c.R = rotationFromEulerDeg(s.rotation_deg);
       c.wall = s.wall;
+      c.bound_radius = c.half.norm();
     }
     void operator()(const CapsuleShape& s) const {
       c.p0 = s.a;
       c.p1 = s.b;
       c.radius = s.radius;
+      c.bound_center = 0.5 * (s.a + s.b);
+      c.bound_radius = 0.5 * (s.b - s.a).norm() + s.radius;
     }
     void operator()(const MeshObjectShape& s) const {
       c.mesh = makeMeshShape(placeMesh(*s.mesh, s.scale, rotationFromEulerDeg(s.rotation_deg), s.position),
                              thickness + reach);
+      c.bound_center = 0.5 * (c.mesh->lo + c.mesh->hi);
+      c.bound_radius = 0.5 * (c.mesh->hi - c.mesh->lo).norm();
     }
   };
   std::visit(Shape{c, reach, o.thickness}, o.shape);
+  c.bound_radius += o.thickness;
   if (c.moving()) {
     c.poseAt(0.0, c.rot, c.pos);
     c.rot_prev = c.rot;

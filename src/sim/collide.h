@@ -47,7 +47,15 @@ struct Collider {
   double dt = 0.0;  // time between the previous and the current pose, s
   bool free_body = false;  // a rigid body's: posed by its motion (sim/rigid/rigid_body.h), not by keys
   SpeciesSurfaces species_surface;  // per-species surfaces (liquids)
+  // A sphere around the authored shape (its thickness included); radius infinite for a plane.
+  Vec3 bound_center{0, 0, 0};
+  double bound_radius = 0.0;
   bool moving() const { return free_body || !keys.empty(); }
+  // Whether p may lie within `margin` of the surface (a cheap test before distance()).
+  bool near(const Vec3& p, double margin) const {
+    const double r = bound_radius + margin;
+    return !(r < 1e300) || (toAuthored(p) - bound_center).squaredNorm() <= r * r;
+  }
   // The pose at time t (keys interpolated: position linearly, rotation by slerp, held outside).
   void poseAt(double t, Mat3& r, Vec3& p) const;
   // Moves to time t; the pose before becomes the previous one (surface velocities).

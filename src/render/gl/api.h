@@ -65,6 +65,7 @@ namespace reel::gl {
   X(VertexAttribPointer, PFNGLVERTEXATTRIBPOINTERPROC)                    \
   X(VertexAttribDivisor, PFNGLVERTEXATTRIBDIVISORPROC)                    \
   X(VertexAttrib3f, PFNGLVERTEXATTRIB3FPROC)                              \
+  X(VertexAttrib1f, PFNGLVERTEXATTRIB1FPROC)                              \
   X(VertexAttrib2f, PFNGLVERTEXATTRIB2FPROC)                              \
   X(DrawArrays, PFNGLDRAWARRAYSPROC)                                      \
   X(DrawElements, PFNGLDRAWELEMENTSPROC)                                  \

@@ -54,6 +54,7 @@ struct ClothState {
   // node took (what it drips).
   std::vector<double> wet;
   std::vector<int> wet_species;
+  std::uint64_t wet_from = 0;  // FNV hash of the name of the liquid it soaked up last (its drips go back there)
   long long absorbed = 0, dripped = 0;  // particles soaked up and drops released so far
   Vec3 pin_liquid_force{0, 0, 0};  // the liquid's force on pinned and gripped nodes over the last step, N
 };

@@ -46,7 +46,7 @@ void ClothBody::fields(Self& self, Archive& a) {
   auto& c = self.cloth_;
   a(sp.a)(sp.b)(sp.stiffness)(sp.damping)(sp.rest);
   a(c.spring_id)(c.intact)(c.limited)(c.tear_strain)(c.tri_alive)(c.x_prev)(c.self_passes)(c.springs_broken);
-  a(c.wet)(c.wet_species)(c.absorbed)(c.dripped)(c.pin_liquid_force);
+  a(c.wet)(c.wet_species)(c.wet_from)(c.absorbed)(c.dripped)(c.pin_liquid_force);
 }
 
 void ClothBody::snapshotMore(StateWriter& w) const { fields(*this, w); }

@@ -45,10 +45,11 @@ TriMesh clothMesh(const Cloth& c, const std::vector<Vec3>& x) {
         const auto node = static_cast<std::size_t>(tri[k]);
         mesh.addVertex(x[node], Vec3::UnitY(), c.uv[2 * node], c.uv[2 * node + 1]);
         if (!c.capacity.empty()) {
-          // Wet fabric is darker: light scatters less out of a soaked weave.
+          // Wet fabric is darker (light scatters less out of a soaked weave) and glossier.
           const double soaked = std::min(1.0, c.wet[node] / c.capacity[node]);
           const auto shade = static_cast<float>(1.0 - kWetDarkening * soaked);
           mesh.colors.insert(mesh.colors.end(), {shade, shade, shade});
+          mesh.gloss.push_back(static_cast<float>(soaked));
         }
         normal.push_back(Vec3::Zero());
       }
@@ -70,6 +71,8 @@ void ClothBody::draw(DrawList& out) const {
   sheet.per_frame = true;
   sheet.material = drawMaterial(material_);
   sheet.material.double_sided = true;
+  // An absorbent sheet's wet sheen needs the highlight compiled in.
+  if (!cloth_.capacity.empty()) sheet.material.specular = std::max(sheet.material.specular, 1e-3);
   if (sheet.mesh->triangleCount() > 0) out.meshes.push_back(std::move(sheet));
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/hash.h"
 #include "core/parallel.h"
 #include "sim/cloth/cloth_body.h"
 #include "sim/fluid/fluid_body.h"
@@ -24,6 +25,7 @@ struct Exchange {
   Exchange(Fluid& f, Cloth& cl, SpringNetwork& net, double step)
       : fl(f), c(cl), m(net.model), x(net.state.x), v(net.state.v), h(step) {}
   Fluid& fl;
+  std::uint64_t liquid = 0;  // FNV hash of the liquid's name
   Cloth& c;
   MassSpringModel& m;
   std::vector<Vec3>& x;
@@ -66,6 +68,25 @@ void buildNormals(Exchange& e) {
       e.node_n0[i] += e.tri_n0[t];
     }
   });
+}
+
+// Whether any particle may come within reach of the sheet this step: the boxes of the nodes (now
+// and a step back) and of the particles, the first grown by the reach, overlap.
+bool overlaps(const Exchange& e) {
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  for (std::size_t i = 0; i < e.x.size(); ++i) {
+    const Vec3 back = e.x[i] - e.h * e.v[i];
+    lo = lo.cwiseMin(e.x[i]).cwiseMin(back);
+    hi = hi.cwiseMax(e.x[i]).cwiseMax(back);
+  }
+  lo -= Vec3::Constant(e.grow);
+  hi += Vec3::Constant(e.grow);
+  Vec3 plo = Vec3::Constant(1e300), phi = Vec3::Constant(-1e300);
+  for (const Vec3& p : e.fl.x) {
+    plo = plo.cwiseMin(p);
+    phi = phi.cwiseMax(p);
+  }
+  return (plo.array() <= hi.array()).all() && (lo.array() <= phi.array()).all();
 }
 
 // Grid of the drawn triangles' boxes, over where each was a step back and is now, grown by the
@@ -194,6 +215,7 @@ bool resolve(Exchange& e, std::size_t i, const SheetContact& ct) {
         wetNode(c, e.m, e.v, node, share, fl.v[i]);
         c.wet_species[node] = fl.s[i];
       }
+      c.wet_from = e.liquid;
       ++c.absorbed;
       return true;
     }
@@ -250,11 +272,12 @@ bool resolve(Exchange& e, std::size_t i, const SheetContact& ct) {
   return false;
 }
 
-// Nodes holding a drop's mass beyond their capacity release it below themselves.
+// Nodes holding a drop's mass beyond their capacity release it below themselves, into the liquid
+// the sheet soaked up last.
 void drip(Exchange& e, const Vec3& gravity) {
   Cloth& c = e.c;
   const double g = gravity.norm();
-  if (c.capacity.empty() || !(g > 0)) return;
+  if (c.capacity.empty() || !(g > 0) || c.wet_from != e.liquid) return;
   const Vec3 down = gravity / g;
   for (std::size_t i = 0; i < c.wet.size(); ++i) {
     const int sp = c.wet_species[i];
@@ -284,8 +307,13 @@ void exchangeClothLiquid(Body& liquid, Body& sheet, StepContext& ctx) {
     far = std::max(far, e.range.back());
   }
   e.grow = e.reach + far;
+  {
+    Hasher name;
+    name.add(liquid.name().data(), liquid.name().size());
+    e.liquid = name.h;
+  }
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
-  if (n > 0) {
+  if (n > 0 && overlaps(e)) {
     buildTriangleGrid(e);
     buildNormals(e);
     e.contact.resize(fl.x.size());

@@ -376,11 +376,12 @@ void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, Coupling&
     const auto si = static_cast<std::size_t>(fl.s[i]);
     const double range = fl.pairs[si * S + si].cutoff;
     const Collider& c = colliders[k];
+    const Surface& sf = fl.surfaces[k * S + si];
+    const double reach = c.thickness + fl.radius;
+    if (!c.near(fl.x[i], fl.radius + (sf.adhesion > 0 ? range : 0.0))) return Vec3::Zero();
     double d;
     Vec3 nrm;
     if (!c.distance(fl.x[i], d, nrm)) return Vec3::Zero();
-    const Surface& sf = fl.surfaces[k * S + si];
-    const double reach = c.thickness + fl.radius;
     if (d >= reach + (sf.adhesion > 0 ? range : 0.0)) return Vec3::Zero();
     const Vec3 v_before = fl.v[i];
     // Adhesion: an acceleration towards the surface, full in contact, fading to 0 one cutoff away.
