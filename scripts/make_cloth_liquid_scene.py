@@ -8,9 +8,8 @@ the camera moving from one to the next (docs/cloth_liquid.md).
   18-24 s    a towel pulled across a puddle soaks it up.
 Run from the repository root: python3 scripts/make_cloth_liquid_scene.py
 """
-import json
+from make_rigid_scenes import film, write_scene
 
-G = 9.81
 WATER = {"name": "water", "mass": 0.008, "alpha": 212.6, "beta": 0.085, "cutoff": 0.02725, "viscosity": 6,
          "color": [0.22, 0.5, 0.92]}
 
@@ -38,24 +37,25 @@ def nozzle(objects, x, y, z, name):
 
 
 def water(name, blocks=(), emitters=()):
-    return {"type": "fluid", "name": name, "radius": 0.01, "draw": "surface", "species": [WATER],
+    # A lower surface level than the default (0.5) keeps a falling stream joined.
+    return {"type": "fluid", "name": name, "radius": 0.01, "draw": "surface", "surface_iso": 0.3, "species": [WATER],
             "blocks": list(blocks), "emitters": list(emitters), "specular": 0.8, "shininess": 90}
 
 
-def hammock(objects, bodies, x0, t0, name, tear, rate, stop, color):
+def hammock(objects, bodies, x0, t0, name, tear, rate, stop, color, stiffness):
     half = 0.4
     posts(objects, x0, half, 1.0, name)
     cloth = {"type": "cloth", "name": name, "position": [x0, 1.0, 0], "size": [2 * half, 2 * half],
-             "resolution": [22, 22], "mass": 0.2, "stiffness": 2500, "damping": 2, "shear_stiffness": 600,
+             "resolution": [22, 22], "mass": 0.2, "stiffness": stiffness, "damping": 2, "shear_stiffness": 600,
              "bend_stiffness": 1, "node_damping": 0.01, "thickness": 0.006,
              "pinned": ["corner_00", "corner_10", "corner_01", "corner_11"], "surface": {"friction": 0.4},
              "color": color, "specular": 0.08}
     if tear:
         cloth["tear"] = {"strain": tear, "variation": 0.3}
     bodies.append(cloth)
-    nozzle(objects, x0 + 0.05, 1.75, 0.0, name + "_pipe")
+    nozzle(objects, x0 + 0.05, 1.45, 0.0, name + "_pipe")
     # Layers 19 particles wide leave the nozzle about 2.5 cm apart (spacing 2 cm).
-    bodies.append(water(name + "_water", emitters=[{"position": vec(x0 + 0.05, 1.7, 0.0), "direction": [0, -1, 0],
+    bodies.append(water(name + "_water", emitters=[{"position": vec(x0 + 0.05, 1.4, 0.0), "direction": [0, -1, 0],
                                                    "speed": 1.5, "radius": 0.05, "rate": rate, "start": t0, "stop": stop}]))
 
 
@@ -94,7 +94,7 @@ def towel(objects, bodies, x0):
                    "bend_stiffness": 0.3, "node_damping": 0.01, "thickness": 0.006, "absorbency": 1,
                    "surface": {"friction": 0.5},
                    "grips": [{"nodes": ["edge_x1"], "keys": [{"time": t, "offset": [r(dx), 0.03, 0]} for t, dx in keys]}],
-                   "color": [0.75, 0.82, 0.95], "specular": 0.03})
+                   "color": [0.3, 0.5, 0.78], "specular": 0.03})
     bodies.append(water("puddle", blocks=[{"min": vec(x0 + 0.05, 0.002, -0.14), "max": vec(x0 + 0.33, 0.024, 0.14),
                                            "spacing": 0.02}]))
 
@@ -103,33 +103,28 @@ def main():
     objects = [{"type": "plane", "name": "floor", "checker": True, "color": [0.7, 0.68, 0.64],
                 "surface": {"friction": 0.5}}]
     bodies = []
-    hammock(objects, bodies, 0.0, 0.4, "hammock", None, 800, 4.2, [0.9, 0.78, 0.55])
-    hammock(objects, bodies, 4.0, 6.3, "sling", 0.2, 1000, 9.6, [0.55, 0.7, 0.85])
+    hammock(objects, bodies, 0.0, 0.3, "hammock", None, 900, 4.6, [0.9, 0.78, 0.55], 5000)
+    hammock(objects, bodies, 4.0, 6.3, "sling", 0.2, 1000, 9.6, [0.55, 0.7, 0.85], 2500)
     flag(objects, bodies, 8.0)
     towel(objects, bodies, 12.0)
-    cam = [(0.0, (0.9, 1.75, 2.3), (0.0, 0.9, 0.0)), (5.6, (-0.6, 1.7, 2.2), (0.0, 0.8, 0.0)),
-           (6.2, (4.9, 1.6, 2.3), (4.0, 0.8, 0.0)), (11.6, (3.2, 1.3, 2.2), (4.0, 0.6, 0.0)),
-           (12.2, (8.4, 1.2, 1.7), (8.0, 0.55, 0.0)), (17.6, (7.5, 1.1, 1.6), (8.0, 0.5, 0.0)),
-           (18.2, (11.9, 0.75, 0.95), (12.0, 0.0, 0.0)), (24.0, (12.6, 0.7, 0.9), (12.5, 0.0, 0.0))]
-    scene = {"format": "reel/1", "name": "cloth_liquid", "duration": 24.0, "fps": 30, "substeps": 24,
-             "auto_substeps": True, "integrator": "implicit_euler", "implicit": {"cg_tolerance": 1e-3}, "seed": 16,
-             "gravity": [0, -G, 0],
-             "wind": {"velocity": [1.2, 0, 0.4], "gust": 0.8},
-             "render": {"width": 1280, "height": 720, "samples": 4,
-                        "background": {"top": [0.3, 0.42, 0.62], "bottom": [0.86, 0.84, 0.8]}},
-             "camera": {"position": list(cam[0][1]), "target": list(cam[0][2]), "fov_deg": 45,
-                        "keys": [{"time": t, "position": list(p), "target": list(q)} for t, p, q in cam]},
-             "lights": [{"type": "directional", "direction": [-0.45, -1.0, -0.35], "color": [1.0, 0.96, 0.9],
-                         "intensity": 1.15, "shadows": True},
-                        {"type": "ambient", "color": [0.55, 0.62, 0.75], "intensity": 0.5}],
-             "objects": objects, "bodies": bodies}
-    with open("scenes/cloth_liquid.json", "w") as f:
-        f.write("// Cloth and liquid acting on each other (made by scripts/make_cloth_liquid_scene.py): water\n"
+    # Four shots, cut between (the camera's keys are joined by Catmull–Rom: each shot's start and
+    # end are held for half a frame, so the move inside a shot eases in and out and the cut falls
+    # between two frames).
+    shots = [(0.0, 6.0, ((0.65, 1.75, 1.55), (0.0, 1.15, 0.0)), ((-0.55, 1.7, 1.6), (0.0, 1.1, 0.0))),
+             (6.0, 12.0, ((4.65, 1.7, 1.55), (4.0, 1.12, 0.0)), ((3.4, 1.25, 1.7), (4.0, 0.7, 0.0))),
+             (12.0, 18.0, ((8.45, 1.0, 1.45), (8.0, 0.62, 0.0)), ((7.55, 0.95, 1.4), (8.0, 0.55, 0.0))),
+             (18.0, 24.0, ((11.75, 0.75, 0.95), (11.85, 0.0, 0.0)), ((12.75, 0.7, 0.9), (12.75, 0.0, 0.0)))]
+    cam = []
+    for t0, t1, (p0, q0), (p1, q1) in shots:
+        cam += [(t0, p0, q0), (r(t0 + 1 / 60), p0, q0), (r(t1 - 1 / 30), p1, q1), (r(t1 - 1 / 60), p1, q1)]
+    # The look the rigid-body films share (sky, a key light with shadows, ambient).
+    scene = film("cloth_liquid", 24.0, 24, cam, objects, bodies, auto_substeps=True, integrator="implicit_euler",
+                 implicit={"cg_tolerance": 1e-3}, seed=16, wind={"velocity": [1.2, 0, 0.4], "gust": 0.8})
+    write_scene("scenes/cloth_liquid.json",
+                "// Cloth and liquid acting on each other (made by scripts/make_cloth_liquid_scene.py): water\n"
                 "// poured into a sheet held at its corners, a weaker one that tears under the load, an absorbent\n"
                 "// flag dipped into a pool and lifted out dripping, a towel pulled across a puddle.\n"
-                "// Docs: docs/cloth_liquid.md\n")
-        json.dump(scene, f, indent=1)
-        f.write("\n")
+                "// Docs: docs/cloth_liquid.md\n", scene)
 
 
 if __name__ == "__main__":

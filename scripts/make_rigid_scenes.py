@@ -203,6 +203,14 @@ def film(name, duration, substeps, cam, objects, bodies, **extra):
     return scene
 
 
+def write_scene(path, header, scene):
+    """Writes a scene file: its // header lines, then the JSON."""
+    with open(path, "w") as f:
+        f.write(header)
+        json.dump(scene, f, indent=1)
+        f.write("\n")
+
+
 def main():
     bodies, objects = [], [{"type": "plane", "name": "floor", "checker": True, "color": [0.74, 0.72, 0.68],
                             "surface": {"friction": 0.6, "restitution": 0.2}}]
@@ -214,20 +222,16 @@ def main():
            (7.0, (5.6, 3.2, 5.6), (7.6, 1.2, 0.0)), (12.5, (8.6, 2.4, 5.4), (9.6, 0.6, 0.0)),
            (13.3, (13.4, 1.9, 3.2), (13.9, 1.0, 0.0)), (20.0, (14.3, 1.3, 2.9), (13.3, 0.25, 0.3))]
     scene = film("rigid_bodies", 20.0, 8, cam, objects, bodies, seed=7)
-    with open("scenes/rigid_bodies.json", "w") as f:
-        f.write("// Rigid bodies (made by scripts/make_rigid_scenes.py): a tower of blocks knocked down by a\n"
+    write_scene("scenes/rigid_bodies.json",
+                "// Rigid bodies (made by scripts/make_rigid_scenes.py): a tower of blocks knocked down by a\n"
                 "// swinging wrecking ball, crates tumbling down stairs, a bunny mesh and dice bouncing; each\n"
                 "// body's inertia comes from its shape (the bunny's from its mesh, Mirtich 1996).\n"
-                "// Docs: docs/rigid.md\n")
-        json.dump(scene, f, indent=1)
-        f.write("\n")
-    with open("scenes/cloth_and_crates.json", "w") as f:
-        f.write("// Rigid bodies with cloth and a liquid (made by scripts/make_rigid_scenes.py): a sheet thrown over\n"
+                "// Docs: docs/rigid.md\n", scene)
+    write_scene("scenes/cloth_and_crates.json",
+                "// Rigid bodies with cloth and a liquid (made by scripts/make_rigid_scenes.py): a sheet thrown over\n"
                 "// a pile of crates, crates dropped onto a trampoline cloth held at its corners, a crate dropped\n"
                 "// into a water tank that splashes and floats. Momentum passes both ways through the coupling stage.\n"
-                "// Docs: docs/rigid.md\n")
-        json.dump(cloth_and_crates(), f, indent=1)
-        f.write("\n")
+                "// Docs: docs/rigid.md\n", cloth_and_crates())
 
 
 if __name__ == "__main__":

@@ -552,3 +552,35 @@ TEST_CASE("the sand pattern: pale warm sand, varied, tileable") {
   CHECK(step(0, 127, 0, 0, false) < 1.3 * inner_y + 0.5);
   CHECK(makePattern("no such pattern", 16).width == 0);
 }
+
+TEST_CASE("per-vertex gloss adds a wet sheen where it is 1 and changes nothing where it is 0") {
+  const int W = 64, H = 48;
+  DirectRenderer dr(W, H, 1);
+  DrawList list;
+  list.camera.position = Vec3(0, 1, 1.2);
+  list.camera.target = Vec3::Zero();
+  list.camera.fov_deg = 40;
+  list.background_top = list.background_bottom = Vec3::Zero();
+  LightDesc sun;  // mirrored about the quad's normal into the camera: the highlight at its centre
+  sun.kind = LightKind::Directional;
+  sun.direction = Vec3(0, -1, 1.2).normalized();
+  sun.intensity = 1.0;
+  list.lights = {sun};
+  TriMesh quad = makeQuad(2, 2);
+  auto drawWith = [&](const std::vector<float>& gloss) {
+    TriMesh m = quad;
+    m.gloss = gloss;
+    DrawMesh d;
+    d.mesh = std::make_shared<const TriMesh>(std::move(m));
+    d.material.color = Vec3(0.3, 0.3, 0.3);
+    d.material.specular = 1e-3;
+    list.meshes = {d};
+    return dr.draw(list);
+  };
+  const Image dry = drawWith({});
+  const Image zero = drawWith(std::vector<float>(quad.vertexCount(), 0.0f));
+  const Image wet = drawWith(std::vector<float>(quad.vertexCount(), 1.0f));
+  CHECK(zero.rgb == dry.rgb);
+  const auto [cx, cy] = pixelOf(list, W, H, Vec3::Zero());
+  CHECK(int(wet.pixel(cx, cy)[0]) > int(dry.pixel(cx, cy)[0]) + 60);
+}

@@ -2,9 +2,12 @@
 // over neighbours where species mix), or its surface as a mesh (marching tetrahedra over the
 // particles' density).
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 
 #include "core/isosurface.h"
+#include "core/union_find.h"
 #include "core/parallel.h"
 #include "sim/fluid/fluid_body.h"
 
@@ -42,16 +45,15 @@ std::vector<Vec3> blendedColors(const Fluid& fl) {
 // W(q) = (1 − q²)³, q = r/R, normalised by the density of a bulk at the species' rest spacing,
 // cut at `surface_iso`. Colours are the splatted particle colours, darkened with the depth of
 // liquid behind the surface (colour^(1 + 1.5·density one kernel radius inside): Beer–Lambert-like).
-TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors) {
-  const std::size_t n = fl.x.size();
-  if (n == 0) return {};
+// The surface of the particles `part` (whose kernels overlap no other particle's).
+TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, const std::vector<std::size_t>& part) {
+  if (part.empty()) return {};
   const double R = fl.surface_kernel;
   double cell = fl.surface_cell;
-  Vec3 lo = fl.x[0], hi = fl.x[0];
-  for (const Vec3& p : fl.x) {
-    if (!p.allFinite()) continue;
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
+  Vec3 lo = fl.x[part[0]], hi = lo;
+  for (std::size_t p : part) {
+    lo = lo.cwiseMin(fl.x[p]);
+    hi = hi.cwiseMax(fl.x[p]);
   }
   lo -= Vec3::Constant(R + 2 * cell);
   hi += Vec3::Constant(R + 2 * cell);
@@ -74,9 +76,8 @@ TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors) {
   if (!(spacing > 0)) spacing = 2.0 * fl.radius;
   const double bulk = 0.6383 * R * R * R / (spacing * spacing * spacing);  // ∫W dV / spacing³
   const int reach = static_cast<int>(std::ceil(R / cell));
-  for (std::size_t p = 0; p < n; ++p) {
+  for (std::size_t p : part) {
     const Vec3& x = fl.x[p];
-    if (!x.allFinite()) continue;
     const Vec3 g = (x - lo) / cell;
     const int ci = static_cast<int>(std::lround(g.x())), cj = static_cast<int>(std::lround(g.y())),
               ck = static_cast<int>(std::lround(g.z()));
@@ -105,6 +106,52 @@ TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors) {
     }
   }
   return m;
+}
+
+// The liquid's surface, piece by piece: particles are grouped by cells of 2·(kernel + cell) (a
+// group is the particles of cells joined through their 26 neighbours), so no kernel reaches from
+// one group into another, and each group's surface is extracted on a grid over its own box. A
+// splash far from the pool costs a small grid of its own, not one spanning both.
+TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors) {
+  const double C = 2.0 * (fl.surface_kernel + 2.0 * fl.surface_cell);
+  std::vector<std::array<std::int64_t, 3>> key;  // each finite particle's cell
+  std::vector<std::size_t> who;
+  for (std::size_t p = 0; p < fl.x.size(); ++p) {
+    if (!fl.x[p].allFinite() || !(fl.x[p].cwiseAbs().maxCoeff() < 1e9)) continue;
+    key.push_back({static_cast<std::int64_t>(std::floor(fl.x[p].x() / C)), static_cast<std::int64_t>(std::floor(fl.x[p].y() / C)),
+                   static_cast<std::int64_t>(std::floor(fl.x[p].z() / C))});
+    who.push_back(p);
+  }
+  // Distinct cells, sorted; groups of cells by union–find over their neighbours.
+  std::vector<std::array<std::int64_t, 3>> cells = key;
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  std::vector<int> parent(cells.size());
+  for (std::size_t c = 0; c < cells.size(); ++c) parent[c] = static_cast<int>(c);
+  for (std::size_t c = 0; c < cells.size(); ++c)
+    for (int dk = -1; dk <= 1; ++dk)
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+          const std::array<std::int64_t, 3> q = {cells[c][0] + di, cells[c][1] + dj, cells[c][2] + dk};
+          const auto it = std::lower_bound(cells.begin(), cells.end(), q);
+          if (it != cells.end() && *it == q) unite(parent, static_cast<int>(c), static_cast<int>(it - cells.begin()));
+        }
+  std::vector<std::vector<std::size_t>> groups(cells.size());
+  for (std::size_t k = 0; k < who.size(); ++k) {
+    const auto c = static_cast<std::size_t>(std::lower_bound(cells.begin(), cells.end(), key[k]) - cells.begin());
+    groups[static_cast<std::size_t>(findRoot(parent, static_cast<int>(c)))].push_back(who[k]);
+  }
+  TriMesh out;
+  for (const auto& g : groups) {
+    if (g.empty()) continue;
+    const TriMesh m = liquidSurface(fl, colors, g);
+    const auto base = static_cast<std::uint32_t>(out.vertexCount());
+    out.positions.insert(out.positions.end(), m.positions.begin(), m.positions.end());
+    out.normals.insert(out.normals.end(), m.normals.begin(), m.normals.end());
+    out.colors.insert(out.colors.end(), m.colors.begin(), m.colors.end());
+    for (std::uint32_t i : m.indices) out.indices.push_back(base + i);
+  }
+  return out;
 }
 
 }  // namespace
