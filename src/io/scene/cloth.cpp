@@ -79,8 +79,8 @@ void readCloth(Obj& o, ClothDesc& c) {
         GripDesc grip;
         readPins(go, {nx, ny}, nx * ny, names, grip.nodes, "nodes", true);
         if (go.has("keys")) {
-          for (const char* k : {"velocity", "start", "stop"})
-            if (go.has(k)) d.error(childPath(go.path(), k), "a grip moves by its keys or by a velocity, not both");
+          for (const char* key : {"velocity", "start", "stop"})
+            if (go.has(key)) d.error(childPath(go.path(), key), "a grip moves by its keys or by a velocity, not both");
           readList(go, "keys", [&](Obj& ko) {
             const double t = ko.number("time", kNonNeg, true).value_or(0.0);
             const Vec3 off = ko.vec3("offset", Vec3::Zero());

@@ -200,7 +200,7 @@ bool resolve(Exchange& e, std::size_t i, const SheetContact& ct) {
   const auto& tri = c.tris[static_cast<std::size_t>(ct.tri)];
   const auto si = static_cast<std::size_t>(fl.s[i]);
   const Surface& sf = e.surface[si];
-  bool touching = ct.gap < e.reach;
+  const bool touching = ct.gap < e.reach;
   // Soaked up while the triangle's nodes hold less than their capacity: its mass and momentum
   // are shared among them by the weights of the closest point.
   if (touching && !c.capacity.empty()) {
@@ -229,13 +229,9 @@ bool resolve(Exchange& e, std::size_t i, const SheetContact& ct) {
     vc += ct.w[k] * e.v[node];
   }
   const Vec3& nn = ct.normal;
-  // The gap now, along the contact's normal: particles resolved before may have moved the nodes.
-  Vec3 q = Vec3::Zero();
-  for (int k = 0; k < 3; ++k) q += ct.w[k] * e.x[static_cast<std::size_t>(tri[static_cast<std::size_t>(k)])];
-  const double gap = nn.dot(fl.x[i] - q);
+  const double gap = ct.gap;  // the nodes do not move here (only their velocities change)
   const Vec3 vrel = fl.v[i] - vc;
   const double vn = nn.dot(vrel);
-  touching = gap < e.reach;
   Vec3 J = Vec3::Zero();
   // Adhesion: an acceleration of the particle towards the sheet, full in contact, fading to 0 one
   // range away; the sheet is pulled back as much.
