@@ -8,6 +8,8 @@ the camera moving from one to the next (docs/cloth_liquid.md).
   18-24 s    a towel pulled across a puddle soaks it up.
 Run from the repository root: python3 scripts/make_cloth_liquid_scene.py
 """
+import math
+
 from make_rigid_scenes import film, write_scene
 
 WATER = {"name": "water", "mass": 0.008, "alpha": 212.6, "beta": 0.085, "cutoff": 0.02725, "viscosity": 6,
@@ -22,12 +24,14 @@ def vec(*v):
     return [r(x) for x in v]
 
 
-def posts(objects, x0, half, top, name):
-    """Four wooden posts whose tops hold a sheet's corners."""
+def posts(objects, x0, half, top, name, tilt):
+    """Four wooden posts whose tops hold a sheet's corners (the sheet turned by `tilt` degrees about
+    x: its +z edge lower)."""
+    s, c = math.sin(math.radians(tilt)), math.cos(math.radians(tilt))
     for k, (sx, sz) in enumerate(((-1, -1), (1, -1), (-1, 1), (1, 1))):
-        x, z = x0 + sx * (half + 0.025), sz * (half + 0.025)
+        x, y, z = x0 + sx * (half + 0.025), top - sz * half * s, sz * (half * c + 0.025)
         objects.append({"type": "capsule", "name": "%s_post%d" % (name, k), "start": vec(x, 0.0, z),
-                        "end": vec(x, top + 0.02, z), "radius": 0.025, "color": [0.45, 0.32, 0.2], "specular": 0.1})
+                        "end": vec(x, y + 0.02, z), "radius": 0.025, "color": [0.45, 0.32, 0.2], "specular": 0.1})
 
 
 def nozzle(objects, x, y, z, name):
@@ -42,10 +46,11 @@ def water(name, blocks=(), emitters=()):
             "blocks": list(blocks), "emitters": list(emitters), "specular": 0.8, "shininess": 90}
 
 
-def hammock(objects, bodies, x0, t0, name, tear, rate, stop, color, stiffness):
+def hammock(objects, bodies, x0, t0, name, tear, rate, stop, color, stiffness, tilt=0.0):
     half = 0.4
-    posts(objects, x0, half, 1.0, name)
-    cloth = {"type": "cloth", "name": name, "position": [x0, 1.0, 0], "size": [2 * half, 2 * half],
+    posts(objects, x0, half, 1.0, name, tilt)
+    cloth = {"type": "cloth", "name": name, "position": [x0, 1.0, 0], "rotation_deg": [tilt, 0, 0],
+             "size": [2 * half, 2 * half],
              "resolution": [22, 22], "mass": 0.2, "stiffness": stiffness, "damping": 2, "shear_stiffness": 600,
              "bend_stiffness": 1, "node_damping": 0.01, "thickness": 0.006,
              "pinned": ["corner_00", "corner_10", "corner_01", "corner_11"], "surface": {"friction": 0.4},
@@ -103,7 +108,8 @@ def main():
     objects = [{"type": "plane", "name": "floor", "checker": True, "color": [0.7, 0.68, 0.64],
                 "surface": {"friction": 0.5}}]
     bodies = []
-    hammock(objects, bodies, 0.0, 0.3, "hammock", None, 900, 4.6, [0.9, 0.78, 0.55], 5000)
+    # Its front edge 7 cm lower: filled, it overflows there.
+    hammock(objects, bodies, 0.0, 0.3, "hammock", None, 900, 4.6, [0.9, 0.78, 0.55], 5000, tilt=10.0)
     hammock(objects, bodies, 4.0, 6.3, "sling", 0.2, 1000, 9.6, [0.55, 0.7, 0.85], 2500)
     flag(objects, bodies, 8.0)
     towel(objects, bodies, 12.0)
