@@ -66,31 +66,32 @@ bool polytopePair(const ConvexPolytope& Ain, double rA, const Pose& pa, const Co
   }
   for (const auto& F : A.faces) an.push(F.normal);
 
-  // A's faces: how far all of B lies beyond each
-  // (and the deepest vertex of B under the best one)
-  double sepA = -kInf;
-  int faceA = -1, deepB = 0;
-  for (int f = 0; f < nFA; ++f) {
-    double lo = kInf;
-    int at = 0;
-    for (int j = 0; j < nVB; ++j)
-      if (const double h = an[f].dot(bv[j]); h < lo) lo = h, at = j;
-    const double sep = lo - A.faces[static_cast<Index>(f)].offset;
-    if (sep - r > margin) return false;
-    if (sep > sepA) sepA = sep, faceA = f, deepB = at;
-  }
-  // B's faces: how far all of A lies beyond each
-  double sepB = -kInf;
-  int faceB = -1, deepA = 0;
-  for (int f = 0; f < nFB; ++f) {
-    double lo = kInf;
-    int at = 0;
-    for (int i = 0; i < nVA; ++i)
-      if (const double h = bn[f].dot(vertexOf(A, i)); h < lo) lo = h, at = i;
-    const double sep = lo - bo[f];
-    if (sep - r > margin) return false;
-    if (sep > sepB) sepB = sep, faceB = f, deepA = at;
-  }
+  // The face of one polytope with all of the other lying farthest beyond it (its separation),
+  // and the other's deepest vertex under it; false when some face separates them beyond reach.
+  auto deepestFace = [&](int faces, int verts, auto normal, auto offset, auto vertex, double& best, int& face, int& deep) {
+    best = -kInf;
+    face = -1;
+    deep = 0;
+    for (int f = 0; f < faces; ++f) {
+      double lo = kInf;
+      int at = 0;
+      for (int j = 0; j < verts; ++j)
+        if (const double h = normal(f).dot(vertex(j)); h < lo) lo = h, at = j;
+      const double sep = lo - offset(f);
+      if (sep - r > margin) return false;
+      if (sep > best) best = sep, face = f, deep = at;
+    }
+    return true;
+  };
+  double sepA, sepB;
+  int faceA, deepB, faceB, deepA;
+  if (!deepestFace(nFA, nVB, [&](int f) -> const Vec3& { return an[f]; },
+                [&](int f) { return A.faces[static_cast<Index>(f)].offset; }, [&](int j) -> const Vec3& { return bv[j]; },
+                sepA, faceA, deepB))
+    return false;
+  if (!deepestFace(nFB, nVA, [&](int f) -> const Vec3& { return bn[f]; }, [&](int f) { return bo[f]; },
+                [&](int i) { return vertexOf(A, i); }, sepB, faceB, deepA))
+    return false;
   // Edge pairs whose Gauss arcs cross (A's arc against B's negated arc); the axis across both
   // edges, turned out of A
   double sepE = -kInf;
