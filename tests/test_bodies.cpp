@@ -101,6 +101,10 @@ const std::map<std::string, std::string> kScenes = {
                  {"type": "rigid", "name": "ball", "shape": "sphere", "radius": 0.1, "position": [0.1, 1.2, 0], "velocity": [0, -1, 0]},
                  {"type": "rigid", "name": "hanger", "shape": "capsule", "radius": 0.05, "length": 0.5, "position": [0.8, 0.5, 0],
                   "motion": {"keys": [{"time": 0, "position": [0.8, 0.5, 0]}, {"time": 1, "position": [0.2, 0.5, 0], "rotation_deg": [0, 0, 60]}]}}]})"},
+    {"face", kHead + R"("duration": 0.5, "substeps": 2, "integrator": "implicit_euler",
+      "bodies": [{"type": "face", "name": "f", "resolution": [24, 18], "blinks": [0.1],
+                  "keys": [{"time": 0, "rotation_deg": [0, 20, 0]}, {"time": 0.5, "rotation_deg": [5, -10, 0]}],
+                  "activations": [{"time": 0, "preset": "happiness", "amount": 0}, {"time": 0.3, "preset": "surprise"}]}]})"},
 };
 
 }  // namespace
@@ -223,6 +227,6 @@ TEST_CASE("the registry names every body kind once, and each has a resume test a
   // An unknown kind is named with the nearest from the table.
   auto r = app::parseScene(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "clth", "name": "x"}]})", "k.json");
   REQUIRE(!r.ok());
-  CHECK(r.error().headline().find("did you mean \"cloth\"? (one of: mass_spring, rope, net, lattice, cloth, fluid, school, fish, food, seaweed, rigid)") !=
+  CHECK(r.error().headline().find("did you mean \"cloth\"? (one of: mass_spring, rope, net, lattice, cloth, fluid, school, fish, food, seaweed, rigid, face)") !=
         std::string::npos);
 }

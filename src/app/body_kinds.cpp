@@ -3,6 +3,7 @@
 #include "io/scene/readers.h"
 #include "sim/cloth/cloth_body.h"
 #include "sim/coupling/cloth_liquid.h"
+#include "sim/face/face_body.h"
 #include "sim/fish/fish_body.h"
 #include "sim/fish/food.h"
 #include "sim/fish/seaweed.h"
@@ -18,7 +19,7 @@ namespace {
 // the fish world's kinds have theirs.
 constexpr std::uint64_t kSpringsStream = 0xC107, kFluidStream = 0xF1D0, kSchoolStream = 0x5C00, kFishStream = 0xF154,
                         kFoodStream = 0xF00D, kSeaweedStream = 0x5EA0,
-                        kRigidStream = 0x816D;
+                        kRigidStream = 0x816D, kFaceStream = 0xFACE;
 
 constexpr BodyKind kBodyKinds[] = {
     {"mass_spring", io::readMassSpringBody, buildMassSpringBody, kSpringsStream},
@@ -32,6 +33,7 @@ constexpr BodyKind kBodyKinds[] = {
     {"food", io::readFoodBody, buildFoodBody, kFoodStream},
     {"seaweed", io::readSeaweedBody, buildSeaweedBody, kSeaweedStream},
     {"rigid", io::readRigidBody, buildRigidBody, kRigidStream},
+    {"face", io::readFaceBody, buildFaceBody, kFaceStream},
 };
 
 // Exchanges between kinds in the coupling stage, in this order.

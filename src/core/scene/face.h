@@ -1,0 +1,137 @@
+// The `face` kind: a muscle-driven face (Terzopoulos & Waters 1990, "Physically-based facial
+// modelling, analysis, and animation"; Lee, Terzopoulos & Waters 1995, "Realistic modeling for
+// facial animation"). A layered mass-spring tissue (epidermis, dermal–fatty layer, muscle layer)
+// over a skull, moved by Waters' linear and sphincter muscles. docs/face.md lists every key.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/mesh.h"
+#include "core/scene/body.h"
+#include "core/types.h"
+
+namespace reel {
+
+// One tissue layer: its thickness (m) and Young's modulus (Pa); springs take E·V/l² of the
+// volume V they stand for.
+struct FaceLayerDesc {
+  double thickness = 0.0;  // m
+  double modulus = 0.0;    // Pa
+};
+
+// A muscle of the scene (points in the head's own frame: origin at the head's centre, +y up,
+// +z out of the face, +x the head's left; metres at the default height of 0.24 m).
+struct FaceMuscleDesc {
+  std::string name;
+  bool sphincter = false;
+  // Linear (Waters 1987): from the attachment on the skull to the insertion in the tissue; nodes
+  // within `angle_deg` of that line and `falloff_end` muscle lengths of the attachment are pulled
+  // toward the attachment, fully up to `falloff_start` lengths.
+  Vec3 attachment{0, 0, 0}, insertion{0, 0, 0};
+  double angle_deg = 35.0;
+  double falloff_start = 0.8, falloff_end = 1.4;  // muscle lengths
+  // Sphincter: an ellipse around `center` in the plane facing `normal`, semi-axes `radii` (along
+  // the head's x and the plane's up); nodes inside are squeezed toward its centre.
+  Vec3 center{0, 0, 0}, normal{0, 0, 1};
+  std::array<double, 2> radii{0.03, 0.02};  // m
+  double strength = 0.5;  // N, the muscle's pull at full contraction, shared by the nodes it moves
+  std::string path;       // JSON path (messages)
+};
+
+// Activations at one time: presets with their amounts (and side), and single controls.
+struct FaceActivationKey {
+  double time = 0.0;  // s
+  std::vector<std::pair<std::string, double>> presets;  // name → amount 0..1
+  std::string side = "both";                             // presets: "both", "left", "right"
+  std::vector<std::pair<std::string, double>> muscles;  // control name → contraction 0..1
+  std::string path;
+};
+
+// The head's pose at one time (eased between keys).
+struct FacePoseKey {
+  double time = 0.0;
+  Vec3 rotation_deg{0, 0, 0};
+};
+
+// Where the eyes look at one time (world point; linear between keys).
+struct FaceGazeKey {
+  double time = 0.0;
+  Vec3 target{0, 0, 1};
+};
+
+// How the face is drawn from a time on: "skin" or "layers" (the lattice and the muscles).
+struct FaceDrawKey {
+  double time = 0.0;
+  bool layers = false;
+};
+
+struct FaceDesc final : BodyParams {
+  // The surface: reel's own head (no `mesh`), or a user's closed mesh with its `skull` mesh or an
+  // `inset` distance (m) to the bone.
+  std::shared_ptr<const TriMesh> mesh, skull;
+  std::string mesh_file, skull_file;
+  double inset = 0.0;            // m; 0 with a user mesh: the skull mesh is required
+  double height = 0.24;          // m, chin to crown of reel's head
+  std::array<int, 2> resolution{64, 40};  // reel's head: columns around, rows from crown to neck
+  Vec3 position{0, 0, 0};        // m, the head's centre
+  Vec3 rotation_deg{0, 0, 0};
+  std::vector<FacePoseKey> keys;  // the head's rotation over time (replaces rotation_deg)
+  // Tissue (defaults: effective moduli; see docs/face.md).
+  FaceLayerDesc epidermis{0.001, 4.0e5};  // a membrane on the surface
+  FaceLayerDesc dermis{0.004, 1.5e4};     // dermal–fatty layer
+  FaceLayerDesc muscle{0.005, 3.0e3};     // muscle layer, down to the skull
+  double biphasic_strain = 0.15;   // past this strain the skin's springs stiffen
+  double biphasic_ratio = 5.0;     // by this factor
+  double volume_modulus = 1.0e5;   // Pa, resistance of each tissue element to a change of volume
+  double density = 1000.0;         // kg/m³
+  double damping = 8.0;            // 1/s, each node's drag over its mass
+  double spring_damping = 0.002;   // s, a spring's damping over its stiffness
+  double gravity_scale = 1.0;
+  bool default_muscles = true;     // reel's head: its muscles (off: only `muscles`)
+  std::vector<FaceMuscleDesc> muscles;
+  std::vector<FaceActivationKey> activations;
+  std::vector<double> blinks;      // s, times at which a blink starts (0.25 s each)
+  std::vector<FaceGazeKey> gaze;   // none: the eyes look straight ahead
+  std::vector<FaceDrawKey> draw;   // none: skin
+  Vec3 iris_color{0.12, 0.22, 0.35};  // linear rgb
+
+  // Three nodes per surface vertex (epidermis, fascia, bone), about twenty springs.
+  std::pair<long long, long long> nodesAndSprings() const override {
+    const long long v = mesh ? static_cast<long long>(mesh->vertexCount())
+                             : static_cast<long long>(resolution[0] + 1) * (resolution[1] - 1) + 2 + resolution[0] / 2;
+    return {3 * v, 20 * v};
+  }
+};
+
+// The controls activations may name besides muscles: the jaw's opening and the eyelids.
+inline constexpr std::array<const char*, 3> kFaceControls = {"jaw_open", "blink", "eyelid_raise"};
+// reel's head's muscles: these in pairs (`_left`, `_right`; left is +x) ...
+inline constexpr std::array<const char*, 8> kFacePairedMuscles = {
+    "zygomatic_major", "zygomatic_minor", "levator_labii", "depressor_anguli_oris",
+    "frontalis_inner", "frontalis_outer", "corrugator", "orbicularis_oculi"};
+// ... and these on the midline.
+inline constexpr std::array<const char*, 2> kFaceMidlineMuscles = {"orbicularis_oris", "mentalis"};
+
+// An expression preset: controls (paired muscles by their name without side) and their amounts
+// at full expression. Ekman's six universal expressions, by the muscles FACS gives for them
+// (Ekman & Friesen 1978), and a blink.
+struct FacePreset {
+  const char* name;
+  std::array<std::pair<const char*, double>, 7> controls;  // unused slots: nullptr
+};
+inline constexpr std::array<FacePreset, 7> kFacePresets = {{
+    {"happiness", {{{"zygomatic_major", 1.0}, {"zygomatic_minor", 0.4}, {"orbicularis_oculi", 0.35}, {"jaw_open", 0.12}}}},
+    {"sadness", {{{"frontalis_inner", 0.9}, {"corrugator", 0.45}, {"depressor_anguli_oris", 1.0}, {"mentalis", 0.6}}}},
+    {"surprise", {{{"frontalis_inner", 1.0}, {"frontalis_outer", 1.0}, {"jaw_open", 0.75}, {"eyelid_raise", 1.0}}}},
+    {"anger", {{{"corrugator", 1.0}, {"orbicularis_oris", 0.8}, {"orbicularis_oculi", 0.4}, {"levator_labii", 0.3}, {"mentalis", 0.4}}}},
+    {"disgust", {{{"levator_labii", 1.0}, {"corrugator", 0.5}, {"depressor_anguli_oris", 0.4}, {"orbicularis_oculi", 0.35}, {"mentalis", 0.6}}}},
+    {"fear", {{{"frontalis_inner", 1.0}, {"frontalis_outer", 0.5}, {"corrugator", 0.5}, {"eyelid_raise", 1.0}, {"depressor_anguli_oris", 0.6}, {"jaw_open", 0.3}}}},
+    {"blink", {{{"blink", 1.0}}}},
+}};
+
+}  // namespace reel

@@ -1,0 +1,246 @@
+#include "sim/face/face_body.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/format.h"
+#include "core/keys.h"
+#include "core/math.h"
+#include "core/parallel.h"
+
+namespace reel {
+
+using Index = std::ptrdiff_t;
+
+namespace {
+
+double ease(double s) { return s * s * (3 - 2 * s); }
+
+Mat3 aboutX(double a) { return Eigen::AngleAxisd(a, Vec3::UnitX()).toRotationMatrix(); }
+
+}  // namespace
+
+Mat3 FaceBody::boneRotation(std::size_t k) const { return R_ * aboutX(surface_.jaw[k] * jaw_); }
+
+Vec3 FaceBody::boneToWorld(std::size_t k, const Vec3& q) const {
+  const Vec3& hinge = surface_.jaw_hinge;
+  return desc_.position + R_ * (hinge + aboutX(surface_.jaw[k] * jaw_) * (q - hinge));
+}
+
+Vec3 FaceBody::attachmentWorld(std::size_t m) const {
+  const Vec3& hinge = surface_.jaw_hinge;
+  return desc_.position + R_ * (hinge + aboutX(attachment_jaw_[m] * jaw_) * (muscles_[m].desc.attachment - hinge));
+}
+
+void FaceBody::pose(double t) {
+  t_ = t;
+  activations_.at(t, act_);
+  // The head: eased between its keys.
+  Vec3 deg = desc_.rotation_deg;
+  if (!desc_.keys.empty()) {
+    const KeySpan k = keySpan(desc_.keys, t, [](const FacePoseKey& key) { return key.time; });
+    deg = k.s == 0.0 ? desc_.keys[k.i].rotation_deg
+                     : Vec3((1 - ease(k.s)) * desc_.keys[k.i].rotation_deg + ease(k.s) * desc_.keys[k.i + 1].rotation_deg);
+  }
+  R_ = rotationFromEulerDeg(deg);
+  jaw_ = act_[static_cast<std::size_t>(activations_.index("jaw_open"))] * kJawMaxRad;
+  const std::size_t n = surface_.size();
+  auto& x = net_.state.x;
+  auto& v = net_.state.v;
+  for (std::size_t k = 0; k < n; ++k) {
+    x[2 * n + k] = boneToWorld(k, surface_.bone[k]);
+    v[2 * n + k].setZero();  // fixed nodes carry no velocity (the integrators' rule)
+  }
+}
+
+// Each muscle's pull, shared by the fascia nodes of its zone by their weights (Waters 1987's
+// fall-offs, as forces: Lee, Terzopoulos & Waters 1995, section 5).
+void FaceBody::muscleForces() {
+  const std::size_t n = surface_.size();
+  const auto& x = net_.state.x;
+  for (std::size_t m = 0; m < muscles_.size(); ++m) {
+    const double a = act_[m];
+    if (a <= 0) continue;
+    const FaceMuscle& mu = muscles_[m];
+    const FaceMuscleDesc& d = mu.desc;
+    const Vec3 att = attachmentWorld(m);
+    Vec3 u, v;
+    sphincterAxes(d.normal.normalized(), u, v);
+    const Vec3 center = desc_.position + R_ * d.center;
+    const Vec3 uw = R_ * u, vw = R_ * v;
+    for (std::size_t j = 0; j < mu.nodes.size(); ++j) {
+      const auto k = static_cast<std::size_t>(mu.nodes[j]);
+      // Along the skull: its part into the bone is the skull's to bear.
+      const Vec3 o = boneRotation(k) * tissue_.out[k];
+      Vec3 pull = musclePull(mu, x[n + k], att, center, uw, vw);
+      pull -= pull.dot(o) * o;
+      ext_[n + k] += (a * d.strength * mu.weight[j]) * pull;
+    }
+  }
+}
+
+// The skull's non-penetration (Lee, Terzopoulos & Waters 1995, eq. 6, as a constraint on
+// position): a node that sinks below its floor above its bone point is put back on it and loses
+// its velocity into the skull.
+void FaceBody::keepAboveSkull() {
+  const std::size_t n = surface_.size();
+  auto& x = net_.state.x;
+  auto& v = net_.state.v;
+  parallelFor(static_cast<Index>(n), [&](Index k) {
+    const auto kk = static_cast<std::size_t>(k);
+    const Vec3 o = boneRotation(kk) * tissue_.out[kk];
+    const Vec3& b = x[2 * n + kk];
+    for (std::size_t i : {kk, n + kk}) {
+      const double floor = i < n ? tissue_.floor_skin[kk] : tissue_.floor_fascia[kk];
+      const double d = (x[i] - b).dot(o);
+      if (d >= floor) continue;
+      x[i] += (floor - d) * o;
+      const double vn = v[i].dot(o);
+      if (vn < 0) v[i] -= vn * o;
+    }
+  });
+}
+
+void FaceBody::step(StepContext& ctx) {
+  pose(ctx.t1);
+  ext_.assign(net_.model.nodes(), Vec3::Zero());
+  muscleForces();
+  phaseSprings(tissue_, net_.model, net_.state.x);
+  net_.system->setExternalForces(ext_.data());
+  net_.integrate(ctx);
+  preserveVolumes(tissue_, net_.model, net_.state.x, net_.state.v, ctx.h);
+  keepAboveSkull();
+  net_.contacts(ctx);
+}
+
+void FaceBody::settle(const ImplicitSettings& implicit) {
+  constexpr double kSettleStep = 0.1;  // s: implicit Euler's large steps, close to a static solve
+  // Under gravity from rest, damped by implicit Euler's large steps, then still: a face at rest
+  // starts at rest.
+  StepStats stats;
+  for (int s = 0; s < 60; ++s) {
+    net_.system->setExternalForces(nullptr);
+    phaseSprings(tissue_, net_.model, net_.state.x);
+    integrate(IntegratorKind::ImplicitEuler, *net_.system, net_.state.x, net_.state.v, kSettleStep, net_.workspace, implicit,
+              &stats);
+    preserveVolumes(tissue_, net_.model, net_.state.x, net_.state.v, kSettleStep);
+    keepAboveSkull();
+  }
+  for (Vec3& v : net_.state.v) v.setZero();
+  net_.workspace.dv.assign(net_.state.v.size(), Vec3::Zero());
+}
+
+double FaceBody::lowestAboveSkull() const {
+  const std::size_t n = surface_.size();
+  const auto& x = net_.state.x;
+  double low = 1e300;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3 o = boneRotation(k) * tissue_.out[k];
+    for (std::size_t i : {k, n + k}) low = std::min(low, (x[i] - x[2 * n + k]).dot(o));
+  }
+  return low;
+}
+
+double FaceBody::mouthOpening() const {
+  if (upper_lip_ == lower_lip_) return 0.0;
+  return (net_.state.x[upper_lip_] - net_.state.x[lower_lip_]).norm();
+}
+
+bool FaceBody::view(BodyView& out) const {
+  SpringNetworkBody::view(out);
+  out.masses = net_.model.mass;
+  out.fields.push_back({"muscles", 1, act_});
+  return true;
+}
+
+void FaceBody::statistics(std::vector<Statistic>& out) const {
+  out.push_back({"mouth_opening", mouthOpening()});
+  out.push_back({"volume_change", worstVolumeChange(tissue_, net_.state.x)});
+  double sum = 0.0;
+  for (std::size_t m = 0; m < muscles_.size(); ++m) sum += act_[m];
+  out.push_back({"mean_contraction", muscles_.empty() ? 0.0 : sum / static_cast<double>(muscles_.size())});
+}
+
+std::vector<std::string> FaceBody::notes(double) const {
+  std::string names;
+  for (const std::string& c : activations_.controls) names += (names.empty() ? "" : ", ") + c;
+  return {std::to_string(2 * surface_.size()) + " tissue nodes over " + std::to_string(surface_.size()) + " skull points, " +
+              std::to_string(net_.model.springs.size()) + " springs, " + std::to_string(tissue_.prisms.size()) + " elements",
+          "controls (the dump's `muscles`, in this order): " + names};
+}
+
+void FaceBody::snapshotMore(StateWriter& w) const {
+  w.put(t_);
+}
+
+bool FaceBody::restoreMore(StateReader& r) {
+  double t = 0;
+  r.get(t);
+  if (!std::isfinite(t)) return false;
+  pose(t);
+  return true;
+}
+
+Status FaceBody::setup(const BodyDesc& desc, const BuildContext& ctx) {
+  const std::string& file = ctx.scene->file;
+  const double thickness = desc_.dermis.thickness + desc_.muscle.thickness;
+  if (desc_.mesh) {
+    auto s = userHead(*desc_.mesh, desc_.skull.get(), desc_.inset, file + ": " + desc.path + "/mesh");
+    if (!s) return s.error();
+    surface_ = std::move(s.value());
+  } else {
+    surface_ = makeHead(desc_.height, desc_.resolution, thickness);
+  }
+  MassSpringDesc ms = buildTissue(surface_, desc_, tissue_);
+  MassSpringDesc scaled = ms;
+  const Vec3 gravity = desc_.gravity_scale * ctx.scene->gravity;
+  // Place the head: nodes in the world.
+  const Mat3 R = rotationFromEulerDeg(desc_.keys.empty() ? desc_.rotation_deg : desc_.keys.front().rotation_deg);
+  for (NodeDesc& nd : scaled.nodes) nd.position = desc_.position + R * nd.position;
+  net_.build(scaled, gravity, ctx.scene->integrator, 0.002);
+  // An explicit method's bound: with every spring in its stiff phase.
+  for (double& k : net_.model.springs.stiffness) k *= desc_.biphasic_ratio;
+  net_.bound = stableStep(net_.model, ctx.scene->integrator);
+  net_.model.springs.stiffness = tissue_.stiffness;
+  if (std::string e = net_.unstableMethod(desc.name, ctx.scene->integrator); !e.empty())
+    return Error(ErrorKind::BadInput, file + ": " + e);
+  // Muscles: reel's head's own, then the scene's.
+  std::vector<FaceMuscleDesc> all;
+  if (surface_.generated && desc_.default_muscles) all = defaultMuscles(surface_);
+  for (const FaceMuscleDesc& m : desc_.muscles) all.push_back(m);
+  std::vector<Vec3> fascia(surface_.size());
+  for (std::size_t k = 0; k < surface_.size(); ++k) fascia[k] = ms.nodes[surface_.size() + k].position;
+  for (const FaceMuscleDesc& m : all) {
+    auto placed = placeMuscle(m, surface_, fascia, file);
+    if (!placed) return placed.error();
+    std::size_t nearest = 0;
+    for (std::size_t k = 1; k < surface_.size(); ++k)
+      if ((surface_.bone[k] - m.attachment).squaredNorm() < (surface_.bone[nearest] - m.attachment).squaredNorm()) nearest = k;
+    attachment_jaw_.push_back(m.sphincter ? 0.0 : surface_.jaw[nearest]);
+    muscles_.push_back(std::move(placed.value()));
+  }
+  auto acts = makeActivations(desc_, muscles_, file);
+  if (!acts) return acts.error();
+  activations_ = std::move(acts.value());
+  // The lips' parting at the midline: the mouth vertex and its lower copy.
+  if (surface_.generated)
+    for (std::size_t k = 0; k < surface_.size(); ++k) {
+      if ((surface_.skin[k] - surface_.mouth).squaredNorm() > 1e-14) continue;
+      (upper_lip_ == 0 ? upper_lip_ : lower_lip_) = k;
+    }
+  if (lower_lip_ == 0) lower_lip_ = upper_lip_;
+  pose(0.0);
+  return {};
+}
+
+Result<std::unique_ptr<Body>> buildFaceBody(const BodyDesc& desc, const BuildContext& ctx) {
+  Material material = desc.material;
+  auto body = std::make_unique<FaceBody>(desc.name, desc.as<FaceDesc>(), material);
+  if (Status st = body->setup(desc, ctx); !st) return st.error();
+  ImplicitSettings implicit;
+  implicit.cg_tolerance = 1e-6;
+  body->settle(implicit);
+  return std::unique_ptr<Body>(std::move(body));
+}
+
+}  // namespace reel

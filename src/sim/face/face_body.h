@@ -1,0 +1,83 @@
+// The face kind: the tissue (tissue.h) on the shared spring network, over a skull that the head's
+// pose keys turn and whose jaw opens, moved by Waters' muscles (muscles.h) as activation keys
+// and presets say. Drawn as skin with eyes, eyelids and a mouth, or as its layers and muscles
+// (face_draw.cpp).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/scene/face.h"
+#include "sim/face/head.h"
+#include "sim/face/muscles.h"
+#include "sim/face/tissue.h"
+#include "sim/spring_network.h"
+
+namespace reel {
+
+class FaceBody final : public SpringNetworkBody {
+ public:
+  FaceBody(std::string name, const FaceDesc& desc, const Material& material)
+      : SpringNetworkBody(std::move(name), "face"), desc_(desc), material_(material) {}
+  void step(StepContext& ctx) override;
+  void draw(DrawList& out) const override;
+  bool view(BodyView& out) const override;
+  void statistics(std::vector<Statistic>& out) const override;
+  std::vector<std::string> notes(double h) const override;
+
+  const FaceSurface& surface() const { return surface_; }
+  const FaceTissue& tissue() const { return tissue_; }
+  const std::vector<FaceMuscle>& muscles() const { return muscles_; }
+  const FaceActivations& activations() const { return activations_; }
+  const std::vector<double>& contractions() const { return act_; }
+  // The head's rotation and the jaw's opening angle (rad) at the last pose.
+  const Mat3& rotation() const { return R_; }
+  double jawAngle() const { return jaw_; }
+  // The height of each moving node above its skull point (m; negative: through the skull).
+  double lowestAboveSkull() const;
+  // Mouth opening: the distance between the lips at the midline, m (0 without a mouth).
+  double mouthOpening() const;
+
+  // Builds everything but the network; the builder then settles the face under gravity.
+  Status setup(const BodyDesc& desc, const BuildContext& ctx);
+  void settle(const ImplicitSettings& implicit);
+
+ protected:
+  void snapshotMore(StateWriter& w) const override;
+  bool restoreMore(StateReader& r) override;
+
+ private:
+  // Poses the skull at time t: the activations, the head's rotation, the jaw, the bone nodes.
+  void pose(double t);
+  // The skull's frame at bone vertex k: where the head frame's point q under it goes (world).
+  Vec3 boneToWorld(std::size_t k, const Vec3& q) const;
+  Mat3 boneRotation(std::size_t k) const;
+  // Muscle m's attachment in the world (on the jaw, it moves with it).
+  Vec3 attachmentWorld(std::size_t m) const;
+  void muscleForces();
+  void keepAboveSkull();
+  void drawSkin(DrawList& out) const;
+  void drawLayers(DrawList& out) const;
+
+  FaceDesc desc_;
+  Material material_;
+  FaceSurface surface_;
+  FaceTissue tissue_;
+  std::vector<FaceMuscle> muscles_;
+  std::vector<double> attachment_jaw_;  // the jaw's share at each muscle's attachment
+  FaceActivations activations_;
+  std::vector<double> act_;  // contractions now (controls)
+  std::vector<Vec3> ext_;    // muscle and tissue forces, N (nodes)
+  double t_ = 0.0;           // time of the last pose, s
+  Mat3 R_ = Mat3::Identity();
+  double jaw_ = 0.0;
+  std::size_t upper_lip_ = 0, lower_lip_ = 0;  // midline vertices of the lips' parting
+};
+
+Result<std::unique_ptr<Body>> buildFaceBody(const BodyDesc& desc, const BuildContext& ctx);
+
+// The largest jaw opening, at jaw_open = 1, rad.
+inline constexpr double kJawMaxRad = 0.3;
+
+}  // namespace reel

@@ -1,0 +1,221 @@
+#include "sim/face/tissue.h"
+
+#include <cmath>
+#include <map>
+#include <utility>
+
+#include "core/parallel.h"
+#include "sim/forces.h"
+
+namespace reel {
+
+using Index = std::ptrdiff_t;
+
+namespace {
+
+// The prism's three tetrahedra: lower a0 a1 a2, upper b0 b1 b2 (indices 0–2 and 3–5).
+constexpr int kTets[3][4] = {{0, 1, 2, 3}, {1, 2, 3, 4}, {2, 3, 4, 5}};
+// The six orders of a triangle's corners and the sign each gives the volume. Three tetrahedra
+// split the prism along one diagonal of each side face; where a side face is not flat, the split
+// matters, so the volume is the mean over every order: the same function for a mirrored prism.
+constexpr int kOrders[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
+
+double tetVolume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  return (b - a).dot((c - a).cross(d - a)) / 6.0;
+}
+
+// The prism's volume and, when grad is given, its gradient by each of the six points.
+double prismVolumeGrad(const std::array<Vec3, 6>& p, std::array<Vec3, 6>* grad) {
+  if (grad) grad->fill(Vec3::Zero());
+  double v = 0.0;
+  for (int o = 0; o < 6; ++o) {
+    const double sign = o < 3 ? 1.0 : -1.0;
+    int map[6];
+    for (int c = 0; c < 3; ++c) map[c] = kOrders[o][c], map[3 + c] = 3 + kOrders[o][c];
+    for (const auto& t : kTets) {
+      const int i0 = map[t[0]], i1 = map[t[1]], i2 = map[t[2]], i3 = map[t[3]];
+      const Vec3 &a = p[static_cast<std::size_t>(i0)], &b = p[static_cast<std::size_t>(i1)];
+      const Vec3 &c = p[static_cast<std::size_t>(i2)], &d = p[static_cast<std::size_t>(i3)];
+      v += sign * tetVolume(a, b, c, d);
+      if (!grad) continue;
+      // ∂V/∂b, ∂V/∂c, ∂V/∂d of (b − a)·((c − a) × (d − a)) / 6; ∂V/∂a is minus their sum.
+      const Vec3 gb = sign * (c - a).cross(d - a) / 6.0, gc = sign * (d - a).cross(b - a) / 6.0,
+                 gd = sign * (b - a).cross(c - a) / 6.0;
+      (*grad)[static_cast<std::size_t>(i0)] -= gb + gc + gd;
+      (*grad)[static_cast<std::size_t>(i1)] += gb;
+      (*grad)[static_cast<std::size_t>(i2)] += gc;
+      (*grad)[static_cast<std::size_t>(i3)] += gd;
+    }
+  }
+  if (grad)
+    for (Vec3& g : *grad) g /= 6.0;
+  return v / 6.0;
+}
+
+}  // namespace
+
+double prismVolume(const std::array<Vec3, 6>& p) { return prismVolumeGrad(p, nullptr); }
+
+// Jacobi passes per step: each node's correction is the mean of its elements', so it takes a few
+// passes to reach the constraints' solution.
+constexpr int kVolumePasses = 4;
+static void volumePass(FaceTissue& T, const MassSpringModel& m, std::vector<Vec3>& x, std::vector<Vec3>& v, double h);
+
+MassSpringDesc buildTissue(const FaceSurface& s, const FaceDesc& desc, FaceTissue& T) {
+  const std::size_t n = s.size();
+  T = FaceTissue{};
+  T.n = n;
+  T.volume_modulus = desc.volume_modulus;
+  T.biphasic_strain = desc.biphasic_strain;
+  T.biphasic_ratio = desc.biphasic_ratio;
+  // The fascia lies below the dermal–fatty layer: the same share of the way to the bone everywhere.
+  const double share = desc.dermis.thickness / (desc.dermis.thickness + desc.muscle.thickness);
+  std::vector<Vec3> x(3 * n);
+  T.out.resize(n);
+  T.floor_fascia.resize(n);
+  T.floor_skin.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    x[k] = s.skin[k];
+    x[n + k] = s.skin[k] + share * (s.bone[k] - s.skin[k]);
+    x[2 * n + k] = s.bone[k];
+    const double depth = (s.skin[k] - s.bone[k]).norm();
+    T.out[k] = (s.skin[k] - s.bone[k]) / depth;
+    T.floor_fascia[k] = 0.25 * (1 - share) * depth;
+    T.floor_skin[k] = 0.25 * depth;
+  }
+  // Springs, keyed by their ends, their stiffness summed over the elements they belong to.
+  std::map<std::pair<int, int>, double> springs;
+  auto add = [&](int a, int b, double k) {
+    if (a > b) std::swap(a, b);
+    springs[{a, b}] += k;
+  };
+  auto len2 = [&](int a, int b) { return (x[static_cast<std::size_t>(a)] - x[static_cast<std::size_t>(b)]).squaredNorm(); };
+  std::vector<double> mass(3 * n, 0.0);
+  for (std::size_t t = 0; t + 2 < s.tris.size(); t += 3) {
+    const int v[3] = {static_cast<int>(s.tris[t]), static_cast<int>(s.tris[t + 1]), static_cast<int>(s.tris[t + 2])};
+    // The epidermis: a membrane of thickness t and modulus E, k = E t A / l² per triangle at an edge.
+    const double area = 0.5 * (x[static_cast<std::size_t>(v[1])] - x[static_cast<std::size_t>(v[0])])
+                                   .cross(x[static_cast<std::size_t>(v[2])] - x[static_cast<std::size_t>(v[0])])
+                                   .norm();
+    for (int e = 0; e < 3; ++e) {
+      const int a = v[e], b = v[(e + 1) % 3];
+      add(a, b, desc.epidermis.modulus * desc.epidermis.thickness * area / len2(a, b));
+    }
+    // Two prisms: dermal (fascia below, epidermis above) and muscle (bone below, fascia above).
+    for (int layer = 0; layer < 2; ++layer) {
+      const int lo = layer == 0 ? static_cast<int>(n) : static_cast<int>(2 * n), hi = layer == 0 ? 0 : static_cast<int>(n);
+      std::array<int, 6> P{lo + v[0], lo + v[1], lo + v[2], hi + v[0], hi + v[1], hi + v[2]};
+      std::array<Vec3, 6> p;
+      for (int c = 0; c < 6; ++c) p[static_cast<std::size_t>(c)] = x[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])];
+      const double V = prismVolume(p);
+      if (!(V > 0)) continue;  // a degenerate element (a pole's sliver) adds nothing
+      T.prisms.push_back(P);
+      T.rest_volume.push_back(V);
+      for (int c = 0; c < 6; ++c) mass[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])] += desc.density * V / 6.0;
+      // Its springs: the three edges below and above, straight down, and crosswise (two per side
+      // face), each taking E·V/(5 l²): fifteen springs that give the element about modulus E.
+      const double E = layer == 0 ? desc.dermis.modulus : desc.muscle.modulus;
+      auto spring = [&](int a, int b) { add(a, b, E * V / (5.0 * len2(a, b))); };
+      for (int e = 0; e < 3; ++e) {
+        const int f = (e + 1) % 3;
+        spring(P[static_cast<std::size_t>(e)], P[static_cast<std::size_t>(f)]);
+        spring(P[static_cast<std::size_t>(3 + e)], P[static_cast<std::size_t>(3 + f)]);
+        spring(P[static_cast<std::size_t>(e)], P[static_cast<std::size_t>(3 + e)]);
+        spring(P[static_cast<std::size_t>(e)], P[static_cast<std::size_t>(3 + f)]);
+        spring(P[static_cast<std::size_t>(f)], P[static_cast<std::size_t>(3 + e)]);
+      }
+    }
+  }
+  MassSpringDesc ms;
+  ms.nodes.resize(3 * n);
+  for (std::size_t i = 0; i < 3 * n; ++i) {
+    NodeDesc& nd = ms.nodes[i];
+    nd.position = x[i];
+    nd.mass = mass[i] > 0 ? mass[i] : 1e-9;
+    nd.fixed = i >= 2 * n;
+    nd.damping = desc.damping * nd.mass;
+  }
+  for (const auto& [ends, k] : springs) {
+    // Springs between two bone nodes hold nothing.
+    if (ends.first >= static_cast<int>(2 * n) && ends.second >= static_cast<int>(2 * n)) continue;
+    ms.springs.push_back({ends.first, ends.second, k, desc.spring_damping * k, -1.0});
+    T.stiffness.push_back(k);
+    T.rest.push_back(std::sqrt(len2(ends.first, ends.second)));
+  }
+  // The volume forces' incidence: each node's corners in prism order.
+  T.corner_start.assign(3 * n + 1, 0);
+  for (const auto& P : T.prisms)
+    for (int c : P) ++T.corner_start[static_cast<std::size_t>(c) + 1];
+  for (std::size_t i = 0; i < 3 * n; ++i) T.corner_start[i + 1] += T.corner_start[i];
+  T.corners.assign(6 * T.prisms.size(), 0);
+  std::vector<int> fill(T.corner_start.begin(), T.corner_start.end() - 1);
+  for (std::size_t e = 0; e < T.prisms.size(); ++e)
+    for (int c = 0; c < 6; ++c)
+      T.corners[static_cast<std::size_t>(fill[static_cast<std::size_t>(T.prisms[e][static_cast<std::size_t>(c)])]++)] =
+          static_cast<int>(6 * e) + c;
+  return ms;
+}
+
+// Lee, Terzopoulos & Waters 1995, eq. 3: a biphasic spring has stiffness c up to the strain ε_c
+// and βc beyond. Past ε_c in tension its force c·ε_c·l + βc·(e − ε_c·l) is that of a spring of
+// stiffness βc and rest length l·(1 + ε_c − ε_c/β); in compression, l·(1 − ε_c + ε_c/β).
+void phaseSprings(const FaceTissue& T, MassSpringModel& m, const std::vector<Vec3>& x) {
+  Springs& sp = m.springs;
+  const double eps = T.biphasic_strain, beta = T.biphasic_ratio;
+  parallelFor(static_cast<Index>(sp.size()), [&](Index s) {
+    const auto k = static_cast<std::size_t>(s);
+    const double l = T.rest[k];
+    const double strain = ((x[static_cast<std::size_t>(sp.b[k])] - x[static_cast<std::size_t>(sp.a[k])]).norm() - l) / l;
+    if (strain > eps) sp.stiffness[k] = beta * T.stiffness[k], sp.rest[k] = l * (1 + eps - eps / beta);
+    else if (strain < -eps) sp.stiffness[k] = beta * T.stiffness[k], sp.rest[k] = l * (1 - eps + eps / beta);
+    else sp.stiffness[k] = T.stiffness[k], sp.rest[k] = l;
+  });
+}
+
+// The volume term of Lee, Terzopoulos & Waters 1995 (eq. 4), as a compliant constraint
+// C = V − V₀ with compliance 1/(κ V₀) (Macklin, Müller & Chentanez 2016, "XPBD"): stable at any
+// step, and as stiff as κ when the step resolves it. Each element's correction is found alone
+// (Jacobi) and each node takes the mean of its elements' corrections.
+void preserveVolumes(FaceTissue& T, const MassSpringModel& m, std::vector<Vec3>& x, std::vector<Vec3>& v, double h) {
+  if (T.volume_modulus <= 0) return;
+  for (int pass = 0; pass < kVolumePasses; ++pass) volumePass(T, m, x, v, h);
+}
+
+static void volumePass(FaceTissue& T, const MassSpringModel& m, std::vector<Vec3>& x, std::vector<Vec3>& v, double h) {
+  T.corner_move.resize(6 * T.prisms.size());
+  parallelFor(static_cast<Index>(T.prisms.size()), [&](Index e) {
+    const auto& P = T.prisms[static_cast<std::size_t>(e)];
+    std::array<Vec3, 6> p;
+    for (int c = 0; c < 6; ++c) p[static_cast<std::size_t>(c)] = x[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])];
+    std::array<Vec3, 6> grad;
+    const double V = prismVolumeGrad(p, &grad);
+    const double V0 = T.rest_volume[static_cast<std::size_t>(e)];
+    double denom = V0 / (T.volume_modulus * h * h);  // compliance 1/k over h², k = κ/V₀
+    for (int c = 0; c < 6; ++c) denom += m.inv_mass[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])] * grad[static_cast<std::size_t>(c)].squaredNorm();
+    const double lambda = -(V - V0) / denom;
+    for (int c = 0; c < 6; ++c)
+      T.corner_move[static_cast<std::size_t>(6 * e + c)] =
+          (lambda * m.inv_mass[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])]) * grad[static_cast<std::size_t>(c)];
+  });
+  parallelFor(static_cast<Index>(m.nodes()), [&](Index i) {
+    const int first = T.corner_start[static_cast<std::size_t>(i)], last = T.corner_start[static_cast<std::size_t>(i) + 1];
+    if (m.fixed[static_cast<std::size_t>(i)] || first == last) return;
+    Vec3 move = Vec3::Zero();
+    for (int q = first; q < last; ++q) move += T.corner_move[static_cast<std::size_t>(T.corners[static_cast<std::size_t>(q)])];
+    move /= static_cast<double>(last - first);
+    x[static_cast<std::size_t>(i)] += move;
+    v[static_cast<std::size_t>(i)] += move / h;
+  });
+}
+
+double worstVolumeChange(const FaceTissue& T, const std::vector<Vec3>& x) {
+  double worst = 0.0;
+  for (std::size_t e = 0; e < T.prisms.size(); ++e) {
+    std::array<Vec3, 6> p;
+    for (int c = 0; c < 6; ++c) p[static_cast<std::size_t>(c)] = x[static_cast<std::size_t>(T.prisms[e][static_cast<std::size_t>(c)])];
+    worst = std::max(worst, std::abs(prismVolume(p) - T.rest_volume[e]) / T.rest_volume[e]);
+  }
+  return worst;
+}
+
+}  // namespace reel

@@ -1,0 +1,57 @@
+// The face's tissue (Lee, Terzopoulos & Waters 1995, section 4): three surfaces of nodes, the
+// epidermis on the skin, the fascia below the dermal–fatty layer, the bone on the skull; each
+// surface triangle makes a prism element in each of the two layers. Springs join the nodes
+// within the epidermis and the fascia, and across each layer (straight down and crosswise).
+// The tissue's springs are biphasic (stiffer past a strain); each element keeps its volume; the
+// face body keeps the nodes above the skull.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/scene/face.h"
+#include "core/scene/mass_spring.h"
+#include "core/types.h"
+#include "sim/face/head.h"
+#include "sim/mass_spring.h"
+
+namespace reel {
+
+struct FaceTissue {
+  std::size_t n = 0;  // surface vertices: node k is its epidermis, n + k its fascia, 2n + k its bone
+  // Elements: prisms, the lower triangle's three nodes then the upper's (same order).
+  std::vector<std::array<int, 6>> prisms;
+  std::vector<double> rest_volume;  // m³ (prisms)
+  double volume_modulus = 0.0;      // Pa
+  // For each node, its (prism, corner) pairs in prism order (compressed rows): the volume forces
+  // gathered in a fixed order.
+  std::vector<int> corner_start, corners;
+  double biphasic_strain = 0.0, biphasic_ratio = 1.0;
+  std::vector<double> stiffness, rest;  // the springs' own (first phase), N/m and m
+  // The skull: each vertex's outward direction in the head frame (bone → skin at rest) and the
+  // least height above its bone point its fascia and epidermis nodes keep, m.
+  std::vector<Vec3> out;
+  std::vector<double> floor_fascia, floor_skin;
+  // Scratch: per prism corner.
+  std::vector<Vec3> corner_move;
+};
+
+// Nodes and springs of the tissue over `surface` (bone nodes fixed), and the tissue's own terms.
+MassSpringDesc buildTissue(const FaceSurface& surface, const FaceDesc& desc, FaceTissue& tissue);
+
+// The signed volume of a prism (three tetrahedra), m³.
+double prismVolume(const std::array<Vec3, 6>& p);
+
+// Sets each spring's phase from its strain now (biphasic springs, as stiffness and rest length of
+// the model's springs, so the integrator, implicit Euler too, sees the phase it is in).
+void phaseSprings(const FaceTissue& tissue, MassSpringModel& model, const std::vector<Vec3>& x);
+
+// Moves the nodes toward each element's rest volume (one Jacobi pass of compliant constraints),
+// and their velocities with them; step h.
+void preserveVolumes(FaceTissue& tissue, const MassSpringModel& model, std::vector<Vec3>& x, std::vector<Vec3>& v, double h);
+
+// The largest relative change of volume of any element, for checks and statistics.
+double worstVolumeChange(const FaceTissue& tissue, const std::vector<Vec3>& x);
+
+}  // namespace reel

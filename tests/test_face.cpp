@@ -1,0 +1,217 @@
+// The face: the tissue's elements and biphasic springs against their formulas, a face at rest
+// staying at rest, what a zygomatic major does, symmetry, volumes kept, the skull never crossed,
+// determinism, bad input.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "helpers.h"
+#include "sim/face/face_body.h"
+#include "sim/world.h"
+
+using namespace reel;
+using namespace reel::test;
+
+namespace {
+
+const FaceBody& face(const World& w) { return *w.first<FaceBody>(); }
+
+// A face at a test resolution; `extra` adds keys to it.
+std::string faceScene(const std::string& extra, double duration = 1.0, const std::string& resolution = "[48, 32]") {
+  return R"({"format": "reel/1", "duration": )" + std::to_string(duration) +
+         R"(, "fps": 30, "substeps": 2, "integrator": "implicit_euler", "implicit": {"cg_tolerance": 1e-5},
+    "bodies": [{"type": "face", "name": "f", "resolution": )" + resolution + extra + "}]}";
+}
+
+// The head-frame position of skin vertex k now (the head is at the origin, unturned).
+Vec3 skin(const World& w, std::size_t k) { return face(w).network().state.x[k]; }
+
+// The vertex whose rest position is nearest p (in the head frame).
+std::size_t vertexNear(const FaceBody& f, const Vec3& p) {
+  std::size_t best = 0;
+  for (std::size_t k = 0; k < f.surface().size(); ++k)
+    if ((f.surface().skin[k] - p).squaredNorm() < (f.surface().skin[best] - p).squaredNorm()) best = k;
+  return best;
+}
+
+}  // namespace
+
+TEST_CASE("face: a prism's volume and its three tetrahedra; biphasic springs by their phases") {
+  // A right prism over the triangle (0,0)-(2,0)-(0,3), height 0.5: volume 3 · 0.5 = 1.5.
+  std::array<Vec3, 6> p = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0, 3, 0), Vec3(0, 0, 0.5), Vec3(2, 0, 0.5), Vec3(0, 3, 0.5)};
+  CHECK(prismVolume(p) == doctest::Approx(1.5).epsilon(1e-14));
+  // Sheared (the top slid sideways): the same volume (Cavalieri).
+  for (int c = 3; c < 6; ++c) p[static_cast<std::size_t>(c)] += Vec3(0.7, -0.2, 0);
+  CHECK(prismVolume(p) == doctest::Approx(1.5).epsilon(1e-14));
+  // Biphasic: one spring of stiffness c = 10, rest 1, ε_c = 0.1, β = 4. Its force at length L is
+  // c(L − 1) within the strain, c·0.1 + 4c(L − 1.1) beyond (and the mirror in compression).
+  FaceTissue T;
+  T.biphasic_strain = 0.1, T.biphasic_ratio = 4.0;
+  T.stiffness = {10.0};
+  T.rest = {1.0};
+  MassSpringModel m;
+  m.springs.add(0, 1, 10.0, 0.0, 1.0);
+  for (double L : {0.7, 0.95, 1.05, 1.3}) {
+    std::vector<Vec3> x = {Vec3::Zero(), Vec3(L, 0, 0)};
+    phaseSprings(T, m, x);
+    const double f = m.springs.stiffness[0] * (L - m.springs.rest[0]);
+    const double e = L - 1.0;
+    const double want = std::abs(e) <= 0.1 ? 10 * e : std::copysign(10 * 0.1 + 40 * (std::abs(e) - 0.1), e);
+    CAPTURE(L);
+    CHECK(f == doctest::Approx(want).epsilon(1e-12));
+  }
+}
+
+// The volumes of the tissue's elements now, m³.
+std::vector<double> volumes(const FaceBody& f) {
+  const FaceTissue& T = f.tissue();
+  const auto& x = f.network().state.x;
+  std::vector<double> v;
+  for (const auto& P : T.prisms) {
+    std::array<Vec3, 6> p;
+    for (int c = 0; c < 6; ++c) p[static_cast<std::size_t>(c)] = x[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])];
+    v.push_back(prismVolume(p));
+  }
+  return v;
+}
+
+TEST_CASE("face: a face at rest stays at rest for 10 s") {
+  World w = worldFromText(faceScene("", 10.0, "[32, 24]"));
+  const std::vector<Vec3> x0 = face(w).network().state.x;
+  run(w, 299);
+  const auto& x = face(w).network().state.x;
+  double moved = 0.0, speed = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    moved = std::max(moved, (x[i] - x0[i]).norm());
+    speed = std::max(speed, face(w).network().state.v[i].norm());
+  }
+  MESSAGE("at rest for 10 s: moved at most " << moved << " m, fastest node " << speed << " m/s");
+  CHECK(moved < 3e-4);   // m: under a thousandth of the head's height
+  CHECK(speed < 1e-4);   // m/s
+}
+
+TEST_CASE("face: the zygomatic major lifts the mouth corner up and out, and the cheek bulges") {
+  World w = worldFromText(faceScene(R"(, "activations": [{"time": 0, "muscles": {"zygomatic_major_left": 0}},
+                                                          {"time": 0.4, "muscles": {"zygomatic_major_left": 1}}])"));
+  const FaceBody& f = face(w);
+  const FaceSurface& s = f.surface();
+  const std::size_t corner = vertexNear(f, s.mouth + Vec3(0.5 * s.mouth_width, 0, -0.003));
+  const std::size_t other = vertexNear(f, s.mouth + Vec3(-0.5 * s.mouth_width, 0, -0.003));
+  const Vec3 c0 = skin(w, corner), o0 = skin(w, other);
+  const std::vector<Vec3> x0 = f.network().state.x;
+  run(w, 24);
+  const Vec3 dc = skin(w, corner) - c0;
+  CAPTURE(dc.transpose());
+  CHECK(dc.y() > 0.002);   // up, by more than 2 mm
+  CHECK(dc.x() > 0.0005);  // outward (the head's left is +x)
+  // The cheek bulges: tissue gathered toward the cheekbone rises along its normal (bone → skin).
+  double bulge = 0.0;
+  for (std::size_t k = 0; k < s.size(); ++k)
+    if ((s.skin[k] - Vec3(0.045, -0.02, 0.07)).norm() < 0.025) bulge = std::max(bulge, (skin(w, k) - x0[k]).dot(f.tissue().out[k]));
+  MESSAGE("cheek bulge " << bulge << " m");
+  CHECK(bulge > 0.0003);
+  // The other corner, dragged along the lips, rises much less.
+  CHECK(skin(w, other).y() - o0.y() < 0.5 * dc.y());
+}
+
+TEST_CASE("face: symmetric activations keep the face symmetric; volumes kept; the skull never crossed") {
+  World w = worldFromText(faceScene(R"(, "activations": [{"time": 0, "preset": "happiness", "amount": 0},
+      {"time": 0.3, "presets": {"anger": 1, "surprise": 0.6}}, {"time": 0.6, "preset": "fear"}])"));
+  const FaceBody& f = face(w);
+  const std::vector<double> v0 = volumes(f);
+  const FaceSurface& s = f.surface();
+  // Each vertex's mirror image (x → −x) at rest.
+  std::vector<std::size_t> mirror(s.size());
+  // (A lower lip's copy of a vertex of the parting mirrors to a copy.)
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    const Vec3 m(-s.skin[k].x(), s.skin[k].y(), s.skin[k].z());
+    std::size_t best = k;
+    for (std::size_t j = 0; j < s.size(); ++j)
+      if ((j >= s.lower_lip) == (k >= s.lower_lip) && (s.skin[j] - m).squaredNorm() < (s.skin[best] - m).squaredNorm()) best = j;
+    mirror[k] = best;
+  }
+  double worst_volume = 0.0, lowest = 1.0;
+  for (int frame = 0; frame < 27; ++frame) {
+    run(w, 1);
+    const std::vector<double> v = volumes(f);
+    for (std::size_t e = 0; e < v.size(); ++e) {
+      worst_volume = std::max(worst_volume, std::abs(v[e] - v0[e]) / v0[e]);
+    }
+    lowest = std::min(lowest, f.lowestAboveSkull());
+  }
+  MESSAGE("strongest expression: worst element volume change " << worst_volume << ", lowest node above the skull " << lowest << " m");
+  CHECK(worst_volume < 0.75);
+  CHECK(lowest > 0.0);
+  double asym = 0.0;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    const Vec3 a = skin(w, k), b = skin(w, mirror[k]);
+    asym = std::max(asym, (a - Vec3(-b.x(), b.y(), b.z())).norm());
+  }
+  MESSAGE("asymmetry " << asym << " m");
+  CHECK(asym < 1e-6);
+}
+
+TEST_CASE("face: the jaw opens the mouth; blinks and the dump's muscles") {
+  World w = worldFromText(faceScene(R"(, "blinks": [0.1], "activations": [{"time": 0, "muscles": {"jaw_open": 0}}, {"time": 0.5, "muscles": {"jaw_open": 1}}])"));
+  const FaceBody& f = face(w);
+  CHECK(f.mouthOpening() < 0.002);  // closed lips (the lower one a little lower after settling)
+  run(w, 5);
+  const int blink = f.activations().index("blink");
+  REQUIRE(blink >= 0);
+  CHECK(f.contractions()[static_cast<std::size_t>(blink)] == doctest::Approx(blinkClosure(5.0 / 30.0 - 0.1)));
+  run(w, 20);
+  CHECK(f.jawAngle() == doctest::Approx(kJawMaxRad));
+  CHECK(f.mouthOpening() > 0.01);  // m
+  BodyView view;
+  REQUIRE(f.view(view));
+  REQUIRE(view.fields.size() == 1);
+  CHECK(view.fields[0].name == "muscles");
+  CHECK(view.fields[0].values.size() == f.activations().controls.size());
+  CHECK(view.masses.size() == view.positions.size());
+}
+
+TEST_CASE("face: the same at 1 and 2 threads") {
+  const std::string text = faceScene(R"(, "keys": [{"time": 0, "rotation_deg": [0, 30, 0]}, {"time": 0.5, "rotation_deg": [0, -10, 0]}],
+      "activations": [{"time": 0, "preset": "disgust"}])", 0.4);
+  CHECK(runHash(text, 1, 10) == runHash(text, 2, 10));
+}
+
+TEST_CASE("face: bad input") {
+  auto build = [](const std::string& extra) {
+    auto scene = app::parseScene(faceScene(extra), "s.json");
+    if (!scene.ok()) return scene.error().messages.front();
+    auto w = app::makeWorld(scene.value());
+    REQUIRE(!w.ok());
+    CHECK(w.error().kind == ErrorKind::BadInput);
+    return w.error().messages.front();
+  };
+  // A muscle attached in the air, one inserted outside the tissue.
+  checkHas(build(R"(, "muscles": [{"name": "m", "attachment": [0, 0, 0.3], "insertion": [0, 0, 0.08]}])"),
+           "/bodies/0/muscles/0/attachment: muscle 'm' is attached outside the skull");
+  checkHas(build(R"(, "muscles": [{"name": "m", "attachment": [0.05, 0.0, 0.0], "insertion": [0, 0, 0.0]}])"), "/bodies/0/muscles/0/");
+  // A contraction outside [0, 1], an unknown muscle, an unknown preset.
+  checkHas(badInputError(faceScene(R"(, "activations": [{"time": 0, "muscles": {"jaw_open": 1.5}}])")), "/bodies/0/activations/0/muscles/jaw_open");
+  checkHas(badInputError(faceScene(R"(, "activations": [{"time": 0, "muscles": {"zygomatic_majr": 0.5}}])")), "did you mean");
+  checkHas(badInputError(faceScene(R"(, "activations": [{"time": 0, "preset": "happines"}])")), "did you mean \"happiness\"");
+  // Layers that would cross the skull; a mesh without its skull.
+  checkHas(badInputError(faceScene(R"(, "dermis": {"thickness": 0.02}, "muscle": {"thickness": 0.02})")), "cross the skull");
+  checkHas(badInputError(faceScene(R"(, "skull": "x.obj")")), "/bodies/0/skull");
+}
+
+TEST_CASE("face: a user's mesh must be closed; the inset must not fold") {
+  // A tetrahedron, closed; the same without a face, open; a thin slab inset deeper than it is thick.
+  TriMesh tet;
+  for (const Vec3& p : {Vec3(0, 0, 0.1), Vec3(0.1, 0, -0.05), Vec3(-0.1, 0, -0.05), Vec3(0, 0.1, 0)}) tet.addVertex(p, Vec3::UnitY());
+  tet.indices = {0, 1, 3, 1, 2, 3, 2, 0, 3, 0, 2, 1};
+  auto ok = userHead(tet, nullptr, 0.005, "s.json: /bodies/0/mesh");
+  CHECK(ok.ok());
+  TriMesh open = tet;
+  open.indices.resize(9);
+  auto bad = userHead(open, nullptr, 0.005, "s.json: /bodies/0/mesh");
+  REQUIRE(!bad.ok());
+  checkHas(bad.error().messages.front(), "must be closed");
+  auto folded = userHead(makeBox(Vec3(0.1, 0.01, 0.1)), nullptr, 0.02, "s.json: /bodies/0/mesh");
+  REQUIRE(!folded.ok());
+  checkHas(folded.error().messages.front(), "cross the skull");
+}
+
