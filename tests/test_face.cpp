@@ -3,6 +3,7 @@
 // determinism, bad input.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "helpers.h"
@@ -36,13 +37,25 @@ std::size_t vertexNear(const FaceBody& f, const Vec3& p) {
 
 }  // namespace
 
-TEST_CASE("face: a prism's volume and its three tetrahedra; biphasic springs by their phases") {
+TEST_CASE("face: a prism's volume and biphasic springs by their phases") {
   // A right prism over the triangle (0,0)-(2,0)-(0,3), height 0.5: volume 3 · 0.5 = 1.5.
   std::array<Vec3, 6> p = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0, 3, 0), Vec3(0, 0, 0.5), Vec3(2, 0, 0.5), Vec3(0, 3, 0.5)};
   CHECK(prismVolume(p) == doctest::Approx(1.5).epsilon(1e-14));
   // Sheared (the top slid sideways): the same volume (Cavalieri).
   for (int c = 3; c < 6; ++c) p[static_cast<std::size_t>(c)] += Vec3(0.7, -0.2, 0);
   CHECK(prismVolume(p) == doctest::Approx(1.5).epsilon(1e-14));
+  // Listed from another corner, or mirrored (x → −x, the order reversed to stay outward): the same.
+  const std::array<Vec3, 6> turned = {p[1], p[2], p[0], p[4], p[5], p[3]};
+  CHECK(prismVolume(turned) == doctest::Approx(1.5).epsilon(1e-14));
+  // A twisted top (side faces not flat): mirroring gives the same volume.
+  p[4] += Vec3(0.1, 0.3, 0.2);
+  std::array<Vec3, 6> mirrored;
+  for (int c : {0, 1, 2}) {
+    const int m = c == 0 ? 0 : 3 - c;  // a0 a2 a1
+    mirrored[static_cast<std::size_t>(c)] = p[static_cast<std::size_t>(m)].cwiseProduct(Vec3(-1, 1, 1));
+    mirrored[static_cast<std::size_t>(3 + c)] = p[static_cast<std::size_t>(3 + m)].cwiseProduct(Vec3(-1, 1, 1));
+  }
+  CHECK(prismVolume(mirrored) == doctest::Approx(prismVolume(p)).epsilon(1e-14));
   // Biphasic: one spring of stiffness c = 10, rest 1, ε_c = 0.1, β = 4. Its force at length L is
   // c(L − 1) within the strain, c·0.1 + 4c(L − 1.1) beyond (and the mirror in compression).
   FaceTissue T;
@@ -90,7 +103,7 @@ TEST_CASE("face: a face at rest stays at rest for 10 s") {
   CHECK(speed < 1e-4);   // m/s
 }
 
-TEST_CASE("face: the zygomatic major lifts the mouth corner up and out, and the cheek bulges") {
+TEST_CASE("face: the zygomatic major lifts the mouth corner up and out and the cheek bulges") {
   World w = worldFromText(faceScene(R"(, "activations": [{"time": 0, "muscles": {"zygomatic_major_left": 0}},
                                                           {"time": 0.4, "muscles": {"zygomatic_major_left": 1}}])"));
   const FaceBody& f = face(w);
@@ -114,7 +127,7 @@ TEST_CASE("face: the zygomatic major lifts the mouth corner up and out, and the 
   CHECK(skin(w, other).y() - o0.y() < 0.5 * dc.y());
 }
 
-TEST_CASE("face: symmetric activations keep the face symmetric; volumes kept; the skull never crossed") {
+TEST_CASE("face: symmetric activations keep the face symmetric and keep volumes and the skull") {
   World w = worldFromText(faceScene(R"(, "activations": [{"time": 0, "preset": "happiness", "amount": 0},
       {"time": 0.3, "presets": {"anger": 1, "surprise": 0.6}}, {"time": 0.6, "preset": "fear"}])"));
   const FaceBody& f = face(w);
@@ -130,17 +143,21 @@ TEST_CASE("face: symmetric activations keep the face symmetric; volumes kept; th
       if ((j >= s.lower_lip) == (k >= s.lower_lip) && (s.skin[j] - m).squaredNorm() < (s.skin[best] - m).squaredNorm()) best = j;
     mirror[k] = best;
   }
-  double worst_volume = 0.0, lowest = 1.0;
+  double worst_volume = 0.0, worst_p99 = 0.0, lowest = 1.0;
   for (int frame = 0; frame < 27; ++frame) {
     run(w, 1);
     const std::vector<double> v = volumes(f);
-    for (std::size_t e = 0; e < v.size(); ++e) {
-      worst_volume = std::max(worst_volume, std::abs(v[e] - v0[e]) / v0[e]);
-    }
+    std::vector<double> change(v.size());
+    for (std::size_t e = 0; e < v.size(); ++e) change[e] = std::abs(v[e] - v0[e]) / v0[e];
+    std::sort(change.begin(), change.end());
+    worst_volume = std::max(worst_volume, change.back());
+    worst_p99 = std::max(worst_p99, change[change.size() * 99 / 100]);
     lowest = std::min(lowest, f.lowestAboveSkull());
   }
-  MESSAGE("strongest expression: worst element volume change " << worst_volume << ", lowest node above the skull " << lowest << " m");
-  CHECK(worst_volume < 0.75);
+  MESSAGE("strongest expression: element volume change at most " << worst_volume << ", 99th percentile " << worst_p99
+                                                                   << "; lowest node above the skull " << lowest << " m");
+  CHECK(worst_volume < 0.8);  // the brows' elements under the frontalis, pulled hardest
+  CHECK(worst_p99 < 0.4);
   CHECK(lowest > 0.0);
   double asym = 0.0;
   for (std::size_t k = 0; k < s.size(); ++k) {
@@ -151,7 +168,7 @@ TEST_CASE("face: symmetric activations keep the face symmetric; volumes kept; th
   CHECK(asym < 1e-6);
 }
 
-TEST_CASE("face: the jaw opens the mouth; blinks and the dump's muscles") {
+TEST_CASE("face: the jaw opens the mouth and blinks close the eyes and the dump lists the muscles") {
   World w = worldFromText(faceScene(R"(, "blinks": [0.1], "activations": [{"time": 0, "muscles": {"jaw_open": 0}}, {"time": 0.5, "muscles": {"jaw_open": 1}}])"));
   const FaceBody& f = face(w);
   CHECK(f.mouthOpening() < 0.002);  // closed lips (the lower one a little lower after settling)
@@ -198,7 +215,7 @@ TEST_CASE("face: bad input") {
   checkHas(badInputError(faceScene(R"(, "skull": "x.obj")")), "/bodies/0/skull");
 }
 
-TEST_CASE("face: a user's mesh must be closed; the inset must not fold") {
+TEST_CASE("face: a user's mesh must be closed and its inset must not fold") {
   // A tetrahedron, closed; the same without a face, open; a thin slab inset deeper than it is thick.
   TriMesh tet;
   for (const Vec3& p : {Vec3(0, 0, 0.1), Vec3(0.1, 0, -0.05), Vec3(-0.1, 0, -0.05), Vec3(0, 0.1, 0)}) tet.addVertex(p, Vec3::UnitY());

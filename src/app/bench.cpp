@@ -263,7 +263,7 @@ int benchFilm(const std::string& scene_path) {
 }  // namespace
 
 int bench(const std::vector<std::string>& names, double seconds) {
-  const std::vector<std::string> all = {"springs", "render", "film", "cloth", "fluid", "school", "fish", "rigid", "cloth_liquid"};
+  const std::vector<std::string> all = {"springs", "render", "film", "cloth", "fluid", "school", "fish", "rigid", "cloth_liquid", "face"};
   const std::vector<std::string>& run = names.empty() ? all : names;
   for (const auto& n : run) {
     if (std::find(all.begin(), all.end(), n) == all.end()) {
@@ -284,6 +284,7 @@ int bench(const std::vector<std::string>& names, double seconds) {
     if (n == "fish") rc = benchFish(seconds);
     if (n == "rigid") rc = benchRigid();
     if (n == "cloth_liquid") rc = benchClothLiquid();
+    if (n == "face") rc = benchFace();
     if (rc != 0) return rc;
   }
   return 0;

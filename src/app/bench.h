@@ -11,5 +11,6 @@ int benchSchool(double seconds);
 int benchFish(double seconds);
 int benchRigid();
 int benchClothLiquid();
+int benchFace();
 
 }  // namespace reel::app

@@ -108,7 +108,7 @@ struct Cli {
     compare->add_option("--max-fraction", cmp.max_fraction, "largest fraction of differing pixels allowed (default 0.005)")
         ->check(CLI::Range(0.0, 1.0));
     bench = app.add_subcommand("bench", "run benchmarks, one JSON line each");
-    bench->add_option("names", bench_names, "benchmarks to run (default: all): springs, render, film, cloth, fluid, school, fish, rigid, cloth_liquid");
+    bench->add_option("names", bench_names, "benchmarks to run (default: all): springs, render, film, cloth, fluid, school, fish, rigid, cloth_liquid, face");
     bench->add_option("--seconds", bench_seconds, "time spent on each measurement")->check(CLI::Range(0.01, 600.0));
     addThreads(bench);
   }

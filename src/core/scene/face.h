@@ -33,8 +33,8 @@ struct FaceMuscleDesc {
   // within `angle_deg` of that line and `falloff_end` muscle lengths of the attachment are pulled
   // toward the attachment, fully up to `falloff_start` lengths.
   Vec3 attachment{0, 0, 0}, insertion{0, 0, 0};
-  double angle_deg = 35.0;
-  double falloff_start = 0.8, falloff_end = 1.4;  // muscle lengths
+  double angle_deg = 30.0;
+  double falloff_start = 0.7, falloff_end = 1.15;  // muscle lengths
   // Sphincter: an ellipse around `center` in the plane facing `normal`, semi-axes `radii` (along
   // the head's x and the plane's up); nodes inside are squeezed toward its centre.
   Vec3 center{0, 0, 0}, normal{0, 0, 1};

@@ -14,7 +14,9 @@ namespace {
 
 // A unit eye looking along +z: white, an iris and a pupil by the angle from +z.
 std::shared_ptr<const TriMesh> eyeMesh(const Vec3& iris) {
-  auto m = std::make_shared<TriMesh>(makeUvSphere(1.0, 64, 48));
+  auto m = std::make_shared<TriMesh>(makeUvSphere(1.0, 48, 48));
+  // Its pole turned from +y to +z: the rings of latitude circle the gaze, the iris's edge is one.
+  m->transform(Eigen::AngleAxisd(0.5 * kPi, Vec3::UnitX()).toRotationMatrix(), Vec3::Zero());
   m->colors.resize(m->positions.size());
   for (std::size_t v = 0; v < m->vertexCount(); ++v) {
     const double z = m->positions[3 * v + 2];
@@ -175,12 +177,12 @@ void FaceBody::drawLayers(DrawList& out) const {
   // Only the front of the head: the figure of the lattice under the face.
   auto front = [&](std::size_t k) { return surface_.skin[k].z() > -0.01 * s; };
   DrawTubes skin, fascia, across;
-  skin.radius = static_cast<float>(0.00045 * s);
+  skin.radius = static_cast<float>(0.0004 * s);
   fascia.radius = skin.radius;
   across.radius = static_cast<float>(0.0003 * s);
-  skin.material = plain(Vec3(0.95, 0.8, 0.45));
-  fascia.material = plain(Vec3(0.85, 0.35, 0.35));
-  across.material = plain(Vec3(0.45, 0.55, 0.75));
+  skin.material = plain(Vec3(0.9, 0.62, 0.45));
+  fascia.material = plain(Vec3(0.75, 0.2, 0.2));
+  across.material = plain(Vec3(0.3, 0.45, 0.75));
   const Springs& sp = net_.model.springs;
   for (std::size_t q = 0; q < sp.size(); ++q) {
     const auto a = static_cast<std::size_t>(sp.a[q]), b = static_cast<std::size_t>(sp.b[q]);
@@ -202,13 +204,13 @@ void FaceBody::drawLayers(DrawList& out) const {
   }
   for (std::size_t k = 0; k < n; ++k) bone->addVertex(x[2 * n + k], unitOr(normal[k], Vec3::UnitY()));
   bone->indices = tris;
-  out.meshes.push_back({std::move(bone), true, plain(Vec3(0.75, 0.72, 0.65), 0.2)});
+  out.meshes.push_back({std::move(bone), true, plain(Vec3(0.42, 0.42, 0.45), 0.2)});
   // Muscles: attachment to the centre of the nodes they pull (sphincters: their ellipse).
   for (std::size_t m = 0; m < muscles_.size(); ++m) {
     const FaceMuscle& mu = muscles_[m];
     const double a = std::clamp(act_[m], 0.0, 1.0);
     DrawTubes t;
-    t.radius = static_cast<float>(0.0011 * s);
+    t.radius = static_cast<float>(0.0016 * s);
     t.material = plain((1 - a) * Vec3(1.0, 0.85, 0.15) + a * Vec3(0.9, 0.08, 0.04), 0.3);
     if (!mu.desc.sphincter) {
       Vec3 mid = Vec3::Zero();

@@ -205,7 +205,7 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
     for (double sx : {-1.0, 1.0}) brows = std::max(brows, front * gauss(X, Y, sx * 0.03, 0.037, 0.014, 0.0035));
     const double hairline = 0.072 * smoothstep(-0.3, 0.5, d.z()) + (-0.03) * (1 - smoothstep(-0.3, 0.5, d.z()));
     const double ears = std::pow(std::abs(d.x()), 6.0) * std::exp(-0.5 * sq((Y - 0.004) / 0.03));
-    const double hair = smoothstep(hairline - 0.006, hairline + 0.006, Y) * (1 - ears);
+    const double hair = smoothstep(hairline - 0.012, hairline + 0.012, Y) * (1 - ears);
     Vec3 c = skin_tone + 0.05 * front * gauss(std::abs(X), Y, 0.045, -0.02, 0.015, 0.012) * Vec3(1, -0.2, -0.2);
     c = (1 - 0.85 * lips) * c + 0.85 * lips * Vec3(0.5, 0.15, 0.13);
     c = (1 - 0.8 * brows) * c + 0.8 * brows * Vec3(0.08, 0.05, 0.035);

@@ -60,7 +60,7 @@ std::vector<FaceMuscleDesc> defaultMuscles(const FaceSurface& s) {
       d.name = std::string(l.name) + (side > 0 ? "_left" : "_right");
       d.attachment = bone(side * l.ax, l.ay);
       d.insertion = tissue(side * l.ix, l.iy);
-      d.strength = l.strength * k * k;
+      d.strength = 1.6 * l.strength * k * k;
       out.push_back(d);
     }
   for (int e = 0; e < 2; ++e) {
@@ -69,7 +69,7 @@ std::vector<FaceMuscleDesc> defaultMuscles(const FaceSurface& s) {
     d.sphincter = true;
     d.center = s.eye[static_cast<std::size_t>(e)];
     d.radii = {0.027 * k, 0.021 * k};
-    d.strength = 2.5 * k * k;
+    d.strength = 4.0 * k * k;
     out.push_back(d);
   }
   FaceMuscleDesc oris;
@@ -77,14 +77,14 @@ std::vector<FaceMuscleDesc> defaultMuscles(const FaceSurface& s) {
   oris.sphincter = true;
   oris.center = s.mouth - Vec3(0, 0, 0.004 * k);
   oris.radii = {0.036 * k, 0.026 * k};
-  oris.strength = 4.0 * k * k;
+  oris.strength = 6.0 * k * k;
   out.push_back(oris);
   FaceMuscleDesc mentalis;
   mentalis.name = "mentalis";
   mentalis.attachment = bone(0.0, ym - 0.022);
   mentalis.insertion = tissue(0.0, ym - 0.042);
   mentalis.angle_deg = 45;
-  mentalis.strength = 2.5 * k * k;
+  mentalis.strength = 4.0 * k * k;
   out.push_back(mentalis);
   return out;
 }

@@ -40,14 +40,14 @@ struct FaceTissue {
 // Nodes and springs of the tissue over `surface` (bone nodes fixed), and the tissue's own terms.
 MassSpringDesc buildTissue(const FaceSurface& surface, const FaceDesc& desc, FaceTissue& tissue);
 
-// The signed volume of a prism (three tetrahedra), m³.
+// The signed volume of a prism (its boundary, each side quad the mean of its two splits), m³.
 double prismVolume(const std::array<Vec3, 6>& p);
 
 // Sets each spring's phase from its strain now (biphasic springs, as stiffness and rest length of
 // the model's springs, so the integrator, implicit Euler too, sees the phase it is in).
 void phaseSprings(const FaceTissue& tissue, MassSpringModel& model, const std::vector<Vec3>& x);
 
-// Moves the nodes toward each element's rest volume (one Jacobi pass of compliant constraints),
+// Moves the nodes toward each element's rest volume (Jacobi passes of compliant constraints),
 // and their velocities with them; step h.
 void preserveVolumes(FaceTissue& tissue, const MassSpringModel& model, std::vector<Vec3>& x, std::vector<Vec3>& v, double h);
 
