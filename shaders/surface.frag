@@ -24,6 +24,7 @@ uniform float u_shadow_texel;
 uniform vec3 u_color;
 uniform float u_specular;
 uniform float u_shininess;
+uniform float u_wrap;  // WRAP: 0..1
 uniform float u_opacity;
 uniform sampler2D u_texture;
 uniform vec3 u_eye;
@@ -59,7 +60,13 @@ vec3 aces(vec3 x) {  // Narkowicz 2015 fit of the ACES filmic curve
 // Diffuse plus specular from a light of radiance `radiance` arriving along l.
 vec3 shade(vec3 n, vec3 view, vec3 l, vec3 radiance, vec3 albedo) {
   float ndl = max(dot(n, l), 0.0);
+#ifdef WRAP
+  // Wrap lighting (Green 2004, "Real-time approximations to subsurface scattering", GPU Gems):
+  // the diffuse term reaches past the terminator, as light scattered under skin does.
+  vec3 c = albedo * max((dot(n, l) + u_wrap) / (1.0 + u_wrap), 0.0);
+#else
   vec3 c = albedo * ndl;
+#endif
 #ifdef SPECULAR
   vec3 h = normalize(l + view);
   // A wet sheen (per-vertex gloss g): the highlight grows by 0.5 g and sharpens towards 120.

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "helpers.h"
 #include "sim/face/face_body.h"
@@ -232,3 +234,54 @@ TEST_CASE("face: a user's mesh must be closed and its inset must not fold") {
   checkHas(folded.error().messages.front(), "cross the skull");
 }
 
+
+TEST_CASE("face: a user's mesh with an inset and a muscle of the scene") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "reel_test_face";
+  fs::create_directories(dir);
+  {
+    // A ball of radius 0.1 m (its seam and poles welded by the reader).
+    const TriMesh ball = makeUvSphere(0.1, 32, 24);
+    std::ofstream obj(dir / "ball.obj");
+    for (std::size_t v = 0; v < ball.vertexCount(); ++v)
+      obj << "v " << ball.positions[3 * v] << " " << ball.positions[3 * v + 1] << " " << ball.positions[3 * v + 2] << "\n";
+    for (std::size_t t = 0; t < ball.triangleCount(); ++t)
+      obj << "f " << ball.indices[3 * t] + 1 << " " << ball.indices[3 * t + 1] + 1 << " " << ball.indices[3 * t + 2] + 1 << "\n";
+  }
+  // A muscle from the skull above the front to the tissue below it: it pulls the front up.
+  const Vec3 att = 0.092 * Vec3(0, 0.5, 1).normalized(), ins = 0.096 * Vec3(0, -0.3, 1).normalized();
+  auto num = [](const Vec3& p) { return "[" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ", " + std::to_string(p.z()) + "]"; };
+  World w = worldFromText(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 2, "integrator": "implicit_euler",
+    "gravity": [0, 0, 0],
+    "bodies": [{"type": "face", "name": "f", "mesh": "ball.obj", "inset": 0.008,
+                "muscles": [{"name": "lift", "attachment": )" + num(att) + R"(, "insertion": )" + num(ins) + R"(, "strength": 5}],
+                "activations": [{"time": 0, "muscles": {"lift": 0}}, {"time": 0.3, "muscles": {"lift": 1}}]}]})",
+                          (dir / "scene.json").string());
+  const FaceBody& f = face(w);
+  CHECK_FALSE(f.surface().generated);
+  // The nodes it pulls, by their weights: their centre comes closer to the attachment.
+  const FaceMuscle& m = f.muscles().at(0);
+  auto centre = [&] {
+    Vec3 c = Vec3::Zero();
+    for (std::size_t j = 0; j < m.nodes.size(); ++j) c += m.weight[j] * f.network().state.x[f.surface().size() + static_cast<std::size_t>(m.nodes[j])];
+    return c;
+  };
+  const double d0 = (centre() - att).norm();
+  run(w, 20);
+  const double d1 = (centre() - att).norm();
+  CAPTURE(d0);
+  CHECK(d1 < d0 - 0.001);
+  CHECK(f.lowestAboveSkull() > 0.0);
+  // Without its inset or skull, and open: refused, naming the key.
+  auto bare = app::parseScene(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "face", "name": "f", "mesh": "ball.obj"}]})",
+                              (dir / "s.json").string());
+  REQUIRE(!bare.ok());
+  checkHas(bare.error().messages.front(), "/bodies/0/mesh: a face mesh needs its `skull` mesh or an `inset`");
+  std::ofstream(dir / "open.obj") << "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 0.1\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+  auto scene = app::parseScene(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "face", "name": "f", "mesh": "open.obj", "inset": 0.005,
+      "muscles": [{"name": "m", "type": "sphincter", "center": [0, 0, 0.05]}]}]})", (dir / "s.json").string());
+  REQUIRE(scene.ok());
+  auto world = app::makeWorld(scene.value());
+  REQUIRE(!world.ok());
+  checkHas(world.error().messages.front(), "/bodies/0/mesh: the face mesh must be closed");
+}

@@ -584,3 +584,34 @@ TEST_CASE("per-vertex gloss adds a wet sheen where it is 1 and changes nothing w
   const auto [cx, cy] = pixelOf(list, W, H, Vec3::Zero());
   CHECK(int(wet.pixel(cx, cy)[0]) > int(dry.pixel(cx, cy)[0]) + 60);
 }
+
+TEST_CASE("wrap lighting: the diffuse term (n·l + w)/(1 + w), lit past the terminator; w = 0 is Lambert") {
+  const int W = 64, H = 48;
+  DirectRenderer dr(W, H, 1);
+  DrawList list;
+  list.camera.position = Vec3(0, 3, 0.001);
+  list.camera.target = Vec3::Zero();
+  list.camera.fov_deg = 40;
+  list.background_top = list.background_bottom = Vec3::Zero();
+  const double rho = 0.6;
+  for (auto [theta, wrap] : {std::pair{60.0, 0.5}, std::pair{100.0, 0.5}, std::pair{100.0, 0.0}, std::pair{30.0, 0.2}}) {
+    CAPTURE(theta);
+    CAPTURE(wrap);
+    const double t = theta * kPi / 180.0;
+    LightDesc sun;
+    sun.kind = LightKind::Directional;
+    sun.direction = Vec3(std::sin(t), -std::cos(t), 0);
+    sun.intensity = 1.0;
+    list.lights = {sun};
+    DrawMesh d;
+    d.mesh = std::make_shared<const TriMesh>(makeQuad(4, 4));
+    d.material.color = Vec3(rho, rho, rho);
+    d.material.wrap = wrap;
+    list.meshes = {d};
+    const Image img = dr.draw(list);
+    const double lin = rho * std::max(0.0, (std::cos(t) + wrap) / (1.0 + wrap));
+    const int want = static_cast<int>(std::lround(255.0 * srgb(lin)));
+    const std::uint8_t* p = img.pixel(W / 2, H / 2);
+    for (int c = 0; c < 3; ++c) CHECK(std::abs(int(p[c]) - want) <= 1);
+  }
+}

@@ -19,6 +19,9 @@ struct DrawMaterial {
   Vec3 color{0.8, 0.8, 0.8};  // linear albedo
   std::shared_ptr<const Image> texture;  // sRGB pixels, multiplied into the albedo (UVs)
   double specular = 0.0, shininess = 32.0, opacity = 1.0;
+  // Wrap lighting, 0..1 (a cheap stand-in for light scattered under skin): the diffuse term
+  // (n·l + w)/(1 + w) reaches past the terminator; 0 is Lambert.
+  double wrap = 0.0;
   bool double_sided = false;  // sheets: lit from both sides
   bool checker = false;       // checkerboard of `color` and a darker shade, 0.5 m squares
 };

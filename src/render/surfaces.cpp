@@ -59,6 +59,7 @@ Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures, bool i
   if (m.double_sided) key += "#define DOUBLE_SIDED\n";
   if (m.checker) key += "#define CHECKER\n";
   if (m.texture) key += "#define TEXTURED\n";
+  if (m.wrap > 0) key += "#define WRAP\n";
   auto it = variants_.find(key);
   if (it == variants_.end()) {
     auto p = gl::buildProgram(*gl_, shader_dir_, "surface.vert", "surface.frag", true, key);
@@ -81,6 +82,7 @@ Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures, bool i
   gl_->Uniform1f(loc("u_specular"), float(m.specular));
   gl_->Uniform1f(loc("u_shininess"), float(m.shininess));
   gl_->Uniform1f(loc("u_opacity"), float(m.opacity));
+  if (m.wrap > 0) gl_->Uniform1f(loc("u_wrap"), float(m.wrap));
   return {};
 }
 

@@ -12,6 +12,9 @@
 namespace reel {
 namespace {
 
+// Skin is lit with wrap lighting: light scattered beneath it softens the terminator.
+constexpr double kSkinWrap = 0.35;
+
 // A unit eye looking along +z: white, an iris and a pupil by the angle from +z.
 std::shared_ptr<const TriMesh> eyeMesh(const Vec3& iris) {
   auto m = std::make_shared<TriMesh>(makeUvSphere(1.0, 48, 48));
@@ -70,6 +73,7 @@ void FaceBody::drawSkin(DrawList& out) const {
   skin.mesh = std::move(mesh);
   skin.per_frame = true;
   skin.material = drawMaterial(material_);
+  skin.material.wrap = kSkinWrap;
   out.meshes.push_back(std::move(skin));
   if (!surface_.generated) return;
   auto world = [&](const Vec3& q) { return Vec3(desc_.position + R_ * q); };
@@ -165,6 +169,7 @@ void FaceBody::drawSkin(DrawList& out) const {
     }
   }
   DrawMaterial lid = drawMaterial(material_);
+  lid.wrap = kSkinWrap;
   lid.color = lid.color.cwiseProduct(0.95 * Vec3(0.62, 0.36, 0.27));  // the skin's tone, a shade darker
   lid.double_sided = true;
   out.meshes.push_back({std::move(lids), true, lid});

@@ -238,16 +238,29 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
 
 Result<FaceSurface> userHead(const TriMesh& mesh, const TriMesh* skull, double inset, const std::string& path) {
   FaceSurface out;
-  // Weld vertices at the same position (files split them at seams of normals and UVs).
-  std::map<std::array<float, 3>, std::uint32_t> index;
+  // Weld vertices at the same position, to a millionth of the mesh's size (files split them at
+  // seams of normals and UVs, and a pole's copies differ by rounding).
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
+    for (int c = 0; c < 3; ++c) {
+      lo[c] = std::min(lo[c], static_cast<double>(mesh.positions[3 * v + static_cast<std::size_t>(c)]));
+      hi[c] = std::max(hi[c], static_cast<double>(mesh.positions[3 * v + static_cast<std::size_t>(c)]));
+    }
+  const double tol = 1e-6 * std::max((hi - lo).norm(), 1e-9);
+  std::map<std::array<long long, 3>, std::uint32_t> index;
   std::vector<std::uint32_t> remap(mesh.vertexCount());
   for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
-    const std::array<float, 3> key{mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]};
+    const Vec3 p(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
+    const std::array<long long, 3> key{std::llround(p.x() / tol), std::llround(p.y() / tol), std::llround(p.z() / tol)};
     auto [it, fresh] = index.emplace(key, static_cast<std::uint32_t>(out.skin.size()));
-    if (fresh) out.skin.emplace_back(key[0], key[1], key[2]);
+    if (fresh) out.skin.push_back(p);
     remap[v] = it->second;
   }
-  for (std::uint32_t i : mesh.indices) out.tris.push_back(remap[i]);
+  // Triangles that welding collapsed (a pole's slivers) are dropped.
+  for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    const std::uint32_t a = remap[mesh.indices[t]], b = remap[mesh.indices[t + 1]], c = remap[mesh.indices[t + 2]];
+    if (a != b && b != c && a != c) out.tris.insert(out.tris.end(), {a, b, c});
+  }
   // Closed: every edge in exactly two triangles, once each way.
   std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
   for (std::size_t t = 0; t + 2 < out.tris.size(); t += 3)
