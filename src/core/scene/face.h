@@ -25,7 +25,7 @@ struct FaceLayerDesc {
 };
 
 // A muscle of the scene (points in the head's own frame: origin at the head's centre, +y up,
-// +z out of the face, +x the head's left; metres at the default height of 0.24 m).
+// +z out of the face, +x the head's left; metres).
 struct FaceMuscleDesc {
   std::string name;
   bool sphincter = false;
