@@ -31,6 +31,22 @@ std::shared_ptr<const TriMesh> eyeMesh(const Vec3& iris) {
   return m;
 }
 
+// A surface through points[first + k] (k < n) with the surface's triangles, its normals the
+// area-weighted means of its triangles' (the skin; the skull).
+std::shared_ptr<TriMesh> smoothMesh(const std::vector<Vec3>& points, std::size_t first, std::size_t n,
+                                    const std::vector<std::uint32_t>& tris) {
+  auto P = [&](std::uint32_t k) -> const Vec3& { return points[first + k]; };
+  std::vector<Vec3> normal(n, Vec3::Zero());
+  for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
+    const Vec3 an = (P(tris[t + 1]) - P(tris[t])).cross(P(tris[t + 2]) - P(tris[t]));
+    for (int c = 0; c < 3; ++c) normal[tris[t + static_cast<std::size_t>(c)]] += an;
+  }
+  auto mesh = std::make_shared<TriMesh>();
+  for (std::size_t k = 0; k < n; ++k) mesh->addVertex(points[first + k], unitOr(normal[k], Vec3::UnitY()));
+  mesh->indices = tris;
+  return mesh;
+}
+
 void pushTube(DrawTubes& t, const Vec3& a, const Vec3& b) {
   for (const Vec3* p : {&a, &b})
     for (int k = 0; k < 3; ++k) t.ends.push_back(static_cast<float>((*p)[k]));
@@ -57,18 +73,10 @@ void FaceBody::draw(DrawList& out) const {
 void FaceBody::drawSkin(DrawList& out) const {
   const std::size_t n = surface_.size();
   const auto& x = net_.state.x;
-  auto mesh = std::make_shared<TriMesh>();
-  std::vector<Vec3> normal(n, Vec3::Zero());
   const auto& tris = surface_.tris;
-  for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
-    const Vec3 an = (x[tris[t + 1]] - x[tris[t]]).cross(x[tris[t + 2]] - x[tris[t]]);
-    for (int c = 0; c < 3; ++c) normal[tris[t + static_cast<std::size_t>(c)]] += an;
-  }
-  for (std::size_t k = 0; k < n; ++k) {
-    mesh->addVertex(x[k], unitOr(normal[k], Vec3::UnitY()));
+  auto mesh = smoothMesh(x, 0, n, tris);
+  for (std::size_t k = 0; k < n; ++k)
     for (int c = 0; c < 3; ++c) mesh->colors.push_back(static_cast<float>(surface_.color[k][c]));
-  }
-  mesh->indices = tris;
   DrawMesh skin;
   skin.mesh = std::move(mesh);
   skin.per_frame = true;
@@ -200,15 +208,7 @@ void FaceBody::drawLayers(DrawList& out) const {
   out.tubes.push_back(std::move(fascia));
   out.tubes.push_back(std::move(across));
   // The skull: the bone surface.
-  auto bone = std::make_shared<TriMesh>();
-  std::vector<Vec3> normal(n, Vec3::Zero());
-  const auto& tris = surface_.tris;
-  for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
-    const Vec3 an = (x[2 * n + tris[t + 1]] - x[2 * n + tris[t]]).cross(x[2 * n + tris[t + 2]] - x[2 * n + tris[t]]);
-    for (int c = 0; c < 3; ++c) normal[tris[t + static_cast<std::size_t>(c)]] += an;
-  }
-  for (std::size_t k = 0; k < n; ++k) bone->addVertex(x[2 * n + k], unitOr(normal[k], Vec3::UnitY()));
-  bone->indices = tris;
+  auto bone = smoothMesh(x, 2 * n, n, surface_.tris);
   out.meshes.push_back({std::move(bone), true, plain(Vec3(0.42, 0.42, 0.45), 0.2)});
   // Muscles: attachment to the centre of the nodes they pull (sphincters: their ellipse).
   for (std::size_t m = 0; m < muscles_.size(); ++m) {
