@@ -553,19 +553,31 @@ TEST_CASE("the sand pattern: pale warm sand, varied, tileable") {
   CHECK(makePattern("no such pattern", 16).width == 0);
 }
 
-TEST_CASE("per-vertex gloss adds a wet sheen where it is 1 and changes nothing where it is 0") {
-  const int W = 64, H = 48;
-  DirectRenderer dr(W, H, 1);
+namespace {
+
+// A black background, a camera at `eye` looking at the origin, and one sun of intensity 1 shining
+// along `direction`.
+DrawList sunlit(const Vec3& eye, const Vec3& direction) {
   DrawList list;
-  list.camera.position = Vec3(0, 1, 1.2);
+  list.camera.position = eye;
   list.camera.target = Vec3::Zero();
   list.camera.fov_deg = 40;
   list.background_top = list.background_bottom = Vec3::Zero();
-  LightDesc sun;  // mirrored about the quad's normal into the camera: the highlight at its centre
+  LightDesc sun;
   sun.kind = LightKind::Directional;
-  sun.direction = Vec3(0, -1, 1.2).normalized();
+  sun.direction = direction;
   sun.intensity = 1.0;
   list.lights = {sun};
+  return list;
+}
+
+}  // namespace
+
+TEST_CASE("per-vertex gloss adds a wet sheen where it is 1 and changes nothing where it is 0") {
+  const int W = 64, H = 48;
+  DirectRenderer dr(W, H, 1);
+  // The sun mirrored about the quad's normal into the camera: the highlight at its centre.
+  DrawList list = sunlit(Vec3(0, 1, 1.2), Vec3(0, -1, 1.2).normalized());
   TriMesh quad = makeQuad(2, 2);
   auto drawWith = [&](const std::vector<float>& gloss) {
     TriMesh m = quad;
@@ -588,21 +600,12 @@ TEST_CASE("per-vertex gloss adds a wet sheen where it is 1 and changes nothing w
 TEST_CASE("wrap lighting: the diffuse term (n·l + w)/(1 + w), lit past the terminator; w = 0 is Lambert") {
   const int W = 64, H = 48;
   DirectRenderer dr(W, H, 1);
-  DrawList list;
-  list.camera.position = Vec3(0, 3, 0.001);
-  list.camera.target = Vec3::Zero();
-  list.camera.fov_deg = 40;
-  list.background_top = list.background_bottom = Vec3::Zero();
   const double rho = 0.6;
   for (auto [theta, wrap] : {std::pair{60.0, 0.5}, std::pair{100.0, 0.5}, std::pair{100.0, 0.0}, std::pair{30.0, 0.2}}) {
     CAPTURE(theta);
     CAPTURE(wrap);
     const double t = theta * kPi / 180.0;
-    LightDesc sun;
-    sun.kind = LightKind::Directional;
-    sun.direction = Vec3(std::sin(t), -std::cos(t), 0);
-    sun.intensity = 1.0;
-    list.lights = {sun};
+    DrawList list = sunlit(Vec3(0, 3, 0.001), Vec3(std::sin(t), -std::cos(t), 0));
     DrawMesh d;
     d.mesh = std::make_shared<const TriMesh>(makeQuad(4, 4));
     d.material.color = Vec3(rho, rho, rho);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/format.h"
 #include "core/keys.h"
 #include "core/math.h"
 #include "core/parallel.h"
@@ -29,7 +28,7 @@ Vec3 FaceBody::boneToWorld(std::size_t k, const Vec3& q) const {
 
 Vec3 FaceBody::attachmentWorld(std::size_t m) const {
   const Vec3& hinge = surface_.jaw_hinge;
-  return desc_.position + R_ * (hinge + aboutX(attachment_jaw_[m] * jaw_) * (muscles_[m].desc.attachment - hinge));
+  return desc_.position + R_ * (hinge + aboutX(muscles_[m].jaw * jaw_) * (muscles_[m].desc.attachment - hinge));
 }
 
 void FaceBody::pose(double t) {
@@ -213,10 +212,6 @@ Status FaceBody::setup(const BodyDesc& desc, const BuildContext& ctx) {
   for (const FaceMuscleDesc& m : all) {
     auto placed = placeMuscle(m, surface_, fascia, file);
     if (!placed) return placed.error();
-    std::size_t nearest = 0;
-    for (std::size_t k = 1; k < surface_.size(); ++k)
-      if ((surface_.bone[k] - m.attachment).squaredNorm() < (surface_.bone[nearest] - m.attachment).squaredNorm()) nearest = k;
-    attachment_jaw_.push_back(m.sphincter ? 0.0 : surface_.jaw[nearest]);
     muscles_.push_back(std::move(placed.value()));
   }
   auto acts = makeActivations(desc_, muscles_, file);

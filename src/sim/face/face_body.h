@@ -65,7 +65,6 @@ class FaceBody final : public SpringNetworkBody {
   FaceSurface surface_;
   FaceTissue tissue_;
   std::vector<FaceMuscle> muscles_;
-  std::vector<double> attachment_jaw_;  // the jaw's share at each muscle's attachment
   FaceActivations activations_;
   std::vector<double> act_;  // contractions now (controls)
   std::vector<Vec3> ext_;    // muscle and tissue forces, N (nodes)

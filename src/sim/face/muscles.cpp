@@ -108,6 +108,7 @@ Result<FaceMuscle> placeMuscle(const FaceMuscleDesc& d, const FaceSurface& s, co
     if (di > 2 * depthAt(ki) || h < -0.25 * depthAt(ki) || h > depthAt(ki))
       return bad("insertion", "muscle '" + d.name + "' is inserted outside the tissue (it must lie between skull and skin)");
     if ((d.insertion - d.attachment).norm() < 1e-6) return bad("insertion", "is at the attachment: the muscle has no length");
+    m.jaw = s.jaw[kb];
   } else {
     const auto [kc, dc] = nearestOf(fascia, d.center);
     if (dc > 0.5 * std::max(d.radii[0], d.radii[1]) + 2 * depthAt(kc))

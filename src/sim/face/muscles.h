@@ -20,6 +20,7 @@ struct FaceMuscle {
   FaceMuscleDesc desc;            // points in the head frame
   std::vector<int> nodes;         // the surface vertices whose fascia nodes it pulls
   std::vector<double> weight;     // their shares of its strength (sum 1)
+  double jaw = 0.0;               // the jaw's share at its attachment (a linear muscle's moves with it)
 };
 
 // The muscles of reel's head (kFacePairedMuscles, kFaceMidlineMuscles) placed on its surface.
