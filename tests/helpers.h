@@ -2,6 +2,10 @@
 #pragma once
 
 #include <doctest/doctest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
 
 #include <algorithm>
 #include <cmath>
@@ -15,6 +19,25 @@
 #include "sim/mass_spring.h"
 
 namespace reel::test {
+
+// The reel binary run through the shell with ARGS (quoted as a shell would need).
+struct Run {
+  int code = -1;
+  std::string out;  // stdout and stderr together
+};
+
+inline Run runReel(const std::string& args, const std::string& prefix = "") {
+  Run r;
+  const std::string cmd = prefix + std::string(REEL_BINARY) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  REQUIRE(p);
+  std::array<char, 4096> buf;
+  std::size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int st = pclose(p);
+  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
 
 // Implicit Euler's matrix assembled spring by spring from Baraff & Witkin's formulas, a reference
 // for the tests: K = c[û ûᵀ + max(0, 1 − l/L)(I − û ûᵀ)] (L the length, l the rest length), D = γ û ûᵀ, each spring's block

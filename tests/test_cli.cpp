@@ -17,27 +17,11 @@
 #include "sim/world.h"
 
 using namespace reel;
+using reel::test::Run;
+using reel::test::runReel;
 namespace fs = std::filesystem;
 
 namespace {
-
-struct Run {
-  int code = -1;
-  std::string out;  // stdout and stderr together
-};
-
-Run runReel(const std::string& args) {
-  Run r;
-  const std::string cmd = std::string(REEL_BINARY) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  REQUIRE(p);
-  std::array<char, 4096> buf;
-  std::size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int st = pclose(p);
-  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
 
 fs::path tmpDir() {
   const fs::path d = fs::temp_directory_path() / "reel_cli_test";

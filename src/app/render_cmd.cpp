@@ -13,6 +13,7 @@
 #include "app/body_kinds.h"
 #include "app/commands.h"
 #include "app/progress.h"
+#include "core/format.h"
 #include "core/image_compare.h"
 #include "core/scene_view.h"
 #include "core/queue.h"
@@ -88,7 +89,12 @@ int still(const RenderOptions& opt, double time, int frame) {
   Setup s;
   if (Status st = setup(opt, s); !st) return report(st.error());
   const int n = s.scene.frameCount();
-  const int k = frame >= 0 ? frame : static_cast<int>(std::lround(time * s.scene.fps));
+  // A time is checked in seconds before it becomes a frame number (1e20 s has no int frame).
+  const double kt = std::round(time * s.scene.fps);
+  if (frame < 0 && !(kt >= 0 && kt <= n - 1))
+    return report(Error(ErrorKind::BadInput, "--time " + formatNumber(time, 6) + " s is outside the film (0 to " +
+                                                 formatNumber((n - 1) / static_cast<double>(s.scene.fps), 6) + " s)"));
+  const int k = frame >= 0 ? frame : static_cast<int>(kt);
   if (k < 0 || k >= n)
     return report(Error(ErrorKind::BadInput, "frame " + std::to_string(k) + " is outside the film (frames 0.." +
                                                  std::to_string(n - 1) + ")"));
@@ -173,7 +179,7 @@ Status frameRange(const std::string& range, int n, int& first, int& last) {
 // the file name); videos open.
 Status openOutputs(const RenderOptions& opt, const Setup& s, bool no_overwrite, std::vector<Output>& outs) {
   std::vector<std::string> paths = opt.outputs;
-  if (paths.empty()) paths.push_back("render_out/" + s.scene.name + ".mp4");
+  if (paths.empty()) paths.push_back("render_out/" + io::safeFileName(s.scene.name) + ".mp4");
   outs.resize(paths.size());
   for (std::size_t i = 0; i < paths.size(); ++i)
     if (Status st = parseOutput(paths[i], outs[i]); !st) return st;

@@ -28,7 +28,7 @@ inline DrawCamera cameraAt(const CameraDesc& c, double t) {
   }
   const std::size_t i0 = i == 0 ? 0 : i - 1, i3 = std::min(i + 2, k.size() - 1);
   // Uniform Catmull–Rom: p(s) = ½[2p1 + (p2 − p0)s + (2p0 − 5p1 + 4p2 − p3)s² + (3p1 − p0 − 3p2 + p3)s³].
-  auto cr = [s](const auto& p0, const auto& p1, const auto& p2, const auto& p3) {
+  auto cr = [s = s](const auto& p0, const auto& p1, const auto& p2, const auto& p3) {
     return 0.5 * (2.0 * p1 + (p2 - p0) * s + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * (s * s) +
                   (3.0 * p1 - p0 - 3.0 * p2 + p3) * (s * s * s));
   };

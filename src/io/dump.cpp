@@ -109,18 +109,16 @@ Status DumpWriter::write(const FrameView& f) {
     buf_ += "]}";
   }
   buf_ += "]}";
-  if (std::fwrite(buf_.data(), 1, buf_.size(), file_.get()) != buf_.size())
-    return Error(ErrorKind::Output, "dump: write failed (disk full?)");
+  Status st = file_.write(buf_);
   buf_.clear();
-  return {};
+  return st;
 }
 
 Status DumpWriter::finish() {
   buf_ += "\n]}\n";
-  if (std::fwrite(buf_.data(), 1, buf_.size(), file_.get()) != buf_.size())
-    return Error(ErrorKind::Output, "dump: write failed (disk full?)");
+  Status st = file_.write(buf_);
   buf_.clear();
-  return file_.commit();
+  return st ? file_.commit() : st;
 }
 
 }  // namespace reel::io

@@ -1,5 +1,6 @@
 #include "io/files.h"
 
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -36,15 +37,31 @@ bool within(const fs::path& p, const fs::path& root) {
 
 }  // namespace
 
+std::vector<std::string> assetRoots(const std::string& scene_file) {
+  std::error_code ec;
+  std::vector<std::string> roots;
+  roots.push_back(fs::weakly_canonical(fs::absolute(scene_file, ec).parent_path(), ec).string());
+  roots.push_back(fs::weakly_canonical(fs::current_path(ec) / "assets", ec).string());
+#ifdef REEL_ASSET_DIR
+  roots.push_back(fs::weakly_canonical(fs::path(REEL_ASSET_DIR), ec).string());
+#endif
+  return roots;
+}
+
+bool insideRoots(const std::string& path, const std::vector<std::string>& roots) {
+  std::error_code ec;
+  const fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  if (ec) return false;
+  for (const auto& r : roots)
+    if (within(p, fs::weakly_canonical(fs::path(r), ec))) return true;
+  return false;
+}
+
 Result<std::string> resolveAsset(const std::string& scene_file, const std::string& path,
                                  const std::vector<std::string>& extensions, std::size_t max_bytes) {
   std::error_code ec;
   std::vector<fs::path> roots;
-  roots.push_back(fs::weakly_canonical(fs::absolute(scene_file, ec).parent_path(), ec));
-  roots.push_back(fs::weakly_canonical(fs::current_path(ec) / "assets", ec));
-#ifdef REEL_ASSET_DIR
-  roots.push_back(fs::weakly_canonical(fs::path(REEL_ASSET_DIR), ec));
-#endif
+  for (const auto& r : assetRoots(scene_file)) roots.emplace_back(r);
   std::string ext = fs::path(path).extension().string();
   for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   bool ext_ok = false;
@@ -81,16 +98,55 @@ Status createParentFolders(const std::string& path) {
                                       (ec ? ec.message() : std::string("a file of that name is in the way")));
 }
 
+Status checkOutputTarget(const std::string& path) {
+  for (const std::string& p : {path, path + ".part"}) {
+    std::error_code ec;
+    const fs::file_status st = fs::status(p, ec);
+    if (ec || !fs::exists(st) || fs::is_regular_file(st)) continue;
+    const char* what = fs::is_directory(st)   ? "a folder"
+                       : fs::is_character_file(st) || fs::is_block_file(st) ? "a device"
+                       : fs::is_fifo(st)      ? "a FIFO"
+                       : fs::is_socket(st)    ? "a socket"
+                                              : "not a regular file";
+    return Error(ErrorKind::Output, p + ": is " + std::string(what) + ", not a regular file: reel writes its outputs only to regular files");
+  }
+  return {};
+}
+
+std::string safeFileName(const std::string& name) {
+  std::string out;
+  const std::string in = name.substr(0, 100);
+  auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0; };
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    const char c = in[i];
+    // A '.' stays only between letters or digits ("v1.2"), so no "..", no hidden file.
+    const bool keep = word(c) || c == '-' || c == '_' ||
+                      (c == '.' && !out.empty() && word(out.back()) && i + 1 < in.size() && word(in[i + 1]));
+    if (keep) out += c;
+    else if (out.empty() || out.back() != '_') out += '_';  // one '_' for a run of others
+  }
+  return out.empty() || out == "_" ? std::string("scene") : out;
+}
+
 AtomicFile::~AtomicFile() { abandon(); }
 
 Status AtomicFile::open(const std::string& path) {
   abandon();
+  if (Status st = checkOutputTarget(path); !st) return st;
   if (Status st = createParentFolders(path); !st) return st;
   path_ = path;
   part_ = path + ".part";
   f_ = std::fopen(part_.c_str(), "wb");
   if (!f_) return Error(ErrorKind::Output, part_ + ": cannot write: " + std::strerror(errno));
   return {};
+}
+
+Status AtomicFile::write(const std::string& bytes) {
+  if (!f_) return Error(ErrorKind::Output, path_ + ": not open");
+  if (std::fwrite(bytes.data(), 1, bytes.size(), f_) == bytes.size()) return {};
+  const int e = errno;
+  abandon();
+  return Error(ErrorKind::Output, path_ + ": write failed: " + std::strerror(e ? e : EIO));
 }
 
 Status AtomicFile::commit() {

@@ -13,6 +13,13 @@ namespace reel::io {
 // Reads a whole file of at most max_bytes.
 Result<std::string> readFile(const std::string& path, std::size_t max_bytes);
 
+// The folders a scene's assets may come from: the scene's folder, the current directory's
+// `assets/` and the installed/source one; canonical, so that a path is checked against them with
+// insideRoots.
+std::vector<std::string> assetRoots(const std::string& scene_file);
+// PATH (made canonical, following links) lies inside one of the roots.
+bool insideRoots(const std::string& path, const std::vector<std::string>& roots);
+
 // Resolves an asset path from a scene: relative to the scene's folder, then to the `assets/`
 // folders (the current directory's and the installed/source one). The resolved file must exist,
 // stay inside one of those roots, have one of the given extensions and be at most max_bytes.
@@ -24,6 +31,16 @@ Result<std::string> resolveAsset(const std::string& scene_file, const std::strin
 // (PNG, video, dump) may name a new folder. The error (exit-4 kind) names PATH, the folder and why.
 Status createParentFolders(const std::string& path);
 
+// An output PATH (and its PATH.part) may be new or a regular file (or a link to one); a device
+// node, FIFO, socket or folder there is refused (exit-4 kind) instead of being renamed over
+// (`--dump /dev/full` as root would replace the device) or blocking (a FIFO).
+Status checkOutputTarget(const std::string& path);
+
+// A scene name as a file name: letters, digits, '-', '_' and a '.' between letters kept; each
+// run of anything else (a '/', "..", spaces) becomes one '_'; never empty, at most 100 bytes. Default outputs use it, so a
+// `name` of "../../x" stays inside render_out/.
+std::string safeFileName(const std::string& name);
+
 class AtomicFile {
  public:
   AtomicFile() = default;
@@ -34,6 +51,8 @@ class AtomicFile {
   // cannot).
   Status open(const std::string& path);
   std::FILE* get() const { return f_; }
+  // Appends bytes; the error (exit-4 kind) names PATH and the reason (a full disk).
+  Status write(const std::string& bytes);
   // Flushes, closes and renames PATH.part onto PATH; removes the part file on failure.
   Status commit();
   void abandon();

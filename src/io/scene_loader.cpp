@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <set>
 
 #include "io/files.h"
@@ -133,10 +134,72 @@ std::string lineCol(const std::string& text, std::size_t at) {
   return std::to_string(line) + ":" + std::to_string(col);
 }
 
+// Keys given twice in one object, which nlohmann would keep silently (the last wins); strict
+// loaders refuse them, and so does reel: "file:line:col: /path: duplicate key "k" (first at
+// line:col)". The text has parsed already, so the scan follows only strings, comments and nesting.
+std::vector<std::string> duplicateKeys(const std::string& text, const std::string& file) {
+  struct Frame {
+    bool object;
+    std::string path;
+    std::map<std::string, std::size_t> keys;  // → offset of the first
+    std::string key;                          // the last key read
+    std::size_t index = 0;                    // of an array's current element
+    bool expect_key = true;
+  };
+  std::vector<Frame> stack;
+  std::vector<std::string> out;
+  const std::size_t npos = std::string::npos;
+  for (std::size_t i = 0; i < text.size();) {
+    const char c = text[i];
+    if (c == '/' && i + 1 < text.size() && (text[i + 1] == '/' || text[i + 1] == '*')) {
+      const bool line = text[i + 1] == '/';
+      i = text.find(line ? "\n" : "*/", i + 2);
+      if (i == npos) break;
+      i += line ? 1 : 2;
+      continue;
+    }
+    if (c == '"') {
+      std::size_t j = i + 1;
+      for (bool esc = false; j < text.size(); ++j) {
+        if (esc) esc = false;
+        else if (text[j] == '\\') esc = true;
+        else if (text[j] == '"') break;
+      }
+      if (!stack.empty() && stack.back().object && stack.back().expect_key) {
+        Frame& f = stack.back();
+        const std::string raw = text.substr(i, j + 1 - i);
+        const Json decoded = raw.find('\\') == npos ? Json() : Json::parse(raw, nullptr, false);
+        f.key = decoded.is_string() ? decoded.get<std::string>() : raw.substr(1, raw.size() - 2);
+        f.expect_key = false;
+        const auto [first, fresh] = f.keys.emplace(f.key, i);
+        if (!fresh && out.size() < 20)
+          out.push_back(file + ":" + lineCol(text, i) + ": " + childPath(f.path, f.key) + ": duplicate key \"" + f.key +
+                        "\" (first at " + lineCol(text, first->second) + ")");
+      }
+      i = j + 1;
+      continue;
+    }
+    if (c == '{' || c == '[') {
+      std::string path;
+      if (!stack.empty()) path = stack.back().object ? childPath(stack.back().path, stack.back().key) : childPath(stack.back().path, stack.back().index);
+      stack.push_back({c == '{', std::move(path), {}, {}, 0, true});
+    } else if ((c == '}' || c == ']') && !stack.empty()) {
+      stack.pop_back();
+    } else if (c == ',' && !stack.empty()) {
+      if (stack.back().object) stack.back().expect_key = true;
+      else ++stack.back().index;
+    }
+    ++i;
+  }
+  return out;
+}
+
 // The JSON text as a tree; a syntax error as "file:line:col: reason".
 Result<Json> parseJson(const std::string& text, const std::string& file) {
   try {
-    return Json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+    Json j = Json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+    if (auto dup = duplicateKeys(text, file); !dup.empty()) return Error(ErrorKind::BadInput, std::move(dup));
+    return j;
   } catch (const Json::parse_error& e) {
     // Position from the byte offset; the reason from nlohmann's message, cut short (it quotes
     // the whole failing token, which can be megabytes).
@@ -258,7 +321,7 @@ void readBodies(Obj& o, SceneDesc& s, std::set<std::string>& names, std::span<co
         bd.name = name;
         bd.type = type;
         if (type.empty()) continue;
-        const auto kind = std::find_if(kinds.begin(), kinds.end(), [&](const BodyReaderRow& k) { return type == k.type; });
+        const auto kind = std::find_if(kinds.begin(), kinds.end(), [&](const BodyReaderRow& k) { return bd.type == k.type; });
         bd.params = kind->read(bo, bd, s);
         readMaterial(bo, bd.material);
         bd.node_radius = bo.number("node_radius", bd.node_radius, kPos);

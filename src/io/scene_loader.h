@@ -28,7 +28,6 @@ inline constexpr long long kMaxSceneNodes = 4'194'304;        // nodes of all bo
 inline constexpr long long kMaxSceneSprings = 16'777'216;     // springs of all bodies together
 inline constexpr double kMinNodeMass = 1e-12;                 // kg: lighter nodes overflow 1/m
 inline constexpr std::size_t kMaxTextureBytes = 64u << 20;
-inline constexpr std::size_t kMaxMeshBytes = 256u << 20;
 inline constexpr std::size_t kMaxTexturePixels = 16u << 20;  // 4096 x 4096
 
 // Parses and validates a scene file. On failure the Error (BadInput) lists every problem found,

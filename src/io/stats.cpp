@@ -42,9 +42,7 @@ Status StatsWriter::write(int frame, double time, const std::vector<std::pair<st
     }
     out += "\n";
   }
-  if (std::fwrite(out.data(), 1, out.size(), file_.get()) != out.size())
-    return Error(ErrorKind::Output, "stats: write failed (disk full?)");
-  return {};
+  return file_.write(out);
 }
 
 Status StatsWriter::finish() { return file_.commit(); }

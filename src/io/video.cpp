@@ -93,6 +93,7 @@ Status VideoWriter::open(const std::string& path, int width, int height, int fps
   const char* muxer = ext == ".mp4" ? "mp4" : ext == ".webm" ? "webm" : ext == ".gif" ? "gif" : nullptr;
   if (!muxer) return Error(ErrorKind::BadInput, path + ": unsupported video type (mp4, webm, gif)");
   v.gif = ext == ".gif";
+  if (Status st = checkOutputTarget(path); !st) return st;
   av_log_set_level(AV_LOG_ERROR);  // FFmpeg speaks only when something is wrong
   int r = avformat_alloc_output_context2(&v.fmt, nullptr, muxer, v.part.c_str());
   if (r < 0 || !v.fmt) return v.fail("cannot set up the " + std::string(muxer) + " muxer", r);

@@ -133,6 +133,26 @@ Status Renderer::Impl::init(const std::string& dir) {
 // Multisampled colour + depth, resolved into a single-sample colour buffer.
 Status Renderer::Impl::initTargets() {
   const GLsizei samples = set.samples > 1 ? set.samples : 0;
+  // The image must fit this OpenGL's limits and reel's memory cap before anything is allocated
+  // (past them the framebuffer is only "incomplete", which names no cause).
+  GLint max_rb = 0, max_samples = 0, max_view[2] = {0, 0};
+  gl->GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_rb);
+  gl->GetIntegerv(GL_MAX_SAMPLES, &max_samples);
+  gl->GetIntegerv(GL_MAX_VIEWPORT_DIMS, max_view);
+  const std::string size = std::to_string(set.width) + "x" + std::to_string(set.height);
+  const GLint max_side = std::min({max_rb, max_view[0], max_view[1]});
+  if (set.width > max_side || set.height > max_side)
+    return Error(ErrorKind::BadInput, "an image of " + size + " is larger than this OpenGL allows (GL_MAX_RENDERBUFFER_SIZE " +
+                                          std::to_string(max_rb) + ", GL_MAX_VIEWPORT_DIMS " + std::to_string(max_view[0]) + "x" +
+                                          std::to_string(max_view[1]) + ")");
+  if (samples > max_samples)
+    return Error(ErrorKind::BadInput, std::to_string(samples) + " samples are more than this OpenGL allows (GL_MAX_SAMPLES " +
+                                          std::to_string(max_samples) + ")");
+  const double bytes = static_cast<double>(set.width) * set.height * (std::max(samples, 1) * 8.0 + 4.0);  // colour + depth, + resolve
+  if (bytes > static_cast<double>(kMaxFramebufferBytes))
+    return Error(ErrorKind::BadInput, "an image of " + size + " at " + std::to_string(std::max(samples, 1)) + " samples needs " +
+                                          std::to_string(static_cast<long long>(bytes / (1 << 20))) + " MiB of framebuffer, more than the limit of " +
+                                          std::to_string(kMaxFramebufferBytes >> 20) + " MiB: lower --size or --samples");
   msaa_color = gl::makeRenderbuffer(*gl);
   gl->BindRenderbuffer(GL_RENDERBUFFER, msaa_color.id());
   gl->RenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_RGBA8, set.width, set.height);

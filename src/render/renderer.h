@@ -12,6 +12,10 @@
 
 namespace reel {
 
+// Framebuffer memory an image may take (colour and depth per sample, and the resolved colour):
+// 16384x16384 at one sample fits; past it a render is refused before anything is allocated.
+inline constexpr std::size_t kMaxFramebufferBytes = std::size_t{3} << 30;
+
 struct RenderSettings {
   int width = 1280, height = 720;
   int samples = 4;  // MSAA: 1, 2 or 4

@@ -98,11 +98,17 @@ Status World::buildBodies(const SceneDesc& scene, std::span<const BodyKindRow> k
       if (scene.auto_substeps && need * scene.substeps <= kMaxStepsPerFrame) {
         subdivision_ = std::max(subdivision_, static_cast<int>(need));
       } else {
+        // The advice offers only what can work: no auto_substeps when it is on already or when
+        // the steps it would take pass the cap.
         const double min_sub = std::ceil(1.0 / (scene.fps * 0.9 * bound.h_max));
+        const std::string advice =
+            min_sub > kMaxStepsPerFrame
+                ? "that takes " + num(min_sub) + " steps a frame, more than the limit of " + num(kMaxStepsPerFrame) + "; use " + lim.instead
+                : "use \"substeps\": " + num(min_sub) + " or more" + (scene.auto_substeps ? "" : ", \"auto_substeps\": true,") +
+                      " or " + lim.instead;
         errors.push_back(scene.file + ": /substeps: step h = 1/(fps·substeps) = " + num(h) +
                          " s is above the stability bound " + num(bound.h_max) + " s " + lim.what + ": ω ≈ " +
-                         num(bound.omega) + " rad/s, β ≈ " + num(bound.beta) + " 1/s); use \"substeps\": " +
-                         num(min_sub) + " or more, \"auto_substeps\": true, or " + lim.instead);
+                         num(bound.omega) + " rad/s, β ≈ " + num(bound.beta) + " 1/s); " + advice);
       }
     }
     bodies_.push_back(std::move(made.value()));

@@ -46,10 +46,11 @@ struct FluidBlockDesc {
   double jitter = 0.0;    // fraction of the spacing, from the seed
   Vec3 velocity{0, 0, 0};
   // Lattice points per axis: the points (i + ½)·spacing from `min` that fit below `max` (at least 1).
-  long long along(int axis) const {
-    return std::max(1ll, static_cast<long long>(std::floor((max[axis] - min[axis]) / spacing + 1e-9)));
-  }
-  double count() const { return static_cast<double>(along(0)) * static_cast<double>(along(1)) * static_cast<double>(along(2)); }
+  // Counted in double, so that a block past any integer (1e10 m at 1e-9 m) is seen as such; the
+  // loader refuses a count over its cap before along() converts it.
+  double span(int axis) const { return std::max(1.0, std::floor((max[axis] - min[axis]) / spacing + 1e-9)); }
+  long long along(int axis) const { return static_cast<long long>(std::min(span(axis), 1e15)); }
+  double count() const { return span(0) * span(1) * span(2); }
 };
 
 struct FluidParticlesDesc {
@@ -66,10 +67,10 @@ struct EmitterDesc {
   double start = 0.0, stop = std::numeric_limits<double>::infinity();  // s
   double spacing = 0.02;  // m, between neighbours of a layer (the loader's default: 2 × radius)
   long long perLayer() const { return static_cast<long long>(hexDisc(radius, spacing).size()); }
-  // Layers emitted from start to stop (stop finite): one at `start`, then every perLayer()/rate s.
-  long long layers() const {
-    return static_cast<long long>(std::floor((stop - start) * rate / static_cast<double>(perLayer()) + 1e-9)) + 1;
-  }
+  // Layers emitted from start to stop (stop finite): one at `start`, then every perLayer()/rate s;
+  // in double (the loader caps the count before layers() converts it).
+  double layerCount() const { return std::floor((stop - start) * rate / static_cast<double>(perLayer()) + 1e-9) + 1; }
+  long long layers() const { return static_cast<long long>(std::min(layerCount(), 1e15)); }
 };
 
 enum class FluidDraw { Spheres, Surface };

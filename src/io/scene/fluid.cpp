@@ -169,7 +169,7 @@ void readEmitterEntry(Obj& eo, FluidReading& r) {
       d.error(childPath(eo.path(), "rate"), "packs its layers " + std::to_string(gap) + " m apart, closer than half the spacing (" +
                                                  std::to_string(0.5 * e.spacing) + " m): lower the rate, or raise speed or radius");
     else
-      r.total += static_cast<double>(e.layers() * e.perLayer());
+      r.total += e.layerCount() * static_cast<double>(e.perLayer());
   }
   r.fd.emitters.push_back(e);
 }

@@ -131,7 +131,7 @@ std::shared_ptr<const TriMesh> readMeshFile(Obj& o, const std::string& key, bool
   if (file) *file = *f;
   Diagnostics& d = o.diag();
   auto r = resolveAsset(d.file(), *f, {std::begin(kMeshExtensions), std::end(kMeshExtensions)}, kMaxMeshBytes);
-  auto m = r.ok() ? importMesh(r.value()) : Result<TriMesh>(r.error());
+  auto m = r.ok() ? importMesh(r.value(), assetRoots(d.file())) : Result<TriMesh>(r.error());
   if (m.ok()) return std::make_shared<const TriMesh>(std::move(m.value()));
   d.error(childPath(o.path(), key), r.ok() ? "\"" + *f + "\": " + m.error().headline() : m.error().headline());
   return nullptr;

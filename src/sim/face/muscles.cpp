@@ -214,7 +214,7 @@ Result<FaceActivations> makeActivations(const FaceDesc& desc, const std::vector<
   for (const FaceActivationKey& key : desc.activations) {
     std::vector<double> v(A.controls.size(), 0.0);
     for (const auto& [preset, amount] : key.presets) {
-      const auto* p = std::find_if(kFacePresets.begin(), kFacePresets.end(), [&](const FacePreset& f) { return preset == f.name; });
+      const auto* p = std::find_if(kFacePresets.begin(), kFacePresets.end(), [&, preset = preset](const FacePreset& f) { return preset == f.name; });
       for (const auto& [control, value] : p->controls)
         if (control && !apply(v, control, amount * value, key.side))
           return bad(key.path, "preset '" + preset + "' moves '" + control + "', which this face does not have" +

@@ -25,8 +25,9 @@ bool emit(Fluid& fl, double t0, double t1) {
     FluidEmitter& e = fl.emitters[k];
     const EmitterDesc& d = e.desc;
     if (t1 < d.start) continue;
-    const long long due =
-        std::min(e.max_layers, static_cast<long long>(std::floor((std::min(t1, d.stop) - d.start) / e.layer_dt)) + 1);
+    // (in double first: a tiny layer_dt must not overflow the conversion)
+    const long long due = static_cast<long long>(
+        std::min(static_cast<double>(e.max_layers), std::floor((std::min(t1, d.stop) - d.start) / e.layer_dt) + 1));
     long long& layers = fl.layers[k];
     for (; layers < due; ++layers) {
       const double t_layer = d.start + static_cast<double>(layers) * e.layer_dt;

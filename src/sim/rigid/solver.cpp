@@ -149,7 +149,7 @@ void partsNear(const RigidSolverCache& cache, const std::vector<Collider>& colli
           for (std::int64_t j = c0[1]; j <= c1[1]; ++j)
             for (std::int64_t i = c0[0]; i <= c1[0]; ++i)
               g.forEachAt(Vec3((static_cast<double>(i) + 0.5) * cell, (static_cast<double>(j) + 0.5) * cell, (static_cast<double>(k) + 0.5) * cell),
-                          [&](std::int32_t t) { out.push_back(static_cast<std::uint32_t>(first + static_cast<std::size_t>(t))); });
+                          [&, first = first](std::int32_t t) { out.push_back(static_cast<std::uint32_t>(first + static_cast<std::size_t>(t))); });
       } else {
         for (std::size_t t = 0; t < count; ++t) out.push_back(static_cast<std::uint32_t>(first + t));
       }

@@ -1,0 +1,394 @@
+#include "io/mesh_scan.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "io/files.h"
+
+namespace reel::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Json = nlohmann::json;
+
+std::string thousands(unsigned long long n) {
+  std::string s = std::to_string(n);
+  for (int i = static_cast<int>(s.size()) - 3; i > 0; i -= 3) s.insert(static_cast<std::size_t>(i), ",");
+  return s;
+}
+
+Error bad(const std::string& path, const std::string& why) { return Error(ErrorKind::BadInput, path + ": " + why); }
+
+// The first `n` bytes of the file (fewer when it is shorter).
+std::string head(const std::string& path, std::size_t n) {
+  std::ifstream in(path, std::ios::binary);
+  std::string s(n, '\0');
+  in.read(s.data(), static_cast<std::streamsize>(n));
+  s.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  return s;
+}
+
+// Calls line(text, number) for each line (without its end), reading the file in blocks; stops
+// when line returns an error.
+template <class F>
+Status forEachLine(const std::string& path, F&& line) {
+  std::ifstream in(path, std::ios::binary);
+  std::string carry, block(1u << 20, '\0');
+  std::size_t number = 0;
+  while (in) {
+    in.read(block.data(), static_cast<std::streamsize>(block.size()));
+    const auto got = static_cast<std::size_t>(in.gcount());
+    std::size_t start = 0;
+    for (std::size_t i = 0; i < got; ++i) {
+      if (block[i] != '\n') continue;
+      carry.append(block, start, i - start);
+      if (Status st = line(std::string_view(carry), ++number); !st) return st;
+      carry.clear();
+      start = i + 1;
+    }
+    carry.append(block, start, got - start);
+    if (carry.size() > (16u << 20)) return bad(path, "line " + std::to_string(number + 1) + " is longer than 16 MiB");
+  }
+  if (!carry.empty()) return line(std::string_view(carry), ++number);
+  return {};
+}
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  return s;
+}
+
+std::vector<std::string_view> words(std::string_view s) {
+  std::vector<std::string_view> out;
+  std::size_t i = 0;
+  while (i < s.size()) {
+    while (i < s.size() && (s[i] == ' ' || s[i] == '\t' || s[i] == '\r')) ++i;
+    const std::size_t b = i;
+    while (i < s.size() && s[i] != ' ' && s[i] != '\t' && s[i] != '\r') ++i;
+    if (i > b) out.push_back(s.substr(b, i - b));
+  }
+  return out;
+}
+
+// A decimal count, or nothing when the word is not one or passes 10^15.
+std::optional<unsigned long long> count(std::string_view w) {
+  if (w.empty() || w.size() > 15) return std::nullopt;
+  unsigned long long n = 0;
+  for (char c : w) {
+    if (c < '0' || c > '9') return std::nullopt;
+    n = n * 10 + static_cast<unsigned long long>(c - '0');
+  }
+  return n;
+}
+
+// OBJ (Wavefront): vertices and faces counted line by line; a face needs three corners, each
+// naming a vertex the file has (positive: from 1; negative: back from the last one read).
+Status scanObj(const std::string& path) {
+  unsigned long long vertices = 0, triangles = 0;
+  long long worst = 0;  // the largest positive vertex index, and its line
+  std::size_t worst_line = 0;
+  Status st = forEachLine(path, [&](std::string_view line, std::size_t number) -> Status {
+    line = trim(line);
+    if (line.size() < 2 || (line[1] != ' ' && line[1] != '\t')) return {};
+    const std::string at = path + ":" + std::to_string(number);
+    if (line[0] == 'v' && ++vertices > kMaxMeshVertices)
+      return Error(ErrorKind::BadInput, at + ": more than the limit of " + thousands(kMaxMeshVertices) + " vertices");
+    if (line[0] != 'f') return {};
+    const auto w = words(line);
+    const std::size_t corners = w.size() - 1;
+    if (corners < 3)
+      return Error(ErrorKind::BadInput, at + ": a face needs 3 or more corners, this one has " + std::to_string(corners));
+    for (std::size_t c = 1; c < w.size(); ++c) {
+      const std::string_view v = w[c].substr(0, w[c].find('/'));
+      const bool minus = !v.empty() && v[0] == '-';
+      const auto n = count(minus ? v.substr(1) : v);
+      if (!n || *n == 0 || (minus && *n > vertices))
+        return Error(ErrorKind::BadInput, at + ": corner \"" + std::string(w[c]).substr(0, 40) + "\" names no vertex (" +
+                                              std::to_string(vertices) + " read so far)");
+      if (!minus && static_cast<long long>(*n) > worst) {
+        worst = static_cast<long long>(*n);
+        worst_line = number;
+      }
+    }
+    triangles += corners - 2;
+    if (triangles > kMaxMeshTriangles)
+      return Error(ErrorKind::BadInput, at + ": more than the limit of " + thousands(kMaxMeshTriangles) + " triangles");
+    return {};
+  });
+  if (st && worst > static_cast<long long>(vertices))
+    return Error(ErrorKind::BadInput, path + ":" + std::to_string(worst_line) + ": a face names vertex " + std::to_string(worst) +
+                                          ", but the file has " + std::to_string(vertices));
+  return st;
+}
+
+// PLY (Turk 1994): the header declares every element's count and layout; the body must hold them.
+Status scanPly(const std::string& path, std::uintmax_t size) {
+  constexpr std::size_t kMaxHeader = 1u << 20;
+  const std::string text = head(path, kMaxHeader);
+  if (text.rfind("ply\n", 0) != 0 && text.rfind("ply\r\n", 0) != 0) return bad(path, "not a PLY file (it must start with the line \"ply\")");
+  const std::size_t end = text.find("\nend_header");
+  if (end == std::string::npos)
+    return bad(path, size > kMaxHeader ? "the PLY header does not end within its first MiB (no end_header)"
+                                       : "the PLY header does not end (no end_header line)");
+  std::size_t body = text.find('\n', end + 1);
+  body = body == std::string::npos ? text.size() : body + 1;
+  const std::uintmax_t body_bytes = size - body;
+  int format = -1;  // 0 ascii, 1 binary
+  struct Element {
+    std::string name;
+    unsigned long long count = 0;
+    unsigned long long min_bytes = 0;  // of one element: fixed fields, and each list's count
+    std::size_t line = 0;
+  };
+  std::vector<Element> elements;
+  std::size_t line_no = 1, pos = 0;
+  auto typeSize = [](std::string_view t) -> int {
+    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+    if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32") return 4;
+    if (t == "double" || t == "float64") return 8;
+    return 0;
+  };
+  while (pos < end + 1) {
+    const std::size_t nl = text.find('\n', pos);
+    const std::string_view line(text.data() + pos, std::min(nl, end + 1) - pos);
+    pos = nl + 1;
+    const auto w = words(line);
+    const std::string at = path + ":" + std::to_string(line_no++);
+    if (w.empty() || w[0] == "ply" || w[0] == "comment" || w[0] == "obj_info") continue;
+    if (w[0] == "format") {
+      if (w.size() < 2 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian"))
+        return Error(ErrorKind::BadInput, at + ": unknown PLY format (ascii, binary_little_endian or binary_big_endian)");
+      format = w[1] == "ascii" ? 0 : 1;
+    } else if (w[0] == "element") {
+      const auto n = w.size() == 3 ? count(w[2]) : std::nullopt;
+      if (!n) return Error(ErrorKind::BadInput, at + ": expected \"element NAME COUNT\"");
+      const bool faces = w[1] == "face";
+      const std::size_t cap = faces ? kMaxMeshTriangles : kMaxMeshVertices;
+      if (*n > cap)
+        return Error(ErrorKind::BadInput, at + ": declares " + thousands(*n) + " " + std::string(w[1]) +
+                                              " elements, more than the limit of " + thousands(cap));
+      elements.push_back({std::string(w[1]), *n, 0, line_no - 1});
+    } else if (w[0] == "property") {
+      if (elements.empty()) return Error(ErrorKind::BadInput, at + ": a property before any element");
+      const bool list = w.size() == 5 && w[1] == "list";
+      if (!list && w.size() != 3) return Error(ErrorKind::BadInput, at + ": expected \"property TYPE NAME\" or \"property list COUNT_TYPE TYPE NAME\"");
+      const std::string_view type = list ? w[2] : w[1];
+      if (typeSize(type) == 0 || (list && typeSize(w[3]) == 0))
+        return Error(ErrorKind::BadInput, at + ": unknown property type \"" + std::string(typeSize(type) == 0 ? type : w[3]) + "\"");
+      // ASCII: at least a digit and a separator per value; binary: the bytes of the type.
+      elements.back().min_bytes += format == 1 ? static_cast<unsigned long long>(typeSize(type)) : 2;
+    } else if (w[0] != "end_header") {
+      return Error(ErrorKind::BadInput, at + ": unknown PLY header line \"" + std::string(w[0]).substr(0, 40) + "\"");
+    }
+  }
+  if (format < 0) return bad(path, "the PLY header has no format line");
+  unsigned long long need = 0;
+  for (const Element& e : elements) {
+    if (e.min_bytes == 0 && e.count > 0)
+      return bad(path + ":" + std::to_string(e.line), "element \"" + e.name + "\" has no properties");
+    need += e.count * e.min_bytes;  // each term below 6e6 * 8 * props: no overflow
+    if (need > body_bytes)
+      return Error(ErrorKind::BadInput, path + ":" + std::to_string(e.line) + ": declares " + thousands(e.count) + " " + e.name +
+                                            " elements, more than its " + thousands(body_bytes) + " bytes of data can hold");
+  }
+  return {};
+}
+
+// STL: binary (an 80-byte header, a triangle count, 50 bytes per triangle) or ASCII ("solid").
+Status scanStl(const std::string& path, std::uintmax_t size) {
+  const std::string h = head(path, 84);
+  if (size >= 84) {
+    std::uint32_t n = 0;
+    std::memcpy(&n, h.data() + 80, 4);  // little-endian, as x86 (reel's platform)
+    if (84 + 50 * static_cast<std::uintmax_t>(n) == size) {
+      if (n > kMaxMeshTriangles)
+        return bad(path, "declares " + thousands(n) + " triangles, more than the limit of " + thousands(kMaxMeshTriangles));
+      return {};
+    }
+  }
+  if (trim(h).rfind("solid", 0) != 0)
+    return bad(path, "neither a binary STL (84 + 50 bytes per triangle, here " + thousands(size) +
+                         " bytes) nor an ASCII one (starting with \"solid\")");
+  unsigned long long facets = 0;
+  return forEachLine(path, [&](std::string_view line, std::size_t number) -> Status {
+    if (trim(line).rfind("facet", 0) == 0 && ++facets > kMaxMeshTriangles)
+      return Error(ErrorKind::BadInput, path + ":" + std::to_string(number) + ": more than the limit of " +
+                                            thousands(kMaxMeshTriangles) + " triangles");
+    return {};
+  });
+}
+
+// glTF 2.0 (Khronos): buffers, views and accessors must fit inside each other and inside the
+// bytes that exist; nodes must form a forest.
+Status scanGltfJson(const std::string& path, const Json& j, std::uintmax_t bin_bytes, const std::vector<std::string>& roots) {
+  if (!j.is_object()) return bad(path, "not a glTF file (its JSON is not an object)");
+  auto list = [&](const char* key) -> const Json* {
+    auto it = j.find(key);
+    return it != j.end() && it->is_array() ? &*it : nullptr;
+  };
+  auto num = [](const Json& o, const char* key, double def) -> double {
+    auto it = o.find(key);
+    return it != o.end() && it->is_number() ? it->get<double>() : def;
+  };
+  auto field = [&](const char* what, std::size_t i, const char* key) {
+    return path + ": " + what + "[" + std::to_string(i) + "]." + key;
+  };
+  if (auto a = j.find("asset"); a != j.end() && a->is_object()) {
+    auto v = a->find("version");
+    if (v != a->end() && v->is_string() && v->get<std::string>().rfind("2", 0) != 0)
+      return bad(path, "glTF version " + v->get<std::string>().substr(0, 20) + " (reel reads glTF 2.0)");
+  }
+  std::vector<double> buffer_len;
+  if (const Json* bs = list("buffers")) {
+    for (std::size_t i = 0; i < bs->size(); ++i) {
+      const Json& b = (*bs)[i];
+      const double len = b.is_object() ? num(b, "byteLength", -1) : -1;
+      if (!(len >= 0 && len <= static_cast<double>(kMaxMeshBytes)))
+        return Error(ErrorKind::BadInput, field("buffers", i, "byteLength") + ": must be in [0, " + thousands(kMaxMeshBytes) + "]");
+      double have = static_cast<double>(bin_bytes);
+      if (auto u = b.find("uri"); u != b.end() && u->is_string()) {
+        const std::string uri = u->get<std::string>();
+        if (uri.rfind("data:", 0) == 0) {
+          const std::size_t comma = uri.find(',');
+          have = comma == std::string::npos ? 0.0 : static_cast<double>(uri.size() - comma - 1) * 0.75;
+        } else {
+          const std::string file = (fs::path(path).parent_path() / uri).string();
+          std::error_code ec;
+          if (!insideRoots(file, roots))
+            return Error(ErrorKind::BadInput, field("buffers", i, "uri") + ": \"" + uri.substr(0, 200) + "\" lies outside the allowed folders");
+          const auto s = fs::is_regular_file(file, ec) ? fs::file_size(file, ec) : 0;
+          have = ec ? 0.0 : static_cast<double>(s);
+        }
+      }
+      if (len > have)
+        return Error(ErrorKind::BadInput, field("buffers", i, "byteLength") + ": " + thousands(static_cast<unsigned long long>(len)) +
+                                              " bytes, more than its data holds (" + thousands(static_cast<unsigned long long>(have)) + ")");
+      buffer_len.push_back(len);
+    }
+  }
+  struct View {
+    double len, stride;
+  };
+  std::vector<View> views;
+  if (const Json* vs = list("bufferViews")) {
+    for (std::size_t i = 0; i < vs->size(); ++i) {
+      const Json& v = (*vs)[i];
+      const bool obj = v.is_object();
+      const double b = obj ? num(v, "buffer", -1) : -1, off = obj ? num(v, "byteOffset", 0) : -1,
+                   len = obj ? num(v, "byteLength", -1) : -1, stride = obj ? num(v, "byteStride", 0) : -1;
+      if (!(b >= 0 && b < static_cast<double>(buffer_len.size())) || !(off >= 0 && len >= 0 && stride >= 0) ||
+          off + len > buffer_len[static_cast<std::size_t>(b)])
+        return Error(ErrorKind::BadInput, field("bufferViews", i, "byteLength") + ": the view does not lie inside a buffer");
+      views.push_back({len, stride});
+    }
+  }
+  if (const Json* as = list("accessors")) {
+    for (std::size_t i = 0; i < as->size(); ++i) {
+      const Json& a = (*as)[i];
+      const double n = a.is_object() ? num(a, "count", -1) : -1;
+      if (!(n >= 0 && n <= static_cast<double>(3 * kMaxMeshTriangles)))
+        return Error(ErrorKind::BadInput, field("accessors", i, "count") + ": must be in [0, " + thousands(3 * kMaxMeshTriangles) + "]");
+      if (!a.contains("bufferView")) continue;  // zeros (or sparse values): count is capped above
+      const double v = num(a, "bufferView", -1);
+      if (!(v >= 0 && v < static_cast<double>(views.size())))
+        return Error(ErrorKind::BadInput, field("accessors", i, "bufferView") + ": no such buffer view");
+      // Bytes of one element: the component's size times the components of the type.
+      const double component = num(a, "componentType", 0);
+      const double csize = component == 5120 || component == 5121 ? 1 : component == 5122 || component == 5123 ? 2 : 4;
+      const std::string type = a.contains("type") && a["type"].is_string() ? a["type"].get<std::string>() : "";
+      const double comps = type == "VEC2" ? 2 : type == "VEC3" ? 3 : type == "VEC4" || type == "MAT2" ? 4
+                         : type == "MAT3" ? 9 : type == "MAT4" ? 16 : 1;
+      const View& view = views[static_cast<std::size_t>(v)];
+      const double elem = csize * comps, stride = view.stride > 0 ? view.stride : elem, off = num(a, "byteOffset", 0);
+      if (!(off >= 0) || (n > 0 && off + (n - 1) * stride + elem > view.len))
+        return Error(ErrorKind::BadInput, field("accessors", i, "count") + ": " + thousands(static_cast<unsigned long long>(n)) +
+                                              " elements, more than its buffer view holds");
+    }
+  }
+  if (const Json* ns = list("nodes")) {
+    const std::size_t n = ns->size();
+    std::vector<std::size_t> parent(n, n);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!(*ns)[i].is_object()) continue;
+      auto c = (*ns)[i].find("children");
+      if (c == (*ns)[i].end() || !c->is_array()) continue;
+      for (const Json& k : *c) {
+        const double x = k.is_number() ? k.get<double>() : -1;
+        if (!(x >= 0 && x < static_cast<double>(n)) || parent[static_cast<std::size_t>(x)] != n || static_cast<std::size_t>(x) == i)
+          return Error(ErrorKind::BadInput, field("nodes", i, "children") + ": the nodes do not form a tree (a child that does not exist, or has two parents)");
+        parent[static_cast<std::size_t>(x)] = i;
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i) {  // a cycle: walking up never reaches a root
+      std::size_t at = i, steps = 0;
+      while (parent[at] != n && steps++ <= n) at = parent[at];
+      if (steps > n) return Error(ErrorKind::BadInput, field("nodes", i, "children") + ": the nodes form a cycle");
+    }
+  }
+  return {};
+}
+
+Status scanGltf(const std::string& path, std::uintmax_t size, bool binary, const std::vector<std::string>& roots) {
+  auto parse = [&](const std::string& text) -> std::optional<Json> {
+    Json j = Json::parse(text, nullptr, /*allow_exceptions=*/false);
+    if (j.is_discarded()) return std::nullopt;
+    return j;
+  };
+  if (!binary) {
+    auto text = readFile(path, kMaxMeshBytes);
+    if (!text.ok()) return text.error();
+    auto j = parse(text.value());
+    if (!j) return bad(path, "not a glTF file (its JSON does not parse)");
+    return scanGltfJson(path, *j, 0, roots);
+  }
+  // GLB: a 12-byte header (magic, version, length), a JSON chunk, an optional BIN chunk.
+  const std::string h = head(path, 20);
+  std::uint32_t word[5] = {};
+  if (h.size() < 20 || h.compare(0, 4, "glTF") != 0) return bad(path, "not a binary glTF file (no glTF header)");
+  std::memcpy(word, h.data(), 20);
+  if (word[1] != 2) return bad(path, "binary glTF version " + std::to_string(word[1]) + " (reel reads glTF 2.0)");
+  if (word[2] != size) return bad(path, "its header gives a length of " + thousands(word[2]) + " bytes, the file has " + thousands(size));
+  const std::uintmax_t json_len = word[3];
+  if (word[4] != 0x4E4F534Au || 20 + json_len > size) return bad(path, "the first chunk is not JSON, or passes the end of the file");
+  std::uintmax_t bin = 0;
+  if (20 + json_len + 8 <= size) {
+    const std::string all = head(path, static_cast<std::size_t>(20 + json_len + 8));
+    std::uint32_t chunk[2] = {};
+    std::memcpy(chunk, all.data() + 20 + json_len, 8);
+    if (20 + json_len + 8 + chunk[0] > size) return bad(path, "the BIN chunk passes the end of the file");
+    bin = chunk[0];
+  }
+  auto j = parse(head(path, static_cast<std::size_t>(20 + json_len)).substr(20));
+  if (!j) return bad(path, "not a glTF file (its JSON chunk does not parse)");
+  return scanGltfJson(path, *j, bin, roots);
+}
+
+}  // namespace
+
+Status scanMesh(const std::string& path, const std::vector<std::string>& roots) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return bad(path, "not a regular file");
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) return bad(path, "cannot read: " + ec.message());
+  if (size > kMaxMeshBytes) return bad(path, "file is " + thousands(size) + " bytes, more than the limit of " + thousands(kMaxMeshBytes));
+  std::string ext = fs::path(path).extension().string();
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".obj") return scanObj(path);
+  if (ext == ".ply") return scanPly(path, size);
+  if (ext == ".stl") return scanStl(path, size);
+  if (ext == ".gltf" || ext == ".glb") return scanGltf(path, size, ext == ".glb", roots);
+  return bad(path, "unsupported mesh type \"" + ext + "\" (.obj, .ply, .stl, .gltf, .glb)");
+}
+
+}  // namespace reel::io

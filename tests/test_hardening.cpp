@@ -1,0 +1,257 @@
+// Hostile input (DESIGN 9): mesh files that would hang or exhaust the importer, assets that refer
+// outside the allowed folders, outputs that are not regular files, counts and times that overflow,
+// duplicate keys, a full disk, and threads that wait without spinning. Each case failed before
+// the hardening it tests.
+#include <doctest/doctest.h>
+#include <sys/stat.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "helpers.h"
+#include "io/files.h"
+#include "io/mesh_import.h"
+
+using namespace reel;
+using reel::test::runReel;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A fresh folder per test case (ctest runs cases in parallel processes).
+fs::path freshDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("reel_hardening_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string put(const fs::path& dir, const std::string& name, const std::string& text) {
+  std::ofstream(dir / name, std::ios::binary) << text;
+  return (dir / name).string();
+}
+
+// The import's error, or "" when it succeeds.
+std::string importError(const std::string& path, double budget_s = io::kMeshImportSeconds) {
+  auto m = io::importMesh(path, {}, budget_s);
+  return m.ok() ? std::string() : m.error().headline();
+}
+
+bool has(const std::string& text, const std::string& part) {
+  INFO(text);
+  return text.find(part) != std::string::npos;
+}
+
+const char* kTriangleObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+const char* kPlyHeader = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+
+}  // namespace
+
+TEST_CASE("a PLY header that never ends is refused at once (assimp's reader looped forever)") {
+  const fs::path d = freshDir("ply_header");
+  CHECK(has(importError(put(d, "a.ply", "ply\nformat ascii 1.0\n")), "the PLY header does not end"));
+  CHECK(has(importError(put(d, "b.ply", "not a ply\n")), "not a PLY file"));
+  CHECK(has(importError(put(d, "c.ply", std::string(kPlyHeader) + "element face 1\nproperty list uchar int vertex_indices\nbogus\nend_header\n")),
+            "c.ply:9: unknown PLY header line \"bogus\""));
+}
+
+TEST_CASE("PLY counts are checked against the caps and the file's bytes before import") {
+  const fs::path d = freshDir("ply_counts");
+  // 190 bytes declaring 10^8 faces took 60 s and 3 GB; 4e9 vertices ended in std::bad_alloc.
+  const std::string faces = std::string(kPlyHeader) + "element face 100000000\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  CHECK(has(importError(put(d, "faces.ply", faces)), "faces.ply:7: declares 100,000,000 face elements, more than the limit of 2,000,000"));
+  CHECK(has(importError(put(d, "verts.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n")),
+            "verts.ply:3: declares 4,000,000,000 vertex elements, more than the limit of 6,000,000"));
+  // Within the caps, but more than the data can hold: 1,000 faces in 20 bytes.
+  const std::string short_body = std::string(kPlyHeader) + "element face 1000\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  CHECK(has(importError(put(d, "short.ply", short_body)), "declares 1,000 face elements, more than its"));
+  // The same file with its true count imports.
+  const std::string good = std::string(kPlyHeader) + "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  CHECK(importError(put(d, "good.ply", good)).empty());
+}
+
+TEST_CASE("an OBJ over the triangle cap is refused while it is counted, not after import") {
+  const fs::path d = freshDir("obj_cap");
+  {
+    std::ofstream f(d / "big.obj");
+    f << "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    const std::string face = "f 1 2 3\n";
+    std::string block;
+    for (int i = 0; i < 100'000; ++i) block += face;
+    for (int k = 0; k < 21; ++k) f << block;  // 2,100,000 triangles, 16.8 MB
+  }
+  CHECK(has(importError((d / "big.obj").string()), "big.obj:2000004: more than the limit of 2,000,000 triangles"));
+}
+
+TEST_CASE("OBJ faces with too few corners or missing vertices are named by line, in plain words") {
+  const fs::path d = freshDir("obj_faces");
+  CHECK(has(importError(put(d, "line.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n")), "line.obj:4: a face needs 3 or more corners, this one has 2"));
+  CHECK(has(importError(put(d, "far.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")), "far.obj:4: a face names vertex 9, but the file has 3"));
+  CHECK(has(importError(put(d, "neg.obj", "v 0 0 0\nf -1 -2 -3\n")), "neg.obj:2: corner \"-2\" names no vertex"));
+  // Assimp's own wording becomes a sentence about the file.
+  CHECK(has(importError(put(d, "bad.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid\n")),
+            "not a valid STL file: invalid number of vertices"));
+  CHECK(has(importError(put(d, "lines.ply", std::string(kPlyHeader) + "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n")),
+            "holds no triangles (its faces are points or lines)"));
+}
+
+TEST_CASE("files an asset refers to must lie in the allowed folders (OBJ mtllib, glTF buffer uri)") {
+  const fs::path root = freshDir("refs");
+  const fs::path d = root / "scene";
+  fs::create_directories(d);
+  put(root, "secret.mtl", "newmtl x\nKd 1 0 0\n");
+  const std::string esc = put(d, "esc.obj", std::string("mtllib ../secret.mtl\n") + kTriangleObj);
+  CHECK(has(importError(esc), "esc.obj: refers to \""));
+  CHECK(has(importError(esc), "secret.mtl\", which lies outside the allowed folders"));
+  // The same reference inside the folder is read.
+  put(d, "ok.mtl", "newmtl x\nKd 1 0 0\n");
+  CHECK(importError(put(d, "ok.obj", std::string("mtllib ok.mtl\n") + kTriangleObj)).empty());
+  // A glTF buffer outside: refused before assimp opens it.
+  const std::string gltf = R"({"asset": {"version": "2.0"}, "buffers": [{"uri": "../../../../etc/passwd", "byteLength": 10}]})";
+  CHECK(has(importError(put(d, "esc.gltf", gltf)), "buffers[0].uri: \"../../../../etc/passwd\" lies outside the allowed folders"));
+  // Through a scene: the scene's folder and assets/ are the roots.
+  put(d, "s.json", R"({"format": "reel/1", "duration": 1, "objects": [{"type": "mesh", "file": "esc.obj"}]})");
+  const auto r = runReel("check " + (d / "s.json").string());
+  CHECK(r.code == 2);
+  CHECK(has(r.out, "/objects/0/file: \"esc.obj\""));
+  CHECK(has(r.out, "outside the allowed folders"));
+}
+
+TEST_CASE("glTF and GLB: buffers, views and accessors must fit the bytes that exist") {
+  const fs::path d = freshDir("gltf");
+  // One triangle in a data URI (36 bytes of float positions).
+  const std::string data = "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA";
+  auto doc = [&](const std::string& byte_length, const std::string& count) {
+    return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+      "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+      "buffers": [{"uri": ")" + data + R"(", "byteLength": )" + byte_length + R"(}],
+      "bufferViews": [{"buffer": 0, "byteLength": 36}],
+      "accessors": [{"bufferView": 0, "componentType": 5126, "count": )" + count + R"(, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}]})";
+  };
+  CHECK(importError(put(d, "tri.gltf", doc("36", "3"))).empty());
+  CHECK(has(importError(put(d, "big_buffer.gltf", doc("4000000", "3"))), "buffers[0].byteLength: 4,000,000 bytes, more than its data holds (36)"));
+  CHECK(has(importError(put(d, "big_count.gltf", doc("36", "1000"))), "accessors[0].count: 1,000 elements, more than its buffer view holds"));
+  CHECK(has(importError(put(d, "huge_count.gltf", doc("36", "4000000000"))), "accessors[0].count: must be in [0, 6,000,000]"));
+  const std::string cycle = R"({"asset": {"version": "2.0"}, "nodes": [{"children": [1]}, {"children": [0]}]})";
+  CHECK(has(importError(put(d, "cycle.gltf", cycle)), "the nodes"));
+  CHECK(has(importError(put(d, "len.glb", std::string("glTF\x02\0\0\0\xff\0\0\0\x04\0\0\0JSON{}  ", 24))), "its header gives a length of 255 bytes, the file has 24"));
+}
+
+TEST_CASE("STL: a binary count that does not match the file, and the import's time budget") {
+  const fs::path d = freshDir("stl");
+  std::string bin(84, '\0');
+  bin[80] = '\x10';  // 16 triangles declared, none present
+  CHECK(has(importError(put(d, "short.stl", bin)), "neither a binary STL"));
+  // The budget cancels an import that runs past it (assimp asks between its steps).
+  CHECK(has(importError(put(d, "tri.obj", kTriangleObj), 0.0), "import took longer than the budget of 0 s"));
+  CHECK(importError((d / "tri.obj").string()).empty());
+}
+
+TEST_CASE("a scene name with a path in it keeps the default output inside render_out/") {
+  const fs::path d = freshDir("name");
+  fs::create_directories(d / "work");
+  put(d / "work", "s.json", R"({"format": "reel/1", "name": "../../../escaped", "duration": 0.1, "fps": 10,
+    "render": {"width": 16, "height": 16, "samples": 1}})");
+  const auto r = runReel("render s.json", "cd " + (d / "work").string() + " && ");
+  CHECK(r.code == 0);
+  INFO(r.out);
+  CHECK(fs::exists(d / "work" / "render_out" / "_escaped.mp4"));
+  CHECK_FALSE(fs::exists(d / "escaped.mp4"));
+  CHECK_FALSE(fs::exists(d.parent_path() / "escaped.mp4"));
+}
+
+TEST_CASE("an output that is a FIFO, a folder or a device is refused with exit 4, never replaced") {
+  const fs::path d = freshDir("outputs");
+  const std::string scene = put(d, "s.json", R"({"format": "reel/1", "duration": 0.1, "fps": 10, "render": {"width": 16, "height": 16}})");
+  const fs::path fifo = d / "pipe.json";
+  REQUIRE(mkfifo(fifo.c_str(), 0600) == 0);
+  auto r = runReel("simulate " + scene + " --dump " + fifo.string());
+  CHECK(r.code == 4);
+  CHECK(has(r.out, "pipe.json: is a FIFO, not a regular file"));
+  CHECK(fs::is_fifo(fifo));  // still the FIFO
+  fs::create_directories(d / "folder.png");
+  r = runReel("still " + scene + " --frame 0 -o " + (d / "folder.png").string());
+  CHECK(r.code == 4);
+  CHECK(has(r.out, "folder.png: is a folder"));
+  CHECK(fs::is_directory(d / "folder.png"));
+  const fs::path video = d / "v.mp4";
+  REQUIRE(mkfifo(video.c_str(), 0600) == 0);
+  r = runReel("render " + scene + " -o " + video.string());
+  CHECK(r.code == 4);
+  CHECK(has(r.out, "v.mp4: is a FIFO"));
+  // A device is only checked here, never opened.
+  CHECK(io::checkOutputTarget("/dev/null").error().kind == ErrorKind::Output);
+  CHECK(has(io::checkOutputTarget("/dev/null").error().headline(), "/dev/null: is a device"));
+  CHECK(io::checkOutputTarget((d / "new.json").string()).ok());
+}
+
+TEST_CASE("a full disk during --dump names the file and leaves no dump behind") {
+  const fs::path d = freshDir("full");
+  const std::string rope = std::string(REEL_SOURCE_DIR) + "/scenes/rope.json";
+  const fs::path out = d / "dump.json";
+  // A file size limit of 64 KiB stands in for a full disk (SIGXFSZ ignored: writes fail EFBIG).
+  const auto r = runReel("simulate " + rope + " --dump " + out.string(), "ulimit -f 128; trap '' XFSZ; ");
+  CHECK(r.code == 4);
+  CHECK(has(r.out, out.string() + ": write failed: File too large"));
+  CHECK_FALSE(fs::exists(out));
+  CHECK_FALSE(fs::exists(out.string() + ".part"));
+}
+
+TEST_CASE("counts and times from doubles are checked before they are converted") {
+  const fs::path d = freshDir("overflow");
+  // A block from 0 to 1e10 m at 1e-9 m spacing became one particle.
+  put(d, "block.json", R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "fluid", "name": "f",
+    "species": [{"name": "w"}], "blocks": [{"min": [0, 0, 0], "max": [1e10, 1e10, 1e10], "spacing": 1e-9}]}]})");
+  auto r = runReel("check " + (d / "block.json").string());
+  CHECK(r.code == 2);
+  CHECK(has(r.out, "/bodies/0/blocks/0: holds over 10^15 particles"));
+  const std::string scene = put(d, "s.json", R"({"format": "reel/1", "duration": 1, "fps": 10, "render": {"width": 16, "height": 16}})");
+  for (const char* t : {"1e20", "1e9", "1.2"}) {
+    r = runReel("still " + scene + " --time " + t + " -o " + (d / "x.png").string());
+    CHECK(r.code == 2);
+    CHECK(has(r.out, "s is outside the film (0 to 0.9 s)"));
+  }
+  CHECK(runReel("still " + scene + " --time 0.9 -o " + (d / "x.png").string()).code == 0);
+  // Past the GL limits or reel's framebuffer cap: which limit, before anything is allocated.
+  r = runReel("still " + scene + " --frame 0 --size 16384x16384 --samples 4 -o " + (d / "y.png").string());
+  CHECK(r.code == 2);
+  CHECK(has(r.out, "16384x16384 at 4 samples needs 9216 MiB of framebuffer, more than the limit of 3072 MiB"));
+}
+
+TEST_CASE("a key given twice in one object is an error with both locations") {
+  const fs::path d = freshDir("dup");
+  put(d, "top.json", "{\"format\": \"reel/1\",\n \"duration\": 1,\n \"duration\": 2}");
+  auto r = runReel("check " + (d / "top.json").string());
+  CHECK(r.code == 2);
+  CHECK(has(r.out, "top.json:3:2: /duration: duplicate key \"duration\" (first at 2:2)"));
+  // Nested, after a comment holding a brace and an escaped key; the same key in two objects is fine.
+  put(d, "nested.json", "{\"format\": \"reel/1\", \"duration\": 1, // { \"x\"\n \"bodies\": [{\"type\": \"rope\", \"name\": \"a\"},\n"
+                        " {\"type\": \"rope\", \"name\": \"b\", \"n\\u0061me\": \"c\"}]}");
+  r = runReel("check " + (d / "nested.json").string());
+  CHECK(r.code == 2);
+  CHECK(has(r.out, "nested.json:3:32: /bodies/1/name: duplicate key \"name\" (first at 3:19)"));
+  CHECK_FALSE(has(r.out, "/bodies/0/name: duplicate"));
+}
+
+TEST_CASE("auto_substeps already on: the refusal does not advise it, and says the limit") {
+  const fs::path d = freshDir("substeps");
+  put(d, "stiff.json", R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 1, "auto_substeps": true,
+    "integrator": "symplectic_euler",
+    "bodies": [{"type": "rope", "name": "r", "start": [0, 0, 0], "end": [1, 0, 0], "segments": 4, "mass": 1e-9, "stiffness": 1e12}]})");
+  const auto r = runReel("check " + (d / "stiff.json").string());
+  CHECK(r.code == 2);
+  CHECK(has(r.out, "steps a frame, more than the limit of 1e+07; use implicit_euler"));
+  CHECK_FALSE(has(r.out, "\"auto_substeps\": true"));
+}
+
+TEST_CASE("OpenMP threads wait passively: a loaded machine is not made slower by spinning") {
+  // The runtime reports its settings; libgomp's spin count is 0 only under the passive policy.
+  const auto r = runReel("info", "OMP_DISPLAY_ENV=verbose ");
+  CHECK(r.code == 0);
+  CHECK(has(r.out, "OMP_WAIT_POLICY = 'PASSIVE'"));
+  if (r.out.find("GOMP_SPINCOUNT") != std::string::npos) CHECK(has(r.out, "GOMP_SPINCOUNT = '0'"));
+  CHECK(has(r.out, "waiting: PASSIVE"));
+  // A user's own choice is kept.
+  CHECK(has(runReel("info", "OMP_WAIT_POLICY=active ").out, "waiting: active"));
+}
