@@ -13,5 +13,12 @@ if(REEL_SANITIZE)
   target_compile_options(reel_options INTERFACE -fsanitize=${REEL_SANITIZE} -fno-omit-frame-pointer)
   target_link_options(reel_options INTERFACE -fsanitize=${REEL_SANITIZE})
 endif()
+if(REEL_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "REEL_FUZZ needs clang (libFuzzer): use the fuzz preset")
+  endif()
+  # Coverage instrumentation for libFuzzer in every reel library; the targets link the driver.
+  target_compile_options(reel_options INTERFACE -fsanitize=fuzzer-no-link)
+endif()
 target_compile_definitions(reel_options INTERFACE
   REEL_VERSION="${PROJECT_VERSION}" REEL_BUILD_TYPE="${CMAKE_BUILD_TYPE}")
