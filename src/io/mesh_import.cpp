@@ -79,11 +79,13 @@ std::string explain(std::string what) {
   for (const char* prefix : {"Validation failed: ", "Mesh is invalid: "})
     if (what.rfind(prefix, 0) == 0) what = what.substr(std::strlen(prefix));
   if (what.size() > 200) what = what.substr(0, 200) + "...";
-  // A reader's "STL: Invalid number of vertices" as "not a valid STL file: invalid number of vertices".
-  if (std::regex_search(what, m, std::regex(R"(^([A-Za-z0-9]{2,8}) ?(\(\w+\))?: (.+)$)")) && !m[3].str().empty()) {
-    std::string rest = m[3].str();
+  // A reader's "STL: Invalid number of vertices" or "Invalid .ply file: Vertices should ..." as
+  // "not a valid STL file: invalid number of vertices".
+  if (std::regex_search(what, m, std::regex(R"(^(?:([A-Za-z0-9]{2,8}) ?(?:\(\w+\))?|Invalid \.?([A-Za-z0-9]{2,8}) file): (.+)$)"))) {
+    std::string format = m[1].matched ? m[1].str() : m[2].str(), rest = m[3].str();
+    for (char& c : format) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     rest[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(rest[0])));
-    return "not a valid " + m[1].str() + " file: " + rest;
+    return "not a valid " + format + " file: " + rest;
   }
   return "cannot import: " + what;
 }

@@ -1,6 +1,8 @@
 #include "io/mesh_scan.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cstdlib>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -131,7 +133,94 @@ Status scanObj(const std::string& path) {
   return st;
 }
 
-// PLY (Turk 1994): the header declares every element's count and layout; the body must hold them.
+// PLY (Turk 1994): the header declares every element's count and layout, and the body is
+// walked against it: ASCII values must be numbers and binary records must end within the file.
+// What the walk refuses would otherwise reach assimp's reader, which leaks what it has read when
+// it throws on a malformed body (found by fuzz_mesh) and has had overflows on binary ones.
+struct PlyProperty {
+  int size = 0;        // bytes of a scalar, or of a list's items
+  int count_size = 0;  // a list: bytes of its count; 0: a scalar
+  bool corners = false;  // a face's vertex indices: 3 or more (assimp aborts on an empty face)
+};
+struct PlyElement {
+  std::string name;
+  unsigned long long count = 0;
+  std::vector<PlyProperty> props;
+  std::size_t line = 0;
+};
+
+int plyTypeSize(std::string_view t) {
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32") return 4;
+  if (t == "double" || t == "float64") return 8;
+  return 0;
+}
+
+bool isNumber(std::string_view w) {
+  if (w.empty() || w.size() > 64) return false;
+  char buf[65];
+  std::memcpy(buf, w.data(), w.size());
+  buf[w.size()] = '\0';
+  char* end = nullptr;
+  (void)std::strtod(buf, &end);
+  return end == buf + w.size();
+}
+
+Status walkAsciiPly(const std::string& path, const std::string& body, const std::vector<PlyElement>& elements) {
+  std::size_t pos = 0;
+  auto next = [&]() -> std::string_view {
+    while (pos < body.size() && std::isspace(static_cast<unsigned char>(body[pos]))) ++pos;
+    const std::size_t b = pos;
+    while (pos < body.size() && !std::isspace(static_cast<unsigned char>(body[pos]))) ++pos;
+    return std::string_view(body).substr(b, pos - b);
+  };
+  for (const PlyElement& e : elements)
+    for (unsigned long long k = 0; k < e.count; ++k)
+      for (const PlyProperty& p : e.props) {
+        const std::string_view w = next();
+        unsigned long long items = 0;
+        if (p.count_size > 0) {
+          const auto n = count(w);
+          if (!n || *n > 1'000'000)
+            return bad(path, e.name + " " + std::to_string(k) + ": expected a list's length, got \"" + std::string(w.substr(0, 20)) + "\"");
+          items = *n;
+          if (p.corners && items < 3)
+            return bad(path, "face " + std::to_string(k) + " has " + std::to_string(items) + " corners; a face needs 3 or more");
+        } else if (!isNumber(w)) {
+          return bad(path, e.name + " " + std::to_string(k) + ": expected a number, got \"" + std::string(w.substr(0, 20)) +
+                               (w.empty() ? "\" (the file ends)" : "\""));
+        }
+        for (unsigned long long i = 0; i < items; ++i)
+          if (const std::string_view x = next(); !isNumber(x))
+            return bad(path, e.name + " " + std::to_string(k) + ": expected a number in its list, got \"" + std::string(x.substr(0, 20)) + "\"");
+      }
+  return {};
+}
+
+Status walkBinaryPly(const std::string& path, const std::string& body, bool big_endian, const std::vector<PlyElement>& elements) {
+  std::size_t pos = 0;
+  for (const PlyElement& e : elements)
+    for (unsigned long long k = 0; k < e.count; ++k)
+      for (const PlyProperty& p : e.props) {
+        std::uint64_t items = 1;
+        if (p.count_size > 0) {
+          if (pos + static_cast<std::size_t>(p.count_size) > body.size()) return bad(path, e.name + " " + std::to_string(k) + ": the file ends inside it");
+          unsigned char b[8] = {};
+          std::memcpy(b, body.data() + pos, static_cast<std::size_t>(p.count_size));
+          items = 0;
+          for (int i = 0; i < p.count_size; ++i) items |= std::uint64_t{b[big_endian ? p.count_size - 1 - i : i]} << (8 * i);
+          pos += static_cast<std::size_t>(p.count_size);
+          if (p.corners && items < 3)
+            return bad(path, "face " + std::to_string(k) + " has " + std::to_string(items) + " corners; a face needs 3 or more");
+        }
+        if (items > body.size() - pos || items * static_cast<std::uint64_t>(p.size) > body.size() - pos)
+          return bad(path, e.name + " " + std::to_string(k) + ": the file ends inside it");
+        pos += static_cast<std::size_t>(items) * static_cast<std::size_t>(p.size);
+      }
+  return {};
+}
+
 Status scanPly(const std::string& path, std::uintmax_t size) {
   constexpr std::size_t kMaxHeader = 1u << 20;
   const std::string text = head(path, kMaxHeader);
@@ -140,25 +229,12 @@ Status scanPly(const std::string& path, std::uintmax_t size) {
   if (end == std::string::npos)
     return bad(path, size > kMaxHeader ? "the PLY header does not end within its first MiB (no end_header)"
                                        : "the PLY header does not end (no end_header line)");
-  std::size_t body = text.find('\n', end + 1);
-  body = body == std::string::npos ? text.size() : body + 1;
-  const std::uintmax_t body_bytes = size - body;
-  int format = -1;  // 0 ascii, 1 binary
-  struct Element {
-    std::string name;
-    unsigned long long count = 0;
-    unsigned long long min_bytes = 0;  // of one element: fixed fields, and each list's count
-    std::size_t line = 0;
-  };
-  std::vector<Element> elements;
+  std::size_t body_at = text.find('\n', end + 1);
+  body_at = body_at == std::string::npos ? text.size() : body_at + 1;
+  const std::uintmax_t body_bytes = size - body_at;
+  int format = -1;  // 0 ascii, 1 binary little-endian, 2 big-endian
+  std::vector<PlyElement> elements;
   std::size_t line_no = 1, pos = 0;
-  auto typeSize = [](std::string_view t) -> int {
-    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
-    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-    if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32") return 4;
-    if (t == "double" || t == "float64") return 8;
-    return 0;
-  };
   while (pos < end + 1) {
     const std::size_t nl = text.find('\n', pos);
     const std::string_view line(text.data() + pos, std::min(nl, end + 1) - pos);
@@ -169,7 +245,7 @@ Status scanPly(const std::string& path, std::uintmax_t size) {
     if (w[0] == "format") {
       if (w.size() < 2 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian"))
         return Error(ErrorKind::BadInput, at + ": unknown PLY format (ascii, binary_little_endian or binary_big_endian)");
-      format = w[1] == "ascii" ? 0 : 1;
+      format = w[1] == "ascii" ? 0 : w[1] == "binary_little_endian" ? 1 : 2;
     } else if (w[0] == "element") {
       const auto n = w.size() == 3 ? count(w[2]) : std::nullopt;
       if (!n) return Error(ErrorKind::BadInput, at + ": expected \"element NAME COUNT\"");
@@ -178,31 +254,40 @@ Status scanPly(const std::string& path, std::uintmax_t size) {
       if (*n > cap)
         return Error(ErrorKind::BadInput, at + ": declares " + thousands(*n) + " " + std::string(w[1]) +
                                               " elements, more than the limit of " + thousands(cap));
-      elements.push_back({std::string(w[1]), *n, 0, line_no - 1});
+      if (faces && std::none_of(elements.begin(), elements.end(), [](const PlyElement& e) { return e.name == "vertex"; }))
+        return Error(ErrorKind::BadInput, at + ": the faces come before the vertices they name");
+      elements.push_back({std::string(w[1]), *n, {}, line_no - 1});
     } else if (w[0] == "property") {
       if (elements.empty()) return Error(ErrorKind::BadInput, at + ": a property before any element");
       const bool list = w.size() == 5 && w[1] == "list";
       if (!list && w.size() != 3) return Error(ErrorKind::BadInput, at + ": expected \"property TYPE NAME\" or \"property list COUNT_TYPE TYPE NAME\"");
-      const std::string_view type = list ? w[2] : w[1];
-      if (typeSize(type) == 0 || (list && typeSize(w[3]) == 0))
-        return Error(ErrorKind::BadInput, at + ": unknown property type \"" + std::string(typeSize(type) == 0 ? type : w[3]) + "\"");
-      // ASCII: at least a digit and a separator per value; binary: the bytes of the type.
-      elements.back().min_bytes += format == 1 ? static_cast<unsigned long long>(typeSize(type)) : 2;
+      const std::string_view type = list ? w[3] : w[1];
+      if (plyTypeSize(type) == 0 || (list && plyTypeSize(w[2]) == 0))
+        return Error(ErrorKind::BadInput, at + ": unknown property type \"" + std::string(plyTypeSize(type) == 0 ? type : w[2]) + "\"");
+      const bool corners = list && elements.back().name == "face" && (w[4] == "vertex_indices" || w[4] == "vertex_index");
+      elements.back().props.push_back({plyTypeSize(type), list ? plyTypeSize(w[2]) : 0, corners});
     } else if (w[0] != "end_header") {
       return Error(ErrorKind::BadInput, at + ": unknown PLY header line \"" + std::string(w[0]).substr(0, 40) + "\"");
     }
   }
   if (format < 0) return bad(path, "the PLY header has no format line");
+  // Before reading the body: at least a digit and a separator (ASCII) or the fixed bytes (binary)
+  // of each value must fit in it.
   unsigned long long need = 0;
-  for (const Element& e : elements) {
-    if (e.min_bytes == 0 && e.count > 0)
-      return bad(path + ":" + std::to_string(e.line), "element \"" + e.name + "\" has no properties");
-    need += e.count * e.min_bytes;  // each term below 6e6 * 8 * props: no overflow
+  for (const PlyElement& e : elements) {
+    if (e.props.empty() && e.count > 0) return bad(path + ":" + std::to_string(e.line), "element \"" + e.name + "\" has no properties");
+    unsigned long long least = 0;
+    for (const PlyProperty& p : e.props) least += format == 0 ? 2 : static_cast<unsigned long long>(p.count_size > 0 ? p.count_size : p.size);
+    need += e.count * least;  // each term below 6e6 * 8 * props: no overflow
     if (need > body_bytes)
       return Error(ErrorKind::BadInput, path + ":" + std::to_string(e.line) + ": declares " + thousands(e.count) + " " + e.name +
                                             " elements, more than its " + thousands(body_bytes) + " bytes of data can hold");
   }
-  return {};
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(body_at));
+  std::string body(static_cast<std::size_t>(body_bytes), '\0');
+  in.read(body.data(), static_cast<std::streamsize>(body.size()));
+  return format == 0 ? walkAsciiPly(path, body, elements) : walkBinaryPly(path, body, format == 2, elements);
 }
 
 // STL: binary (an 80-byte header, a triangle count, 50 bytes per triangle) or ASCII ("solid").
@@ -220,13 +305,61 @@ Status scanStl(const std::string& path, std::uintmax_t size) {
   if (trim(h).rfind("solid", 0) != 0)
     return bad(path, "neither a binary STL (84 + 50 bytes per triangle, here " + thousands(size) +
                          " bytes) nor an ASCII one (starting with \"solid\")");
+  // ASCII, by its grammar: "solid [name]", then facets ("facet normal x y z", "outer loop",
+  // three "vertex x y z", "endloop", "endfacet"), then "endsolid [name]". Assimp's reader leaks
+  // what it has read when it throws on anything else (found by fuzz_mesh), so nothing else
+  // reaches it.
   unsigned long long facets = 0;
-  return forEachLine(path, [&](std::string_view line, std::size_t number) -> Status {
-    if (trim(line).rfind("facet", 0) == 0 && ++facets > kMaxMeshTriangles)
-      return Error(ErrorKind::BadInput, path + ":" + std::to_string(number) + ": more than the limit of " +
-                                            thousands(kMaxMeshTriangles) + " triangles");
+  int state = 0;  // 0 before solid; 1 between facets; 2 after facet; 3 after outer loop; 4 after 3 vertices; 5 after endloop; 6 after endsolid
+  int corners = 0;
+  std::size_t opened = 0;
+  auto numbers = [](const std::vector<std::string_view>& w, std::size_t from) {
+    if (w.size() != from + 3) return false;
+    for (std::size_t i = from; i < w.size(); ++i)
+      if (!isNumber(w[i])) return false;
+    return true;
+  };
+  Status st = forEachLine(path, [&](std::string_view line, std::size_t number) -> Status {
+    const auto w = words(line);
+    if (w.empty()) return {};
+    const std::string at = path + ":" + std::to_string(number);
+    auto expected = [&](const char* what) { return Error(ErrorKind::BadInput, at + ": expected " + std::string(what)); };
+    if (state == 0) {
+      if (w[0] != "solid") return expected("\"solid\"");
+      state = 1;
+    } else if (state == 1) {
+      if (w[0] == "endsolid") {
+        state = 6;
+      } else {
+        if (w[0] != "facet" || w.size() < 2 || w[1] != "normal" || !numbers(w, 2)) return expected("\"facet normal x y z\" or \"endsolid\"");
+        if (++facets > kMaxMeshTriangles)
+          return Error(ErrorKind::BadInput, at + ": more than the limit of " + thousands(kMaxMeshTriangles) + " triangles");
+        state = 2;
+        opened = number;
+      }
+    } else if (state == 2) {
+      if (w.size() != 2 || w[0] != "outer" || w[1] != "loop") return expected("\"outer loop\"");
+      state = 3;
+      corners = 0;
+    } else if (state == 3) {
+      if (w[0] != "vertex" || !numbers(w, 1)) return expected("\"vertex x y z\"");
+      if (++corners == 3) state = 4;
+    } else if (state == 4) {
+      if (w[0] == "vertex")
+        return Error(ErrorKind::BadInput, at + ": the facet from line " + std::to_string(opened) + " has more than 3 vertices; an STL facet has 3");
+      if (w.size() != 1 || w[0] != "endloop") return expected("\"endloop\"");
+      state = 5;
+    } else if (state == 5) {
+      if (w.size() != 1 || w[0] != "endfacet") return expected("\"endfacet\"");
+      state = 1;
+    }  // state 6: what follows endsolid is ignored
     return {};
   });
+  if (!st) return st;
+  if (state == 3 && corners < 3)
+    return bad(path + ":" + std::to_string(opened), "the facet has " + std::to_string(corners) + " vertices and does not end; an STL facet has 3");
+  if (state != 6) return bad(path, "the file ends before \"endsolid\"");
+  return {};
 }
 
 // glTF 2.0 (Khronos): buffers, views and accessors must fit inside each other and inside the
