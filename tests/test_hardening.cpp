@@ -67,6 +67,9 @@ TEST_CASE("PLY counts are checked against the caps and the file's bytes before i
   // Within the caps, but more than the data can hold: 1,000 faces in 20 bytes.
   const std::string short_body = std::string(kPlyHeader) + "element face 1000\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   CHECK(has(importError(put(d, "short.ply", short_body)), "declares 1,000 face elements, more than its"));
+  // One-digit values with no newline at the end fit exactly.
+  CHECK_FALSE(has(importError(put(d, "tight.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0")),
+                  "bytes of data can hold"));
   // The same file with its true count imports.
   const std::string good = std::string(kPlyHeader) + "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   CHECK(importError(put(d, "good.ply", good)).empty());
@@ -95,6 +98,7 @@ TEST_CASE("OBJ faces with too few corners or missing vertices are named by line,
             "bad.stl:6: expected \"vertex x y z\""));
   CHECK(has(importError(put(d, "open.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n")), "open.stl:2: the facet has 1 vertices and does not end"));
   CHECK(has(importError(put(d, "word.stl", "solid x\nfacet normal 1!1 1\n")), "word.stl:2: expected \"facet normal x y z\" or \"endsolid\""));
+  CHECK(has(importError(put(d, "after.stl", "solid x\nendsolid x\nfacet normal 1!1 1\n")), "after.stl:3: expected \"solid\" or nothing after"));
   // PLY bodies are walked against their header (assimp leaked what it had read when it threw).
   CHECK(has(importError(put(d, "noverts.ply", std::string("ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n3 0 1 2\n"))),
             "noverts.ply:3: the faces come before the vertices they name"));
@@ -161,10 +165,18 @@ TEST_CASE("glTF and GLB: buffers, views and accessors must fit the bytes that ex
   };
   CHECK(importError(put(d, "tri.gltf", doc("36", "3"))).empty());
   CHECK(has(importError(put(d, "big_buffer.gltf", doc("4000000", "3"))), "buffers[0].byteLength: 4,000,000 bytes, more than its data holds (36)"));
-  CHECK(has(importError(put(d, "big_count.gltf", doc("36", "1000"))), "accessors[0].count: 1,000 elements, more than its buffer view holds"));
+  CHECK(has(importError(put(d, "big_count.gltf", doc("36", "1000"))), "accessors[0]: 1,000 elements, more than its buffer view holds"));
   CHECK(has(importError(put(d, "huge_count.gltf", doc("36", "4000000000"))), "accessors[0].count: must be in [0, 6,000,000]"));
   const std::string cycle = R"({"asset": {"version": "2.0"}, "nodes": [{"children": [1]}, {"children": [0]}]})";
-  CHECK(has(importError(put(d, "cycle.gltf", cycle)), "the nodes"));
+  CHECK(has(importError(put(d, "cycle.gltf", cycle)), "cycle.gltf: nodes[0].children: the nodes form a cycle"));
+  std::string chain = R"({"asset": {"version": "2.0"}, "nodes": [)";  // 2,000 nodes deep
+  for (int i = 0; i < 2000; ++i) chain += (i ? ", " : "") + (i + 1 < 2000 ? "{\"children\": [" + std::to_string(i + 1) + "]}" : std::string("{}"));
+  CHECK(has(importError(put(d, "deep.gltf", chain + "]}")), "deep, more than the limit of 1000"));
+  // Sparse values: the indices' view must hold them (assimp read past it).
+  std::string sparse = doc("36", "3");
+  sparse.insert(sparse.find(R"("min")"), R"("sparse": {"count": 2, "indices": {"bufferView": 0, "byteOffset": 34, "componentType": 5125},
+                                                   "values": {"bufferView": 0}}, )");
+  CHECK(has(importError(put(d, "sparse.gltf", sparse)), "accessors[0].sparse.indices: 2 elements, more than its buffer view holds"));
   CHECK(has(importError(put(d, "len.glb", std::string("glTF\x02\0\0\0\xff\0\0\0\x04\0\0\0JSON{}  ", 24))), "its header gives a length of 255 bytes, the file has 24"));
 }
 
@@ -262,6 +274,10 @@ TEST_CASE("a key given twice in one object is an error with both locations") {
   CHECK(r.code == 2);
   CHECK(has(r.out, "nested.json:3:32: /bodies/1/name: duplicate key \"name\" (first at 3:19)"));
   CHECK_FALSE(has(r.out, "/bodies/0/name: duplicate"));
+  // A comment ends at a carriage return too (old Mac line ends), as the parser reads it.
+  put(d, "cr.json", "{\"format\": \"reel/1\", // note\r \"duration\": 1, \"duration\": 2}");
+  r = runReel("check " + (d / "cr.json").string());
+  CHECK(has(r.out, "/duration: duplicate key \"duration\""));
 }
 
 TEST_CASE("auto_substeps already on: the refusal does not advise it, and says the limit") {

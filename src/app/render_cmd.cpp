@@ -146,7 +146,7 @@ Status parseOutput(const std::string& p, Output& o) {
 // A PNG already there from an earlier run, complete and of the right size.
 bool validFrame(const std::string& path, int w, int h) {
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return false;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;  // (a FIFO would block the read)
   auto img = io::readPng(path);
   return img.ok() && img.value().width == w && img.value().height == h;
 }
@@ -281,6 +281,8 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
   int to_draw = 0;
   for (int k = first; k <= last; ++k) {
     bool any = false;
+    for (const auto& o : outs)  // every frame's file checked before anything is simulated
+      if (Status st = o.video ? Status{} : io::checkOutputTarget(o.framePath(k)); !st) return report(st.error());
     for (const auto& o : outs) any = any || o.video || !no_overwrite || !validFrame(o.framePath(k), W, H);
     need[static_cast<std::size_t>(k)] = any;
     to_draw += any;

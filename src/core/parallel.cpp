@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <sys/auxv.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -23,9 +24,13 @@ namespace {
 // OMP_WAIT_POLICY=PASSIVE added: nothing has happened yet, so nothing is lost but one exec. A
 // user's own OMP_WAIT_POLICY (or one set for a debugger or valgrind) is kept and skips this.
 void waitPassively(int, char** argv, char** env) {
+  // Started through the dynamic loader ("ld.so ./reel ..."): the executable is the loader, and
+  // starting it again would lose its options. Leave such a run as it is.
+  if (getauxval(AT_BASE) == 0) return;
   constexpr std::size_t kMax = 4096;
   static char* next[kMax + 2];
   static char policy[] = "OMP_WAIT_POLICY=PASSIVE";
+  static char exe[4096];
   std::size_t n = 0;
   for (char** e = env; e && *e; ++e) {
     if (std::strncmp(*e, "OMP_WAIT_POLICY=", 16) == 0 || n == kMax) return;
@@ -33,7 +38,11 @@ void waitPassively(int, char** argv, char** env) {
   }
   next[n++] = policy;
   next[n] = nullptr;
-  execve("/proc/self/exe", argv, next);  // returns only when it fails: then the runtime's default
+  // The executable by its real path, so that the process keeps its name ("reel", not "exe").
+  const ssize_t len = readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (len <= 0 || static_cast<std::size_t>(len) >= sizeof exe - 1) return;
+  exe[len] = '\0';
+  execve(exe, argv, next);  // returns only when it fails: then the runtime's default
 }
 
 }  // namespace

@@ -99,8 +99,10 @@ Status createParentFolders(const std::string& path) {
 }
 
 Status checkOutputTarget(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_symlink(fs::symlink_status(path + ".part", ec)))  // reel's own part file is never a link
+    return Error(ErrorKind::Output, path + ".part: is a symbolic link, not a regular file: remove it");
   for (const std::string& p : {path, path + ".part"}) {
-    std::error_code ec;
     const fs::file_status st = fs::status(p, ec);
     if (ec || !fs::exists(st) || fs::is_regular_file(st)) continue;
     const char* what = fs::is_directory(st)   ? "a folder"

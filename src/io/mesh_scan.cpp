@@ -94,7 +94,9 @@ std::optional<unsigned long long> count(std::string_view w) {
 }
 
 // OBJ (Wavefront): vertices and faces counted line by line; a face needs three corners, each
-// naming a vertex the file has (positive: from 1; negative: back from the last one read).
+// naming a vertex the file has (positive: from 1; negative: back from the last one read), and so
+// do the corners of points and lines (assimp throws on them, leaking). A '\' line continuation is
+// not supported.
 Status scanObj(const std::string& path) {
   unsigned long long vertices = 0, triangles = 0;
   long long worst = 0;  // the largest positive vertex index, and its line
@@ -105,10 +107,10 @@ Status scanObj(const std::string& path) {
     const std::string at = path + ":" + std::to_string(number);
     if (line[0] == 'v' && ++vertices > kMaxMeshVertices)
       return Error(ErrorKind::BadInput, at + ": more than the limit of " + thousands(kMaxMeshVertices) + " vertices");
-    if (line[0] != 'f') return {};
+    if (line[0] != 'f' && line[0] != 'l' && line[0] != 'p') return {};
     const auto w = words(line);
     const std::size_t corners = w.size() - 1;
-    if (corners < 3)
+    if (line[0] == 'f' && corners < 3)
       return Error(ErrorKind::BadInput, at + ": a face needs 3 or more corners, this one has " + std::to_string(corners));
     for (std::size_t c = 1; c < w.size(); ++c) {
       const std::string_view v = w[c].substr(0, w[c].find('/'));
@@ -122,6 +124,7 @@ Status scanObj(const std::string& path) {
         worst_line = number;
       }
     }
+    if (line[0] != 'f') return {};  // points and lines: named vertices checked, nothing drawn
     triangles += corners - 2;
     if (triangles > kMaxMeshTriangles)
       return Error(ErrorKind::BadInput, at + ": more than the limit of " + thousands(kMaxMeshTriangles) + " triangles");
@@ -279,7 +282,7 @@ Status scanPly(const std::string& path, std::uintmax_t size) {
     unsigned long long least = 0;
     for (const PlyProperty& p : e.props) least += format == 0 ? 2 : static_cast<unsigned long long>(p.count_size > 0 ? p.count_size : p.size);
     need += e.count * least;  // each term below 6e6 * 8 * props: no overflow
-    if (need > body_bytes)
+    if (need - (format == 0 && need > 0 ? 1 : 0) > body_bytes)  // (ASCII: the last value needs no separator)
       return Error(ErrorKind::BadInput, path + ":" + std::to_string(e.line) + ": declares " + thousands(e.count) + " " + e.name +
                                             " elements, more than its " + thousands(body_bytes) + " bytes of data can hold");
   }
@@ -352,7 +355,11 @@ Status scanStl(const std::string& path, std::uintmax_t size) {
     } else if (state == 5) {
       if (w.size() != 1 || w[0] != "endfacet") return expected("\"endfacet\"");
       state = 1;
-    }  // state 6: what follows endsolid is ignored
+    } else if (w[0] == "solid") {  // state 6: another solid may follow (assimp reads them all)
+      state = 1;
+    } else {
+      return expected("\"solid\" or nothing after \"endsolid\"");
+    }
     return {};
   });
   if (!st) return st;
@@ -426,27 +433,48 @@ Status scanGltfJson(const std::string& path, const Json& j, std::uintmax_t bin_b
       views.push_back({len, stride});
     }
   }
+  auto inView = [&](const Json& o, const std::string& where, double items, double item_bytes) -> Status {
+    const double v = num(o, "bufferView", -1), off = num(o, "byteOffset", 0);
+    if (!(v >= 0 && v < static_cast<double>(views.size())))
+      return Error(ErrorKind::BadInput, where + ".bufferView: no such buffer view");
+    const View& view = views[static_cast<std::size_t>(v)];
+    const double stride = view.stride > 0 ? view.stride : item_bytes;
+    if (!(off >= 0) || (items > 0 && off + (items - 1) * stride + item_bytes > view.len))
+      return Error(ErrorKind::BadInput, where + ": " + thousands(static_cast<unsigned long long>(items)) +
+                                            " elements, more than its buffer view holds");
+    return {};
+  };
   if (const Json* as = list("accessors")) {
     for (std::size_t i = 0; i < as->size(); ++i) {
       const Json& a = (*as)[i];
-      const double n = a.is_object() ? num(a, "count", -1) : -1;
+      const std::string at = path + ": accessors[" + std::to_string(i) + "]";
+      if (!a.is_object()) return Error(ErrorKind::BadInput, at + ": expected an object");
+      const double n = num(a, "count", -1);
       if (!(n >= 0 && n <= static_cast<double>(3 * kMaxMeshTriangles)))
-        return Error(ErrorKind::BadInput, field("accessors", i, "count") + ": must be in [0, " + thousands(3 * kMaxMeshTriangles) + "]");
-      if (!a.contains("bufferView")) continue;  // zeros (or sparse values): count is capped above
-      const double v = num(a, "bufferView", -1);
-      if (!(v >= 0 && v < static_cast<double>(views.size())))
-        return Error(ErrorKind::BadInput, field("accessors", i, "bufferView") + ": no such buffer view");
+        return Error(ErrorKind::BadInput, at + ".count: must be in [0, " + thousands(3 * kMaxMeshTriangles) + "]");
       // Bytes of one element: the component's size times the components of the type.
       const double component = num(a, "componentType", 0);
       const double csize = component == 5120 || component == 5121 ? 1 : component == 5122 || component == 5123 ? 2 : 4;
       const std::string type = a.contains("type") && a["type"].is_string() ? a["type"].get<std::string>() : "";
       const double comps = type == "VEC2" ? 2 : type == "VEC3" ? 3 : type == "VEC4" || type == "MAT2" ? 4
                          : type == "MAT3" ? 9 : type == "MAT4" ? 16 : 1;
-      const View& view = views[static_cast<std::size_t>(v)];
-      const double elem = csize * comps, stride = view.stride > 0 ? view.stride : elem, off = num(a, "byteOffset", 0);
-      if (!(off >= 0) || (n > 0 && off + (n - 1) * stride + elem > view.len))
-        return Error(ErrorKind::BadInput, field("accessors", i, "count") + ": " + thousands(static_cast<unsigned long long>(n)) +
-                                              " elements, more than its buffer view holds");
+      if (a.contains("bufferView"))
+        if (Status st = inView(a, at, n, csize * comps); !st) return st;
+      // Sparse values replace some elements: indices and values must lie in views of their own
+      // (assimp reads them without checking).
+      if (auto sp = a.find("sparse"); sp != a.end()) {
+        const std::string w = at + ".sparse";
+        const double sc = sp->is_object() ? num(*sp, "count", -1) : -1;
+        if (!(sc >= 1 && sc <= n)) return Error(ErrorKind::BadInput, w + ".count: must be in [1, the accessor's count]");
+        auto ix = sp->find("indices"), vs = sp->find("values");
+        if (ix == sp->end() || vs == sp->end() || !ix->is_object() || !vs->is_object())
+          return Error(ErrorKind::BadInput, w + ": needs indices and values");
+        const double ic = num(*ix, "componentType", 0);
+        if (ic != 5121 && ic != 5123 && ic != 5125)
+          return Error(ErrorKind::BadInput, w + ".indices.componentType: must be 5121, 5123 or 5125");
+        if (Status st = inView(*ix, w + ".indices", sc, ic == 5121 ? 1 : ic == 5123 ? 2 : 4); !st) return st;
+        if (Status st = inView(*vs, w + ".values", sc, csize * comps); !st) return st;
+      }
     }
   }
   if (const Json* ns = list("nodes")) {
@@ -463,10 +491,26 @@ Status scanGltfJson(const std::string& path, const Json& j, std::uintmax_t bin_b
         parent[static_cast<std::size_t>(x)] = i;
       }
     }
-    for (std::size_t i = 0; i < n; ++i) {  // a cycle: walking up never reaches a root
-      std::size_t at = i, steps = 0;
-      while (parent[at] != n && steps++ <= n) at = parent[at];
-      if (steps > n) return Error(ErrorKind::BadInput, field("nodes", i, "children") + ": the nodes form a cycle");
+    // Each node has at most one parent now; depth from the roots, once per node. A node never
+    // reached lies on a cycle; a deep chain would overflow assimp's recursive node import.
+    constexpr std::size_t kMaxDepth = 1000;
+    std::vector<std::size_t> depth(n, 0), stack;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (depth[i] != 0) continue;
+      std::size_t at = i;
+      stack.clear();
+      while (depth[at] == 0 && parent[at] != n && stack.size() <= n) {
+        stack.push_back(at);
+        at = parent[at];
+      }
+      if (stack.size() > n || (depth[at] == 0 && parent[at] != n))
+        return Error(ErrorKind::BadInput, field("nodes", i, "children") + ": the nodes form a cycle");
+      std::size_t d = depth[at] == 0 ? 1 : depth[at];
+      depth[at] = d;
+      for (auto it = stack.rbegin(); it != stack.rend(); ++it) depth[*it] = ++d;
+      if (d > kMaxDepth)
+        return Error(ErrorKind::BadInput, field("nodes", i, "children") + ": nodes nested " + std::to_string(d) +
+                                              " deep, more than the limit of " + std::to_string(kMaxDepth));
     }
   }
   return {};
@@ -499,6 +543,7 @@ Status scanGltf(const std::string& path, std::uintmax_t size, bool binary, const
     const std::string all = head(path, static_cast<std::size_t>(20 + json_len + 8));
     std::uint32_t chunk[2] = {};
     std::memcpy(chunk, all.data() + 20 + json_len, 8);
+    if (chunk[1] != 0x004E4942u) return bad(path, "the second chunk is not BIN");
     if (20 + json_len + 8 + chunk[0] > size) return bad(path, "the BIN chunk passes the end of the file");
     bin = chunk[0];
   }

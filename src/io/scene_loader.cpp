@@ -151,11 +151,12 @@ std::vector<std::string> duplicateKeys(const std::string& text, const std::strin
   const std::size_t npos = std::string::npos;
   for (std::size_t i = 0; i < text.size();) {
     const char c = text[i];
+    if (c == '\0') break;  // where the parser stops too
     if (c == '/' && i + 1 < text.size() && (text[i + 1] == '/' || text[i + 1] == '*')) {
       const bool line = text[i + 1] == '/';
-      i = text.find(line ? "\n" : "*/", i + 2);
+      i = line ? text.find_first_of(std::string("\n\r\0", 3), i + 2) : text.find("*/", i + 2);
       if (i == npos) break;
-      i += line ? 1 : 2;
+      i += line ? 0 : 2;
       continue;
     }
     if (c == '"') {
