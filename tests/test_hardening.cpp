@@ -102,7 +102,10 @@ TEST_CASE("OBJ faces with too few corners or missing vertices are named by line,
   // PLY bodies are walked against their header (assimp leaked what it had read when it threw).
   CHECK(has(importError(put(d, "noverts.ply", std::string("ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n3 0 1 2\n"))),
             "noverts.ply:3: the faces come before the vertices they name"));
-  CHECK(has(importError(put(d, "word.ply", std::string(kPlyHeader) + "end_header\n0 0 0\n1 0 0\n0 1 oops\n")), "word.ply: vertex 2: expected a number, got \"oops\""));
+  CHECK(has(importError(put(d, "word.ply", std::string(kPlyHeader) + "end_header\n0 0 0\n1 0 0\n0 1 oops\n")), "word.ply:10: vertex 2: expected a number, got \"oops\""));
+  // One element per line, as assimp reads them: a line of 6 values for 4 properties is refused.
+  CHECK(has(importError(put(d, "wide.ply", "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nend_header\n0 0 0\n1 0 0\n")),
+            "wide.ply:7: vertex 0: 3 values, the header gives 2"));
   const std::string bin_header = "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
   CHECK(has(importError(put(d, "cut.ply", bin_header + std::string("\0\0\0\0\x09\0\0\0\0", 9))), "cut.ply: face 0: the file ends inside it"));
   // Assimp's own wording ("aiMesh::mFaces[0]::mIndices[2] is out of range") becomes a sentence.

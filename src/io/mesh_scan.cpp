@@ -170,34 +170,46 @@ bool isNumber(std::string_view w) {
   return end == buf + w.size();
 }
 
-Status walkAsciiPly(const std::string& path, const std::string& body, const std::vector<PlyElement>& elements) {
-  std::size_t pos = 0;
-  auto next = [&]() -> std::string_view {
-    while (pos < body.size() && std::isspace(static_cast<unsigned char>(body[pos]))) ++pos;
-    const std::size_t b = pos;
-    while (pos < body.size() && !std::isspace(static_cast<unsigned char>(body[pos]))) ++pos;
-    return std::string_view(body).substr(b, pos - b);
+// ASCII: one element per line (as assimp reads them), holding exactly its values.
+Status walkAsciiPly(const std::string& path, const std::string& body, std::size_t first_line, const std::vector<PlyElement>& elements) {
+  std::size_t pos = 0, line_no = first_line - 1;
+  auto nextLine = [&]() -> std::vector<std::string_view> {
+    while (pos < body.size()) {
+      std::size_t nl = body.find('\n', pos);
+      if (nl == std::string::npos) nl = body.size();
+      const std::string_view line(body.data() + pos, nl - pos);
+      pos = nl + 1;
+      ++line_no;
+      auto w = words(line);
+      if (!w.empty()) return w;
+    }
+    return {};
   };
   for (const PlyElement& e : elements)
-    for (unsigned long long k = 0; k < e.count; ++k)
+    for (unsigned long long k = 0; k < e.count; ++k) {
+      const auto w = nextLine();
+      const std::string at = path + ":" + std::to_string(line_no) + ": " + e.name + " " + std::to_string(k);
+      if (w.empty()) return Error(ErrorKind::BadInput, path + ": the file ends before " + e.name + " " + std::to_string(k));
+      std::size_t t = 0;
       for (const PlyProperty& p : e.props) {
-        const std::string_view w = next();
+        if (t >= w.size()) return Error(ErrorKind::BadInput, at + ": too few values");
         unsigned long long items = 0;
         if (p.count_size > 0) {
-          const auto n = count(w);
-          if (!n || *n > 1'000'000)
-            return bad(path, e.name + " " + std::to_string(k) + ": expected a list's length, got \"" + std::string(w.substr(0, 20)) + "\"");
+          const auto n = count(w[t]);
+          if (!n) return Error(ErrorKind::BadInput, at + ": expected a list's length, got \"" + std::string(w[t].substr(0, 20)) + "\"");
           items = *n;
           if (p.corners && items < 3)
             return bad(path, "face " + std::to_string(k) + " has " + std::to_string(items) + " corners; a face needs 3 or more");
-        } else if (!isNumber(w)) {
-          return bad(path, e.name + " " + std::to_string(k) + ": expected a number, got \"" + std::string(w.substr(0, 20)) +
-                               (w.empty() ? "\" (the file ends)" : "\""));
+          ++t;
+        } else {
+          items = 1;
         }
-        for (unsigned long long i = 0; i < items; ++i)
-          if (const std::string_view x = next(); !isNumber(x))
-            return bad(path, e.name + " " + std::to_string(k) + ": expected a number in its list, got \"" + std::string(x.substr(0, 20)) + "\"");
+        if (items > w.size() - t) return Error(ErrorKind::BadInput, at + ": too few values");
+        for (unsigned long long i = 0; i < items; ++i, ++t)
+          if (!isNumber(w[t])) return Error(ErrorKind::BadInput, at + ": expected a number, got \"" + std::string(w[t].substr(0, 20)) + "\"");
       }
+      if (t != w.size()) return Error(ErrorKind::BadInput, at + ": " + std::to_string(w.size()) + " values, the header gives " + std::to_string(t));
+    }
   return {};
 }
 
@@ -290,7 +302,8 @@ Status scanPly(const std::string& path, std::uintmax_t size) {
   in.seekg(static_cast<std::streamoff>(body_at));
   std::string body(static_cast<std::size_t>(body_bytes), '\0');
   in.read(body.data(), static_cast<std::streamsize>(body.size()));
-  return format == 0 ? walkAsciiPly(path, body, elements) : walkBinaryPly(path, body, format == 2, elements);
+  const std::size_t body_line = static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(body_at), '\n')) + 1;
+  return format == 0 ? walkAsciiPly(path, body, body_line, elements) : walkBinaryPly(path, body, format == 2, elements);
 }
 
 // STL: binary (an 80-byte header, a triangle count, 50 bytes per triangle) or ASCII ("solid").
