@@ -240,7 +240,10 @@ Status scanPly(const std::string& path, std::uintmax_t size) {
   constexpr std::size_t kMaxHeader = 1u << 20;
   const std::string text = head(path, kMaxHeader);
   if (text.rfind("ply\n", 0) != 0 && text.rfind("ply\r\n", 0) != 0) return bad(path, "not a PLY file (it must start with the line \"ply\")");
-  const std::size_t end = text.find("\nend_header");
+  // The header ends at a line that is exactly "end_header" ("end_headerel" is not one).
+  std::size_t end = text.find("\nend_header");
+  while (end != std::string::npos && trim(std::string_view(text).substr(end + 11, text.find('\n', end + 1) - end - 11)).size() != 0)
+    end = text.find("\nend_header", end + 1);
   if (end == std::string::npos)
     return bad(path, size > kMaxHeader ? "the PLY header does not end within its first MiB (no end_header)"
                                        : "the PLY header does not end (no end_header line)");
