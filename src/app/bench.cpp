@@ -1,4 +1,6 @@
 // reel bench: one JSON line per measurement (DESIGN 8).
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -20,6 +22,7 @@
 #include "render/renderer.h"
 #include "sim/world.h"
 #include "core/parallel.h"
+#include "core/profile.h"
 
 namespace reel::app {
 namespace {
@@ -191,79 +194,65 @@ int benchRender(double seconds) {
   return 0;
 }
 
-// A film end to end beside each stage alone: simulation, drawing, encoding (first 60 frames).
-int benchFilm(const std::string& scene_path) {
-  auto scene = loadScene(scene_path);
-  if (!scene.ok()) return report(scene.error());
-  const SceneDesc& s = scene.value();
-  const int frames = std::min(60, s.frameCount());
-  auto world = makeWorld(s);
-  if (!world.ok()) return report(world.error());
-  // Stage 1: simulate and fill the draw lists.
-  std::vector<DrawList> lists(static_cast<std::size_t>(frames));
-  auto t0 = Clock::now();
-  for (int k = 0; k < frames; ++k) {
-    if (k > 0)
-      if (Status st = world.value().advanceFrame(); !st) return report(st.error());
-    DrawList& list = lists[static_cast<std::size_t>(k)];
-    setSceneView(s, world.value().time(), list);
-    world.value().draw(list);
-  }
-  const double sim = std::chrono::duration<double>(Clock::now() - t0).count();
-  // Stage 2: draw.
-  auto ctx = gl::createContext(gl::Backend::Auto);
-  if (!ctx.ok()) return report(ctx.error());
-  RenderSettings rs;
-  rs.width = s.render.width;
-  rs.height = s.render.height;
-  rs.samples = s.render.samples;
-  auto r = Renderer::create(*ctx.value(), rs, findShaderDir());
-  if (!r.ok()) return report(r.error());
-  std::vector<Image> images(static_cast<std::size_t>(frames));
-  t0 = Clock::now();
-  for (int k = 0; k < frames; ++k)
-    if (Status st = r.value()->draw(lists[static_cast<std::size_t>(k)], images[static_cast<std::size_t>(k)]); !st)
-      return report(st.error());
-  const double draw = std::chrono::duration<double>(Clock::now() - t0).count();
-  // Stage 3: encode.
-  const std::string out = "/tmp/reel_bench_film.mp4";
-  io::VideoWriter v;
-  t0 = Clock::now();
-  if (Status st = v.open(out, rs.width, rs.height, s.fps); !st) return report(st.error());
-  for (const Image& img : images)
-    if (Status st = v.write(img); !st) return report(st.error());
-  if (Status st = v.finish(); !st) return report(st.error());
-  const double enc = std::chrono::duration<double>(Clock::now() - t0).count();
-  std::remove(out.c_str());
-  // All three overlapped, as `reel render` runs them.
+// A film rendered as `reel render` renders it (three threads: simulation, drawing, encoding),
+// with each thread's busy time and the simulation split by stage (core/profile.h), in seconds
+// per frame; `range`: the frames (all by default). The video goes to a temporary file.
+int benchFilm(const std::string& scene_path, const std::string& range) {
+  const std::string out = "/tmp/reel_bench_film_" + std::to_string(::getpid()) + ".mp4";
   RenderOptions ro;
   ro.scene = scene_path;
   ro.outputs = {out};
   ro.quiet = true;
-  t0 = Clock::now();
+  FilmTimes t;
   std::fflush(stdout);
-  if (int rc = render(ro, "0-" + std::to_string(frames - 1), false); rc != 0) return rc;
-  const double total = std::chrono::duration<double>(Clock::now() - t0).count();
+  const int rc = render(ro, range, false, &t);
   std::remove(out.c_str());
-  const double slowest = std::max({sim, draw, enc});
+  if (rc != 0) return rc;
+  auto scene = loadScene(scene_path);
+  if (!scene.ok()) return report(scene.error());
+  const SceneDesc& s = scene.value();
+  const double n = std::max(1, t.frames);
+  nlohmann::ordered_json stages;
+  // "other": the simulation thread's busy time no stage claims (the stepping loop, setting up the
+  // views); the profile's own "other" also counts its waits on the queue, so it is not used.
+  double claimed = 0;
+  for (std::size_t k = 1; k < t.stages.size(); ++k) {
+    claimed += t.stages[k];
+    if (t.stages[k] > 0) stages[std::string(profile::kStageNames[k])] = t.stages[k] / n;
+  }
+  stages["other"] = std::max(0.0, t.simulate - claimed) / n;
   nlohmann::ordered_json j = {{"name", "film"},
                               {"scene", s.name},
-                              {"frames", frames},
-                              {"width", rs.width},
-                              {"height", rs.height},
-                              {"simulate_fps", frames / sim},
-                              {"draw_fps", frames / draw},
-                              {"encode_fps", frames / enc},
-                              {"end_to_end_fps", frames / total},
-                              {"end_to_end_vs_slowest_stage", total / slowest}};
+                              {"frames", t.frames},
+                              {"width", s.render.width},
+                              {"height", s.render.height},
+                              {"samples", s.render.samples},
+                              {"threads", threadCount()},
+                              {"setup_s", t.setup},
+                              {"simulate_s_per_frame", t.simulate / n},
+                              {"simulate_stages_s_per_frame", stages},
+                              {"draw_s_per_frame", t.draw / n},
+                              {"encode_s_per_frame", t.encode / n},
+                              {"end_to_end_s_per_frame", t.total / n},
+                              {"end_to_end_s", t.total}};
   std::printf("%s\n", j.dump().c_str());
+  std::fflush(stdout);
   return 0;
 }
 
 }  // namespace
 
-int bench(const std::vector<std::string>& names, double seconds) {
+int bench(const std::vector<std::string>& given, double seconds, const std::string& frames) {
   const std::vector<std::string> all = {"springs", "render", "film", "cloth", "fluid", "school", "fish", "rigid", "cloth_liquid", "face"};
+  // Scene files name the films `film` renders (jelly by default).
+  std::vector<std::string> names, films;
+  for (const auto& n : given) (n.size() > 5 && n.ends_with(".json") ? films : names).push_back(n);
+  if (!films.empty() && std::find(names.begin(), names.end(), "film") == names.end()) names.push_back("film");
+  if (films.empty()) films.push_back(REEL_SOURCE_DIR "/scenes/jelly.json");
+  if (!frames.empty() && (names.size() != 1 || names[0] != "film")) {
+    std::fprintf(stderr, "reel: --frames applies to the film benchmark only: reel bench film SCENE.json --frames A-B\n");
+    return 2;
+  }
   const std::vector<std::string>& run = names.empty() ? all : names;
   for (const auto& n : run) {
     if (std::find(all.begin(), all.end(), n) == all.end()) {
@@ -277,7 +266,9 @@ int bench(const std::vector<std::string>& names, double seconds) {
     int rc = 0;
     if (n == "springs") benchSprings(seconds);
     if (n == "render") rc = benchRender(seconds);
-    if (n == "film") rc = benchFilm(REEL_SOURCE_DIR "/scenes/jelly.json");
+    if (n == "film")
+      for (const auto& f : films)
+        if (rc == 0) rc = benchFilm(f, frames);
     if (n == "cloth") rc = benchCloth(std::max(1.0 / 30.0, seconds));
     if (n == "fluid") rc = benchFluid(std::max(4.0 / 30.0, 0.1 * seconds));
     if (n == "school") rc = benchSchool(seconds);

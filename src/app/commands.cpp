@@ -80,7 +80,7 @@ int simulate(const SimulateOptions& opt) {
   // Frames 0..N-1 show times k/fps, as in a film of the scene (DESIGN 3).
   const int last = s.frameCount() - 1;
   const auto t0 = std::chrono::steady_clock::now();
-  Progress progress(last);
+  Progress progress(last, opt.quiet);
   for (int k = 1; k <= last; ++k) {
     if (Status st = world.advanceFrame(); !st) {
       if (counting) (void)stats.finish();  // the statistics of the good frames

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/profile.h"
 
 namespace reel::app {
 
@@ -19,6 +20,7 @@ struct SimulateOptions {
   int dump_every = 1;
   std::string stats;  // empty: no statistics file (CSV, io/stats.h)
   std::optional<std::uint64_t> seed;  // --seed: replaces the scene's
+  bool quiet = false;  // no progress on stderr
 };
 int simulate(const SimulateOptions& opt);
 int check(const std::vector<std::string>& scenes);
@@ -34,10 +36,20 @@ struct RenderOptions {
   int samples = 0;            // 0: the scene's
   std::string gl;             // "", auto, osmesa, egl
   std::optional<std::uint64_t> seed;  // --seed: replaces the scene's
-  bool quiet = false;         // print nothing on success
+  bool quiet = false;         // print nothing on success, no progress
 };
 int still(const RenderOptions& opt, double time, int frame);
-int render(const RenderOptions& opt, const std::string& frames, bool no_overwrite);
+
+// Where a render's time went (reel bench film): the busy seconds of each of the pipeline's three
+// threads, which overlap, the simulation's split by stage (core/profile.h), and the wall time.
+struct FilmTimes {
+  int frames = 0;
+  double setup = 0;  // s: loading the scene, building the world, opening GL and the outputs
+  double simulate = 0, draw = 0, encode = 0, total = 0;  // s
+  profile::Seconds stages{};
+};
+// `times`: measure the stages into it (profiling on for the run).
+int render(const RenderOptions& opt, const std::string& frames, bool no_overwrite, FilmTimes* times = nullptr);
 
 struct CompareOptions {
   std::string a, b, diff;
@@ -47,6 +59,7 @@ struct CompareOptions {
 };
 int compare(const CompareOptions& o);
 int info();
-int bench(const std::vector<std::string>& names, double seconds);
+// `names`: benchmarks, or scene files (*.json) for `film`; `frames`: A-B, the film's frames only.
+int bench(const std::vector<std::string>& names, double seconds, const std::string& frames = "");
 
 }  // namespace reel::app

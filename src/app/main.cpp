@@ -58,6 +58,7 @@ struct Cli {
     sub->add_option("--size", size, "image size WxH (default: the scene's)");
     sub->add_option("--samples", ropt.samples, "MSAA samples: 1, 2 or 4")->check(CLI::IsMember({1, 2, 4}));
     sub->add_option("--gl", ropt.gl, "OpenGL backend: auto, osmesa or egl (default: $REEL_GL or auto)");
+    sub->add_flag("-q,--quiet", ropt.quiet, "print nothing on success, no progress on stderr");
     addSeed(sub);
     addThreads(sub);
   }
@@ -69,6 +70,7 @@ struct Cli {
     simulate->add_option("--dump", sim.dump, "write the state dump (reel-dump/1 JSON) here");
     simulate->add_option("--dump-every", sim.dump_every, "dump every K-th frame (first and last always)")
         ->check(CLI::Range(1, 1 << 30));
+    simulate->add_flag("-q,--quiet", sim.quiet, "no progress on stderr");
     simulate->add_option("--stats", sim.stats, "write per-frame statistics of the bodies (CSV: a school's polarization, milling, centroid, nearest-neighbour distance)");
     addSeed(simulate);
     addThreads(simulate);
@@ -108,7 +110,10 @@ struct Cli {
     compare->add_option("--max-fraction", cmp.max_fraction, "largest fraction of differing pixels allowed (default 0.005)")
         ->check(CLI::Range(0.0, 1.0));
     bench = app.add_subcommand("bench", "run benchmarks, one JSON line each");
-    bench->add_option("names", bench_names, "benchmarks to run (default: all): springs, render, film, cloth, fluid, school, fish, rigid, cloth_liquid, face");
+    bench->add_option("names", bench_names,
+                      "benchmarks to run (default: all): springs, render, film, cloth, fluid, school, fish, rigid, "
+                      "cloth_liquid, face; a scene file (*.json) is a film for `film` to render");
+    bench->add_option("--frames", frames, "film: render frames A-B only (default: the whole film)");
     bench->add_option("--seconds", bench_seconds, "time spent on each measurement")->check(CLI::Range(0.01, 600.0));
     addThreads(bench);
   }
@@ -146,7 +151,7 @@ struct Cli {
     }
     if (*render) return reel::app::render(ropt, frames, no_overwrite);
     if (*compare) return reel::app::compare(cmp);
-    if (*bench) return reel::app::bench(bench_names, bench_seconds);
+    if (*bench) return reel::app::bench(bench_names, bench_seconds, frames);
     return 1;
   }
 };

@@ -98,8 +98,11 @@ int still(const RenderOptions& opt, double time, int frame) {
   if (k < 0 || k >= n)
     return report(Error(ErrorKind::BadInput, "frame " + std::to_string(k) + " is outside the film (frames 0.." +
                                                  std::to_string(n - 1) + ")"));
-  while (s.world->frame() < k)
+  Progress progress(k - s.world->frame(), opt.quiet, "simulating frame");
+  for (int done = 1; s.world->frame() < k; ++done) {
     if (Status st = s.world->advanceFrame(); !st) return report(st.error());
+    progress.update(done);
+  }
   DrawList list;
   setSceneView(s.scene, s.world->time(), list);
   s.world->draw(list);
@@ -200,31 +203,40 @@ Status openOutputs(const RenderOptions& opt, const Setup& s, bool no_overwrite, 
 
 // Simulation, drawing and encoding of frames [first, last] (those in `need`) on three threads
 // joined by bounded queues, so a film takes about as long as its slowest stage.
+// `times`: each thread's busy seconds (waits on the queues left out).
 Status runPipeline(Setup& s, std::vector<Output>& outs, int first, int last, const std::vector<char>& need, int to_draw,
-                   bool no_overwrite) {
+                   bool no_overwrite, bool quiet, FilmTimes& times) {
+  using Clock = std::chrono::steady_clock;
+  auto since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   const int W = s.scene.render.width, H = s.scene.render.height;
   BoundedQueue<std::pair<int, DrawList>> lists(3);
   BoundedQueue<FrameImage> images(3);
   Status sim_status, enc_status;
   std::thread sim([&] {
     for (int k = 0; k <= last; ++k) {
+      const auto t0 = Clock::now();
       if (k > 0)
         if (Status st = s.world->advanceFrame(); !st) {
           sim_status = st;
           break;
         }
-      if (k < first || !need[static_cast<std::size_t>(k)]) continue;
+      if (k < first || !need[static_cast<std::size_t>(k)]) {
+        times.simulate += since(t0);
+        continue;
+      }
       DrawList list;
       setSceneView(s.scene, s.world->time(), list);
       s.world->draw(list);
+      times.simulate += since(t0);
       if (!lists.push({k, std::move(list)})) break;
     }
     lists.close();
   });
   std::thread enc([&] {
-    Progress progress(to_draw);
+    Progress progress(to_draw, quiet);
     int done = 0;
     while (auto f = images.pop()) {
+      const auto t0 = Clock::now();
       for (auto& o : outs) {
         Status st = o.video ? o.writer->write(f->img)
                             : (no_overwrite && validFrame(o.framePath(f->k), W, H))
@@ -237,6 +249,7 @@ Status runPipeline(Setup& s, std::vector<Output>& outs, int first, int last, con
           return;
         }
       }
+      times.encode += since(t0);
       progress.update(++done);
     }
   });
@@ -244,11 +257,13 @@ Status runPipeline(Setup& s, std::vector<Output>& outs, int first, int last, con
   while (auto item = lists.pop()) {
     FrameImage fi;
     fi.k = item->first;
+    const auto t0 = Clock::now();
     if (Status st = s.renderer->draw(item->second, fi.img); !st) {
       render_status = st;
       lists.close();
       break;
     }
+    times.draw += since(t0);
     if (!images.push(std::move(fi))) break;
   }
   images.close();
@@ -256,10 +271,13 @@ Status runPipeline(Setup& s, std::vector<Output>& outs, int first, int last, con
   enc.join();
   // Videos keep every frame encoded so far when the simulation stopped early (exit 3); after a
   // drawing or encoding failure they are abandoned (no final file).
-  if (enc_status.ok() && render_status.ok())
+  if (enc_status.ok() && render_status.ok()) {
+    const auto t0 = Clock::now();
     for (auto& o : outs)
       if (o.video)
         if (Status st = o.writer->finish(); !st && enc_status.ok()) enc_status = st;
+    times.encode += since(t0);
+  }
   for (const Status* st : {&sim_status, &render_status, &enc_status})
     if (!st->ok()) return *st;
   return {};
@@ -267,7 +285,8 @@ Status runPipeline(Setup& s, std::vector<Output>& outs, int first, int last, con
 
 }  // namespace
 
-int render(const RenderOptions& opt, const std::string& range, bool no_overwrite) {
+int render(const RenderOptions& opt, const std::string& range, bool no_overwrite, FilmTimes* times) {
+  const auto t_start = std::chrono::steady_clock::now();
   Setup s;
   if (Status st = setup(opt, s); !st) return report(st.error());
   const int n = s.scene.frameCount();
@@ -288,7 +307,18 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
     to_draw += any;
   }
 
-  if (Status st = runPipeline(s, outs, first, last, need, to_draw, no_overwrite); !st) return report(st.error());
+  FilmTimes measured;
+  measured.frames = to_draw;
+  measured.setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  if (times) profile::enable(true);
+  const Status ran = runPipeline(s, outs, first, last, need, to_draw, no_overwrite, opt.quiet, measured);
+  if (times) {
+    measured.stages = profile::totals();
+    profile::enable(false);
+    measured.total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    *times = measured;
+  }
+  if (!ran) return report(ran.error());
   if (!opt.quiet)
     for (const auto& o : outs)
       std::printf("%s\n", o.video ? o.path.c_str() : (o.framePath(first) + " .. " + o.framePath(last)).c_str());

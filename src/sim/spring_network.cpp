@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/profile.h"
+
 namespace reel {
 
 void SpringNetwork::build(const MassSpringDesc& desc, const Vec3& gravity, IntegratorKind integrator,
@@ -13,6 +15,7 @@ void SpringNetwork::build(const MassSpringDesc& desc, const Vec3& gravity, Integ
 }
 
 void SpringNetwork::integrate(StepContext& ctx) {
+  profile::Scope stage(profile::Stage::Integration);
   SolverStats& s = *ctx.solver;
   reel::integrate(ctx.integrator, *system, state.x, state.v, ctx.h, workspace, *ctx.implicit, &s.last);
   if (ctx.integrator == IntegratorKind::ImplicitEuler && s.last.cg_relative_residual > ctx.implicit->cg_tolerance) {
@@ -22,6 +25,7 @@ void SpringNetwork::integrate(StepContext& ctx) {
 }
 
 void SpringNetwork::contacts(const StepContext& ctx) {
+  profile::Scope stage(profile::Stage::Contacts);
   resolveContacts(*ctx.colliders, radius, ctx.h, model.fixed.data(), state.x, state.v, model.mass, *ctx.coupling);
 }
 

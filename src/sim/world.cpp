@@ -5,6 +5,7 @@
 #include <map>
 
 #include "core/format.h"
+#include "core/profile.h"
 #include "core/random.h"
 #include "sim/object_draw.h"
 
@@ -142,11 +143,13 @@ Status World::advanceFrame() {
     // The bodies, in scene order, each checked for a bad state.
     for (auto& b : bodies_) {
       if (b->coupled()) continue;
+      profile::Scope stage(profile::Stage::Integration);  // what the body's own scopes do not claim
       b->step(ctx);
       if (Status st = b->checkState(ctx); !st) return st;
     }
     // The coupling stage: the exchanges between kinds, then the free objects take what the bodies
     // handed them, in order.
+    profile::Scope coupling(profile::Stage::Coupling);
     for (const Exchange& x : exchanges_) {
       x.run(*bodies_[x.first], *bodies_[x.second], ctx);
       for (std::size_t k : {x.first, x.second})
@@ -173,6 +176,7 @@ void World::view(FrameView& out) const {
 }
 
 void World::draw(DrawList& out) const {
+  profile::Scope stage(profile::Stage::DrawList);
   out.clearGeometry();
   out.meshes = object_meshes_;
   // Moving objects: their authored mesh carried to the current pose.

@@ -1,5 +1,7 @@
 #include "sim/cloth/cloth_body.h"
 
+#include "core/profile.h"
+
 namespace reel {
 
 void ClothBody::step(StepContext& ctx) {
@@ -13,10 +15,17 @@ void ClothBody::step(StepContext& ctx) {
   net_.integrate(ctx);
   net_.system->setExternalForces(nullptr);
   gripPositions(cloth_, ctx.t1, s.x);
-  limitStrain(cloth_, net_.model, ctx.h, s.x, s.v);
-  if (cloth_.self_collision) selfCollide(cloth_, net_.model, s.x, s.v);
+  {
+    profile::Scope stage(profile::Stage::StrainLimit);
+    limitStrain(cloth_, net_.model, ctx.h, s.x, s.v);
+  }
+  if (cloth_.self_collision) {
+    profile::Scope stage(profile::Stage::SelfCollision);
+    selfCollide(cloth_, net_.model, s.x, s.v);
+  }
   net_.contacts(ctx);
   spreadWetness(cloth_, net_.model, s.x, s.v, ctx.gravity, ctx.h);
+  profile::Scope stage(profile::Stage::Tearing);
   tearSprings(cloth_, net_.model, s.x);
 }
 

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/lanes.h"
 #include "core/parallel.h"
+#include "core/profile.h"
 #include "core/math.h"
 #include "core/random.h"
 #include "sim/fluid/fluid_pair.h"
@@ -191,6 +192,7 @@ namespace {
 // The first and every 16th rebuild first re-sort the particles along a Morton curve of their grid cells, so
 // that neighbours in space are neighbours in memory.
 void refreshNeighbours(Fluid& fl, bool force) {
+  profile::Scope stage(profile::Stage::Neighbours);
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
   bool rebuild = force || fl.x_built.size() != fl.x.size();
   if (!rebuild) {
@@ -294,6 +296,7 @@ void generalForces(const Fluid& fl, std::size_t i, const Vec3& gravity, Vec3* ou
 // its four lanes' then the lanes in order: deterministic). The force loop reads each neighbour's position, velocity, mass and species from one 64-byte record
 // (one cache line) instead of four arrays.
 void computeForces(Fluid& fl, const Vec3& gravity) {
+  profile::Scope stage(profile::Stage::PairForces);
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
   const auto S = static_cast<std::size_t>(fl.species_count);
   fl.f.resize(fl.x.size());
@@ -372,6 +375,7 @@ void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, Coupling&
     fl.x[i] += h * fl.v[i];
   });
   if (colliders.empty()) return;
+  profile::Scope stage(profile::Stage::Contacts);
   // One particle against one collider: adhesion, then the contact; the impulse it took.
   auto touch = [&](std::size_t i, std::size_t k) -> Vec3 {
     const auto si = static_cast<std::size_t>(fl.s[i]);

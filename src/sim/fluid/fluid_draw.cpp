@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "core/isosurface.h"
+#include "core/profile.h"
 #include "core/union_find.h"
 #include "core/parallel.h"
 #include "sim/fluid/fluid_body.h"
@@ -167,6 +168,7 @@ void FluidBody::draw(DrawList& out) const {
   dm.opacity = material.opacity;
   const std::vector<Vec3> colors = blendedColors(fl);
   if (fl.draw == FluidDraw::Surface) {
+    profile::Scope stage(profile::Stage::Surface);
     DrawMesh mesh;
     mesh.mesh = std::make_shared<const TriMesh>(liquidSurface(fl, colors));
     mesh.per_frame = true;
