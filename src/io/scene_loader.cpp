@@ -233,6 +233,7 @@ void readSceneKeys(Obj& o, SceneDesc& s) {
   s.name = o.string("name").value_or(std::filesystem::path(s.file).stem().string());
   s.duration = o.number("duration", Range{0.0, 1e6, true, false}, true).value_or(s.duration);
   s.fps = o.integer("fps", s.fps, 1, 1000);
+  const bool substeps_given = o.has("substeps");
   s.substeps = o.integer("substeps", s.substeps, 1, 1000000);
   if (auto seed = o.integer("seed", 0, 9007199254740991ll)) s.seed = static_cast<std::uint64_t>(*seed);
   s.gravity = o.vec3("gravity", s.gravity);
@@ -246,8 +247,12 @@ void readSceneKeys(Obj& o, SceneDesc& s) {
   std::vector<std::string> integrators(kIntegratorNames.begin(), kIntegratorNames.end());
   s.integrator = *integratorFromName(o.choice("integrator", "symplectic_euler", integrators));
   s.auto_substeps = o.boolean("auto_substeps", false);
+  // Implicit Euler needs no small step for stability: by default it takes Blender's default
+  // quality, 5 steps a frame.
+  if (!substeps_given && s.integrator == IntegratorKind::ImplicitEuler) s.substeps = kImplicitSubsteps;
   if (const Json* im = o.raw("implicit")) {
     Obj io(*im, "/implicit", d);
+    s.implicit.tolerance_given = io.has("cg_tolerance");
     s.implicit.cg_tolerance = io.number("cg_tolerance", s.implicit.cg_tolerance, Range{0.0, 1.0, true, true});
     s.implicit.cg_max_iterations = io.integer("cg_max_iterations", s.implicit.cg_max_iterations, 1, 100000);
     io.finish();

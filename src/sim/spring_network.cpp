@@ -17,8 +17,10 @@ void SpringNetwork::build(const MassSpringDesc& desc, const Vec3& gravity, Integ
 void SpringNetwork::integrate(StepContext& ctx) {
   profile::Scope stage(profile::Stage::Integration);
   SolverStats& s = *ctx.solver;
-  reel::integrate(ctx.integrator, *system, state.x, state.v, ctx.h, workspace, *ctx.implicit, &s.last);
-  if (ctx.integrator == IntegratorKind::ImplicitEuler && s.last.cg_relative_residual > ctx.implicit->cg_tolerance) {
+  ImplicitSettings set = *ctx.implicit;
+  if (!set.tolerance_given) set.cg_tolerance = tolerance;
+  reel::integrate(ctx.integrator, *system, state.x, state.v, ctx.h, workspace, set, &s.last);
+  if (ctx.integrator == IntegratorKind::ImplicitEuler && s.last.cg_relative_residual > set.cg_tolerance) {
     ++s.unconverged;
     s.worst_residual = std::max(s.worst_residual, s.last.cg_relative_residual);
   }

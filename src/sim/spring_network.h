@@ -25,6 +25,7 @@ struct SpringNetwork {
   IntegratorWorkspace workspace;
   StepBound bound;      // of the scene's integrator
   double radius = 0.0;  // contact radius of the nodes, m
+  double tolerance = kFilmTolerance;  // the kind's CG tolerance when the scene gives none
 
   // Builds model, state and system from explicit nodes and springs.
   void build(const MassSpringDesc& desc, const Vec3& gravity, IntegratorKind integrator, double contact_radius);

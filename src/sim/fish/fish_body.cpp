@@ -424,6 +424,7 @@ Result<std::unique_ptr<Body>> buildFishBody(const BodyDesc& desc, const BuildCon
   // Fish are neutrally buoyant (their weight and the water's lift cancel): no gravity.
   SpringNetwork& net = body->network();
   net.build(ms, Vec3::Zero(), ctx.scene->integrator, d.contactRadius(0));
+  net.tolerance = 1e-4;  // a fish's thrust comes from small differences of its body wave
   if (std::string e = net.unstableMethod(desc.name, ctx.scene->integrator); !e.empty())
     return Error(ErrorKind::BadInput, ctx.scene->file + ": " + e);
   return std::unique_ptr<Body>(std::move(body));
