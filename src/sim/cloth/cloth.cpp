@@ -507,9 +507,39 @@ int tearSprings(Cloth& c, MassSpringModel& m, const std::vector<Vec3>& x) {
     return len > (1.0 + c.tear_strain[s]) * sp.rest[s] ? 1.0 : 0.0;
   });
   if (broken == 0.0) return 0;
+  // Which threads break in a step (Terzopoulos & Fleischer break every thread past its threshold;
+  // with implicit Euler's long steps that takes a whole row at a clamp at once, or opens holes
+  // everywhere in a sheet stretched evenly): with over = len/((1 + s)·l), a thread over 1 breaks
+  // when it is the most over of the threads at its ends' nodes and at their neighbours, and
+  // within half way of the most over thread of the sheet to 1. Under a slow pull only the most
+  // loaded thread goes, its load moves to its neighbours and the next to go is at the tear's tip:
+  // the tear runs step by step along the most loaded path. Under an impact every thread far past
+  // its threshold goes at once.
+  std::vector<double> over(ns);
+  parallelFor(static_cast<Index>(ns), [&](Index s) {
+    over[static_cast<std::size_t>(s)] = (x[sp.b[s]] - x[sp.a[s]]).norm() / ((1.0 + c.tear_strain[s]) * sp.rest[s]);
+  });
+  double top = 0.0;
+  for (double o : over) top = std::max(top, o);
+  const double cut = 1.0 + 0.5 * (top - 1.0);
+  const Incidence& inc = m.incidence;
+  const auto nn = static_cast<Index>(m.nodes());
+  std::vector<double> at_node(m.nodes()), near_node(m.nodes());
+  parallelFor(nn, [&](Index i) {
+    double most = 0.0;
+    for (int k = inc.start[i]; k < inc.start[i + 1]; ++k) most = std::max(most, over[static_cast<std::size_t>(inc.entries[k] / 2)]);
+    at_node[static_cast<std::size_t>(i)] = most;
+  });
+  parallelFor(nn, [&](Index i) {
+    double most = at_node[static_cast<std::size_t>(i)];
+    for (int k = inc.start[i]; k < inc.start[i + 1]; ++k) most = std::max(most, at_node[static_cast<std::size_t>(inc.other[k])]);
+    near_node[static_cast<std::size_t>(i)] = most;
+  });
   // The threads that break, then the shear and bend springs that needed them.
   for (std::size_t s = 0; s < ns; ++s)
-    if ((x[sp.b[s]] - x[sp.a[s]]).norm() > (1.0 + c.tear_strain[s]) * sp.rest[s]) c.intact[static_cast<std::size_t>(c.spring_id[s])] = 0;
+    if (over[s] > 1.0 && over[s] >= cut && over[s] >= near_node[static_cast<std::size_t>(sp.a[s])] &&
+        over[s] >= near_node[static_cast<std::size_t>(sp.b[s])])
+      c.intact[static_cast<std::size_t>(c.spring_id[s])] = 0;
   // Keep the springs that hold, in order (indices stay sorted, so the incidence order is fixed).
   std::size_t w = 0;
   for (std::size_t s = 0; s < ns; ++s) {
