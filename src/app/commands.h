@@ -37,6 +37,7 @@ struct RenderOptions {
   std::string gl;             // "", auto, osmesa, egl
   std::optional<std::uint64_t> seed;  // --seed: replaces the scene's
   bool quiet = false;         // print nothing on success, no progress
+  std::string cache = "render_out/.cache";  // the simulation cache's folder; empty: none (app/sim_cache.h)
 };
 int still(const RenderOptions& opt, double time, int frame);
 

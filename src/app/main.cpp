@@ -59,6 +59,8 @@ struct Cli {
     sub->add_option("--samples", ropt.samples, "MSAA samples: 1, 2 or 4")->check(CLI::IsMember({1, 2, 4}));
     sub->add_option("--gl", ropt.gl, "OpenGL backend: auto, osmesa or egl (default: $REEL_GL or auto)");
     sub->add_flag("-q,--quiet", ropt.quiet, "print nothing on success, no progress on stderr");
+    sub->add_flag_callback("--no-cache", [this] { ropt.cache.clear(); },
+                           "neither read nor write the simulation cache (render_out/.cache)");
     addSeed(sub);
     addThreads(sub);
   }

@@ -8,11 +8,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <optional>
 #include <thread>
 
 #include "app/body_kinds.h"
 #include "app/commands.h"
 #include "app/progress.h"
+#include "app/sim_cache.h"
 #include "core/format.h"
 #include "core/image_compare.h"
 #include "core/scene_view.h"
@@ -98,9 +100,14 @@ int still(const RenderOptions& opt, double time, int frame) {
   if (k < 0 || k >= n)
     return report(Error(ErrorKind::BadInput, "frame " + std::to_string(k) + " is outside the film (frames 0.." +
                                                  std::to_string(n - 1) + ")"));
+  // From the nearest frame a render or still of this scene left in the cache.
+  std::optional<SimCache> cache;
+  if (!opt.cache.empty()) cache.emplace(opt.cache, opt.scene, opt.seed, n);
+  if (cache) cache->restoreNearest(*s.world, k);
   Progress progress(k - s.world->frame(), opt.quiet, "simulating frame");
   for (int done = 1; s.world->frame() < k; ++done) {
     if (Status st = s.world->advanceFrame(); !st) return report(st.error());
+    if (cache) cache->offer(*s.world, s.world->frame() == k);
     progress.update(done);
   }
   DrawList list;
@@ -203,9 +210,10 @@ Status openOutputs(const RenderOptions& opt, const Setup& s, bool no_overwrite, 
 
 // Simulation, drawing and encoding of frames [first, last] (those in `need`) on three threads
 // joined by bounded queues, so a film takes about as long as its slowest stage.
-// `times`: each thread's busy seconds (waits on the queues left out).
+// `times`: each thread's busy seconds (waits on the queues left out). `cache`: where the simulation
+// starts from (the nearest frame at or before `first`) and what it leaves for later stills.
 Status runPipeline(Setup& s, std::vector<Output>& outs, int first, int last, const std::vector<char>& need, int to_draw,
-                   bool no_overwrite, bool quiet, FilmTimes& times) {
+                   bool no_overwrite, bool quiet, FilmTimes& times, SimCache* cache) {
   using Clock = std::chrono::steady_clock;
   auto since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   const int W = s.scene.render.width, H = s.scene.render.height;
@@ -213,13 +221,16 @@ Status runPipeline(Setup& s, std::vector<Output>& outs, int first, int last, con
   BoundedQueue<FrameImage> images(3);
   Status sim_status, enc_status;
   std::thread sim([&] {
-    for (int k = 0; k <= last; ++k) {
+    const int start = cache ? cache->restoreNearest(*s.world, first) : 0;
+    for (int k = start; k <= last; ++k) {
       const auto t0 = Clock::now();
-      if (k > 0)
+      if (k > start) {
         if (Status st = s.world->advanceFrame(); !st) {
           sim_status = st;
           break;
         }
+        if (cache) cache->offer(*s.world);
+      }
       if (k < first || !need[static_cast<std::size_t>(k)]) {
         times.simulate += since(t0);
         continue;
@@ -311,7 +322,10 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
   measured.frames = to_draw;
   measured.setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   if (times) profile::enable(true);
-  const Status ran = runPipeline(s, outs, first, last, need, to_draw, no_overwrite, opt.quiet, measured);
+  std::optional<SimCache> cache;
+  if (!opt.cache.empty()) cache.emplace(opt.cache, opt.scene, opt.seed, n);
+  const Status ran =
+      runPipeline(s, outs, first, last, need, to_draw, no_overwrite, opt.quiet, measured, cache ? &*cache : nullptr);
   if (times) {
     measured.stages = profile::totals();
     profile::enable(false);
