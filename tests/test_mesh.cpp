@@ -211,3 +211,21 @@ TEST_CASE("a plane without size repeats its texture every 4 m; a sized plane sho
   CHECK(*std::max_element(tiled.uvs.begin(), tiled.uvs.end()) == doctest::Approx(100.0));
   CHECK(*std::max_element(once.uvs.begin(), once.uvs.end()) == doctest::Approx(1.0));
 }
+
+TEST_CASE("the icosphere: 20·4^s triangles, every vertex on the sphere, every face outward") {
+  for (int s : {0, 1, 2}) {
+    const TriMesh m = makeIcosphere(0.5, s);
+    CHECK(m.triangleCount() == static_cast<std::size_t>(20 * (1 << (2 * s))));
+    CHECK(m.vertexCount() == static_cast<std::size_t>(10 * (1 << (2 * s)) + 2));  // Euler: V = F/2 + 2
+    for (std::size_t v = 0; v < m.vertexCount(); ++v)
+      CHECK(Vec3(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]).norm() == doctest::Approx(0.5).epsilon(1e-6));
+    for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+      Vec3 p[3];
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t i = m.indices[3 * t + static_cast<std::size_t>(k)];
+        p[k] = Vec3(m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]);
+      }
+      CHECK((p[1] - p[0]).cross(p[2] - p[0]).dot(p[0] + p[1] + p[2]) > 0);
+    }
+  }
+}

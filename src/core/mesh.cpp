@@ -1,6 +1,9 @@
 #include "core/mesh.h"
 
 #include <algorithm>
+#include <array>
+#include <map>
+#include <vector>
 #include <cmath>
 
 #include "core/math.h"
@@ -76,6 +79,38 @@ TriMesh makeUvSphere(double radius, int slices, int stacks) {
     n = Vec3(std::sin(th) * std::cos(phi), std::cos(th), -std::sin(th) * std::sin(phi));
     p = radius * n;
   });
+  return m;
+}
+
+TriMesh makeIcosphere(double radius, int subdivisions) {
+  const double g = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Vec3> v = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
+                         {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+  std::vector<std::array<std::uint32_t, 3>> f = {
+      {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+      {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for (Vec3& p : v) p.normalize();
+  for (int s = 0; s < subdivisions; ++s) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;  // edge → its midpoint
+    auto middle = [&](std::uint32_t a, std::uint32_t b) {
+      const auto key = std::minmax(a, b);
+      const auto [it, added] = mid.try_emplace({key.first, key.second}, static_cast<std::uint32_t>(v.size()));
+      if (added) v.push_back((v[a] + v[b]).normalized());
+      return it->second;
+    };
+    std::vector<std::array<std::uint32_t, 3>> next;
+    for (const auto& t : f) {
+      const std::uint32_t ab = middle(t[0], t[1]), bc = middle(t[1], t[2]), ca = middle(t[2], t[0]);
+      next.push_back({t[0], ab, ca});
+      next.push_back({t[1], bc, ab});
+      next.push_back({t[2], ca, bc});
+      next.push_back({ab, bc, ca});
+    }
+    f = std::move(next);
+  }
+  TriMesh m;
+  for (const Vec3& n : v) m.addVertex(radius * n, n);
+  for (const auto& t : f) m.indices.insert(m.indices.end(), {t[0], t[1], t[2]});
   return m;
 }
 

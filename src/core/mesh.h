@@ -30,6 +30,10 @@ struct TriMesh {
 TriMesh placeMesh(const TriMesh& m, const Vec3& scale, const Mat3& R, const Vec3& position);
 
 TriMesh makeUvSphere(double radius, int slices, int stacks);
+// An icosahedron whose faces are split in four `subdivisions` times, vertices pushed onto the
+// sphere: 20·4^s triangles spread evenly (a UV sphere spends its triangles at the poles), so a
+// small one is rounder for its count (80 triangles at s = 1: a silhouette of about 10 sides).
+TriMesh makeIcosphere(double radius, int subdivisions);
 TriMesh makeBox(const Vec3& size);                 // centred, full extents
 TriMesh makeCapsule(const Vec3& a, const Vec3& b, double radius, int slices, int stacks);
 // Centred in the x–z plane, normal +y. Its UVs span it once (0..1), or with `tile` > 0 run in

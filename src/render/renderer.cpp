@@ -116,7 +116,7 @@ Status Renderer::Impl::init(const std::string& dir) {
   inst.buffer = gl::makeBuffer(*gl);
   inst_color.buffer = gl::makeBuffer(*gl);
   // Spheres a few pixels wide need few triangles: llvmpipe's cost is per triangle.
-  upload(*gl, sphere_lod[0], makeUvSphere(1.0, 8, 5));
+  upload(*gl, sphere_lod[0], makeIcosphere(1.0, 1));
   upload(*gl, sphere_lod[1], makeUvSphere(1.0, 14, 8));
   upload(*gl, sphere_lod[2], makeUvSphere(1.0, 28, 16));
   upload(*gl, tube_proto, makeTube(6));
@@ -237,9 +237,10 @@ double nearestTo(const Vec3& eye, const std::vector<float>& points) {
 Status Renderer::Impl::drawSpheres(const DrawSpheres& s, Pass pass) {
   if (s.centers.empty() || !pass.wants(s.material)) return {};
   // Each sphere at the level of detail of its own on-screen radius (a set of thousands of
-  // particles drawn at the level of its nearest one cost seconds a frame): below 6 pixels 80
-  // triangles, below 20 pixels 224, else 896. Sets are split in order, so a frame's draw is the
-  // same run to run.
+  // particles drawn at the level of its nearest one cost seconds a frame): below 8 pixels the
+  // 80-triangle icosphere, below 20 pixels 224 triangles, else 896; in the shadow pass always the
+  // first (the shadow map's texels are coarser than that). Sets are split in order, so a frame's
+  // draw is the same run to run.
   const bool coloured = pass.with_material && s.colors.size() == s.centers.size();
   for (int l = 0; l < 3; ++l) {
     lod_centers[static_cast<std::size_t>(l)].clear();
@@ -249,7 +250,7 @@ Status Renderer::Impl::drawSpheres(const DrawSpheres& s, Pass pass) {
   for (std::size_t i = 0; i + 2 < s.centers.size(); i += 3) {
     const double d = (Vec3(s.centers[i], s.centers[i + 1], s.centers[i + 2]) - eye).norm();
     const double px = px_at_1m / std::max(d, 1e-3);
-    const std::size_t l = px < 6 ? 0 : px < 20 ? 1 : 2;
+    const std::size_t l = !pass.with_material || px < 8 ? 0 : px < 20 ? 1 : 2;
     lod_centers[l].insert(lod_centers[l].end(), &s.centers[i], &s.centers[i] + 3);
     if (coloured) lod_colors[l].insert(lod_colors[l].end(), &s.colors[i], &s.colors[i] + 3);
   }
