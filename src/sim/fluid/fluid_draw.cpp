@@ -77,27 +77,37 @@ TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, const st
   if (!(spacing > 0)) spacing = 2.0 * fl.radius;
   const double bulk = 0.6383 * R * R * R / (spacing * spacing * spacing);  // ∫W dV / spacing³
   const int reach = static_cast<int>(std::ceil(R / cell));
-  for (std::size_t p : part) {
-    const Vec3& x = fl.x[p];
-    const Vec3 g = (x - lo) / cell;
-    const int ci = static_cast<int>(std::lround(g.x())), cj = static_cast<int>(std::lround(g.y())),
-              ck = static_cast<int>(std::lround(g.z()));
-    for (int k = std::max(0, ck - reach); k <= std::min(f.dims[2] - 1, ck + reach); ++k)
-      for (int j = std::max(0, cj - reach); j <= std::min(f.dims[1] - 1, cj + reach); ++j)
-        for (int i = std::max(0, ci - reach); i <= std::min(f.dims[0] - 1, ci + reach); ++i) {
-          const double q2 = (lo + cell * Vec3(i, j, k) - x).squaredNorm() / (R * R);
-          if (q2 >= 1.0) continue;
-          const double w = (1 - q2) * (1 - q2) * (1 - q2) / bulk;
-          const std::size_t id = f.index(i, j, k);
-          f.value[id] += static_cast<float>(w);
-          for (int a = 0; a < 3; ++a) f.color[3 * id + static_cast<std::size_t>(a)] += static_cast<float>(w * colors[p][a]);
-        }
-  }
-  for (std::size_t id = 0; id < f.value.size(); ++id)
+  // Splatted in slabs of grid layers, one per task, each task scanning every particle and writing
+  // its own layers only: every node still sums its particles in their order, so the field is the
+  // same bits as one pass over the particles, on any number of threads.
+  const int layers = f.dims[2], slab = std::max(1, (layers + 7) / 8);
+  parallelBlocks(layers, slab, [&](std::ptrdiff_t k0, std::ptrdiff_t k1) {
+    for (std::size_t p : part) {
+      const Vec3& x = fl.x[p];
+      const Vec3 g = (x - lo) / cell;
+      const int ci = static_cast<int>(std::lround(g.x())), cj = static_cast<int>(std::lround(g.y())),
+                ck = static_cast<int>(std::lround(g.z()));
+      if (ck + reach < k0 || ck - reach >= k1) continue;
+      for (int k = std::max(static_cast<int>(k0), ck - reach); k <= std::min(static_cast<int>(k1) - 1, ck + reach); ++k)
+        for (int j = std::max(0, cj - reach); j <= std::min(f.dims[1] - 1, cj + reach); ++j)
+          for (int i = std::max(0, ci - reach); i <= std::min(f.dims[0] - 1, ci + reach); ++i) {
+            const double q2 = (lo + cell * Vec3(i, j, k) - x).squaredNorm() / (R * R);
+            if (q2 >= 1.0) continue;
+            const double w = (1 - q2) * (1 - q2) * (1 - q2) / bulk;
+            const std::size_t id = f.index(i, j, k);
+            f.value[id] += static_cast<float>(w);
+            for (int a = 0; a < 3; ++a) f.color[3 * id + static_cast<std::size_t>(a)] += static_cast<float>(w * colors[p][a]);
+          }
+    }
+  }, static_cast<std::ptrdiff_t>(part.size()) * 64);
+  parallelFor(static_cast<std::ptrdiff_t>(f.value.size()), [&](std::ptrdiff_t i) {
+    const auto id = static_cast<std::size_t>(i);
     if (f.value[id] > 0)
       for (int a = 0; a < 3; ++a) f.color[3 * id + static_cast<std::size_t>(a)] /= f.value[id];
+  });
   TriMesh m = isosurface(f, fl.surface_iso);
-  for (std::size_t v = 0; v < m.vertexCount(); ++v) {
+  parallelFor(static_cast<std::ptrdiff_t>(m.vertexCount()), [&](std::ptrdiff_t vi) {
+    const auto v = static_cast<std::size_t>(vi);
     const Vec3 p(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]);
     const Vec3 nv(m.normals[3 * v], m.normals[3 * v + 1], m.normals[3 * v + 2]);
     const double depth = std::clamp(f.sample(p - R * nv), 0.0, 1.0);
@@ -105,7 +115,7 @@ TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, const st
       float& c = m.colors[3 * v + static_cast<std::size_t>(a)];
       c = static_cast<float>(std::pow(std::clamp(static_cast<double>(c), 1e-3, 1.0), 1.0 + 1.5 * depth));
     }
-  }
+  });
   return m;
 }
 
