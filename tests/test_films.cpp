@@ -164,3 +164,25 @@ TEST_CASE("a tear under a slow pull runs from its tip over several frames, endin
   CHECK(steps_tearing >= 3);
   CHECK(test::runHash(scene, 1, 30) == test::runHash(scene, 2, 30));
 }
+
+TEST_CASE("the simulation cache knows the meshes a scene loads: an edited mesh is a new simulation") {
+  const fs::path d = freshDir("cache_mesh");
+  const std::string cd = "cd " + d.string() + " && ";
+  auto box = [&](double top) {
+    std::ofstream(d / "block.obj") << "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nv -1 " << top << " -1\nv 1 " << top
+                                   << " -1\nv 1 " << top << " 1\nv -1 " << top << " 1\n"
+                                   << "f 1 2 3\nf 1 3 4\nf 5 7 6\nf 5 8 7\nf 1 5 6\nf 1 6 2\nf 2 6 7\nf 2 7 3\n"
+                                   << "f 3 7 8\nf 3 8 4\nf 4 8 5\nf 4 5 1\n";
+  };
+  std::ofstream(d / "drop.json") << R"({"format": "reel/1", "duration": 1, "fps": 10, "integrator": "implicit_euler",
+    "render": {"width": 48, "height": 32}, "camera": {"position": [0, 1, 3], "target": [0, 0.3, 0]},
+    "objects": [{"type": "mesh", "name": "block", "file": "block.obj"}],
+    "bodies": [{"type": "cloth", "name": "s", "position": [0, 0.8, 0], "size": [1, 1], "resolution": [8, 8]}]})";
+  box(0.2);
+  REQUIRE(runReel("still drop.json --frame 8 -o low.png", cd).code == 0);
+  box(0.6);  // a taller block: the sheet lands on it earlier and higher
+  REQUIRE(runReel("still drop.json --frame 8 -o high.png", cd).code == 0);
+  REQUIRE(runReel("still drop.json --frame 8 --no-cache -o high_plain.png", cd).code == 0);
+  CHECK(bytes(d / "high.png") == bytes(d / "high_plain.png"));
+  CHECK(bytes(d / "high.png") != bytes(d / "low.png"));
+}

@@ -74,6 +74,15 @@ SimCache::SimCache(const std::string& root, const std::string& scene_file, std::
   h.add(&s, sizeof s);
   h.add(&given, 1);
   hashBinary(h);
+  // The meshes and textures the scene loaded: their paths, sizes and modification times.
+  for (const std::string& a : io::resolvedAssets()) {
+    std::error_code ec;
+    const auto size = fs::file_size(a, ec);
+    const auto time = fs::last_write_time(a, ec).time_since_epoch().count();
+    h.add(a.data(), a.size());
+    h.add(&size, sizeof size);
+    h.add(&time, sizeof time);
+  }
   key_ = h.h;
   char name[17];
   std::snprintf(name, sizeof name, "%016llx", static_cast<unsigned long long>(key_));

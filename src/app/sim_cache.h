@@ -1,8 +1,9 @@
 // The simulation cache of stills and renders (docs/rendering.md): World snapshots of a scene's
 // frames under render_out/.cache/<key>/, so that `reel still --time T` after a render or another
 // still of the same scene restores the nearest frame at or before T instead of simulating from 0.
-// The key hashes the scene file's bytes, the seed and the reel binary itself (its size and
-// modification time: a rebuilt reel never reads an older one's states). A checkpoint file is
+// The key hashes the scene file's bytes, the seed, the assets the scene loaded (path, size and
+// modification time) and the reel binary itself (its size and modification time: a rebuilt reel
+// never reads an older one's states). Built after the scene is loaded. A checkpoint file is
 // versioned and checksummed; one that does not read back whole is ignored, never trusted.
 #pragma once
 

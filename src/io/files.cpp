@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
 #include <fstream>
 #include <sstream>
 
@@ -57,6 +58,21 @@ bool insideRoots(const std::string& path, const std::vector<std::string>& roots)
   return false;
 }
 
+namespace {
+std::mutex g_assets_mutex;
+std::vector<std::string> g_assets;
+}  // namespace
+
+std::vector<std::string> resolvedAssets() {
+  std::lock_guard<std::mutex> lock(g_assets_mutex);
+  return g_assets;
+}
+
+void clearResolvedAssets() {
+  std::lock_guard<std::mutex> lock(g_assets_mutex);
+  g_assets.clear();
+}
+
 Result<std::string> resolveAsset(const std::string& scene_file, const std::string& path,
                                  const std::vector<std::string>& extensions, std::size_t max_bytes) {
   std::error_code ec;
@@ -82,6 +98,8 @@ Result<std::string> resolveAsset(const std::string& scene_file, const std::strin
     if (ec || size > max_bytes)
       return Error(ErrorKind::BadInput, "\"" + path + "\": file is larger than the limit of " +
                                             std::to_string(max_bytes) + " bytes");
+    std::lock_guard<std::mutex> lock(g_assets_mutex);
+    g_assets.push_back(candidate.string());
     return candidate.string();
   }
   return Error(ErrorKind::BadInput, "\"" + path + "\": no such file in the scene's folder or assets/");

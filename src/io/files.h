@@ -27,6 +27,11 @@ bool insideRoots(const std::string& path, const std::vector<std::string>& roots)
 Result<std::string> resolveAsset(const std::string& scene_file, const std::string& path,
                                  const std::vector<std::string>& extensions, std::size_t max_bytes);
 
+// Every asset resolveAsset has found since the last clear, in order (for the simulation cache's
+// key: a scene's result depends on its meshes and textures too). Thread-safe.
+std::vector<std::string> resolvedAssets();
+void clearResolvedAssets();
+
 // Creates the missing folders above an output PATH (as `mkdir -p` does), so that every output
 // (PNG, video, dump) may name a new folder. The error (exit-4 kind) names PATH, the folder and why.
 Status createParentFolders(const std::string& path);

@@ -409,6 +409,7 @@ Result<SceneDesc> parseScene(const std::string& text, const std::string& file, s
 }
 
 Result<SceneDesc> loadScene(const std::string& path, std::span<const BodyReaderRow> kinds) {
+  clearResolvedAssets();
   auto text = readFile(path, kMaxSceneBytes);
   if (!text.ok()) return text.error();
   return parseScene(text.value(), path, kinds);
