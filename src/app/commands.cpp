@@ -173,8 +173,12 @@ int info() {
   std::printf("reel %s (%s build)\n", REEL_VERSION, REEL_BUILD_TYPE);
   std::printf("compiler: g++ %d.%d.%d, C++%ld\n", __GNUC__, __GNUC_MINOR__, __GNUC_PATCHLEVEL__,
               __cplusplus / 100 % 100);
-  const char* wait = std::getenv("OMP_WAIT_POLICY");
-  std::printf("threads: %d (OpenMP %d, waiting: %s)\n", threadCount(), _OPENMP, wait ? wait : "runtime default");
+  const char* policy = std::getenv("OMP_WAIT_POLICY");
+  const char* spins = std::getenv("GOMP_SPINCOUNT");
+  const std::string wait = policy ? std::string(policy) + (spins ? std::string(", ") + spins + " spins" : "")
+                           : spins ? std::string(spins) + " spins, then sleep"
+                                   : "runtime default";
+  std::printf("threads: %d (OpenMP %d, waiting: %s)\n", threadCount(), _OPENMP, wait.c_str());
   std::printf("libraries: Eigen %d.%d.%d, nlohmann-json %d.%d.%d, CLI11 %s\n", EIGEN_WORLD_VERSION,
               EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION, NLOHMANN_JSON_VERSION_MAJOR,
               NLOHMANN_JSON_VERSION_MINOR, NLOHMANN_JSON_VERSION_PATCH, CLI11_VERSION);
