@@ -20,7 +20,7 @@ class SimCache {
  public:
   // Per scene, checkpoints take at most about this much disk (every frame when they fit, else
   // evenly spaced), and at most this many scenes are kept (the least recently used go).
-  static constexpr double kBudgetBytes = 256.0 * 1024 * 1024;
+  static constexpr double kBudgetBytes = 64.0 * 1024 * 1024;
   static constexpr int kScenes = 8;
 
   // A cache for the scene file (with the --seed in force, if any) under `root`
