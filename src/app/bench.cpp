@@ -209,9 +209,6 @@ int benchFilm(const std::string& scene_path, const std::string& range) {
   const int rc = render(ro, range, false, &t);
   std::remove(out.c_str());
   if (rc != 0) return rc;
-  auto scene = loadScene(scene_path);
-  if (!scene.ok()) return report(scene.error());
-  const SceneDesc& s = scene.value();
   const double n = std::max(1, t.frames);
   nlohmann::ordered_json stages;
   // "other": the simulation thread's busy time no stage claims (the stepping loop, setting up the
@@ -223,11 +220,11 @@ int benchFilm(const std::string& scene_path, const std::string& range) {
   }
   stages["other"] = std::max(0.0, t.simulate - claimed) / n;
   nlohmann::ordered_json j = {{"name", "film"},
-                              {"scene", s.name},
+                              {"scene", t.scene},
                               {"frames", t.frames},
-                              {"width", s.render.width},
-                              {"height", s.render.height},
-                              {"samples", s.render.samples},
+                              {"width", t.width},
+                              {"height", t.height},
+                              {"samples", t.samples},
                               {"threads", threadCount()},
                               {"setup_s", t.setup},
                               {"simulate_s_per_frame", t.simulate / n},

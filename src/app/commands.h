@@ -44,6 +44,8 @@ int still(const RenderOptions& opt, double time, int frame);
 // Where a render's time went (reel bench film): the busy seconds of each of the pipeline's three
 // threads, which overlap, the simulation's split by stage (core/profile.h), and the wall time.
 struct FilmTimes {
+  std::string scene;  // its name
+  int width = 0, height = 0, samples = 0;
   int frames = 0;
   double setup = 0;  // s: loading the scene, building the world, opening GL and the outputs
   double simulate = 0, draw = 0, encode = 0, total = 0;  // s

@@ -77,6 +77,13 @@ Status setup(const RenderOptions& opt, Setup& s) {
   return {};
 }
 
+// The simulation cache of the scene (after it is loaded: the key covers its assets), unless off.
+std::optional<SimCache> openCache(const RenderOptions& opt, int frames) {
+  std::optional<SimCache> cache;
+  if (!opt.cache.empty()) cache.emplace(opt.cache, opt.scene, opt.seed, frames);
+  return cache;
+}
+
 io::TextChunks pngText(const Setup& s, int frame) {
   return {{"Software", std::string("reel ") + REEL_VERSION},
           {"reel:scene", s.scene.name},
@@ -101,8 +108,7 @@ int still(const RenderOptions& opt, double time, int frame) {
     return report(Error(ErrorKind::BadInput, "frame " + std::to_string(k) + " is outside the film (frames 0.." +
                                                  std::to_string(n - 1) + ")"));
   // From the nearest frame a render or still of this scene left in the cache.
-  std::optional<SimCache> cache;
-  if (!opt.cache.empty()) cache.emplace(opt.cache, opt.scene, opt.seed, n);
+  std::optional<SimCache> cache = openCache(opt, n);
   if (cache) cache->restoreNearest(*s.world, k);
   Progress progress(k - s.world->frame(), opt.quiet, "simulating frame");
   for (int done = 1; s.world->frame() < k; ++done) {
@@ -320,10 +326,13 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
 
   FilmTimes measured;
   measured.frames = to_draw;
+  measured.scene = s.scene.name;
+  measured.width = s.scene.render.width;
+  measured.height = s.scene.render.height;
+  measured.samples = s.scene.render.samples;
   measured.setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   if (times) profile::enable(true);
-  std::optional<SimCache> cache;
-  if (!opt.cache.empty()) cache.emplace(opt.cache, opt.scene, opt.seed, n);
+  std::optional<SimCache> cache = openCache(opt, n);
   const Status ran =
       runPipeline(s, outs, first, last, need, to_draw, no_overwrite, opt.quiet, measured, cache ? &*cache : nullptr);
   if (times) {

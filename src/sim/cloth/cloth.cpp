@@ -502,11 +502,9 @@ int tearSprings(Cloth& c, MassSpringModel& m, const std::vector<Vec3>& x) {
   if (c.tear_strain.empty()) return 0;
   Springs& sp = m.springs;
   const std::size_t ns = sp.size();
-  const double broken = deterministicSum(static_cast<Index>(ns), [&](Index s) {
-    const double len = (x[sp.b[s]] - x[sp.a[s]]).norm();
-    return len > (1.0 + c.tear_strain[s]) * sp.rest[s] ? 1.0 : 0.0;
-  });
-  if (broken == 0.0) return 0;
+  auto overOf = [&](Index s) { return (x[sp.b[s]] - x[sp.a[s]]).norm() / ((1.0 + c.tear_strain[s]) * sp.rest[s]); };
+  const double top = deterministicMax(static_cast<Index>(ns), overOf);
+  if (!(top > 1.0)) return 0;
   // Which threads break in a step (Terzopoulos & Fleischer break every thread past its threshold;
   // with implicit Euler's long steps that takes a whole row at a clamp at once, or opens holes
   // everywhere in a sheet stretched evenly): with over = len/((1 + s)·l), a thread over 1 breaks
@@ -516,11 +514,7 @@ int tearSprings(Cloth& c, MassSpringModel& m, const std::vector<Vec3>& x) {
   // the tear runs step by step along the most loaded path. Under an impact every thread far past
   // its threshold goes at once.
   std::vector<double> over(ns);
-  parallelFor(static_cast<Index>(ns), [&](Index s) {
-    over[static_cast<std::size_t>(s)] = (x[sp.b[s]] - x[sp.a[s]]).norm() / ((1.0 + c.tear_strain[s]) * sp.rest[s]);
-  });
-  double top = 0.0;
-  for (double o : over) top = std::max(top, o);
+  parallelFor(static_cast<Index>(ns), [&](Index s) { over[static_cast<std::size_t>(s)] = overOf(s); });
   const double cut = 1.0 + 0.5 * (top - 1.0);
   const Incidence& inc = m.incidence;
   const auto nn = static_cast<Index>(m.nodes());
