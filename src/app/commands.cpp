@@ -1,5 +1,6 @@
 #include "app/commands.h"
 #include "app/body_kinds.h"
+#include "app/farm_cache.h"
 #include "app/progress.h"
 
 #include <unistd.h>
@@ -39,6 +40,9 @@ Status writeStats(io::StatsWriter& w, const World& world, int fps) {
 }
 
 int simulate(const SimulateOptions& opt) {
+  if (opt.resume && (!opt.dump.empty() || !opt.stats.empty()))
+    return report(Error(ErrorKind::BadInput, "--resume continues a cache only; a --dump or --stats file starts at frame 0 "
+                                             "(simulate without --resume to write one)"));
   auto scene = loadScene(opt.scene);
   if (!scene.ok()) return report(scene.error());
   if (opt.seed) scene.value().seed = *opt.seed;
@@ -79,10 +83,27 @@ int simulate(const SimulateOptions& opt) {
   }
   // Frames 0..N-1 show times k/fps, as in a film of the scene (DESIGN 3).
   const int last = s.frameCount() - 1;
+  // --cache: every frame's state into DIR; --resume: from its last good frame.
+  std::optional<CacheWriter> cache;
+  if (!opt.cache.empty()) {
+    auto want = CacheManifest::of(opt.scene, s);
+    if (!want.ok()) return report(want.error());
+    cache.emplace();
+    if (Status st = cache->open(opt.cache, want.value(), opt.resume); !st) return report(st.error());
+    if (cache->frames() > last) {
+      std::printf("%s: complete (%d frames)\n", opt.cache.c_str(), cache->frames());
+      return 0;
+    }
+    if (Status st = cache->restoreLast(world); !st) return report(st.error());
+    if (cache->frames() == 0)
+      if (Status st = cache->append(world); !st) return report(st.error());
+  }
+  const int first = world.frame() + 1;
   const auto t0 = std::chrono::steady_clock::now();
-  Progress progress(last, opt.quiet);
-  for (int k = 1; k <= last; ++k) {
+  Progress progress(last - first + 1, opt.quiet);
+  for (int k = first; k <= last; ++k) {
     if (Status st = world.advanceFrame(); !st) {
+      if (cache) (void)cache->finish();  // the frames before stay good
       if (counting) (void)stats.finish();  // the statistics of the good frames
       if (dumping) {
         // Keep what was simulated: the dump ends with the last good frame.
@@ -103,8 +124,12 @@ int simulate(const SimulateOptions& opt) {
     }
     if (counting)
       if (Status st = writeStats(stats, world, s.fps); !st) return report(st.error());
-    progress.update(k);
+    if (cache)
+      if (Status st = cache->append(world); !st) return report(st.error());
+    progress.update(k - first + 1);
   }
+  if (cache)
+    if (Status st = cache->finish(); !st) return report(st.error());
   if (counting)
     if (Status st = stats.finish(); !st) return report(st.error());
   if (dumping)
@@ -114,6 +139,10 @@ int simulate(const SimulateOptions& opt) {
               s.name.c_str(), last + 1, last / static_cast<double>(s.fps),
               static_cast<long long>(last) * world.stepsPerFrame(), world.stepSize(), secs,
               dumping ? ", dump: " : "", dumping ? opt.dump.c_str() : "");
+  if (cache) {
+    const std::string resumed = first > 1 ? ", resumed after frame " + std::to_string(first - 1) : "";
+    std::printf("cache: %s (%d frames%s)\n", opt.cache.c_str(), last + 1, resumed.c_str());
+  }
   if (world.unconvergedSteps() > 0)
     std::fprintf(stderr,
                  "reel: warning: in %lld implicit steps the conjugate-gradient solve stopped at "

@@ -21,6 +21,8 @@ struct SimulateOptions {
   std::string stats;  // empty: no statistics file (CSV, io/stats.h)
   std::optional<std::uint64_t> seed;  // --seed: replaces the scene's
   bool quiet = false;  // no progress on stderr
+  std::string cache;   // --cache DIR: write every frame's state there (app/farm_cache.h)
+  bool resume = false;  // --resume: continue DIR's cache after its last good frame
 };
 int simulate(const SimulateOptions& opt);
 int check(const std::vector<std::string>& scenes);
@@ -38,6 +40,8 @@ struct RenderOptions {
   std::optional<std::uint64_t> seed;  // --seed: replaces the scene's
   bool quiet = false;         // print nothing on success, no progress
   std::string cache = "render_out/.cache";  // the simulation cache's folder; empty: none (app/sim_cache.h)
+  std::string chunk;  // --chunk I/K: the frames of one chunk of K (chunkFrames)
+  std::string from;  // --cache DIR: draw the frames from the farm cache there, never simulating
 };
 int still(const RenderOptions& opt, double time, int frame);
 
@@ -62,6 +66,12 @@ struct CompareOptions {
 };
 int compare(const CompareOptions& o);
 int info();
+// `reel info --video FILE`: what a video holds, as one JSON object.
+int videoInfo(const std::string& file);
+// `reel join CHUNK... -o OUT`: chunks of one film into one video without re-encoding.
+int join(const std::vector<std::string>& chunks, const std::string& output, bool quiet);
+// --chunk I/K: the I-th of K nearly equal runs of the film's N frames, as "A-B" (exit 2 if bad).
+Result<std::string> chunkFrames(const std::string& chunk, int frames);
 // `names`: benchmarks, or scene files (*.json) for `film`; `frames`: A-B, the film's frames only.
 int bench(const std::vector<std::string>& names, double seconds, const std::string& frames = "");
 

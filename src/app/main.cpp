@@ -42,9 +42,12 @@ struct Cli {
   std::vector<std::string> bench_names;
   double bench_seconds = 1.0;
   std::string mass_file;   // info --mass
+  std::string video_file;  // info --video
+  std::vector<std::string> chunks;  // join
+  std::string join_out;
   double density = 1000.0;  // info --density, kg/m³
   CLI::App *simulate = nullptr, *check = nullptr, *info = nullptr, *still = nullptr, *render = nullptr,
-           *compare = nullptr, *bench = nullptr;
+           *compare = nullptr, *bench = nullptr, *join = nullptr;
 
   void addThreads(CLI::App* sub) {
     sub->add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::Range(1, 1024));
@@ -61,6 +64,8 @@ struct Cli {
     sub->add_flag("-q,--quiet", ropt.quiet, "print nothing on success, no progress on stderr");
     sub->add_flag_callback("--no-cache", [this] { ropt.cache.clear(); },
                            "neither read nor write the simulation cache (render_out/.cache)");
+    sub->add_option("--cache", ropt.from, "draw the frames from the farm cache DIR that `reel simulate --cache` wrote, "
+                                          "without simulating (docs/farm.md)")->type_name("DIR");
     addSeed(sub);
     addThreads(sub);
   }
@@ -73,6 +78,10 @@ struct Cli {
     simulate->add_option("--dump-every", sim.dump_every, "dump every K-th frame (first and last always)")
         ->check(CLI::Range(1, 1 << 30));
     simulate->add_flag("-q,--quiet", sim.quiet, "no progress on stderr");
+    auto* cache = simulate->add_option("--cache", sim.cache, "write every frame's state into the farm cache DIR, "
+                                                             "for `reel render --cache` (docs/farm.md)")->type_name("DIR");
+    simulate->add_flag("--resume", sim.resume, "continue the cache after its last good frame (a new cache when there is none)")
+        ->needs(cache);
     simulate->add_option("--stats", sim.stats, "write per-frame statistics of the bodies (CSV: a school's polarization, milling, centroid, nearest-neighbour distance)");
     addSeed(simulate);
     addThreads(simulate);
@@ -81,6 +90,7 @@ struct Cli {
     info = app.add_subcommand("info", "versions, build type, threads; or a mesh's mass properties");
     info->add_option("--mass", mass_file, "print the volume, mass, centre of mass and inertia tensor of a closed mesh (JSON)");
     info->add_option("--density", density, "kg/m³ for --mass (default 1000)")->check(CLI::PositiveNumber);
+    info->add_option("--video", video_file, "print what a video holds (codec, size, frame rate, frames, duration) as JSON");
   }
 
   // still, render.
@@ -95,7 +105,9 @@ struct Cli {
     addRenderOptions(render);
     render->add_option("-o,--output", ropt.outputs,
                        "NAME.mp4, NAME.webm, NAME.gif or dir/name_####.png; repeatable (default: render_out/<scene>.mp4)");
-    render->add_option("--frames", frames, "render frames A-B only (frame k shows time k/fps)");
+    auto* range = render->add_option("--frames", frames, "render frames A-B only (frame k shows time k/fps)");
+    render->add_option("--chunk", ropt.chunk, "render the I-th of K nearly equal runs of frames, I from 0 (a farm's job array)")
+        ->type_name("I/K")->excludes(range);
     render->add_flag("--no-overwrite", no_overwrite, "keep valid existing PNG frames (resume)");
   }
 
@@ -111,6 +123,10 @@ struct Cli {
         ->check(CLI::Range(0.0, 255.0));
     compare->add_option("--max-fraction", cmp.max_fraction, "largest fraction of differing pixels allowed (default 0.005)")
         ->check(CLI::Range(0.0, 1.0));
+    join = app.add_subcommand("join", "join video chunks of one film into one video without re-encoding");
+    join->add_option("chunks", chunks, "the chunks (reel's chunks go in film order whatever order they are given in)")->required();
+    join->add_option("-o,--output", join_out, "the joined video (same type as the chunks)")->required();
+    join->add_flag("-q,--quiet", ropt.quiet, "print nothing on success");
     bench = app.add_subcommand("bench", "run benchmarks, one JSON line each");
     bench->add_option("names", bench_names,
                       "benchmarks to run (default: all): springs, render, film, cloth, fluid, school, fish, rigid, "
@@ -133,7 +149,11 @@ struct Cli {
     }
     if (*simulate) return reel::app::simulate(sim);
     if (*check) return reel::app::check(scenes);
-    if (*info) return mass_file.empty() ? reel::app::info() : reel::app::meshMass(mass_file, density);
+    if (*info)
+      return !mass_file.empty() ? reel::app::meshMass(mass_file, density)
+             : !video_file.empty() ? reel::app::videoInfo(video_file)
+                                   : reel::app::info();
+    if (*join) return reel::app::join(chunks, join_out, ropt.quiet);
     if (!size.empty()) {
       int w = 0, h = 0;
       char x = 0;

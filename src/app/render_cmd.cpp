@@ -13,6 +13,7 @@
 
 #include "app/body_kinds.h"
 #include "app/commands.h"
+#include "app/farm_cache.h"
 #include "app/progress.h"
 #include "app/sim_cache.h"
 #include "core/format.h"
@@ -84,6 +85,21 @@ std::optional<SimCache> openCache(const RenderOptions& opt, int frames) {
   return cache;
 }
 
+// --cache DIR: the farm cache of this scene (after it is loaded: the manifest covers its assets),
+// checked to hold frames [first, last].
+Status openFarmCache(const RenderOptions& opt, const Setup& s, int first, int last, CacheReader& reader) {
+  auto want = CacheManifest::of(opt.scene, s.scene);
+  if (!want.ok()) return want.error();
+  if (Status st = reader.open(opt.from, want.value()); !st) return st;
+  if (last >= reader.frames())
+    return Error(ErrorKind::BadInput, opt.from + ": frames " + std::to_string(first) + "-" + std::to_string(last) +
+                                          " are not all in the cache (it holds " +
+                                          (reader.frames() ? "frames 0-" + std::to_string(reader.frames() - 1) : "no frames") +
+                                          " of " + std::to_string(s.scene.frameCount()) + "; finish it with `reel simulate " +
+                                          opt.scene + " --cache " + opt.from + " --resume`)");
+  return {};
+}
+
 io::TextChunks pngText(const Setup& s, int frame) {
   return {{"Software", std::string("reel ") + REEL_VERSION},
           {"reel:scene", s.scene.name},
@@ -107,8 +123,13 @@ int still(const RenderOptions& opt, double time, int frame) {
   if (k < 0 || k >= n)
     return report(Error(ErrorKind::BadInput, "frame " + std::to_string(k) + " is outside the film (frames 0.." +
                                                  std::to_string(n - 1) + ")"));
-  // From the nearest frame a render or still of this scene left in the cache.
-  std::optional<SimCache> cache = openCache(opt, n);
+  // From the farm cache, or from the nearest frame a render or still of this scene left.
+  CacheReader farm;
+  if (!opt.from.empty()) {
+    if (Status st = openFarmCache(opt, s, k, k, farm); !st) return report(st.error());
+    if (Status st = farm.restore(*s.world, k); !st) return report(st.error());
+  }
+  std::optional<SimCache> cache = opt.from.empty() ? openCache(opt, n) : std::nullopt;
   if (cache) cache->restoreNearest(*s.world, k);
   Progress progress(k - s.world->frame(), opt.quiet, "simulating frame");
   for (int done = 1; s.world->frame() < k; ++done) {
@@ -193,7 +214,8 @@ Status frameRange(const std::string& range, int n, int& first, int& last) {
 // The outputs by their form; missing folders are created (a video's when it opens; a PNG
 // pattern's now, so that an uncreatable one fails before any frame is simulated: '#' is only in
 // the file name); videos open.
-Status openOutputs(const RenderOptions& opt, const Setup& s, bool no_overwrite, std::vector<Output>& outs) {
+Status openOutputs(const RenderOptions& opt, const Setup& s, bool no_overwrite, const io::ChunkTag& tag,
+                   std::vector<Output>& outs) {
   std::vector<std::string> paths = opt.outputs;
   if (paths.empty()) paths.push_back("render_out/" + io::safeFileName(s.scene.name) + ".mp4");
   outs.resize(paths.size());
@@ -209,7 +231,7 @@ Status openOutputs(const RenderOptions& opt, const Setup& s, bool no_overwrite, 
     if (no_overwrite && std::filesystem::exists(o.path, ec))
       return Error(ErrorKind::BadInput, o.path + ": exists (a video cannot be resumed; remove it or drop --no-overwrite)");
     o.writer = std::make_unique<io::VideoWriter>();
-    if (Status st = o.writer->open(o.path, W, H, s.scene.fps); !st) return st;
+    if (Status st = o.writer->open(o.path, W, H, s.scene.fps, 18, &tag); !st) return st;
   }
   return {};
 }
@@ -218,8 +240,9 @@ Status openOutputs(const RenderOptions& opt, const Setup& s, bool no_overwrite, 
 // joined by bounded queues, so a film takes about as long as its slowest stage.
 // `times`: each thread's busy seconds (waits on the queues left out). `cache`: where the simulation
 // starts from (the nearest frame at or before `first`) and what it leaves for later stills.
+// `farm`: frames restored from a farm cache instead of simulated.
 Status runPipeline(Setup& s, std::vector<Output>& outs, int first, int last, const std::vector<char>& need, int to_draw,
-                   bool no_overwrite, bool quiet, FilmTimes& times, SimCache* cache) {
+                   bool no_overwrite, bool quiet, FilmTimes& times, SimCache* cache, const CacheReader* farm) {
   using Clock = std::chrono::steady_clock;
   auto since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   const int W = s.scene.render.width, H = s.scene.render.height;
@@ -227,10 +250,16 @@ Status runPipeline(Setup& s, std::vector<Output>& outs, int first, int last, con
   BoundedQueue<FrameImage> images(3);
   Status sim_status, enc_status;
   std::thread sim([&] {
-    const int start = cache ? cache->restoreNearest(*s.world, first) : 0;
+    const int start = farm ? first : cache ? cache->restoreNearest(*s.world, first) : 0;
     for (int k = start; k <= last; ++k) {
       const auto t0 = Clock::now();
-      if (k > start) {
+      if (farm) {
+        if (!need[static_cast<std::size_t>(k)]) continue;
+        if (Status st = farm->restore(*s.world, k); !st) {
+          sim_status = st;
+          break;
+        }
+      } else if (k > start) {
         if (Status st = s.world->advanceFrame(); !st) {
           sim_status = st;
           break;
@@ -288,7 +317,8 @@ Status runPipeline(Setup& s, std::vector<Output>& outs, int first, int last, con
   enc.join();
   // Videos keep every frame encoded so far when the simulation stopped early (exit 3); after a
   // drawing or encoding failure they are abandoned (no final file).
-  if (enc_status.ok() && render_status.ok()) {
+  // (A damaged farm cache is bad input, not a simulation that stopped: nothing is kept then.)
+  if (enc_status.ok() && render_status.ok() && (sim_status.ok() || sim_status.error().kind != ErrorKind::BadInput)) {
     const auto t0 = Clock::now();
     for (auto& o : outs)
       if (o.video)
@@ -308,9 +338,19 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
   if (Status st = setup(opt, s); !st) return report(st.error());
   const int n = s.scene.frameCount();
   int first = 0, last = n - 1;
-  if (Status st = frameRange(range, n, first, last); !st) return report(st.error());
+  std::string frames = range;
+  if (!opt.chunk.empty()) {
+    auto r = chunkFrames(opt.chunk, n);
+    if (!r.ok()) return report(r.error());
+    frames = r.value();
+  }
+  if (Status st = frameRange(frames, n, first, last); !st) return report(st.error());
+  CacheReader farm;
+  if (!opt.from.empty())
+    if (Status st = openFarmCache(opt, s, first, last, farm); !st) return report(st.error());
   std::vector<Output> outs;
-  if (Status st = openOutputs(opt, s, no_overwrite, outs); !st) return report(st.error());
+  const io::ChunkTag tag{first, last, n, s.scene.name};
+  if (Status st = openOutputs(opt, s, no_overwrite, tag, outs); !st) return report(st.error());
   const int W = s.scene.render.width, H = s.scene.render.height;
   // Frames that need drawing: all of them unless every output already has a valid PNG.
   std::vector<char> need(static_cast<std::size_t>(n), 0);
@@ -332,9 +372,9 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
   measured.samples = s.scene.render.samples;
   measured.setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   if (times) profile::enable(true);
-  std::optional<SimCache> cache = openCache(opt, n);
-  const Status ran =
-      runPipeline(s, outs, first, last, need, to_draw, no_overwrite, opt.quiet, measured, cache ? &*cache : nullptr);
+  std::optional<SimCache> cache = opt.from.empty() ? openCache(opt, n) : std::nullopt;
+  const Status ran = runPipeline(s, outs, first, last, need, to_draw, no_overwrite, opt.quiet, measured,
+                                 cache ? &*cache : nullptr, opt.from.empty() ? nullptr : &farm);
   if (times) {
     measured.stages = profile::totals();
     profile::enable(false);

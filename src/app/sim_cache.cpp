@@ -61,6 +61,21 @@ void hashBinary(Hasher& h) {
 
 }  // namespace
 
+std::vector<std::byte> encodeSnapshot(const WorldSnapshot& snap) {
+  StateBlob blob;
+  StateWriter w(blob);
+  fields(snap, w);
+  return std::move(blob.bytes);
+}
+
+bool decodeSnapshot(const std::byte* bytes, std::size_t n, WorldSnapshot& snap) {
+  StateBlob blob;
+  blob.bytes.assign(bytes, bytes + n);
+  StateReader r(blob);
+  fields(snap, r);
+  return r.done();
+}
+
 SimCache::SimCache(const std::string& root, const std::string& scene_file, std::optional<std::uint64_t> seed, int frames)
     : frames_(frames) {
   auto text = io::readFile(scene_file, kMaxSceneBytes);
@@ -133,12 +148,8 @@ int SimCache::restoreNearest(World& world, int k) const {
     const auto* payload = reinterpret_cast<const std::byte*>(b.data() + head);
     const std::size_t n = b.size() - head - tail;
     if (key != key_ || checksum(payload, n) != sum) continue;
-    StateBlob blob;
-    blob.bytes.assign(payload, payload + n);
-    StateReader r(blob);
     WorldSnapshot snap;
-    fields(snap, r);
-    if (!r.done() || snap.frame != f) continue;
+    if (!decodeSnapshot(payload, n, snap) || snap.frame != f) continue;
     if (world.restore(snap)) return f;
   }
   return world.frame();
@@ -151,9 +162,7 @@ void SimCache::offer(const World& world, bool always) {
   std::error_code ec;
   if (fs::exists(path(f), ec)) return;
   StateBlob blob;
-  StateWriter w(blob);
-  const WorldSnapshot snap = world.snapshot();
-  fields(snap, w);
+  blob.bytes = encodeSnapshot(world.snapshot());
   if (interval_ == 0) {
     // Every frame when the whole film's checkpoints fit the budget, else evenly spaced.
     const double per = static_cast<double>(blob.bytes.size()) + 64;

@@ -10,11 +10,17 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/error.h"
 #include "sim/world.h"
 
 namespace reel::app {
+
+// A World snapshot as bytes (its fields in one fixed order) and back; `decode` is false for bytes
+// that are not one whole snapshot. Shared by this cache and the farm cache (app/farm_cache.h).
+std::vector<std::byte> encodeSnapshot(const WorldSnapshot& snap);
+bool decodeSnapshot(const std::byte* bytes, std::size_t n, WorldSnapshot& snap);
 
 class SimCache {
  public:

@@ -8,7 +8,9 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
+#include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include "io/files.h"
@@ -83,7 +85,7 @@ struct VideoWriter::Impl {
 VideoWriter::VideoWriter() : impl_(std::make_unique<Impl>()) {}
 VideoWriter::~VideoWriter() = default;
 
-Status VideoWriter::open(const std::string& path, int width, int height, int fps, int crf) {
+Status VideoWriter::open(const std::string& path, int width, int height, int fps, int crf, const ChunkTag* tag) {
   Impl& v = *impl_;
   v.path = path;
   v.part = path + ".part";
@@ -145,6 +147,7 @@ Status VideoWriter::open(const std::string& path, int width, int height, int fps
   if (Status st = createParentFolders(path); !st) return st;
   r = avio_open(&v.fmt->pb, v.part.c_str(), AVIO_FLAG_WRITE);
   if (r < 0) return v.fail("cannot write " + v.part, r);
+  if (tag && !v.gif) av_dict_set(&v.fmt->metadata, "comment", tag->comment().c_str(), 0);
   AVDictionary* mux = nullptr;
   if (ext == ".mp4") av_dict_set(&mux, "movflags", "+faststart", 0);
   r = avformat_write_header(v.fmt, &mux);
@@ -269,6 +272,8 @@ Status decodeAll(const std::string& path, VideoInfo& info, Sink&& sink) {
   const char* pf = av_get_pix_fmt_name(static_cast<AVPixelFormat>(st->codecpar->format));
   info.pix_fmt = pf ? pf : "?";
   info.fps = st->avg_frame_rate.den ? av_q2d(st->avg_frame_rate) : av_q2d(st->r_frame_rate);
+  info.duration = fmt->duration > 0 ? static_cast<double>(fmt->duration) / AV_TIME_BASE : 0.0;
+  if (const AVDictionaryEntry* c = av_dict_get(fmt->metadata, "comment", nullptr, 0)) info.comment = c->value;
   g.fr = av_frame_alloc();
   g.p = av_packet_alloc();
   auto take = [&]() -> Status {
@@ -328,6 +333,152 @@ std::vector<std::string> availableEncoders() {
   if (avcodec_find_encoder_by_name("libvpx-vp9")) out.push_back("webm: libvpx-vp9");
   if (avcodec_find_encoder(AV_CODEC_ID_GIF)) out.push_back("gif: gif");
   return out;
+}
+
+}  // namespace reel::io
+
+namespace reel::io {
+
+std::string ChunkTag::comment() const {
+  return "reel frames " + std::to_string(first) + "-" + std::to_string(last) + " of " + std::to_string(total) +
+         ", scene " + scene;
+}
+
+bool ChunkTag::parse(const std::string& comment, ChunkTag& out) {
+  int a = -1, b = -1, n = -1, used = 0;
+  if (std::sscanf(comment.c_str(), "reel frames %d-%d of %d, scene %n", &a, &b, &n, &used) != 3 || used == 0 || a < 0 ||
+      b < a || n <= b)
+    return false;
+  out = ChunkTag{a, b, n, comment.substr(static_cast<std::size_t>(used))};
+  return true;
+}
+
+namespace {
+
+// One input of a join: its demuxer and its video stream.
+struct JoinInput {
+  std::string path;
+  AVFormatContext* fmt = nullptr;
+  AVStream* st = nullptr;
+  ~JoinInput() { avformat_close_input(&fmt); }
+};
+
+Status openJoinInput(const std::string& path, JoinInput& in) {
+  in.path = path;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return Error(ErrorKind::BadInput, path + ": no such file");
+  av_log_set_level(AV_LOG_ERROR);
+  int r = avformat_open_input(&in.fmt, path.c_str(), nullptr, nullptr);
+  if (r < 0) return Error(ErrorKind::BadInput, path + ": not a video file: " + averr(r));
+  if ((r = avformat_find_stream_info(in.fmt, nullptr)) < 0) return Error(ErrorKind::BadInput, path + ": " + averr(r));
+  const int si = av_find_best_stream(in.fmt, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0);
+  if (si < 0 || in.fmt->nb_streams != 1) return Error(ErrorKind::BadInput, path + ": not a video file of one video stream");
+  in.st = in.fmt->streams[si];
+  return {};
+}
+
+// How `b` differs from `a` in what a join needs the same ("" when it does not).
+std::string joinMismatch(const JoinInput& a, const JoinInput& b) {
+  const AVCodecParameters *p = a.st->codecpar, *q = b.st->codecpar;
+  auto size = [](const AVCodecParameters* c) { return std::to_string(c->width) + "x" + std::to_string(c->height); };
+  if (p->codec_id != q->codec_id)
+    return std::string("codec ") + avcodec_get_name(q->codec_id) + ", unlike " + avcodec_get_name(p->codec_id);
+  if (p->width != q->width || p->height != q->height) return "size " + size(q) + ", unlike " + size(p);
+  if (p->format != q->format) return "another pixel format";
+  if (av_cmp_q(a.st->avg_frame_rate, b.st->avg_frame_rate) != 0 || av_cmp_q(a.st->time_base, b.st->time_base) != 0)
+    return "frame rate " + std::to_string(av_q2d(b.st->avg_frame_rate)) + ", unlike " + std::to_string(av_q2d(a.st->avg_frame_rate));
+  if (p->extradata_size != q->extradata_size ||
+      (p->extradata_size > 0 && std::memcmp(p->extradata, q->extradata, static_cast<std::size_t>(p->extradata_size)) != 0))
+    return "other encoder settings (its codec headers differ)";
+  return "";
+}
+
+}  // namespace
+
+Result<std::string> videoComment(const std::string& path) {
+  JoinInput in;
+  if (Status st = openJoinInput(path, in); !st) return st.error();
+  const AVDictionaryEntry* c = av_dict_get(in.fmt->metadata, "comment", nullptr, 0);
+  return std::string(c ? c->value : "");
+}
+
+Status joinVideos(const std::vector<std::string>& inputs, const std::string& output, const ChunkTag* tag) {
+  if (inputs.empty()) return Error(ErrorKind::BadInput, "join: no input videos");
+  if (!isVideoPath(output)) return Error(ErrorKind::BadInput, output + ": unsupported video type (mp4, webm, gif)");
+  std::vector<std::unique_ptr<JoinInput>> in;
+  for (const std::string& p : inputs) {
+    in.push_back(std::make_unique<JoinInput>());
+    if (Status st = openJoinInput(p, *in.back()); !st) return st;
+    if (extensionOf(p) != extensionOf(output))
+      return Error(ErrorKind::BadInput, p + ": a " + extensionOf(p) + " file cannot be joined into " + output +
+                                            " without re-encoding (use " + extensionOf(p) + ")");
+    const std::string why = joinMismatch(*in.front(), *in.back());
+    if (!why.empty())
+      return Error(ErrorKind::BadInput, p + ": cannot join: " + why + " in " + inputs.front() +
+                                            " (chunks must be rendered with the same scene, --size and --samples)");
+  }
+  if (Status st = checkOutputTarget(output); !st) return st;
+  if (Status st = createParentFolders(output); !st) return st;
+  // The output, written as OUTPUT.part; removed unless complete.
+  struct Out {
+    std::string part;
+    AVFormatContext* fmt = nullptr;
+    AVPacket* pkt = av_packet_alloc();
+    bool done = false;
+    ~Out() {
+      if (fmt && fmt->pb) avio_closep(&fmt->pb);
+      if (fmt && !done) std::remove(part.c_str());
+      avformat_free_context(fmt);
+      av_packet_free(&pkt);
+    }
+  } out;
+  out.part = output + ".part";
+  const std::string ext = extensionOf(output);
+  const char* muxer = ext == ".mp4" ? "mp4" : ext == ".webm" ? "webm" : "gif";
+  auto fail = [&](const std::string& what, int e) { return Error(ErrorKind::Output, output + ": " + what + ": " + averr(e)); };
+  int r = avformat_alloc_output_context2(&out.fmt, nullptr, muxer, out.part.c_str());
+  if (r < 0 || !out.fmt || !out.pkt) return fail("cannot set up the muxer", r);
+  AVStream* os = avformat_new_stream(out.fmt, nullptr);
+  if (!os || (r = avcodec_parameters_copy(os->codecpar, in.front()->st->codecpar)) < 0) return fail("codec parameters", r);
+  os->codecpar->codec_tag = 0;
+  os->time_base = in.front()->st->time_base;
+  os->avg_frame_rate = in.front()->st->avg_frame_rate;
+  if (tag) av_dict_set(&out.fmt->metadata, "comment", tag->comment().c_str(), 0);
+  if ((r = avio_open(&out.fmt->pb, out.part.c_str(), AVIO_FLAG_WRITE)) < 0) return fail("cannot write " + out.part, r);
+  AVDictionary* mux = nullptr;
+  if (ext == ".mp4") av_dict_set(&mux, "movflags", "+faststart", 0);
+  r = avformat_write_header(out.fmt, &mux);
+  av_dict_free(&mux);
+  if (r < 0) return fail("cannot write the header", r);
+  // Each input's timestamps shifted by the end of those before it (in the inputs' time base).
+  std::int64_t offset = 0;
+  const AVRational tb = in.front()->st->time_base;
+  for (const auto& i : in) {
+    const std::int64_t start = i->st->start_time != AV_NOPTS_VALUE ? i->st->start_time : 0;
+    std::int64_t end = offset;
+    while ((r = av_read_frame(i->fmt, out.pkt)) >= 0) {
+      if (out.pkt->stream_index != i->st->index) {
+        av_packet_unref(out.pkt);
+        continue;
+      }
+      if (out.pkt->pts != AV_NOPTS_VALUE) {
+        out.pkt->pts += offset - start;
+        end = std::max(end, out.pkt->pts + std::max<std::int64_t>(out.pkt->duration, 1));
+      }
+      if (out.pkt->dts != AV_NOPTS_VALUE) out.pkt->dts += offset - start;
+      out.pkt->stream_index = 0;
+      out.pkt->pos = -1;
+      av_packet_rescale_ts(out.pkt, tb, os->time_base);
+      if ((r = av_interleaved_write_frame(out.fmt, out.pkt)) < 0) return fail("write failed (disk full?)", r);
+    }
+    if (r != AVERROR_EOF) return Error(ErrorKind::BadInput, i->path + ": read error: " + averr(r));
+    offset = end;
+  }
+  if ((r = av_write_trailer(out.fmt)) < 0) return fail("write failed (disk full?)", r);
+  if ((r = avio_closep(&out.fmt->pb)) < 0) return fail("write failed (disk full?)", r);
+  if (std::rename(out.part.c_str(), output.c_str()) != 0) return Error(ErrorKind::Output, output + ": cannot rename from .part");
+  out.done = true;
+  return {};
 }
 
 }  // namespace reel::io

@@ -17,13 +17,24 @@ namespace reel::io {
 
 bool isVideoPath(const std::string& path);
 
+// Which frames of a film a video file holds: `first`..`last` of `total`, of the scene named
+// `scene`. reel writes it into every video's comment ("reel frames A-B of N, scene NAME"), so that
+// `reel join` puts chunks in film order and sees a gap, an overlap or another film.
+struct ChunkTag {
+  int first = 0, last = -1, total = 0;
+  std::string scene;
+  std::string comment() const;
+  static bool parse(const std::string& comment, ChunkTag& out);
+};
+
 class VideoWriter {
  public:
   VideoWriter();
   ~VideoWriter();  // an unfinished file is removed
   VideoWriter(const VideoWriter&) = delete;
   VideoWriter& operator=(const VideoWriter&) = delete;
-  Status open(const std::string& path, int width, int height, int fps, int crf = 18);
+  // `tag`: which frames of which film the file holds, stored in its comment (see ChunkTag).
+  Status open(const std::string& path, int width, int height, int fps, int crf = 18, const ChunkTag* tag = nullptr);
   Status write(const Image& frame);
   Status finish();
 
@@ -33,6 +44,15 @@ class VideoWriter {
   std::unique_ptr<Impl> impl_;
 };
 
+// Joins video files of one codec, size and encoder settings into `output` without decoding them:
+// their packets are copied in the order given, each file's timestamps shifted to follow the
+// previous file's end. Written to OUTPUT.part, renamed when complete. A file that is not a video,
+// or one whose codec, size, pixel format, frame rate or codec headers differ from the first's, is
+// refused (exit-2 kind), naming both and the difference. `tag`: the joined file's comment.
+Status joinVideos(const std::vector<std::string>& inputs, const std::string& output, const ChunkTag* tag = nullptr);
+// The comment a video file carries ("" when none); an unreadable file is an exit-2 kind of error.
+Result<std::string> videoComment(const std::string& path);
+
 // What a video file holds, read back with libavformat/libavcodec (tests and tools).
 struct VideoInfo {
   std::string codec;    // e.g. "h264", "vp9", "gif"
@@ -40,6 +60,8 @@ struct VideoInfo {
   int width = 0, height = 0;
   double fps = 0.0;
   long long frames = 0;  // decoded frames
+  double duration = 0;   // s, as the container states it
+  std::string comment;
 };
 Result<VideoInfo> probeVideo(const std::string& path);
 // Every frame decoded to RGB, cropped to width x height when given (undoing padding).

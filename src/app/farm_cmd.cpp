@@ -1,0 +1,86 @@
+// The farm's commands besides simulate and render (docs/farm.md): reel join, reel info --video,
+// and render's --chunk I/K.
+#include <algorithm>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "app/commands.h"
+#include "io/video.h"
+
+namespace reel::app {
+
+Result<std::string> chunkFrames(const std::string& chunk, int frames) {
+  int i = -1, k = -1, used = 0;
+  char slash = 0;
+  if (std::sscanf(chunk.c_str(), "%d%c%d%n", &i, &slash, &k, &used) != 3 || slash != '/' ||
+      used != static_cast<int>(chunk.size()) || k < 1 || i < 0 || i >= k)
+    return Error(ErrorKind::BadInput, "--chunk must be I/K with 0 <= I < K, got \"" + chunk + "\"");
+  if (k > frames)
+    return Error(ErrorKind::BadInput, "--chunk " + chunk + ": the film has only " + std::to_string(frames) +
+                                          " frames, fewer than " + std::to_string(k) + " chunks");
+  // Chunk i holds frames [i N / K, (i + 1) N / K): sizes differ by at most one.
+  const long long n = frames;
+  const long long a = i * n / k, b = (i + 1) * n / k - 1;
+  return std::to_string(a) + "-" + std::to_string(b);
+}
+
+int videoInfo(const std::string& file) {
+  auto info = io::probeVideo(file);
+  if (!info.ok()) return report(info.error());
+  const io::VideoInfo& v = info.value();
+  const nlohmann::json out = {{"file", file},     {"codec", v.codec},   {"pix_fmt", v.pix_fmt},
+                              {"width", v.width}, {"height", v.height}, {"fps", v.fps},
+                              {"frames", v.frames}, {"duration_s", v.duration}, {"comment", v.comment}};
+  std::printf("%s\n", out.dump().c_str());
+  return 0;
+}
+
+int join(const std::vector<std::string>& chunks, const std::string& output, bool quiet) {
+  // reel's chunks say which frames of which film they hold: put them in film order and check that
+  // they follow one another. Other videos are joined in the order given.
+  struct Chunk {
+    std::string path;
+    io::ChunkTag tag;
+  };
+  std::vector<Chunk> tagged;
+  for (const std::string& c : chunks) {
+    auto comment = io::videoComment(c);
+    if (!comment.ok()) return report(comment.error());
+    io::ChunkTag t;
+    if (io::ChunkTag::parse(comment.value(), t)) tagged.push_back({c, t});
+  }
+  std::vector<std::string> order = chunks;
+  std::optional<io::ChunkTag> whole;
+  if (tagged.size() == chunks.size()) {
+    std::stable_sort(tagged.begin(), tagged.end(), [](const Chunk& a, const Chunk& b) { return a.tag.first < b.tag.first; });
+    for (std::size_t i = 1; i < tagged.size(); ++i) {
+      const Chunk &p = tagged[i - 1], &c = tagged[i];
+      if (c.tag.scene != p.tag.scene || c.tag.total != p.tag.total)
+        return report(Error(ErrorKind::BadInput, c.path + ": a chunk of another film (\"" + c.tag.scene + "\", " +
+                                                     std::to_string(c.tag.total) + " frames) than " + p.path + " (\"" +
+                                                     p.tag.scene + "\", " + std::to_string(p.tag.total) + " frames)"));
+      if (c.tag.first <= p.tag.last)
+        return report(Error(ErrorKind::BadInput, c.path + " (frames " + std::to_string(c.tag.first) + "-" +
+                                                     std::to_string(c.tag.last) + ") overlaps " + p.path + " (frames " +
+                                                     std::to_string(p.tag.first) + "-" + std::to_string(p.tag.last) + ")"));
+      if (c.tag.first > p.tag.last + 1)
+        return report(Error(ErrorKind::BadInput, "frames " + std::to_string(p.tag.last + 1) + "-" +
+                                                     std::to_string(c.tag.first - 1) + " are in none of the chunks (between " +
+                                                     p.path + " and " + c.path + ")"));
+    }
+    for (std::size_t i = 0; i < tagged.size(); ++i) order[i] = tagged[i].path;
+    whole = io::ChunkTag{tagged.front().tag.first, tagged.back().tag.last, tagged.front().tag.total, tagged.front().tag.scene};
+  }
+  if (Status st = io::joinVideos(order, output, whole ? &*whole : nullptr); !st) return report(st.error());
+  if (!quiet) {
+    if (whole)
+      std::printf("%s: frames %d-%d of %d (%zu chunks)\n", output.c_str(), whole->first, whole->last, whole->total,
+                  chunks.size());
+    else
+      std::printf("%s: %zu videos joined\n", output.c_str(), chunks.size());
+  }
+  return 0;
+}
+
+}  // namespace reel::app

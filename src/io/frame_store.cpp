@@ -1,0 +1,231 @@
+#include "io/frame_store.h"
+
+#include <unistd.h>
+#include <zstd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+
+#include "core/hash.h"
+
+namespace reel::io {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr char kDataMagic[9] = "REELFRM1";
+constexpr char kIndexMagic[9] = "REELIDX1";
+constexpr std::uint32_t kRecordMagic = 0x31524652;  // "RFR1"
+constexpr int kLevel = 3;
+constexpr std::size_t kPlanes = 8;
+constexpr std::uint64_t kMaxRecord = std::uint64_t{1} << 34;  // 16 GiB: beyond it, a record is garbage
+
+struct RecordHeader {
+  std::uint32_t magic = kRecordMagic;
+  std::uint32_t frame = 0;
+  std::uint64_t raw_size = 0;
+  std::uint64_t stored_size = 0;
+  std::uint64_t checksum = 0;  // FNV-1a of the stored bytes
+};
+static_assert(sizeof(RecordHeader) == 32);
+
+struct IndexEntry {
+  std::uint64_t offset = 0, length = 0;
+};
+static_assert(sizeof(IndexEntry) == 16);
+
+std::uint64_t checksum(const std::byte* p, std::size_t n) {
+  Hasher h;
+  h.add(p, n);
+  return h.h;
+}
+
+std::string dataPath(const std::string& folder) { return (fs::path(folder) / "frames.bin").string(); }
+std::string indexPath(const std::string& folder) { return (fs::path(folder) / "frames.idx").string(); }
+
+bool readAt(std::FILE* f, std::uint64_t offset, void* out, std::size_t n) {
+  return fseeko(f, static_cast<off_t>(offset), SEEK_SET) == 0 && std::fread(out, 1, n, f) == n;
+}
+
+// The whole index file's entries (empty when it is missing or not an index).
+std::vector<IndexEntry> readIndex(const std::string& path, bool& valid) {
+  std::vector<IndexEntry> out;
+  valid = false;
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return out;
+  char magic[8];
+  if (std::fread(magic, 1, 8, f) == 8 && std::memcmp(magic, kIndexMagic, 8) == 0) {
+    valid = true;
+    IndexEntry e;
+    while (std::fread(&e, sizeof e, 1, f) == 1) out.push_back(e);
+  }
+  std::fclose(f);
+  return out;
+}
+
+// Frame k's record at `e`, checked: the header names the frame, the sizes fit the entry, the
+// stored bytes match their checksum and unpack to the raw size.
+Result<Bytes> readRecord(std::FILE* f, const std::string& file, int k, const IndexEntry& e) {
+  const std::string where = file + ": frame " + std::to_string(k);
+  RecordHeader h;
+  if (e.length < sizeof h || e.length > kMaxRecord || !readAt(f, e.offset, &h, sizeof h))
+    return Error(ErrorKind::BadInput, where + " is cut short (the cache is truncated; `reel simulate --resume` rewrites it)");
+  if (h.magic != kRecordMagic || h.frame != static_cast<std::uint32_t>(k) || h.stored_size != e.length - sizeof h ||
+      h.raw_size > kMaxRecord)
+    return Error(ErrorKind::BadInput, where + ": its record header is damaged (`reel simulate --resume` rewrites it)");
+  Bytes stored(h.stored_size);
+  if (std::fread(stored.data(), 1, stored.size(), f) != stored.size())
+    return Error(ErrorKind::BadInput, where + " is cut short (the cache is truncated; `reel simulate --resume` rewrites it)");
+  if (checksum(stored.data(), stored.size()) != h.checksum)
+    return Error(ErrorKind::BadInput, where + ": checksum mismatch, the frame is corrupted (`reel simulate --resume` rewrites it)");
+  auto raw = unpackFrame(stored.data(), stored.size(), h.raw_size);
+  if (!raw.ok()) return Error(ErrorKind::BadInput, where + ": " + raw.error().headline());
+  return raw;
+}
+
+}  // namespace
+
+Bytes packFrame(const Bytes& raw, void* cctx) {
+  // Planes of every 8th byte: byte p of each 8-byte word together, then the tail as it is.
+  const std::size_t n = raw.size(), words = n / kPlanes;
+  Bytes shuffled(n);
+  for (std::size_t p = 0; p < kPlanes; ++p)
+    for (std::size_t i = 0; i < words; ++i) shuffled[p * words + i] = raw[i * kPlanes + p];
+  std::memcpy(shuffled.data() + words * kPlanes, raw.data() + words * kPlanes, n - words * kPlanes);
+  Bytes out(ZSTD_compressBound(n));
+  const std::size_t got = cctx ? ZSTD_compressCCtx(static_cast<ZSTD_CCtx*>(cctx), out.data(), out.size(),
+                                                   shuffled.data(), n, kLevel)
+                               : ZSTD_compress(out.data(), out.size(), shuffled.data(), n, kLevel);
+  out.resize(ZSTD_isError(got) ? 0 : got);  // (cannot fail with a bound-sized buffer)
+  return out;
+}
+
+Result<Bytes> unpackFrame(const std::byte* packed, std::size_t n, std::size_t raw_size) {
+  Bytes shuffled(raw_size);
+  const std::size_t got = ZSTD_decompress(shuffled.data(), raw_size, packed, n);
+  if (ZSTD_isError(got) || got != raw_size)
+    return Error(ErrorKind::BadInput, std::string("does not decompress: ") +
+                                          (ZSTD_isError(got) ? ZSTD_getErrorName(got) : "wrong size"));
+  const std::size_t words = raw_size / kPlanes;
+  Bytes raw(raw_size);
+  for (std::size_t p = 0; p < kPlanes; ++p)
+    for (std::size_t i = 0; i < words; ++i) raw[i * kPlanes + p] = shuffled[p * words + i];
+  std::memcpy(raw.data() + words * kPlanes, shuffled.data() + words * kPlanes, raw_size - words * kPlanes);
+  return raw;
+}
+
+FrameStoreWriter::~FrameStoreWriter() {
+  if (data_) std::fclose(data_);
+  if (index_) std::fclose(index_);
+  ZSTD_freeCCtx(static_cast<ZSTD_CCtx*>(cctx_));
+}
+
+Status FrameStoreWriter::fail(const std::string& what) {
+  const int e = errno;
+  return Error(ErrorKind::Output, folder_ + ": " + what + ": " + std::strerror(e ? e : EIO));
+}
+
+Status FrameStoreWriter::create(const std::string& folder) {
+  folder_ = folder;
+  if (!cctx_) cctx_ = ZSTD_createCCtx();
+  data_ = std::fopen(dataPath(folder).c_str(), "wb");
+  if (!data_) return fail("cannot write frames.bin");
+  index_ = std::fopen(indexPath(folder).c_str(), "wb");
+  if (!index_) return fail("cannot write frames.idx");
+  if (std::fwrite(kDataMagic, 1, 8, data_) != 8 || std::fwrite(kIndexMagic, 1, 8, index_) != 8)
+    return fail("cannot write");
+  end_ = 8;
+  frames_ = 0;
+  return {};
+}
+
+Result<int> FrameStoreWriter::resume(const std::string& folder) {
+  folder_ = folder;
+  bool valid = false;
+  const std::vector<IndexEntry> index = readIndex(indexPath(folder), valid);
+  std::FILE* f = std::fopen(dataPath(folder).c_str(), "rb");
+  char magic[8];
+  const bool data_ok = f && std::fread(magic, 1, 8, f) == 8 && std::memcmp(magic, kDataMagic, 8) == 0;
+  if (!valid || !data_ok) {
+    if (f) std::fclose(f);
+    if (Status st = create(folder); !st) return st.error();
+    return 0;
+  }
+  int good = 0;
+  std::uint64_t end = 8;
+  for (const IndexEntry& e : index) {
+    if (e.offset != end || !readRecord(f, "", good, e).ok()) break;
+    end += e.length;
+    ++good;
+  }
+  std::fclose(f);
+  if (::truncate(dataPath(folder).c_str(), static_cast<off_t>(end)) != 0 ||
+      ::truncate(indexPath(folder).c_str(), static_cast<off_t>(8 + sizeof(IndexEntry) * good)) != 0)
+    return fail("cannot cut the cache back to its last whole frame").error();
+  if (!cctx_) cctx_ = ZSTD_createCCtx();
+  data_ = std::fopen(dataPath(folder).c_str(), "ab");
+  index_ = std::fopen(indexPath(folder).c_str(), "ab");
+  if (!data_ || !index_) return fail("cannot append").error();
+  end_ = end;
+  frames_ = good;
+  return good;
+}
+
+Status FrameStoreWriter::append(const Bytes& raw) {
+  if (!data_ || !index_) return Error(ErrorKind::Output, folder_ + ": the frame store is not open");
+  const Bytes stored = packFrame(raw, cctx_);
+  RecordHeader h;
+  h.frame = static_cast<std::uint32_t>(frames_);
+  h.raw_size = raw.size();
+  h.stored_size = stored.size();
+  h.checksum = checksum(stored.data(), stored.size());
+  // The record whole before its index entry: an entry always points at a complete record.
+  if (std::fwrite(&h, sizeof h, 1, data_) != 1 || std::fwrite(stored.data(), 1, stored.size(), data_) != stored.size() ||
+      std::fflush(data_) != 0)
+    return fail("cannot write frame " + std::to_string(frames_));
+  const IndexEntry e{end_, sizeof h + stored.size()};
+  if (std::fwrite(&e, sizeof e, 1, index_) != 1 || std::fflush(index_) != 0)
+    return fail("cannot write the index of frame " + std::to_string(frames_));
+  end_ += e.length;
+  ++frames_;
+  return {};
+}
+
+Status FrameStoreWriter::finish() {
+  for (std::FILE* f : {data_, index_})
+    if (f && (std::fflush(f) != 0 || ::fsync(fileno(f)) != 0)) return fail("cannot sync");
+  return {};
+}
+
+FrameStoreReader::~FrameStoreReader() {
+  if (data_) std::fclose(data_);
+}
+
+FrameStoreReader::FrameStoreReader(FrameStoreReader&& o) noexcept
+    : folder_(std::move(o.folder_)), data_(o.data_), index_(std::move(o.index_)) {
+  o.data_ = nullptr;
+}
+
+Result<FrameStoreReader> FrameStoreReader::open(const std::string& folder) {
+  FrameStoreReader r;
+  r.folder_ = folder;
+  bool valid = false;
+  const std::vector<IndexEntry> index = readIndex(indexPath(folder), valid);
+  if (!valid) return Error(ErrorKind::BadInput, indexPath(folder) + ": missing or not a reel frame index");
+  r.data_ = std::fopen(dataPath(folder).c_str(), "rb");
+  char magic[8];
+  if (!r.data_ || std::fread(magic, 1, 8, r.data_) != 8 || std::memcmp(magic, kDataMagic, 8) != 0)
+    return Error(ErrorKind::BadInput, dataPath(folder) + ": missing or not a reel frame store");
+  for (const IndexEntry& e : index) r.index_.push_back({e.offset, e.length});
+  return r;
+}
+
+Result<Bytes> FrameStoreReader::read(int k) const {
+  if (k < 0 || k >= frames())
+    return Error(ErrorKind::BadInput, dataPath(folder_) + ": frame " + std::to_string(k) + " is not in the cache (it holds " +
+                                          (frames() ? "frames 0.." + std::to_string(frames() - 1) : "no frames") + ")");
+  const auto& [offset, length] = index_[static_cast<std::size_t>(k)];
+  return readRecord(data_, dataPath(folder_), k, IndexEntry{offset, length});
+}
+
+}  // namespace reel::io
