@@ -241,7 +241,7 @@ int benchFilm(const std::string& scene_path, const std::string& range) {
 }  // namespace
 
 int bench(const std::vector<std::string>& given, double seconds, const std::string& frames) {
-  const std::vector<std::string> all = {"springs", "render", "film", "cloth", "fluid", "school", "fish", "rigid", "cloth_liquid", "face"};
+  const std::vector<std::string> all = {"springs", "render", "film", "cloth", "fluid", "school", "fish", "rigid", "cloth_liquid", "face", "cache"};
   // Scene files name the films `film` renders (jelly by default).
   std::vector<std::string> names, films;
   for (const auto& n : given) (n.size() > 5 && n.ends_with(".json") ? films : names).push_back(n);
@@ -274,6 +274,7 @@ int bench(const std::vector<std::string>& given, double seconds, const std::stri
     if (n == "rigid") rc = benchRigid();
     if (n == "cloth_liquid") rc = benchClothLiquid();
     if (n == "face") rc = benchFace();
+    if (n == "cache") rc = benchCache(30);
     if (rc != 0) return rc;
   }
   return 0;

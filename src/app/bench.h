@@ -12,5 +12,7 @@ int benchFish(double seconds);
 int benchRigid();
 int benchClothLiquid();
 int benchFace();
+// bench_cache.cpp: the farm cache's bytes per node/particle/agent by kind, after `frames` frames.
+int benchCache(int frames);
 
 }  // namespace reel::app

@@ -130,7 +130,7 @@ struct Cli {
     bench = app.add_subcommand("bench", "run benchmarks, one JSON line each");
     bench->add_option("names", bench_names,
                       "benchmarks to run (default: all): springs, render, film, cloth, fluid, school, fish, rigid, "
-                      "cloth_liquid, face; a scene file (*.json) is a film for `film` to render");
+                      "cloth_liquid, face, cache; a scene file (*.json) is a film for `film` to render");
     bench->add_option("--frames", frames, "film: render frames A-B only (default: the whole film)");
     bench->add_option("--seconds", bench_seconds, "time spent on each measurement")->check(CLI::Range(0.01, 600.0));
     addThreads(bench);
