@@ -6,6 +6,9 @@
 
 #include <array>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include <algorithm>
 #include <cmath>
@@ -19,6 +22,21 @@
 #include "sim/mass_spring.h"
 
 namespace reel::test {
+
+// A fresh, empty folder under the temp directory (ctest runs cases in parallel processes: each
+// case names its own).
+inline std::filesystem::path freshDir(const std::string& name) {
+  const std::filesystem::path d = std::filesystem::temp_directory_path() / ("reel_test_" + name);
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d;
+}
+
+// A file's bytes ("" when it cannot be read).
+inline std::string fileBytes(const std::filesystem::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
 
 // The reel binary run through the shell with ARGS (quoted as a shell would need).
 struct Run {

@@ -21,18 +21,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("reel_farm_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string bytes(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-}
-
 void writeBytes(const fs::path& p, const std::string& b) { std::ofstream(p, std::ios::binary | std::ios::trunc) << b; }
 
 bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
@@ -45,7 +33,7 @@ const std::string kLiquid = std::string(REEL_SOURCE_DIR) + "/tests/scenes/fluid_
 TEST_CASE("farm cache: every body kind's frames go through the store and come back bit for bit") {
   for (const auto& [kind, text] : test::kScenes) {
     CAPTURE(kind);
-    const fs::path d = freshDir("kinds");
+    const fs::path d = test::freshDir("farm_kinds");
     World w = test::worldFromText(text, "kinds.json");
     const int frames = test::sceneFromText(text).frameCount();
     std::vector<std::uint64_t> hashes;
@@ -91,10 +79,32 @@ TEST_CASE("farm cache: compression is lossless on awkward sizes") {
   }
 }
 
+TEST_CASE("farm cache: one writer at a time; a reader sees the frames written so far") {
+  const fs::path d = test::freshDir("farm_lock");
+  io::FrameStoreWriter first;
+  REQUIRE(first.create(d.string()).ok());
+  REQUIRE(first.append(io::Bytes(100, std::byte{7})).ok());
+  io::FrameStoreWriter second;
+  auto r = second.resume(d.string());
+  REQUIRE_FALSE(r.ok());
+  CHECK(has(r.error().headline(), "another reel is writing this cache"));
+  io::FrameStoreWriter third;
+  CHECK_FALSE(third.create(d.string()).ok());
+  // While the first writes on, a reader (a render job started early) reads what is complete.
+  auto reader = io::FrameStoreReader::open(d.string());
+  REQUIRE(reader.ok());
+  CHECK(reader.value().frames() == 1);
+  CHECK(reader.value().read(0).value() == io::Bytes(100, std::byte{7}));
+  CHECK_FALSE(reader.value().read(1).ok());
+  REQUIRE(first.append(io::Bytes(3, std::byte{1})).ok());
+  REQUIRE(first.finish().ok());
+  CHECK(io::FrameStoreReader::open(d.string()).value().frames() == 2);
+}
+
 TEST_CASE("render --cache: chunks of a film drawn from the cache are the whole render's frames, byte for byte") {
   for (const std::string& scene : {kTear, kLiquid}) {
     CAPTURE(scene);
-    const fs::path d = freshDir("chunks");
+    const fs::path d = test::freshDir("farm_chunks");
     const std::string cd = "cd " + d.string() + " && ";
     REQUIRE(runReel("render " + scene + " --no-cache -q -o whole/f_###.png", cd).code == 0);
     const Run sim = runReel("simulate " + scene + " --cache cache -q", cd);
@@ -105,19 +115,19 @@ TEST_CASE("render --cache: chunks of a film drawn from the cache are the whole r
     int frames = 0;
     for (const auto& f : fs::directory_iterator(d / "whole")) {
       CAPTURE(f.path().filename().string());
-      CHECK(bytes(f.path()) == bytes(d / "chunks" / f.path().filename()));
+      CHECK(test::fileBytes(f.path()) == test::fileBytes(d / "chunks" / f.path().filename()));
       ++frames;
     }
     CHECK(frames >= 10);
     CHECK(std::distance(fs::directory_iterator(d / "chunks"), fs::directory_iterator{}) == frames);
     // A still from the cache is that frame too.
     REQUIRE(runReel("still " + scene + " --cache cache --frame 7 -o still.png", cd).code == 0);
-    CHECK(bytes(d / "still.png") == bytes(d / "whole" / "f_008.png"));
+    CHECK(test::fileBytes(d / "still.png") == test::fileBytes(d / "whole" / "f_008.png"));
   }
 }
 
 TEST_CASE("join: MP4 chunks become one film of the right frames and duration, without re-encoding") {
-  const fs::path d = freshDir("join");
+  const fs::path d = test::freshDir("farm_join");
   const std::string cd = "cd " + d.string() + " && ";
   REQUIRE(runReel("simulate " + kTear + " --cache cache -q", cd).code == 0);
   for (int i = 0; i < 3; ++i)
@@ -174,14 +184,14 @@ TEST_CASE("join: MP4 chunks become one film of the right frames and duration, wi
 }
 
 TEST_CASE("farm cache: a killed run resumes to the same bytes; damaged frames are reported, then rewritten") {
-  const fs::path d = freshDir("resume");
+  const fs::path d = test::freshDir("farm_resume");
   const std::string cd = "cd " + d.string() + " && ";
   REQUIRE(runReel("simulate " + kTear + " --cache whole -q", cd).code == 0);
-  const std::string bin = bytes(d / "whole" / "frames.bin"), idx = bytes(d / "whole" / "frames.idx");
+  const std::string bin = test::fileBytes(d / "whole" / "frames.bin"), idx = test::fileBytes(d / "whole" / "frames.idx");
   // Determinism: again, and on one thread, the same bytes.
   REQUIRE(runReel("simulate " + kTear + " --cache again -q --threads 1", cd).code == 0);
-  CHECK(bytes(d / "again" / "frames.bin") == bin);
-  CHECK(bytes(d / "again" / "frames.idx") == idx);
+  CHECK(test::fileBytes(d / "again" / "frames.bin") == bin);
+  CHECK(test::fileBytes(d / "again" / "frames.idx") == idx);
   fs::copy(d / "whole", d / "cut");
   // A run killed while writing frame 9: its record half there, its index entry not yet.
   auto entry = [&](int k) {
@@ -212,18 +222,18 @@ TEST_CASE("farm cache: a killed run resumes to the same bytes; damaged frames ar
   r = runReel("simulate " + kTear + " --cache cut --resume -q", cd);
   CHECK(r.code == 0);
   CHECK(has(r.out, "resumed after frame 4"));
-  CHECK(bytes(d / "cut" / "frames.bin") == bin);
-  CHECK(bytes(d / "cut" / "frames.idx") == idx);
+  CHECK(test::fileBytes(d / "cut" / "frames.bin") == bin);
+  CHECK(test::fileBytes(d / "cut" / "frames.idx") == idx);
   // A complete cache resumes to nothing; --resume of a missing cache starts one.
   r = runReel("simulate " + kTear + " --cache cut --resume -q", cd);
   CHECK(r.code == 0);
   CHECK(has(r.out, "complete (12 frames)"));
   REQUIRE(runReel("simulate " + kTear + " --cache fresh --resume -q", cd).code == 0);
-  CHECK(bytes(d / "fresh" / "frames.bin") == bin);
+  CHECK(test::fileBytes(d / "fresh" / "frames.bin") == bin);
 }
 
 TEST_CASE("farm cache: bad input") {
-  const fs::path d = freshDir("bad");
+  const fs::path d = test::freshDir("farm_bad");
   const std::string cd = "cd " + d.string() + " && ";
   REQUIRE(runReel("simulate " + kTear + " --cache cache -q", cd).code == 0);
   // A folder holding something else, or a cache already there without --resume.
@@ -232,7 +242,7 @@ TEST_CASE("farm cache: bad input") {
   Run r = runReel("simulate " + kTear + " --cache other -q", cd);
   CHECK(r.code == 2);
   CHECK(has(r.out, "holds something else"));
-  CHECK(bytes(d / "other" / "notes.txt") == "mine");
+  CHECK(test::fileBytes(d / "other" / "notes.txt") == "mine");
   r = runReel("simulate " + kTear + " --cache cache -q", cd);
   CHECK(r.code == 2);
   CHECK(has(r.out, "add --resume"));
@@ -245,6 +255,23 @@ TEST_CASE("farm cache: bad input") {
   r = runReel("render " + kTear + " --cache cache --seed 9 -q -o o.mp4", cd);
   CHECK(r.code == 2);
   CHECK(has(r.out, "seed 5, not 9"));
+  // A cache of another reel version or build (its manifest says so).
+  const std::string manifest = test::fileBytes(d / "cache" / "cache.json");
+  std::string other = manifest;
+  other.replace(other.find("\"reel\": \"") + 9, 1, "9");
+  writeBytes(d / "cache" / "cache.json", other);
+  r = runReel("render " + kTear + " --cache cache -q -o o.mp4", cd);
+  CHECK(r.code == 2);
+  CHECK(has(r.out, "it was made by reel 9"));
+  other = manifest;
+  other.replace(other.find("\"build\": \"") + 10, 4, "0000");
+  writeBytes(d / "cache" / "cache.json", other);
+  r = runReel("render " + kTear + " --cache cache -q -o o.mp4", cd);
+  CHECK(r.code == 2);
+  CHECK(has(r.out, "another build of reel"));
+  writeBytes(d / "cache" / "cache.json", "{ not json");
+  CHECK(runReel("render " + kTear + " --cache cache -q -o o.mp4", cd).code == 2);
+  writeBytes(d / "cache" / "cache.json", manifest);
   r = runReel("simulate " + drape + " --cache cache --resume -q", cd);
   CHECK(r.code == 2);
   CHECK(has(r.out, "cannot resume"));
@@ -264,7 +291,7 @@ TEST_CASE("farm cache: bad input") {
   writeBytes(d / "file", "x");
   r = runReel("simulate " + kTear + " --cache file/cache -q", cd);
   CHECK(r.code == 4);
-  CHECK(bytes(d / "file") == "x");
+  CHECK(test::fileBytes(d / "file") == "x");
   const std::string long_name(300, 'n');
   r = runReel("simulate " + kTear + " --cache " + long_name + " -q", cd);
   CHECK(r.code == 4);

@@ -21,18 +21,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("reel_films_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string bytes(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-}
-
 bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 const std::string kDrape = std::string(REEL_SOURCE_DIR) + "/tests/scenes/drape.json";
@@ -40,7 +28,7 @@ const std::string kDrape = std::string(REEL_SOURCE_DIR) + "/tests/scenes/drape.j
 }  // namespace
 
 TEST_CASE("a still reuses the simulation a still or render of the same scene left: the same bytes") {
-  const fs::path d = freshDir("cache");
+  const fs::path d = test::freshDir("films_cache");
   const std::string cd = "cd " + d.string() + " && ";
   // Frame 8 without the cache, then with it (written), then read back from it.
   REQUIRE(runReel("still " + kDrape + " --frame 8 --size 64x48 --no-cache -o plain.png", cd).code == 0);
@@ -55,28 +43,28 @@ TEST_CASE("a still reuses the simulation a still or render of the same scene lef
     }
   CHECK(files == 8);  // frames 1..8: this small scene's checkpoints all fit
   REQUIRE(runReel("still " + kDrape + " --frame 8 --size 64x48 -o second.png", cd).code == 0);
-  CHECK(bytes(d / "plain.png") == bytes(d / "first.png"));
-  CHECK(bytes(d / "plain.png") == bytes(d / "second.png"));
+  CHECK(test::fileBytes(d / "plain.png") == test::fileBytes(d / "first.png"));
+  CHECK(test::fileBytes(d / "plain.png") == test::fileBytes(d / "second.png"));
   // A later frame continues from the cache, a render of a range starts from it: the same bytes.
   REQUIRE(runReel("still " + kDrape + " --frame 9 --size 64x48 -o nine.png", cd).code == 0);
   REQUIRE(runReel("still " + kDrape + " --frame 9 --size 64x48 --no-cache -o nine_plain.png", cd).code == 0);
-  CHECK(bytes(d / "nine.png") == bytes(d / "nine_plain.png"));
+  CHECK(test::fileBytes(d / "nine.png") == test::fileBytes(d / "nine_plain.png"));
   REQUIRE(runReel("render " + kDrape + " --frames 8-9 --size 64x48 -o r_#.png", cd).code == 0);
-  CHECK(bytes(d / "r_9.png") == bytes(d / "second.png"));
-  CHECK(bytes(d / "r_10.png") == bytes(d / "nine.png"));
+  CHECK(test::fileBytes(d / "r_9.png") == test::fileBytes(d / "second.png"));
+  CHECK(test::fileBytes(d / "r_10.png") == test::fileBytes(d / "nine.png"));
   // Damaged checkpoints (every one) are ignored, never trusted.
   for (const auto& scene : fs::directory_iterator(d / "render_out" / ".cache"))
     for (const auto& f : fs::directory_iterator(scene.path())) {
-      std::string b = bytes(f.path());
+      std::string b = test::fileBytes(f.path());
       b[b.size() / 2] = static_cast<char>(b[b.size() / 2] ^ 0x5a);
       std::ofstream(f.path(), std::ios::binary) << b;
     }
   REQUIRE(runReel("still " + kDrape + " --frame 8 --size 64x48 -o damaged.png", cd).code == 0);
-  CHECK(bytes(d / "plain.png") == bytes(d / "damaged.png"));
+  CHECK(test::fileBytes(d / "plain.png") == test::fileBytes(d / "damaged.png"));
   // Another seed is another simulation: not read from this one's cache.
   REQUIRE(runReel("still " + kDrape + " --frame 8 --size 64x48 --seed 5 -o seeded.png", cd).code == 0);
   REQUIRE(runReel("still " + kDrape + " --frame 8 --size 64x48 --seed 5 --no-cache -o seeded_plain.png", cd).code == 0);
-  CHECK(bytes(d / "seeded.png") == bytes(d / "seeded_plain.png"));
+  CHECK(test::fileBytes(d / "seeded.png") == test::fileBytes(d / "seeded_plain.png"));
 }
 
 TEST_CASE("bench film: one JSON line per scene, seconds per frame by stage, adding up") {
@@ -98,7 +86,7 @@ TEST_CASE("bench film: one JSON line per scene, seconds per frame by stage, addi
 }
 
 TEST_CASE("progress: plain lines when stderr is not a terminal, nothing with --quiet") {
-  const fs::path d = freshDir("progress");
+  const fs::path d = test::freshDir("films_progress");
   const std::string out = (d / "f_#.png").string();
   Run r = runReel("render " + kDrape + " --size 32x24 --no-cache -o " + out);
   REQUIRE(r.code == 0);
@@ -166,7 +154,7 @@ TEST_CASE("a tear under a slow pull runs from its tip over several frames, endin
 }
 
 TEST_CASE("the simulation cache knows the meshes a scene loads: an edited mesh is a new simulation") {
-  const fs::path d = freshDir("cache_mesh");
+  const fs::path d = test::freshDir("films_cache_mesh");
   const std::string cd = "cd " + d.string() + " && ";
   auto box = [&](double top) {
     std::ofstream(d / "block.obj") << "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nv -1 " << top << " -1\nv 1 " << top
@@ -183,6 +171,6 @@ TEST_CASE("the simulation cache knows the meshes a scene loads: an edited mesh i
   box(0.6);  // a taller block: the sheet lands on it earlier and higher
   REQUIRE(runReel("still drop.json --frame 8 -o high.png", cd).code == 0);
   REQUIRE(runReel("still drop.json --frame 8 --no-cache -o high_plain.png", cd).code == 0);
-  CHECK(bytes(d / "high.png") == bytes(d / "high_plain.png"));
-  CHECK(bytes(d / "high.png") != bytes(d / "low.png"));
+  CHECK(test::fileBytes(d / "high.png") == test::fileBytes(d / "high_plain.png"));
+  CHECK(test::fileBytes(d / "high.png") != test::fileBytes(d / "low.png"));
 }

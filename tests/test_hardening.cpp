@@ -20,14 +20,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A fresh folder per test case (ctest runs cases in parallel processes).
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("reel_hardening_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
 std::string put(const fs::path& dir, const std::string& name, const std::string& text) {
   std::ofstream(dir / name, std::ios::binary) << text;
   return (dir / name).string();
@@ -50,7 +42,7 @@ const char* kPlyHeader = "ply\nformat ascii 1.0\nelement vertex 3\nproperty floa
 }  // namespace
 
 TEST_CASE("a PLY header that never ends is refused at once (assimp's reader looped forever)") {
-  const fs::path d = freshDir("ply_header");
+  const fs::path d = test::freshDir("hardening_ply_header");
   CHECK(has(importError(put(d, "a.ply", "ply\nformat ascii 1.0\n")), "the PLY header does not end"));
   CHECK(has(importError(put(d, "b.ply", "not a ply\n")), "not a PLY file"));
   CHECK(has(importError(put(d, "d.ply", std::string("ply\nformat ascii 1.0\nend_headerel\n") + kPlyHeader + "end_header\n")),
@@ -60,7 +52,7 @@ TEST_CASE("a PLY header that never ends is refused at once (assimp's reader loop
 }
 
 TEST_CASE("PLY counts are checked against the caps and the file's bytes before import") {
-  const fs::path d = freshDir("ply_counts");
+  const fs::path d = test::freshDir("hardening_ply_counts");
   // 190 bytes declaring 10^8 faces took 60 s and 3 GB; 4e9 vertices ended in std::bad_alloc.
   const std::string faces = std::string(kPlyHeader) + "element face 100000000\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   CHECK(has(importError(put(d, "faces.ply", faces)), "faces.ply:7: declares 100,000,000 face elements, more than the limit of 2,000,000"));
@@ -78,7 +70,7 @@ TEST_CASE("PLY counts are checked against the caps and the file's bytes before i
 }
 
 TEST_CASE("an OBJ over the triangle cap is refused while it is counted, not after import") {
-  const fs::path d = freshDir("obj_cap");
+  const fs::path d = test::freshDir("hardening_obj_cap");
   {
     std::ofstream f(d / "big.obj");
     f << "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
@@ -91,7 +83,7 @@ TEST_CASE("an OBJ over the triangle cap is refused while it is counted, not afte
 }
 
 TEST_CASE("OBJ faces with too few corners or missing vertices are named by line, in plain words") {
-  const fs::path d = freshDir("obj_faces");
+  const fs::path d = test::freshDir("hardening_obj_faces");
   CHECK(has(importError(put(d, "line.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n")), "line.obj:4: a face needs 3 or more corners, this one has 2"));
   CHECK(has(importError(put(d, "far.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")), "far.obj:4: a face names vertex 9, but the file has 3"));
   CHECK(has(importError(put(d, "neg.obj", "v 0 0 0\nf -1 -2 -3\n")), "neg.obj:2: corner \"-2\" names no vertex"));
@@ -120,7 +112,7 @@ TEST_CASE("OBJ faces with too few corners or missing vertices are named by line,
 TEST_CASE("what the mesh fuzzer found is refused cleanly (tests/fuzz/regressions)") {
   // Each file: the first byte picks the format, as in fuzz_mesh; under the asan preset a leak or
   // overflow here fails the suite.
-  const fs::path d = freshDir("fuzz_regressions");
+  const fs::path d = test::freshDir("hardening_fuzz_regressions");
   int files = 0;
   for (const auto& e : fs::directory_iterator(fs::path(REEL_SOURCE_DIR) / "tests" / "fuzz" / "regressions")) {
     if (e.path().filename().string().rfind("mesh-", 0) != 0) continue;
@@ -136,7 +128,7 @@ TEST_CASE("what the mesh fuzzer found is refused cleanly (tests/fuzz/regressions
 }
 
 TEST_CASE("files an asset refers to must lie in the allowed folders (OBJ mtllib, glTF buffer uri)") {
-  const fs::path root = freshDir("refs");
+  const fs::path root = test::freshDir("hardening_refs");
   const fs::path d = root / "scene";
   fs::create_directories(d);
   put(root, "secret.mtl", "newmtl x\nKd 1 0 0\n");
@@ -158,7 +150,7 @@ TEST_CASE("files an asset refers to must lie in the allowed folders (OBJ mtllib,
 }
 
 TEST_CASE("glTF and GLB: buffers, views and accessors must fit the bytes that exist") {
-  const fs::path d = freshDir("gltf");
+  const fs::path d = test::freshDir("hardening_gltf");
   // One triangle in a data URI (36 bytes of float positions).
   const std::string data = "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA";
   auto doc = [&](const std::string& byte_length, const std::string& count) {
@@ -186,7 +178,7 @@ TEST_CASE("glTF and GLB: buffers, views and accessors must fit the bytes that ex
 }
 
 TEST_CASE("STL: a binary count that does not match the file, and the import's time budget") {
-  const fs::path d = freshDir("stl");
+  const fs::path d = test::freshDir("hardening_stl");
   std::string bin(84, '\0');
   bin[80] = '\x10';  // 16 triangles declared, none present
   CHECK(has(importError(put(d, "short.stl", bin)), "neither a binary STL"));
@@ -196,7 +188,7 @@ TEST_CASE("STL: a binary count that does not match the file, and the import's ti
 }
 
 TEST_CASE("a scene name with a path in it keeps the default output inside render_out/") {
-  const fs::path d = freshDir("name");
+  const fs::path d = test::freshDir("hardening_name");
   fs::create_directories(d / "work");
   put(d / "work", "s.json", R"({"format": "reel/1", "name": "../../../escaped", "duration": 0.1, "fps": 10,
     "render": {"width": 16, "height": 16, "samples": 1}})");
@@ -209,7 +201,7 @@ TEST_CASE("a scene name with a path in it keeps the default output inside render
 }
 
 TEST_CASE("an output that is a FIFO, a folder or a device is refused with exit 4, never replaced") {
-  const fs::path d = freshDir("outputs");
+  const fs::path d = test::freshDir("hardening_outputs");
   const std::string scene = put(d, "s.json", R"({"format": "reel/1", "duration": 0.1, "fps": 10, "render": {"width": 16, "height": 16}})");
   const fs::path fifo = d / "pipe.json";
   REQUIRE(mkfifo(fifo.c_str(), 0600) == 0);
@@ -234,7 +226,7 @@ TEST_CASE("an output that is a FIFO, a folder or a device is refused with exit 4
 }
 
 TEST_CASE("a full disk during --dump names the file and leaves no dump behind") {
-  const fs::path d = freshDir("full");
+  const fs::path d = test::freshDir("hardening_full");
   const std::string rope = std::string(REEL_SOURCE_DIR) + "/scenes/rope.json";
   const fs::path out = d / "dump.json";
   // A file size limit of 64 KiB stands in for a full disk (SIGXFSZ ignored: writes fail EFBIG).
@@ -246,7 +238,7 @@ TEST_CASE("a full disk during --dump names the file and leaves no dump behind") 
 }
 
 TEST_CASE("counts and times from doubles are checked before they are converted") {
-  const fs::path d = freshDir("overflow");
+  const fs::path d = test::freshDir("hardening_overflow");
   // A block from 0 to 1e10 m at 1e-9 m spacing became one particle.
   put(d, "block.json", R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "fluid", "name": "f",
     "species": [{"name": "w"}], "blocks": [{"min": [0, 0, 0], "max": [1e10, 1e10, 1e10], "spacing": 1e-9}]}]})");
@@ -267,7 +259,7 @@ TEST_CASE("counts and times from doubles are checked before they are converted")
 }
 
 TEST_CASE("a key given twice in one object is an error with both locations") {
-  const fs::path d = freshDir("dup");
+  const fs::path d = test::freshDir("hardening_dup");
   put(d, "top.json", "{\"format\": \"reel/1\",\n \"duration\": 1,\n \"duration\": 2}");
   auto r = runReel("check " + (d / "top.json").string());
   CHECK(r.code == 2);
@@ -286,7 +278,7 @@ TEST_CASE("a key given twice in one object is an error with both locations") {
 }
 
 TEST_CASE("auto_substeps already on: the refusal does not advise it, and says the limit") {
-  const fs::path d = freshDir("substeps");
+  const fs::path d = test::freshDir("hardening_substeps");
   put(d, "stiff.json", R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 1, "auto_substeps": true,
     "integrator": "symplectic_euler",
     "bodies": [{"type": "rope", "name": "r", "start": [0, 0, 0], "end": [1, 0, 0], "segments": 4, "mass": 1e-9, "stiffness": 1e12}]})");

@@ -3,12 +3,12 @@
 #
 #   1. simulate  one job (--cpus CPUs):   reel simulate SCENE --cache DIR/cache --resume -q
 #   2. render    a job array of K tasks,  reel render SCENE --cache DIR/cache --chunk I/K
-#                1 CPU each, after 1:       -o DIR/chunks/chunk_IIII.mp4 -q
+#                --render-cpus each, after 1:       -o DIR/chunks/chunk_IIII.mp4 -q
 #   3. join      one job, after all of 2: reel join DIR/chunks/chunk_0000.mp4 ... -o OUT
 #
 # Usage:
 #   scripts/slurm/render.sh SCENE.json --chunks K [-o OUT.mp4] [--cache DIR]
-#       [--reel PATH] [--partition P] [--cpus N] [--wait]
+#       [--reel PATH] [--partition P] [--cpus N] [--render-cpus N] [--wait]
 #
 #   --chunks K     number of render jobs (the film is cut into K runs of frames)
 #   -o OUT         the film (default: render_out/<scene name>.mp4)
@@ -19,14 +19,16 @@
 #   --reel PATH    reel binary (default: $REEL, else `reel` on PATH, else
 #                  <repo>/build/release/reel)
 #   --partition P  submit to this partition (default: the cluster's default)
-#   --cpus N       CPUs of the simulation job (default 2); render and join
-#                  jobs take 1 each
+#   --cpus N       CPUs of the simulation job (default 2)
+#   --render-cpus N  CPUs of each render job (default 2: reel draws, encodes
+#                  and reads the cache on three threads, and Mesa rasterises
+#                  on as many as it is given); the join takes 1
 #   --wait         wait for the film; exit 1 and show the failing stage's log
 #                  if a stage fails (interrupting the wait leaves jobs queued)
 #
 # Relative paths are taken from the current directory and made absolute, since
 # the jobs run elsewhere. Each job runs with its working directory in DIR and
-# OMP_NUM_THREADS set to the CPUs Slurm gave it.
+# OMP_NUM_THREADS and LP_NUM_THREADS set to the CPUs Slurm gave it.
 #
 # How a stage's outcome is known: sacct needs an accounting database, which a
 # small cluster may lack, and "scontrol show job" forgets a job MinJobAge
@@ -47,7 +49,7 @@ die() { printf '%s: error: %s\n' "$prog" "$*" >&2; exit 2; }
 usage() { sed -n '2,/^set -euo/p' "${BASH_SOURCE[0]}" | sed '$d; s/^# \{0,1\}//'; }
 
 # ---- arguments -------------------------------------------------------------
-scene="" chunks="" out="" cache="" reel="" partition="" cpus=2 wait=0
+scene="" chunks="" out="" cache="" reel="" partition="" cpus=2 render_cpus=2 wait=0
 while (($#)); do
   arg=$1
   # Accept both "--opt VALUE" and "--opt=VALUE".
@@ -58,7 +60,7 @@ while (($#)); do
   case $arg in
     -h | --help) usage; exit 0 ;;
     --wait) wait=1; shift; continue ;;
-    --chunks | -o | --output | --cache | --reel | --partition | --cpus)
+    --chunks | -o | --output | --cache | --reel | --partition | --cpus | --render-cpus)
       (($# >= 2)) || die "$arg needs a value (try --help)"
       case $arg in
         --chunks) chunks=$2 ;;
@@ -67,6 +69,7 @@ while (($#)); do
         --reel) reel=$2 ;;
         --partition) partition=$2 ;;
         --cpus) cpus=$2 ;;
+        --render-cpus) render_cpus=$2 ;;
       esac
       shift 2 ;;
     -*) die "unknown option '$arg' (try --help)" ;;
@@ -85,6 +88,8 @@ positive "$chunks" || die "--chunks must be a positive integer, got '$chunks'"
 chunks=$((10#$chunks))
 positive "$cpus" || die "--cpus must be a positive integer, got '$cpus'"
 cpus=$((10#$cpus))
+positive "$render_cpus" || die "--render-cpus must be a positive integer, got '$render_cpus'"
+render_cpus=$((10#$render_cpus))
 
 if ! command -v sbatch >/dev/null 2>&1 || ! command -v squeue >/dev/null 2>&1; then
   die "sbatch/squeue not found on PATH: no Slurm here. Run scripts/slurm/setup-single-node.sh (as root) to start a single-node cluster on this machine, or run this on a cluster's login node."
@@ -134,6 +139,7 @@ write_job() {
     cat <<'EOF_HEAD'
 trap '{ set +x; } 2>/dev/null; echo "stopped by SIGTERM (scancel or time limit)" | tee "$status.failed"; exit 143' TERM
 export OMP_NUM_THREADS=${SLURM_CPUS_PER_TASK:-1}
+export LP_NUM_THREADS=$OMP_NUM_THREADS  # Mesa's llvmpipe rasterises on as many threads
 echo "reel $stage on $(hostname) at $(date -Is): job $SLURM_JOB_ID${SLURM_ARRAY_TASK_ID:+ (array ${SLURM_ARRAY_JOB_ID}_$SLURM_ARRAY_TASK_ID)}, $OMP_NUM_THREADS CPU(s)"
 EOF_HEAD
     printf '%s\n' "$@"
@@ -195,7 +201,7 @@ submit() {
 sim_id=$(submit --job-name="reel-sim-$name" --cpus-per-task="$cpus" \
   --output="$cache/logs/%x-%j.out" "$cache/jobs/simulate.sh")
 submitted+=("$sim_id")
-render_id=$(submit --job-name="reel-render-$name" --cpus-per-task=1 --array="0-$((chunks - 1))" \
+render_id=$(submit --job-name="reel-render-$name" --cpus-per-task="$render_cpus" --array="0-$((chunks - 1))" \
   --dependency="afterok:$sim_id" --kill-on-invalid-dep=yes \
   --output="$cache/logs/%x-%A_%a.out" "$cache/jobs/render.sh")
 submitted+=("$render_id")

@@ -1,5 +1,6 @@
 #include "io/frame_store.h"
 
+#include <sys/file.h>
 #include <unistd.h>
 #include <zstd.h>
 
@@ -42,6 +43,11 @@ std::uint64_t checksum(const std::byte* p, std::size_t n) {
 
 std::string dataPath(const std::string& folder) { return (fs::path(folder) / "frames.bin").string(); }
 std::string indexPath(const std::string& folder) { return (fs::path(folder) / "frames.idx").string(); }
+
+// One writer at a time: an exclusive lock on the record file, held while it is open (a second
+// `reel simulate --cache` of the same folder, say a requeued job whose first run still goes, is
+// refused instead of interleaving frames).
+bool lockWriter(std::FILE* f) { return ::flock(fileno(f), LOCK_EX | LOCK_NB) == 0; }
 
 bool readAt(std::FILE* f, std::uint64_t offset, void* out, std::size_t n) {
   return fseeko(f, static_cast<off_t>(offset), SEEK_SET) == 0 && std::fread(out, 1, n, f) == n;
@@ -125,11 +131,18 @@ Status FrameStoreWriter::fail(const std::string& what) {
   return Error(ErrorKind::Output, folder_ + ": " + what + ": " + std::strerror(e ? e : EIO));
 }
 
+Status FrameStoreWriter::busy() const {
+  return Error(ErrorKind::BadInput, folder_ + ": another reel is writing this cache now (wait for it, or stop it)");
+}
+
 Status FrameStoreWriter::create(const std::string& folder) {
   folder_ = folder;
   if (!cctx_) cctx_ = ZSTD_createCCtx();
-  data_ = std::fopen(dataPath(folder).c_str(), "wb");
+  // Opened without truncating, locked, then emptied: a running writer's file is never cut.
+  data_ = std::fopen(dataPath(folder).c_str(), "ab");
   if (!data_) return fail("cannot write frames.bin");
+  if (!lockWriter(data_)) return busy();
+  if (::ftruncate(fileno(data_), 0) != 0) return fail("cannot write frames.bin");
   index_ = std::fopen(indexPath(folder).c_str(), "wb");
   if (!index_) return fail("cannot write frames.idx");
   if (std::fwrite(kDataMagic, 1, 8, data_) != 8 || std::fwrite(kIndexMagic, 1, 8, index_) != 8)
@@ -141,13 +154,18 @@ Status FrameStoreWriter::create(const std::string& folder) {
 
 Result<int> FrameStoreWriter::resume(const std::string& folder) {
   folder_ = folder;
+  // Locked first, then read: what is checked is what no other writer changes meanwhile.
+  data_ = std::fopen(dataPath(folder).c_str(), "ab");
+  if (!data_) return fail("cannot append").error();
+  if (!lockWriter(data_)) return busy().error();
   bool valid = false;
   const std::vector<IndexEntry> index = readIndex(indexPath(folder), valid);
   std::FILE* f = std::fopen(dataPath(folder).c_str(), "rb");
   char magic[8];
-  const bool data_ok = f && std::fread(magic, 1, 8, f) == 8 && std::memcmp(magic, kDataMagic, 8) == 0;
-  if (!valid || !data_ok) {
+  if (!valid || !f || std::fread(magic, 1, 8, f) != 8 || std::memcmp(magic, kDataMagic, 8) != 0) {
     if (f) std::fclose(f);
+    std::fclose(data_);  // (create locks its own)
+    data_ = nullptr;
     if (Status st = create(folder); !st) return st.error();
     return 0;
   }
@@ -159,13 +177,12 @@ Result<int> FrameStoreWriter::resume(const std::string& folder) {
     ++good;
   }
   std::fclose(f);
-  if (::truncate(dataPath(folder).c_str(), static_cast<off_t>(end)) != 0 ||
+  if (::ftruncate(fileno(data_), static_cast<off_t>(end)) != 0 ||
       ::truncate(indexPath(folder).c_str(), static_cast<off_t>(8 + sizeof(IndexEntry) * good)) != 0)
     return fail("cannot cut the cache back to its last whole frame").error();
   if (!cctx_) cctx_ = ZSTD_createCCtx();
-  data_ = std::fopen(dataPath(folder).c_str(), "ab");
   index_ = std::fopen(indexPath(folder).c_str(), "ab");
-  if (!data_ || !index_) return fail("cannot append").error();
+  if (!index_) return fail("cannot append").error();
   end_ = end;
   frames_ = good;
   return good;

@@ -40,6 +40,7 @@ class FrameStoreWriter {
 
  private:
   Status fail(const std::string& what);
+  Status busy() const;
   std::string folder_;
   std::FILE* data_ = nullptr;
   std::FILE* index_ = nullptr;

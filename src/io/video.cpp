@@ -404,7 +404,8 @@ Result<std::string> videoComment(const std::string& path) {
 
 Status joinVideos(const std::vector<std::string>& inputs, const std::string& output, const ChunkTag* tag) {
   if (inputs.empty()) return Error(ErrorKind::BadInput, "join: no input videos");
-  if (!isVideoPath(output)) return Error(ErrorKind::BadInput, output + ": unsupported video type (mp4, webm, gif)");
+  if (!isVideoPath(output) || extensionOf(output) == ".gif")
+    return Error(ErrorKind::BadInput, output + ": join writes .mp4 or .webm (a GIF's frames are joined as PNG chunks)");
   std::vector<std::unique_ptr<JoinInput>> in;
   for (const std::string& p : inputs) {
     in.push_back(std::make_unique<JoinInput>());
@@ -434,7 +435,7 @@ Status joinVideos(const std::vector<std::string>& inputs, const std::string& out
   } out;
   out.part = output + ".part";
   const std::string ext = extensionOf(output);
-  const char* muxer = ext == ".mp4" ? "mp4" : ext == ".webm" ? "webm" : "gif";
+  const char* muxer = ext == ".mp4" ? "mp4" : "webm";
   auto fail = [&](const std::string& what, int e) { return Error(ErrorKind::Output, output + ": " + what + ": " + averr(e)); };
   int r = avformat_alloc_output_context2(&out.fmt, nullptr, muxer, out.part.c_str());
   if (r < 0 || !out.fmt || !out.pkt) return fail("cannot set up the muxer", r);

@@ -44,7 +44,7 @@ class VideoWriter {
   std::unique_ptr<Impl> impl_;
 };
 
-// Joins video files of one codec, size and encoder settings into `output` without decoding them:
+// Joins MP4 or WebM files of one codec, size and encoder settings into `output` without decoding them:
 // their packets are copied in the order given, each file's timestamps shifted to follow the
 // previous file's end. Written to OUTPUT.part, renamed when complete. A file that is not a video,
 // or one whose codec, size, pixel format, frame rate or codec headers differ from the first's, is
