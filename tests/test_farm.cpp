@@ -2,16 +2,20 @@
 // `reel render --cache` reads, chunks of a film rendered from it, and `reel join`.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
 
+#include "app/farm_cache.h"
 #include "app/sim_cache.h"
 #include "body_scenes.h"
 #include "helpers.h"
 #include "io/frame_store.h"
 #include "io/video.h"
+#include "core/image.h"
 #include "sim/world.h"
 
 using namespace reel;
@@ -99,6 +103,21 @@ TEST_CASE("farm cache: one writer at a time; a reader sees the frames written so
   REQUIRE(first.append(io::Bytes(3, std::byte{1})).ok());
   REQUIRE(first.finish().ok());
   CHECK(io::FrameStoreReader::open(d.string()).value().frames() == 2);
+  first.close();
+  // A second simulate of the same new cache (two submissions) stops at the lock, touching nothing.
+  const fs::path c = test::freshDir("farm_lock_cache");
+  auto scene = app::loadScene(kTear);
+  REQUIRE(scene.ok());
+  auto want = app::CacheManifest::of(kTear, scene.value());
+  REQUIRE(want.ok());
+  app::CacheWriter a;
+  REQUIRE(a.open((c / "cache").string(), want.value(), false).ok());
+  app::CacheWriter b;
+  const Status st = b.open((c / "cache").string(), want.value(), true);
+  REQUIRE_FALSE(st.ok());
+  CHECK(st.error().kind == ErrorKind::BadInput);
+  CHECK(has(st.error().headline(), "another reel is writing this cache"));
+  for (const char* f : {"cache.json", "scene.json", "frames.bin", "frames.idx"}) CHECK(fs::exists(c / "cache" / f));
 }
 
 TEST_CASE("render --cache: chunks of a film drawn from the cache are the whole render's frames, byte for byte") {
@@ -126,60 +145,138 @@ TEST_CASE("render --cache: chunks of a film drawn from the cache are the whole r
   }
 }
 
+TEST_CASE("farm cache: every body kind draws the same picture from the cache as from its simulation") {
+  const fs::path d = test::freshDir("farm_draw");
+  const std::string cd = "cd " + d.string() + " && ";
+  for (const auto& [kind, text] : test::kScenes) {
+    CAPTURE(kind);
+    std::string name = kind;
+    std::replace(name.begin(), name.end(), '+', '_');
+    writeBytes(d / (name + ".json"), text);
+    const int k = test::sceneFromText(text).frameCount() / 2;
+    const std::string frame = " --frame " + std::to_string(k) + " --size 64x48 --samples 1 -q ";
+    REQUIRE(runReel("simulate " + name + ".json --cache " + name + " -q", cd).code == 0);
+    REQUIRE(runReel("still " + name + ".json --no-cache" + frame + "-o " + name + "_sim.png", cd).code == 0);
+    REQUIRE(runReel("still " + name + ".json --cache " + name + frame + "-o " + name + "_cache.png", cd).code == 0);
+    CHECK(test::fileBytes(d / (name + "_sim.png")) == test::fileBytes(d / (name + "_cache.png")));
+    CHECK(test::fileBytes(d / (name + "_sim.png")).size() > 100);
+  }
+}
+
 TEST_CASE("join: MP4 chunks become one film of the right frames and duration, without re-encoding") {
   const fs::path d = test::freshDir("farm_join");
   const std::string cd = "cd " + d.string() + " && ";
   REQUIRE(runReel("simulate " + kTear + " --cache cache -q", cd).code == 0);
-  for (int i = 0; i < 3; ++i)
-    REQUIRE(runReel("render " + kTear + " --cache cache -q --chunk " + std::to_string(i) + "/3 -o c" + std::to_string(i) + ".mp4", cd).code == 0);
-  auto c1 = io::probeVideo((d / "c1.mp4").string());
-  REQUIRE(c1.ok());
-  CHECK(c1.value().frames == 4);
-  CHECK(c1.value().comment == "reel frames 4-7 of 12, scene cloth_tear");
+  // Five chunks of 12 frames: 2, 2, 3, 2 and 3 frames.
+  for (int i = 0; i < 5; ++i)
+    REQUIRE(runReel("render " + kTear + " --cache cache -q --chunk " + std::to_string(i) + "/5 -o c" + std::to_string(i) + ".mp4", cd).code == 0);
+  auto c2 = io::probeVideo((d / "c2.mp4").string());
+  REQUIRE(c2.ok());
+  CHECK(c2.value().frames == 3);
+  io::ChunkTag tag;
+  REQUIRE(io::ChunkTag::parse(c2.value().comment, tag));
+  CHECK(tag.first == 4);
+  CHECK(tag.last == 6);
+  CHECK(tag.total == 12);
+  CHECK(tag.scene == "cloth_tear");
+  CHECK(tag.film.size() == 16);
   // Given out of order: reel's chunks say where they belong.
-  const Run j = runReel("join c2.mp4 c0.mp4 c1.mp4 -o film.mp4", cd);
+  const Run j = runReel("join c3.mp4 c2.mp4 c0.mp4 c4.mp4 c1.mp4 -o film.mp4", cd);
   REQUIRE(j.code == 0);
-  CHECK(has(j.out, "frames 0-11 of 12 (3 chunks)"));
+  CHECK(has(j.out, "frames 0-11 of \"cloth_tear\" (5 chunks)"));
   auto film = io::probeVideo((d / "film.mp4").string());
   REQUIRE(film.ok());
   CHECK(film.value().frames == 12);
   CHECK(film.value().duration == doctest::Approx(1.2).epsilon(1e-3));
   CHECK(film.value().fps == doctest::Approx(10));
   CHECK(film.value().width == 160);
+  CHECK(has(film.value().comment, "reel frames 0-11 of 12, scene cloth_tear, film "));
+  CHECK(has(film.value().comment, tag.film));
   // The packets are the chunks' own: the joined film is the sum of their sizes give or take headers.
-  const auto sum = fs::file_size(d / "c0.mp4") + fs::file_size(d / "c1.mp4") + fs::file_size(d / "c2.mp4");
+  std::uintmax_t sum = 0;
+  for (const char* c : {"c0.mp4", "c1.mp4", "c2.mp4", "c3.mp4", "c4.mp4"}) sum += fs::file_size(d / c);
   CHECK(fs::file_size(d / "film.mp4") < sum);
-  CHECK(fs::file_size(d / "film.mp4") + 3000 > sum);
-  // Frames in film order: the joined film's frame 5 is the chunk's frame 1 (the same packets decode alike).
+  CHECK(fs::file_size(d / "film.mp4") + 5000 > sum);
+  // Frames in film order: the joined film's frames 4-6 are the third chunk's (the same packets decode alike).
   auto joined = io::decodeVideo((d / "film.mp4").string(), 160, 120);
-  auto middle = io::decodeVideo((d / "c1.mp4").string(), 160, 120);
+  auto middle = io::decodeVideo((d / "c2.mp4").string(), 160, 120);
   REQUIRE(joined.ok());
   REQUIRE(middle.ok());
   REQUIRE(joined.value().size() == 12);
-  CHECK(joined.value()[5].rgb == middle.value()[1].rgb);
-  CHECK(joined.value()[4].rgb == middle.value()[0].rgb);
+  for (int k = 0; k < 3; ++k) CHECK(joined.value()[static_cast<std::size_t>(4 + k)].rgb == middle.value()[static_cast<std::size_t>(k)].rgb);
   // info --video says the same, as JSON.
   const Run info = runReel("info --video film.mp4", cd);
   CHECK(info.code == 0);
   CHECK(has(info.out, "\"frames\":12"));
 
-  SUBCASE("chunks that do not make one film are refused") {
-    Run r = runReel("join c0.mp4 c2.mp4 -o gap.mp4", cd);
+  SUBCASE("WebM chunks join the same way") {
+    for (int i = 0; i < 2; ++i)
+      REQUIRE(runReel("render " + kTear + " --cache cache -q --chunk " + std::to_string(i) + "/2 -o w" + std::to_string(i) + ".webm", cd).code == 0);
+    REQUIRE(runReel("join w1.webm w0.webm -o film.webm", cd).code == 0);
+    auto w = io::probeVideo((d / "film.webm").string());
+    REQUIRE(w.ok());
+    CHECK(w.value().codec == "vp9");
+    CHECK(w.value().frames == 12);
+    CHECK(w.value().duration == doctest::Approx(1.2).epsilon(1e-2));
+  }
+  SUBCASE("chunks that do not make one film are refused, writing nothing") {
+    Run r = runReel("join c0.mp4 c2.mp4 c3.mp4 c4.mp4 -o gap.mp4", cd);
     CHECK(r.code == 2);
-    CHECK(has(r.out, "frames 4-7 are in none of the chunks"));
-    r = runReel("join c0.mp4 c0.mp4 -o twice.mp4", cd);
+    CHECK(has(r.out, "frames 2-3 are in none of the chunks (between c0.mp4 and c2.mp4)"));
+    r = runReel("join c1.mp4 c2.mp4 c3.mp4 c4.mp4 -o head.mp4", cd);
+    CHECK(r.code == 2);
+    CHECK(has(r.out, "frames 0-1 are in none of the chunks (before c1.mp4"));
+    r = runReel("join c0.mp4 c1.mp4 c2.mp4 c3.mp4 -o tail.mp4", cd);
+    CHECK(r.code == 2);
+    CHECK(has(r.out, "frames 9-11 are in none of the chunks (after c3.mp4"));
+    r = runReel("join c0.mp4 c0.mp4 c1.mp4 c2.mp4 c3.mp4 c4.mp4 -o twice.mp4", cd);
     CHECK(r.code == 2);
     CHECK(has(r.out, "overlaps"));
-    REQUIRE(runReel("render " + kTear + " --cache cache -q --frames 4-7 --size 96x64 -o small.mp4", cd).code == 0);
-    r = runReel("join c0.mp4 small.mp4 c2.mp4 -o sizes.mp4", cd);
+    // Another size, other samples or another seed: another film.
+    for (const std::string& other : {std::string("--size 96x64"), std::string("--samples 1")}) {
+      CAPTURE(other);
+      REQUIRE(runReel("render " + kTear + " --cache cache -q --chunk 1/5 " + other + " -o other.mp4", cd).code == 0);
+      r = runReel("join c0.mp4 other.mp4 c2.mp4 c3.mp4 c4.mp4 -o sizes.mp4", cd);
+      CHECK(r.code == 2);
+      CHECK(has(r.out, "other.mp4: a chunk of another film"));
+    }
+    // Below the tags, the files themselves: another size is refused, named.
+    REQUIRE(runReel("render " + kTear + " --cache cache -q --chunk 1/5 --size 96x64 -o small.mp4", cd).code == 0);
+    Status st = io::joinVideos({(d / "c0.mp4").string(), (d / "small.mp4").string()}, (d / "raw.mp4").string());
+    REQUIRE_FALSE(st.ok());
+    CHECK(st.error().kind == ErrorKind::BadInput);
+    CHECK(has(st.error().headline(), "size 96x64, unlike 160x120"));
+    // A chunk whose render stopped early holds fewer frames than its tag says.
+    {
+      io::VideoWriter w;
+      const io::ChunkTag t{2, 3, 12, "cloth_tear", tag.film};
+      REQUIRE(w.open((d / "short.mp4").string(), 160, 120, 10, 18, &t).ok());
+      REQUIRE(w.write(Image(160, 120)).ok());
+      REQUIRE(w.finish().ok());
+    }
+    r = runReel("join c0.mp4 short.mp4 c2.mp4 c3.mp4 c4.mp4 -o early.mp4", cd);
     CHECK(r.code == 2);
-    CHECK(has(r.out, "size 96x64, unlike 160x120"));
-    writeBytes(d / "not.mp4", "not a video");
+    CHECK(has(r.out, "short.mp4: holds 1 frames where its tag says 2"));
+    // A video reel did not tag among reel's chunks.
+    {
+      io::VideoWriter w;
+      REQUIRE(w.open((d / "plain.mp4").string(), 160, 120, 10).ok());
+      REQUIRE(w.write(Image(160, 120)).ok());
+      REQUIRE(w.finish().ok());
+    }
+    r = runReel("join c0.mp4 plain.mp4 -o mixed.mp4", cd);
+    CHECK(r.code == 2);
+    CHECK(has(r.out, "plain.mp4: not a chunk reel rendered"));
+    std::ofstream(d / "not.mp4") << "not a video";
     r = runReel("join c0.mp4 not.mp4 -o bad.mp4", cd);
     CHECK(r.code == 2);
     CHECK(has(r.out, "not.mp4"));
     CHECK(runReel("join c0.mp4 missing.mp4 -o bad.mp4", cd).code == 2);
-    for (const char* f : {"gap.mp4", "twice.mp4", "sizes.mp4", "bad.mp4"}) CHECK_FALSE(fs::exists(d / f));
+    r = runReel("join c0.mp4 c1.mp4 c2.mp4 c3.mp4 c4.mp4 -o film.gif", cd);
+    CHECK(r.code == 2);
+    CHECK(has(r.out, "join writes .mp4 or .webm"));
+    for (const char* f : {"gap.mp4", "head.mp4", "tail.mp4", "twice.mp4", "sizes.mp4", "raw.mp4", "early.mp4", "mixed.mp4", "bad.mp4", "film.gif"})
+      CHECK_FALSE(fs::exists(d / f));
   }
 }
 
@@ -224,6 +321,14 @@ TEST_CASE("farm cache: a killed run resumes to the same bytes; damaged frames ar
   CHECK(has(r.out, "resumed after frame 4"));
   CHECK(test::fileBytes(d / "cut" / "frames.bin") == bin);
   CHECK(test::fileBytes(d / "cut" / "frames.idx") == idx);
+  // A lost or damaged index is rebuilt from the records themselves.
+  fs::remove(d / "cut" / "frames.idx");
+  r = runReel("render " + kTear + " --cache cut -q --frames 0-1 -o w_#.png", cd);
+  CHECK(r.code == 2);
+  CHECK(has(r.out, "frames.idx: missing or not a reel frame index"));
+  REQUIRE(runReel("simulate " + kTear + " --cache cut --resume -q", cd).code == 0);
+  CHECK(test::fileBytes(d / "cut" / "frames.idx") == idx);
+  CHECK(test::fileBytes(d / "cut" / "frames.bin") == bin);
   // A complete cache resumes to nothing; --resume of a missing cache starts one.
   r = runReel("simulate " + kTear + " --cache cut --resume -q", cd);
   CHECK(r.code == 0);
@@ -292,8 +397,16 @@ TEST_CASE("farm cache: bad input") {
   r = runReel("simulate " + kTear + " --cache file/cache -q", cd);
   CHECK(r.code == 4);
   CHECK(test::fileBytes(d / "file") == "x");
-  const std::string long_name(300, 'n');
-  r = runReel("simulate " + kTear + " --cache " + long_name + " -q", cd);
+  const auto entries = [&] { return std::distance(fs::directory_iterator(d), fs::directory_iterator{}); };
+  const auto before = entries();
+  r = runReel("simulate " + kTear + " --cache new/" + std::string(300, 'n') + " -q", cd);
   CHECK(r.code == 4);
-  CHECK_FALSE(fs::exists(d / long_name.substr(0, 200)));
+  CHECK(has(r.out, "cannot create the cache folder"));
+  CHECK(entries() == before);  // not even new/
+  // A cache whose start was cut short (its files, but no cache.json yet) is started again.
+  fs::create_directories(d / "cut_short");
+  writeBytes(d / "cut_short" / "frames.bin", "REELFRM1");
+  writeBytes(d / "cut_short" / "scene.json.part", "{");
+  REQUIRE(runReel("simulate " + kTear + " --cache cut_short -q", cd).code == 0);
+  CHECK(test::fileBytes(d / "cut_short" / "frames.bin") == test::fileBytes(d / "cache" / "frames.bin"));
 }

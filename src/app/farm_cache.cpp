@@ -111,15 +111,24 @@ Result<CacheManifest> readManifest(const std::string& dir) {
   return m;
 }
 
+// The files a cache is made of: a folder holding only these (and their part files) but no
+// cache.json is a cache whose start was cut short, started again.
+static bool onlyCacheFiles(const std::string& dir) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    std::string n = e.path().filename().string();
+    if (n.ends_with(".part")) n.resize(n.size() - 5);
+    if (n != "cache.json" && n != "scene.json" && n != "frames.bin" && n != "frames.idx") return false;
+  }
+  return !ec;
+}
+
 Status CacheWriter::open(const std::string& dir, const CacheManifest& want, bool resume) {
   dir_ = dir;
   std::error_code ec;
   const bool existed = fs::exists(dir, ec);
   if (existed && !fs::is_directory(dir, ec)) return Error(ErrorKind::BadInput, dir + ": not a folder");
-  const bool empty = !existed || fs::is_empty(dir, ec);
-  if (!empty) {
-    if (!fs::exists(manifestPath(dir), ec))
-      return Error(ErrorKind::BadInput, dir + ": holds something else (no cache.json); give an empty or new folder");
+  if (existed && fs::exists(manifestPath(dir), ec)) {
     auto have = readManifest(dir);
     if (!have.ok()) return have.error();
     if (!resume)
@@ -127,19 +136,36 @@ Status CacheWriter::open(const std::string& dir, const CacheManifest& want, bool
                                             "\"; add --resume to continue it, or remove the folder");
     if (const std::string why = have.value().mismatch(want); !why.empty())
       return Error(ErrorKind::BadInput, dir + ": cannot resume this cache: " + why);
-    auto kept = store_.resume(dir);
+    auto kept = store_.resume(dir);  // (locks the folder, then checks every frame)
     if (!kept.ok()) return kept.error();
     return {};
   }
-  // A new cache: the manifest and the scene first, then the empty store; on failure nothing stays.
+  if (existed && !onlyCacheFiles(dir))
+    return Error(ErrorKind::BadInput, dir + ": holds something else (no cache.json); give an empty or new folder");
+  // A new cache: the store first, which locks the folder (a second writer stops there, touching
+  // nothing), then the scene and, last, the manifest that makes it a cache. A failure takes back
+  // what this run made.
+  // The outermost folder this run creates, to take back on failure.
+  fs::path made = fs::absolute(dir, ec);
+  while (made.has_parent_path() && made.parent_path() != made && !fs::exists(made.parent_path(), ec)) made = made.parent_path();
+  fs::create_directories(dir, ec);
+  if (ec) {
+    const std::string why = ec.message();
+    if (!existed) fs::remove_all(made, ec);
+    return Error(ErrorKind::Output, dir + ": cannot create the cache folder: " + why);
+  }
+  if (Status st = store_.create(dir); !st) {
+    if (st.error().kind != ErrorKind::Output) return st;  // another writer's folder
+    if (!existed) fs::remove_all(made, ec);
+    return st;
+  }
   auto undo = [&](const Status& st) {
-    if (!existed) fs::remove_all(dir, ec);
+    store_.close();
+    if (!existed) fs::remove_all(made, ec);
     else
       for (const char* f : {"cache.json", "scene.json", "frames.bin", "frames.idx"}) fs::remove(fs::path(dir) / f, ec);
     return st;
   };
-  fs::create_directories(dir, ec);
-  if (ec) return Error(ErrorKind::Output, dir + ": cannot create the cache folder: " + ec.message());
   nlohmann::json assets = nlohmann::json::array();
   for (const auto& [name, hash] : want.assets) assets.push_back({name, hash});
   const nlohmann::json j = {{"format", kFormat},       {"reel", want.reel},
@@ -148,8 +174,8 @@ Status CacheWriter::open(const std::string& dir, const CacheManifest& want, bool
                             {"seed", want.seed},       {"fps", want.fps},
                             {"frames", want.frames},   {"assets", assets}};
   if (Status st = writeWhole(scenePath(dir), want.scene_text); !st) return undo(st);
-  if (Status st = writeWhole(manifestPath(dir), j.dump(2) + "\n"); !st) return undo(st);
-  if (Status st = store_.create(dir); !st) return undo(st);
+  const std::string text = j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+  if (Status st = writeWhole(manifestPath(dir), text); !st) return undo(st);
   return {};
 }
 

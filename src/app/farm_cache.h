@@ -38,10 +38,11 @@ struct CacheManifest {
 // Writing a cache (reel simulate --cache).
 class CacheWriter {
  public:
-  // Opens DIR for `want`: a new or empty folder is made a cache; one holding a cache of the same
-  // manifest is continued after its last good frame when `resume` (else refused); one holding a
-  // cache of something else or anything else is refused (exit 2). A folder that cannot be written
-  // is an exit-4 error, leaving nothing behind.
+  // Opens DIR for `want`: a new or empty folder is made a cache (as is one whose start was cut
+  // short: cache files but no cache.json); one holding a cache of the same manifest is continued
+  // after its last good frame when `resume` (else refused); one holding a cache of something else,
+  // anything else, or a cache another reel is writing now is refused (exit 2). A folder that cannot
+  // be written is an exit-4 error, leaving nothing of this run behind.
   Status open(const std::string& dir, const CacheManifest& want, bool resume);
   // Frames already in the cache (when resumed).
   int frames() const { return store_.frames(); }
@@ -71,7 +72,7 @@ class CacheReader {
   std::unique_ptr<io::FrameStoreReader> store_;
 };
 
-// Reads DIR/cache.json (and DIR/scene.json); exit 2 when DIR holds no reel cache.
+// Reads DIR/cache.json; exit 2 when DIR holds no reel cache.
 Result<CacheManifest> readManifest(const std::string& dir);
 
 }  // namespace reel::app

@@ -32,51 +32,64 @@ int videoInfo(const std::string& file) {
   const nlohmann::json out = {{"file", file},     {"codec", v.codec},   {"pix_fmt", v.pix_fmt},
                               {"width", v.width}, {"height", v.height}, {"fps", v.fps},
                               {"frames", v.frames}, {"duration_s", v.duration}, {"comment", v.comment}};
-  std::printf("%s\n", out.dump().c_str());
+  std::printf("%s\n", out.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
   return 0;
 }
 
 int join(const std::vector<std::string>& chunks, const std::string& output, bool quiet) {
-  // reel's chunks say which frames of which film they hold: put them in film order and check that
-  // they follow one another. Other videos are joined in the order given.
+  // reel's chunks say which frames of which film they hold: they go in film order, and must be of
+  // one film, follow one another from its first frame to its last, and hold what they say. Other
+  // videos are joined in the order given.
   struct Chunk {
     std::string path;
     io::ChunkTag tag;
   };
   std::vector<Chunk> tagged;
+  std::string untagged;
   for (const std::string& c : chunks) {
     auto comment = io::videoComment(c);
     if (!comment.ok()) return report(comment.error());
     io::ChunkTag t;
     if (io::ChunkTag::parse(comment.value(), t)) tagged.push_back({c, t});
+    else if (untagged.empty()) untagged = c;
   }
+  if (!tagged.empty() && !untagged.empty())
+    return report(Error(ErrorKind::BadInput, untagged + ": not a chunk reel rendered, unlike " + tagged.front().path +
+                                                 " (join reel's chunks of one film, or other videos, not both)"));
+  auto range = [](const Chunk& c) { return " (frames " + std::to_string(c.tag.first) + "-" + std::to_string(c.tag.last) + ")"; };
+  auto missing = [](int a, int b, const std::string& where) {
+    return Error(ErrorKind::BadInput, "frames " + std::to_string(a) + "-" + std::to_string(b) + " are in none of the chunks " + where);
+  };
   std::vector<std::string> order = chunks;
+  std::vector<long long> frames;
   std::optional<io::ChunkTag> whole;
-  if (tagged.size() == chunks.size()) {
+  if (!tagged.empty()) {
     std::stable_sort(tagged.begin(), tagged.end(), [](const Chunk& a, const Chunk& b) { return a.tag.first < b.tag.first; });
+    const Chunk& head = tagged.front();
+    if (head.tag.first > 0) return report(missing(0, head.tag.first - 1, "(before " + head.path + range(head) + ")"));
     for (std::size_t i = 1; i < tagged.size(); ++i) {
       const Chunk &p = tagged[i - 1], &c = tagged[i];
-      if (c.tag.scene != p.tag.scene || c.tag.total != p.tag.total)
-        return report(Error(ErrorKind::BadInput, c.path + ": a chunk of another film (\"" + c.tag.scene + "\", " +
-                                                     std::to_string(c.tag.total) + " frames) than " + p.path + " (\"" +
-                                                     p.tag.scene + "\", " + std::to_string(p.tag.total) + " frames)"));
-      if (c.tag.first <= p.tag.last)
-        return report(Error(ErrorKind::BadInput, c.path + " (frames " + std::to_string(c.tag.first) + "-" +
-                                                     std::to_string(c.tag.last) + ") overlaps " + p.path + " (frames " +
-                                                     std::to_string(p.tag.first) + "-" + std::to_string(p.tag.last) + ")"));
+      if (c.tag.film != p.tag.film || c.tag.total != p.tag.total)
+        return report(Error(ErrorKind::BadInput, c.path + ": a chunk of another film (\"" + c.tag.scene + "\", film " + c.tag.film +
+                                                     ") than " + p.path + " (\"" + p.tag.scene + "\", film " + p.tag.film +
+                                                     "): another scene, seed, --size or --samples"));
+      if (c.tag.first <= p.tag.last) return report(Error(ErrorKind::BadInput, c.path + range(c) + " overlaps " + p.path + range(p)));
       if (c.tag.first > p.tag.last + 1)
-        return report(Error(ErrorKind::BadInput, "frames " + std::to_string(p.tag.last + 1) + "-" +
-                                                     std::to_string(c.tag.first - 1) + " are in none of the chunks (between " +
-                                                     p.path + " and " + c.path + ")"));
+        return report(missing(p.tag.last + 1, c.tag.first - 1, "(between " + p.path + " and " + c.path + ")"));
     }
-    for (std::size_t i = 0; i < tagged.size(); ++i) order[i] = tagged[i].path;
-    whole = io::ChunkTag{tagged.front().tag.first, tagged.back().tag.last, tagged.front().tag.total, tagged.front().tag.scene};
+    const Chunk& tail = tagged.back();
+    if (tail.tag.last < tail.tag.total - 1)
+      return report(missing(tail.tag.last + 1, tail.tag.total - 1, "(after " + tail.path + range(tail) + ")"));
+    for (std::size_t i = 0; i < tagged.size(); ++i) {
+      order[i] = tagged[i].path;
+      frames.push_back(tagged[i].tag.last - tagged[i].tag.first + 1);
+    }
+    whole = io::ChunkTag{0, tail.tag.total - 1, tail.tag.total, head.tag.scene, head.tag.film};
   }
-  if (Status st = io::joinVideos(order, output, whole ? &*whole : nullptr); !st) return report(st.error());
+  if (Status st = io::joinVideos(order, output, whole ? &*whole : nullptr, frames); !st) return report(st.error());
   if (!quiet) {
     if (whole)
-      std::printf("%s: frames %d-%d of %d (%zu chunks)\n", output.c_str(), whole->first, whole->last, whole->total,
-                  chunks.size());
+      std::printf("%s: frames 0-%d of \"%s\" (%zu chunks)\n", output.c_str(), whole->last, whole->scene.c_str(), chunks.size());
     else
       std::printf("%s: %zu videos joined\n", output.c_str(), chunks.size());
   }

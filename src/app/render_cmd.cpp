@@ -17,6 +17,7 @@
 #include "app/progress.h"
 #include "app/sim_cache.h"
 #include "core/format.h"
+#include "core/hash.h"
 #include "core/image_compare.h"
 #include "core/scene_view.h"
 #include "core/queue.h"
@@ -98,6 +99,22 @@ Status openFarmCache(const RenderOptions& opt, const Setup& s, int first, int la
                                           " of " + std::to_string(s.scene.frameCount()) + "; finish it with `reel simulate " +
                                           opt.scene + " --cache " + opt.from + " --resume`)");
   return {};
+}
+
+// What tells a film's chunks from another film's (io::ChunkTag::film): the scene file's bytes, the
+// seed, the picture's size and samples, the frame rate.
+std::string filmId(const RenderOptions& opt, const Setup& s) {
+  Hasher h;
+  auto text = io::readFile(opt.scene, std::size_t{64} << 20);
+  if (text.ok()) h.add(text.value().data(), text.value().size());
+  const SceneDesc& d = s.scene;
+  for (const long long v : {static_cast<long long>(d.seed), static_cast<long long>(d.render.width),
+                            static_cast<long long>(d.render.height), static_cast<long long>(d.render.samples),
+                            static_cast<long long>(d.fps)})
+    h.add(&v, sizeof v);
+  char id[17];
+  std::snprintf(id, sizeof id, "%016llx", static_cast<unsigned long long>(h.h));
+  return id;
 }
 
 io::TextChunks pngText(const Setup& s, int frame) {
@@ -349,7 +366,7 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
   if (!opt.from.empty())
     if (Status st = openFarmCache(opt, s, first, last, farm); !st) return report(st.error());
   std::vector<Output> outs;
-  const io::ChunkTag tag{first, last, n, s.scene.name};
+  const io::ChunkTag tag{first, last, n, s.scene.name, filmId(opt, s)};
   if (Status st = openOutputs(opt, s, no_overwrite, tag, outs); !st) return report(st.error());
   const int W = s.scene.render.width, H = s.scene.render.height;
   // Frames that need drawing: all of them unless every output already has a valid PNG.

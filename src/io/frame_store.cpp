@@ -121,9 +121,14 @@ Result<Bytes> unpackFrame(const std::byte* packed, std::size_t n, std::size_t ra
 }
 
 FrameStoreWriter::~FrameStoreWriter() {
+  close();
+  ZSTD_freeCCtx(static_cast<ZSTD_CCtx*>(cctx_));
+}
+
+void FrameStoreWriter::close() {
   if (data_) std::fclose(data_);
   if (index_) std::fclose(index_);
-  ZSTD_freeCCtx(static_cast<ZSTD_CCtx*>(cctx_));
+  data_ = index_ = nullptr;
 }
 
 Status FrameStoreWriter::fail(const std::string& what) {
@@ -158,34 +163,39 @@ Result<int> FrameStoreWriter::resume(const std::string& folder) {
   data_ = std::fopen(dataPath(folder).c_str(), "ab");
   if (!data_) return fail("cannot append").error();
   if (!lockWriter(data_)) return busy().error();
-  bool valid = false;
-  const std::vector<IndexEntry> index = readIndex(indexPath(folder), valid);
   std::FILE* f = std::fopen(dataPath(folder).c_str(), "rb");
   char magic[8];
-  if (!valid || !f || std::fread(magic, 1, 8, f) != 8 || std::memcmp(magic, kDataMagic, 8) != 0) {
+  if (!f || std::fread(magic, 1, 8, f) != 8 || std::memcmp(magic, kDataMagic, 8) != 0) {
     if (f) std::fclose(f);
     std::fclose(data_);  // (create locks its own)
     data_ = nullptr;
     if (Status st = create(folder); !st) return st.error();
     return 0;
   }
-  int good = 0;
+  // The good frames are found in the record file itself, record by record (each names its frame
+  // and carries its sizes and checksum), so a lost or damaged index costs nothing: it is rewritten.
+  std::vector<IndexEntry> good;
   std::uint64_t end = 8;
-  for (const IndexEntry& e : index) {
-    if (e.offset != end || !readRecord(f, "", good, e).ok()) break;
+  for (;;) {
+    RecordHeader h;
+    if (!readAt(f, end, &h, sizeof h) || h.stored_size > kMaxRecord) break;
+    const IndexEntry e{end, sizeof h + h.stored_size};
+    if (!readRecord(f, "", static_cast<int>(good.size()), e).ok()) break;
+    good.push_back(e);
     end += e.length;
-    ++good;
   }
   std::fclose(f);
-  if (::ftruncate(fileno(data_), static_cast<off_t>(end)) != 0 ||
-      ::truncate(indexPath(folder).c_str(), static_cast<off_t>(8 + sizeof(IndexEntry) * good)) != 0)
-    return fail("cannot cut the cache back to its last whole frame").error();
+  if (::ftruncate(fileno(data_), static_cast<off_t>(end)) != 0)
+    return fail("cannot cut frames.bin back to its last whole frame").error();
+  index_ = std::fopen(indexPath(folder).c_str(), "wb");
+  if (!index_ || std::fwrite(kIndexMagic, 1, 8, index_) != 8 ||
+      (!good.empty() && std::fwrite(good.data(), sizeof(IndexEntry), good.size(), index_) != good.size()) ||
+      std::fflush(index_) != 0)
+    return fail("cannot rewrite frames.idx").error();
   if (!cctx_) cctx_ = ZSTD_createCCtx();
-  index_ = std::fopen(indexPath(folder).c_str(), "ab");
-  if (!index_) return fail("cannot append").error();
   end_ = end;
-  frames_ = good;
-  return good;
+  frames_ = static_cast<int>(good.size());
+  return frames_;
 }
 
 Status FrameStoreWriter::append(const Bytes& raw) {
@@ -228,11 +238,13 @@ Result<FrameStoreReader> FrameStoreReader::open(const std::string& folder) {
   r.folder_ = folder;
   bool valid = false;
   const std::vector<IndexEntry> index = readIndex(indexPath(folder), valid);
-  if (!valid) return Error(ErrorKind::BadInput, indexPath(folder) + ": missing or not a reel frame index");
+  if (!valid)
+    return Error(ErrorKind::BadInput, indexPath(folder) + ": missing or not a reel frame index (`reel simulate --resume` rebuilds it)");
   r.data_ = std::fopen(dataPath(folder).c_str(), "rb");
+  if (!r.data_) return Error(ErrorKind::BadInput, dataPath(folder) + ": cannot open: " + std::strerror(errno));
   char magic[8];
-  if (!r.data_ || std::fread(magic, 1, 8, r.data_) != 8 || std::memcmp(magic, kDataMagic, 8) != 0)
-    return Error(ErrorKind::BadInput, dataPath(folder) + ": missing or not a reel frame store");
+  if (std::fread(magic, 1, 8, r.data_) != 8 || std::memcmp(magic, kDataMagic, 8) != 0)
+    return Error(ErrorKind::BadInput, dataPath(folder) + ": not a reel frame store");
   for (const IndexEntry& e : index) r.index_.push_back({e.offset, e.length});
   return r;
 }

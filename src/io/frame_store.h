@@ -29,14 +29,18 @@ class FrameStoreWriter {
   // Starts empty record and index files in FOLDER (which exists), replacing any there.
   Status create(const std::string& folder);
   // Opens FOLDER's files for appending after their last frame that reads back whole and checks
-  // out (every record is verified); anything after it (a torn record, a bad checksum and all that
-  // follows) is cut off. Missing files: an empty store. Returns the number of good frames kept.
+  // out (every record is verified, in the record file itself); anything after it (a torn record, a
+  // bad checksum and all that follows) is cut off and the index is rewritten. A missing record
+  // file: an empty store. Another writer holding the folder: an exit-2 kind of error. Returns the
+  // number of good frames kept.
   Result<int> resume(const std::string& folder);
   // Appends frame `frames()` (they come in order); errors are the exit-4 kind.
   Status append(const Bytes& raw);
   int frames() const { return frames_; }
   // Flushes and syncs both files to disk.
   Status finish();
+  // Closes both files, giving up the folder's lock.
+  void close();
 
  private:
   Status fail(const std::string& what);

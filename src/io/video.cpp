@@ -115,6 +115,10 @@ Status VideoWriter::open(const std::string& path, int width, int height, int fps
   v.enc->time_base = AVRational{1, fps};
   v.enc->framerate = AVRational{fps, 1};
   v.enc->gop_size = 2 * fps;
+  // A chunk of a film (a tag naming part of it) is made to be joined: without B-frames, its
+  // decoding order is its display order, so chunks follow one another whatever their length
+  // (B-frames delay the decoding timestamps by an amount that depends on the chunk).
+  if (tag && (tag->first > 0 || tag->last < tag->total - 1)) v.enc->max_b_frames = 0;
   if (!v.gif) {
     // sRGB pixels through swscale's BT.601 matrix into limited-range YUV: say so, so players
     // invert the same matrix.
@@ -341,7 +345,7 @@ namespace reel::io {
 
 std::string ChunkTag::comment() const {
   return "reel frames " + std::to_string(first) + "-" + std::to_string(last) + " of " + std::to_string(total) +
-         ", scene " + scene;
+         ", scene " + scene + ", film " + film;
 }
 
 bool ChunkTag::parse(const std::string& comment, ChunkTag& out) {
@@ -349,7 +353,10 @@ bool ChunkTag::parse(const std::string& comment, ChunkTag& out) {
   if (std::sscanf(comment.c_str(), "reel frames %d-%d of %d, scene %n", &a, &b, &n, &used) != 3 || used == 0 || a < 0 ||
       b < a || n <= b)
     return false;
-  out = ChunkTag{a, b, n, comment.substr(static_cast<std::size_t>(used))};
+  const std::string rest = comment.substr(static_cast<std::size_t>(used));
+  const std::size_t at = rest.rfind(", film ");
+  if (at == std::string::npos) return false;
+  out = ChunkTag{a, b, n, rest.substr(0, at), rest.substr(at + 7)};
   return true;
 }
 
@@ -402,18 +409,22 @@ Result<std::string> videoComment(const std::string& path) {
   return std::string(c ? c->value : "");
 }
 
-Status joinVideos(const std::vector<std::string>& inputs, const std::string& output, const ChunkTag* tag) {
+Status joinVideos(const std::vector<std::string>& inputs, const std::string& output, const ChunkTag* tag,
+                  const std::vector<long long>& frames) {
   if (inputs.empty()) return Error(ErrorKind::BadInput, "join: no input videos");
   if (!isVideoPath(output) || extensionOf(output) == ".gif")
     return Error(ErrorKind::BadInput, output + ": join writes .mp4 or .webm (a GIF's frames are joined as PNG chunks)");
-  std::vector<std::unique_ptr<JoinInput>> in;
+  // Every input checked against the first before anything is written, each open only while it is
+  // read (a film of a thousand chunks stays within the open-file limit).
+  JoinInput first;
+  if (Status st = openJoinInput(inputs.front(), first); !st) return st;
   for (const std::string& p : inputs) {
-    in.push_back(std::make_unique<JoinInput>());
-    if (Status st = openJoinInput(p, *in.back()); !st) return st;
     if (extensionOf(p) != extensionOf(output))
       return Error(ErrorKind::BadInput, p + ": a " + extensionOf(p) + " file cannot be joined into " + output +
                                             " without re-encoding (use " + extensionOf(p) + ")");
-    const std::string why = joinMismatch(*in.front(), *in.back());
+    JoinInput in;
+    if (Status st = openJoinInput(p, in); !st) return st;
+    const std::string why = joinMismatch(first, in);
     if (!why.empty())
       return Error(ErrorKind::BadInput, p + ": cannot join: " + why + " in " + inputs.front() +
                                             " (chunks must be rendered with the same scene, --size and --samples)");
@@ -435,15 +446,18 @@ Status joinVideos(const std::vector<std::string>& inputs, const std::string& out
   } out;
   out.part = output + ".part";
   const std::string ext = extensionOf(output);
-  const char* muxer = ext == ".mp4" ? "mp4" : "webm";
   auto fail = [&](const std::string& what, int e) { return Error(ErrorKind::Output, output + ": " + what + ": " + averr(e)); };
-  int r = avformat_alloc_output_context2(&out.fmt, nullptr, muxer, out.part.c_str());
+  int r = avformat_alloc_output_context2(&out.fmt, nullptr, ext == ".mp4" ? "mp4" : "webm", out.part.c_str());
   if (r < 0 || !out.fmt || !out.pkt) return fail("cannot set up the muxer", r);
   AVStream* os = avformat_new_stream(out.fmt, nullptr);
-  if (!os || (r = avcodec_parameters_copy(os->codecpar, in.front()->st->codecpar)) < 0) return fail("codec parameters", r);
+  if (!os || (r = avcodec_parameters_copy(os->codecpar, first.st->codecpar)) < 0) return fail("codec parameters", r);
   os->codecpar->codec_tag = 0;
-  os->time_base = in.front()->st->time_base;
-  os->avg_frame_rate = in.front()->st->avg_frame_rate;
+  os->time_base = first.st->time_base;
+  os->avg_frame_rate = first.st->avg_frame_rate;
+  const AVRational tb = first.st->time_base;
+  // One frame's duration in the inputs' time base, for a packet that does not say.
+  const std::int64_t period =
+      first.st->avg_frame_rate.num > 0 ? std::max<std::int64_t>(1, av_rescale_q(1, av_inv_q(first.st->avg_frame_rate), tb)) : 1;
   if (tag) av_dict_set(&out.fmt->metadata, "comment", tag->comment().c_str(), 0);
   if ((r = avio_open(&out.fmt->pb, out.part.c_str(), AVIO_FLAG_WRITE)) < 0) return fail("cannot write " + out.part, r);
   AVDictionary* mux = nullptr;
@@ -452,27 +466,39 @@ Status joinVideos(const std::vector<std::string>& inputs, const std::string& out
   av_dict_free(&mux);
   if (r < 0) return fail("cannot write the header", r);
   // Each input's timestamps shifted by the end of those before it (in the inputs' time base).
-  std::int64_t offset = 0;
-  const AVRational tb = in.front()->st->time_base;
-  for (const auto& i : in) {
-    const std::int64_t start = i->st->start_time != AV_NOPTS_VALUE ? i->st->start_time : 0;
+  std::int64_t offset = 0, last_dts = AV_NOPTS_VALUE;
+  for (std::size_t k = 0; k < inputs.size(); ++k) {
+    JoinInput in;
+    if (Status st = openJoinInput(inputs[k], in); !st) return st;
+    const std::int64_t start = in.st->start_time != AV_NOPTS_VALUE ? in.st->start_time : 0;
     std::int64_t end = offset;
-    while ((r = av_read_frame(i->fmt, out.pkt)) >= 0) {
-      if (out.pkt->stream_index != i->st->index) {
+    long long packets = 0;
+    while ((r = av_read_frame(in.fmt, out.pkt)) >= 0) {
+      if (out.pkt->stream_index != in.st->index) {
         av_packet_unref(out.pkt);
         continue;
       }
+      ++packets;
       if (out.pkt->pts != AV_NOPTS_VALUE) {
         out.pkt->pts += offset - start;
-        end = std::max(end, out.pkt->pts + std::max<std::int64_t>(out.pkt->duration, 1));
+        end = std::max(end, out.pkt->pts + (out.pkt->duration > 0 ? out.pkt->duration : period));
       }
-      if (out.pkt->dts != AV_NOPTS_VALUE) out.pkt->dts += offset - start;
+      if (out.pkt->dts != AV_NOPTS_VALUE) {
+        out.pkt->dts += offset - start;
+        if (last_dts != AV_NOPTS_VALUE && out.pkt->dts <= last_dts)
+          return Error(ErrorKind::BadInput, inputs[k] + ": its frames would go back in time after " + inputs[k - (k > 0)] +
+                                                "'s (another encoder delay: not a chunk of the same render)");
+        last_dts = out.pkt->dts;
+      }
       out.pkt->stream_index = 0;
       out.pkt->pos = -1;
       av_packet_rescale_ts(out.pkt, tb, os->time_base);
       if ((r = av_interleaved_write_frame(out.fmt, out.pkt)) < 0) return fail("write failed (disk full?)", r);
     }
-    if (r != AVERROR_EOF) return Error(ErrorKind::BadInput, i->path + ": read error: " + averr(r));
+    if (r != AVERROR_EOF) return Error(ErrorKind::BadInput, inputs[k] + ": read error: " + averr(r));
+    if (k < frames.size() && frames[k] != packets)
+      return Error(ErrorKind::BadInput, inputs[k] + ": holds " + std::to_string(packets) + " frames where its tag says " +
+                                            std::to_string(frames[k]) + " (a render that stopped early?)");
     offset = end;
   }
   if ((r = av_write_trailer(out.fmt)) < 0) return fail("write failed (disk full?)", r);

@@ -18,11 +18,13 @@ namespace reel::io {
 bool isVideoPath(const std::string& path);
 
 // Which frames of a film a video file holds: `first`..`last` of `total`, of the scene named
-// `scene`. reel writes it into every video's comment ("reel frames A-B of N, scene NAME"), so that
-// `reel join` puts chunks in film order and sees a gap, an overlap or another film.
+// `scene`; `film` tells films apart (a hash of what makes the pictures: the scene file's bytes, the
+// seed, the size and samples). reel writes it into every video's comment ("reel frames A-B of N,
+// scene NAME, film ID"), so that `reel join` puts chunks in film order and sees a gap, an overlap,
+// a chunk that stopped early or one of another film.
 struct ChunkTag {
   int first = 0, last = -1, total = 0;
-  std::string scene;
+  std::string scene, film;
   std::string comment() const;
   static bool parse(const std::string& comment, ChunkTag& out);
 };
@@ -33,7 +35,8 @@ class VideoWriter {
   ~VideoWriter();  // an unfinished file is removed
   VideoWriter(const VideoWriter&) = delete;
   VideoWriter& operator=(const VideoWriter&) = delete;
-  // `tag`: which frames of which film the file holds, stored in its comment (see ChunkTag).
+  // `tag`: which frames of which film the file holds, stored in its comment (see ChunkTag); a
+  // chunk of a film (part of it) is encoded without B-frames, so that chunks join.
   Status open(const std::string& path, int width, int height, int fps, int crf = 18, const ChunkTag* tag = nullptr);
   Status write(const Image& frame);
   Status finish();
@@ -44,12 +47,15 @@ class VideoWriter {
   std::unique_ptr<Impl> impl_;
 };
 
-// Joins MP4 or WebM files of one codec, size and encoder settings into `output` without decoding them:
-// their packets are copied in the order given, each file's timestamps shifted to follow the
+// Joins MP4 or WebM files of one codec, size and encoder settings into `output` without decoding
+// them: their packets are copied in the order given, each file's timestamps shifted to follow the
 // previous file's end. Written to OUTPUT.part, renamed when complete. A file that is not a video,
-// or one whose codec, size, pixel format, frame rate or codec headers differ from the first's, is
-// refused (exit-2 kind), naming both and the difference. `tag`: the joined file's comment.
-Status joinVideos(const std::vector<std::string>& inputs, const std::string& output, const ChunkTag* tag = nullptr);
+// one whose codec, size, pixel format, frame rate or codec headers differ from the first's, or
+// whose timestamps would go back in time, is refused (exit-2 kind), naming both and the
+// difference. `tag`: the joined file's comment; `frames`: when given, how many frames each input
+// must hold (one that holds another number is refused).
+Status joinVideos(const std::vector<std::string>& inputs, const std::string& output, const ChunkTag* tag = nullptr,
+                  const std::vector<long long>& frames = {});
 // The comment a video file carries ("" when none); an unreadable file is an exit-2 kind of error.
 Result<std::string> videoComment(const std::string& path);
 
