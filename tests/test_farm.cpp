@@ -289,6 +289,11 @@ TEST_CASE("farm cache: a killed run resumes to the same bytes; damaged frames ar
   REQUIRE(runReel("simulate " + kTear + " --cache again -q --threads 1", cd).code == 0);
   CHECK(test::fileBytes(d / "again" / "frames.bin") == bin);
   CHECK(test::fileBytes(d / "again" / "frames.idx") == idx);
+  // A run killed for real (SIGKILL, mid-write wherever it is after 0.3 s) resumes to the same bytes.
+  runReel("simulate " + kTear + " --cache killed -q", cd + "timeout -s KILL 0.3 ");
+  REQUIRE(runReel("simulate " + kTear + " --cache killed --resume -q", cd).code == 0);
+  CHECK(test::fileBytes(d / "killed" / "frames.bin") == bin);
+  CHECK(test::fileBytes(d / "killed" / "frames.idx") == idx);
   fs::copy(d / "whole", d / "cut");
   // A run killed while writing frame 9: its record half there, its index entry not yet.
   auto entry = [&](int k) {
