@@ -272,6 +272,33 @@ TEST_CASE("videos: frame count, size, rate, codec and pixel format; frames close
   }
 }
 
+TEST_CASE("videos: BT.709 throughout, so saturated colours come back (a BT.601 matrix under BT.709 tags would not)") {
+  // Four flat 32-pixel blocks: red, green, blue, grey (4:2:0 chroma is exact inside a block).
+  const std::uint8_t colours[4][3] = {{230, 20, 20}, {20, 220, 30}, {25, 30, 235}, {128, 128, 128}};
+  Image img(128, 32);
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 128; ++x) std::copy(colours[x / 32], colours[x / 32] + 3, img.pixel(x, y));
+  for (const char* ext : {".mp4", ".webm"}) {
+    CAPTURE(ext);
+    const std::string path = (fs::temp_directory_path() / (std::string("reel_video_709") + ext)).string();
+    io::VideoWriter v;
+    REQUIRE(v.open(path, 128, 32, 10).ok());
+    for (int k = 0; k < 3; ++k) REQUIRE(v.write(img).ok());
+    REQUIRE(v.finish().ok());
+    auto info = io::probeVideo(path);
+    REQUIRE(info.ok());
+    CHECK(info.value().color == "bt709/bt709");
+    auto dec = io::decodeVideo(path, 128, 32);
+    REQUIRE(dec.ok());
+    for (int b = 0; b < 4; ++b)
+      for (int c = 0; c < 3; ++c) {
+        CAPTURE(b);
+        CAPTURE(c);
+        CHECK(std::abs(dec.value()[1].pixel(16 + 32 * b, 16)[c] - colours[b][c]) <= 8);
+      }
+  }
+}
+
 namespace {
 
 // Draws hand-made draw lists at a small size with a renderer of its own.

@@ -29,7 +29,7 @@ int videoInfo(const std::string& file) {
   auto info = io::probeVideo(file);
   if (!info.ok()) return report(info.error());
   const io::VideoInfo& v = info.value();
-  const nlohmann::json out = {{"file", file},     {"codec", v.codec},   {"pix_fmt", v.pix_fmt},
+  const nlohmann::json out = {{"file", file},     {"codec", v.codec},   {"pix_fmt", v.pix_fmt}, {"color", v.color},
                               {"width", v.width}, {"height", v.height}, {"fps", v.fps},
                               {"frames", v.frames}, {"duration_s", v.duration}, {"comment", v.comment}};
   std::printf("%s\n", out.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());

@@ -120,9 +120,9 @@ Status VideoWriter::open(const std::string& path, int width, int height, int fps
   // (B-frames delay the decoding timestamps by an amount that depends on the chunk).
   if (tag && (tag->first > 0 || tag->last < tag->total - 1)) v.enc->max_b_frames = 0;
   if (!v.gif) {
-    // sRGB pixels through swscale's BT.601 matrix into limited-range YUV: say so, so players
-    // invert the same matrix.
-    v.enc->colorspace = AVCOL_SPC_SMPTE170M;
+    // sRGB pixels through the BT.709 matrix into limited-range YUV, tagged as such throughout
+    // (matrix, primaries: sRGB's are BT.709's; transfer: sRGB), so players invert what was done.
+    v.enc->colorspace = AVCOL_SPC_BT709;
     v.enc->color_primaries = AVCOL_PRI_BT709;
     v.enc->color_trc = AVCOL_TRC_IEC61966_2_1;
     v.enc->color_range = AVCOL_RANGE_MPEG;
@@ -167,6 +167,9 @@ Status VideoWriter::open(const std::string& path, int width, int height, int fps
     v.sws = sws_getContext(v.enc->width, v.enc->height, AV_PIX_FMT_RGB24, v.enc->width, v.enc->height,
                            AV_PIX_FMT_YUV420P, SWS_BILINEAR | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT, nullptr, nullptr, nullptr);
     if (!v.sws) return Error(ErrorKind::Internal, "swscale cannot convert RGB to YUV 4:2:0");
+    // Full-range RGB in, limited-range BT.709 YUV out (swscale's default matrix is BT.601's).
+    const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
+    sws_setColorspaceDetails(v.sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16);
   }
   return {};
 }
@@ -276,6 +279,9 @@ Status decodeAll(const std::string& path, VideoInfo& info, Sink&& sink) {
   const char* pf = av_get_pix_fmt_name(static_cast<AVPixelFormat>(st->codecpar->format));
   info.pix_fmt = pf ? pf : "?";
   info.fps = st->avg_frame_rate.den ? av_q2d(st->avg_frame_rate) : av_q2d(st->r_frame_rate);
+  const char* cs = av_color_space_name(st->codecpar->color_space);
+  const char* cp = av_color_primaries_name(st->codecpar->color_primaries);
+  info.color = std::string(cs ? cs : "?") + "/" + (cp ? cp : "?");
   info.duration = fmt->duration > 0 ? static_cast<double>(fmt->duration) / AV_TIME_BASE : 0.0;
   if (const AVDictionaryEntry* c = av_dict_get(fmt->metadata, "comment", nullptr, 0)) info.comment = c->value;
   g.fr = av_frame_alloc();
@@ -286,10 +292,14 @@ Status decodeAll(const std::string& path, VideoInfo& info, Sink&& sink) {
       if (e == AVERROR(EAGAIN) || e == AVERROR_EOF) return {};
       if (e < 0) return Error(ErrorKind::BadInput, path + ": decoding failed: " + averr(e));
       ++info.frames;
-      if (!g.sws)
+      if (!g.sws) {
         g.sws = sws_getContext(g.fr->width, g.fr->height, static_cast<AVPixelFormat>(g.fr->format), g.fr->width,
                                g.fr->height, AV_PIX_FMT_RGB24, SWS_BILINEAR | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT,
                                nullptr, nullptr, nullptr);
+        // Back through the matrix the file says it was made with (BT.601's when it does not say).
+        const int* m = sws_getCoefficients(g.fr->colorspace == AVCOL_SPC_BT709 ? SWS_CS_ITU709 : SWS_CS_ITU601);
+        if (g.sws) sws_setColorspaceDetails(g.sws, m, g.fr->color_range == AVCOL_RANGE_JPEG, m, 1, 0, 1 << 16, 1 << 16);
+      }
       Image img(g.fr->width, g.fr->height);
       std::uint8_t* dst[1] = {img.rgb.data()};
       const int ds[1] = {3 * img.width};

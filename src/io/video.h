@@ -1,5 +1,5 @@
 // Video files encoded in-process with FFmpeg's libraries (no ffmpeg program):
-//   .mp4  H.264 (libx264), yuv420p, CRF 18, +faststart
+//   .mp4  H.264 (libx264), yuv420p (BT.709 matrix, limited range, tagged so), CRF 18, +faststart
 //   .webm VP9 (libvpx-vp9), yuv420p
 //   .gif  8-bit palette (a fixed 6x7x6 colour cube with ordered dithering)
 // Odd sizes are padded to even ones for the yuv420p codecs by repeating the last row/column.
@@ -67,6 +67,7 @@ struct VideoInfo {
   double fps = 0.0;
   long long frames = 0;  // decoded frames
   double duration = 0;   // s, as the container states it
+  std::string color;     // the matrix and primaries the file is tagged with, e.g. "bt709/bt709"
   std::string comment;
 };
 Result<VideoInfo> probeVideo(const std::string& path);
