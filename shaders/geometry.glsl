@@ -1,6 +1,7 @@
 // Shared by surface.vert and shadow.vert: the world position and normal of a vertex of a plain
 // mesh (mode 0), an instanced sphere (mode 1: a_inst0 = centre, u_radius) or an instanced tube
-// (mode 2: the unit tube mapped from a_inst0 to a_inst1, radius u_radius); compiled with
+// (mode 2: the unit tube mapped from a_inst0 to a_inst1, radius u_radius, or at each end at least
+// u_tube_min times its distance from u_tube_eye: a minimum width on screen); compiled with
 // INSTANCED, of an instanced mesh (placed by a_axis_x, a_axis_y, a_axis_z, a_origin, bent by the
 // travelling wave; see DrawInstances in core/drawlist.h). A variant of its own, not a fourth mode:
 // llvmpipe runs every side of a branch, and vertex shading is its serial part.
@@ -19,6 +20,8 @@ layout(location = 11) in float a_gloss;  // per-vertex wet sheen 0..1; 0 where a
 
 uniform int u_mode;
 uniform float u_radius;
+uniform float u_tube_min;  // mode 2: the least radius at 1 m from u_tube_eye, m (0: none)
+uniform vec3 u_tube_eye;
 uniform vec4 u_wave;  // INSTANCED: amplitude, wave number, wave_start, 1 / (wave_start − wave_end)
 
 // The wave's sideways displacement x += f(z) = a(z)·sin(phase − k·(start − z)), a = A·s²,
@@ -59,7 +62,9 @@ void worldVertex(out vec3 p, out vec3 n) {
     vec3 helper = abs(w.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0);
     vec3 u = normalize(cross(helper, w));
     vec3 v = cross(w, u);
-    p = a_inst0 + u_radius * (a_pos.x * u + a_pos.y * v) + a_pos.z * d;
+    vec3 axis = a_inst0 + a_pos.z * d;
+    float r = max(u_radius, u_tube_min * distance(axis, u_tube_eye));
+    p = axis + r * (a_pos.x * u + a_pos.y * v);
     n = a_normal.x * u + a_normal.y * v;
   } else {
     p = a_pos;

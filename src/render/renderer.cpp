@@ -41,13 +41,11 @@ struct Renderer::Impl {
   gl::Framebuffer msaa_fbo, resolve_fbo;
   std::array<gl::Texture, 2> shadow_tex;
   std::array<gl::Framebuffer, 2> shadow_fbo;
-  // Instancing prototypes and their per-draw data; one-pixel tubes as lines.
+  // Instancing prototypes and their per-draw data.
   std::array<GpuMesh, 3> sphere_lod;  // coarse, medium, fine
   GpuMesh tube_proto;
   StreamBuffer inst, inst_color;  // centres or ends (attributes 3, 4); per-sphere colours (5)
   std::array<std::vector<float>, 3> lod_centers, lod_colors;  // a set of spheres by level of detail
-  gl::VertexArray line_vao;
-  gl::Buffer line_vbo;
   // The DrawList's meshes and textures.
   MeshCache meshes;
   TextureCache textures;
@@ -120,12 +118,6 @@ Status Renderer::Impl::init(const std::string& dir) {
   upload(*gl, sphere_lod[1], makeUvSphere(1.0, 14, 8));
   upload(*gl, sphere_lod[2], makeUvSphere(1.0, 28, 16));
   upload(*gl, tube_proto, makeTube(6));
-  line_vao = gl::makeVertexArray(*gl);
-  line_vbo = gl::makeBuffer(*gl);
-  gl->BindVertexArray(line_vao.id());
-  gl->BindBuffer(GL_ARRAY_BUFFER, line_vbo.id());
-  gl->EnableVertexAttribArray(0);
-  gl->VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
   if (Status st = initTargets(); !st) return st;
   if (Status st = initShadowMaps(); !st) return st;
   if (GLenum e = gl->GetError(); e != GL_NO_ERROR)
@@ -222,18 +214,6 @@ Status Renderer::Impl::drawGeometry(const DrawList& list, Pass pass) {
   return {};
 }
 
-namespace {
-
-// The distance from `eye` to the nearest of the points (xyz triples), m.
-double nearestTo(const Vec3& eye, const std::vector<float>& points) {
-  double nearest = 1e300;
-  for (std::size_t i = 0; i + 2 < points.size(); i += 3)
-    nearest = std::min(nearest, (Vec3(points[i], points[i + 1], points[i + 2]) - eye).norm());
-  return nearest;
-}
-
-}  // namespace
-
 Status Renderer::Impl::drawSpheres(const DrawSpheres& s, Pass pass) {
   if (s.centers.empty() || !pass.wants(s.material)) return {};
   // Each sphere at the level of detail of its own on-screen radius (a set of thousands of
@@ -285,29 +265,19 @@ Status Renderer::Impl::drawSphereSet(const DrawSpheres& s, const GpuMesh& proto,
   return {};
 }
 
+// Tubes are always tubes, never at least as thin as kMinTubePx on screen (a radius in pixels): a
+// spring far away stays a thin, antialiased line of the same tubes instead of switching to GL
+// lines and back as it nears, which popped. The shadow pass keeps the true radius.
 Status Renderer::Impl::drawTubes(const DrawTubes& t, Pass pass) {
   if (t.ends.empty() || !pass.wants(t.material)) return {};
-  const double nearest = nearestTo(eye, t.ends);
-  if (t.radius * px_per_m_at_1m / std::max(nearest, 1e-3) < 1.5) {
-    if (!pass.with_material) return {};  // a one-pixel line casts no shadow worth its stripes
-    // Tubes about a pixel wide: one-pixel lines look the same, and long thin triangles are
-    // llvmpipe's slowest case.
-    gl->BindVertexArray(line_vao.id());
-    gl->BindBuffer(GL_ARRAY_BUFFER, line_vbo.id());
-    gl->BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(t.ends.size() * sizeof(float)), t.ends.data(),
-                   GL_STREAM_DRAW);
-    gl->VertexAttrib3f(1, 0.0f, 1.0f, 0.0f);  // lit as facing up
-    gl->VertexAttrib2f(2, 0.0f, 0.0f);
-    if (Status st = bind(t.material, pass); !st) return st;
-    gl->Uniform1i(loc(program(pass), "u_mode"), 0);
-    gl->BindVertexArray(line_vao.id());
-    gl->DrawArrays(GL_LINES, 0, static_cast<GLsizei>(t.ends.size() / 3));
-    return {};
-  }
+  constexpr double kMinTubePx = 0.6;
   bindInstances(*gl, tube_proto, inst, t.ends, 6);
   if (Status st = bind(t.material, pass); !st) return st;
-  gl->Uniform1i(loc(program(pass), "u_mode"), 2);
-  gl->Uniform1f(loc(program(pass), "u_radius"), t.radius);
+  const GLuint prog = program(pass);
+  gl->Uniform1i(loc(prog, "u_mode"), 2);
+  gl->Uniform1f(loc(prog, "u_radius"), t.radius);
+  gl->Uniform1f(loc(prog, "u_tube_min"), pass.with_material ? static_cast<float>(kMinTubePx / px_per_m_at_1m) : 0.0f);
+  gl->Uniform3f(loc(prog, "u_tube_eye"), static_cast<float>(eye.x()), static_cast<float>(eye.y()), static_cast<float>(eye.z()));
   gl->DrawElementsInstanced(GL_TRIANGLES, tube_proto.count, GL_UNSIGNED_INT, nullptr,
                             static_cast<GLsizei>(t.ends.size() / 6));
   return {};
