@@ -61,7 +61,8 @@ def hammock(objects, bodies, x0, t0, name, tear, rate, stop, color, stiffness, t
     nozzle(objects, x0 + 0.05, 1.45, 0.0, name + "_pipe")
     # Layers 19 particles wide leave the nozzle about 2.5 cm apart (spacing 2 cm).
     bodies.append(water(name + "_water", emitters=[{"position": vec(x0 + 0.05, 1.4, 0.0), "direction": [0, -1, 0],
-                                                   "speed": 1.5, "radius": 0.05, "rate": rate, "start": t0, "stop": stop}]))
+                                                   "speed": 1.5, "radius": 0.05, "rate": rate, "start": t0, "stop": stop,
+                                                   "nozzle": False}]))  # the copper pipe above is its nozzle
 
 
 def flag(objects, bodies, x0):

@@ -78,6 +78,35 @@ TEST_CASE("an emitter releases its layers at its rate, from start to stop, along
   CHECK(xmax == doctest::Approx(2.0 * 0.8).epsilon(1e-9));  // the first layer, 0.8 s out
 }
 
+TEST_CASE("an emitter is drawn as a pipe whose mouth is its disc, unless \"nozzle\": false") {
+  const std::string head = R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 10,
+    "bodies": [{"type": "fluid", "name": "f", "radius": 0.005, "species": [{"name": "w", "cutoff": 0.02}],
+      "emitters": [{"position": [0.1, 1, 0.2], "direction": [1, -1, 0], "speed": 2, "radius": 0.02, "rate": 300, "spacing": 0.01)";
+  World w = makeWorld(head + "}]}]}");
+  DrawList list;
+  w.draw(list);  // before any particle leaves: the pipe is there all the same
+  REQUIRE(list.meshes.size() == 1);
+  const TriMesh& pipe = *list.meshes[0].mesh;
+  REQUIRE(pipe.vertexCount() > 0);
+  const Vec3 mouth(0.1, 1, 0.2), dir = Vec3(1, -1, 0).normalized();
+  const double outer = 0.02 + 0.005, length = 0.08;  // radius + max(3 mm, radius / 4); max(8 cm, 4 radii)
+  double lo = 1e9, hi = -1e9, widest = 0;
+  for (std::size_t i = 0; i < pipe.vertexCount(); ++i) {
+    const Vec3 p(pipe.positions[3 * i], pipe.positions[3 * i + 1], pipe.positions[3 * i + 2]);
+    const double along = (p - mouth).dot(dir);
+    lo = std::min(lo, along);
+    hi = std::max(hi, along);
+    widest = std::max(widest, (p - mouth - along * dir).norm());
+  }
+  CHECK(hi == doctest::Approx(0.0).epsilon(1e-6));      // the mouth at the disc
+  CHECK(lo == doctest::Approx(-length).epsilon(1e-6));  // the pipe behind it
+  CHECK(widest == doctest::Approx(outer).epsilon(1e-5));
+  World plain = makeWorld(head + R"(, "nozzle": false}]}]})");
+  DrawList none;
+  plain.draw(none);
+  CHECK(none.meshes.empty());
+}
+
 TEST_CASE("dam break: the surge front against Martin & Moyce (1952), n² = 2") {
   // scenes/dam_break.json: a 10 cm × 20 cm column in a narrow tank; T = t·√(2g/a), Z = z/a
   // (the front measured from the back wall).

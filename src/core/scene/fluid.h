@@ -66,6 +66,7 @@ struct EmitterDesc {
   double speed = 1.0, radius = 0.05, rate = 100.0;  // m/s, m, particles/s
   double start = 0.0, stop = std::numeric_limits<double>::infinity();  // s
   double spacing = 0.02;  // m, between neighbours of a layer (the loader's default: 2 × radius)
+  bool nozzle = true;     // drawn as a metal pipe whose mouth is the disc (false: a scene's own object is)
   long long perLayer() const { return static_cast<long long>(hexDisc(radius, spacing).size()); }
   // Layers emitted from start to stop (stop finite): one at `start`, then every perLayer()/rate s;
   // in double (the loader caps the count before layers() converts it).

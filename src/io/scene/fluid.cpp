@@ -157,6 +157,7 @@ void readEmitterEntry(Obj& eo, FluidReading& r) {
   e.start = eo.number("start", 0.0, kNonNeg);
   e.stop = std::min(eo.number("stop", r.duration, kNonNeg), r.duration);
   e.spacing = eo.number("spacing", 2.0 * r.fd.radius, Range{0.0, 100.0, true, false});
+  e.nozzle = eo.boolean("nozzle", e.nozzle);
   if (e.stop <= e.start) {
     d.error(childPath(eo.path(), "stop"), "must be after start (and start before the scene ends)");
     e.stop = e.start;

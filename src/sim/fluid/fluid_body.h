@@ -10,11 +10,16 @@
 
 namespace reel {
 
+// The pipes of the liquid's nozzles (those with `nozzle`): each a metal cylinder 4 radii long (at
+// least 8 cm) whose mouth is the emitter's disc, its wall a quarter radius thick (at least 3 mm);
+// null when there are none.
+std::shared_ptr<const TriMesh> nozzleMesh(const Fluid& fluid);
+
 class FluidBody final : public Body {
  public:
   FluidBody(Fluid fluid, std::string generator, const Material& material)
       : Body(fluid.name), generator_(std::move(generator)), material_(material), fluid_(std::move(fluid)),
-        bound_(fluidStableStep(fluid_)) {}
+        bound_(fluidStableStep(fluid_)), nozzles_(nozzleMesh(fluid_)) {}
   StepLimit stepLimit(IntegratorKind integrator) const override;
   void step(StepContext& ctx) override;
   Status checkState(const StepContext& ctx) const override;
@@ -38,6 +43,7 @@ class FluidBody final : public Body {
   Material material_;
   mutable Fluid fluid_;  // mutable: view() and hash() fill its by-id scratch arrays
   StepBound bound_;
+  std::shared_ptr<const TriMesh> nozzles_;  // the emitters' pipes, made once (null: none)
 };
 
 // The builder of the registry row `fluid`.

@@ -7,6 +7,8 @@
 #include <cstdint>
 
 #include "core/isosurface.h"
+#include "core/math.h"
+#include "core/mesh.h"
 #include "core/profile.h"
 #include "core/union_find.h"
 #include "core/parallel.h"
@@ -167,9 +169,34 @@ TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors) {
 
 }  // namespace
 
+std::shared_ptr<const TriMesh> nozzleMesh(const Fluid& fluid) {
+  TriMesh all;
+  for (const FluidEmitter& e : fluid.emitters) {
+    if (!e.desc.nozzle) continue;
+    const double r = e.desc.radius + std::max(0.003, 0.25 * e.desc.radius), len = std::max(0.08, 4.0 * e.desc.radius);
+    TriMesh pipe = makeCylinder(r, len, 24);
+    // Along the direction the liquid leaves, its mouth at the emitter's position.
+    pipe.transform(rotationFromUp(e.desc.direction), e.desc.position - 0.5 * len * e.desc.direction);
+    const auto base = static_cast<std::uint32_t>(all.vertexCount());
+    all.positions.insert(all.positions.end(), pipe.positions.begin(), pipe.positions.end());
+    all.normals.insert(all.normals.end(), pipe.normals.begin(), pipe.normals.end());
+    for (std::uint32_t i : pipe.indices) all.indices.push_back(base + i);
+  }
+  if (all.indices.empty()) return nullptr;
+  return std::make_shared<const TriMesh>(std::move(all));
+}
+
 void FluidBody::draw(DrawList& out) const {
   const Fluid& fl = fluid_;
   const Material& material = material_;
+  if (nozzles_) {
+    DrawMesh pipes;
+    pipes.mesh = nozzles_;
+    pipes.material.color = Vec3(0.55, 0.56, 0.58);
+    pipes.material.specular = 0.6;
+    pipes.material.shininess = 60;
+    out.meshes.push_back(std::move(pipes));
+  }
   if (fl.x.empty()) return;
   DrawMaterial dm;
   dm.color = Vec3(1, 1, 1);  // the species colours carry the albedo
