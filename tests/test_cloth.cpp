@@ -416,3 +416,30 @@ TEST_CASE("a cloth that blows up stops as unstable (exit 3), with self-collision
   CHECK(st.error().kind == ErrorKind::Unstable);
   CHECK(st.error().headline().find("body 's'") != std::string::npos);
 }
+
+TEST_CASE("a cloth's clamps and pins are drawn: a bar along each grip, a peg at each other pinned node") {
+  World w = makeWorld(R"({"format": "reel/1", "duration": 1, "fps": 30, "integrator": "implicit_euler",
+    "bodies": [{"type": "cloth", "name": "c", "position": [0, 1, 0], "size": [1, 1], "resolution": [6, 6],
+                "pinned": ["corner_11"], "grips": [{"nodes": ["edge_x0"], "velocity": [-0.1, 0, 0]}]}]})");
+  DrawList list;
+  w.draw(list);
+  REQUIRE(list.tubes.size() == 1);
+  CHECK(list.tubes[0].ends.size() == 6 * 5);  // 6 gripped nodes along the edge: 5 bars
+  // Each bar joins two neighbours of the gripped edge, x = −0.5, one grid step (0.2 m) apart.
+  for (std::size_t b = 0; b < 5; ++b) {
+    const float* e = &list.tubes[0].ends[6 * b];
+    CHECK(e[0] == doctest::Approx(-0.5));
+    CHECK(e[3] == doctest::Approx(-0.5));
+    CHECK(std::hypot(e[3] - e[0], e[4] - e[1], e[5] - e[2]) == doctest::Approx(0.2).epsilon(1e-6));
+  }
+  REQUIRE(list.spheres.size() == 1);
+  REQUIRE(list.spheres[0].centers.size() == 3);  // the one pinned corner
+  CHECK(list.spheres[0].centers[0] == doctest::Approx(0.5));
+  // A free sheet draws nothing but itself.
+  World free = makeWorld(R"({"format": "reel/1", "duration": 1, "fps": 30, "integrator": "implicit_euler",
+    "bodies": [{"type": "cloth", "name": "c", "position": [0, 1, 0], "size": [1, 1], "resolution": [6, 6]}]})");
+  DrawList plain;
+  free.draw(plain);
+  CHECK(plain.tubes.empty());
+  CHECK(plain.spheres.empty());
+}

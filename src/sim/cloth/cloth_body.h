@@ -17,6 +17,8 @@ class ClothBody final : public SpringNetworkBody {
       : SpringNetworkBody(std::move(name), std::move(generator)), material_(material) {}
   void step(StepContext& ctx) override;
   void draw(DrawList& out) const override;
+  // The clamps of its grips and the pegs of its other pinned nodes (cloth_draw.cpp).
+  void drawHolds(DrawList& out) const;
   bool view(BodyView& out) const override;
   void statistics(std::vector<Statistic>& out) const override;
   Cloth& cloth() { return cloth_; }

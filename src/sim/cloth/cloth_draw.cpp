@@ -74,6 +74,40 @@ void ClothBody::draw(DrawList& out) const {
   // An absorbent sheet's wet sheen needs the highlight compiled in.
   if (!cloth_.capacity.empty()) sheet.material.specular = std::max(sheet.material.specular, 1e-3);
   if (sheet.mesh->triangleCount() > 0) out.meshes.push_back(std::move(sheet));
+  drawHolds(out);
+}
+
+// What holds the sheet, so that a pull or a pin has a visible cause: a bar along each grip's
+// nodes (a clamp) and a peg at every other pinned node, dark metal, a little thicker than the cloth.
+void ClothBody::drawHolds(DrawList& out) const {
+  const std::vector<Vec3>& x = net_.state.x;
+  const double r = std::max(0.008, 2.0 * cloth_.thickness);
+  DrawMaterial metal;
+  metal.color = Vec3(0.18, 0.19, 0.21);
+  metal.specular = 0.5;
+  metal.shininess = 50;
+  DrawTubes bars;
+  bars.radius = static_cast<float>(r);
+  bars.material = metal;
+  std::vector<char> held(x.size(), 0);
+  auto put = [](std::vector<float>& v, const Vec3& p) {
+    for (int a = 0; a < 3; ++a) v.push_back(static_cast<float>(p[a]));
+  };
+  for (const GripDesc& g : cloth_.grips)
+    for (std::size_t k = 0; k < g.nodes.size(); ++k) {
+      held[static_cast<std::size_t>(g.nodes[k])] = g.nodes.size() > 1;
+      if (k == 0) continue;
+      put(bars.ends, x[static_cast<std::size_t>(g.nodes[k - 1])]);
+      put(bars.ends, x[static_cast<std::size_t>(g.nodes[k])]);
+    }
+  DrawSpheres pegs;
+  pegs.radius = static_cast<float>(1.3 * r);
+  pegs.material = metal;
+  const std::vector<std::uint8_t>& fixed = net_.model.fixed;
+  for (std::size_t i = 0; i < x.size() && i < fixed.size(); ++i)
+    if (fixed[i] && !held[i]) put(pegs.centers, x[i]);
+  if (!bars.ends.empty()) out.tubes.push_back(std::move(bars));
+  if (!pegs.centers.empty()) out.spheres.push_back(std::move(pegs));
 }
 
 }  // namespace reel
