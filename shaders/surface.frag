@@ -22,6 +22,8 @@ uniform mat4 u_shadow_matrix[2];
 uniform float u_shadow_texel;
 
 uniform vec3 u_color;
+uniform vec3 u_back_color;  // DOUBLE_SIDED: the back's albedo
+uniform int u_plain_back;   // DOUBLE_SIDED: 1 when the back has its own colour
 uniform float u_specular;
 uniform float u_shininess;
 uniform float u_wrap;  // WRAP: 0..1
@@ -87,12 +89,18 @@ vec3 shade(vec3 n, vec3 view, vec3 l, vec3 radiance, vec3 albedo) {
 void main() {
   vec3 n = normalize(v_normal);
   vec3 view = normalize(u_eye - v_world);
-#ifdef DOUBLE_SIDED
-  if (dot(n, view) < 0.0) n = -n;
-#endif
   vec3 albedo = u_color * v_color;
+  bool plain = false;
+#ifdef DOUBLE_SIDED
+  // The back: the other side's normal, and its own plain colour when the material has one.
+  if (dot(n, view) < 0.0) {
+    n = -n;
+    plain = u_plain_back != 0;
+    if (plain) albedo = u_back_color * v_color;
+  }
+#endif
 #ifdef TEXTURED
-  albedo *= texture(u_texture, v_uv).rgb;
+  if (!plain) albedo *= texture(u_texture, v_uv).rgb;
 #endif
 #ifdef CHECKER
   // 0.5 m squares of 1 and 0.55 times the albedo, fading to their mean where a pixel covers

@@ -10,6 +10,7 @@
 #include "core/parallel.h"
 #include "core/random.h"
 #include "helpers.h"
+#include "io/png.h"
 #include "sim/geometry.h"
 #include "sim/cloth/cloth_body.h"
 #include "sim/world.h"
@@ -442,4 +443,27 @@ TEST_CASE("a cloth's clamps and pins are drawn: a bar along each grip, a peg at 
   free.draw(plain);
   CHECK(plain.tubes.empty());
   CHECK(plain.spheres.empty());
+}
+
+TEST_CASE("a cloth's back_color: its front (where its normal points: up for a level sheet) and its back differ") {
+  const std::filesystem::path d = test::freshDir("cloth_back");
+  // The centre pixel of a level sheet seen from above or below, with or without a back colour.
+  auto centre = [&](const std::string& eye, const std::string& back) {
+    std::ofstream(d / "s.json") << R"({"format": "reel/1", "duration": 0.2, "fps": 10, "integrator": "implicit_euler",
+      "gravity": [0, 0, 0], "render": {"width": 64, "height": 48, "samples": 1},
+      "camera": {"position": )" << eye << R"(, "target": [0, 0.5, 0]},
+      "bodies": [{"type": "cloth", "name": "c", "position": [0, 0.5, 0], "size": [2, 2], "resolution": [4, 4],
+                  "color": [0.8, 0.1, 0.1])" << back << "}]}";
+    const Run r = runReel("still s.json --frame 0 --no-cache -q -o out.png", "cd " + d.string() + " && ");
+    REQUIRE(r.code == 0);
+    auto img = io::readPng((d / "out.png").string());
+    REQUIRE(img.ok());
+    const std::uint8_t* p = img.value().pixel(32, 24);
+    return std::array<int, 3>{p[0], p[1], p[2]};
+  };
+  const std::string above = "[0, 2, 0.01]", below = "[0, -1.5, 0.01]", blue = R"(, "back_color": [0.1, 0.1, 0.8])";
+  const auto front = centre(above, blue), back = centre(below, blue), same = centre(below, "");
+  CHECK(front[0] > 2 * front[2]);  // red from above
+  CHECK(back[2] > 2 * back[0]);    // blue from below
+  CHECK(same[0] > 2 * same[2]);    // without back_color the back is the front's red
 }

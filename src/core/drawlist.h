@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,9 @@ struct DrawMaterial {
   // (n·l + w)/(1 + w) reaches past the terminator; 0 is Lambert.
   double wrap = 0.0;
   bool double_sided = false;  // sheets: lit from both sides
+  // double_sided: the back's albedo (the side the normal points away from), plain (no texture);
+  // none: the back looks like the front.
+  std::optional<Vec3> back_color;
   bool checker = false;       // checkerboard of `color` and a darker shade, 0.5 m squares
 };
 

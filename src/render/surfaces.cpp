@@ -83,6 +83,11 @@ Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures, bool i
   gl_->Uniform1f(loc("u_shininess"), float(m.shininess));
   gl_->Uniform1f(loc("u_opacity"), float(m.opacity));
   if (m.wrap > 0) gl_->Uniform1f(loc("u_wrap"), float(m.wrap));
+  if (m.double_sided) {
+    const Vec3 back = m.back_color.value_or(m.color);
+    gl_->Uniform3f(loc("u_back_color"), float(back.x()), float(back.y()), float(back.z()));
+    gl_->Uniform1i(loc("u_plain_back"), m.back_color ? 1 : 0);
+  }
   return {};
 }
 

@@ -17,6 +17,7 @@ inline DrawMaterial drawMaterial(const Material& m) {
   d.specular = m.specular;
   d.shininess = m.shininess;
   d.opacity = m.opacity;
+  d.back_color = m.back_color;
   return d;
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,6 +21,8 @@ struct Material {
   double specular = 0.0;      // 0..1
   double shininess = 32.0;    // Phong exponent
   double opacity = 1.0;       // 0..1
+  // A sheet's back (the side its normal points away from), plain: this albedo and no texture.
+  std::optional<Vec3> back_color;
 };
 
 // Contact response of an object's surface.

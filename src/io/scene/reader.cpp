@@ -38,6 +38,7 @@ void readMaterial(Obj& o, Material& m) {
   m.specular = o.number("specular", m.specular, kUnit);
   m.shininess = o.number("shininess", m.shininess, kPos);
   m.opacity = o.number("opacity", m.opacity, kUnit);
+  if (o.has("back_color")) m.back_color = o.vec3("back_color", m.color, kNonNeg);
 }
 
 void readPins(Obj& o, const std::vector<long long>& dims, long long nodes, const NodeNames& names,
