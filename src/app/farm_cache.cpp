@@ -16,17 +16,7 @@ namespace fs = std::filesystem;
 constexpr const char* kFormat = "reel-cache/1";
 constexpr std::size_t kMaxSceneBytes = 64u << 20;
 
-std::string hex(std::uint64_t v) {
-  char s[17];
-  std::snprintf(s, sizeof s, "%016llx", static_cast<unsigned long long>(v));
-  return s;
-}
-
-std::string hashOf(const std::string& bytes) {
-  Hasher h;
-  h.add(bytes.data(), bytes.size());
-  return hex(h.h);
-}
+std::string hashOf(const std::string& bytes) { return hashBytes(bytes.data(), bytes.size()).hex(); }
 
 // The running reel binary's bytes, hashed once per process.
 std::string buildHash() {

@@ -112,9 +112,7 @@ std::string filmId(const RenderOptions& opt, const Setup& s) {
                             static_cast<long long>(d.render.height), static_cast<long long>(d.render.samples),
                             static_cast<long long>(d.fps)})
     h.add(&v, sizeof v);
-  char id[17];
-  std::snprintf(id, sizeof id, "%016llx", static_cast<unsigned long long>(h.h));
-  return id;
+  return h.hex();
 }
 
 io::TextChunks pngText(const Setup& s, int frame) {

@@ -42,11 +42,7 @@ void fields(Snap& s, Archive& a) {
   a(s.solver.last.cg_iterations)(s.solver.last.cg_relative_residual)(s.solver.unconverged)(s.solver.worst_residual);
 }
 
-std::uint64_t checksum(const std::byte* p, std::size_t n) {
-  Hasher h;
-  h.add(p, n);
-  return h.h;
-}
+std::uint64_t checksum(const std::byte* p, std::size_t n) { return hashBytes(p, n).h; }
 
 // The reel binary's size and modification time: a rebuilt reel keys its own cache.
 void hashBinary(Hasher& h) {
@@ -99,9 +95,7 @@ SimCache::SimCache(const std::string& root, const std::string& scene_file, std::
     h.add(&time, sizeof time);
   }
   key_ = h.h;
-  char name[17];
-  std::snprintf(name, sizeof name, "%016llx", static_cast<unsigned long long>(key_));
-  dir_ = (fs::path(root) / name).string();
+  dir_ = (fs::path(root) / h.hex()).string();
   // Least recently used scenes beyond kScenes go; this one is touched.
   std::error_code ec;
   fs::create_directories(dir_, ec);

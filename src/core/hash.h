@@ -3,7 +3,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <span>
+#include <string>
 
 namespace reel {
 
@@ -18,6 +20,19 @@ struct Hasher {
   }
   template <class T>
   void add(std::span<const T> s) { add(s.data(), s.size_bytes()); }
+  // The hash as 16 hexadecimal digits (cache folders, film ids, manifests).
+  std::string hex() const {
+    char s[17];
+    std::snprintf(s, sizeof s, "%016llx", static_cast<unsigned long long>(h));
+    return s;
+  }
 };
+
+// The hash of one run of bytes (checksums).
+inline Hasher hashBytes(const void* data, std::size_t bytes) {
+  Hasher h;
+  h.add(data, bytes);
+  return h;
+}
 
 }  // namespace reel

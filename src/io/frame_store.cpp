@@ -35,11 +35,7 @@ struct IndexEntry {
 };
 static_assert(sizeof(IndexEntry) == 16);
 
-std::uint64_t checksum(const std::byte* p, std::size_t n) {
-  Hasher h;
-  h.add(p, n);
-  return h.h;
-}
+std::uint64_t checksum(const std::byte* p, std::size_t n) { return hashBytes(p, n).h; }
 
 std::string dataPath(const std::string& folder) { return (fs::path(folder) / "frames.bin").string(); }
 std::string indexPath(const std::string& folder) { return (fs::path(folder) / "frames.idx").string(); }
