@@ -1,15 +1,20 @@
+// Where nothing covers the picture: the environment seen along each pixel's ray (ENVIRONMENT),
+// else a vertical gradient from u_bottom to u_top; exposed and tone mapped as the surfaces are.
 in float v_t;
+in vec2 v_ndc;
 out vec4 o_color;
 uniform vec3 u_top;
 uniform vec3 u_bottom;
-uniform int u_tonemap;
-
-vec3 srgbEncode(vec3 c) {
-  c = clamp(c, 0.0, 1.0);
-  return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
-}
+uniform float u_exposure;
+uniform mat4 u_inv_view_proj;
+uniform vec3 u_eye;
 
 void main() {
+#ifdef ENVIRONMENT
+  vec4 w = u_inv_view_proj * vec4(v_ndc, 1.0, 1.0);
+  vec3 c = envAt(normalize(w.xyz / w.w - u_eye), 0.0);
+#else
   vec3 c = mix(u_bottom, u_top, clamp(v_t, 0.0, 1.0));
-  o_color = vec4(srgbEncode(c), 1.0);
+#endif
+  o_color = vec4(finish(c, u_exposure), 1.0);
 }

@@ -1,9 +1,14 @@
-// Lighting in linear space: Lambert diffuse plus Blinn–Phong highlights, directional, point and
-// ambient lights, filtered shadow maps, exponential fog, optional ACES tone mapping, and the
-// result written sRGB-encoded.
-//   directional: ρ·color·intensity·max(0, n·l)
-//   point:       ρ·color·intensity·max(0, n·l) / d²
-//   ambient:     ρ·color·intensity
+// Physically based shading in linear space (docs/rendering.md, "Shading"): Lambert diffuse, a
+// GGX specular lobe with height-correlated Smith masking and Schlick's Fresnel, an optional
+// sheen lobe; directional, point and ambient lights, image-based light from an environment,
+// filtered shadow maps, exponential fog, exposure, optional ACES tone mapping, and the result
+// written sRGB-encoded. A light of radiance E arriving along l adds E·(n·l)·(k_d + π·f_s):
+//   directional: E = color·intensity;  point: E = color·intensity / d²
+//   ambient:     (k_d + E_s)·color·intensity, the response to a uniform surrounding radiance
+// where k_d = ρ·(1 − metallic)·(1 − E_s) and E_s = F0·A + F90·B is the specular albedo from the
+// split-sum table (what the specular lobe reflects the diffuse term does not: energy is
+// conserved, and a white surface under a uniform light is uniformly white). specular = 0 and
+// metallic = 0 leave F0 = F90 = 0: exactly Lambert, k_d = ρ.
 // The renderer compiles one variant per combination of lights and features it meets, with the
 // light list unrolled (LIGHTS below) and unused features compiled out: a software rasteriser
 // runs both sides of a branch, so a branch around a shadow lookup would cost the lookups anyway.
@@ -24,14 +29,20 @@ uniform float u_shadow_texel;
 uniform vec3 u_color;
 uniform vec3 u_back_color;  // DOUBLE_SIDED: the back's albedo
 uniform int u_plain_back;   // DOUBLE_SIDED: 1 when the back has its own colour
-uniform float u_specular;
-uniform float u_shininess;
-uniform float u_wrap;  // WRAP: 0..1
+uniform float u_f0;         // a dielectric's reflectance at normal incidence, 0.08·specular
+uniform float u_roughness;  // 0..1, α = roughness²
+uniform float u_metallic;   // 0..1
+uniform float u_sheen;      // SHEEN: 0..1
+uniform float u_wrap;       // WRAP: 0..1
 uniform float u_opacity;
 uniform sampler2D u_texture;
+uniform sampler2D u_dfg;    // SPECULAR: the split-sum table (A, B) by (n·v, roughness)
+uniform float u_env_lod;    // ENVIRONMENT: u_env's last mip level (roughness 1)
+uniform vec3 u_sh[9];       // ENVIRONMENT: irradiance / π in spherical harmonics
 uniform vec3 u_eye;
 uniform vec3 u_fog_color;
 uniform float u_fog_density;
+uniform float u_exposure;   // 2^EV (with ACES, times its middle-grey gain)
 
 // 3 x 3 taps of bilinear percentage-closer filtering: soft edges.
 #define SHADOW_PCF(MAP, S)                                                          \
@@ -50,41 +61,71 @@ uniform float u_fog_density;
 SHADOW_PCF(u_shadow_map0, 0)
 SHADOW_PCF(u_shadow_map1, 1)
 
-vec3 srgbEncode(vec3 c) {
-  c = clamp(c, 0.0, 1.0);
-  return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
-}
+// The material at this pixel, set once in main() and read by every light.
+vec3 g_kd;                 // diffuse albedo, less what the specular lobe reflects
+vec3 g_f0;                 // specular reflectance at normal incidence
+float g_f90;               // ... at grazing incidence (0 when f0 is: no reflection at all)
+vec3 g_es = vec3(0.0);     // specular albedo E_s for the view direction (with g_comp)
+vec3 g_comp = vec3(1.0);   // multiple-scattering compensation of the specular lobe
+float g_alpha, g_nv;
+vec3 g_sheen = vec3(0.0);  // SHEEN: its colour
 
-vec3 aces(vec3 x) {  // Narkowicz 2015 fit of the ACES filmic curve
-  return clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
+// GGX distribution (Walter et al. 2007) and height-correlated Smith visibility G₂/(4 n·l n·v)
+// (Heitz 2014): the same functions as core/brdf.cpp.
+float ggxD(float nh, float a) {
+  float a2 = a * a, d = nh * nh * (a2 - 1.0) + 1.0;
+  return a2 / (PI * d * d);
+}
+float smithV(float nl, float nv, float a) {
+  float a2 = a * a;
+  float gv = nl * sqrt(nv * nv * (1.0 - a2) + a2), gl = nv * sqrt(nl * nl * (1.0 - a2) + a2);
+  return 0.5 / max(gv + gl, 1e-6);
 }
 
 // Diffuse plus specular from a light of radiance `radiance` arriving along l.
-vec3 shade(vec3 n, vec3 view, vec3 l, vec3 radiance, vec3 albedo) {
+vec3 shade(vec3 n, vec3 view, vec3 l, vec3 radiance) {
   float ndl = max(dot(n, l), 0.0);
 #ifdef WRAP
   // Wrap lighting (Green 2004, "Real-time approximations to subsurface scattering", GPU Gems):
   // the diffuse term reaches past the terminator, as light scattered under skin does.
-  vec3 c = albedo * max((dot(n, l) + u_wrap) / (1.0 + u_wrap), 0.0);
+  vec3 c = g_kd * max((dot(n, l) + u_wrap) / (1.0 + u_wrap), 0.0);
 #else
-  vec3 c = albedo * ndl;
+  vec3 c = g_kd * ndl;
+#endif
+#if defined(SPECULAR) || defined(SHEEN)
+  vec3 h = normalize(l + view);
+  float nh = max(dot(n, h), 0.0);
 #endif
 #ifdef SPECULAR
-  vec3 h = normalize(l + view);
-  // A wet sheen (per-vertex gloss g): the highlight grows by 0.5 g and sharpens towards 120.
-  float shininess = mix(u_shininess, max(u_shininess, 120.0), v_gloss);
-  c += vec3((u_specular + 0.5 * v_gloss) * pow(max(dot(n, h), 0.0), shininess) * ndl);
+  vec3 F = g_f0 + (g_f90 - g_f0) * pow(1.0 - max(dot(l, h), 0.0), 5.0);  // Schlick 1994
+  c += PI * ggxD(nh, g_alpha) * smithV(ndl, g_nv, g_alpha) * F * g_comp * ndl;
+#endif
+#ifdef SHEEN
+  // Sheen: the "Charlie" distribution of Estevez & Kulla 2017 ("Production Friendly Microfacet
+  // Sheen BRDF", α = 0.35) with Neubelt & Pettineo's 2013 visibility 1/(4(n·l + n·v − n·l n·v)).
+  float inv_a = 1.0 / 0.35, sin2 = max(1.0 - nh * nh, 0.0);
+  float d_sheen = (2.0 + inv_a) * pow(sin2, 0.5 * inv_a) / (2.0 * PI);
+  c += PI * d_sheen / (4.0 * (ndl + g_nv - ndl * g_nv) + 1e-4) * g_sheen * ndl;
 #endif
   return radiance * c;
 }
 
-#define DIRECTIONAL(I) shade(n, view, -normalize(u_light_vec[I]), u_light_radiance[I], albedo)
+#ifdef ENVIRONMENT
+vec3 irradiance(vec3 n) {  // Ramamoorthi & Hanrahan 2001: irradiance / π from 9 coefficients
+  return max(u_sh[0] * 0.282095 + u_sh[1] * (0.488603 * n.y) + u_sh[2] * (0.488603 * n.z) + u_sh[3] * (0.488603 * n.x) +
+             u_sh[4] * (1.092548 * n.x * n.y) + u_sh[5] * (1.092548 * n.y * n.z) +
+             u_sh[6] * (0.315392 * (3.0 * n.z * n.z - 1.0)) + u_sh[7] * (1.092548 * n.x * n.z) +
+             u_sh[8] * (0.546274 * (n.x * n.x - n.y * n.y)), 0.0);
+}
+#endif
+
+#define DIRECTIONAL(I) shade(n, view, -normalize(u_light_vec[I]), u_light_radiance[I])
 #define DIRECTIONAL_SHADOW(I, S) \
   (shadow##S(v_world, n, -normalize(u_light_vec[I])) * DIRECTIONAL(I))
 #define POINT_RADIANCE(I) (u_light_radiance[I] / max(dot(u_light_vec[I] - v_world, u_light_vec[I] - v_world), 1e-8))
-#define POINT(I) shade(n, view, normalize(u_light_vec[I] - v_world), POINT_RADIANCE(I), albedo)
+#define POINT(I) shade(n, view, normalize(u_light_vec[I] - v_world), POINT_RADIANCE(I))
 #define POINT_SHADOW(I, S) (shadow##S(v_world, n, normalize(u_light_vec[I] - v_world)) * POINT(I))
-#define AMBIENT(I) (albedo * u_light_radiance[I])
+#define AMBIENT(I) ((g_kd + g_es) * u_light_radiance[I])
 
 void main() {
   vec3 n = normalize(v_normal);
@@ -111,13 +152,36 @@ void main() {
   float blur = clamp(max(fwidth(cp.x), fwidth(cp.y)) * 1.5 - 0.35, 0.0, 1.0);
   albedo *= mix(check, 0.775, blur);
 #endif
+  // The material (docs/rendering.md): a metal reflects in its albedo's colour and has no
+  // diffuse term; a wet sheen (per-vertex gloss g) adds reflectance and smooths the surface.
+  float rough = clamp(mix(u_roughness, min(u_roughness, 0.2), v_gloss), 0.03, 1.0);
+  g_alpha = rough * rough;
+  g_nv = max(dot(n, view), 1e-4);
+  g_kd = albedo * (1.0 - u_metallic);
+  g_f0 = mix(vec3(u_f0 + 0.04 * v_gloss), albedo, u_metallic);
+  g_f90 = clamp(50.0 * dot(g_f0, vec3(0.3333)), 0.0, 1.0);
+#ifdef SPECULAR
+  // Split sum (Karis 2013): E_s = F0·A + F90·B. The single-scattering lobe loses 1 − A − B of
+  // the light at high roughness; it is given back in F0's colour (Fdez-Agüera 2019, as Filament).
+  vec2 ab = texture(u_dfg, vec2(g_nv, rough)).rg;
+  g_comp = 1.0 + g_f0 * (1.0 / max(ab.x + ab.y, 1e-3) - 1.0);
+  g_es = (g_f0 * ab.x + g_f90 * ab.y) * g_comp;
+  g_kd *= max(vec3(1.0) - g_es, 0.0);
+#endif
+#ifdef SHEEN
+  float lum = dot(albedo, vec3(0.2126, 0.7152, 0.0722));
+  g_sheen = u_sheen * mix(vec3(1.0), albedo / max(lum, 1e-3), 0.5);
+#endif
   vec3 c = vec3(0.0);
   LIGHTS
+#ifdef ENVIRONMENT
+  c += g_kd * irradiance(n);
+#ifdef SPECULAR
+  c += envAt(reflect(-view, n), rough * u_env_lod) * g_es;
+#endif
+#endif
 #ifdef FOG
   c = mix(u_fog_color, c, exp(-u_fog_density * length(u_eye - v_world)));
 #endif
-#ifdef ACES
-  c = aces(c);
-#endif
-  o_color = vec4(srgbEncode(c), u_opacity);
+  o_color = vec4(finish(c, u_exposure), u_opacity);
 }

@@ -11,6 +11,7 @@
 #include "core/patterns.h"
 #include "core/scene_view.h"
 #include "helpers.h"
+#include "render_helpers.h"
 #include "io/files.h"
 #include "io/png.h"
 #include "io/video.h"
@@ -24,31 +25,6 @@ using namespace reel::test;
 namespace fs = std::filesystem;
 
 namespace {
-
-// Renders frame `frame` of a scene in this process with the given backend.
-Image renderScene(const std::string& text, gl::Backend backend = gl::Backend::OSMesa, int frame = 0,
-                  const std::string& file = "test.json") {
-  const SceneDesc scene = sceneFromText(text, file);
-  auto w = app::makeWorld(scene);
-  REQUIRE(w.ok());
-  for (int k = 0; k < frame; ++k) REQUIRE(w.value().advanceFrame().ok());
-  auto ctx = gl::createContext(backend);
-  REQUIRE_MESSAGE(ctx.ok(), (ctx.ok() ? "" : ctx.error().headline()));
-  RenderSettings rs;
-  rs.width = scene.render.width;
-  rs.height = scene.render.height;
-  rs.samples = scene.render.samples;
-  auto r = Renderer::create(*ctx.value(), rs, findShaderDir());
-  REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().headline()));
-  DrawList list;
-  setSceneView(scene, w.value().time(), list);
-  w.value().draw(list);
-  Image img;
-  REQUIRE(r.value()->draw(list, img).ok());
-  return img;
-}
-
-double srgb(double c) { return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055; }
 
 // A camera looking straight down at a floor of albedo ρ lit by one directional light at angle θ
 // from the normal, plus an optional ambient light.

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "core/brdf.h"
+#include "core/environment.h"
 #include "core/image.h"
 #include "core/light.h"
 #include "core/mesh.h"
@@ -16,10 +18,19 @@
 
 namespace reel {
 
+// A physically based material (docs/rendering.md, "Shading"): Lambert diffuse and a GGX specular
+// lobe, plus an optional sheen. specular = 0 and metallic = 0 is exactly Lambert.
 struct DrawMaterial {
-  Vec3 color{0.8, 0.8, 0.8};  // linear albedo
+  Vec3 color{0.8, 0.8, 0.8};  // linear albedo (a metal's specular colour)
   std::shared_ptr<const Image> texture;  // sRGB pixels, multiplied into the albedo (UVs)
+  // specular 0..1: a dielectric's reflectance at normal incidence is 0.08·specular (Burley 2012;
+  // 0.5 is 4%, water and glass). roughness 0..1 (α = roughness²); none: from the Blinn–Phong
+  // `shininess` of older scenes, brdf::roughnessOfShininess.
   double specular = 0.0, shininess = 32.0, opacity = 1.0;
+  std::optional<double> roughness;
+  double metallic = 0.0;  // 0..1: 1 reflects in its albedo's colour and has no diffuse term
+  double sheen = 0.0;     // 0..1: cloth's soft rim of fibres catching grazing light
+  double roughnessValue() const;
   // Wrap lighting, 0..1 (a cheap stand-in for light scattered under skin): the diffuse term
   // (n·l + w)/(1 + w) reaches past the terminator; 0 is Lambert.
   double wrap = 0.0;
@@ -29,6 +40,8 @@ struct DrawMaterial {
   std::optional<Vec3> back_color;
   bool checker = false;       // checkerboard of `color` and a darker shade, 0.5 m squares
 };
+
+inline double DrawMaterial::roughnessValue() const { return roughness ? *roughness : brdf::roughnessOfShininess(shininess); }
 
 struct DrawMesh {
   // Static geometry is shared between frames (the renderer keeps its GPU copy while the pointer
@@ -99,7 +112,10 @@ struct DrawList {
   Vec3 background_top{0.8, 0.85, 0.9}, background_bottom{0.8, 0.85, 0.9};
   Vec3 fog_color{0.5, 0.6, 0.7};
   double fog_density = 0.0;
-  std::string tonemap = "none";
+  std::string tonemap = "none";  // none | aces
+  double exposure = 0.0;          // EV: the linear picture is scaled by 2^exposure before tone mapping
+  // Image-based light (and the background, if it says so); none: only `lights`.
+  std::shared_ptr<const Environment> environment;
   std::vector<DrawMesh> meshes;
   std::vector<DrawSpheres> spheres;
   std::vector<DrawTubes> tubes;

@@ -7,11 +7,13 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "core/environment.h"
 #include "core/light.h"
 #include "core/scene/body.h"
 #include "core/scene/object.h"
@@ -56,10 +58,24 @@ struct WaterDesc {
 };
 
 // --- what the renderer reads -------------------------------------------------------------------
+// render.environment: light from every direction, a procedural sky or an HDR picture
+// (docs/rendering.md, "Image-based light"), prefiltered once when the scene loads.
+struct EnvironmentDesc {
+  enum class Kind { None, Sky, File } kind = Kind::None;
+  Vec3 zenith{0, 0, 0}, horizon{0, 0, 0}, ground{0, 0, 0};  // sky: linear radiance
+  std::string file;                   // file: the resolved path
+  double intensity = 1.0;             // scales the radiance
+  double rotation_deg = 0.0;          // turns the picture about +y
+  bool background = true;             // seen where nothing covers the picture
+  std::shared_ptr<const Environment> maps;
+};
+
 struct RenderDesc {
   int width = 1280, height = 720, samples = 4;
   Vec3 background_top{0.8, 0.85, 0.9}, background_bottom{0.8, 0.85, 0.9};  // linear colours
   std::string tonemap = "none";  // none | aces
+  double exposure = 0.0;         // EV
+  EnvironmentDesc environment;
   Vec3 fog_color{0.5, 0.6, 0.7};
   double fog_density = 0.0;  // 1/m, 0: no fog
 };

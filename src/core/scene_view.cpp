@@ -27,6 +27,8 @@ void setSceneView(const SceneDesc& scene, double t, DrawList& out) {
   out.fog_color = r.fog_color;
   out.fog_density = r.fog_density;
   out.tonemap = r.tonemap;
+  out.exposure = r.exposure;
+  out.environment = r.environment.maps;
 }
 
 }  // namespace reel

@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 
+#include "io/environment_file.h"
 #include "io/files.h"
 #include "io/json_reader.h"
 #include "io/scene/reader.h"
@@ -14,6 +15,65 @@
 
 namespace reel::io {
 namespace {
+
+// render.environment: "sky" (the background's colours as a sky), or an object with one of `sky`
+// (its colours) or `file`, and intensity, rotation_deg, background. Prefiltered here, once.
+void readEnvironment(const Json& j, RenderDesc& r, Diagnostics& d) {
+  EnvironmentDesc& e = r.environment;
+  const std::string p = "/render/environment";
+  e.zenith = r.background_top;
+  e.horizon = r.background_bottom;
+  e.ground = r.background_bottom * 0.35;
+  RadianceMap map;
+  if (j.is_string()) {
+    if (j.get<std::string>() != "sky") {
+      d.error(p, "expected \"sky\" or an object with `sky` or `file`, got \"" + j.get<std::string>() + "\"");
+      return;
+    }
+    e.kind = EnvironmentDesc::Kind::Sky;
+  } else {
+    Obj o(j, p, d);
+    if (!o.ok()) return;
+    e.intensity = o.number("intensity", e.intensity, kNonNeg);
+    e.rotation_deg = o.number("rotation_deg", e.rotation_deg, Range{-360.0, 360.0});
+    e.background = o.boolean("background", e.background);
+    const bool sky = o.has("sky"), file = o.has("file");
+    if (sky == file) d.error(p, sky ? "give sky or file, not both" : "missing `sky` or `file`");
+    if (sky) {
+      e.kind = EnvironmentDesc::Kind::Sky;
+      const Json* s = o.raw("sky");
+      if (s->is_object()) {
+        Obj so(*s, p + "/sky", d);
+        e.zenith = so.vec3("zenith", e.zenith, kNonNeg);
+        e.horizon = so.vec3("horizon", e.horizon, kNonNeg);
+        e.ground = so.vec3("ground", e.ground, kNonNeg);
+        so.finish();
+      } else if (!s->is_boolean() || !s->get<bool>()) {
+        d.error(p + "/sky", "expected true or an object with zenith, horizon, ground, got " + typeName(*s));
+      }
+    } else if (file) {
+      e.kind = EnvironmentDesc::Kind::File;
+      if (auto f = o.string("file")) {
+        auto path = resolveAsset(d.file(), *f, {".hdr", ".exr", ".png"}, std::size_t{256} << 20);
+        auto m = path.ok() ? readEnvironmentMap(path.value()) : Result<RadianceMap>(path.error());
+        if (!m.ok()) {
+          d.error(p + "/file", m.error().headline());
+          return;
+        }
+        e.file = path.value();
+        map = std::move(m.value());
+      }
+    }
+    o.finish();
+  }
+  if (!d.empty()) return;
+  if (e.kind == EnvironmentDesc::Kind::Sky) map = proceduralSky(e.zenith, e.horizon, e.ground);
+  if (e.kind != EnvironmentDesc::Kind::None) {
+    auto maps = prefilterEnvironment(map, e.intensity, e.rotation_deg);
+    maps->background = e.background;
+    e.maps = maps;
+  }
+}
 
 void readRender(const Json& j, RenderDesc& r, Diagnostics& d) {
   Obj o(j, "/render", d);
@@ -36,6 +96,8 @@ void readRender(const Json& j, RenderDesc& r, Diagnostics& d) {
     }
   }
   r.tonemap = o.choice("tonemap", r.tonemap, {"none", "aces"});
+  r.exposure = o.number("exposure", r.exposure, Range{-16.0, 16.0});
+  if (const Json* e = o.raw("environment")) readEnvironment(*e, r, d);
   if (const Json* f = o.raw("fog")) {
     Obj g(*f, "/render/fog", d);
     r.fog_color = g.vec3("color", r.fog_color, kNonNeg);

@@ -7,7 +7,9 @@
 #include <cstdlib>
 #include <deque>
 #include <filesystem>
+#include <map>
 
+#include "core/brdf.h"
 #include "core/math.h"
 #include "render/gl/objects.h"
 #include "render/gl/program.h"
@@ -34,7 +36,12 @@ struct Renderer::Impl {
   RenderSettings set;
   gl::UniformCache uniforms;  // of every program below
   SurfaceShaders surfaces;
-  gl::Program shadow, shadow_instanced, background;
+  gl::Program shadow, shadow_instanced;
+  std::map<std::string, gl::Program> backgrounds;  // by #defines: ACES, ENVIRONMENT
+  // The split-sum table (core/brdf.h) and the scene's environment, uploaded once.
+  gl::Texture dfg_tex, env_tex;
+  std::weak_ptr<const Environment> env_owner;
+  const Environment* env_uploaded = nullptr;
   gl::VertexArray empty_vao;  // the background's full-screen triangle needs no attributes
   // Multisampled colour + depth, resolved into a single-sample colour buffer; two shadow maps.
   gl::Renderbuffer msaa_color, msaa_depth, resolve_color;
@@ -65,8 +72,10 @@ struct Renderer::Impl {
   Vec3 eye{0, 0, 0};
   std::vector<std::uint8_t> readback;  // RGB8, bottom row first
 
-  Impl(const gl::GlApi& api, const RenderSettings& s, const std::string& shader_dir)
-      : gl(&api), set(s), surfaces(api, uniforms, shader_dir, s.shadow_map_size), meshes(api), textures(api) {}
+  std::string shader_dir;
+
+  Impl(const gl::GlApi& api, const RenderSettings& s, const std::string& dir)
+      : gl(&api), set(s), surfaces(api, uniforms, dir, s.shadow_map_size), meshes(api), textures(api), shader_dir(dir) {}
 
   GLint loc(GLuint prog, const char* name) { return uniforms.get(*gl, prog, name); }
 
@@ -79,6 +88,8 @@ struct Renderer::Impl {
   Status mainPass(const DrawList& list, const Vec3& center, double radius, const std::vector<int>& light_shadow,
                   const std::array<Mat4f, 2>& shadow_mats);
   Status readBack(Image& out);
+  void uploadEnvironment(const DrawList& list);
+  Status drawBackground(const DrawList& list, const Mat4f& view_proj);
 
   // One geometry pass: the shadow program for every item (with_material false), or each item's
   // surface variant for the opaque or the transparent items.
@@ -107,9 +118,16 @@ Status Renderer::Impl::init(const std::string& dir) {
   sh = gl::buildProgram(*gl, dir, "shadow.vert", "shadow.frag", true, "#define INSTANCED\n");
   if (!sh.ok()) return sh.error();
   shadow_instanced = std::move(sh.value());
-  auto bg = gl::buildProgram(*gl, dir, "background.vert", "background.frag", false);
-  if (!bg.ok()) return bg.error();
-  background = std::move(bg.value());
+  // The split-sum table: 32 x 32 (n·v, roughness), 256 samples each, a few milliseconds.
+  const brdf::DfgTable dfg = brdf::integrateDfg(32, 256);
+  dfg_tex = gl::makeTexture(*gl);
+  gl->BindTexture(GL_TEXTURE_2D, dfg_tex.id());
+  gl->TexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, dfg.size, dfg.size, 0, GL_RG, GL_FLOAT, dfg.ab.data());
+  gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  env_tex = gl::makeTexture(*gl);
   empty_vao = gl::makeVertexArray(*gl);
   inst.buffer = gl::makeBuffer(*gl);
   inst_color.buffer = gl::makeBuffer(*gl);
@@ -409,21 +427,12 @@ Status Renderer::Impl::mainPass(const DrawList& list, const Vec3& center, double
     gl->ActiveTexture(GL_TEXTURE1 + static_cast<GLenum>(i));
     gl->BindTexture(GL_TEXTURE_2D, shadow_tex[i].id());
   }
+  gl->ActiveTexture(GL_TEXTURE0 + kDfgUnit);
+  gl->BindTexture(GL_TEXTURE_2D, dfg_tex.id());
+  uploadEnvironment(list);
   gl->ActiveTexture(GL_TEXTURE0);
   if (Status st = drawGeometry(list, Pass{true, false}); !st) return st;
-  // Background gradient after the opaque geometry, at the far plane with depth testing on: it
-  // only shades the pixels nothing covers.
-  gl->DepthFunc(GL_LEQUAL);
-  gl->DepthMask(GL_FALSE);
-  gl->UseProgram(background.id());
-  surfaces.programChanged();
-  const Vec3& bt = list.background_top;
-  const Vec3& bb = list.background_bottom;
-  gl->Uniform3f(loc(background.id(), "u_top"), float(bt.x()), float(bt.y()), float(bt.z()));
-  gl->Uniform3f(loc(background.id(), "u_bottom"), float(bb.x()), float(bb.y()), float(bb.z()));
-  gl->BindVertexArray(empty_vao.id());
-  gl->DrawArrays(GL_TRIANGLES, 0, 3);
-  gl->DepthFunc(GL_LESS);
+  if (Status st = drawBackground(list, view_proj); !st) return st;
   // Transparent surfaces after the opaque ones, blended, without writing depth.
   gl->Enable(GL_BLEND);
   gl->BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
@@ -431,6 +440,62 @@ Status Renderer::Impl::mainPass(const DrawList& list, const Vec3& center, double
   gl->DepthMask(GL_TRUE);
   gl->Disable(GL_BLEND);
   return tr;
+}
+
+// The scene's environment as one mipmapped float texture, its levels the prefiltered roughness
+// levels (each half the size of the one before, as a mipmap chain is), uploaded when it changes.
+void Renderer::Impl::uploadEnvironment(const DrawList& list) {
+  const Environment* env = list.environment.get();
+  gl->ActiveTexture(GL_TEXTURE0 + kEnvUnit);
+  gl->BindTexture(GL_TEXTURE_2D, env_tex.id());
+  const bool same = env == env_uploaded && !env_owner.expired();
+  if (env && !same) {
+    for (std::size_t k = 0; k < env->levels.size(); ++k) {
+      const RadianceMap& m = env->levels[k];
+      gl->TexImage2D(GL_TEXTURE_2D, static_cast<GLint>(k), GL_RGB32F, m.width, m.height, 0, GL_RGB, GL_FLOAT, m.rgb.data());
+    }
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, static_cast<GLint>(env->levels.size() - 1));
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    env_uploaded = env;
+    env_owner = list.environment;
+  }
+  gl->ActiveTexture(GL_TEXTURE0);
+}
+
+// The background after the opaque geometry, at the far plane with depth testing on: it only
+// shades the pixels nothing covers. The environment where the scene shows it, else the gradient.
+Status Renderer::Impl::drawBackground(const DrawList& list, const Mat4f& view_proj) {
+  const bool env = list.environment && list.environment->background;
+  std::string defines;
+  if (list.tonemap == "aces") defines += "#define ACES\n";
+  if (env) defines += "#define ENVIRONMENT\n";
+  auto it = backgrounds.find(defines);
+  if (it == backgrounds.end()) {
+    auto bg = gl::buildProgram(*gl, shader_dir, "background.vert", "background.frag", false, defines);
+    if (!bg.ok()) return bg.error();
+    it = backgrounds.emplace(defines, std::move(bg.value())).first;
+  }
+  const GLuint prog = it->second.id();
+  gl->DepthFunc(GL_LEQUAL);
+  gl->DepthMask(GL_FALSE);
+  gl->UseProgram(prog);
+  surfaces.programChanged();
+  const Vec3& bt = list.background_top;
+  const Vec3& bb = list.background_bottom;
+  gl->Uniform3f(loc(prog, "u_top"), float(bt.x()), float(bt.y()), float(bt.z()));
+  gl->Uniform3f(loc(prog, "u_bottom"), float(bb.x()), float(bb.y()), float(bb.z()));
+  gl->Uniform1f(loc(prog, "u_exposure"), float(exposureScale(list)));
+  const Mat4f inv = view_proj.inverse();
+  gl->UniformMatrix4fv(loc(prog, "u_inv_view_proj"), 1, GL_FALSE, inv.data());
+  gl->Uniform3f(loc(prog, "u_eye"), float(eye.x()), float(eye.y()), float(eye.z()));
+  gl->Uniform1i(loc(prog, "u_env"), kEnvUnit);
+  gl->BindVertexArray(empty_vao.id());
+  gl->DrawArrays(GL_TRIANGLES, 0, 3);
+  gl->DepthFunc(GL_LESS);
+  return {};
 }
 
 // Resolves the samples and reads the pixels back, top row first.

@@ -1,6 +1,7 @@
 #include "render/surfaces.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace reel {
@@ -11,9 +12,10 @@ SurfaceShaders::SurfaceShaders(const gl::GlApi& gl, gl::UniformCache& uniforms, 
 
 Status SurfaceShaders::compileRichest() {
   frame_defines_ = "#define LIGHTS c += DIRECTIONAL_SHADOW(0, 0); c += POINT_SHADOW(1, 1); c += AMBIENT(2);\n"
-                   "#define FOG\n#define ACES\n";
+                   "#define FOG\n#define ACES\n#define ENVIRONMENT\n";
   DrawMaterial probe;
   probe.specular = 1;
+  probe.sheen = 1;
   probe.double_sided = probe.checker = true;
   TextureCache no_textures(*gl_);  // the probe has no texture
   return use(probe, no_textures);
@@ -26,6 +28,12 @@ void SurfaceShaders::beginFrame(const DrawList& list, const std::vector<int>& li
   fu_.shadow_mats = shadow_mats;
   fu_.fog_color = list.fog_color.cast<float>();
   fu_.fog_density = float(list.fog_density);
+  fu_.exposure = float(exposureScale(list));
+  if (list.environment) {
+    for (std::size_t i = 0; i < 9; ++i)
+      for (int k = 0; k < 3; ++k) fu_.sh[3 * i + static_cast<std::size_t>(k)] = float(list.environment->sh[i][k]);
+    fu_.env_lod = float(list.environment->levels.size() - 1);
+  }
   // The light list unrolled: one shading call per light, with its shadow map if it has one.
   std::string lights;
   const std::size_t nl = std::min<std::size_t>(list.lights.size(), 8);
@@ -47,6 +55,7 @@ void SurfaceShaders::beginFrame(const DrawList& list, const std::vector<int>& li
   frame_defines_ = "#define LIGHTS" + lights + "\n";
   if (list.fog_density > 0) frame_defines_ += "#define FOG\n";
   if (list.tonemap == "aces") frame_defines_ += "#define ACES\n";
+  if (list.environment) frame_defines_ += "#define ENVIRONMENT\n";
   ++frame_no_;
   current_ = 0;
 }
@@ -55,7 +64,8 @@ Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures, bool i
   // The variant: the frame's #defines and the material's.
   std::string key = frame_defines_;
   if (instanced) key += "#define INSTANCED\n";
-  if (m.specular > 0) key += "#define SPECULAR\n";
+  if (m.specular > 0 || m.metallic > 0) key += "#define SPECULAR\n";
+  if (m.sheen > 0) key += "#define SHEEN\n";
   if (m.double_sided) key += "#define DOUBLE_SIDED\n";
   if (m.checker) key += "#define CHECKER\n";
   if (m.texture) key += "#define TEXTURED\n";
@@ -79,8 +89,10 @@ Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures, bool i
   if (m.texture) textures.bind(m.texture);
   auto loc = [&](const char* name) { return uniforms_->get(*gl_, prog, name); };
   gl_->Uniform3f(loc("u_color"), float(m.color.x()), float(m.color.y()), float(m.color.z()));
-  gl_->Uniform1f(loc("u_specular"), float(m.specular));
-  gl_->Uniform1f(loc("u_shininess"), float(m.shininess));
+  gl_->Uniform1f(loc("u_f0"), float(0.08 * m.specular));
+  gl_->Uniform1f(loc("u_roughness"), float(m.roughnessValue()));
+  gl_->Uniform1f(loc("u_metallic"), float(m.metallic));
+  if (m.sheen > 0) gl_->Uniform1f(loc("u_sheen"), float(m.sheen));
   gl_->Uniform1f(loc("u_opacity"), float(m.opacity));
   if (m.wrap > 0) gl_->Uniform1f(loc("u_wrap"), float(m.wrap));
   if (m.double_sided) {
@@ -104,6 +116,11 @@ void SurfaceShaders::setFrameUniforms(GLuint prog) {
   gl_->Uniform1i(loc("u_texture"), 0);
   gl_->Uniform3f(loc("u_fog_color"), fu_.fog_color.x(), fu_.fog_color.y(), fu_.fog_color.z());
   gl_->Uniform1f(loc("u_fog_density"), fu_.fog_density);
+  gl_->Uniform1f(loc("u_exposure"), fu_.exposure);
+  gl_->Uniform1i(loc("u_dfg"), kDfgUnit);
+  gl_->Uniform1i(loc("u_env"), kEnvUnit);
+  gl_->Uniform1f(loc("u_env_lod"), fu_.env_lod);
+  gl_->Uniform3fv(loc("u_sh"), 9, fu_.sh.data());
 }
 
 }  // namespace reel

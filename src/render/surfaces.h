@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -15,6 +16,15 @@
 #include "render/uploads.h"
 
 namespace reel {
+
+// Texture units: 0 the material's texture, 1 and 2 the shadow maps, then these.
+inline constexpr int kDfgUnit = 3, kEnvUnit = 4;
+// ACES's input gain: middle grey 0.18 comes out 0.18 (shaders/surface.frag's aces()).
+inline constexpr double kAcesGreyGain = 1.4617;
+// What the frame's linear colours are multiplied by before tone mapping: 2^exposure, with ACES's gain.
+inline double exposureScale(const DrawList& list) {
+  return std::exp2(list.exposure) * (list.tonemap == "aces" ? kAcesGreyGain : 1.0);
+}
 
 class SurfaceShaders {
  public:
@@ -50,6 +60,9 @@ class SurfaceShaders {
     std::array<Mat4f, 2> shadow_mats{Mat4f::Zero(), Mat4f::Zero()};  // world → shadow-map texture space
     Vec3f fog_color = Vec3f::Zero();
     float fog_density = 0;
+    float exposure = 1;  // 2^EV times ACES's grey gain
+    std::array<float, 27> sh{};  // the environment's irradiance harmonics
+    float env_lod = 0;           // its last level
   };
   void setFrameUniforms(GLuint prog);
 

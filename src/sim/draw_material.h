@@ -16,6 +16,9 @@ inline DrawMaterial drawMaterial(const Material& m) {
   d.texture = m.texture_image;
   d.specular = m.specular;
   d.shininess = m.shininess;
+  d.roughness = m.roughness;
+  d.metallic = m.metallic;
+  d.sheen = m.sheen;
   d.opacity = m.opacity;
   d.back_color = m.back_color;
   return d;

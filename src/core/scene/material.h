@@ -18,8 +18,12 @@ struct Material {
   Vec3 color{0.8, 0.8, 0.8};  // linear albedo
   std::string texture;        // resolved path of a PNG, empty for none
   std::shared_ptr<const Image> texture_image;  // its pixels, decoded when the scene loads
-  double specular = 0.0;      // 0..1
-  double shininess = 32.0;    // Phong exponent
+  // The physically based model of DrawMaterial (core/drawlist.h, docs/rendering.md).
+  double specular = 0.0;      // 0..1: a dielectric reflects 0.08·specular at normal incidence
+  double shininess = 32.0;    // Blinn–Phong exponent of older scenes: roughness √√(2/(n+2))
+  std::optional<double> roughness;  // 0..1; given, it replaces shininess
+  double metallic = 0.0;      // 0..1
+  double sheen = 0.0;         // 0..1
   double opacity = 1.0;       // 0..1
   // A sheet's back (the side its normal points away from), plain: this albedo and no texture.
   std::optional<Vec3> back_color;

@@ -37,6 +37,11 @@ void readMaterial(Obj& o, Material& m) {
   }
   m.specular = o.number("specular", m.specular, kUnit);
   m.shininess = o.number("shininess", m.shininess, kPos);
+  if (o.has("roughness")) m.roughness = o.number("roughness", 0.5, kUnit);
+  m.metallic = o.number("metallic", m.metallic, kUnit);
+  m.sheen = o.number("sheen", m.sheen, kUnit);
+  if (o.has("roughness") && o.has("shininess"))
+    o.diag().error(childPath(o.path(), "shininess"), "give roughness or shininess (the older key), not both");
   m.opacity = o.number("opacity", m.opacity, kUnit);
   if (o.has("back_color")) m.back_color = o.vec3("back_color", m.color, kNonNeg);
 }

@@ -35,14 +35,14 @@ Result<Shader> compile(const GlApi& gl, GLenum type, const std::string& src, con
 
 Result<Program> buildProgram(const GlApi& gl, const std::string& dir, const std::string& vs,
                              const std::string& fs, bool with_geometry, const std::string& defines) {
-  std::string vsrc, fsrc, geo;
-  if (!readText(dir + "/" + vs, vsrc) || !readText(dir + "/" + fs, fsrc) ||
+  std::string vsrc, fsrc, geo, color;
+  if (!readText(dir + "/" + vs, vsrc) || !readText(dir + "/" + fs, fsrc) || !readText(dir + "/color.glsl", color) ||
       (with_geometry && !readText(dir + "/geometry.glsl", geo)))
     return Error(ErrorKind::Internal, "shaders not found in " + dir + " (set REEL_SHADERS)");
   const std::string head = "#version 330 core\n";
   auto v = compile(gl, GL_VERTEX_SHADER, head + defines + geo + vsrc, vs);
   if (!v.ok()) return v.error();
-  auto f = compile(gl, GL_FRAGMENT_SHADER, head + defines + fsrc, fs);
+  auto f = compile(gl, GL_FRAGMENT_SHADER, head + defines + color + fsrc, fs);
   if (!f.ok()) return f.error();
   // The shaders are deleted on return; attached, they live on in the program.
   Program p = makeProgram(gl);

@@ -12,7 +12,7 @@ namespace reel::gl {
 
 // Links `vs` + `fs` from the folder `dir` under "#version 330 core". With `with_geometry` the
 // shared vertex placement (geometry.glsl) goes before the vertex shader; `defines` goes before
-// the fragment shader.
+// both, and the shared colour functions (color.glsl) before the fragment shader.
 Result<Program> buildProgram(const GlApi& gl, const std::string& dir, const std::string& vs,
                              const std::string& fs, bool with_geometry, const std::string& defines = "");
 

@@ -1,0 +1,97 @@
+#include "core/brdf.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/math.h"
+
+namespace reel::brdf {
+
+double ggxD(double n_dot_h, double alpha) {
+  const double a2 = alpha * alpha;
+  const double d = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+  return a2 / (kPi * d * d);
+}
+
+double smithV(double n_dot_l, double n_dot_v, double alpha) {
+  const double a2 = alpha * alpha;
+  const double gv = n_dot_l * std::sqrt(n_dot_v * n_dot_v * (1.0 - a2) + a2);
+  const double gl = n_dot_v * std::sqrt(n_dot_l * n_dot_l * (1.0 - a2) + a2);
+  return 0.5 / std::max(gv + gl, 1e-12);
+}
+
+double schlick(double f0, double f90, double cos_theta) {
+  return f0 + (f90 - f0) * std::pow(1.0 - std::clamp(cos_theta, 0.0, 1.0), 5.0);
+}
+
+double roughnessOfShininess(double shininess) {
+  return std::sqrt(std::sqrt(2.0 / (std::max(shininess, 0.0) + 2.0)));
+}
+
+Vec2 hammersley(unsigned k, unsigned n) {
+  unsigned b = k;
+  b = (b << 16u) | (b >> 16u);
+  b = ((b & 0x55555555u) << 1u) | ((b & 0xAAAAAAAAu) >> 1u);
+  b = ((b & 0x33333333u) << 2u) | ((b & 0xCCCCCCCCu) >> 2u);
+  b = ((b & 0x0F0F0F0Fu) << 4u) | ((b & 0xF0F0F0F0u) >> 4u);
+  b = ((b & 0x00FF00FFu) << 8u) | ((b & 0xFF00FF00u) >> 8u);
+  return {(k + 0.5) / n, b * 2.3283064365386963e-10};
+}
+
+Vec3 sampleGgx(const Vec2& u, double alpha) {
+  const double phi = 2.0 * kPi * u.x();
+  const double cos_t = std::sqrt((1.0 - u.y()) / (1.0 + (alpha * alpha - 1.0) * u.y()));
+  const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+  return {sin_t * std::cos(phi), sin_t * std::sin(phi), cos_t};
+}
+
+DfgTable integrateDfg(int size, int samples) {
+  DfgTable t;
+  t.size = size;
+  t.ab.assign(static_cast<std::size_t>(2 * size * size), 0.0f);
+  const unsigned n = static_cast<unsigned>(samples);
+  for (int j = 0; j < size; ++j) {
+    const double rough = (j + 0.5) / size;
+    const double alpha = rough * rough;
+    for (int i = 0; i < size; ++i) {
+      const double nv = (i + 0.5) / size;
+      const Vec3 v(std::sqrt(1.0 - nv * nv), 0.0, nv);
+      double a = 0, b = 0;
+      // ∫ f_s (n·l) dl with l drawn from the GGX half-vector density p(l) = D·(n·h)/(4 v·h):
+      // each sample weighs V·(n·l)·4(v·h)/(n·h), split by Schlick into its F0 and F90 parts.
+      for (unsigned k = 0; k < n; ++k) {
+        const Vec3 h = sampleGgx(hammersley(k, n), alpha);
+        const double vh = v.dot(h);
+        const Vec3 l = 2.0 * vh * h - v;
+        if (l.z() <= 0 || vh <= 0) continue;
+        const double w = smithV(l.z(), nv, alpha) * l.z() * 4.0 * vh / h.z();
+        const double fc = std::pow(1.0 - vh, 5.0);
+        a += (1.0 - fc) * w;
+        b += fc * w;
+      }
+      const std::size_t at = static_cast<std::size_t>(2 * (j * size + i));
+      t.ab[at] = static_cast<float>(a / n);
+      t.ab[at + 1] = static_cast<float>(b / n);
+    }
+  }
+  return t;
+}
+
+Vec2 DfgTable::at(double n_dot_v, double roughness) const {
+  auto coord = [&](double x, int& i0, double& f) {
+    const double p = std::clamp(x * size - 0.5, 0.0, size - 1.0);
+    i0 = std::min(static_cast<int>(p), size - 2);
+    f = p - i0;
+  };
+  int i, j;
+  double fi, fj;
+  coord(n_dot_v, i, fi);
+  coord(roughness, j, fj);
+  auto v = [&](int x, int y) {
+    const std::size_t k = static_cast<std::size_t>(2 * (y * size + x));
+    return Vec2(ab[k], ab[k + 1]);
+  };
+  return (1 - fj) * ((1 - fi) * v(i, j) + fi * v(i + 1, j)) + fj * ((1 - fi) * v(i, j + 1) + fi * v(i + 1, j + 1));
+}
+
+}  // namespace reel::brdf

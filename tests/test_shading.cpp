@@ -1,0 +1,267 @@
+// Physically based shading: the BRDF's tables, the environment's prefiltering, the furnace test,
+// the GGX highlight against the CPU's formula, tone mapping, environment files and their keys.
+#include <doctest/doctest.h>
+
+#include <ImfRgbaFile.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "core/brdf.h"
+#include "core/environment.h"
+#include "core/math.h"
+#include "io/environment_file.h"
+#include "render_helpers.h"
+
+using namespace reel;
+using namespace reel::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+double linear(std::uint8_t v) {
+  const double c = v / 255.0;
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+
+// A sphere of radius 0.8 at the origin seen from +z, filling most of a 96x96 picture, under
+// `lights` and a render section's `extra` keys.
+std::string sphereScene(const std::string& material, const std::string& lights, const std::string& extra) {
+  return R"({"format": "reel/1", "duration": 0.1,
+    "render": {"width": 96, "height": 96, "samples": 1, "background": [0, 0, 0])" + extra + R"(},
+    "camera": {"position": [0, 0, 4], "target": [0, 0, 0], "fov_deg": 30},
+    "lights": [)" + lights + R"(],
+    "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 0.8, )" + material + "}]}";
+}
+
+// The pixels well inside the sphere's silhouette (3 pixels in from its edge).
+template <class F>
+void forSpherePixels(const Image& img, F&& f) {
+  const double r_px = 48.0 * std::tan(std::asin(0.8 / 4.0)) / std::tan(15.0 * kPi / 180.0);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      if (std::hypot(x + 0.5 - 48, y + 0.5 - 48) < r_px - 3) f(x, y);
+}
+
+std::string uniformSky(double L) {
+  char b[256];
+  std::snprintf(b, sizeof b, R"(, "environment": {"sky": {"zenith": [%g, %g, %g], "horizon": [%g, %g, %g], "ground": [%g, %g, %g]}})",
+                L, L, L, L, L, L, L, L, L);
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("the split-sum table: a smooth mirror reflects everything, rough GGX loses energy, as documented") {
+  const brdf::DfgTable t = brdf::integrateDfg(32, 512);
+  // Nearly smooth, facing: A + B is the whole reflectance (F0 = F90 = 1 reflects all).
+  const Vec2 smooth = t.at(0.98, 0.02);
+  CHECK(smooth.x() + smooth.y() == doctest::Approx(1.0).epsilon(0.02));
+  // Single-scattering GGX loses light with roughness (docs/rendering.md's table).
+  double prev = 2;
+  for (double r : {0.1, 0.4, 0.7, 1.0}) {
+    const Vec2 ab = t.at(0.5, r);
+    CAPTURE(r);
+    CHECK(ab.x() + ab.y() <= prev + 1e-6);
+    prev = ab.x() + ab.y();
+  }
+  // At roughness 1, n·v = 0.5, about half is lost (54% here; docs/rendering.md).
+  CHECK(prev < 0.6);
+  CHECK(prev > 0.35);
+  // B (the Fresnel edge) grows at grazing angles.
+  CHECK(t.at(0.05, 0.5).y() > t.at(0.95, 0.5).y());
+}
+
+TEST_CASE("a uniform environment prefilters to itself and its irradiance is the radiance") {
+  const RadianceMap m = proceduralSky(Vec3(0.7, 0.7, 0.7), Vec3(0.7, 0.7, 0.7), Vec3(0.7, 0.7, 0.7), 64);
+  const auto env = prefilterEnvironment(m, 1.0, 0.0);
+  REQUIRE(env->levels.size() == 6);
+  CHECK(env->levels[0].width == 256);
+  CHECK(env->levels[5].width == 8);
+  for (const Vec3& d : {Vec3(0, 1, 0), Vec3(1, 0, 0), Vec3(0.3, -0.9, 0.2), Vec3(0, 0, -1)}) {
+    CHECK(env->diffuse(d).x() == doctest::Approx(0.7).epsilon(0.005));
+    for (double r : {0.0, 0.5, 1.0}) CHECK(env->specular(d, r).y() == doctest::Approx(0.7).epsilon(0.005));
+  }
+}
+
+TEST_CASE("a sky's irradiance from nine harmonics matches the cosine-weighted integral") {
+  const RadianceMap m = proceduralSky(Vec3(0.2, 0.4, 1.0), Vec3(0.9, 0.9, 0.8), Vec3(0.1, 0.08, 0.05), 128);
+  const auto env = prefilterEnvironment(m, 2.0, 0.0);
+  const RadianceMap& m0 = env->levels[0];
+  for (const Vec3& n0 : {Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(1, 0.2, 0), Vec3(0.3, 0.5, -0.8)}) {
+    const Vec3 n = n0.normalized();
+    Vec3 e = Vec3::Zero();  // ∫ L cos / π over the texels
+    for (int y = 0; y < m0.height; ++y)
+      for (int x = 0; x < m0.width; ++x) {
+        const Vec3 d = m0.directionOf(x + 0.5, y + 0.5);
+        const double w = (2 * kPi / m0.width) * (kPi / m0.height) * std::sin(kPi * (y + 0.5) / m0.height);
+        e += m0.texel(x, y) * std::max(0.0, n.dot(d)) * w / kPi;
+      }
+    CAPTURE(n.transpose());
+    // Order 2 keeps irradiance within a few percent (Ramamoorthi & Hanrahan: 1% average error);
+    // the dark ground under a bright horizon is the hardest case.
+    for (int k = 0; k < 3; ++k) CHECK(env->diffuse(n)[k] == doctest::Approx(e[k]).epsilon(0.06));
+  }
+  CHECK(env->diffuse(Vec3(0, 1, 0)).z() > 3 * env->diffuse(Vec3(0, -1, 0)).z());
+  // Turning the map turns the light: a sky with a bright east looks bright from the north after 90°.
+  RadianceMap east = m;
+  for (int y = 0; y < east.height; ++y)
+    for (int x = 0; x < east.width; ++x)
+      if (east.directionOf(x + 0.5, y + 0.5).x() > 0.7)
+        for (int k = 0; k < 3; ++k) east.rgb[3 * (static_cast<std::size_t>(y) * east.width + x) + k] = 20.0f;
+  const auto turned = prefilterEnvironment(east, 1.0, 90.0);
+  const auto plain = prefilterEnvironment(east, 1.0, 0.0);
+  CHECK(plain->diffuse(Vec3(1, 0, 0)).x() > 2 * plain->diffuse(Vec3(0, 0, -1)).x());
+  CHECK(turned->diffuse(Vec3(0, 0, -1)).x() == doctest::Approx(plain->diffuse(Vec3(1, 0, 0)).x()).epsilon(0.03));
+}
+
+TEST_CASE("furnace: a white rough sphere under a uniform white environment renders at its albedo") {
+  const double L = 0.5;
+  // Rough dielectric (4% Fresnel), a rough white metal, a smooth white metal, a grey Lambert ball.
+  for (auto [material, albedo] : {std::pair{std::string(R"("color": [1, 1, 1], "specular": 0.5, "roughness": 0.8)"), 1.0},
+                                  std::pair{std::string(R"("color": [1, 1, 1], "specular": 0.5, "roughness": 0.3)"), 1.0},
+                                  std::pair{std::string(R"("color": [1, 1, 1], "metallic": 1, "roughness": 0.9)"), 1.0},
+                                  std::pair{std::string(R"("color": [1, 1, 1], "metallic": 1, "roughness": 0.2)"), 1.0},
+                                  std::pair{std::string(R"("color": [0.5, 0.5, 0.5])"), 0.5}}) {
+    CAPTURE(material);
+    const Image img = renderScene(sphereScene(material, "", uniformSky(L)));
+    double worst = 0;
+    int n = 0;
+    forSpherePixels(img, [&](int x, int y) {
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(linear(img.pixel(x, y)[c]) / (albedo * L) - 1.0));
+      ++n;
+    });
+    CHECK(n > 2000);
+    CHECK(worst < 0.02);
+  }
+}
+
+TEST_CASE("the GGX highlight of a directional light matches the BRDF computed on the CPU") {
+  // Light and camera along the sphere's normal at the picture's centre: n = v = l = h there, so
+  // the pixel is E·(ρ(1 − E_s) + F0·comp·D·V·π) with D = 1/(πα²), V = 1/4.
+  const brdf::DfgTable t = brdf::integrateDfg(32, 256);
+  for (double rough : {0.35, 0.6}) {
+    CAPTURE(rough);
+    const double rho = 0.4, f0 = 0.08 * 0.5, E = 0.9, alpha = rough * rough;
+    const std::string mat = R"("color": [0.4, 0.4, 0.4], "specular": 0.5, "roughness": )" + std::to_string(rough);
+    const Image img = renderScene(sphereScene(mat, R"({"type": "directional", "direction": [0, 0, -1], "intensity": 0.9})", ""));
+    const Vec2 ab = t.at(1.0, rough);
+    const double comp = 1.0 + f0 * (1.0 / (ab.x() + ab.y()) - 1.0);
+    const double es = (f0 * ab.x() + 1.0 * ab.y()) * comp;
+    const double spec = kPi * brdf::ggxD(1.0, alpha) * brdf::smithV(1.0, 1.0, alpha) * f0 * comp;
+    const double want = E * (rho * (1.0 - es) + spec);
+    CHECK(brdf::smithV(1.0, 1.0, alpha) == doctest::Approx(0.25));
+    const double got = linear(img.pixel(48, 48)[1]);
+    CHECK(got == doctest::Approx(want).epsilon(0.015));
+    // Off the highlight, 30° round the sphere, the specular term has fallen away steeply.
+    const double got_off = linear(img.pixel(48 + 20, 48)[1]);
+    CHECK(got_off < got - 0.8 * E * spec);
+  }
+}
+
+TEST_CASE("ACES keeps middle grey, compresses white to 0.73 and exposure doubles per EV") {
+  auto plane = [](double ambient, const std::string& extra) {
+    char b[1024];
+    std::snprintf(b, sizeof b, R"({"format": "reel/1", "duration": 0.1,
+      "render": {"width": 32, "height": 24, "samples": 1, "background": [0, 0, 0], "tonemap": "aces"%s},
+      "camera": {"position": [0, 3, 0.001], "target": [0, 0, 0]},
+      "lights": [{"type": "ambient", "intensity": %g}],
+      "objects": [{"type": "plane", "color": [1, 1, 1]}]})", extra.c_str(), ambient);
+    return renderScene(b).pixel(16, 12)[1];
+  };
+  CHECK(std::abs(int(plane(0.18, "")) - int(std::lround(255 * srgb(0.18)))) <= 1);
+  CHECK(std::abs(int(plane(1.0, "")) - int(std::lround(255 * srgb(0.73)))) <= 2);
+  CHECK(std::abs(int(plane(0.09, R"(, "exposure": 1)")) - int(std::lround(255 * srgb(0.18)))) <= 1);
+}
+
+TEST_CASE("environment files: Radiance .hdr (run-length and flat), OpenEXR and PNG") {
+  const fs::path dir = freshDir("envfiles");
+  // 8 x 2: a run-length scanline of (128, 64, 32 | e 129), then a flat one of (128, 128, 128 | 128).
+  std::string hdr = "#?RADIANCE\n# reel test\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 8\n";
+  hdr += std::string{2, 2, 0, 8};
+  for (unsigned char v : {128, 64, 32, 129}) hdr += std::string{static_cast<char>(128 + 8), static_cast<char>(v)};
+  for (int x = 0; x < 8; ++x) hdr += std::string(4, static_cast<char>(128));
+  std::ofstream(dir / "a.hdr", std::ios::binary) << hdr;
+  auto m = io::readEnvironmentMap((dir / "a.hdr").string());
+  REQUIRE_MESSAGE(m.ok(), (m.ok() ? "" : m.error().headline()));
+  CHECK(m.value().width == 8);
+  CHECK(m.value().height == 2);
+  CHECK(m.value().texel(3, 0).x() == doctest::Approx(128.5 / 128));
+  CHECK(m.value().texel(3, 0).y() == doctest::Approx(64.5 / 128));
+  CHECK(m.value().texel(7, 0).z() == doctest::Approx(32.5 / 128));
+  CHECK(m.value().texel(5, 1).x() == doctest::Approx(128.5 / 256));
+  // Truncated, not RGBE, a foreign format: errors that name the file.
+  std::ofstream(dir / "cut.hdr", std::ios::binary) << hdr.substr(0, hdr.size() - 3);
+  auto cut = io::readEnvironmentMap((dir / "cut.hdr").string());
+  REQUIRE(!cut.ok());
+  CHECK(cut.error().headline().find("truncated") != std::string::npos);
+  CHECK(cut.error().headline().find("cut.hdr") != std::string::npos);
+  std::ofstream(dir / "no.hdr", std::ios::binary) << "P6\n8 2\n255\n";
+  CHECK(!io::readEnvironmentMap((dir / "no.hdr").string()).ok());
+  CHECK(!io::readEnvironmentMap((dir / "a.tga").string()).ok());
+  // OpenEXR: half floats, any value including above 1.
+  {
+    Imf::Rgba px[2 * 4];
+    for (int k = 0; k < 8; ++k) px[k] = Imf::Rgba(k * 1.5f, 0.25f, 3.0f, 1.0f);
+    Imf::RgbaOutputFile out((dir / "e.exr").c_str(), 4, 2, Imf::WRITE_RGBA);
+    out.setFrameBuffer(px, 1, 4);
+    out.writePixels(2);
+  }
+  auto e = io::readEnvironmentMap((dir / "e.exr").string());
+  REQUIRE_MESSAGE(e.ok(), (e.ok() ? "" : e.error().headline()));
+  CHECK(e.value().texel(3, 1).x() == doctest::Approx(7 * 1.5));
+  CHECK(e.value().texel(0, 0).z() == doctest::Approx(3.0));
+  std::ofstream(dir / "bad.exr", std::ios::binary) << "not an exr";
+  auto bad = io::readEnvironmentMap((dir / "bad.exr").string());
+  REQUIRE(!bad.ok());
+  CHECK(bad.error().kind == ErrorKind::BadInput);
+}
+
+TEST_CASE("an environment file lights the scene and is seen as its background") {
+  const fs::path dir = freshDir("envscene");
+  // Upper half bright blue-white sky, lower half dark brown ground.
+  std::string hdr = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8 +X 16\n";
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 16; ++x)
+      hdr += y < 4 ? std::string{char(100), char(110), char(127), char(129)} : std::string{char(40), char(30), char(20), char(128)};
+  std::ofstream(dir / "sky.hdr", std::ios::binary) << hdr;
+  const std::string scene = R"({"format": "reel/1", "duration": 0.1,
+    "render": {"width": 64, "height": 64, "samples": 1, "environment": {"file": "sky.hdr"}},
+    "camera": {"position": [0, 0, 4], "target": [0, 0, 0], "fov_deg": 40}, "lights": [],
+    "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 0.8, "color": [0.8, 0.8, 0.8]}]})";
+  const Image img = renderScene(scene, gl::Backend::OSMesa, 0, (dir / "s.json").string());
+  // The sphere's top faces the sky, its bottom the ground.
+  CHECK(img.pixel(32, 20)[2] > img.pixel(32, 44)[2] + 40);
+  // The background: sky above the horizon, ground below, at the file's radiance.
+  CHECK(std::abs(int(img.pixel(2, 2)[2]) - int(std::lround(255 * srgb(127.5 / 128)))) <= 3);
+  CHECK(std::abs(int(img.pixel(2, 61)[0]) - int(std::lround(255 * srgb(40.5 / 256)))) <= 3);
+  // background: false keeps the gradient.
+  std::string hidden = scene;
+  hidden.replace(hidden.find(R"("file": "sky.hdr")"), 17, R"("file": "sky.hdr", "background": false)");
+  hidden.replace(hidden.find(R"("samples": 1,)"), 13, R"("samples": 1, "background": [0, 0, 0],)");
+  CHECK(renderScene(hidden, gl::Backend::OSMesa, 0, (dir / "s.json").string()).pixel(2, 2)[2] == 0);
+}
+
+TEST_CASE("bad environment and material keys are named") {
+  auto err = [](const std::string& render, const std::string& material) {
+    const std::string text = R"({"format": "reel/1", "duration": 0.1, "render": {)" + render +
+                             R"(}, "objects": [{"type": "sphere", "radius": 1)" + material + "}]}";
+    auto r = app::parseScene(text, "bad.json");
+    std::string all;
+    if (!r.ok())
+      for (const std::string& l : r.error().messages) all += l + "\n";
+    return all;
+  };
+  CHECK(err(R"("environment": "moon")", "").find("/render/environment") != std::string::npos);
+  CHECK(err(R"("environment": {"sky": true, "file": "a.hdr"})", "").find("not both") != std::string::npos);
+  CHECK(err(R"("environment": {"intensity": 2})", "").find("missing") != std::string::npos);
+  CHECK(err(R"("environment": {"file": "nowhere.hdr"})", "").find("/render/environment/file") != std::string::npos);
+  CHECK(err(R"("environment": {"sky": {"zenith": [1, -1, 0]}})", "").find("zenith") != std::string::npos);
+  CHECK(err(R"("exposure": 40)", "").find("/render/exposure") != std::string::npos);
+  CHECK(err("", R"(, "roughness": 1.5)").find("roughness") != std::string::npos);
+  CHECK(err("", R"(, "roughness": 0.5, "shininess": 20)").find("not both") != std::string::npos);
+  CHECK(err("", R"(, "metallic": -0.1)").find("metallic") != std::string::npos);
+  CHECK(err(R"("environment": "sky", "exposure": -1)", R"(, "roughness": 0.3, "metallic": 1, "sheen": 0.5)").empty());
+}
