@@ -25,6 +25,9 @@ uniform sampler2DShadow u_shadow_map0;
 uniform sampler2DShadow u_shadow_map1;
 uniform mat4 u_shadow_matrix[2];
 uniform float u_shadow_texel;
+uniform sampler2D u_shadow_raw0;  // the same maps read as depths (no comparison)
+uniform sampler2D u_shadow_raw1;
+uniform vec4 u_shadow_soft[2];    // per map: its penumbra's parameters (render/surfaces.h ShadowFrame)
 
 uniform vec3 u_color;
 uniform vec3 u_back_color;  // DOUBLE_SIDED: the back's albedo
@@ -43,6 +46,8 @@ uniform vec3 u_eye;
 uniform vec3 u_fog_color;
 uniform float u_fog_density;
 uniform float u_exposure;   // 2^EV (with ACES, times its middle-grey gain)
+uniform sampler2D u_ao;     // AO: ambient occlusion of the picture's pixels (ao.frag)
+uniform vec2 u_screen_texel;
 
 // 3 x 3 taps of bilinear percentage-closer filtering: soft edges.
 #define SHADOW_PCF(MAP, S)                                                          \
@@ -61,6 +66,43 @@ uniform float u_exposure;   // 2^EV (with ACES, times its middle-grey gain)
 SHADOW_PCF(u_shadow_map0, 0)
 SHADOW_PCF(u_shadow_map1, 1)
 
+// Percentage-closer soft shadows (Fernando 2005, "Percentage-Closer Soft Shadows"): the mean
+// depth of the blockers found within a search disc gives the penumbra's width by similar
+// triangles, w = (d_receiver − d_blocker)·light size / d_blocker, then 16 filtered taps over a
+// disc that wide (its radius w/2). The discs are golden-angle spirals turned per pixel by
+// interleaved gradient noise (Jimenez 2014); the radii stay between 1.5 and 40 texels.
+float penumbra(vec4 prm, float zr, float zb) {  // in map texture units
+  if (prm.x < 1.5) return max(zr - zb, 0.0) * prm.y;
+  float lr = prm.y * prm.z / (prm.z - zr * (prm.z - prm.y));  // linear distances from the light
+  float lb = prm.y * prm.z / (prm.z - zb * (prm.z - prm.y));
+  return max(lr - lb, 0.0) / max(lb, 1e-4) * prm.w / max(lr, 1e-4);
+}
+vec2 spiral(int i, int n, float turn) {
+  float r = sqrt((float(i) + 0.5) / float(n)), a = float(i) * 2.39996 + turn;
+  return r * vec2(cos(a), sin(a));
+}
+#define SHADOW_PCSS(MAP, RAW, S)                                                    \
+  float shadowSoft##S(vec3 p, vec3 n, vec3 l) {                                     \
+    vec4 q = u_shadow_matrix[S] * vec4(p + n * 0.01, 1.0);                         \
+    q.xyz /= q.w;                                                                    \
+    float zr = q.z - (0.0015 + 0.004 * (1.0 - max(dot(n, l), 0.0)));               \
+    float turn = 6.2831853 * fract(52.9829189 * fract(dot(gl_FragCoord.xy, vec2(0.06711056, 0.00583715)))); \
+    float lo = 1.5 * u_shadow_texel, hi = 40.0 * u_shadow_texel;                   \
+    float search = clamp(penumbra(u_shadow_soft[S], zr, 0.0), lo, hi);              \
+    float sum = 0.0, count = 0.0;                                                    \
+    for (int i = 0; i < 12; ++i) {                                                   \
+      float d = texture(RAW, q.xy + spiral(i, 12, turn) * search).r;                \
+      if (d < zr) { sum += d; count += 1.0; }                                        \
+    }                                                                                \
+    float w = clamp(0.5 * penumbra(u_shadow_soft[S], zr, sum / max(count, 1.0)), lo, hi); \
+    float lit = 0.0;                                                                 \
+    for (int i = 0; i < 16; ++i) lit += texture(MAP, vec3(q.xy + spiral(i, 16, turn) * w, zr)); \
+    bool inside = all(greaterThanEqual(q.xyz, vec3(0.0))) && all(lessThanEqual(q.xyz, vec3(1.0))); \
+    return inside && count > 0.0 ? lit / 16.0 : 1.0;                                 \
+  }
+SHADOW_PCSS(u_shadow_map0, u_shadow_raw0, 0)
+SHADOW_PCSS(u_shadow_map1, u_shadow_raw1, 1)
+
 // The material at this pixel, set once in main() and read by every light.
 vec3 g_kd;                 // diffuse albedo, less what the specular lobe reflects
 vec3 g_f0;                 // specular reflectance at normal incidence
@@ -68,6 +110,7 @@ float g_f90;               // ... at grazing incidence (0 when f0 is: no reflect
 vec3 g_es = vec3(0.0);     // specular albedo E_s for the view direction (with g_comp)
 vec3 g_comp = vec3(1.0);   // multiple-scattering compensation of the specular lobe
 float g_alpha, g_nv;
+float g_ao = 1.0;          // AO: how much of the surroundings this point sees
 vec3 g_sheen = vec3(0.0);  // SHEEN: its colour
 
 // GGX distribution (Walter et al. 2007) and height-correlated Smith visibility G₂/(4 n·l n·v)
@@ -125,7 +168,9 @@ vec3 irradiance(vec3 n) {  // Ramamoorthi & Hanrahan 2001: irradiance / π from 
 #define POINT_RADIANCE(I) (u_light_radiance[I] / max(dot(u_light_vec[I] - v_world, u_light_vec[I] - v_world), 1e-8))
 #define POINT(I) shade(n, view, normalize(u_light_vec[I] - v_world), POINT_RADIANCE(I))
 #define POINT_SHADOW(I, S) (shadow##S(v_world, n, normalize(u_light_vec[I] - v_world)) * POINT(I))
-#define AMBIENT(I) ((g_kd + g_es) * u_light_radiance[I])
+#define DIRECTIONAL_SHADOW_SOFT(I, S) (shadowSoft##S(v_world, n, -normalize(u_light_vec[I])) * DIRECTIONAL(I))
+#define POINT_SHADOW_SOFT(I, S) (shadowSoft##S(v_world, n, normalize(u_light_vec[I] - v_world)) * POINT(I))
+#define AMBIENT(I) ((g_kd + g_es) * u_light_radiance[I] * g_ao)
 
 void main() {
   vec3 n = normalize(v_normal);
@@ -172,12 +217,15 @@ void main() {
   float lum = dot(albedo, vec3(0.2126, 0.7152, 0.0722));
   g_sheen = u_sheen * mix(vec3(1.0), albedo / max(lum, 1e-3), 0.5);
 #endif
+#ifdef AO
+  g_ao = texture(u_ao, gl_FragCoord.xy * u_screen_texel).r;
+#endif
   vec3 c = vec3(0.0);
   LIGHTS
 #ifdef ENVIRONMENT
-  c += g_kd * irradiance(n);
+  c += g_kd * irradiance(n) * g_ao;
 #ifdef SPECULAR
-  c += envAt(reflect(-view, n), rough * u_env_lod) * g_es;
+  c += envAt(reflect(-view, n), rough * u_env_lod) * g_es * g_ao;
 #endif
 #endif
 #ifdef FOG

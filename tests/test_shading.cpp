@@ -265,3 +265,84 @@ TEST_CASE("bad environment and material keys are named") {
   CHECK(err("", R"(, "metallic": -0.1)").find("metallic") != std::string::npos);
   CHECK(err(R"("environment": "sky", "exposure": -1)", R"(, "roughness": 0.3, "metallic": 1, "sheen": 0.5)").empty());
 }
+
+namespace {
+
+// The floor's mean brightness (green) by column, over the middle 40 rows of a top-down picture.
+std::vector<double> columnProfile(const Image& img) {
+  std::vector<double> p(static_cast<std::size_t>(img.width), 0.0);
+  for (int y = img.height / 2 - 20; y < img.height / 2 + 20; ++y)
+    for (int x = 0; x < img.width; ++x) p[static_cast<std::size_t>(x)] += img.pixel(x, y)[1] / 40.0;
+  return p;
+}
+
+// A plate at height h whose edge at x = 0 runs along z, lit by a sun of angular diameter
+// `angle` shining along (1, −1, 0): its shadow's edge falls at x = h. Seen from straight above,
+// 60 px to the metre around x = h. Returns the 10–90% width of that edge in metres.
+double penumbraWidth(double h, double angle) {
+  char b[1400];
+  std::snprintf(b, sizeof b, R"({"format": "reel/1", "duration": 0.1,
+    "render": {"width": 200, "height": 120, "samples": 1, "background": [0, 0, 0]},
+    "camera": {"position": [%g, 8, 0.001], "target": [%g, 0, 0], "fov_deg": 14.25},
+    "lights": [{"type": "directional", "direction": [1, -1, 0], "intensity": 1, "shadows": true, "angle_deg": %g},
+               {"type": "ambient", "intensity": 0.1}],
+    "objects": [{"type": "plane", "size": [6, 6], "color": [0.8, 0.8, 0.8]},
+                {"type": "box", "center": [-1, %g, 0], "size": [2, 0.02, 3]}]})", h, h, angle, h);
+  const std::vector<double> p = columnProfile(renderScene(b));
+  // x = h is the middle column, 60 px to the metre: the full shadow 0.4 m left of it, full
+  // light 0.6 m right (the plate itself, lit, lies left of x = 0).
+  const double dark = p[76], lit = p[136];
+  REQUIRE(lit - dark > 60);
+  auto cross = [&](double f) {
+    const double level = dark + f * (lit - dark);
+    for (std::size_t x = 77; x < 136; ++x)
+      if (p[x - 1] < level && p[x] >= level) return (x - 1) + (level - p[x - 1]) / (p[x] - p[x - 1]);
+    return -1.0;
+  };
+  const double m_per_px = 2.0 * 8 * std::tan(14.25 * kPi / 360) / 120;
+  return (cross(0.9) - cross(0.1)) * m_per_px;
+}
+
+}  // namespace
+
+TEST_CASE("soft shadows: the penumbra grows with the occluder's height and the sun's size") {
+  // A disc light's 10–90% edge is 0.69 of the penumbra's full width, 2·d·tan(θ/2) across the
+  // ray for a distance d = h√2 along it, √2 wider on the floor the ray meets at 45°.
+  auto expected = [](double h, double angle) { return 0.69 * 2 * h * std::sqrt(2.0) * std::tan(angle * kPi / 360) * std::sqrt(2.0); };
+  const double w1 = penumbraWidth(0.5, 8), w2 = penumbraWidth(1.0, 8);
+  CAPTURE(w1);
+  CAPTURE(w2);
+  CHECK(w1 > 0.6 * expected(0.5, 8));
+  CHECK(w1 < 1.5 * expected(0.5, 8));
+  CHECK(w2 > 0.6 * expected(1.0, 8));
+  CHECK(w2 < 1.5 * expected(1.0, 8));
+  CHECK(w2 / w1 > 1.5);
+  CHECK(w2 / w1 < 2.6);
+  // No size: the fixed narrow filter, a few millimetres whatever the height.
+  CHECK(penumbraWidth(1.0, 0) < 0.3 * w2);
+}
+
+TEST_CASE("ambient occlusion darkens the floor beside a box and not the open floor") {
+  auto render = [](bool ao) {
+    const std::string s = std::string(R"({"format": "reel/1", "duration": 0.1,
+      "render": {"width": 160, "height": 120, "samples": 1, "background": [0, 0, 0])") +
+                          (ao ? R"(, "ao": {"radius": 0.4})" : "") + R"(},
+      "camera": {"position": [0, 3, 3], "target": [0, 0, 0], "fov_deg": 40},
+      "lights": [{"type": "ambient", "intensity": 0.8}],
+      "objects": [{"type": "plane", "size": [8, 8], "color": [0.8, 0.8, 0.8]},
+                  {"type": "box", "center": [0, 0.3, 0], "size": [0.6, 0.6, 0.6]}]})";
+    return renderScene(s);
+  };
+  const Image plain = render(false), occluded = render(true);
+  // Ambient light alone shades every face alike: without occlusion the column through the box
+  // is one brightness. With it, the floor at the box's base darkens clearly.
+  int darkest = 255, at = -1;
+  for (int y = 40; y < 120; ++y)
+    if (occluded.pixel(80, y)[1] < darkest) darkest = occluded.pixel(80, y)[1], at = y;
+  CAPTURE(at);
+  CHECK(darkest < plain.pixel(80, at)[1] - 15);
+  for (int y = 40; y < 120; ++y) CHECK(std::abs(int(plain.pixel(80, y)[1]) - int(plain.pixel(80, 119)[1])) <= 1);
+  // Open floor far from the box, near and far from the camera: unchanged.
+  for (auto [x, y] : {std::pair{10, 110}, std::pair{150, 110}, std::pair{20, 50}, std::pair{140, 45}})
+    CHECK(std::abs(int(occluded.pixel(x, y)[1]) - int(plain.pixel(x, y)[1])) <= 2);
+}

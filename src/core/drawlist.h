@@ -116,6 +116,9 @@ struct DrawList {
   double exposure = 0.0;          // EV: the linear picture is scaled by 2^exposure before tone mapping
   // Image-based light (and the background, if it says so); none: only `lights`.
   std::shared_ptr<const Environment> environment;
+  // Screen-space ambient occlusion of the ambient and environment light: the distance it looks
+  // for occluders (m; 0: none) and an exponent that deepens it.
+  double ao_radius = 0.0, ao_strength = 1.0;
   std::vector<DrawMesh> meshes;
   std::vector<DrawSpheres> spheres;
   std::vector<DrawTubes> tubes;

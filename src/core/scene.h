@@ -76,6 +76,8 @@ struct RenderDesc {
   std::string tonemap = "none";  // none | aces
   double exposure = 0.0;         // EV
   EnvironmentDesc environment;
+  double ao_radius = 0.0;        // m; 0: no ambient occlusion
+  double ao_strength = 1.0;
   Vec3 fog_color{0.5, 0.6, 0.7};
   double fog_density = 0.0;  // 1/m, 0: no fog
 };

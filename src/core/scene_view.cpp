@@ -29,6 +29,8 @@ void setSceneView(const SceneDesc& scene, double t, DrawList& out) {
   out.tonemap = r.tonemap;
   out.exposure = r.exposure;
   out.environment = r.environment.maps;
+  out.ao_radius = r.ao_radius;
+  out.ao_strength = r.ao_strength;
 }
 
 }  // namespace reel

@@ -98,6 +98,17 @@ void readRender(const Json& j, RenderDesc& r, Diagnostics& d) {
   r.tonemap = o.choice("tonemap", r.tonemap, {"none", "aces"});
   r.exposure = o.number("exposure", r.exposure, Range{-16.0, 16.0});
   if (const Json* e = o.raw("environment")) readEnvironment(*e, r, d);
+  // ao: true (0.5 m, strength 1), false, or {radius, strength}.
+  if (const Json* a = o.raw("ao")) {
+    if (a->is_boolean()) {
+      r.ao_radius = a->get<bool>() ? 0.5 : 0.0;
+    } else {
+      Obj g(*a, "/render/ao", d);
+      r.ao_radius = g.number("radius", 0.5, Range{0.0, 100.0});
+      r.ao_strength = g.number("strength", r.ao_strength, Range{0.0, 8.0});
+      g.finish();
+    }
+  }
   if (const Json* f = o.raw("fog")) {
     Obj g(*f, "/render/fog", d);
     r.fog_color = g.vec3("color", r.fog_color, kNonNeg);
@@ -156,10 +167,12 @@ void readLights(const Json& j, std::vector<LightDesc>& lights, Diagnostics& d) {
       l.direction = o.vec3("direction", l.direction);
       if (l.direction.norm() == 0) d.error(childPath(p, "direction"), "must not be the zero vector");
       l.shadows = o.boolean("shadows", false);
+      l.size = o.number("angle_deg", 0.0, Range{0.0, 30.0});
     } else if (type == "point") {
       l.kind = LightKind::Point;
       l.position = o.vec3("position", Range::any(), true).value_or(l.position);
       l.shadows = o.boolean("shadows", false);
+      l.size = o.number("radius", 0.0, kNonNeg);
     } else if (type == "ambient") {
       l.kind = LightKind::Ambient;
     }

@@ -11,6 +11,7 @@
 
 #include "core/brdf.h"
 #include "core/math.h"
+#include "render/ao.h"
 #include "render/gl/objects.h"
 #include "render/gl/program.h"
 #include "render/projection.h"
@@ -48,6 +49,7 @@ struct Renderer::Impl {
   gl::Framebuffer msaa_fbo, resolve_fbo;
   std::array<gl::Texture, 2> shadow_tex;
   std::array<gl::Framebuffer, 2> shadow_fbo;
+  gl::Sampler raw_depth;  // the shadow maps read as depths, nearest texel
   // Instancing prototypes and their per-draw data.
   std::array<GpuMesh, 3> sphere_lod;  // coarse, medium, fine
   GpuMesh tube_proto;
@@ -56,6 +58,7 @@ struct Renderer::Impl {
   // The DrawList's meshes and textures.
   MeshCache meshes;
   TextureCache textures;
+  AmbientOcclusion ao;
   // The frame's instanced meshes: one draw per DrawInstances and level of detail, its copies
   // streamed once per frame into a buffer of its own and drawn by every pass.
   struct InstanceDraw {
@@ -75,7 +78,7 @@ struct Renderer::Impl {
   std::string shader_dir;
 
   Impl(const gl::GlApi& api, const RenderSettings& s, const std::string& dir)
-      : gl(&api), set(s), surfaces(api, uniforms, dir, s.shadow_map_size), meshes(api), textures(api), shader_dir(dir) {}
+      : gl(&api), set(s), surfaces(api, uniforms, dir, s.shadow_map_size), meshes(api), textures(api), ao(api, uniforms), shader_dir(dir) {}
 
   GLint loc(GLuint prog, const char* name) { return uniforms.get(*gl, prog, name); }
 
@@ -84,9 +87,10 @@ struct Renderer::Impl {
   Status initShadowMaps();
   Status draw(const DrawList& list, Image& out);
   Status shadowPasses(const DrawList& list, const Vec3& center, double radius, std::vector<int>& light_shadow,
-                      std::array<Mat4f, 2>& shadow_mats);
-  Status mainPass(const DrawList& list, const Vec3& center, double radius, const std::vector<int>& light_shadow,
-                  const std::array<Mat4f, 2>& shadow_mats);
+                      ShadowFrame& shadow_frame);
+  Status mainPass(const DrawList& list, const Mat4f& view_proj, const std::vector<int>& light_shadow,
+                  const ShadowFrame& shadow_frame);
+  Status depthOnly(const DrawList& list, const Mat4f& view_proj);
   Status readBack(Image& out);
   void uploadEnvironment(const DrawList& list);
   Status drawBackground(const DrawList& list, const Mat4f& view_proj);
@@ -95,7 +99,10 @@ struct Renderer::Impl {
   // surface variant for the opaque or the transparent items.
   struct Pass {
     bool with_material, transparent;
-    bool wants(const DrawMaterial& m) const { return !with_material || (m.opacity < 1.0) == transparent; }
+    bool opaque_only = false;  // without material: the camera's depth for occlusion, not a shadow
+    bool wants(const DrawMaterial& m) const {
+      return with_material ? (m.opacity < 1.0) == transparent : !opaque_only || m.opacity >= 1.0;
+    }
   };
   Status drawGeometry(const DrawList& list, Pass pass);
   Status drawSpheres(const DrawSpheres& s, Pass pass);
@@ -191,6 +198,12 @@ Status Renderer::Impl::initTargets() {
 
 // Shadow maps: depth textures compared in the shader (hardware PCF where there is one).
 Status Renderer::Impl::initShadowMaps() {
+  raw_depth = gl::makeSampler(*gl);
+  gl->SamplerParameteri(raw_depth.id(), GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  gl->SamplerParameteri(raw_depth.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  gl->SamplerParameteri(raw_depth.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  gl->SamplerParameteri(raw_depth.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  gl->SamplerParameteri(raw_depth.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   for (auto& t : shadow_tex) t = gl::makeTexture(*gl);
   for (auto& f : shadow_fbo) f = gl::makeFramebuffer(*gl);
   for (std::size_t i = 0; i < 2; ++i) {
@@ -294,7 +307,7 @@ Status Renderer::Impl::drawTubes(const DrawTubes& t, Pass pass) {
   const GLuint prog = program(pass);
   gl->Uniform1i(loc(prog, "u_mode"), 2);
   gl->Uniform1f(loc(prog, "u_radius"), t.radius);
-  gl->Uniform1f(loc(prog, "u_tube_min"), pass.with_material ? static_cast<float>(kMinTubePx / px_per_m_at_1m) : 0.0f);
+  gl->Uniform1f(loc(prog, "u_tube_min"), pass.with_material || pass.opaque_only ? static_cast<float>(kMinTubePx / px_per_m_at_1m) : 0.0f);
   gl->Uniform3f(loc(prog, "u_tube_eye"), static_cast<float>(eye.x()), static_cast<float>(eye.y()), static_cast<float>(eye.z()));
   gl->DrawElementsInstanced(GL_TRIANGLES, tube_proto.count, GL_UNSIGNED_INT, nullptr,
                             static_cast<GLsizei>(t.ends.size() / 6));
@@ -356,16 +369,28 @@ Status Renderer::Impl::draw(const DrawList& list, Image& out) {
   px_per_m_at_1m = 0.5 * set.height / std::tan(list.camera.fov_deg * kPi / 360.0);
   prepareInstances(list);
   std::vector<int> light_shadow(list.lights.size(), -1);
-  std::array<Mat4f, 2> shadow_mats{Mat4f::Zero(), Mat4f::Zero()};
-  if (Status st = shadowPasses(list, center, radius, light_shadow, shadow_mats); !st) return st;
-  if (Status st = mainPass(list, center, radius, light_shadow, shadow_mats); !st) return st;
+  ShadowFrame shadow_frame;
+  if (Status st = shadowPasses(list, center, radius, light_shadow, shadow_frame); !st) return st;
+  // The camera: near and far planes around the scene's bounds.
+  const DrawCamera& cam = list.camera;
+  const double dist = (cam.position - center).norm();
+  const double far_plane = std::max(200.0, 2.0 * (dist + radius));
+  const double near_plane = std::clamp((dist - radius) * 0.5, 0.01, 1.0);
+  const Mat4f proj = perspective(cam.fov_deg, static_cast<double>(set.width) / set.height, near_plane, far_plane);
+  const Mat4f view_proj = proj * lookAt(cam.position, cam.target, cam.up);
+  if (list.ao_radius > 0)
+    if (Status st = ao.run(shader_dir, set.width, set.height, proj, list.ao_radius, list.ao_strength, kAoUnit,
+                           [&] { return depthOnly(list, view_proj); }, msaa_fbo);
+        !st)
+      return st;
+  if (Status st = mainPass(list, view_proj, light_shadow, shadow_frame); !st) return st;
   return readBack(out);
 }
 
 // Shadow passes: an orthographic map along a directional light, a perspective map from a point
 // light, each fitted to the scene's bounding sphere. light_shadow[i] becomes light i's map.
 Status Renderer::Impl::shadowPasses(const DrawList& list, const Vec3& center, double radius,
-                                    std::vector<int>& light_shadow, std::array<Mat4f, 2>& shadow_mats) {
+                                    std::vector<int>& light_shadow, ShadowFrame& shadow_frame) {
   int shadows = 0;
   gl->Enable(GL_DEPTH_TEST);
   gl->DepthFunc(GL_LESS);
@@ -374,15 +399,19 @@ Status Renderer::Impl::shadowPasses(const DrawList& list, const Vec3& center, do
     const LightDesc& l = list.lights[i];
     if (!l.shadows || l.kind == LightKind::Ambient) continue;
     Mat4f vp;
+    float* soft = &shadow_frame.soft[4 * static_cast<std::size_t>(shadows)];
     if (l.kind == LightKind::Directional) {
       const Vec3 d = l.direction.normalized();
       const Vec3 from = center - d * (radius * 2.0);
       vp = ortho(radius, radius * 0.5, radius * 3.5) * lookAt(from, center, Vec3::UnitY());
+      // A penumbra of depth difference · 2 tan(θ/2) m, over a map 2·radius wide and 3·radius deep.
+      if (l.size > 0) soft[0] = 1, soft[1] = float(3.0 * radius * 2.0 * std::tan(l.size * kPi / 360.0) / (2.0 * radius));
     } else {
       const double dist = std::max((l.position - center).norm(), radius * 1.01);
       const double half = std::asin(std::min(radius / dist, 0.99));
-      vp = perspective(2 * half * 180 / kPi, 1.0, std::max(dist - radius, 0.05), dist + radius) *
-           lookAt(l.position, center, Vec3::UnitY());
+      const double near = std::max(dist - radius, 0.05), far = dist + radius;
+      vp = perspective(2 * half * 180 / kPi, 1.0, near, far) * lookAt(l.position, center, Vec3::UnitY());
+      if (l.size > 0) soft[0] = 2, soft[1] = float(near), soft[2] = float(far), soft[3] = float(2.0 * l.size / (2.0 * std::tan(half)));
     }
     gl->BindFramebuffer(GL_FRAMEBUFFER, shadow_fbo[static_cast<std::size_t>(shadows)].id());
     gl->Viewport(0, 0, set.shadow_map_size, set.shadow_map_size);
@@ -399,15 +428,27 @@ Status Renderer::Impl::shadowPasses(const DrawList& list, const Vec3& center, do
     Mat4f bias = Mat4f::Identity();  // clip space [-1, 1] → texture space [0, 1]
     bias.block<3, 3>(0, 0) *= 0.5f;
     bias.block<3, 1>(0, 3) = Vec3f::Constant(0.5f);
-    shadow_mats[static_cast<std::size_t>(shadows)] = bias * vp;
+    shadow_frame.mats[static_cast<std::size_t>(shadows)] = bias * vp;
     light_shadow[i] = shadows++;
   }
   return {};
 }
 
 // Main pass: opaque surfaces, the background where nothing covers, transparent surfaces.
-Status Renderer::Impl::mainPass(const DrawList& list, const Vec3& center, double radius,
-                                const std::vector<int>& light_shadow, const std::array<Mat4f, 2>& shadow_mats) {
+// The camera's depth of the opaque geometry, for ambient occlusion: the shadow programs, which
+// write depth only.
+Status Renderer::Impl::depthOnly(const DrawList& list, const Mat4f& view_proj) {
+  gl->UseProgram(shadow_instanced.id());
+  gl->UniformMatrix4fv(loc(shadow_instanced.id(), "u_view_proj"), 1, GL_FALSE, view_proj.data());
+  gl->UseProgram(shadow.id());
+  gl->UniformMatrix4fv(loc(shadow.id(), "u_view_proj"), 1, GL_FALSE, view_proj.data());
+  Pass pass{false, false};
+  pass.opaque_only = true;
+  return drawGeometry(list, pass);
+}
+
+Status Renderer::Impl::mainPass(const DrawList& list, const Mat4f& view_proj, const std::vector<int>& light_shadow,
+                                const ShadowFrame& shadow_frame) {
   const int W = set.width, H = set.height;
   gl->BindFramebuffer(GL_FRAMEBUFFER, msaa_fbo.id());
   gl->Viewport(0, 0, W, H);
@@ -416,16 +457,14 @@ Status Renderer::Impl::mainPass(const DrawList& list, const Vec3& center, double
   gl->VertexAttrib3f(5, 1.0f, 1.0f, 1.0f);  // white where no per-vertex colour is given
   gl->VertexAttrib1f(11, 0.0f);              // no sheen where no per-vertex gloss is given
   // The frame's uniforms and the #defines of its surface variants.
-  const DrawCamera& cam = list.camera;
-  const double dist = (cam.position - center).norm();
-  const double far_plane = std::max(200.0, 2.0 * (dist + radius));
-  const double near_plane = std::clamp((dist - radius) * 0.5, 0.01, 1.0);
-  const Mat4f view_proj = perspective(cam.fov_deg, static_cast<double>(W) / H, near_plane, far_plane) *
-                          lookAt(cam.position, cam.target, cam.up);
-  surfaces.beginFrame(list, light_shadow, view_proj, shadow_mats);
+  surfaces.beginFrame(list, light_shadow, view_proj, shadow_frame, W, H);
   for (std::size_t i = 0; i < 2; ++i) {
     gl->ActiveTexture(GL_TEXTURE1 + static_cast<GLenum>(i));
     gl->BindTexture(GL_TEXTURE_2D, shadow_tex[i].id());
+    // Again on units 6 and 7 through a sampler that reads depths instead of comparing them.
+    gl->ActiveTexture(GL_TEXTURE0 + kRawShadowUnit + static_cast<GLenum>(i));
+    gl->BindTexture(GL_TEXTURE_2D, shadow_tex[i].id());
+    gl->BindSampler(kRawShadowUnit + static_cast<GLuint>(i), raw_depth.id());
   }
   gl->ActiveTexture(GL_TEXTURE0 + kDfgUnit);
   gl->BindTexture(GL_TEXTURE_2D, dfg_tex.id());

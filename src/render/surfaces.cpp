@@ -11,8 +11,9 @@ SurfaceShaders::SurfaceShaders(const gl::GlApi& gl, gl::UniformCache& uniforms, 
     : gl_(&gl), uniforms_(&uniforms), shader_dir_(std::move(shader_dir)), shadow_map_size_(shadow_map_size) {}
 
 Status SurfaceShaders::compileRichest() {
-  frame_defines_ = "#define LIGHTS c += DIRECTIONAL_SHADOW(0, 0); c += POINT_SHADOW(1, 1); c += AMBIENT(2);\n"
-                   "#define FOG\n#define ACES\n#define ENVIRONMENT\n";
+  frame_defines_ = "#define LIGHTS c += DIRECTIONAL_SHADOW(0, 0); c += POINT_SHADOW(1, 1); c += AMBIENT(2); "
+                   "c += DIRECTIONAL_SHADOW_SOFT(0, 0); c += POINT_SHADOW_SOFT(1, 1);\n"
+                   "#define FOG\n#define ACES\n#define ENVIRONMENT\n#define AO\n";
   DrawMaterial probe;
   probe.specular = 1;
   probe.sheen = 1;
@@ -22,10 +23,12 @@ Status SurfaceShaders::compileRichest() {
 }
 
 void SurfaceShaders::beginFrame(const DrawList& list, const std::vector<int>& light_shadow, const Mat4f& view_proj,
-                                const std::array<Mat4f, 2>& shadow_mats) {
+                                const ShadowFrame& shadows, int width, int height) {
+  fu_.screen_texel[0] = 1.0f / float(width);
+  fu_.screen_texel[1] = 1.0f / float(height);
   fu_.view_proj = view_proj;
   fu_.eye = list.camera.position.cast<float>();
-  fu_.shadow_mats = shadow_mats;
+  fu_.shadows = shadows;
   fu_.fog_color = list.fog_color.cast<float>();
   fu_.fog_density = float(list.fog_density);
   fu_.exposure = float(exposureScale(list));
@@ -46,16 +49,18 @@ void SurfaceShaders::beginFrame(const DrawList& list, const std::vector<int>& li
       fu_.light_rad[3 * i + static_cast<std::size_t>(k)] = float(r[k]);
     }
     const std::string I = std::to_string(i), S = std::to_string(light_shadow[i]);
+    const std::string soft = l.size > 0 ? "_SOFT(" : "(";  // percentage-closer soft shadows
     if (l.kind == LightKind::Ambient) lights += " c += AMBIENT(" + I + ");";
     else if (l.kind == LightKind::Directional)
-      lights += light_shadow[i] >= 0 ? " c += DIRECTIONAL_SHADOW(" + I + ", " + S + ");" : " c += DIRECTIONAL(" + I + ");";
+      lights += light_shadow[i] >= 0 ? " c += DIRECTIONAL_SHADOW" + soft + I + ", " + S + ");" : " c += DIRECTIONAL(" + I + ");";
     else
-      lights += light_shadow[i] >= 0 ? " c += POINT_SHADOW(" + I + ", " + S + ");" : " c += POINT(" + I + ");";
+      lights += light_shadow[i] >= 0 ? " c += POINT_SHADOW" + soft + I + ", " + S + ");" : " c += POINT(" + I + ");";
   }
   frame_defines_ = "#define LIGHTS" + lights + "\n";
   if (list.fog_density > 0) frame_defines_ += "#define FOG\n";
   if (list.tonemap == "aces") frame_defines_ += "#define ACES\n";
   if (list.environment) frame_defines_ += "#define ENVIRONMENT\n";
+  if (list.ao_radius > 0) frame_defines_ += "#define AO\n";
   ++frame_no_;
   current_ = 0;
 }
@@ -111,7 +116,10 @@ void SurfaceShaders::setFrameUniforms(GLuint prog) {
   gl_->Uniform3fv(loc("u_light_radiance"), 8, fu_.light_rad.data());
   gl_->Uniform1i(loc("u_shadow_map0"), 1);
   gl_->Uniform1i(loc("u_shadow_map1"), 2);
-  gl_->UniformMatrix4fv(loc("u_shadow_matrix"), 2, GL_FALSE, fu_.shadow_mats[0].data());
+  gl_->UniformMatrix4fv(loc("u_shadow_matrix"), 2, GL_FALSE, fu_.shadows.mats[0].data());
+  gl_->Uniform4fv(loc("u_shadow_soft"), 2, fu_.shadows.soft.data());
+  gl_->Uniform1i(loc("u_shadow_raw0"), kRawShadowUnit);
+  gl_->Uniform1i(loc("u_shadow_raw1"), kRawShadowUnit + 1);
   gl_->Uniform1f(loc("u_shadow_texel"), 1.0f / float(shadow_map_size_));
   gl_->Uniform1i(loc("u_texture"), 0);
   gl_->Uniform3f(loc("u_fog_color"), fu_.fog_color.x(), fu_.fog_color.y(), fu_.fog_color.z());
@@ -121,6 +129,8 @@ void SurfaceShaders::setFrameUniforms(GLuint prog) {
   gl_->Uniform1i(loc("u_env"), kEnvUnit);
   gl_->Uniform1f(loc("u_env_lod"), fu_.env_lod);
   gl_->Uniform3fv(loc("u_sh"), 9, fu_.sh.data());
+  gl_->Uniform1i(loc("u_ao"), kAoUnit);
+  gl_->Uniform2f(loc("u_screen_texel"), fu_.screen_texel[0], fu_.screen_texel[1]);
 }
 
 }  // namespace reel

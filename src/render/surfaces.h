@@ -18,13 +18,23 @@
 namespace reel {
 
 // Texture units: 0 the material's texture, 1 and 2 the shadow maps, then these.
-inline constexpr int kDfgUnit = 3, kEnvUnit = 4;
+// 6 and 7: the shadow maps again, read as depths (soft shadows' blocker search).
+inline constexpr int kDfgUnit = 3, kEnvUnit = 4, kAoUnit = 5, kRawShadowUnit = 6;
 // ACES's input gain: middle grey 0.18 comes out 0.18 (shaders/surface.frag's aces()).
 inline constexpr double kAcesGreyGain = 1.4617;
 // What the frame's linear colours are multiplied by before tone mapping: 2^exposure, with ACES's gain.
 inline double exposureScale(const DrawList& list) {
   return std::exp2(list.exposure) * (list.tonemap == "aces" ? kAcesGreyGain : 1.0);
 }
+
+// The frame's shadow maps as the surface shader reads them.
+struct ShadowFrame {
+  std::array<Mat4f, 2> mats{Mat4f::Zero(), Mat4f::Zero()};  // world → map texture space
+  // Per map: 0 (a fixed filter) or its light's penumbra: 1 and (depth span · 2 tan(θ/2) / map
+  // width) for an orthographic map; 2, near, far and (light diameter / (2 tan(fov/2))) for a
+  // perspective one.
+  std::array<float, 8> soft{};
+};
 
 class SurfaceShaders {
  public:
@@ -37,7 +47,7 @@ class SurfaceShaders {
   // Starts a frame: its uniforms, and its lights unrolled into the variants' #defines (at most 8;
   // light_shadow[i] is light i's shadow map or -1).
   void beginFrame(const DrawList& list, const std::vector<int>& light_shadow, const Mat4f& view_proj,
-                  const std::array<Mat4f, 2>& shadow_mats);
+                  const ShadowFrame& shadows, int width, int height);
   // Binds the variant for a material (compiling it on first use), uploads the frame's uniforms to
   // it once per frame, then binds the material's texture and sets its uniforms. `instanced`: the
   // variant for instanced meshes (geometry.glsl's INSTANCED).
@@ -57,12 +67,13 @@ class SurfaceShaders {
     Mat4f view_proj = Mat4f::Zero();
     Vec3f eye = Vec3f::Zero();
     std::array<float, 24> light_vec{}, light_rad{};  // xyz per light: position or direction; radiance
-    std::array<Mat4f, 2> shadow_mats{Mat4f::Zero(), Mat4f::Zero()};  // world → shadow-map texture space
+    ShadowFrame shadows;
     Vec3f fog_color = Vec3f::Zero();
     float fog_density = 0;
     float exposure = 1;  // 2^EV times ACES's grey gain
     std::array<float, 27> sh{};  // the environment's irradiance harmonics
     float env_lod = 0;           // its last level
+    float screen_texel[2] = {0, 0};
   };
   void setFrameUniforms(GLuint prog);
 

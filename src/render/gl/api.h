@@ -50,6 +50,10 @@ namespace reel::gl {
   X(ActiveTexture, PFNGLACTIVETEXTUREPROC)                                \
   X(TexImage2D, PFNGLTEXIMAGE2DPROC)                                      \
   X(TexParameteri, PFNGLTEXPARAMETERIPROC)                                \
+  X(GenSamplers, PFNGLGENSAMPLERSPROC)                                    \
+  X(DeleteSamplers, PFNGLDELETESAMPLERSPROC)                              \
+  X(BindSampler, PFNGLBINDSAMPLERPROC)                                    \
+  X(SamplerParameteri, PFNGLSAMPLERPARAMETERIPROC)                        \
   X(TexParameterfv, PFNGLTEXPARAMETERFVPROC)                              \
   X(GenerateMipmap, PFNGLGENERATEMIPMAPPROC)                              \
   X(GenBuffers, PFNGLGENBUFFERSPROC)                                      \
@@ -88,6 +92,8 @@ namespace reel::gl {
   X(Uniform1f, PFNGLUNIFORM1FPROC)                                        \
   X(Uniform3f, PFNGLUNIFORM3FPROC)                                        \
   X(Uniform4f, PFNGLUNIFORM4FPROC)                                        \
+  X(Uniform2f, PFNGLUNIFORM2FPROC)                                        \
+  X(Uniform4fv, PFNGLUNIFORM4FVPROC)                                      \
   X(Uniform1fv, PFNGLUNIFORM1FVPROC)                                      \
   X(Uniform3fv, PFNGLUNIFORM3FVPROC)                                      \
   X(Uniform1iv, PFNGLUNIFORM1IVPROC)                                      \

@@ -7,6 +7,7 @@ void deleteVertexArray(const GlApi& gl, GLuint id) { gl.DeleteVertexArrays(1, &i
 void deleteFramebuffer(const GlApi& gl, GLuint id) { gl.DeleteFramebuffers(1, &id); }
 void deleteRenderbuffer(const GlApi& gl, GLuint id) { gl.DeleteRenderbuffers(1, &id); }
 void deleteTexture(const GlApi& gl, GLuint id) { gl.DeleteTextures(1, &id); }
+void deleteSampler(const GlApi& gl, GLuint id) { gl.DeleteSamplers(1, &id); }
 void deleteShader(const GlApi& gl, GLuint id) { gl.DeleteShader(id); }
 void deleteProgram(const GlApi& gl, GLuint id) { gl.DeleteProgram(id); }
 
@@ -27,6 +28,7 @@ VertexArray makeVertexArray(const GlApi& gl) { return generated<VertexArray>(gl,
 Framebuffer makeFramebuffer(const GlApi& gl) { return generated<Framebuffer>(gl, gl.GenFramebuffers); }
 Renderbuffer makeRenderbuffer(const GlApi& gl) { return generated<Renderbuffer>(gl, gl.GenRenderbuffers); }
 Texture makeTexture(const GlApi& gl) { return generated<Texture>(gl, gl.GenTextures); }
+Sampler makeSampler(const GlApi& gl) { return generated<Sampler>(gl, gl.GenSamplers); }
 
 Shader makeShader(const GlApi& gl, GLenum type) { return {gl, gl.CreateShader(type)}; }
 

@@ -46,6 +46,7 @@ void deleteVertexArray(const GlApi& gl, GLuint id);
 void deleteFramebuffer(const GlApi& gl, GLuint id);
 void deleteRenderbuffer(const GlApi& gl, GLuint id);
 void deleteTexture(const GlApi& gl, GLuint id);
+void deleteSampler(const GlApi& gl, GLuint id);
 void deleteShader(const GlApi& gl, GLuint id);
 void deleteProgram(const GlApi& gl, GLuint id);
 
@@ -54,6 +55,7 @@ using VertexArray = Object<deleteVertexArray>;
 using Framebuffer = Object<deleteFramebuffer>;
 using Renderbuffer = Object<deleteRenderbuffer>;
 using Texture = Object<deleteTexture>;
+using Sampler = Object<deleteSampler>;
 using Shader = Object<deleteShader>;
 using Program = Object<deleteProgram>;
 
@@ -63,6 +65,7 @@ VertexArray makeVertexArray(const GlApi& gl);
 Framebuffer makeFramebuffer(const GlApi& gl);
 Renderbuffer makeRenderbuffer(const GlApi& gl);
 Texture makeTexture(const GlApi& gl);
+Sampler makeSampler(const GlApi& gl);
 Shader makeShader(const GlApi& gl, GLenum type);
 Program makeProgram(const GlApi& gl);
 
