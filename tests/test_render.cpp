@@ -522,37 +522,45 @@ TEST_CASE("the travelling wave bends copies sideways: phase π mirrors phase 0")
   CHECK(shift < 0.115 * px_per_m);
 }
 
-TEST_CASE("the sand pattern: pale warm sand, varied, tileable") {
-  const Image img = makePattern("sand", 128);
-  REQUIRE(img.width == 128);
-  REQUIRE(img.height == 128);
-  double mean[3] = {0, 0, 0}, sq = 0;
-  for (int y = 0; y < 128; ++y)
-    for (int x = 0; x < 128; ++x)
-      for (int c = 0; c < 3; ++c) {
-        mean[c] += img.pixel(x, y)[c] / (128.0 * 128.0);
-        sq += img.pixel(x, y)[c] * img.pixel(x, y)[c] / (3 * 128.0 * 128.0);
-      }
-  CHECK(mean[0] > 170);  // pale
-  CHECK(mean[0] > mean[1]);  // warm
-  CHECK(mean[1] > mean[2]);
-  const double m = (mean[0] + mean[1] + mean[2]) / 3;
-  CHECK(std::sqrt(sq - m * m) > 5);  // not a flat colour
-  // Tileable: the last column runs on into the first as any column into the next (rows alike).
-  auto step = [&](int x0, int y0, int x1, int y1, bool cols) {
-    double s = 0;
-    for (int i = 0; i < 128; ++i)
-      for (int c = 0; c < 3; ++c)
-        s += std::abs(int(img.pixel(cols ? x0 : i, cols ? i : y0)[c]) - int(img.pixel(cols ? x1 : i, cols ? i : y1)[c]));
-    return s / (3 * 128);
-  };
-  double inner_x = 0, inner_y = 0;
-  for (int k = 0; k < 127; ++k) {
-    inner_x += step(k, 0, k + 1, 0, true) / 127;
-    inner_y += step(0, k, 0, k + 1, false) / 127;
+TEST_CASE("the ground patterns: pale warm sand, warm wood, neutral concrete; varied and tileable") {
+  for (const char* name : {"sand", "wood", "concrete"}) {
+    CAPTURE(name);
+    const Image img = makePattern(name, 128);
+    REQUIRE(img.width == 128);
+    REQUIRE(img.height == 128);
+    double mean[3] = {0, 0, 0}, sq = 0;
+    for (int y = 0; y < 128; ++y)
+      for (int x = 0; x < 128; ++x)
+        for (int c = 0; c < 3; ++c) {
+          mean[c] += img.pixel(x, y)[c] / (128.0 * 128.0);
+          sq += img.pixel(x, y)[c] * img.pixel(x, y)[c] / (3 * 128.0 * 128.0);
+        }
+    const std::string n = name;
+    if (n == "sand") CHECK(mean[0] > 170);  // pale
+    if (n != "concrete") {                   // warm
+      CHECK(mean[0] > mean[1] + 5);
+      CHECK(mean[1] > mean[2] + 5);
+    } else {
+      CHECK(std::abs(mean[0] - mean[2]) < 8);  // grey
+    }
+    const double m = (mean[0] + mean[1] + mean[2]) / 3;
+    CHECK(std::sqrt(sq - m * m) > 4);  // not a flat colour
+    // Tileable: the last column runs on into the first as any column into the next (rows alike).
+    auto step = [&](int x0, int y0, int x1, int y1, bool cols) {
+      double s = 0;
+      for (int i = 0; i < 128; ++i)
+        for (int c = 0; c < 3; ++c)
+          s += std::abs(int(img.pixel(cols ? x0 : i, cols ? i : y0)[c]) - int(img.pixel(cols ? x1 : i, cols ? i : y1)[c]));
+      return s / (3 * 128);
+    };
+    double inner_x = 0, inner_y = 0;
+    for (int k = 0; k < 127; ++k) {
+      inner_x += step(k, 0, k + 1, 0, true) / 127;
+      inner_y += step(0, k, 0, k + 1, false) / 127;
+    }
+    CHECK(step(127, 0, 0, 0, true) < 1.3 * inner_x + 0.5);
+    CHECK(step(0, 127, 0, 0, false) < 1.3 * inner_y + 0.5);
   }
-  CHECK(step(127, 0, 0, 0, true) < 1.3 * inner_x + 0.5);
-  CHECK(step(0, 127, 0, 0, false) < 1.3 * inner_y + 0.5);
   CHECK(makePattern("no such pattern", 16).width == 0);
 }
 

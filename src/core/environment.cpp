@@ -46,7 +46,7 @@ RadianceMap proceduralSky(const Vec3& zenith, const Vec3& horizon, const Vec3& g
     const double elevation = kPi / 2 - kPi * (y + 0.5) / m.height;  // radians above the horizon
     const double up = std::clamp(elevation / (kPi / 2), 0.0, 1.0);
     const Vec3 sky = zenith + (horizon - zenith) * std::pow(1.0 - up, 3.0);
-    const double s = std::clamp(0.5 + elevation / (2 * 2.0 * kPi / 180), 0.0, 1.0);  // 0 below −2°, 1 above 2°
+    const double s = std::clamp(1.0 + elevation / (12.0 * kPi / 180), 0.0, 1.0);  // 0 below −12°, 1 from the horizon up
     const Vec3 c = ground + (sky - ground) * (s * s * (3 - 2 * s));
     for (int x = 0; x < m.width; ++x)
       for (int k = 0; k < 3; ++k) m.rgb[3 * (static_cast<std::size_t>(y) * m.width + x) + k] = static_cast<float>(c[k]);

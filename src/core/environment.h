@@ -29,7 +29,8 @@ struct RadianceMap {
 
 // A sky without a sun (the scene's lights are the sun): `zenith` overhead fading to `horizon` at
 // the horizon with (1 − elevation)³, and below the horizon `ground` (light bounced off the
-// ground), blending over 2° so the horizon is soft.
+// ground), reached 12° down: just under the horizon, where a floor's far edge ends, the sky
+// still shows its horizon colour, so no dark band sits between the floor and the sky.
 RadianceMap proceduralSky(const Vec3& zenith, const Vec3& horizon, const Vec3& ground, int width = 256);
 
 // What the renderer samples.

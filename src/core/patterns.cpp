@@ -101,18 +101,58 @@ Rgb sandAt(double u, double v, int x, int y) {
   return {kSand[0] * shade, kSand[1] * shade, kSand[2] * shade * (0.97 + 0.06 * patches)};
 }
 
-}  // namespace
+// Floorboards at (u, v): 20 planks across the tile (0.2 m each on a 4 m tile), running along u,
+// each with its own tint and its end joints at its own offset, grain wavering along the plank.
+Rgb woodAt(double u, double v, int x, int y) {
+  constexpr Rgb kWood{0.60, 0.43, 0.29};
+  const double pv = v * 20;
+  const int plank = static_cast<int>(std::floor(pv));
+  const double t = pv - plank;  // across the plank, 0..1
+  const std::uint64_t ph = splitmix64(0x600dULL + static_cast<std::uint64_t>(plank));
+  const double tint = 0.82 + 0.3 * unitFromBits(ph), shift = unitFromBits(splitmix64(ph));
+  const double along = u * 3 + shift;  // three boards end to end per tile
+  const double joint = along - std::floor(along);
+  const int board = static_cast<int>(std::floor(along)) % 3;  // boards 0, 1, 2 (so the tile wraps)
+  const double board_tint = 0.94 + 0.12 * unitFromBits(splitmix64(ph ^ static_cast<std::uint64_t>(board + 7)));
+  // Grain: bands along the board, bent by noise, darker late wood.
+  const double warp = 2.5 * tiledValueNoise(u, v, 6, 31 + static_cast<std::uint64_t>(plank)) + 0.8 * tiledValueNoise(u, v, 24, 32);
+  const double g = 0.5 + 0.5 * std::sin(2 * kPi * (t * 5 + warp + shift * 3));
+  const std::uint64_t h = splitmix64((static_cast<std::uint64_t>(x) << 32) ^ static_cast<std::uint64_t>(y) ^ 0x3005ULL);
+  double shade = tint * board_tint * (0.86 + 0.14 * (1 - g * g * g)) * (0.97 + 0.06 * unitFromBits(h));
+  if (t < 0.025 || t > 0.985 || joint < 0.003) shade *= 0.45;  // the gaps between boards
+  return {kWood[0] * shade, kWood[1] * shade, kWood[2] * shade};
+}
 
-Image makeSandTexture(int size) {
+// Smooth studio concrete at (u, v): broad soft patches, fine grain and a few pores.
+Rgb concreteAt(double u, double v, int x, int y) {
+  constexpr Rgb kGrey{0.63, 0.62, 0.60};
+  const double patches = 0.5 * tiledValueNoise(u, v, 3, 41) + 0.3 * tiledValueNoise(u, v, 9, 42) +
+                         0.2 * tiledValueNoise(u, v, 27, 43);
+  const std::uint64_t h = splitmix64((static_cast<std::uint64_t>(x) << 32) ^ static_cast<std::uint64_t>(y) ^ 0xc0cULL);
+  const double grain = unitFromBits(h), pore = unitFromBits(splitmix64(h));
+  double shade = 0.94 + 0.14 * (patches - 0.5) + 0.05 * (grain - 0.5);
+  if (pore > 0.996) shade *= 0.75;
+  return {kGrey[0] * shade, kGrey[1] * shade, kGrey[2] * shade * (0.98 + 0.04 * patches)};
+}
+
+template <class F>
+Image tile(int size, F&& at) {
   Image img(size, size);
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
-      const Rgb c = sandAt((x + 0.5) / size, (y + 0.5) / size, x, y);
+      const Rgb c = at((x + 0.5) / size, (y + 0.5) / size, x, y);
       std::uint8_t* p = img.pixel(x, y);
       for (int k = 0; k < 3; ++k) p[k] = static_cast<std::uint8_t>(std::lround(std::clamp(c[k], 0.0, 1.0) * 255.0));
     }
   return img;
 }
+
+}  // namespace
+
+Image makeWoodTexture(int size) { return tile(size, woodAt); }
+Image makeConcreteTexture(int size) { return tile(size, concreteAt); }
+
+Image makeSandTexture(int size) { return tile(size, sandAt); }
 
 Image makeFishSkin(std::string_view pattern, const Vec3& base, const Vec3& mark, int width) {
   const int height = width / 2;
@@ -168,6 +208,8 @@ Image makeRugTexture(int size) {
 Image makePattern(std::string_view name, int size) {
   if (name == "rug") return makeRugTexture(size);
   if (name == "sand") return makeSandTexture(size);
+  if (name == "wood") return makeWoodTexture(size);
+  if (name == "concrete") return makeConcreteTexture(size);
   return {};
 }
 

@@ -18,6 +18,12 @@ Image makeRugTexture(int size);
 // the top), square, `size` pixels a side, sRGB; the same pixels on every machine.
 Image makeSandTexture(int size);
 
+// Floorboards (a wooden floor or table top): 20 planks across the tile running along its x, each
+// board its own tint, grain and end joints; tileable, sRGB, the same pixels on every machine.
+Image makeWoodTexture(int size);
+// Smooth studio concrete: soft grey patches, fine grain, a few pores; tileable, sRGB.
+Image makeConcreteTexture(int size);
+
 // A fish's skin, unrolled: u (x) runs nose to tail, v (y) around the body from the back (top
 // row) over the left flank to the belly (middle row) and back up the right flank. `base` and
 // `mark` are linear colours; the pattern (stripes, spots, gradient or plain) is drawn in `mark` on
@@ -26,6 +32,6 @@ Image makeFishSkin(std::string_view pattern, const Vec3& base, const Vec3& mark,
 
 // The pattern of that name at `size` pixels, or an empty image for an unknown name.
 Image makePattern(std::string_view name, int size);
-inline constexpr std::string_view kPatternNames[] = {"rug", "sand"};
+inline constexpr std::string_view kPatternNames[] = {"rug", "sand", "wood", "concrete"};
 
 }  // namespace reel

@@ -10,8 +10,9 @@ namespace {
 struct ShapeMesh {
   TriMesh operator()(const PlaneShape& s) const {
     // A plane of given size shows its texture once across it (a poster, a rug on the floor); an
-    // unbounded one (a floor, a seabed) repeats it every 4 m instead of stretching it over 400 m.
-    TriMesh m = s.extent ? makeQuad((*s.extent)[0], (*s.extent)[1]) : makeQuad(400.0, 400.0, 4.0);
+    // unbounded one (a floor, a seabed) repeats it every `tile` m (4 by default) instead of
+    // stretching it over 400 m.
+    TriMesh m = s.extent ? makeQuad((*s.extent)[0], (*s.extent)[1]) : makeQuad(400.0, 400.0, s.tile);
     m.transform(rotationFromUp(s.normal), s.point);
     return m;
   }

@@ -55,6 +55,7 @@ class SpringNetworkBody : public Body {
 
   SpringNetwork& network() { return net_; }
   const SpringNetwork& network() const { return net_; }
+  const std::string& generator() const { return generator_; }
 
  protected:
   // What a kind adds to the network's state (cloth: its springs left and its sheet's state).

@@ -22,6 +22,7 @@ enum class ObjectKind { Plane, Sphere, Box, Capsule, Mesh, Container };
 struct PlaneShape {
   Vec3 point{0, 0, 0}, normal{0, 1, 0};
   std::optional<std::array<double, 2>> extent;  // `size` [w, h], m; infinite when absent
+  double tile = 4.0;  // infinite: the texture repeats every `tile` m
 };
 struct SphereShape {
   Vec3 center{0, 0, 0};

@@ -46,6 +46,10 @@ ObjectShape readShape(Obj& o, const std::string& type, bool& checker) {
     if (s.normal.norm() == 0) d.error(childPath(p, "normal"), "must not be the zero vector");
     else s.normal.normalize();
     if (auto e = o.numbers<2>("size", kPos)) s.extent = *e;
+    if (o.has("tile")) {
+      s.tile = o.number("tile", s.tile, kPos);
+      if (s.extent) d.error(childPath(p, "tile"), "applies to a plane without size (a sized plane shows its texture once)");
+    }
     checker = o.boolean("checker", false);
     return s;
   }

@@ -1,4 +1,5 @@
-// What a springs body gives the renderer: its nodes as spheres, its springs as tubes.
+// What a springs body gives the renderer: its nodes as spheres, its springs as tubes (a rope's as
+// thick as its nodes: one continuous tube).
 #include "sim/draw_material.h"
 #include "sim/springs/springs_body.h"
 
@@ -11,7 +12,9 @@ void SpringsBody::draw(DrawList& out) const {
   nodes.material = drawMaterial(material_);
   appendPoints(nodes.centers, x);
   DrawTubes springs;
-  springs.radius = static_cast<float>(0.35 * net_.radius);
+  // A rope is one continuous tube as thick as its nodes (they round its bends); a net or lattice
+  // shows its springs as thinner struts between the knots.
+  springs.radius = static_cast<float>((generator() == "rope" ? 1.0 : 0.35) * net_.radius);
   springs.material = nodes.material;
   const Springs& s = net_.model.springs;
   springs.ends.reserve(6 * s.size());
