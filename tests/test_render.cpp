@@ -140,6 +140,12 @@ TEST_CASE("renders are byte-identical run to run, and OSMesa equals EGL") {
   egl = Error();  // release it before the helper makes its own
   const Image c = renderScene(kShadowScene, gl::Backend::Egl, 5);
   CHECK(a.rgb == c.rgb);
+  // The films' look too: environment, occlusion, soft shadows' noise, ACES.
+  auto look = io::readFile(std::string(REEL_SOURCE_DIR) + "/tests/scenes/film_look.json", 1 << 20);
+  REQUIRE(look.ok());
+  const Image la = renderScene(look.value(), gl::Backend::OSMesa, 3);
+  CHECK(la.rgb == renderScene(look.value(), gl::Backend::OSMesa, 3).rgb);
+  CHECK(la.rgb == renderScene(look.value(), gl::Backend::Egl, 3).rgb);
   // The picture is not trivially uniform: the net, objects and shadows are there.
   const ImageDiff d = compareImages(a, renderScene(kShadowScene, gl::Backend::OSMesa, 0), 16);
   CHECK(d.over > 100);
