@@ -106,7 +106,7 @@ def towel(objects, bodies, x0):
 
 
 def main():
-    objects = [{"type": "plane", "name": "floor", "checker": True, "color": [0.7, 0.68, 0.64],
+    objects = [{"type": "plane", "name": "floor", "pattern": "wood", "tile": 2.0, "color": [1, 1, 1], "specular": 0.35, "roughness": 0.55,
                 "surface": {"friction": 0.5}}]
     bodies = []
     # Its front edge 7 cm lower: filled, it overflows there.
@@ -124,7 +124,7 @@ def main():
     cam = []
     for t0, t1, (p0, q0), (p1, q1) in shots:
         cam += [(t0, p0, q0), (r(t0 + 1 / 60), p0, q0), (r(t1 - 1 / 30), p1, q1), (r(t1 - 1 / 60), p1, q1)]
-    # The look the rigid-body films share (sky, a key light with shadows, ambient).
+    # The look the films share (make_rigid_scenes.film: ACES, a sky, occlusion, a soft sun).
     scene = film("cloth_liquid", 24.0, 24, cam, objects, bodies, auto_substeps=True, integrator="implicit_euler",
                  implicit={"cg_tolerance": 1e-3}, seed=16, wind={"velocity": [1.2, 0, 0.4], "gust": 0.8})
     write_scene("scenes/cloth_liquid.json",

@@ -124,7 +124,7 @@ def crate(name, size, pos, color, density=150, rot=(0, 0, 0), **extra):
 
 def cloth_and_crates():
     woods = [[0.72, 0.45, 0.2], [0.6, 0.38, 0.18], [0.8, 0.55, 0.3], [0.66, 0.42, 0.22], [0.76, 0.5, 0.26]]
-    objects = [{"type": "plane", "name": "floor", "checker": True, "color": [0.74, 0.72, 0.68],
+    objects = [{"type": "plane", "name": "floor", "pattern": "concrete", "color": [1, 1, 1],
                 "surface": {"friction": 0.6}}]
     bodies = []
     # The trampoline: a 1.6 m sheet held at its corners 1 m up (posts drawn under them), and three
@@ -185,18 +185,20 @@ def cloth_and_crates():
 
 
 def film(name, duration, substeps, cam, objects, bodies, **extra):
-    """A 1280x720 film of the two scenes' common look: sky, a key light with shadows, ambient."""
+    """A 1280x720 film of the films' common look: ACES, a sky lighting the scene, ambient occlusion,
+    fog to the horizon, a sun with soft shadows (docs/rendering.md)."""
     scene = {"format": "reel/1", "name": name, "duration": duration, "fps": 30, "substeps": substeps}
     scene.update(extra)
     scene.update({
         "gravity": [0, -G, 0],
         "render": {"width": 1280, "height": 720, "samples": 4,
-                   "background": {"top": [0.3, 0.42, 0.62], "bottom": [0.86, 0.84, 0.8]}},
+                   "background": {"top": [0.3, 0.42, 0.62], "bottom": [0.86, 0.84, 0.8]},
+                   "tonemap": "aces", "exposure": -0.3, "environment": {"sky": True, "intensity": 0.7},
+                   "ao": {"radius": 0.4}, "fog": {"color": [0.86, 0.84, 0.8], "density": 0.015}},
         "camera": {"position": list(cam[0][1]), "target": list(cam[0][2]), "fov_deg": 45,
                    "keys": [{"time": t, "position": list(p), "target": list(q)} for t, p, q in cam]},
         "lights": [{"type": "directional", "direction": [-0.45, -1.0, -0.35], "color": [1.0, 0.96, 0.9],
-                    "intensity": 1.15, "shadows": True},
-                   {"type": "ambient", "color": [0.55, 0.62, 0.75], "intensity": 0.5}],
+                    "intensity": 1.5, "shadows": True, "angle_deg": 2.5}],
         "objects": objects,
         "bodies": bodies,
     })
@@ -212,7 +214,7 @@ def write_scene(path, header, scene):
 
 
 def main():
-    bodies, objects = [], [{"type": "plane", "name": "floor", "checker": True, "color": [0.74, 0.72, 0.68],
+    bodies, objects = [], [{"type": "plane", "name": "floor", "pattern": "concrete", "color": [1, 1, 1],
                             "surface": {"friction": 0.6, "restitution": 0.2}}]
     tower(bodies, 0.0)
     wrecking_ball(bodies, objects, 0.0)

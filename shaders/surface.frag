@@ -67,8 +67,8 @@ SHADOW_PCF(u_shadow_map0, 0)
 SHADOW_PCF(u_shadow_map1, 1)
 
 // Percentage-closer soft shadows (Fernando 2005, "Percentage-Closer Soft Shadows"): the mean
-// depth of the blockers found within a search disc gives the penumbra's width by similar
-// triangles, w = (d_receiver − d_blocker)·light size / d_blocker, then 16 filtered taps over a
+// depth of the blockers found by 8 taps within a search disc gives the penumbra's width by similar
+// triangles, w = (d_receiver − d_blocker)·light size / d_blocker, then 12 filtered taps over a
 // disc that wide (its radius w/2). The discs are golden-angle spirals turned per pixel by
 // interleaved gradient noise (Jimenez 2014); the radii stay between 1.5 and 40 texels.
 float penumbra(vec4 prm, float zr, float zb) {  // in map texture units
@@ -90,15 +90,15 @@ vec2 spiral(int i, int n, float turn) {
     float lo = 1.5 * u_shadow_texel, hi = 40.0 * u_shadow_texel;                   \
     float search = clamp(penumbra(u_shadow_soft[S], zr, 0.0), lo, hi);              \
     float sum = 0.0, count = 0.0;                                                    \
-    for (int i = 0; i < 12; ++i) {                                                   \
-      float d = texture(RAW, q.xy + spiral(i, 12, turn) * search).r;                \
+    for (int i = 0; i < 8; ++i) {                                                    \
+      float d = texture(RAW, q.xy + spiral(i, 8, turn) * search).r;                 \
       if (d < zr) { sum += d; count += 1.0; }                                        \
     }                                                                                \
     float w = clamp(0.5 * penumbra(u_shadow_soft[S], zr, sum / max(count, 1.0)), lo, hi); \
     float lit = 0.0;                                                                 \
-    for (int i = 0; i < 16; ++i) lit += texture(MAP, vec3(q.xy + spiral(i, 16, turn) * w, zr)); \
+    for (int i = 0; i < 12; ++i) lit += texture(MAP, vec3(q.xy + spiral(i, 12, turn) * w, zr)); \
     bool inside = all(greaterThanEqual(q.xyz, vec3(0.0))) && all(lessThanEqual(q.xyz, vec3(1.0))); \
-    return inside && count > 0.0 ? lit / 16.0 : 1.0;                                 \
+    return inside && count > 0.0 ? lit / 12.0 : 1.0;                                 \
   }
 SHADOW_PCSS(u_shadow_map0, u_shadow_raw0, 0)
 SHADOW_PCSS(u_shadow_map1, u_shadow_raw1, 1)
