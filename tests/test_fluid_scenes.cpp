@@ -284,3 +284,37 @@ TEST_CASE("agitation melts the glass: a heavy ball sinks through a viscous pool 
   CHECK(cold > 0.07);                // held up by the jammed particles
   CHECK(warm < 0.02 + 0.03 + 0.005);  // on the floor
 }
+
+TEST_CASE("spray: lone particles are drawn as small droplets, as balls and beside a surface") {
+  // A pool of 6 x 3 x 6 particles and one particle far above it, without gravity.
+  for (const std::string draw : {"spheres", "surface"}) {
+    CAPTURE(draw);
+    World w = makeWorld(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 10, "gravity": [0, 0, 0],
+      "bodies": [{"type": "fluid", "name": "f", "radius": 0.005, "draw": ")" + draw + R"(",
+        "species": [{"name": "w", "cutoff": 0.02}],
+        "blocks": [{"min": [0, 0, 0], "max": [0.05, 0.02, 0.05], "spacing": 0.01},
+                   {"min": [0.02, 0.5, 0.02], "max": [0.025, 0.505, 0.025], "spacing": 0.01}]}]})");
+    run(w, 1);  // the neighbour lists are built by a step
+    const std::size_t n = fluid(w).size();
+    REQUIRE(n > 50);
+    DrawList list;
+    w.draw(list);
+    // The droplets: one set of 0.6 of the radius, holding only the lone particle, up high.
+    const auto drops = std::find_if(list.spheres.begin(), list.spheres.end(), [](const DrawSpheres& s) { return s.radius < 0.004f; });
+    REQUIRE(drops != list.spheres.end());
+    CHECK(drops->radius == doctest::Approx(0.003));
+    REQUIRE(drops->centers.size() == 3);
+    CHECK(drops->centers[1] > 0.45f);  // the lone one, far above the pool
+    if (draw == "spheres") {
+      // Every other particle is a ball of the full radius.
+      REQUIRE(list.spheres.size() == 2);
+      CHECK(list.spheres[0].radius == doctest::Approx(0.005));
+      CHECK(list.spheres[0].centers.size() == 3 * (n - 1));
+    } else {
+      // The pool is a surface, and no ball is drawn.
+      REQUIRE(list.meshes.size() == 1);
+      CHECK(list.meshes[0].mesh->triangleCount() > 50);
+      CHECK(list.spheres.size() == 1);
+    }
+  }
+}

@@ -208,8 +208,8 @@ void readFluid(Obj& o, FluidDesc& fd, double duration) {
 std::shared_ptr<const BodyParams> readFluidBody(Obj& o, BodyDesc& body, const SceneDesc& scene) {
   auto fd = std::make_shared<FluidDesc>();
   readFluid(o, *fd, scene.duration);
-  body.material.specular = 0.5;  // liquids shine unless told otherwise
-  body.material.shininess = 64.0;
+  body.material.specular = 0.5;   // liquids reflect water's 4% unless told otherwise,
+  body.material.roughness = 0.08; // from a nearly smooth surface
   return fd;
 }
 

@@ -38,6 +38,7 @@ void readMaterial(Obj& o, Material& m) {
   m.specular = o.number("specular", m.specular, kUnit);
   m.shininess = o.number("shininess", m.shininess, kPos);
   if (o.has("roughness")) m.roughness = o.number("roughness", 0.5, kUnit);
+  else if (o.has("shininess")) m.roughness.reset();  // a kind's default roughness yields to it
   m.metallic = o.number("metallic", m.metallic, kUnit);
   m.sheen = o.number("sheen", m.sheen, kUnit);
   if (o.has("roughness") && o.has("shininess"))

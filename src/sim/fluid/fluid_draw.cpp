@@ -12,6 +12,7 @@
 #include "core/profile.h"
 #include "core/union_find.h"
 #include "core/parallel.h"
+#include "sim/draw_material.h"
 #include "sim/fluid/fluid_body.h"
 
 namespace reel {
@@ -121,11 +122,15 @@ TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, const st
   return m;
 }
 
+// Groups of fewer particles than this are spray: drawn as droplets, not as a surface.
+constexpr std::size_t kSprayParticles = 12;
+
 // The liquid's surface, piece by piece: particles are grouped by cells of 2·(kernel + cell) (a
 // group is the particles of cells joined through their 26 neighbours), so no kernel reaches from
 // one group into another, and each group's surface is extracted on a grid over its own box. A
-// splash far from the pool costs a small grid of its own, not one spanning both.
-TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors) {
+// splash far from the pool costs a small grid of its own, not one spanning both. The particles of
+// groups too small for a surface are added to `spray`.
+TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, std::vector<std::size_t>& spray) {
   const double C = 2.0 * (fl.surface_kernel + 2.0 * fl.surface_cell);
   std::vector<std::array<std::int64_t, 3>> key;  // each finite particle's cell
   std::vector<std::size_t> who;
@@ -157,6 +162,10 @@ TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors) {
   TriMesh out;
   for (const auto& g : groups) {
     if (g.empty()) continue;
+    if (g.size() < kSprayParticles) {
+      spray.insert(spray.end(), g.begin(), g.end());
+      continue;
+    }
     const TriMesh m = liquidSurface(fl, colors, g);
     const auto base = static_cast<std::uint32_t>(out.vertexCount());
     out.positions.insert(out.positions.end(), m.positions.begin(), m.positions.end());
@@ -198,32 +207,55 @@ void FluidBody::draw(DrawList& out) const {
     out.meshes.push_back(std::move(pipes));
   }
   if (fl.x.empty()) return;
-  DrawMaterial dm;
+  DrawMaterial dm = drawMaterial(material);
   dm.color = Vec3(1, 1, 1);  // the species colours carry the albedo
-  dm.specular = material.specular;
-  dm.shininess = material.shininess;
-  dm.opacity = material.opacity;
+  dm.texture = nullptr;
   const std::vector<Vec3> colors = blendedColors(fl);
+  // Spray: droplets of 0.6 of a particle's radius, smooth and glossy.
+  DrawSpheres drops;
+  drops.radius = static_cast<float>(0.6 * fl.radius);
+  drops.material = dm;
+  drops.material.roughness = std::min(dm.roughnessValue(), 0.1);
+  auto add = [&](DrawSpheres& set, std::size_t i) {
+    for (int a = 0; a < 3; ++a) {
+      set.centers.push_back(static_cast<float>(fl.x[i][a]));
+      set.colors.push_back(static_cast<float>(colors[i][a]));
+    }
+  };
   if (fl.draw == FluidDraw::Surface) {
     profile::Scope stage(profile::Stage::Surface);
     DrawMesh mesh;
-    mesh.mesh = std::make_shared<const TriMesh>(liquidSurface(fl, colors));
+    std::vector<std::size_t> spray;
+    mesh.mesh = std::make_shared<const TriMesh>(liquidSurface(fl, colors, spray));
     mesh.per_frame = true;
     mesh.material = dm;
     if (mesh.mesh->triangleCount() > 0) out.meshes.push_back(std::move(mesh));
+    std::sort(spray.begin(), spray.end());  // in particle order, the same draw run to run
+    for (std::size_t i : spray) add(drops, i);
+    if (!drops.centers.empty()) out.spheres.push_back(std::move(drops));
     return;
   }
+  // Particles drawn as balls; those with fewer than two neighbours within their pair cutoff are
+  // spray, drawn as droplets.
   DrawSpheres sp;
   sp.radius = static_cast<float>(fl.radius);
   sp.material = dm;
   sp.centers.reserve(3 * fl.x.size());
   sp.colors.reserve(3 * fl.x.size());
-  for (std::size_t i = 0; i < fl.x.size(); ++i)
-    for (int a = 0; a < 3; ++a) {
-      sp.centers.push_back(static_cast<float>(fl.x[i][a]));
-      sp.colors.push_back(static_cast<float>(colors[i][a]));
-    }
+  const bool listed = fl.nbr_start.size() == fl.x.size() + 1;
+  const auto S = static_cast<std::size_t>(fl.species_count);
+  for (std::size_t i = 0; i < fl.x.size(); ++i) {
+    int near = 0;
+    if (listed)
+      for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1] && near < 2; ++e) {
+        const auto j = static_cast<std::size_t>(fl.nbr[e]);
+        const PairParams& p = fl.pairs[static_cast<std::size_t>(fl.s[i]) * S + static_cast<std::size_t>(fl.s[j])];
+        near += (fl.x[i] - fl.x[j]).norm() < p.cutoff ? 1 : 0;
+      }
+    add(!listed || near >= 2 ? sp : drops, i);
+  }
   out.spheres.push_back(std::move(sp));
+  if (!drops.centers.empty()) out.spheres.push_back(std::move(drops));
 }
 
 }  // namespace reel
