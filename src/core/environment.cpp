@@ -167,7 +167,8 @@ std::shared_ptr<Environment> prefilterEnvironment(const RadianceMap& src, double
           if (nl <= 0) continue;
           const double pdf = brdf::ggxD(nh, alpha) / 4.0;  // n = v: n·h = v·h
           const double omega = 1.0 / (samples * std::max(pdf, 1e-8));
-          const double lod = std::clamp(0.5 * std::log2(omega / texel_omega) + 1.0, 0.0, pyramid.size() - 1.0);
+          const double top = static_cast<double>(pyramid.size() - 1);
+          const double lod = std::clamp(0.5 * std::log2(omega / texel_omega) + 1.0, 0.0, top);
           const std::size_t p0 = static_cast<std::size_t>(lod);
           const std::size_t p1 = std::min(p0 + 1, pyramid.size() - 1);
           const double f = lod - static_cast<double>(p0);
