@@ -17,14 +17,22 @@ vec3 aces(vec3 c) {
   return clamp(from_odt * v, 0.0, 1.0);
 }
 
-// A linear colour as it is written: scaled by the exposure, tone mapped (ACES), sRGB-encoded.
-vec3 finish(vec3 c, float exposure) {
+vec3 srgbDecode(vec3 c) {
+  return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), step(vec3(0.04045), c));
+}
+
+// A linear colour as it is shown, before the sRGB encoding: scaled by the exposure, tone mapped
+// (ACES).
+vec3 display(vec3 c, float exposure) {
   c *= exposure;
 #ifdef ACES
   c = aces(c);
 #endif
-  return srgbEncode(c);
+  return c;
 }
+
+// A linear colour as it is written: display() and sRGB-encoded.
+vec3 finish(vec3 c, float exposure) { return srgbEncode(display(c, exposure)); }
 
 #ifdef ENVIRONMENT
 uniform sampler2D u_env;  // prefiltered radiance (core/environment.h's equirectangular layout)

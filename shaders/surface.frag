@@ -47,6 +47,13 @@ uniform vec3 u_fog_color;
 uniform float u_fog_density;
 uniform float u_exposure;   // 2^EV (with ACES, times its middle-grey gain)
 uniform sampler2D u_ao;     // AO: ambient occlusion of the picture's pixels (ao.frag)
+uniform float u_transmission;     // TRANSMISSIVE: 0..1
+uniform float u_absorption_depth; // TRANSMISSIVE: m
+uniform sampler2D u_scene_color;  // TRANSMISSIVE: the picture behind (as shown, sRGB)
+uniform sampler2D u_scene_depth;  // TRANSMISSIVE: its depth
+uniform sampler2D u_back_depth;   // TRANSMISSIVE: the farthest depth of the see-through bodies
+uniform mat4 u_view;
+uniform vec2 u_near_far;
 uniform vec2 u_screen_texel;
 
 // 3 x 3 taps of bilinear percentage-closer filtering: soft edges.
@@ -102,6 +109,13 @@ vec2 spiral(int i, int n, float turn) {
   }
 SHADOW_PCSS(u_shadow_map0, u_shadow_raw0, 0)
 SHADOW_PCSS(u_shadow_map1, u_shadow_raw1, 1)
+
+#ifdef TRANSMISSIVE
+float linearDepth(float d) {  // window depth → distance along the view axis
+  float z = d * 2.0 - 1.0, n = u_near_far.x, f = u_near_far.y;
+  return 2.0 * n * f / (f + n - z * (f - n));
+}
+#endif
 
 // The material at this pixel, set once in main() and read by every light.
 vec3 g_kd;                 // diffuse albedo, less what the specular lobe reflects
@@ -213,6 +227,9 @@ void main() {
   g_es = (g_f0 * ab.x + g_f90 * ab.y) * g_comp;
   g_kd *= max(vec3(1.0) - g_es, 0.0);
 #endif
+#ifdef TRANSMISSIVE
+  g_kd *= 1.0 - u_transmission;  // what shows through is not scattered back
+#endif
 #ifdef SHEEN
   float lum = dot(albedo, vec3(0.2126, 0.7152, 0.0722));
   g_sheen = u_sheen * mix(vec3(1.0), albedo / max(lum, 1e-3), 0.5);
@@ -231,5 +248,25 @@ void main() {
 #ifdef FOG
   c = mix(u_fog_color, c, exp(-u_fog_density * length(u_eye - v_world)));
 #endif
+#ifdef TRANSMISSIVE
+  // What lies behind, as shown (screen-space transmission): refracted by an offset along the
+  // view-space normal that grows with the depth of the body (up to 3% of the picture), and
+  // absorbed along that depth, Beer–Lambert: albedo^(depth / absorption_depth) is what is left.
+  // The depth runs from this surface to the body's far side or to the opaque surface behind,
+  // whichever is nearer. Composed as shown (after tone mapping), weighted by 1 − E_s: what the
+  // surface reflects does not pass.
+  vec2 suv = gl_FragCoord.xy * u_screen_texel;
+  float zf = linearDepth(gl_FragCoord.z), zo = linearDepth(texture(u_scene_depth, suv).r);
+  float back = texture(u_back_depth, suv).r;
+  float thick = max(min(back > 0.0 ? linearDepth(back) : zo, zo) - zf, 0.0);
+  vec3 nv = mat3(u_view) * n;
+  vec2 ruv = suv - nv.xy * (0.03 * min(thick / 0.05, 1.0));
+  if (linearDepth(texture(u_scene_depth, ruv).r) < zf) ruv = suv;  // in front of us there: no bend
+  vec3 behind = srgbDecode(texture(u_scene_color, ruv).rgb);
+  vec3 absorbed = pow(max(albedo, vec3(1e-3)), vec3(thick / u_absorption_depth));
+  vec3 through = u_transmission * (vec3(1.0) - g_es) * absorbed * behind;
+  o_color = vec4(srgbEncode(display(c, u_exposure) + through), 1.0);
+#else
   o_color = vec4(finish(c, u_exposure), u_opacity);
+#endif
 }

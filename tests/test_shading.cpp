@@ -346,3 +346,23 @@ TEST_CASE("ambient occlusion darkens the floor beside a box and not the open flo
   for (auto [x, y] : {std::pair{10, 110}, std::pair{150, 110}, std::pair{20, 50}, std::pair{140, 45}})
     CHECK(std::abs(int(occluded.pixel(x, y)[1]) - int(plain.pixel(x, y)[1])) <= 2);
 }
+
+TEST_CASE("transmission: a see-through ball shows what is behind it, absorbed along its depth") {
+  // A ball of radius 0.5 seen from 4 m against a uniform grey background, no lights: all its
+  // colour is what passes through. At its centre the depth is 1 m = 2 absorption depths, so
+  // albedo 0.7 keeps 0.7² of the background.
+  const std::string s = R"({"format": "reel/1", "duration": 0.1,
+    "render": {"width": 96, "height": 96, "samples": 1, "background": [0.6, 0.6, 0.6]},
+    "camera": {"position": [0, 0, 4], "target": [0, 0, 0], "fov_deg": 30}, "lights": [],
+    "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 0.5, "color": [0.7, 0.7, 0.7],
+                 "transmission": 1, "absorption_depth": 0.5}]})";
+  const Image img = renderScene(s);
+  CHECK(std::abs(int(img.pixel(48, 48)[1]) - int(std::lround(255 * srgb(0.6 * 0.49)))) <= 3);
+  // Thinner towards the rim: brighter, up to the background itself.
+  CHECK(img.pixel(48 + 18, 48)[1] > img.pixel(48, 48)[1] + 10);
+  CHECK(img.pixel(2, 2)[1] == std::lround(255 * srgb(0.6)));
+  // Opaque, the same ball unlit is black.
+  std::string opaque = s;
+  opaque.replace(opaque.find(R"("transmission": 1)"), 17, R"("transmission": 0)");
+  CHECK(renderScene(opaque).pixel(48, 48)[1] < 5);
+}

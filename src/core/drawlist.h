@@ -30,6 +30,9 @@ struct DrawMaterial {
   std::optional<double> roughness;
   double metallic = 0.0;  // 0..1: 1 reflects in its albedo's colour and has no diffuse term
   double sheen = 0.0;     // 0..1: cloth's soft rim of fibres catching grazing light
+  // 0..1: how much of what lies behind shows through the surface (water, glass), refracted and
+  // absorbed along the depth of the body: light keeps albedo^(depth / absorption_depth) of itself.
+  double transmission = 0.0, absorption_depth = 0.1;  // —, m
   double roughnessValue() const;
   // Wrap lighting, 0..1 (a cheap stand-in for light scattered under skin): the diffuse term
   // (n·l + w)/(1 + w) reaches past the terminator; 0 is Lambert.

@@ -90,20 +90,36 @@ struct Renderer::Impl {
                       ShadowFrame& shadow_frame);
   Status mainPass(const DrawList& list, const Mat4f& view_proj, const std::vector<int>& light_shadow,
                   const ShadowFrame& shadow_frame);
-  Status depthOnly(const DrawList& list, const Mat4f& view_proj);
   Status readBack(Image& out);
   void uploadEnvironment(const DrawList& list);
   Status drawBackground(const DrawList& list, const Mat4f& view_proj);
 
   // One geometry pass: the shadow program for every item (with_material false), or each item's
   // surface variant for the opaque or the transparent items.
+  // The items of a pass: all (shadows), the opaque ones, the see-through ones (transmission) or
+  // the blended ones (opacity below 1).
+  enum class Layer { All, Opaque, Transmissive, Transparent };
   struct Pass {
-    bool with_material, transparent;
-    bool opaque_only = false;  // without material: the camera's depth for occlusion, not a shadow
+    bool with_material;
+    Layer layer;
     bool wants(const DrawMaterial& m) const {
-      return with_material ? (m.opacity < 1.0) == transparent : !opaque_only || m.opacity >= 1.0;
+      switch (layer) {
+        case Layer::All: return true;
+        case Layer::Opaque: return m.opacity >= 1.0 && m.transmission <= 0.0;
+        case Layer::Transmissive: return m.opacity >= 1.0 && m.transmission > 0.0;
+        case Layer::Transparent: return m.opacity < 1.0;
+      }
+      return false;
     }
+    bool fromCamera() const { return with_material || layer != Layer::All; }  // not a shadow map
   };
+  Status depthOnly(const DrawList& list, const Mat4f& view_proj, Layer layer = Layer::Opaque);
+  Status transmissionPass(const DrawList& list, const Mat4f& view_proj);
+  // Transmission's targets, made on first use: the picture so far and its depth, and the
+  // see-through bodies' far depth.
+  gl::Texture scene_color_tex, scene_depth_tex, back_depth_tex;
+  gl::Framebuffer copy_fbo, back_fbo;
+  Status initTransmission();
   Status drawGeometry(const DrawList& list, Pass pass);
   Status drawSpheres(const DrawSpheres& s, Pass pass);
   Status drawSphereSet(const DrawSpheres& s, const GpuMesh& proto, const std::vector<float>& centers,
@@ -307,7 +323,7 @@ Status Renderer::Impl::drawTubes(const DrawTubes& t, Pass pass) {
   const GLuint prog = program(pass);
   gl->Uniform1i(loc(prog, "u_mode"), 2);
   gl->Uniform1f(loc(prog, "u_radius"), t.radius);
-  gl->Uniform1f(loc(prog, "u_tube_min"), pass.with_material || pass.opaque_only ? static_cast<float>(kMinTubePx / px_per_m_at_1m) : 0.0f);
+  gl->Uniform1f(loc(prog, "u_tube_min"), pass.fromCamera() ? static_cast<float>(kMinTubePx / px_per_m_at_1m) : 0.0f);
   gl->Uniform3f(loc(prog, "u_tube_eye"), static_cast<float>(eye.x()), static_cast<float>(eye.y()), static_cast<float>(eye.z()));
   gl->DrawElementsInstanced(GL_TRIANGLES, tube_proto.count, GL_UNSIGNED_INT, nullptr,
                             static_cast<GLsizei>(t.ends.size() / 6));
@@ -377,7 +393,9 @@ Status Renderer::Impl::draw(const DrawList& list, Image& out) {
   const double far_plane = std::max(200.0, 2.0 * (dist + radius));
   const double near_plane = std::clamp((dist - radius) * 0.5, 0.01, 1.0);
   const Mat4f proj = perspective(cam.fov_deg, static_cast<double>(set.width) / set.height, near_plane, far_plane);
-  const Mat4f view_proj = proj * lookAt(cam.position, cam.target, cam.up);
+  const Mat4f view = lookAt(cam.position, cam.target, cam.up);
+  const Mat4f view_proj = proj * view;
+  surfaces.setView(view, static_cast<float>(near_plane), static_cast<float>(far_plane));
   if (list.ao_radius > 0)
     if (Status st = ao.run(shader_dir, set.width, set.height, proj, list.ao_radius, list.ao_strength, kAoUnit,
                            [&] { return depthOnly(list, view_proj); }, msaa_fbo);
@@ -423,7 +441,7 @@ Status Renderer::Impl::shadowPasses(const DrawList& list, const Vec3& center, do
     gl->UniformMatrix4fv(loc(shadow.id(), "u_view_proj"), 1, GL_FALSE, vp.data());
     gl->Enable(GL_POLYGON_OFFSET_FILL);
     gl->PolygonOffset(1.5f, 2.0f);
-    if (Status st = drawGeometry(list, Pass{false, false}); !st) return st;
+    if (Status st = drawGeometry(list, Pass{false, Layer::All}); !st) return st;
     gl->Disable(GL_POLYGON_OFFSET_FILL);
     Mat4f bias = Mat4f::Identity();  // clip space [-1, 1] → texture space [0, 1]
     bias.block<3, 3>(0, 0) *= 0.5f;
@@ -437,14 +455,12 @@ Status Renderer::Impl::shadowPasses(const DrawList& list, const Vec3& center, do
 // Main pass: opaque surfaces, the background where nothing covers, transparent surfaces.
 // The camera's depth of the opaque geometry, for ambient occlusion: the shadow programs, which
 // write depth only.
-Status Renderer::Impl::depthOnly(const DrawList& list, const Mat4f& view_proj) {
+Status Renderer::Impl::depthOnly(const DrawList& list, const Mat4f& view_proj, Layer layer) {
   gl->UseProgram(shadow_instanced.id());
   gl->UniformMatrix4fv(loc(shadow_instanced.id(), "u_view_proj"), 1, GL_FALSE, view_proj.data());
   gl->UseProgram(shadow.id());
   gl->UniformMatrix4fv(loc(shadow.id(), "u_view_proj"), 1, GL_FALSE, view_proj.data());
-  Pass pass{false, false};
-  pass.opaque_only = true;
-  return drawGeometry(list, pass);
+  return drawGeometry(list, Pass{false, layer});
 }
 
 Status Renderer::Impl::mainPass(const DrawList& list, const Mat4f& view_proj, const std::vector<int>& light_shadow,
@@ -470,15 +486,83 @@ Status Renderer::Impl::mainPass(const DrawList& list, const Mat4f& view_proj, co
   gl->BindTexture(GL_TEXTURE_2D, dfg_tex.id());
   uploadEnvironment(list);
   gl->ActiveTexture(GL_TEXTURE0);
-  if (Status st = drawGeometry(list, Pass{true, false}); !st) return st;
+  if (Status st = drawGeometry(list, Pass{true, Layer::Opaque}); !st) return st;
   if (Status st = drawBackground(list, view_proj); !st) return st;
+  if (Status st = transmissionPass(list, view_proj); !st) return st;
   // Transparent surfaces after the opaque ones, blended, without writing depth.
   gl->Enable(GL_BLEND);
   gl->BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-  Status tr = drawGeometry(list, Pass{true, true});
+  Status tr = drawGeometry(list, Pass{true, Layer::Transparent});
   gl->DepthMask(GL_TRUE);
   gl->Disable(GL_BLEND);
   return tr;
+}
+
+Status Renderer::Impl::initTransmission() {
+  const int W = set.width, H = set.height;
+  auto texture = [&](gl::Texture& t, GLint internal, GLenum format, GLenum type, GLint filter) {
+    t = gl::makeTexture(*gl);
+    gl->BindTexture(GL_TEXTURE_2D, t.id());
+    gl->TexImage2D(GL_TEXTURE_2D, 0, internal, W, H, 0, format, type, nullptr);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  };
+  texture(scene_color_tex, GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, GL_LINEAR);
+  texture(scene_depth_tex, GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_FLOAT, GL_NEAREST);
+  texture(back_depth_tex, GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_FLOAT, GL_NEAREST);
+  copy_fbo = gl::makeFramebuffer(*gl);
+  gl->BindFramebuffer(GL_FRAMEBUFFER, copy_fbo.id());
+  gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, scene_color_tex.id(), 0);
+  gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, scene_depth_tex.id(), 0);
+  if (gl->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    return Error(ErrorKind::Internal, "the transmission copy framebuffer is incomplete");
+  back_fbo = gl::makeFramebuffer(*gl);
+  gl->BindFramebuffer(GL_FRAMEBUFFER, back_fbo.id());
+  gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, back_depth_tex.id(), 0);
+  gl->DrawBuffer(GL_NONE);
+  gl->ReadBuffer(GL_NONE);
+  if (gl->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    return Error(ErrorKind::Internal, "the transmission depth framebuffer is incomplete");
+  return {};
+}
+
+// See-through bodies (transmission > 0), after the opaque ones and the background: the picture
+// so far and its depth are resolved into textures, the bodies' farthest depth is drawn (depth
+// test GREATER from a cleared 0, so no face culling is needed), then the bodies are drawn with
+// the TRANSMISSIVE variant, which reads all three (shaders/surface.frag).
+Status Renderer::Impl::transmissionPass(const DrawList& list, const Mat4f& view_proj) {
+  bool any = false;
+  for (const auto& m : list.meshes) any = any || (m.material.transmission > 0 && m.material.opacity >= 1);
+  for (const auto& sp : list.spheres) any = any || (sp.material.transmission > 0 && sp.material.opacity >= 1);
+  for (const auto& t : list.tubes) any = any || (t.material.transmission > 0 && t.material.opacity >= 1);
+  for (const auto& d : list.instances) any = any || (d.material.transmission > 0 && d.material.opacity >= 1);
+  if (!any) return {};
+  if (!copy_fbo.id())
+    if (Status st = initTransmission(); !st) return st;
+  const int W = set.width, H = set.height;
+  gl->BindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo.id());
+  gl->BindFramebuffer(GL_DRAW_FRAMEBUFFER, copy_fbo.id());
+  gl->BlitFramebuffer(0, 0, W, H, 0, 0, W, H, GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+  gl->BindFramebuffer(GL_FRAMEBUFFER, back_fbo.id());
+  gl->DepthMask(GL_TRUE);
+  gl->ClearDepth(0.0);
+  gl->Clear(GL_DEPTH_BUFFER_BIT);
+  gl->ClearDepth(1.0);
+  gl->DepthFunc(GL_GREATER);
+  if (Status st = depthOnly(list, view_proj, Layer::Transmissive); !st) return st;
+  surfaces.programChanged();
+  gl->DepthFunc(GL_LESS);
+  const std::pair<int, GLuint> bound[] = {
+      {kSceneColorUnit, scene_color_tex.id()}, {kSceneDepthUnit, scene_depth_tex.id()}, {kBackDepthUnit, back_depth_tex.id()}};
+  for (auto [unit, tex] : bound) {
+    gl->ActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
+    gl->BindTexture(GL_TEXTURE_2D, tex);
+  }
+  gl->ActiveTexture(GL_TEXTURE0);
+  gl->BindFramebuffer(GL_FRAMEBUFFER, msaa_fbo.id());
+  return drawGeometry(list, Pass{true, Layer::Transmissive});
 }
 
 // The scene's environment as one mipmapped float texture, its levels the prefiltered roughness

@@ -17,6 +17,7 @@ Status SurfaceShaders::compileRichest() {
   DrawMaterial probe;
   probe.specular = 1;
   probe.sheen = 1;
+  probe.transmission = 0.5;
   probe.double_sided = probe.checker = true;
   TextureCache no_textures(*gl_);  // the probe has no texture
   return use(probe, no_textures);
@@ -71,6 +72,7 @@ Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures, bool i
   if (instanced) key += "#define INSTANCED\n";
   if (m.specular > 0 || m.metallic > 0) key += "#define SPECULAR\n";
   if (m.sheen > 0) key += "#define SHEEN\n";
+  if (m.transmission > 0) key += "#define TRANSMISSIVE\n";
   if (m.double_sided) key += "#define DOUBLE_SIDED\n";
   if (m.checker) key += "#define CHECKER\n";
   if (m.texture) key += "#define TEXTURED\n";
@@ -98,6 +100,10 @@ Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures, bool i
   gl_->Uniform1f(loc("u_roughness"), float(m.roughnessValue()));
   gl_->Uniform1f(loc("u_metallic"), float(m.metallic));
   if (m.sheen > 0) gl_->Uniform1f(loc("u_sheen"), float(m.sheen));
+  if (m.transmission > 0) {
+    gl_->Uniform1f(loc("u_transmission"), float(m.transmission));
+    gl_->Uniform1f(loc("u_absorption_depth"), float(m.absorption_depth));
+  }
   gl_->Uniform1f(loc("u_opacity"), float(m.opacity));
   if (m.wrap > 0) gl_->Uniform1f(loc("u_wrap"), float(m.wrap));
   if (m.double_sided) {
@@ -131,6 +137,11 @@ void SurfaceShaders::setFrameUniforms(GLuint prog) {
   gl_->Uniform3fv(loc("u_sh"), 9, fu_.sh.data());
   gl_->Uniform1i(loc("u_ao"), kAoUnit);
   gl_->Uniform2f(loc("u_screen_texel"), fu_.screen_texel[0], fu_.screen_texel[1]);
+  gl_->UniformMatrix4fv(loc("u_view"), 1, GL_FALSE, fu_.view.data());
+  gl_->Uniform2f(loc("u_near_far"), fu_.near_far[0], fu_.near_far[1]);
+  gl_->Uniform1i(loc("u_scene_color"), kSceneColorUnit);
+  gl_->Uniform1i(loc("u_scene_depth"), kSceneDepthUnit);
+  gl_->Uniform1i(loc("u_back_depth"), kBackDepthUnit);
 }
 
 }  // namespace reel

@@ -20,6 +20,8 @@ namespace reel {
 // Texture units: 0 the material's texture, 1 and 2 the shadow maps, then these.
 // 6 and 7: the shadow maps again, read as depths (soft shadows' blocker search).
 inline constexpr int kDfgUnit = 3, kEnvUnit = 4, kAoUnit = 5, kRawShadowUnit = 6;
+// 8, 9, 10: the picture, its depth and the see-through bodies' far depth (transmission).
+inline constexpr int kSceneColorUnit = 8, kSceneDepthUnit = 9, kBackDepthUnit = 10;
 // ACES's input gain: middle grey 0.18 comes out 0.18 (shaders/surface.frag's aces()).
 inline constexpr double kAcesGreyGain = 1.4617;
 // What the frame's linear colours are multiplied by before tone mapping: 2^exposure, with ACES's gain.
@@ -48,6 +50,12 @@ class SurfaceShaders {
   // light_shadow[i] is light i's shadow map or -1).
   void beginFrame(const DrawList& list, const std::vector<int>& light_shadow, const Mat4f& view_proj,
                   const ShadowFrame& shadows, int width, int height);
+  // The camera's view matrix and depth range, for the frame that begins next.
+  void setView(const Mat4f& view, float near, float far) {
+    fu_.view = view;
+    fu_.near_far[0] = near;
+    fu_.near_far[1] = far;
+  }
   // Binds the variant for a material (compiling it on first use), uploads the frame's uniforms to
   // it once per frame, then binds the material's texture and sets its uniforms. `instanced`: the
   // variant for instanced meshes (geometry.glsl's INSTANCED).
@@ -74,6 +82,8 @@ class SurfaceShaders {
     std::array<float, 27> sh{};  // the environment's irradiance harmonics
     float env_lod = 0;           // its last level
     float screen_texel[2] = {0, 0};
+    Mat4f view = Mat4f::Identity();
+    float near_far[2] = {0.1f, 100.0f};
   };
   void setFrameUniforms(GLuint prog);
 

@@ -19,6 +19,8 @@ inline DrawMaterial drawMaterial(const Material& m) {
   d.roughness = m.roughness;
   d.metallic = m.metallic;
   d.sheen = m.sheen;
+  d.transmission = m.transmission;
+  d.absorption_depth = m.absorption_depth;
   d.opacity = m.opacity;
   d.back_color = m.back_color;
   return d;

@@ -24,6 +24,8 @@ struct Material {
   std::optional<double> roughness;  // 0..1; given, it replaces shininess
   double metallic = 0.0;      // 0..1
   double sheen = 0.0;         // 0..1
+  double transmission = 0.0;  // 0..1: see-through (water, glass), refracted and absorbed
+  double absorption_depth = 0.1;  // m: the depth of it through which light keeps `color` of itself
   double opacity = 1.0;       // 0..1
   // A sheet's back (the side its normal points away from), plain: this albedo and no texture.
   std::optional<Vec3> back_color;

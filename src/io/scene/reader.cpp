@@ -41,6 +41,8 @@ void readMaterial(Obj& o, Material& m) {
   else if (o.has("shininess")) m.roughness.reset();  // a kind's default roughness yields to it
   m.metallic = o.number("metallic", m.metallic, kUnit);
   m.sheen = o.number("sheen", m.sheen, kUnit);
+  m.transmission = o.number("transmission", m.transmission, kUnit);
+  m.absorption_depth = o.number("absorption_depth", m.absorption_depth, kPos);
   if (o.has("roughness") && o.has("shininess"))
     o.diag().error(childPath(o.path(), "shininess"), "give roughness or shininess (the older key), not both");
   m.opacity = o.number("opacity", m.opacity, kUnit);

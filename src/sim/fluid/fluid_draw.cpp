@@ -48,9 +48,10 @@ std::vector<Vec3> blendedColors(const Fluid& fl) {
 // The liquid's surface: the particles' density splatted on a grid with the kernel
 // W(q) = (1 − q²)³, q = r/R, normalised by the density of a bulk at the species' rest spacing,
 // cut at `surface_iso`. Colours are the splatted particle colours, darkened with the depth of
-// liquid behind the surface (colour^(1 + 1.5·density one kernel radius inside): Beer–Lambert-like).
+// liquid behind the surface (colour^(1 + 1.5·density one kernel radius inside): Beer–Lambert-like)
+// when `tint` (not for a see-through liquid, which the renderer absorbs along its true depth).
 // The surface of the particles `part` (whose kernels overlap no other particle's).
-TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, const std::vector<std::size_t>& part) {
+TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, const std::vector<std::size_t>& part, bool tint) {
   if (part.empty()) return {};
   const double R = fl.surface_kernel;
   double cell = fl.surface_cell;
@@ -109,6 +110,7 @@ TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, const st
       for (int a = 0; a < 3; ++a) f.color[3 * id + static_cast<std::size_t>(a)] /= f.value[id];
   });
   TriMesh m = isosurface(f, fl.surface_iso);
+  if (!tint) return m;  // a see-through liquid: the renderer absorbs along the real depth
   parallelFor(static_cast<std::ptrdiff_t>(m.vertexCount()), [&](std::ptrdiff_t vi) {
     const auto v = static_cast<std::size_t>(vi);
     const Vec3 p(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]);
@@ -130,7 +132,7 @@ constexpr std::size_t kSprayParticles = 12;
 // one group into another, and each group's surface is extracted on a grid over its own box. A
 // splash far from the pool costs a small grid of its own, not one spanning both. The particles of
 // groups too small for a surface are added to `spray`.
-TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, std::vector<std::size_t>& spray) {
+TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, std::vector<std::size_t>& spray, bool tint) {
   const double C = 2.0 * (fl.surface_kernel + 2.0 * fl.surface_cell);
   std::vector<std::array<std::int64_t, 3>> key;  // each finite particle's cell
   std::vector<std::size_t> who;
@@ -166,7 +168,7 @@ TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, std::vec
       spray.insert(spray.end(), g.begin(), g.end());
       continue;
     }
-    const TriMesh m = liquidSurface(fl, colors, g);
+    const TriMesh m = liquidSurface(fl, colors, g, tint);
     const auto base = static_cast<std::uint32_t>(out.vertexCount());
     out.positions.insert(out.positions.end(), m.positions.begin(), m.positions.end());
     out.normals.insert(out.normals.end(), m.normals.begin(), m.normals.end());
@@ -226,7 +228,7 @@ void FluidBody::draw(DrawList& out) const {
     profile::Scope stage(profile::Stage::Surface);
     DrawMesh mesh;
     std::vector<std::size_t> spray;
-    mesh.mesh = std::make_shared<const TriMesh>(liquidSurface(fl, colors, spray));
+    mesh.mesh = std::make_shared<const TriMesh>(liquidSurface(fl, colors, spray, material.transmission <= 0));
     mesh.per_frame = true;
     mesh.material = dm;
     if (mesh.mesh->triangleCount() > 0) out.meshes.push_back(std::move(mesh));
