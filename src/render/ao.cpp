@@ -12,16 +12,7 @@ Status AmbientOcclusion::init(const std::string& dir, int width, int height) {
   ao_prog_ = std::move(a.value());
   blur_prog_ = std::move(b.value());
   vao_ = gl::makeVertexArray(*gl_);
-  auto texture = [&](gl::Texture& t, GLint internal, GLenum format, GLenum type) {
-    t = gl::makeTexture(*gl_);
-    gl_->BindTexture(GL_TEXTURE_2D, t.id());
-    gl_->TexImage2D(GL_TEXTURE_2D, 0, internal, width, height, 0, format, type, nullptr);
-    gl_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    gl_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    gl_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    gl_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  };
-  texture(depth_, GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_FLOAT);
+  depth_ = gl::makeTargetTexture(*gl_, width, height, GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_FLOAT, GL_NEAREST);
   depth_fbo_ = gl::makeFramebuffer(*gl_);
   gl_->BindFramebuffer(GL_FRAMEBUFFER, depth_fbo_.id());
   gl_->FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth_.id(), 0);
@@ -30,7 +21,7 @@ Status AmbientOcclusion::init(const std::string& dir, int width, int height) {
   if (gl_->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     return Error(ErrorKind::Internal, "the occlusion depth framebuffer is incomplete");
   for (int i = 0; i < 2; ++i) {
-    texture(ao_[i], GL_R8, GL_RED, GL_UNSIGNED_BYTE);
+    ao_[i] = gl::makeTargetTexture(*gl_, width, height, GL_R8, GL_RED, GL_UNSIGNED_BYTE, GL_NEAREST);
     ao_fbo_[i] = gl::makeFramebuffer(*gl_);
     gl_->BindFramebuffer(GL_FRAMEBUFFER, ao_fbo_[i].id());
     gl_->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, ao_[i].id(), 0);

@@ -66,6 +66,9 @@ Framebuffer makeFramebuffer(const GlApi& gl);
 Renderbuffer makeRenderbuffer(const GlApi& gl);
 Texture makeTexture(const GlApi& gl);
 Sampler makeSampler(const GlApi& gl);
+// A w x h texture of one level, `internal` format, no pixels, `filter` both ways, clamped at the
+// edges (render targets: depths, occlusion, copies of the picture). Left bound to GL_TEXTURE_2D.
+Texture makeTargetTexture(const GlApi& gl, int w, int h, GLint internal, GLenum format, GLenum type, GLint filter);
 Shader makeShader(const GlApi& gl, GLenum type);
 Program makeProgram(const GlApi& gl);
 
