@@ -13,20 +13,14 @@ Status AmbientOcclusion::init(const std::string& dir, int width, int height) {
   blur_prog_ = std::move(b.value());
   vao_ = gl::makeVertexArray(*gl_);
   depth_ = gl::makeTargetTexture(*gl_, width, height, GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_FLOAT, GL_NEAREST);
-  depth_fbo_ = gl::makeFramebuffer(*gl_);
-  gl_->BindFramebuffer(GL_FRAMEBUFFER, depth_fbo_.id());
-  gl_->FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth_.id(), 0);
-  gl_->DrawBuffer(GL_NONE);
-  gl_->ReadBuffer(GL_NONE);
-  if (gl_->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    return Error(ErrorKind::Internal, "the occlusion depth framebuffer is incomplete");
+  auto df = gl::makeTargetFramebuffer(*gl_, 0, depth_.id(), "occlusion depth");
+  if (!df.ok()) return df.error();
+  depth_fbo_ = std::move(df.value());
   for (int i = 0; i < 2; ++i) {
     ao_[i] = gl::makeTargetTexture(*gl_, width, height, GL_R8, GL_RED, GL_UNSIGNED_BYTE, GL_NEAREST);
-    ao_fbo_[i] = gl::makeFramebuffer(*gl_);
-    gl_->BindFramebuffer(GL_FRAMEBUFFER, ao_fbo_[i].id());
-    gl_->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, ao_[i].id(), 0);
-    if (gl_->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-      return Error(ErrorKind::Internal, "the occlusion framebuffer is incomplete");
+    auto f = gl::makeTargetFramebuffer(*gl_, ao_[i].id(), 0, "occlusion");
+    if (!f.ok()) return f.error();
+    ao_fbo_[i] = std::move(f.value());
   }
   width_ = width;
   height_ = height;

@@ -120,7 +120,6 @@ Status Renderer::Impl::initShadowMaps() {
   gl->SamplerParameteri(raw_depth.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   gl->SamplerParameteri(raw_depth.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   for (auto& t : shadow_tex) t = gl::makeTexture(*gl);
-  for (auto& f : shadow_fbo) f = gl::makeFramebuffer(*gl);
   for (std::size_t i = 0; i < 2; ++i) {
     gl->BindTexture(GL_TEXTURE_2D, shadow_tex[i].id());
     gl->TexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, set.shadow_map_size, set.shadow_map_size, 0,
@@ -131,12 +130,9 @@ Status Renderer::Impl::initShadowMaps() {
     gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
     gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-    gl->BindFramebuffer(GL_FRAMEBUFFER, shadow_fbo[i].id());
-    gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, shadow_tex[i].id(), 0);
-    gl->DrawBuffer(GL_NONE);
-    gl->ReadBuffer(GL_NONE);
-    if (gl->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-      return Error(ErrorKind::Internal, "the shadow framebuffer is incomplete");
+    auto f = gl::makeTargetFramebuffer(*gl, 0, shadow_tex[i].id(), "shadow");
+    if (!f.ok()) return f.error();
+    shadow_fbo[i] = std::move(f.value());
   }
   return {};
 }

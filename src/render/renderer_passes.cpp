@@ -1,5 +1,6 @@
 // The renderer's later passes: see-through bodies (transmission), the environment's texture and
 // the background.
+#include <algorithm>
 #include <utility>
 
 #include <Eigen/LU>
@@ -13,19 +14,12 @@ Status Renderer::Impl::initTransmission() {
   scene_color_tex = gl::makeTargetTexture(*gl, W, H, GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, GL_LINEAR);
   scene_depth_tex = gl::makeTargetTexture(*gl, W, H, GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_FLOAT, GL_NEAREST);
   back_depth_tex = gl::makeTargetTexture(*gl, W, H, GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_FLOAT, GL_NEAREST);
-  copy_fbo = gl::makeFramebuffer(*gl);
-  gl->BindFramebuffer(GL_FRAMEBUFFER, copy_fbo.id());
-  gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, scene_color_tex.id(), 0);
-  gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, scene_depth_tex.id(), 0);
-  if (gl->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    return Error(ErrorKind::Internal, "the transmission copy framebuffer is incomplete");
-  back_fbo = gl::makeFramebuffer(*gl);
-  gl->BindFramebuffer(GL_FRAMEBUFFER, back_fbo.id());
-  gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, back_depth_tex.id(), 0);
-  gl->DrawBuffer(GL_NONE);
-  gl->ReadBuffer(GL_NONE);
-  if (gl->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    return Error(ErrorKind::Internal, "the transmission depth framebuffer is incomplete");
+  auto copy = gl::makeTargetFramebuffer(*gl, scene_color_tex.id(), scene_depth_tex.id(), "transmission copy");
+  if (!copy.ok()) return copy.error();
+  auto back = gl::makeTargetFramebuffer(*gl, 0, back_depth_tex.id(), "transmission depth");
+  if (!back.ok()) return back.error();
+  copy_fbo = std::move(copy.value());
+  back_fbo = std::move(back.value());
   return {};
 }
 
@@ -34,12 +28,11 @@ Status Renderer::Impl::initTransmission() {
 // test GREATER from a cleared 0, so no face culling is needed), then the bodies are drawn with
 // the TRANSMISSIVE variant, which reads all three (shaders/surface.frag).
 Status Renderer::Impl::transmissionPass(const DrawList& list, const Mat4f& view_proj) {
-  bool any = false;
-  for (const auto& m : list.meshes) any = any || (m.material.transmission > 0 && m.material.opacity >= 1);
-  for (const auto& sp : list.spheres) any = any || (sp.material.transmission > 0 && sp.material.opacity >= 1);
-  for (const auto& t : list.tubes) any = any || (t.material.transmission > 0 && t.material.opacity >= 1);
-  for (const auto& d : list.instances) any = any || (d.material.transmission > 0 && d.material.opacity >= 1);
-  if (!any) return {};
+  const Pass see_through{true, Layer::Transmissive};
+  auto some = [&](const auto& items) {
+    return std::any_of(items.begin(), items.end(), [&](const auto& item) { return see_through.wants(item.material); });
+  };
+  if (!some(list.meshes) && !some(list.spheres) && !some(list.tubes) && !some(list.instances)) return {};
   if (!copy_fbo.id())
     if (Status st = initTransmission(); !st) return st;
   const int W = set.width, H = set.height;

@@ -41,6 +41,20 @@ Texture makeTargetTexture(const GlApi& gl, int w, int h, GLint internal, GLenum 
   return t;
 }
 
+Result<Framebuffer> makeTargetFramebuffer(const GlApi& gl, GLuint color, GLuint depth, const std::string& what) {
+  Framebuffer f = makeFramebuffer(gl);
+  gl.BindFramebuffer(GL_FRAMEBUFFER, f.id());
+  if (color) gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color, 0);
+  if (depth) gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth, 0);
+  if (!color) {
+    gl.DrawBuffer(GL_NONE);
+    gl.ReadBuffer(GL_NONE);
+  }
+  if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    return Error(ErrorKind::Internal, "the " + what + " framebuffer is incomplete");
+  return f;
+}
+
 Shader makeShader(const GlApi& gl, GLenum type) { return {gl, gl.CreateShader(type)}; }
 
 Program makeProgram(const GlApi& gl) { return {gl, gl.CreateProgram()}; }

@@ -4,8 +4,10 @@
 // destroyed before its gl::Context (the Renderer's contract).
 #pragma once
 
+#include <string>
 #include <utility>
 
+#include "core/error.h"
 #include "render/gl/api.h"
 
 namespace reel::gl {
@@ -69,6 +71,9 @@ Sampler makeSampler(const GlApi& gl);
 // A w x h texture of one level, `internal` format, no pixels, `filter` both ways, clamped at the
 // edges (render targets: depths, occlusion, copies of the picture). Left bound to GL_TEXTURE_2D.
 Texture makeTargetTexture(const GlApi& gl, int w, int h, GLint internal, GLenum format, GLenum type, GLint filter);
+// A framebuffer drawing into these textures (0: none; without colour it draws depth only),
+// checked complete; the error names `what`. Left bound.
+Result<Framebuffer> makeTargetFramebuffer(const GlApi& gl, GLuint color, GLuint depth, const std::string& what);
 Shader makeShader(const GlApi& gl, GLenum type);
 Program makeProgram(const GlApi& gl);
 
