@@ -43,7 +43,7 @@ def nozzle(objects, x, y, z, name):
 def water(name, blocks=(), emitters=()):
     # A lower surface level than the default (0.5) keeps a falling stream joined.
     return {"type": "fluid", "name": name, "radius": 0.01, "draw": "surface", "surface_iso": 0.3, "species": [WATER],
-            "blocks": list(blocks), "emitters": list(emitters), "specular": 0.8, "shininess": 90}
+            "blocks": list(blocks), "emitters": list(emitters), "transmission": 0.85, "absorption_depth": 0.1, "specular": 0.5, "roughness": 0.08}
 
 
 def hammock(objects, bodies, x0, t0, name, tear, rate, stop, color, stiffness, tilt=0.0):
