@@ -29,7 +29,7 @@ inline Image renderScene(const std::string& text, gl::Backend backend = gl::Back
   auto r = Renderer::create(*ctx.value(), rs, findShaderDir());
   REQUIRE_MESSAGE(r.ok(), (r.ok() ? "" : r.error().headline()));
   DrawList list;
-  setSceneView(scene, w.value().time(), list);
+  setSceneView(scene, w.value().time(), list, w.value().cameraRig());
   w.value().draw(list);
   Image img;
   REQUIRE(r.value()->draw(list, img).ok());

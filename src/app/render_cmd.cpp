@@ -153,7 +153,7 @@ int still(const RenderOptions& opt, double time, int frame) {
     progress.update(done);
   }
   DrawList list;
-  setSceneView(s.scene, s.world->time(), list);
+  setSceneView(s.scene, s.world->time(), list, s.world->cameraRig());
   s.world->draw(list);
   Image img;
   if (Status st = s.renderer->draw(list, img); !st) return report(st.error());
@@ -286,7 +286,7 @@ Status runPipeline(Setup& s, std::vector<Output>& outs, int first, int last, con
         continue;
       }
       DrawList list;
-      setSceneView(s.scene, s.world->time(), list);
+      setSceneView(s.scene, s.world->time(), list, s.world->cameraRig());
       s.world->draw(list);
       times.simulate += since(t0);
       if (!lists.push({k, std::move(list)})) break;

@@ -18,7 +18,7 @@ namespace reel::app {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr char kMagic[9] = "REELSIM1";
+constexpr char kMagic[9] = "REELSIM2";
 constexpr std::size_t kMaxSceneBytes = 64u << 20;
 
 // The snapshot's fields in one order for writing and reading.
@@ -40,6 +40,8 @@ void fields(Snap& s, Archive& a) {
   }
   for (auto& blob : s.bodies) a(blob.bytes);
   a(s.solver.last.cg_iterations)(s.solver.last.cg_relative_residual)(s.solver.unconverged)(s.solver.worst_residual);
+  auto& c = s.camera;
+  a(c.active)(c.centre0)(c.centre)(c.velocity)(c.radius)(c.radius_rate);
 }
 
 std::uint64_t checksum(const std::byte* p, std::size_t n) { return hashBytes(p, n).h; }

@@ -88,10 +88,27 @@ struct CameraKey {
   double fov_deg = 40.0;
 };
 
+// A camera that keeps a body in the picture (scene keys `follow` and `frame`): the body's centre
+// (and, to frame it, its size) are smoothed by a critically damped spring that trails a body moving
+// at a steady speed by `lag` seconds, so the camera moves like an operator's, not like the body.
+struct CameraRigDesc {
+  enum class Mode {
+    None,
+    Track,  // follow: the camera and its target move with the smoothed centre
+    Pan,    // follow: the camera stays, its target moves with the smoothed centre
+    Frame,  // frame: aims at the smoothed centre from a distance that fits the body in view
+  };
+  Mode mode = Mode::None;
+  std::string body;     // the body's name
+  double lag = 0.5;     // s: how far behind a steadily moving body the camera trails; 0: rigidly
+  double margin = 1.3;  // frame: the picture's half-size over the body's radius
+};
+
 struct CameraDesc {
   Vec3 position{0, 1, 5}, target{0, 0, 0}, up{0, 1, 0};
   double fov_deg = 40.0;  // vertical field of view
   std::vector<CameraKey> keys;
+  CameraRigDesc rig;
 };
 
 // Settings of the implicit integrator's conjugate-gradient solve.

@@ -18,9 +18,10 @@ std::vector<LightDesc> defaultLights() {
   return {key, amb};
 }
 
-void setSceneView(const SceneDesc& scene, double t, DrawList& out) {
+void setSceneView(const SceneDesc& scene, double t, DrawList& out, const CameraRig* rig) {
   const RenderDesc& r = scene.render;
-  out.camera = cameraAt(scene.camera, t);
+  out.camera = rig && rig->active ? rigCamera(scene.camera, *rig, t, static_cast<double>(r.width) / r.height)
+                                  : cameraAt(scene.camera, t);
   out.lights = scene.has_lights ? scene.lights : defaultLights();
   out.background_top = r.background_top;
   out.background_bottom = r.background_bottom;

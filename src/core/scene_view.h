@@ -2,6 +2,7 @@
 // at a time, the lights (or the default rig), the background, fog and tone mapping.
 #pragma once
 
+#include "core/camera.h"
 #include "core/drawlist.h"
 #include "core/scene.h"
 
@@ -10,7 +11,8 @@ namespace reel {
 // Without a `lights` list: a warm key light with soft shadows and a cool, soft ambient.
 std::vector<LightDesc> defaultLights();
 
-// Sets everything but the geometry of `out` for the scene at time t (s).
-void setSceneView(const SceneDesc& scene, double t, DrawList& out);
+// Sets everything but the geometry of `out` for the scene at time t (s). `rig`: the World's
+// camera rig, when the scene's camera follows or frames a body (World::cameraRig()).
+void setSceneView(const SceneDesc& scene, double t, DrawList& out, const CameraRig* rig = nullptr);
 
 }  // namespace reel

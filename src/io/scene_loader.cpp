@@ -118,8 +118,34 @@ void readRender(const Json& j, RenderDesc& r, Diagnostics& d) {
   o.finish();
 }
 
+// `follow` or `frame`: a body's name, or {body, lag, mode (follow) or margin (frame)}.
+void readCameraRig(Obj& o, CameraRigDesc& r, Diagnostics& d) {
+  const bool follow = o.has("follow"), frame = o.has("frame");
+  if (!follow && !frame) return;
+  if (follow && frame) {
+    d.error("/camera/frame", "give follow or frame, not both (frame follows the body it frames)");
+    return;
+  }
+  const std::string key = follow ? "follow" : "frame", p = "/camera/" + key;
+  const Json& j = *o.raw(key);
+  r.mode = follow ? CameraRigDesc::Mode::Track : CameraRigDesc::Mode::Frame;
+  if (j.is_string()) {
+    r.body = j.get<std::string>();
+  } else if (j.is_object()) {
+    Obj ro(j, p, d);
+    r.body = ro.string("body", true).value_or("");
+    r.lag = ro.number("lag", r.lag, Range{0.0, 60.0});
+    if (follow && ro.choice("mode", "track", {"track", "pan"}) == "pan") r.mode = CameraRigDesc::Mode::Pan;
+    if (frame) r.margin = ro.number("margin", r.margin, Range{0.1, 100.0});
+    ro.finish();
+  } else {
+    d.error(p, "expected a body's name or an object with `body`, got " + typeName(j));
+  }
+}
+
 void readCamera(const Json& j, CameraDesc& c, Diagnostics& d) {
   Obj o(j, "/camera", d);
+  readCameraRig(o, c.rig, d);
   c.position = o.vec3("position", c.position);
   c.target = o.vec3("target", c.target);
   c.up = o.vec3("up", c.up);
@@ -478,6 +504,10 @@ Result<SceneDesc> parseScene(const std::string& text, const std::string& file, s
     s.bodies.push_back(std::move(bd));
   }
   checkBodies(s, d);
+  if (s.camera.rig.mode != CameraRigDesc::Mode::None &&
+      std::none_of(s.bodies.begin(), s.bodies.end(), [&](const BodyDesc& b) { return b.name == s.camera.rig.body; }))
+    d.error(s.camera.rig.mode == CameraRigDesc::Mode::Frame ? "/camera/frame" : "/camera/follow",
+            "no body named '" + s.camera.rig.body + "' (a camera follows or frames a body or a dynamic object)");
   o.finish();
   if (!d.empty()) return Error(ErrorKind::BadInput, d.lines());
   return s;

@@ -22,6 +22,23 @@ void bodyReach(const SceneDesc& scene, double& radius, double& adhesion_range) {
   }
 }
 
+// What a camera frames of a body: the centre of its nodes, particles or parts and the radius that
+// holds 95% of them (a few drops flung away do not pull the picture wide), at least 0.25 m (a
+// single rigid part is a point here). False for a body with nothing to show.
+bool bodyExtent(const Body& b, Vec3& centre, double& radius) {
+  BodyView v;
+  if (!b.view(v) || v.positions.empty()) return false;
+  centre = Vec3::Zero();
+  for (const Vec3& p : v.positions) centre += p;
+  centre /= static_cast<double>(v.positions.size());
+  std::vector<double> d2(v.positions.size());
+  for (std::size_t i = 0; i < d2.size(); ++i) d2[i] = (v.positions[i] - centre).squaredNorm();
+  const std::size_t k = (d2.size() * 95) / 100;
+  std::nth_element(d2.begin(), d2.begin() + static_cast<std::ptrdiff_t>(std::min(k, d2.size() - 1)), d2.end());
+  radius = std::max(0.25, std::sqrt(d2[std::min(k, d2.size() - 1)]));
+  return true;
+}
+
 }  // namespace
 
 Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow> kinds,
@@ -66,7 +83,29 @@ Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow>
         if (scene.bodies[a].type == row.first && scene.bodies[b].type == row.second)
           w.exchanges_.push_back({a, b, row.exchange});
   w.coupling_.reset(w.colliders_.size());
+  w.camera_desc_ = scene.camera.rig;
+  for (std::size_t k = 0; k < w.bodies_.size(); ++k)
+    if (w.camera_desc_.mode != CameraRigDesc::Mode::None && w.bodies_[k]->name() == w.camera_desc_.body)
+      w.camera_body_ = static_cast<int>(k);
+  if (w.camera_body_ >= 0) {
+    Vec3 c;
+    double r;
+    if (bodyExtent(*w.bodies_[static_cast<std::size_t>(w.camera_body_)], c, r)) w.camera_ = startRig(c, r);
+  }
   return w;
+}
+
+// The followed body's centre and radius at the end of the frame, into the rig.
+void World::advanceCamera() {
+  if (camera_body_ < 0) return;
+  Vec3 c;
+  double r;
+  if (!bodyExtent(*bodies_[static_cast<std::size_t>(camera_body_)], c, r)) return;
+  if (!camera_.active) {
+    camera_ = startRig(c, r);
+    return;
+  }
+  advanceRig(camera_, c, r, 1.0 / fps_, camera_desc_.lag);
 }
 
 // Each body from its kind's builder, drawing random numbers from its own stream of the scene
@@ -162,6 +201,7 @@ Status World::advanceFrame() {
     }
   }
   ++frame_;
+  advanceCamera();
   return {};
 }
 
@@ -205,6 +245,7 @@ WorldSnapshot World::snapshot() const {
   s.bodies.resize(bodies_.size());
   for (std::size_t k = 0; k < bodies_.size(); ++k) bodies_[k]->snapshot(s.bodies[k]);
   s.solver = solver_;
+  s.camera = camera_;
   return s;
 }
 
@@ -236,6 +277,7 @@ Status World::restore(const WorldSnapshot& s) {
   frame_ = s.frame;
   step_ = s.step;
   solver_ = s.solver;
+  camera_ = s.camera;
   return {};
 }
 

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/camera.h"
 #include "core/drawlist.h"
 #include "core/error.h"
 #include "core/frame_view.h"
@@ -42,6 +43,7 @@ struct WorldSnapshot {
   std::vector<Pose> colliders;
   std::vector<StateBlob> bodies;
   SolverStats solver;
+  CameraRig camera;
 };
 
 class World {
@@ -73,6 +75,9 @@ class World {
     return nullptr;
   }
   const std::vector<Collider>& colliders() const { return colliders_; }
+  // The camera rig's state when the scene's camera follows or frames a body, else nullptr: hand
+  // it to setSceneView.
+  const CameraRig* cameraRig() const { return camera_.active ? &camera_ : nullptr; }
 
   // The state a dump shows of the current frame.
   void view(FrameView& out) const;
@@ -115,6 +120,10 @@ class World {
   std::vector<Exchange> exchanges_;  // the coupling stage's exchanges, in order
   Coupling coupling_;
   SolverStats solver_;
+  CameraRigDesc camera_desc_;
+  int camera_body_ = -1;  // the body the camera follows or frames
+  CameraRig camera_;
+  void advanceCamera();
 };
 
 }  // namespace reel
