@@ -4,6 +4,8 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -28,6 +30,11 @@ struct TriMesh {
 // An imported mesh placed in the world: x ↦ R·(scale ⊙ x) + position; normals take the inverse
 // scale and R, renormalised, so they stay perpendicular to the surface.
 TriMesh placeMesh(const TriMesh& m, const Vec3& scale, const Mat3& R, const Vec3& position);
+
+// A surface through points[first + k] (k < n) with the triangles `tris` (indices from `first`),
+// its normals the area-weighted means of its triangles' (a face's skin, a jelly's).
+std::shared_ptr<TriMesh> smoothMesh(std::span<const Vec3> points, std::size_t first, std::size_t n,
+                                    const std::vector<std::uint32_t>& tris);
 
 TriMesh makeUvSphere(double radius, int slices, int stacks);
 // An icosahedron whose faces are split in four `subdivisions` times, vertices pushed onto the

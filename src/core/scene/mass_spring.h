@@ -81,6 +81,10 @@ struct LatticeDesc final : BodyParams {
   double node_damping = 0.0;
   Vec3 velocity{0, 0, 0};
   std::vector<int> pinned;
+  // Drawn as a smooth skin over its outer nodes (Catmull–Clark, `skin_levels` times), or as
+  // its nodes and springs.
+  enum class Draw { Skin, Springs } draw = Draw::Skin;
+  int skin_levels = 2;
   std::pair<long long, long long> nodesAndSprings() const override {
     const long long x = resolution[0], y = resolution[1], z = resolution[2];
     const long long edges = (x - 1) * y * z + x * (y - 1) * z + x * y * (z - 1);

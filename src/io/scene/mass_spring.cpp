@@ -115,6 +115,8 @@ void readLattice(Obj& o, LatticeDesc& l) {
   l.node_damping = o.number("node_damping", 0.0, kNonNeg);
   l.velocity = o.vec3("velocity", l.velocity);
   readPins(o, {nx, ny, nz}, nx * ny * nz, {}, l.pinned);
+  l.draw = o.choice("draw", "skin", {"skin", "springs"}) == "skin" ? LatticeDesc::Draw::Skin : LatticeDesc::Draw::Springs;
+  l.skin_levels = o.integer("skin_levels", l.skin_levels, 0, 4);
 }
 
 template <class D, void (*Read)(Obj&, D&)>

@@ -31,22 +31,6 @@ std::shared_ptr<const TriMesh> eyeMesh(const Vec3& iris) {
   return m;
 }
 
-// A surface through points[first + k] (k < n) with the surface's triangles, its normals the
-// area-weighted means of its triangles' (the skin; the skull).
-std::shared_ptr<TriMesh> smoothMesh(const std::vector<Vec3>& points, std::size_t first, std::size_t n,
-                                    const std::vector<std::uint32_t>& tris) {
-  auto P = [&](std::uint32_t k) -> const Vec3& { return points[first + k]; };
-  std::vector<Vec3> normal(n, Vec3::Zero());
-  for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
-    const Vec3 an = (P(tris[t + 1]) - P(tris[t])).cross(P(tris[t + 2]) - P(tris[t]));
-    for (int c = 0; c < 3; ++c) normal[tris[t + static_cast<std::size_t>(c)]] += an;
-  }
-  auto mesh = std::make_shared<TriMesh>();
-  for (std::size_t k = 0; k < n; ++k) mesh->addVertex(points[first + k], unitOr(normal[k], Vec3::UnitY()));
-  mesh->indices = tris;
-  return mesh;
-}
-
 void pushTube(DrawTubes& t, const Vec3& a, const Vec3& b) {
   for (const Vec3* p : {&a, &b})
     for (int k = 0; k < 3; ++k) t.ends.push_back(static_cast<float>((*p)[k]));

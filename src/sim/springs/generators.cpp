@@ -62,6 +62,31 @@ MassSpringDesc buildNet(const NetDesc& d) {
   return out;
 }
 
+std::vector<std::array<int, 4>> latticeSkin(const LatticeDesc& d) {
+  const std::array<int, 3> n = d.resolution;
+  std::vector<std::array<int, 4>> quads;
+  auto id = [&](const std::array<int, 3>& c) { return (c[2] * n[1] + c[1]) * n[0] + c[0]; };
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;  // e_b × e_c = e_a: counter-clockwise about +e_a
+    for (int side : {0, n[a] - 1})
+      for (int u = 0; u + 1 < n[b]; ++u)
+        for (int v = 0; v + 1 < n[c]; ++v) {
+          std::array<int, 4> q{};
+          const int du[4] = {0, 1, 1, 0}, dv[4] = {0, 0, 1, 1};
+          for (int k = 0; k < 4; ++k) {
+            std::array<int, 3> p{};
+            p[a] = side;
+            p[b] = u + du[k];
+            p[c] = v + dv[k];
+            q[k] = id(p);
+          }
+          if (side == 0) std::swap(q[1], q[3]);  // the −e_a face: turned to face out
+          quads.push_back(q);
+        }
+  }
+  return quads;
+}
+
 MassSpringDesc buildLattice(const LatticeDesc& d) {
   MassSpringDesc out;
   const int nx = d.resolution[0], ny = d.resolution[1], nz = d.resolution[2];

@@ -9,5 +9,8 @@ namespace reel {
 MassSpringDesc buildRope(const RopeDesc& d);
 MassSpringDesc buildNet(const NetDesc& d);
 MassSpringDesc buildLattice(const LatticeDesc& d);
+// The lattice's outer faces as quads of node indices, counter-clockwise seen from outside (the
+// control mesh of its skin).
+std::vector<std::array<int, 4>> latticeSkin(const LatticeDesc& d);
 
 }  // namespace reel

@@ -28,7 +28,13 @@ Result<std::unique_ptr<Body>> buildNetBody(const BodyDesc& desc, const BuildCont
   return make(desc, ctx, buildNet(desc.as<NetDesc>()));
 }
 Result<std::unique_ptr<Body>> buildLatticeBody(const BodyDesc& desc, const BuildContext& ctx) {
-  return make(desc, ctx, buildLattice(desc.as<LatticeDesc>()));
+  const LatticeDesc& l = desc.as<LatticeDesc>();
+  auto b = make(desc, ctx, buildLattice(l));
+  if (b.ok() && l.draw == LatticeDesc::Draw::Skin) {
+    const int nodes = l.resolution[0] * l.resolution[1] * l.resolution[2];
+    static_cast<SpringsBody*>(b.value().get())->setSkin(std::make_shared<SubdivisionSurface>(nodes, latticeSkin(l), l.skin_levels));
+  }
+  return b;
 }
 
 }  // namespace reel

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/scene/mass_spring.h"
+#include "core/subdivision.h"
 #include "sim/spring_network.h"
 
 namespace reel {
@@ -17,9 +18,12 @@ class SpringsBody final : public SpringNetworkBody {
       : SpringNetworkBody(std::move(name), std::move(generator)), material_(material) {}
   void step(StepContext& ctx) override;
   void draw(DrawList& out) const override;
+  // Draws a smooth skin over the nodes instead of the nodes and springs (a lattice's).
+  void setSkin(std::shared_ptr<const SubdivisionSurface> skin) { skin_ = std::move(skin); }
 
  private:
   Material material_;  // nodes are drawn at their contact radius, net_.radius
+  std::shared_ptr<const SubdivisionSurface> skin_;
 };
 
 // Builders of the registry rows mass_spring, rope, net and lattice.

@@ -1,5 +1,5 @@
 // What a springs body gives the renderer: its nodes as spheres, its springs as tubes (a rope's as
-// thick as its nodes: one continuous tube).
+// thick as its nodes: one continuous tube), or a lattice's smooth skin.
 #include "sim/draw_material.h"
 #include "sim/springs/springs_body.h"
 
@@ -7,6 +7,10 @@ namespace reel {
 
 void SpringsBody::draw(DrawList& out) const {
   const std::vector<Vec3>& x = net_.state.x;
+  if (skin_) {  // over the nodes' spheres: the skin lies on the floor where they do
+    out.meshes.push_back({skin_->mesh(x, net_.radius), true, drawMaterial(material_)});
+    return;
+  }
   DrawSpheres nodes;
   nodes.radius = static_cast<float>(net_.radius);
   nodes.material = drawMaterial(material_);
