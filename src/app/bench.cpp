@@ -139,8 +139,9 @@ int benchInstances(gl::Context& ctx, double seconds) {
 
 // What each pass costs: a 100k-triangle wavy sheet on a floor at 1280x720, 4 samples, drawn bare,
 // then with a plain Lambert material and two lights, then with each pass added alone (GGX
-// specular, filtered shadows, soft shadows, the environment's light, ambient occlusion, ACES),
-// then with all of them (a film's look).
+// specular, filtered shadows, soft shadows, the environment's light, ambient occlusion, ACES,
+// transmission: the sheet as see-through water over a floor, the liquids' pass), then with all
+// of them but transmission (a film's look).
 int benchPasses(gl::Context& ctx, double seconds) {
   RenderSettings rs;
   auto r = Renderer::create(ctx, rs, findShaderDir());
@@ -155,7 +156,7 @@ int benchPasses(gl::Context& ctx, double seconds) {
   if (!bare.ok()) return report(bare.error());
   struct Variant {
     const char* pass;
-    bool specular, shadows, soft, environment, ao, aces;
+    bool specular, shadows, soft, environment, ao, aces, transmission = false;
   };
   const Variant variants[] = {{"plain", false, false, false, false, false, false},
                               {"ggx_specular", true, false, false, false, false, false},
@@ -164,6 +165,7 @@ int benchPasses(gl::Context& ctx, double seconds) {
                               {"environment", false, false, false, true, false, false},
                               {"ao", false, false, false, false, true, false},
                               {"aces", false, false, false, false, false, true},
+                              {"transmission", false, false, false, false, false, false, true},
                               {"film_look", true, true, true, true, true, true}};
   for (const Variant& v : variants) {
     DrawList list;
@@ -172,6 +174,15 @@ int benchPasses(gl::Context& ctx, double seconds) {
     dm.mesh = mesh;
     dm.material.color = Vec3(0.7, 0.6, 0.5);
     if (v.specular) dm.material.specular = 0.5, dm.material.roughness = 0.4;
+    if (v.transmission) {  // see-through water over a floor: the liquid pass
+      dm.material.transmission = 0.9;
+      dm.material.absorption_depth = 0.2;
+      DrawMesh floor;
+      TriMesh quad = makeQuad(8, 8);
+      quad.transform(Mat3::Identity(), Vec3(0, -0.5, 0));
+      floor.mesh = std::make_shared<const TriMesh>(std::move(quad));
+      list.meshes.push_back(floor);
+    }
     list.meshes.push_back(dm);
     LightDesc key, amb;
     key.direction = Vec3(-0.45, -1.0, -0.35);
