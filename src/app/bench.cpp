@@ -140,8 +140,8 @@ int benchInstances(gl::Context& ctx, double seconds) {
 // What each pass costs: a 100k-triangle wavy sheet on a floor at 1280x720, 4 samples, drawn bare,
 // then with a plain Lambert material and two lights, then with each pass added alone (GGX
 // specular, filtered shadows, soft shadows, the environment's light, ambient occlusion, ACES,
-// transmission: the sheet as see-through water over a floor, the liquids' pass), then with all
-// of them but transmission (a film's look).
+// transmission: the sheet as see-through water over a floor, the liquids' pass; motion blur: five
+// pictures of a moving sheet), then with all of them but those two (a film's look).
 int benchPasses(gl::Context& ctx, double seconds) {
   RenderSettings rs;
   auto r = Renderer::create(ctx, rs, findShaderDir());
@@ -156,7 +156,7 @@ int benchPasses(gl::Context& ctx, double seconds) {
   if (!bare.ok()) return report(bare.error());
   struct Variant {
     const char* pass;
-    bool specular, shadows, soft, environment, ao, aces, transmission = false;
+    bool specular, shadows, soft, environment, ao, aces, transmission = false, motion_blur = false;
   };
   const Variant variants[] = {{"plain", false, false, false, false, false, false},
                               {"ggx_specular", true, false, false, false, false, false},
@@ -166,6 +166,7 @@ int benchPasses(gl::Context& ctx, double seconds) {
                               {"ao", false, false, false, false, true, false},
                               {"aces", false, false, false, false, false, true},
                               {"transmission", false, false, false, false, false, false, true},
+                              {"motion_blur", false, false, false, false, false, false, false, true},
                               {"film_look", true, true, true, true, true, true}};
   for (const Variant& v : variants) {
     DrawList list;
@@ -195,6 +196,16 @@ int benchPasses(gl::Context& ctx, double seconds) {
     if (v.environment) list.environment = sky;
     if (v.ao) list.ao_radius = 0.3;
     if (v.aces) list.tonemap = "aces";
+    if (v.motion_blur) {  // the scene's default shutter: 180°, 5 pictures, over a sheet that moved
+      list.shutter_deg = 180;
+      list.shutter_samples = 5;
+      auto before = std::make_shared<DrawList>(list);
+      TriMesh moved = *mesh;
+      moved.transform(Mat3::Identity(), Vec3(0.1, 0, 0));
+      before->meshes.back().mesh = std::make_shared<const TriMesh>(std::move(moved));
+      for (DrawList* l : {before.get(), &list}) l->meshes.back().per_frame = true;
+      list.previous = before;
+    }
     const double fps = framesPerSecond(*r.value(), list, seconds);
     nlohmann::ordered_json j = {{"name", "render_pass"},
                                 {"pass", v.pass},

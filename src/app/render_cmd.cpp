@@ -123,6 +123,15 @@ io::TextChunks pngText(const Setup& s, int frame) {
           {"reel:gl", std::string(s.ctx->backend()) + ": " + s.ctx->renderer()}};
 }
 
+// What to draw of the world's current frame: the scene's view (its camera moved by the World's
+// rig) and the world's geometry.
+DrawList frameList(const Setup& s) {
+  DrawList list;
+  setSceneView(s.scene, s.world->time(), list, s.world->cameraRig());
+  s.world->draw(list);
+  return list;
+}
+
 }  // namespace
 
 int still(const RenderOptions& opt, double time, int frame) {
@@ -138,23 +147,30 @@ int still(const RenderOptions& opt, double time, int frame) {
   if (k < 0 || k >= n)
     return report(Error(ErrorKind::BadInput, "frame " + std::to_string(k) + " is outside the film (frames 0.." +
                                                  std::to_string(n - 1) + ")"));
+  // With motion blur the shutter opens on frame k − 1: its draw list goes with frame k's.
+  const bool blur = s.scene.render.shutter_deg > 0.0 && k > 0;
+  std::shared_ptr<const DrawList> before;
   // From the farm cache, or from the nearest frame a render or still of this scene left.
   CacheReader farm;
   if (!opt.from.empty()) {
-    if (Status st = openFarmCache(opt, s, k, k, farm); !st) return report(st.error());
+    if (Status st = openFarmCache(opt, s, blur ? k - 1 : k, k, farm); !st) return report(st.error());
+    if (blur) {
+      if (Status st = farm.restore(*s.world, k - 1); !st) return report(st.error());
+      before = std::make_shared<const DrawList>(frameList(s));
+    }
     if (Status st = farm.restore(*s.world, k); !st) return report(st.error());
   }
   std::optional<SimCache> cache = opt.from.empty() ? openCache(opt, n) : std::nullopt;
-  if (cache) cache->restoreNearest(*s.world, k);
+  if (cache) cache->restoreNearest(*s.world, blur ? k - 1 : k);
   Progress progress(k - s.world->frame(), opt.quiet, "simulating frame");
   for (int done = 1; s.world->frame() < k; ++done) {
+    if (blur && s.world->frame() == k - 1) before = std::make_shared<const DrawList>(frameList(s));
     if (Status st = s.world->advanceFrame(); !st) return report(st.error());
     if (cache) cache->offer(*s.world, s.world->frame() == k);
     progress.update(done);
   }
-  DrawList list;
-  setSceneView(s.scene, s.world->time(), list, s.world->cameraRig());
-  s.world->draw(list);
+  DrawList list = frameList(s);
+  list.previous = before;
   Image img;
   if (Status st = s.renderer->draw(list, img); !st) return report(st.error());
   if (Status st = io::writePng(opt.outputs.at(0), img, pngText(s, k)); !st) return report(st.error());
@@ -265,11 +281,19 @@ Status runPipeline(Setup& s, std::vector<Output>& outs, int first, int last, con
   BoundedQueue<FrameImage> images(3);
   Status sim_status, enc_status;
   std::thread sim([&] {
-    const int start = farm ? first : cache ? cache->restoreNearest(*s.world, first) : 0;
+    // With motion blur, each frame drawn takes the draw list of the frame before along (not
+    // for frame 0), so a chunk or a range starts one frame early.
+    const bool blur = s.scene.render.shutter_deg > 0.0;
+    const int from = blur ? std::max(0, first - 1) : first;
+    const int start = farm ? from : cache ? cache->restoreNearest(*s.world, from) : 0;
+    auto wanted = [&](int k) { return k >= first && k <= last && need[static_cast<std::size_t>(k)]; };
+    std::shared_ptr<const DrawList> before;  // frame before_k's list, without its own `previous`
+    int before_k = -1;
     for (int k = start; k <= last; ++k) {
       const auto t0 = Clock::now();
+      const bool draw = wanted(k), opens_next = blur && k < last && wanted(k + 1);
       if (farm) {
-        if (!need[static_cast<std::size_t>(k)]) continue;
+        if (!draw && !opens_next) continue;
         if (Status st = farm->restore(*s.world, k); !st) {
           sim_status = st;
           break;
@@ -281,15 +305,19 @@ Status runPipeline(Setup& s, std::vector<Output>& outs, int first, int last, con
         }
         if (cache) cache->offer(*s.world);
       }
-      if (k < first || !need[static_cast<std::size_t>(k)]) {
+      if (!draw && !opens_next) {
         times.simulate += since(t0);
         continue;
       }
-      DrawList list;
-      setSceneView(s.scene, s.world->time(), list, s.world->cameraRig());
-      s.world->draw(list);
+      auto now = std::make_shared<const DrawList>(frameList(s));
       times.simulate += since(t0);
-      if (!lists.push({k, std::move(list)})) break;
+      if (draw) {
+        DrawList list = *now;
+        if (blur && before_k == k - 1) list.previous = before;
+        if (!lists.push({k, std::move(list)})) break;
+      }
+      before = std::move(now);
+      before_k = k;
     }
     lists.close();
   });
@@ -362,7 +390,9 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
   if (Status st = frameRange(frames, n, first, last); !st) return report(st.error());
   CacheReader farm;
   if (!opt.from.empty())
-    if (Status st = openFarmCache(opt, s, first, last, farm); !st) return report(st.error());
+    // (with motion blur from the frame before the first: the shutter opens on it)
+    if (Status st = openFarmCache(opt, s, s.scene.render.shutter_deg > 0.0 ? std::max(0, first - 1) : first, last, farm); !st)
+      return report(st.error());
   std::vector<Output> outs;
   const io::ChunkTag tag{first, last, n, s.scene.name, filmId(opt, s)};
   if (Status st = openOutputs(opt, s, no_overwrite, tag, outs); !st) return report(st.error());

@@ -126,6 +126,12 @@ struct DrawList {
   std::vector<DrawSpheres> spheres;
   std::vector<DrawTubes> tubes;
   std::vector<DrawInstances> instances;
+  // Motion blur (core/motion.h): the shutter angle (deg; 0: none), the pictures averaged over
+  // it, and the draw list of the frame before, whose geometry the shutter opens on (null: the
+  // first frame, or no blur).
+  double shutter_deg = 0.0;
+  int shutter_samples = 5;
+  std::shared_ptr<const DrawList> previous;
   void clearGeometry() {
     meshes.clear();
     spheres.clear();

@@ -80,6 +80,8 @@ struct RenderDesc {
   double ao_strength = 1.0;
   Vec3 fog_color{0.5, 0.6, 0.7};
   double fog_density = 0.0;  // 1/m, 0: no fog
+  double shutter_deg = 0.0;  // motion blur: the shutter angle (0: none, 360: the whole frame)
+  int shutter_samples = 5;   // pictures averaged over the shutter interval
 };
 
 struct CameraKey {

@@ -32,6 +32,8 @@ void setSceneView(const SceneDesc& scene, double t, DrawList& out, const CameraR
   out.environment = r.environment.maps;
   out.ao_radius = r.ao_radius;
   out.ao_strength = r.ao_strength;
+  out.shutter_deg = r.shutter_deg;
+  out.shutter_samples = r.shutter_samples;
 }
 
 }  // namespace reel

@@ -1,5 +1,7 @@
 #include "io/environment_file.h"
 
+#include "core/image.h"
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -130,10 +132,7 @@ Result<RadianceMap> readPngMap(const std::string& path, std::size_t max_pixels) 
   m.width = img.value().width;
   m.height = img.value().height;
   m.rgb.resize(img.value().rgb.size());
-  for (std::size_t k = 0; k < m.rgb.size(); ++k) {
-    const double c = img.value().rgb[k] / 255.0;  // sRGB decoding
-    m.rgb[k] = static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
-  }
+  for (std::size_t k = 0; k < m.rgb.size(); ++k) m.rgb[k] = static_cast<float>(srgbToLinear(img.value().rgb[k] / 255.0));
   return m;
 }
 

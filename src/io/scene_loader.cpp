@@ -109,6 +109,17 @@ void readRender(const Json& j, RenderDesc& r, Diagnostics& d) {
       g.finish();
     }
   }
+  // motion_blur: true (a 180° shutter, 5 pictures), false, or {shutter_deg, samples}.
+  if (const Json* m = o.raw("motion_blur")) {
+    if (m->is_boolean()) {
+      r.shutter_deg = m->get<bool>() ? 180.0 : 0.0;
+    } else {
+      Obj g(*m, "/render/motion_blur", d);
+      r.shutter_deg = g.number("shutter_deg", 180.0, Range{0.0, 360.0});
+      r.shutter_samples = g.integer("samples", r.shutter_samples, 2, 32);
+      g.finish();
+    }
+  }
   if (const Json* f = o.raw("fog")) {
     Obj g(*f, "/render/fog", d);
     r.fog_color = g.vec3("color", r.fog_color, kNonNeg);

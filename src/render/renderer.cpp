@@ -10,7 +10,9 @@
 #include <map>
 
 #include "core/brdf.h"
+#include "core/image.h"
 #include "core/math.h"
+#include "core/motion.h"
 #include "render/ao.h"
 #include "render/gl/objects.h"
 #include "render/gl/program.h"
@@ -422,7 +424,25 @@ Result<std::unique_ptr<Renderer>> Renderer::create(gl::Context& ctx, const Rende
   return std::unique_ptr<Renderer>(new Renderer(std::move(impl)));
 }
 
-Status Renderer::draw(const DrawList& list, Image& out) { return impl_->draw(list, out); }
+// With motion blur, the mean of the pictures at the shutter's sample times (core/motion.h), taken
+// in linear light: each picture's sRGB codes decoded, the mean encoded again.
+Status Renderer::draw(const DrawList& list, Image& out) {
+  if (list.shutter_deg <= 0.0 || !list.previous || list.shutter_samples < 2) return impl_->draw(list, out);
+  std::array<double, 256> linear{};
+  for (int c = 0; c < 256; ++c) linear[static_cast<std::size_t>(c)] = srgbToLinear(c / 255.0);
+  const std::vector<double> times = shutterTimes(list.shutter_deg, list.shutter_samples);
+  std::vector<double> sum;
+  Image picture;
+  for (double s : times) {
+    if (Status st = impl_->draw(shutterSample(*list.previous, list, s), picture); !st) return st;
+    sum.resize(picture.rgb.size(), 0.0);
+    for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += linear[picture.rgb[i]];
+  }
+  out = Image(picture.width, picture.height);
+  const double n = static_cast<double>(times.size());
+  for (std::size_t i = 0; i < sum.size(); ++i) out.rgb[i] = linearToSrgb8(sum[i] / n);
+  return {};
+}
 
 Result<double> Renderer::bareDrawSeconds(const TriMesh& mesh, const DrawCamera& cam, int frames) {
   Impl& m = *impl_;

@@ -1,0 +1,70 @@
+#include "core/motion.h"
+
+#include <cmath>
+
+#include "core/math.h"
+
+namespace reel {
+namespace {
+
+void lerp(std::vector<float>& out, const std::vector<float>& a, double s) {
+  const auto t = static_cast<float>(s);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = a[i] + t * (out[i] - a[i]);
+}
+
+// A per-frame mesh moved back to fraction s, when both frames drew it with the same topology.
+std::shared_ptr<const TriMesh> meshAt(const DrawMesh& a, const DrawMesh& b, double s) {
+  if (!b.per_frame || !a.mesh || !b.mesh || a.mesh == b.mesh) return b.mesh;
+  const TriMesh& ma = *a.mesh;
+  const TriMesh& mb = *b.mesh;
+  if (ma.positions.size() != mb.positions.size() || ma.indices.size() != mb.indices.size() ||
+      ma.normals.size() != mb.normals.size())
+    return b.mesh;
+  auto m = std::make_shared<TriMesh>(mb);
+  lerp(m->positions, ma.positions, s);
+  lerp(m->normals, ma.normals, s);
+  for (std::size_t v = 0; v + 2 < m->normals.size(); v += 3) {
+    const double len = std::hypot(m->normals[v], m->normals[v + 1], m->normals[v + 2]);
+    if (len > 0)
+      for (int c = 0; c < 3; ++c) m->normals[v + static_cast<std::size_t>(c)] /= static_cast<float>(len);
+  }
+  return m;
+}
+
+}  // namespace
+
+std::vector<double> shutterTimes(double shutter_deg, int samples) {
+  const double open = std::clamp(shutter_deg, 0.0, 360.0) / 360.0;
+  std::vector<double> t;
+  for (int j = 0; j < samples; ++j) t.push_back(1.0 - open + open * (j + 0.5) / samples);
+  return t;
+}
+
+DrawList shutterSample(const DrawList& before, const DrawList& after, double s) {
+  DrawList out = after;
+  out.previous = nullptr;
+  out.camera.position = before.camera.position + s * (after.camera.position - before.camera.position);
+  out.camera.target = before.camera.target + s * (after.camera.target - before.camera.target);
+  out.camera.fov_deg = before.camera.fov_deg + s * (after.camera.fov_deg - before.camera.fov_deg);
+  for (std::size_t i = 0; i < out.meshes.size() && i < before.meshes.size(); ++i)
+    out.meshes[i].mesh = meshAt(before.meshes[i], after.meshes[i], s);
+  for (std::size_t i = 0; i < out.spheres.size() && i < before.spheres.size(); ++i)
+    if (before.spheres[i].centers.size() == out.spheres[i].centers.size())
+      lerp(out.spheres[i].centers, before.spheres[i].centers, s);
+  for (std::size_t i = 0; i < out.tubes.size() && i < before.tubes.size(); ++i)
+    if (before.tubes[i].ends.size() == out.tubes[i].ends.size()) lerp(out.tubes[i].ends, before.tubes[i].ends, s);
+  for (std::size_t i = 0; i < out.instances.size() && i < before.instances.size(); ++i) {
+    DrawInstances& d = out.instances[i];
+    const DrawInstances& a = before.instances[i];
+    if (a.transforms.size() != d.transforms.size()) continue;
+    lerp(d.transforms, a.transforms, s);
+    if (a.phases.size() != d.phases.size()) continue;
+    for (std::size_t k = 0; k < d.phases.size(); ++k) {
+      const double turn = std::remainder(static_cast<double>(d.phases[k]) - a.phases[k], 2.0 * kPi);
+      d.phases[k] = static_cast<float>(a.phases[k] + s * turn);
+    }
+  }
+  return out;
+}
+
+}  // namespace reel
