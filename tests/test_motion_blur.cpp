@@ -140,3 +140,47 @@ TEST_CASE("motion blur: a fast ball is smeared along its path, the same through 
   checkHas(badInputError(std::string(R"({"format": "reel/1", "duration": 1, "render": {"motion_blur": {"samples": 1}}})")),
            "/render/motion_blur/samples");
 }
+
+TEST_CASE("depth of field: what is in focus stays sharp, what lies behind spreads over its circle of confusion") {
+  namespace fs = std::filesystem;
+  const fs::path d = freshDir("depth_of_field");
+  // A white ball in focus 3 m away on the left, a white ball 9 m away on the right, black behind.
+  auto write = [&](const std::string& name, const std::string& lens) {
+    std::ofstream(d / name) << R"({"format": "reel/1", "duration": 0.1, "fps": 30,
+      "render": {"width": 320, "height": 180, "samples": 1, "background": {"top": [0, 0, 0], "bottom": [0, 0, 0]}},
+      "camera": {"position": [0, 0, 3], "target": [0, 0, 0], "fov_deg": 40)" << lens << R"(},
+      "lights": [{"type": "ambient", "color": [1, 1, 1], "intensity": 1}],
+      "objects": [{"type": "sphere", "name": "near", "center": [-0.5, 0, 0], "radius": 0.25, "color": [1, 1, 1]},
+                  {"type": "sphere", "name": "far", "center": [2.0, 0, -6], "radius": 0.75, "color": [1, 1, 1]}]})";
+    return (d / name).string();
+  };
+  auto still = [&](const std::string& scene, const std::string& out) {
+    REQUIRE(runReel("still --no-cache " + scene + " --frame 0 -o " + (d / out).string()).code == 0);
+    return io::readPng((d / out).string()).value();
+  };
+  const Image pin = still(write("pin.json", ""), "pin.png");
+  const Image lens = still(write("lens.json", R"(, "depth_of_field": {"aperture": 0.1, "samples": 32})"), "lens.png");
+  // The width of the ramp from 10% to 90% white where the middle row crosses each ball's left edge.
+  auto edge = [](const Image& img, int from, int to) {
+    int lo = -1, hi = -1;
+    for (int x = from; x < to; ++x) {
+      const int v = img.pixel(x, img.height / 2)[0];
+      if (lo < 0 && v > 0.1 * 255) lo = x;
+      if (hi < 0 && v > 0.9 * 255) hi = x;
+    }
+    return hi - lo;
+  };
+  const int mid = 160;  // the near ball lies left of the middle, the far one right of it
+  CHECK(edge(pin, 0, mid) <= 2);
+  CHECK(edge(pin, mid, 320) <= 2);
+  CHECK(edge(lens, 0, mid) <= 2);  // in focus
+  // Behind: the circle of confusion on the plane in focus is A·(d − f)/d = 0.1·6/9 m; in pixels
+  // there, 180 / (2·3·tan 20°) px/m. The 10–90% ramp across a disc's edge spans about 80% of it.
+  const double coc_px = 0.1 * 6.0 / 9.0 * 180 / (2 * 3 * std::tan(20 * kPi / 180));
+  CAPTURE(coc_px);
+  CHECK(edge(lens, mid, 320) == doctest::Approx(0.8 * coc_px).epsilon(0.35));
+  checkHas(badInputError(std::string(R"({"format": "reel/1", "duration": 1, "camera": {"depth_of_field": {"focus_distance": 2}}})")),
+           "/camera/depth_of_field/aperture");
+  checkHas(badInputError(std::string(R"({"format": "reel/1", "duration": 1, "camera": {"depth_of_field": {"aperture": 0.1, "samples": 1}}})")),
+           "/camera/depth_of_field/samples");
+}

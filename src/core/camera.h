@@ -19,6 +19,9 @@ inline DrawCamera cameraAt(const CameraDesc& c, double t) {
   out.target = c.target;
   out.up = c.up;
   out.fov_deg = c.fov_deg;
+  out.aperture = c.aperture;
+  out.focus_distance = c.focus_distance;
+  out.lens_samples = c.lens_samples;
   const auto& k = c.keys;
   if (k.empty()) return out;
   const auto [i, s] = keySpan(k, t, [](const CameraKey& key) { return key.time; });

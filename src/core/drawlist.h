@@ -107,6 +107,10 @@ struct DrawInstances {
 struct DrawCamera {
   Vec3 position{0, 1, 5}, target{0, 0, 0}, up{0, 1, 0};
   double fov_deg = 40.0;  // vertical
+  // Depth of field (core/motion.h): the lens' diameter (m; 0: a pinhole) and the distance in
+  // focus along the view (m; 0: the target's), and the pictures averaged over the lens.
+  double aperture = 0.0, focus_distance = 0.0;
+  int lens_samples = 8;
 };
 
 struct DrawList {

@@ -1,5 +1,6 @@
 #include "core/motion.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/math.h"
@@ -32,6 +33,29 @@ std::shared_ptr<const TriMesh> meshAt(const DrawMesh& a, const DrawMesh& b, doub
 }
 
 }  // namespace
+
+int picturesPerFrame(const DrawList& list) {
+  const bool blur = list.shutter_deg > 0.0 && list.previous && list.shutter_samples > 1;
+  const bool lens = list.camera.aperture > 0.0 && list.camera.lens_samples > 1;
+  return std::max({1, blur ? list.shutter_samples : 1, lens ? list.camera.lens_samples : 1});
+}
+
+DrawList picture(const DrawList& list, int j, int n) {
+  const bool blur = list.shutter_deg > 0.0 && list.previous;
+  DrawList out = blur ? shutterSample(*list.previous, list, shutterTimes(list.shutter_deg, n)[static_cast<std::size_t>(j)]) : list;
+  out.previous = nullptr;
+  DrawCamera& c = out.camera;
+  if (c.aperture > 0.0 && n > 1) {
+    const Vec3 axis = (c.target - c.position).normalized();
+    const double focus = c.focus_distance > 0.0 ? c.focus_distance : (c.target - c.position).norm();
+    const Vec3 right = axis.cross(c.up).normalized(), up = right.cross(axis);
+    const double r = 0.5 * c.aperture * std::sqrt((j + 0.5) / n), a = j * 2.399963229728653;  // the golden angle
+    const Vec3 in_focus = c.position + focus * axis;
+    c.position += r * (std::cos(a) * right + std::sin(a) * up);
+    c.target = in_focus;
+  }
+  return out;
+}
 
 std::vector<double> shutterTimes(double shutter_deg, int samples) {
   const double open = std::clamp(shutter_deg, 0.0, 360.0) / 360.0;

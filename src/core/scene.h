@@ -111,6 +111,10 @@ struct CameraDesc {
   double fov_deg = 40.0;  // vertical field of view
   std::vector<CameraKey> keys;
   CameraRigDesc rig;
+  // Depth of field (scene key depth_of_field): the lens' diameter (m; 0: a pinhole, all sharp),
+  // the distance in focus (m; 0: the target's), and the pictures averaged over the lens.
+  double aperture = 0.0, focus_distance = 0.0;
+  int lens_samples = 8;
 };
 
 // Settings of the implicit integrator's conjugate-gradient solve.

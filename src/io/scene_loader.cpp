@@ -157,6 +157,13 @@ void readCameraRig(Obj& o, CameraRigDesc& r, Diagnostics& d) {
 void readCamera(const Json& j, CameraDesc& c, Diagnostics& d) {
   Obj o(j, "/camera", d);
   readCameraRig(o, c.rig, d);
+  if (const Json* f = o.raw("depth_of_field")) {
+    Obj g(*f, "/camera/depth_of_field", d);
+    c.aperture = g.number("aperture", kNonNeg, true).value_or(0.0);
+    c.focus_distance = g.number("focus_distance", 0.0, kNonNeg);
+    c.lens_samples = g.integer("samples", c.lens_samples, 2, 64);
+    g.finish();
+  }
   c.position = o.vec3("position", c.position);
   c.target = o.vec3("target", c.target);
   c.up = o.vec3("up", c.up);

@@ -424,22 +424,21 @@ Result<std::unique_ptr<Renderer>> Renderer::create(gl::Context& ctx, const Rende
   return std::unique_ptr<Renderer>(new Renderer(std::move(impl)));
 }
 
-// With motion blur, the mean of the pictures at the shutter's sample times (core/motion.h), taken
-// in linear light: each picture's sRGB codes decoded, the mean encoded again.
+// With motion blur or depth of field, the mean of the pictures over the shutter and the lens
+// (core/motion.h), taken in linear light: each picture's sRGB codes decoded, the mean encoded again.
 Status Renderer::draw(const DrawList& list, Image& out) {
-  if (list.shutter_deg <= 0.0 || !list.previous || list.shutter_samples < 2) return impl_->draw(list, out);
+  const int n = picturesPerFrame(list);
+  if (n == 1) return impl_->draw(list, out);
   std::array<double, 256> linear{};
   for (int c = 0; c < 256; ++c) linear[static_cast<std::size_t>(c)] = srgbToLinear(c / 255.0);
-  const std::vector<double> times = shutterTimes(list.shutter_deg, list.shutter_samples);
   std::vector<double> sum;
-  Image picture;
-  for (double s : times) {
-    if (Status st = impl_->draw(shutterSample(*list.previous, list, s), picture); !st) return st;
-    sum.resize(picture.rgb.size(), 0.0);
-    for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += linear[picture.rgb[i]];
+  Image one;
+  for (int j = 0; j < n; ++j) {
+    if (Status st = impl_->draw(picture(list, j, n), one); !st) return st;
+    sum.resize(one.rgb.size(), 0.0);
+    for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += linear[one.rgb[i]];
   }
-  out = Image(picture.width, picture.height);
-  const double n = static_cast<double>(times.size());
+  out = Image(one.width, one.height);
   for (std::size_t i = 0; i < sum.size(); ++i) out.rgb[i] = linearToSrgb8(sum[i] / n);
   return {};
 }
