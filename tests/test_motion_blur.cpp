@@ -1,6 +1,6 @@
 // Motion blur by sub-frame accumulation (core/motion.*, render.motion_blur): the shutter's sample
 // times, the interpolated draw list, and a moving ball smeared along its path, the same through
-// `still`, `render` and a range that starts mid-film.
+// `still`, `render`, a range that starts mid-film and the farm cache.
 #include <doctest/doctest.h>
 
 #include <filesystem>
@@ -130,6 +130,10 @@ TEST_CASE("motion blur: a fast ball is smeared along its path, the same through 
   REQUIRE(runReel("render --no-cache " + blurred + " --frames 7-8 -o " + (d / "part_###.png").string()).code == 0);
   CHECK(fileBytes(d / "all_008.png") == fileBytes(d / "blurred.png"));
   CHECK(fileBytes(d / "part_008.png") == fileBytes(d / "blurred.png"));
+  // And from the farm cache: a chunk starting at frame 7 restores frame 6 for its shutter.
+  REQUIRE(runReel("simulate -q " + blurred + " --cache " + (d / "farm").string()).code == 0);
+  REQUIRE(runReel("render -q --cache " + (d / "farm").string() + " " + blurred + " --frames 7-8 -o " + (d / "farm_###.png").string()).code == 0);
+  CHECK(io::readPng((d / "farm_008.png").string()).value().rgb == b.rgb);
   // Frame 0 has no frame before it: drawn sharp.
   REQUIRE(runReel("render --no-cache " + sharp + " --frames 0-0 -o " + (d / "sharp_###.png").string()).code == 0);
   auto pixels = [&](const std::string& f) { return io::readPng((d / f).string()).value().rgb; };
