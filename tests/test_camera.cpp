@@ -60,6 +60,10 @@ TEST_CASE("camera rig: a critically damped trail, exact at any step, trailing a 
   for (; k < 300; ++k) advanceRig(r, Vec3(3.0 * (k + 1) * h, 0, 0), 1.0, h, lag);
   CHECK(3.0 * k * h - r.centre.x() == doctest::Approx(3.0 * lag).epsilon(0.02));
   CHECK(r.velocity.x() == doctest::Approx(3.0).epsilon(0.01));  // the body moves in jumps of a frame
+  // A lag so short that exp(−ωh) underflows: rigid, not NaN.
+  CameraRig tiny = startRig(Vec3::Zero(), 1.0);
+  advanceRig(tiny, Vec3(1, 2, 3), 0.5, h, 1e-300);
+  CHECK((tiny.centre - Vec3(1, 2, 3)).norm() == 0.0);
   // Lag 0: on the body at every frame.
   advanceRig(r, Vec3(7, 1, 2), 2.0, h, 0.0);
   CHECK((r.centre - Vec3(7, 1, 2)).norm() == 0.0);
@@ -132,7 +136,11 @@ TEST_CASE("camera rig: a snapshot and the caches' encoding carry it, so a resume
 
 TEST_CASE("camera follow and frame: bad input names the path") {
   checkHas(badInputError(fallingScene(R"("follow": "nobody")")), "/camera/follow: no body named 'nobody'");
-  checkHas(badInputError(fallingScene(R"("frame": {"body": "ghost"})")), "/camera/frame: no body named 'ghost'");
+  checkHas(badInputError(fallingScene(R"("frame": {"body": "ghost"})")), "/camera/frame/body: no body named 'ghost'");
+  checkHas(badInputError(fallingScene(R"("follow": "pairr")")), "did you mean \"pair\"?");
+  checkHas(badInputError(fallingScene(R"("follow": "")")), "/camera/follow: must name a body");
+  checkHas(badInputError(fallingScene(R"("keys": [{"time": 0, "position": [0, 0, 1], "target": [0, 0, 1]}])")),
+           "/camera/keys/0/target: must differ from the camera position");
   checkHas(badInputError(fallingScene(R"("follow": "pair", "frame": "pair")")), "give follow or frame, not both");
   checkHas(badInputError(fallingScene(R"("follow": {"body": "pair", "mode": "zoom"})")), "/camera/follow/mode");
   checkHas(badInputError(fallingScene(R"("follow": {"body": "pair", "lag": -1})")), "/camera/follow/lag");

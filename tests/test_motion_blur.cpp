@@ -65,6 +65,12 @@ TEST_CASE("motion blur: a draw list between two frames moves what both frames dr
   CHECK(h.tubes[0].ends[0] == doctest::Approx(0.5f));
   CHECK(h.instances[0].transforms[4] == doctest::Approx(0.25f));
   CHECK(h.instances[0].phases[0] == doctest::Approx(3.0 + 0.25 * (2 * kPi - 6.0)).epsilon(1e-5));
+  // Items pair by the body that drew them: when body 0's mesh is gone at frame k, body 1's mesh
+  // moves from body 1's, not from the mesh that was first in the list.
+  DrawList c = a, e = b;
+  c.meshes = {{tri(0), true, {}, 0}, {tri(5), true, {}, 1}};
+  e.meshes = {{tri(7), true, {}, 1}};
+  CHECK(shutterSample(c, e, 0.5).meshes[0].mesh->positions[0] == doctest::Approx(6.0f));
   // A mesh remeshed between the frames (a liquid's surface) is drawn as at frame k.
   b.meshes[0].mesh = std::make_shared<TriMesh>(makeBox(Vec3(1, 1, 1)));
   CHECK(shutterSample(a, b, 0.25).meshes[0].mesh == b.meshes[0].mesh);
@@ -143,6 +149,27 @@ TEST_CASE("motion blur: a fast ball is smeared along its path, the same through 
            "/render/motion_blur/shutter_deg");
   checkHas(badInputError(std::string(R"({"format": "reel/1", "duration": 1, "render": {"motion_blur": {"samples": 1}}})")),
            "/render/motion_blur/samples");
+}
+
+TEST_CASE("depth of field: the lens' points spread over the aperture, also looking straight down") {
+  DrawList list;
+  list.camera.position = Vec3(0, 3, 0);
+  list.camera.target = Vec3(0, 0, 0);  // along the default up (0, 1, 0)
+  list.camera.aperture = 0.2;
+  list.camera.lens_samples = 8;
+  REQUIRE(picturesPerFrame(list) == 8);
+  Vec3 mean = Vec3::Zero();
+  double widest = 0;
+  for (int j = 0; j < 8; ++j) {
+    const DrawCamera c = picture(list, j, 8).camera;
+    CHECK(c.position.y() == doctest::Approx(3.0));  // on the lens' plane
+    CHECK(c.target == Vec3(0, 0, 0));                // all looking at the point in focus
+    widest = std::max(widest, (c.position - list.camera.position).norm());
+    mean += c.position / 8;
+  }
+  CHECK(widest > 0.07);
+  CHECK(widest <= 0.1);
+  CHECK((mean - list.camera.position).norm() < 0.03);
 }
 
 TEST_CASE("depth of field: what is in focus stays sharp, what lies behind spreads over its circle of confusion") {

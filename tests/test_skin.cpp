@@ -144,4 +144,7 @@ TEST_CASE("a lattice is drawn as a closed skin over its nodes, or as nodes and s
   CHECK(springs.tubes.size() == 1);
   checkHas(badInputError(scene(R"(, "draw": "blob")")), "/bodies/0/draw");
   checkHas(badInputError(scene(R"(, "skin_levels": 7)")), "/bodies/0/skin_levels");
+  // A skin's quads are limited: a 300x300x2 block has 179,998 outer cells, 2.9 million quads at 2 levels.
+  checkHas(badInputError(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "lattice", "name": "j",
+             "resolution": [300, 300, 2], "mass": 1000, "stiffness": 100}]})"), "/bodies/0/skin_levels: 2879968 skin quads");
 }

@@ -309,11 +309,17 @@ Status runPipeline(Setup& s, std::vector<Output>& outs, int first, int last, con
         times.simulate += since(t0);
         continue;
       }
+      if (!blur) {
+        DrawList list = frameList(s);
+        times.simulate += since(t0);
+        if (!lists.push({k, std::move(list)})) break;
+        continue;
+      }
       auto now = std::make_shared<const DrawList>(frameList(s));
       times.simulate += since(t0);
       if (draw) {
-        DrawList list = *now;
-        if (blur && before_k == k - 1) list.previous = before;
+        DrawList list = *now;  // with the frame before; `now` stays without it, so no chain grows
+        if (before_k == k - 1) list.previous = before;
         if (!lists.push({k, std::move(list)})) break;
       }
       before = std::move(now);

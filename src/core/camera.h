@@ -64,17 +64,18 @@ inline CameraRig startRig(const Vec3& centre, double radius) {
 
 // Advances the rig h seconds toward the body's centre and radius by a critically damped spring,
 // x'' = −ω²(x − c) − 2ωx' with ω = 2/lag (a body moving at a steady speed is trailed by `lag`
-// seconds), solved exactly for c held over the step: with e = x − c and b = x' + ωe,
-// e(h) = (e + b·h)·exp(−ωh) and x'(h) = (x' − ω·b·h)·exp(−ωh). Stable at any step.
+// seconds, without oscillating), solved exactly for c held over the step: with e = x − c and
+// b = x' + ωe, e(h) = (e + b·h)·exp(−ωh) and x'(h) = (x' − ω·b·h)·exp(−ωh). Stable at any step.
 inline void advanceRig(CameraRig& r, const Vec3& centre, double radius, double h, double lag) {
-  if (lag <= 0.0) {
+  const double w = lag > 0.0 ? 2.0 / lag : 0.0;
+  if (lag <= 0.0 || w * h > 700.0) {  // rigid (exp(−ωh) is 0 to double precision beyond)
     r.velocity = (centre - r.centre) / h;
     r.radius_rate = (radius - r.radius) / h;
     r.centre = centre;
     r.radius = radius;
     return;
   }
-  const double w = 2.0 / lag, decay = std::exp(-w * h);
+  const double decay = std::exp(-w * h);
   const Vec3 e = r.centre - centre, b = r.velocity + w * e;
   r.centre = centre + (e + b * h) * decay;
   r.velocity = (r.velocity - w * h * b) * decay;
@@ -104,7 +105,7 @@ inline DrawCamera rigCamera(const CameraDesc& c, const CameraRig& rig, double t,
       const double half_v = 0.5 * out.fov_deg * kPi / 180.0;
       const double half = std::min(half_v, std::atan(aspect * std::tan(half_v)));
       const Vec3 dir = (out.target - out.position).normalized();
-      const double distance = c.rig.margin * rig.radius / std::sin(half);
+      const double distance = c.rig.margin * std::max(rig.radius, 0.25) / std::sin(half);  // (the spring may dip)
       out.target = rig.centre;
       out.position = rig.centre - distance * dir;
       break;

@@ -52,6 +52,7 @@ struct DrawMesh {
   std::shared_ptr<const TriMesh> mesh;
   bool per_frame = false;  // true: new geometry every frame (uploaded each time)
   DrawMaterial material;
+  int source = -1;  // the World's body that drew it (motion blur pairs frames' items by it); −1: none
 };
 
 struct DrawSpheres {
@@ -59,6 +60,7 @@ struct DrawSpheres {
   std::vector<float> colors;   // linear rgb per sphere, multiplied into the albedo (may be empty)
   float radius = 0.02f;        // m
   DrawMaterial material;
+  int source = -1;  // the World's body that drew it (motion blur pairs frames' items by it); −1: none
 };
 
 // Tubes of one radius between point pairs (springs).
@@ -66,6 +68,7 @@ struct DrawTubes {
   std::vector<float> ends;  // 6 floats per tube: x0 y0 z0 x1 y1 z1, m
   float radius = 0.005f;
   DrawMaterial material;
+  int source = -1;  // the World's body that drew it (motion blur pairs frames' items by it); −1: none
 };
 
 // One mesh drawn many times (a school of fish), each copy placed by its own transform and tinted
@@ -101,6 +104,7 @@ struct DrawInstances {
   float wave_number = 0.0f;     // radians per mesh unit along z
   float wave_start = 0.0f, wave_end = -1.0f;  // local z where the bend starts and is full
   DrawMaterial material;
+  int source = -1;  // the World's body that drew it (motion blur pairs frames' items by it); −1: none
   std::size_t count() const { return transforms.size() / 12; }
 };
 

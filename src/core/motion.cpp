@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <numeric>
 
 #include "core/math.h"
 
@@ -32,6 +34,26 @@ std::shared_ptr<const TriMesh> meshAt(const DrawMesh& a, const DrawMesh& b, doub
   return m;
 }
 
+// For each item of `after`, the item of `before` drawn by the same body as its same ordinal
+// (−1: none). Items of no body (the objects, always first) pair by index.
+template <class T>
+std::vector<int> pairing(const std::vector<T>& before, const std::vector<T>& after) {
+  std::map<std::pair<int, int>, int> at;
+  std::map<int, int> count;
+  for (std::size_t i = 0; i < before.size(); ++i)
+    if (before[i].source >= 0) at[{before[i].source, count[before[i].source]++}] = static_cast<int>(i);
+  count.clear();
+  std::vector<int> out(after.size(), -1);
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    if (after[i].source < 0) {
+      if (i < before.size() && before[i].source < 0) out[i] = static_cast<int>(i);
+    } else if (auto it = at.find({after[i].source, count[after[i].source]++}); it != at.end()) {
+      out[i] = it->second;
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 int picturesPerFrame(const DrawList& list) {
@@ -48,8 +70,16 @@ DrawList picture(const DrawList& list, int j, int n) {
   if (c.aperture > 0.0 && n > 1) {
     const Vec3 axis = (c.target - c.position).normalized();
     const double focus = c.focus_distance > 0.0 ? c.focus_distance : (c.target - c.position).norm();
-    const Vec3 right = axis.cross(c.up).normalized(), up = right.cross(axis);
-    const double r = 0.5 * c.aperture * std::sqrt((j + 0.5) / n), a = j * 2.399963229728653;  // the golden angle
+    Vec3 right = axis.cross(c.up);
+    if (right.norm() < 1e-9) right = axis.cross(std::abs(axis.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitZ());  // looking along up
+    right.normalize();
+    const Vec3 up = right.cross(axis);
+    // Lens point l(j) = j·stride mod n, the stride coprime to n near n/φ: the shutter's early and
+    // late times each see points all over the lens, not its centre or its rim only.
+    int stride = std::max(1, static_cast<int>(std::lround(n / 1.618033988749895)));
+    while (std::gcd(stride, n) != 1) ++stride;
+    const int l = static_cast<int>((static_cast<long long>(j) * stride) % n);
+    const double r = 0.5 * c.aperture * std::sqrt((l + 0.5) / n), a = l * 2.399963229728653;  // the golden angle
     const Vec3 in_focus = c.position + focus * axis;
     c.position += r * (std::cos(a) * right + std::sin(a) * up);
     c.target = in_focus;
@@ -70,16 +100,21 @@ DrawList shutterSample(const DrawList& before, const DrawList& after, double s) 
   out.camera.position = before.camera.position + s * (after.camera.position - before.camera.position);
   out.camera.target = before.camera.target + s * (after.camera.target - before.camera.target);
   out.camera.fov_deg = before.camera.fov_deg + s * (after.camera.fov_deg - before.camera.fov_deg);
-  for (std::size_t i = 0; i < out.meshes.size() && i < before.meshes.size(); ++i)
-    out.meshes[i].mesh = meshAt(before.meshes[i], after.meshes[i], s);
-  for (std::size_t i = 0; i < out.spheres.size() && i < before.spheres.size(); ++i)
-    if (before.spheres[i].centers.size() == out.spheres[i].centers.size())
-      lerp(out.spheres[i].centers, before.spheres[i].centers, s);
-  for (std::size_t i = 0; i < out.tubes.size() && i < before.tubes.size(); ++i)
-    if (before.tubes[i].ends.size() == out.tubes[i].ends.size()) lerp(out.tubes[i].ends, before.tubes[i].ends, s);
-  for (std::size_t i = 0; i < out.instances.size() && i < before.instances.size(); ++i) {
+  const std::vector<int> pm = pairing(before.meshes, after.meshes), ps = pairing(before.spheres, after.spheres),
+                         pt = pairing(before.tubes, after.tubes), pi = pairing(before.instances, after.instances);
+  auto was = [](const std::vector<int>& p, std::size_t i) { return static_cast<std::size_t>(p[i]); };
+  for (std::size_t i = 0; i < out.meshes.size(); ++i)
+    if (pm[i] >= 0) out.meshes[i].mesh = meshAt(before.meshes[was(pm, i)], after.meshes[i], s);
+  for (std::size_t i = 0; i < out.spheres.size(); ++i)
+    if (ps[i] >= 0 && before.spheres[was(ps, i)].centers.size() == out.spheres[i].centers.size())
+      lerp(out.spheres[i].centers, before.spheres[was(ps, i)].centers, s);
+  for (std::size_t i = 0; i < out.tubes.size(); ++i)
+    if (pt[i] >= 0 && before.tubes[was(pt, i)].ends.size() == out.tubes[i].ends.size())
+      lerp(out.tubes[i].ends, before.tubes[was(pt, i)].ends, s);
+  for (std::size_t i = 0; i < out.instances.size(); ++i) {
+    if (pi[i] < 0) continue;
     DrawInstances& d = out.instances[i];
-    const DrawInstances& a = before.instances[i];
+    const DrawInstances& a = before.instances[was(pi, i)];
     if (a.transforms.size() != d.transforms.size()) continue;
     lerp(d.transforms, a.transforms, s);
     if (a.phases.size() != d.phases.size()) continue;

@@ -31,7 +31,8 @@ std::vector<double> shutterTimes(double shutter_deg, int samples);
 
 // The draw list at fraction s between `before` (frame k − 1) and `after` (frame k): `after` with
 // the geometry that both frames have alike moved back along the straight line between them.
-// Alike means the same item at the same index with the same count: a per-frame mesh of as many
+// Alike means the same item (drawn by the same body as its same ordinal, `source`; objects and
+// items of no body by their index) with the same count: a per-frame mesh of as many
 // vertices and indices (positions interpolated, normals interpolated and renormalised), spheres,
 // tubes and instanced copies of as many (centres, ends and transforms interpolated, wave phases
 // along the shorter way round); the camera's position, target and field of view. Anything else

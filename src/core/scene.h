@@ -104,6 +104,7 @@ struct CameraRigDesc {
   std::string body;     // the body's name
   double lag = 0.5;     // s: how far behind a steadily moving body the camera trails; 0: rigidly
   double margin = 1.3;  // frame: the picture's half-size over the body's radius
+  std::string path;     // JSON path of the body's name, for errors
 };
 
 struct CameraDesc {

@@ -140,9 +140,11 @@ void readCameraRig(Obj& o, CameraRigDesc& r, Diagnostics& d) {
   const std::string key = follow ? "follow" : "frame", p = "/camera/" + key;
   const Json& j = *o.raw(key);
   r.mode = follow ? CameraRigDesc::Mode::Track : CameraRigDesc::Mode::Frame;
+  r.path = p;
   if (j.is_string()) {
     r.body = j.get<std::string>();
   } else if (j.is_object()) {
+    r.path = p + "/body";
     Obj ro(j, p, d);
     r.body = ro.string("body", true).value_or("");
     r.lag = ro.number("lag", r.lag, Range{0.0, 60.0});
@@ -151,6 +153,10 @@ void readCameraRig(Obj& o, CameraRigDesc& r, Diagnostics& d) {
     ro.finish();
   } else {
     d.error(p, "expected a body's name or an object with `body`, got " + typeName(j));
+  }
+  if (r.body.empty()) {  // reported above, or an empty name: nothing to look up
+    if (j.is_string()) d.error(p, "must name a body");
+    r.path.clear();
   }
 }
 
@@ -182,6 +188,7 @@ void readCamera(const Json& j, CameraDesc& c, Diagnostics& d) {
         key.position = k.vec3("position", c.position);
         key.target = k.vec3("target", c.target);
         key.fov_deg = k.number("fov_deg", c.fov_deg, Range{0.0, 180.0, true, true});
+        if ((key.position - key.target).norm() == 0) d.error(childPath(p, "target"), "must differ from the camera position");
         k.finish();
         if (!c.keys.empty() && key.time <= c.keys.back().time)
           d.error(childPath(p, "time"), "keyframe times must increase");
@@ -522,10 +529,14 @@ Result<SceneDesc> parseScene(const std::string& text, const std::string& file, s
     s.bodies.push_back(std::move(bd));
   }
   checkBodies(s, d);
-  if (s.camera.rig.mode != CameraRigDesc::Mode::None &&
-      std::none_of(s.bodies.begin(), s.bodies.end(), [&](const BodyDesc& b) { return b.name == s.camera.rig.body; }))
-    d.error(s.camera.rig.mode == CameraRigDesc::Mode::Frame ? "/camera/frame" : "/camera/follow",
-            "no body named '" + s.camera.rig.body + "' (a camera follows or frames a body or a dynamic object)");
+  if (const CameraRigDesc& rig = s.camera.rig; rig.mode != CameraRigDesc::Mode::None && !rig.path.empty() &&
+      std::none_of(s.bodies.begin(), s.bodies.end(), [&](const BodyDesc& b) { return b.name == rig.body; })) {
+    std::vector<std::string> names;
+    for (const BodyDesc& b : s.bodies) names.push_back(b.name);
+    const std::string near = nearest(rig.body, names);
+    d.error(rig.path, "no body named '" + rig.body + "'" + (near.empty() ? "" : "; did you mean \"" + near + "\"?") +
+                          " (a camera follows or frames a body or a dynamic object)");
+  }
   o.finish();
   if (!d.empty()) return Error(ErrorKind::BadInput, d.lines());
   return s;

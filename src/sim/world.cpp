@@ -1,6 +1,7 @@
 #include "sim/world.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 
@@ -33,9 +34,9 @@ bool bodyExtent(const Body& b, Vec3& centre, double& radius) {
   centre /= static_cast<double>(v.positions.size());
   std::vector<double> d2(v.positions.size());
   for (std::size_t i = 0; i < d2.size(); ++i) d2[i] = (v.positions[i] - centre).squaredNorm();
-  const std::size_t k = (d2.size() * 95) / 100;
-  std::nth_element(d2.begin(), d2.begin() + static_cast<std::ptrdiff_t>(std::min(k, d2.size() - 1)), d2.end());
-  radius = std::max(0.25, std::sqrt(d2[std::min(k, d2.size() - 1)]));
+  const std::size_t k = (d2.size() * 95 + 99) / 100 - 1;  // the smallest count holding 95%, as an index
+  std::nth_element(d2.begin(), d2.begin() + static_cast<std::ptrdiff_t>(k), d2.end());
+  radius = std::max(0.25, std::sqrt(d2[k]));
   return true;
 }
 
@@ -228,7 +229,15 @@ void World::draw(DrawList& out) const {
     out.meshes[o].mesh = std::make_shared<const TriMesh>(std::move(m));
     out.meshes[o].per_frame = true;
   }
-  for (const auto& b : bodies_) b->draw(out);
+  for (std::size_t k = 0; k < bodies_.size(); ++k) {
+    const std::array<std::size_t, 4> from{out.meshes.size(), out.spheres.size(), out.tubes.size(), out.instances.size()};
+    bodies_[k]->draw(out);
+    const int source = static_cast<int>(k);
+    for (std::size_t i = from[0]; i < out.meshes.size(); ++i) out.meshes[i].source = source;
+    for (std::size_t i = from[1]; i < out.spheres.size(); ++i) out.spheres[i].source = source;
+    for (std::size_t i = from[2]; i < out.tubes.size(); ++i) out.tubes[i].source = source;
+    for (std::size_t i = from[3]; i < out.instances.size(); ++i) out.instances[i].source = source;
+  }
 }
 
 std::uint64_t World::stateHash() const {

@@ -117,6 +117,13 @@ void readLattice(Obj& o, LatticeDesc& l) {
   readPins(o, {nx, ny, nz}, nx * ny * nz, {}, l.pinned);
   l.draw = o.choice("draw", "skin", {"skin", "springs"}) == "skin" ? LatticeDesc::Draw::Skin : LatticeDesc::Draw::Springs;
   l.skin_levels = o.integer("skin_levels", l.skin_levels, 0, 4);
+  // The skin's quads: the block's outer faces, four times as many at each level.
+  const long long cells = 2 * ((nx - 1) * (ny - 1) + (ny - 1) * (nz - 1) + (nz - 1) * (nx - 1));
+  constexpr long long kMaxSkinQuads = 1 << 21;
+  if (l.draw == LatticeDesc::Draw::Skin && cells << (2 * l.skin_levels) > kMaxSkinQuads)
+    o.diag().error(childPath(o.path(), "skin_levels"),
+                   std::to_string(cells << (2 * l.skin_levels)) + " skin quads, more than the limit of " +
+                       std::to_string(kMaxSkinQuads) + ": fewer skin_levels, or \"draw\": \"springs\"");
 }
 
 template <class D, void (*Read)(Obj&, D&)>
