@@ -429,8 +429,11 @@ Result<std::unique_ptr<Renderer>> Renderer::create(gl::Context& ctx, const Rende
 Status Renderer::draw(const DrawList& list, Image& out) {
   const int n = picturesPerFrame(list);
   if (n == 1) return impl_->draw(list, out);
-  std::array<double, 256> linear{};
-  for (int c = 0; c < 256; ++c) linear[static_cast<std::size_t>(c)] = srgbToLinear(c / 255.0);
+  static const std::array<double, 256> linear = [] {
+    std::array<double, 256> t{};
+    for (int c = 0; c < 256; ++c) t[static_cast<std::size_t>(c)] = srgbToLinear(c / 255.0);
+    return t;
+  }();
   std::vector<double> sum;
   Image one;
   for (int j = 0; j < n; ++j) {

@@ -88,15 +88,12 @@ Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow>
   for (std::size_t k = 0; k < w.bodies_.size(); ++k)
     if (w.camera_desc_.mode != CameraRigDesc::Mode::None && w.bodies_[k]->name() == w.camera_desc_.body)
       w.camera_body_ = static_cast<int>(k);
-  if (w.camera_body_ >= 0) {
-    Vec3 c;
-    double r;
-    if (bodyExtent(*w.bodies_[static_cast<std::size_t>(w.camera_body_)], c, r)) w.camera_ = startRig(c, r);
-  }
+  w.advanceCamera();  // starts the rig on the body, when it has anything to frame yet
   return w;
 }
 
-// The followed body's centre and radius at the end of the frame, into the rig.
+// The followed body's centre and radius at the end of the frame, into the rig (started at rest
+// on the body the first time it has any).
 void World::advanceCamera() {
   if (camera_body_ < 0) return;
   Vec3 c;
