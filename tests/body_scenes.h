@@ -95,6 +95,17 @@ inline const std::map<std::string, std::string> kScenes = {
       "bodies": [{"type": "face", "name": "f", "resolution": [24, 18], "blinks": [0.1],
                   "keys": [{"time": 0, "rotation_deg": [0, 20, 0]}, {"time": 0.5, "rotation_deg": [5, -10, 0]}],
                   "activations": [{"time": 0, "preset": "happiness", "amount": 0}, {"time": 0.3, "preset": "surprise"}]}]})"},
+    {"articulated", kHead + R"("duration": 1, "substeps": 8,
+      "objects": [{"type": "plane", "name": "floor"}, {"type": "box", "center": [0, 0.15, 0.6], "size": [2, 0.3, 0.4]}],
+      "bodies": [{"type": "articulated", "name": "man", "figure": "human", "strength": 0.3, "velocity": [0, 0, 1.5],
+                  "poses": [{"time": 0.5, "joints": {"upper_arm_l": [-60, 0, 0], "forearm_l": -90}}]},
+                 {"type": "articulated", "name": "chain", "position": [1, 1.5, 0], "fixed_base": true,
+                  "links": [{"name": "top", "shape": "sphere", "radius": 0.03},
+                            {"name": "a", "parent": "top", "shape": "capsule", "radius": 0.03, "length": 0.3,
+                             "joint": {"type": "ball", "anchor": [0, 0.18, 0], "angle_deg": [40, 0, 20], "cone_deg": 60}},
+                            {"name": "b", "parent": "a", "shape": "box", "size": [0.1, 0.3, 0.05],
+                             "joint": {"type": "universal", "anchor": [0, 0.15, 0], "parent_anchor": [0, -0.18, 0],
+                                       "lower_deg": [-30, -20], "upper_deg": [30, 20], "angle_deg": [10, 5]}}]}]})"},
 };
 
 

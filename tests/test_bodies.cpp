@@ -137,6 +137,6 @@ TEST_CASE("the registry names every body kind once, and each has a resume test a
   // An unknown kind is named with the nearest from the table.
   auto r = app::parseScene(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "clth", "name": "x"}]})", "k.json");
   REQUIRE(!r.ok());
-  CHECK(r.error().headline().find("did you mean \"cloth\"? (one of: mass_spring, rope, net, lattice, cloth, fluid, school, fish, food, seaweed, rigid, face)") !=
+  CHECK(r.error().headline().find("did you mean \"cloth\"? (one of: mass_spring, rope, net, lattice, cloth, fluid, school, fish, food, seaweed, rigid, face, articulated)") !=
         std::string::npos);
 }

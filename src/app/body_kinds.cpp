@@ -1,6 +1,7 @@
 #include "app/body_kinds.h"
 
 #include "io/scene/readers.h"
+#include "sim/articulated/articulated_body.h"
 #include "sim/cloth/cloth_body.h"
 #include "sim/coupling/cloth_liquid.h"
 #include "sim/face/face_body.h"
@@ -19,7 +20,7 @@ namespace {
 // the fish world's kinds have theirs.
 constexpr std::uint64_t kSpringsStream = 0xC107, kFluidStream = 0xF1D0, kSchoolStream = 0x5C00, kFishStream = 0xF154,
                         kFoodStream = 0xF00D, kSeaweedStream = 0x5EA0,
-                        kRigidStream = 0x816D, kFaceStream = 0xFACE;
+                        kRigidStream = 0x816D, kFaceStream = 0xFACE, kArticulatedStream = 0xA871;
 
 constexpr BodyKind kBodyKinds[] = {
     {"mass_spring", io::readMassSpringBody, buildMassSpringBody, kSpringsStream},
@@ -34,6 +35,7 @@ constexpr BodyKind kBodyKinds[] = {
     {"seaweed", io::readSeaweedBody, buildSeaweedBody, kSeaweedStream},
     {"rigid", io::readRigidBody, buildRigidBody, kRigidStream},
     {"face", io::readFaceBody, buildFaceBody, kFaceStream},
+    {"articulated", io::readArticulatedBody, buildArticulatedBody, kArticulatedStream},
 };
 
 // Exchanges between kinds in the coupling stage, in this order.

@@ -18,6 +18,12 @@ struct ViewField {
   std::vector<double> values;
 };
 
+// A joint of an articulated body: its child link's name and its angles, rad.
+struct JointView {
+  std::string name;
+  std::vector<double> angles;
+};
+
 struct BodyView {
   std::string name;
   std::string type;       // dump type: "mass_spring", "particles" or "agents"
@@ -29,6 +35,8 @@ struct BodyView {
   std::vector<std::string> species_names;    // particles: the species, by index
   std::span<const double> masses;            // nodes' masses, kg (when the kind lists them)
   std::vector<ViewField> fields;             // the kind's own numbers
+  std::vector<std::string> link_names;       // articulated: per item (link), its name
+  std::vector<JointView> joints;             // articulated: per joint, its angles
 };
 
 // A quantity of a body at one frame, for `reel simulate --stats` (a school's polarisation, say).

@@ -61,6 +61,44 @@ void putExtras(std::string& out, const BodyView& s) {
   }
 }
 
+// An articulated body's `links` (name, position of the centre of mass, orientation [w, x, y, z],
+// velocity, angular velocity) and `joints` (name of the child link, angles in rad).
+void putLinks(std::string& out, const BodyView& s) {
+  const ViewField* q = nullptr;
+  const ViewField* w = nullptr;
+  for (const ViewField& f : s.fields) {
+    if (f.name == "orientation") q = &f;
+    if (f.name == "angular_velocity") w = &f;
+  }
+  auto numbers = [&](const double* v, std::size_t n) {
+    out += '[';
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i) out += ',';
+      appendNumber(out, v[i]);
+    }
+    out += ']';
+  };
+  out += ",\n  \"links\":[";
+  for (std::size_t i = 0; i < s.link_names.size(); ++i) {
+    out += std::string(i ? "," : "") + "\n   {\"name\":" + jsonString(s.link_names[i]) + ",\"position\":";
+    numbers(s.positions[i].data(), 3);
+    out += ",\"orientation\":";
+    if (q) numbers(q->values.data() + 4 * i, 4);
+    out += ",\"velocity\":";
+    numbers(s.velocities[i].data(), 3);
+    out += ",\"angular_velocity\":";
+    if (w) numbers(w->values.data() + 3 * i, 3);
+    out += '}';
+  }
+  out += "],\n  \"joints\":[";
+  for (std::size_t i = 0; i < s.joints.size(); ++i) {
+    out += std::string(i ? "," : "") + "\n   {\"name\":" + jsonString(s.joints[i].name) + ",\"angles\":";
+    numbers(s.joints[i].angles.data(), s.joints[i].angles.size());
+    out += '}';
+  }
+  out += ']';
+}
+
 }  // namespace
 
 Status DumpWriter::open(const std::string& path, const std::string& scene, int fps, int substeps) {
@@ -95,6 +133,11 @@ Status DumpWriter::write(const FrameView& f) {
         buf_ += std::to_string(s.species[k]);
       }
       buf_ += "]}";
+      continue;
+    }
+    if (!s.link_names.empty()) {
+      putLinks(buf_, s);
+      buf_ += '}';
       continue;
     }
     if (s.type != "mass_spring") {  // agents: positions and velocities only

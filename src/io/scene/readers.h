@@ -23,6 +23,7 @@ std::shared_ptr<const BodyParams> readFoodBody(Obj& o, BodyDesc& body, const Sce
 std::shared_ptr<const BodyParams> readSeaweedBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
 std::shared_ptr<const BodyParams> readRigidBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
 std::shared_ptr<const BodyParams> readFaceBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
+std::shared_ptr<const BodyParams> readArticulatedBody(Obj& o, BodyDesc& body, const SceneDesc& scene);
 
 // The rigid body that moves the scene's object `index` (`"dynamic": true`, its `mass`); a shape
 // without a finite solid (an open mesh) is reported at the object's path.

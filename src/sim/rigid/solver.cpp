@@ -7,6 +7,7 @@
 #include "core/parallel.h"
 #include "sim/rigid/rigid_body.h"
 #include "core/union_find.h"
+#include "sim/rigid/parts.h"
 
 namespace reel {
 namespace {
@@ -40,151 +41,6 @@ struct Row {
   double base = 0;                  // separation at the start, less the anchors' gap along n, m
   CachedImpulse key;
 };
-
-Pose colliderPose(const Collider& c) { return {c.rot, c.pos - c.rot * c.pivot}; }
-
-// The object parts of every collider that is not a rigid body's own moving one.
-void buildParts(const std::vector<Collider>& colliders, RigidSolverCache& cache) {
-  cache.parts.clear();
-  cache.mesh_parts.assign(colliders.size(), {0, 0});
-  auto add = [&](std::size_t k, ConvexShape s) {
-    ObjectPart p;
-    p.collider = k;
-    p.shape = std::move(s);
-    shapeBounds(p.shape, Pose{}, p.lo, p.hi);
-    cache.parts.push_back(std::move(p));
-  };
-  auto box = [&](std::size_t k, const Vec3& centre, const Mat3& R, const Vec3& half) {
-    ConvexShape s;
-    s.kind = CoreKind::Polytope;
-    s.poly = std::make_shared<ConvexPolytope>(transformedPolytope(boxPolytope(half), R, centre));
-    add(k, std::move(s));
-  };
-  for (std::size_t k = 0; k < colliders.size(); ++k) {
-    const Collider& c = colliders[k];
-    if (c.free_body) continue;
-    ConvexShape s;
-    switch (c.kind) {
-      case ObjectKind::Plane: {
-        ObjectPart p;
-        p.collider = k;
-        p.half_space = true;
-        p.frame = c.R;
-        p.normal = c.R.col(1);
-        p.offset = p.normal.dot(c.p0) + c.thickness;
-        p.half_w = c.half.x();
-        p.half_d = c.half.z();
-        p.lo = Vec3::Constant(-1e300);
-        p.hi = Vec3::Constant(1e300);
-        cache.parts.push_back(std::move(p));
-        break;
-      }
-      case ObjectKind::Sphere:
-        s.kind = CoreKind::Point;
-        s.a = c.p0;
-        s.radius = c.radius + c.thickness;
-        add(k, std::move(s));
-        break;
-      case ObjectKind::Capsule:
-        s.kind = CoreKind::Segment;
-        s.a = c.p0;
-        s.b = c.p1;
-        s.radius = c.radius + c.thickness;
-        add(k, std::move(s));
-        break;
-      case ObjectKind::Box:
-        box(k, c.p0, c.R, c.half + Vec3::Constant(c.thickness));
-        break;
-      case ObjectKind::Container: {
-        for (const auto& [centre, size] : containerBoxes(2.0 * c.half, c.wall)) box(k, c.p0 + c.R * centre, c.R, 0.5 * size);
-        break;
-      }
-      case ObjectKind::Mesh: {
-        const MeshShape& m = *c.mesh;
-        cache.mesh_parts[k] = {cache.parts.size(), m.triangles.size()};
-        for (const auto& t : m.triangles) {
-          ConvexShape ts;
-          ts.kind = CoreKind::Polytope;
-          ts.poly = std::make_shared<ConvexPolytope>(trianglePolytope(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]));
-          add(k, std::move(ts));
-        }
-        break;
-      }
-    }
-  }
-  cache.built = true;
-}
-
-bool overlaps(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
-  return (alo.array() <= bhi.array()).all() && (blo.array() <= ahi.array()).all();
-}
-
-// The parts of an object whose box meets [lo, hi] (world), in part order.
-void partsNear(const RigidSolverCache& cache, const std::vector<Collider>& colliders, const Vec3& lo, const Vec3& hi,
-               std::vector<std::uint32_t>& out) {
-  out.clear();
-  for (std::size_t p = 0; p < cache.parts.size();) {
-    const ObjectPart& part = cache.parts[p];
-    const Collider& c = colliders[part.collider];
-    // The box carried into the object's authored frame.
-    Vec3 alo = Vec3::Constant(1e300), ahi = Vec3::Constant(-1e300);
-    for (int corner = 0; corner < 8; ++corner) {
-      const Vec3 q((corner & 1) ? hi.x() : lo.x(), (corner & 2) ? hi.y() : lo.y(), (corner & 4) ? hi.z() : lo.z());
-      const Vec3 a = c.toAuthored(q);
-      alo = alo.cwiseMin(a);
-      ahi = ahi.cwiseMax(a);
-    }
-    const auto [first, count] = cache.mesh_parts[part.collider];
-    if (count > 0 && p == first) {
-      // A mesh: its triangles through its grid, each once, in order.
-      const BoxGrid& g = c.mesh->grid;
-      const double cell = g.cell();
-      const std::size_t start = out.size();
-      const auto c0 = g.cellOf(alo), c1 = g.cellOf(ahi);
-      double cells = 1.0;
-      for (int k = 0; k < 3; ++k) cells *= static_cast<double>(c1[static_cast<std::size_t>(k)] - c0[static_cast<std::size_t>(k)] + 1);
-      if (g.entries() > 0 && cells <= 4096.0) {
-        // Each cell the box meets, by its centre.
-        for (std::int64_t k = c0[2]; k <= c1[2]; ++k)
-          for (std::int64_t j = c0[1]; j <= c1[1]; ++j)
-            for (std::int64_t i = c0[0]; i <= c1[0]; ++i)
-              g.forEachAt(Vec3((static_cast<double>(i) + 0.5) * cell, (static_cast<double>(j) + 0.5) * cell, (static_cast<double>(k) + 0.5) * cell),
-                          [&, first = first](std::int32_t t) { out.push_back(static_cast<std::uint32_t>(first + static_cast<std::size_t>(t))); });
-      } else {
-        for (std::size_t t = 0; t < count; ++t) out.push_back(static_cast<std::uint32_t>(first + t));
-      }
-      std::sort(out.begin() + static_cast<std::ptrdiff_t>(start), out.end());
-      out.erase(std::unique(out.begin() + static_cast<std::ptrdiff_t>(start), out.end()), out.end());
-      std::size_t keep = start;
-      for (std::size_t i = start; i < out.size(); ++i)
-        if (overlaps(alo, ahi, cache.parts[out[i]].lo, cache.parts[out[i]].hi)) out[keep++] = out[i];
-      out.resize(keep);
-      p = first + count;
-      continue;
-    }
-    if (overlaps(alo, ahi, part.lo, part.hi)) out.push_back(static_cast<std::uint32_t>(p));
-    ++p;
-  }
-}
-
-// Contacts of body A with an object part.
-bool collidePart(const SolverBody& A, const ObjectPart& part, const Collider& c, double margin, Manifold& m) {
-  if (!part.half_space) return collide(A.model->shape, A.pose, part.shape, colliderPose(c), margin, m);
-  const Vec3 n = c.rot * part.normal;
-  const double offset = n.dot(c.fromAuthored(part.offset * part.normal));
-  if (!collideHalfSpace(A.model->shape, A.pose, n, offset, margin, m)) return false;
-  if (part.half_w <= 0 && part.half_d <= 0) return true;
-  // A finite plane: only the points over it.
-  int keep = 0;
-  for (int i = 0; i < m.count; ++i) {
-    const Vec3 a = c.toAuthored(m.points[static_cast<std::size_t>(i)].position) - c.p0;
-    if ((part.half_w <= 0 || std::abs(a.dot(part.frame.col(0))) <= part.half_w) &&
-        (part.half_d <= 0 || std::abs(a.dot(part.frame.col(2))) <= part.half_d))
-      m.points[static_cast<std::size_t>(keep++)] = m.points[static_cast<std::size_t>(i)];
-  }
-  m.count = keep;
-  return keep > 0;
-}
 
 // The velocity of a body's point at r from its centre of mass (zero for no body).
 Vec3 pointVelocity(const std::vector<SolverBody>& bodies, int i, const Vec3& r) {
@@ -372,7 +228,7 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
       collide(A.model->shape, A.pose, B.model->shape, B.pose, A.margin + B.margin, m);
     } else {
       const ObjectPart& part = cache.parts[p.part];
-      collidePart(A, part, colliders[part.collider], A.margin, m);
+      collidePart(A.model->shape, A.pose, part, colliders[part.collider], A.margin, m);
     }
   });
 

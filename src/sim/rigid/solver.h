@@ -26,6 +26,7 @@
 
 #include "sim/body.h"
 #include "sim/rigid/contact.h"
+#include "sim/rigid/parts.h"
 
 namespace reel {
 
@@ -44,25 +45,8 @@ struct CachedImpulse {
   }
 };
 
-// A convex part of an object the rigid bodies touch: a whole shape, one of a container's boxes,
-// one triangle of a mesh, or a plane's half-space.
-struct ObjectPart {
-  std::size_t collider = 0;
-  bool half_space = false;
-  Vec3 normal{0, 1, 0};           // half-space: outward normal (authored), and its offset n·x
-  double offset = 0.0;
-  double half_w = 0.0, half_d = 0.0;  // a finite plane's half extents (0: infinite)
-  Mat3 frame = Mat3::Identity();      // a plane's axes (x, normal, z), authored
-  ConvexShape shape;              // authored frame (the collider's pose carries it)
-  Vec3 lo{0, 0, 0}, hi{0, 0, 0};  // authored bounds
-};
-
-struct RigidSolverCache {
+struct RigidSolverCache : ObjectParts {
   std::vector<CachedImpulse> impulses;  // sorted
-  // Scratch, rebuilt from the colliders when empty (not part of the state).
-  std::vector<ObjectPart> parts;
-  std::vector<std::pair<std::size_t, std::size_t>> mesh_parts;  // per collider: first part, count (meshes)
-  bool built = false;
 };
 
 struct RigidSolverStats {

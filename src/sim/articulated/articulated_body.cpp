@@ -1,0 +1,471 @@
+#include "sim/articulated/articulated_body.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/figure.h"
+#include "core/math.h"
+#include "sim/rigid/hull.h"
+#include "sim/rigid/rigid.h"
+
+namespace reel {
+namespace {
+
+constexpr double kSlop = 0.002;     // m of overlap left alone
+constexpr double kPushRate = 0.2;   // share of an overlap (or limit overshoot) taken back per step
+constexpr double kMaxPush = 2.0;    // m/s, the fastest push out
+constexpr double kLimitMargin = 0.02;  // rad: a limit this close enters the solve
+
+std::vector<double> toVector(const VecX& v, int i, int n) { return std::vector<double>(v.data() + i, v.data() + i + n); }
+
+}  // namespace
+
+ArticulatedBody::ArticulatedBody(std::string name, ArticulatedModel model, ArticulatedState state)
+    : Body(std::move(name)), model_(std::move(model)), state_(std::move(state)) {
+  for (const ArtLink& l : model_.links) mass_view_.push_back(l.mass);
+  refresh();
+}
+
+void ArticulatedBody::refresh() {
+  forwardKinematics(model_, state_.q, view_k_);
+  linkVelocities(model_, state_.v, view_k_);
+  x_view_ = view_k_.x;
+  v_view_.resize(x_view_.size());
+  for (std::size_t i = 0; i < x_view_.size(); ++i) v_view_[i] = pointVelocity(view_k_.vel[i], x_view_[i]);
+}
+
+// The smooth dynamics with the servos: v* (and, for rk4, q moved).
+void ArticulatedBody::smoothStep(StepContext& ctx, VecX& v_star, bool& moved) {
+  const double h = ctx.h;
+  ArtScratch& s = s_;
+  const int nv = model_.nv;
+  servoTargets(model_, ctx.t1, s.targets);
+  // What the other bodies handed the links (coupling stage), as forces over the step.
+  s.f_ext.assign(model_.links.size(), Vec6::Zero());
+  for (std::size_t i = 0; i < model_.links.size(); ++i) {
+    const std::size_t c = model_.links[i].collider;
+    const Vec3 J = ctx.coupling->impulse[c];
+    const Vec3 L = ctx.coupling->angular[c] + (*ctx.colliders)[c].pos.cross(J);
+    s.f_ext[i].head<3>() = L / h;
+    s.f_ext[i].tail<3>() = J / h;
+  }
+  // Per velocity: the servo's gains (0 where none or where its torque limit is 0) and damping.
+  VecX kp = VecX::Zero(nv), kd = VecX::Zero(nv), damp = VecX::Zero(nv), cap = VecX::Constant(nv, 1e300);
+  for (std::size_t i = 0; i < model_.joints.size(); ++i) {
+    const ArtJoint& j = model_.joints[i];
+    if (j.type == JointType::Free || j.nv == 0) continue;
+    for (int d = 0; d < j.nv; ++d) {
+      damp[j.vi + d] = j.damping;
+      if (j.servo.kp > 0 && j.servo.max_torque > 0 && !s.targets[i].empty()) {
+        kp[j.vi + d] = j.servo.kp;
+        kd[j.vi + d] = j.servo.kd;
+        cap[j.vi + d] = j.servo.max_torque;
+      }
+    }
+  }
+  auto dynamics = [&](const VecX& q, const VecX& v, MatX& M, VecX& C) {
+    forwardKinematics(model_, q, s.k);
+    linkVelocities(model_, v, s.k);
+    biasForces(model_, s.k, ctx.gravity, s.f_ext, C);
+    massMatrix(model_, s.k, M);
+    servoErrors(model_, q, s.targets, s.e);
+  };
+  if (ctx.integrator == IntegratorKind::Rk4) {
+    // Classical Runge–Kutta on (q, v), the servos explicit and clamped.
+    auto accel = [&](const VecX& q, const VecX& v, VecX& a) {
+      dynamics(q, v, s.M, s.C);
+      VecX tau = -kp.cwiseProduct(s.e) - (kd + damp).cwiseProduct(v);
+      for (int d = 0; d < nv; ++d) {
+        const double servo = -kp[d] * s.e[d] - kd[d] * v[d];
+        tau[d] += std::clamp(servo, -cap[d], cap[d]) - servo;
+      }
+      a = s.M.llt().solve(tau - s.C);
+    };
+    const VecX q0 = state_.q, v0 = state_.v;
+    VecX a1, a2, a3, a4, q = q0;
+    accel(q0, v0, a1);
+    const VecX v2 = v0 + 0.5 * h * a1;
+    integrateCoordinates(model_, q, v0, 0.5 * h);
+    accel(q, v2, a2);
+    const VecX v3 = v0 + 0.5 * h * a2;
+    q = q0;
+    integrateCoordinates(model_, q, v2, 0.5 * h);
+    accel(q, v3, a3);
+    const VecX v4 = v0 + h * a3;
+    q = q0;
+    integrateCoordinates(model_, q, v3, h);
+    accel(q, v4, a4);
+    q = q0;
+    integrateCoordinates(model_, q, (v0 + 2.0 * v2 + 2.0 * v3 + v4) / 6.0, h);
+    state_.q = q;
+    v_star = v0 + (h / 6.0) * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+    dynamics(state_.q, v_star, s.M, s.C);
+    s.llt.compute(s.M);
+    moved = true;
+    return;
+  }
+  // Semi-implicit with stable PD: (M + h·(h·Kp + Kd + D))·a = −C − Kp·(e + h·v) − (Kd + D)·v; a servo
+  // whose torque would pass its limit gives that limit instead (explicit), and the step is solved again.
+  dynamics(state_.q, state_.v, s.M, s.C);
+  const VecX& v = state_.v;
+  std::vector<char> clamped(static_cast<std::size_t>(nv), 0);
+  VecX a;
+  for (int pass = 0; pass < 3; ++pass) {
+    s.diag = damp;
+    s.rhs = -s.C - damp.cwiseProduct(v);
+    for (int d = 0; d < nv; ++d) {
+      if (kp[d] <= 0) continue;
+      if (clamped[static_cast<std::size_t>(d)]) {
+        const double servo = -kp[d] * (s.e[d] + h * v[d]) - kd[d] * v[d];
+        s.rhs[d] += servo > 0 ? cap[d] : -cap[d];
+        continue;
+      }
+      s.diag[d] += h * kp[d] + kd[d];
+      s.rhs[d] += -kp[d] * (s.e[d] + h * v[d]) - kd[d] * v[d];
+    }
+    MatX Mt = s.M;
+    Mt.diagonal() += h * s.diag;
+    s.llt.compute(Mt);
+    a = s.llt.solve(s.rhs);
+    bool more = false;
+    for (int d = 0; d < nv; ++d) {
+      if (kp[d] <= 0 || clamped[static_cast<std::size_t>(d)]) continue;
+      const double vp = v[d] + h * a[d];
+      const double tau = -kp[d] * (s.e[d] + h * vp) - kd[d] * vp;
+      if (std::abs(tau) > cap[d]) clamped[static_cast<std::size_t>(d)] = 1, more = true;
+    }
+    if (!more) break;
+  }
+  v_star = v + h * a;
+  moved = false;
+}
+
+// Contacts with the objects and joint limits as velocity constraints on v (projected Gauss–Seidel
+// over the rows, impulses through the factorised matrix of the step).
+void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
+  const double h = ctx.h;
+  const std::vector<Collider>& colliders = *ctx.colliders;
+  if (!parts_.built) buildParts(colliders, parts_);
+  ArtScratch& s = s_;
+  const ArtKinematics& k = s.k;  // at the configuration the rows are built for
+  const int nv = model_.nv;
+  struct Row {
+    double b0 = 0, target = 0, mu = 0;
+    int kind = 0;  // 0: unilateral (normal, limit); 1, 2: a contact's two tangents (normal: row − kind)
+  };
+  std::vector<Row> rows;
+  std::vector<VecX> jac;
+  linkVelocities(model_, v, s.k);
+  std::vector<std::uint32_t> near;
+  // A link point's velocity as a row: Σ over the joints up to the root of S_v + S_ω × at.
+  auto pointJacobian = [&](std::size_t link, const Vec3& at, Eigen::Matrix<double, 3, Eigen::Dynamic>& Jp) {
+    Jp.setZero(3, nv);
+    for (int a = static_cast<int>(link); a >= 0; a = model_.joints[static_cast<std::size_t>(a)].parent) {
+      const ArtJoint& j = model_.joints[static_cast<std::size_t>(a)];
+      for (int c = 0; c < j.nv; ++c) {
+        const Vec6 col = k.S.col(j.vi + c);
+        Jp.col(j.vi + c) = col.tail<3>() + col.head<3>().cross(at);
+      }
+    }
+  };
+  Eigen::Matrix<double, 3, Eigen::Dynamic> Jp;
+  for (std::size_t i = 0; i < model_.links.size(); ++i) {
+    const ArtLink& l = model_.links[i];
+    const Pose pose{k.R[i], k.x[i]};
+    const double speed = k.vel[i].head<3>().norm() * l.extent + pointVelocity(k.vel[i], k.x[i]).norm();
+    const double margin = 0.004 + h * speed;
+    Vec3 lo, hi;
+    shapeBounds(l.shape, pose, lo, hi);
+    lo -= Vec3::Constant(margin);
+    hi += Vec3::Constant(margin);
+    partsNear(parts_, colliders, lo, hi, near);
+    for (std::uint32_t pi : near) {
+      const ObjectPart& part = parts_.parts[pi];
+      const Collider& c = colliders[part.collider];
+      Manifold mf;
+      if (!collidePart(l.shape, pose, part, c, margin, mf)) continue;
+      const double mu = std::sqrt(l.surface.friction * c.surface.friction);
+      for (int pt = 0; pt < mf.count; ++pt) {
+        const ContactPoint& cp = mf.points[static_cast<std::size_t>(pt)];
+        pointJacobian(i, cp.position, Jp);
+        const Vec3 vs = c.moving() ? c.velocityAt(cp.position) : Vec3::Zero();
+        const Vec3 n = mf.normal, t1 = perpendicular(n), t2 = n.cross(t1);
+        const double sep = -cp.depth;
+        Row r;
+        r.b0 = n.dot(vs);
+        r.target = sep > 0 ? -sep / h : std::min(kPushRate * std::max(0.0, -sep - kSlop) / h, kMaxPush);
+        r.mu = mu;
+        rows.push_back(r);
+        jac.push_back(-(Jp.transpose() * n));
+        for (int t = 1; t <= 2; ++t) {
+          const Vec3& dir = t == 1 ? t1 : t2;
+          Row f;
+          f.kind = t;
+          f.b0 = dir.dot(vs);
+          f.mu = mu;
+          rows.push_back(f);
+          jac.push_back(-(Jp.transpose() * dir));
+        }
+      }
+    }
+  }
+  contacts_ = static_cast<int>(rows.size() / 3);
+  // Joint limits: a coordinate near its bound, or a ball near its cone.
+  auto limitRow = [&](int dof, double sign, double gap) {
+    VecX J = VecX::Zero(nv);
+    J[dof] = sign;
+    Row r;
+    r.target = gap > 0 ? -gap / h : std::min(kPushRate * -gap / h, kMaxPush);
+    rows.push_back(r);
+    jac.push_back(J);
+  };
+  for (std::size_t i = 0; i < model_.joints.size(); ++i) {
+    const ArtJoint& j = model_.joints[i];
+    if (j.type == JointType::Hinge || j.type == JointType::Universal) {
+      for (int d = 0; d < j.nv && d < static_cast<int>(j.lower.size()); ++d) {
+        const double th = state_.q[j.qi + d], rate = std::abs(v[j.vi + d]) * h + kLimitMargin;
+        const double lo_gap = th - j.lower[static_cast<std::size_t>(d)], hi_gap = j.upper[static_cast<std::size_t>(d)] - th;
+        if (lo_gap < rate) limitRow(j.vi + d, 1.0, lo_gap);
+        if (hi_gap < rate) limitRow(j.vi + d, -1.0, hi_gap);
+      }
+    } else if (j.type == JointType::Ball && j.cone > 0) {
+      const std::vector<double> r = jointAngles(model_, state_.q, static_cast<int>(i));
+      const Vec3 rv(r[0], r[1], r[2]);
+      const double angle = rv.norm(), gap = j.cone - angle;
+      if (angle > 1e-9 && gap < v.segment<3>(j.vi).norm() * h + kLimitMargin) {
+        VecX J = VecX::Zero(nv);
+        J.segment<3>(j.vi) = -rv / angle;  // d(cone − angle)/dt = −u·ω
+        Row row;
+        row.target = gap > 0 ? -gap / h : std::min(kPushRate * -gap / h, kMaxPush);
+        rows.push_back(row);
+        jac.push_back(J);
+      }
+    }
+  }
+  if (rows.empty()) return;
+  const int m = static_cast<int>(rows.size());
+  s.J.resize(m, nv);
+  for (int r = 0; r < m; ++r) s.J.row(r) = jac[static_cast<std::size_t>(r)].transpose();
+  s.W = s.llt.solve(s.J.transpose());  // nv × m: the velocity change of a unit impulse on each row
+  VecX diag(m), lambda = VecX::Zero(m);
+  for (int r = 0; r < m; ++r) diag[r] = s.J.row(r).dot(s.W.col(r));
+  auto relative = [&](int r) { return s.J.row(r).dot(v) + rows[static_cast<std::size_t>(r)].b0; };
+  for (int it = 0; it < model_.iterations; ++it) {
+    for (int r = 0; r < m; ++r) {
+      const Row& row = rows[static_cast<std::size_t>(r)];
+      if (row.kind != 0) continue;
+      if (!(diag[r] > 0)) continue;
+      const double l = std::max(0.0, lambda[r] + (row.target - relative(r)) / diag[r]);
+      v += s.W.col(r) * (l - lambda[r]);
+      lambda[r] = l;
+      // The contact's friction (its tangents follow), in the circle of radius μ·λ_n.
+      if (r + 2 < m && rows[static_cast<std::size_t>(r + 1)].kind == 1) {
+        const int a = r + 1, b = r + 2;
+        double la = diag[a] > 0 ? lambda[a] - relative(a) / diag[a] : 0.0;
+        double lb = diag[b] > 0 ? lambda[b] - relative(b) / diag[b] : 0.0;
+        const double lim = row.mu * lambda[r], len = std::sqrt(la * la + lb * lb);
+        if (len > lim && len > 0) la *= lim / len, lb *= lim / len;
+        v += s.W.col(a) * (la - lambda[a]) + s.W.col(b) * (lb - lambda[b]);
+        lambda[a] = la;
+        lambda[b] = lb;
+      }
+    }
+  }
+}
+
+void ArticulatedBody::step(StepContext& ctx) {
+  VecX v;
+  bool moved = false;
+  smoothStep(ctx, v, moved);
+  if (moved) {
+    const VecX v_free = v;
+    constrain(ctx, v);
+    integrateCoordinates(model_, state_.q, v - v_free, ctx.h);
+  } else {
+    constrain(ctx, v);
+    integrateCoordinates(model_, state_.q, v, ctx.h);
+  }
+  state_.v = v;
+  refresh();
+  pose(*ctx.colliders, ctx.h);
+}
+
+void ArticulatedBody::pose(std::vector<Collider>& colliders, double h) const {
+  for (std::size_t i = 0; i < model_.links.size(); ++i) {
+    const ArtLink& l = model_.links[i];
+    Collider& c = colliders[l.collider];
+    c.rot_prev = c.rot;
+    c.pos_prev = c.pos;
+    c.dt = h;
+    c.rot = view_k_.R[i] * l.axes0.transpose();
+    c.pos = view_k_.x[i] + view_k_.R[i] * l.pivot;
+  }
+}
+
+Status ArticulatedBody::checkState(const StepContext& ctx) const {
+  for (std::size_t i = 0; i < model_.links.size(); ++i) {
+    const char* what = nullptr;
+    if (!x_view_[i].allFinite() || !(x_view_[i].norm() < kRunawayDistance)) what = "position";
+    else if (!v_view_[i].allFinite() || !(v_view_[i].norm() < kRunawaySpeed)) what = "velocity";
+    else if (!view_k_.vel[i].allFinite() || !(view_k_.vel[i].head<3>().norm() * model_.links[i].extent < kRunawaySpeed))
+      what = "angular velocity";
+    if (what)
+      return Error(ErrorKind::Unstable, "frame " + std::to_string(ctx.frame) + ", t = " + std::to_string(ctx.t1) +
+                                            " s: link '" + model_.links[i].name + "' of articulated body '" + name() +
+                                            "': " + what + " is not finite or ran away");
+  }
+  return {};
+}
+
+bool ArticulatedBody::view(BodyView& out) const {
+  out.name = name();
+  out.type = "articulated";
+  out.generator = "articulated";
+  out.positions = x_view_;
+  out.velocities = v_view_;
+  out.masses = mass_view_;
+  ViewField q{"orientation", 4, {}}, w{"angular_velocity", 3, {}};
+  for (std::size_t i = 0; i < model_.links.size(); ++i) {
+    const Eigen::Quaterniond r(view_k_.R[i]);
+    q.values.insert(q.values.end(), {r.w(), r.x(), r.y(), r.z()});
+    const Vec3 om = view_k_.vel[i].head<3>();
+    w.values.insert(w.values.end(), {om.x(), om.y(), om.z()});
+    out.link_names.push_back(model_.links[i].name);
+    if (model_.joints[i].parent >= 0 && model_.joints[i].type != JointType::Fixed)
+      out.joints.push_back({model_.links[i].name, jointAngles(model_, state_.q, static_cast<int>(i))});
+  }
+  out.fields = {q, w};
+  return true;
+}
+
+void ArticulatedBody::snapshot(StateBlob& out) const {
+  StateWriter w(out);
+  w.put(toVector(state_.q, 0, model_.nq));
+  w.put(toVector(state_.v, 0, model_.nv));
+}
+
+bool ArticulatedBody::restore(const StateBlob& in) {
+  StateReader r(in);
+  std::vector<double> q, v;
+  r.get(q);
+  r.get(v);
+  if (!r.done() || q.size() != static_cast<std::size_t>(model_.nq) || v.size() != static_cast<std::size_t>(model_.nv)) return false;
+  for (double x : q)
+    if (!(std::abs(x) < kRunawayDistance)) return false;
+  for (double x : v)
+    if (!(std::abs(x) < kRunawaySpeed * kRunawayDistance)) return false;
+  for (const ArtJoint& j : model_.joints) {
+    const int at = j.type == JointType::Free ? j.qi + 3 : j.type == JointType::Ball ? j.qi : -1;
+    if (at < 0) continue;
+    const double n2 = q[static_cast<std::size_t>(at)] * q[static_cast<std::size_t>(at)] + q[static_cast<std::size_t>(at + 1)] * q[static_cast<std::size_t>(at + 1)] +
+                      q[static_cast<std::size_t>(at + 2)] * q[static_cast<std::size_t>(at + 2)] + q[static_cast<std::size_t>(at + 3)] * q[static_cast<std::size_t>(at + 3)];
+    if (!(std::abs(n2 - 1.0) < 1e-6)) return false;
+  }
+  state_.q = Eigen::Map<const VecX>(q.data(), model_.nq);
+  state_.v = Eigen::Map<const VecX>(v.data(), model_.nv);
+  refresh();
+  return true;
+}
+
+void ArticulatedBody::hash(Hasher& h) const {
+  h.add(std::span<const double>(state_.q.data(), static_cast<std::size_t>(state_.q.size())));
+  h.add(std::span<const double>(state_.v.data(), static_cast<std::size_t>(state_.v.size())));
+}
+
+void ArticulatedBody::statistics(std::vector<Statistic>& out) const {
+  out.push_back({"kinetic_energy", kineticEnergy(model_, view_k_)});
+  out.push_back({"contacts", static_cast<double>(contacts_)});
+}
+
+Result<std::unique_ptr<Body>> buildArticulatedBody(const BodyDesc& desc, const BuildContext& ctx) {
+  const auto& d = desc.as<ArticulatedDesc>();
+  ArticulatedModel m;
+  m.iterations = d.iterations;
+  m.poses = d.poses;
+  std::vector<Mat3> R;
+  std::vector<Vec3> x;
+  startPoses(d, R, x);
+  for (std::size_t i = 0; i < d.links.size(); ++i) {
+    const ArticulatedLinkDesc& ld = d.links[i];
+    ArtJoint j;
+    j.type = ld.parent < 0 ? (d.fixed_base ? JointType::Fixed : JointType::Free) : ld.joint.type;
+    j.parent = ld.parent;
+    j.nv = jointDofs(j.type);
+    j.nq = j.type == JointType::Free ? 7 : j.type == JointType::Ball ? 4 : j.nv;
+    j.qi = m.nq;
+    j.vi = m.nv;
+    m.nq += j.nq;
+    m.nv += j.nv;
+    j.axis = ld.joint.axis;
+    j.axis2 = ld.joint.axis2;
+    j.anchor = ld.joint.anchor;
+    j.parent_anchor = ld.joint.parent_anchor;
+    j.lower = ld.joint.lower;
+    j.upper = ld.joint.upper;
+    j.cone = ld.joint.cone;
+    j.damping = ld.joint.damping;
+    j.servo = ld.joint.servo;
+    j.target = ld.joint.target.empty() ? ld.joint.angles : ld.joint.target;
+    j.R_fixed = R[i];
+    j.x_fixed = x[i];
+    m.joints.push_back(j);
+    ArtLink l;
+    l.name = ld.name;
+    l.mass = ld.mass.mass;
+    l.inertia = ld.mass.inertia;
+    switch (ld.shape.kind) {
+      case LinkShape::Kind::Sphere:
+        l.shape.kind = CoreKind::Point;
+        l.shape.radius = ld.shape.radius;
+        break;
+      case LinkShape::Kind::Capsule:
+        l.shape.kind = CoreKind::Segment;
+        l.shape.a = Vec3(0, -0.5 * ld.shape.length, 0);
+        l.shape.b = Vec3(0, 0.5 * ld.shape.length, 0);
+        l.shape.radius = ld.shape.radius;
+        break;
+      case LinkShape::Kind::Box:
+        l.shape.kind = CoreKind::Polytope;
+        l.shape.poly = std::make_shared<ConvexPolytope>(boxPolytope(0.5 * ld.shape.size));
+        break;
+    }
+    Vec3 lo, hi;
+    shapeBounds(l.shape, Pose{}, lo, hi);
+    l.extent = std::max(lo.norm(), hi.norm());
+    l.collider = ctx.first_object + i;
+    l.surface = d.objects[i].surface;
+    l.axes0 = R[i];
+    l.pivot = R[i].transpose() * (d.objects[i].referencePoint() - x[i]);
+    m.links.push_back(std::move(l));
+  }
+  ArticulatedState s;
+  s.q = VecX::Zero(m.nq);
+  s.v = VecX::Zero(m.nv);
+  for (std::size_t i = 0; i < d.links.size(); ++i) {
+    const ArtJoint& j = m.joints[i];
+    const std::vector<double>& a = d.links[i].joint.angles;
+    switch (j.type) {
+      case JointType::Free: {
+        s.q.segment<3>(j.qi) = x[i];
+        const Eigen::Quaterniond r(R[i]);
+        s.q.segment<4>(j.qi + 3) << r.w(), r.x(), r.y(), r.z();
+        s.v.segment<3>(j.vi) = d.angular_velocity;
+        s.v.segment<3>(j.vi + 3) = d.velocity - d.angular_velocity.cross(x[i]);  // at the origin
+        break;
+      }
+      case JointType::Ball: {
+        const Eigen::Quaterniond r(jointRotation(d.links[i].joint, a));
+        s.q.segment<4>(j.qi) << r.w(), r.x(), r.y(), r.z();
+        break;
+      }
+      case JointType::Hinge:
+      case JointType::Universal:
+        for (int k = 0; k < j.nq; ++k) s.q[j.qi + k] = a[static_cast<std::size_t>(k)];
+        break;
+      case JointType::Fixed: break;
+    }
+  }
+  return std::unique_ptr<Body>(std::make_unique<ArticulatedBody>(desc.name, std::move(m), std::move(s)));
+}
+
+}  // namespace reel
