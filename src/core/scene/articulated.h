@@ -88,6 +88,23 @@ struct PoseKey {
   std::vector<std::pair<int, std::vector<double>>> targets;  // link index (its joint) → angles
 };
 
+// A push: at `time`, an impulse through a link's centre of mass (a shove, a kick).
+struct PushDesc {
+  double time = 0.0;  // s
+  int link = 0;
+  Vec3 impulse{0, 0, 0};  // N·s, world
+};
+
+// A human figure's controllers (sim/articulated/controllers.h), in the supervisor's order.
+struct ControllersDesc {
+  bool balance = false;
+  double position_gain = 4.0;  // rad of ankle lean per m of the centre of mass's offset
+  double velocity_gain = 1.5;  // rad per m/s
+  double margin = 0.02;        // m: the centre of mass this far inside the support still balances
+  bool protect = false;
+  double reach_deg = 80.0;     // how far the arms swing toward the fall
+};
+
 struct ArticulatedDesc final : BodyParams {
   std::vector<ArticulatedLinkDesc> links;  // parents before children; links[0] is the root
   Vec3 position{0, 0, 0};       // the root's centre of mass at the start, m
@@ -96,6 +113,9 @@ struct ArticulatedDesc final : BodyParams {
   Vec3 angular_velocity{0, 0, 0};  // the root's, rad/s, world
   bool fixed_base = false;
   std::vector<PoseKey> poses;
+  std::vector<PushDesc> pushes;
+  bool gravity_compensation = false;  // servos add the torque that holds the links up against gravity
+  ControllersDesc controllers;
   int iterations = 30;  // contact and limit solver passes per step
   std::vector<ObjectDesc> objects;  // one per link, at its start pose (colliders, drawn at the link's pose)
   std::span<const ObjectDesc> ownObjects() const override { return objects; }

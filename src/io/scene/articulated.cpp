@@ -326,6 +326,40 @@ std::shared_ptr<const BodyParams> readArticulatedBody(Obj& o, BodyDesc& body, co
     }
     r->poses.push_back(std::move(key));
   });
+  r->gravity_compensation = o.boolean("gravity_compensation", false);
+  // The human figure's controllers: `balance` and `protect`, true or their keys.
+  auto controller = [&](const char* key, bool& on, auto&& keys) {
+    const Json* j = o.raw(key);
+    if (!j) return;
+    if (!o.has("figure")) {
+      d.error(childPath(p, key), std::string(key) + " controls a human figure (\"figure\": \"human\")");
+      return;
+    }
+    if (j->is_boolean()) {
+      on = j->get<bool>();
+      return;
+    }
+    on = true;
+    readObjectKey(o, key, keys);
+  };
+  ControllersDesc& cd = r->controllers;
+  controller("balance", cd.balance, [&](Obj& b) {
+    cd.position_gain = b.number("position_gain", cd.position_gain, Range::closed(0.0, 1e3));
+    cd.velocity_gain = b.number("velocity_gain", cd.velocity_gain, Range::closed(0.0, 1e3));
+    cd.margin = b.number("margin", cd.margin, Range::closed(0.0, 1.0));
+  });
+  controller("protect", cd.protect, [&](Obj& b) { cd.reach_deg = b.number("reach_deg", cd.reach_deg, Range::closed(0.0, 180.0)); });
+  // Pushes: [{time, link, impulse}].
+  readList(o, "pushes", [&](Obj& po) {
+    PushDesc push;
+    push.time = po.number("time", 0.0, Range::closed(0.0, 1e6));
+    const std::string name = po.string("link", true).value_or("");
+    push.link = findLink(r->links, name);
+    if (push.link < 0 && !name.empty())
+      d.error(childPath(po.path(), "link"), "no link '" + name + "' (nearest: '" + nearest(name, linkNames(r->links)) + "')");
+    push.impulse = po.vec3("impulse", Vec3::Zero(), Range::closed(-1e6, 1e6));
+    if (push.link >= 0) r->pushes.push_back(push);
+  });
   // Each link's object at its start pose.
   std::vector<Mat3> R;
   std::vector<Vec3> x;

@@ -71,6 +71,9 @@ struct ArticulatedModel {
   int nq = 0, nv = 0;
   int iterations = 30;
   std::vector<PoseKey> poses;
+  std::vector<PushDesc> pushes;
+  bool gravity_compensation = false;
+  ControllersDesc controllers;
 };
 
 struct ArticulatedState {

@@ -21,7 +21,7 @@ std::vector<double> toVector(const VecX& v, int i, int n) { return std::vector<d
 }  // namespace
 
 ArticulatedBody::ArticulatedBody(std::string name, ArticulatedModel model, ArticulatedState state)
-    : Body(std::move(name)), model_(std::move(model)), state_(std::move(state)) {
+    : Body(std::move(name)), model_(std::move(model)), state_(std::move(state)), roles_(humanRoles(model_)) {
   for (const ArtLink& l : model_.links) mass_view_.push_back(l.mass);
   refresh();
 }
@@ -40,6 +40,13 @@ void ArticulatedBody::smoothStep(StepContext& ctx, VecX& v_star, bool& moved) {
   ArtScratch& s = s_;
   const int nv = model_.nv;
   servoTargets(model_, ctx.t1, s.targets);
+  ControlInput in;
+  in.k = &view_k_;
+  in.foot_points = &foot_points_;
+  in.left_down = left_down_;
+  in.right_down = right_down_;
+  in.gravity = ctx.gravity;
+  active_ = supervise(model_, roles_, model_.controllers, in, s.targets);
   // What the other bodies handed the links (coupling stage), as forces over the step.
   s.f_ext.assign(model_.links.size(), Vec6::Zero());
   for (std::size_t i = 0; i < model_.links.size(); ++i) {
@@ -49,6 +56,14 @@ void ArticulatedBody::smoothStep(StepContext& ctx, VecX& v_star, bool& moved) {
     s.f_ext[i].head<3>() = L / h;
     s.f_ext[i].tail<3>() = J / h;
   }
+  // Pushes whose time falls in this step, through their link's centre of mass.
+  forwardKinematics(model_, state_.q, s.k);
+  for (const PushDesc& push : model_.pushes)
+    if (push.time > ctx.t0 && push.time <= ctx.t1 + 1e-12 * std::max(1.0, ctx.t1)) {
+      const auto i = static_cast<std::size_t>(push.link);
+      s.f_ext[i].head<3>() += s.k.x[i].cross(push.impulse) / h;
+      s.f_ext[i].tail<3>() += push.impulse / h;
+    }
   // Per velocity: the servo's gains (0 where none or where its torque limit is 0) and damping.
   VecX kp = VecX::Zero(nv), kd = VecX::Zero(nv), damp = VecX::Zero(nv), cap = VecX::Constant(nv, 1e300);
   for (std::size_t i = 0; i < model_.joints.size(); ++i) {
@@ -70,11 +85,24 @@ void ArticulatedBody::smoothStep(StepContext& ctx, VecX& v_star, bool& moved) {
     massMatrix(model_, s.k, M);
     servoErrors(model_, q, s.targets, s.e);
   };
+  // Gravity compensation: the servos also give the torques that hold the figure still against
+  // gravity (C at zero velocity and no outside force), so they need no error to carry its weight.
+  auto gravityHold = [&](VecX& hold) {
+    hold.setZero(nv);
+    if (!model_.gravity_compensation) return;
+    ArtKinematics still = s.k;
+    linkVelocities(model_, VecX::Zero(nv), still);
+    biasForces(model_, still, ctx.gravity, {}, hold);
+    for (int d = 0; d < nv; ++d)
+      if (kp[d] <= 0) hold[d] = 0.0;
+  };
   if (ctx.integrator == IntegratorKind::Rk4) {
     // Classical Runge–Kutta on (q, v), the servos explicit and clamped.
     auto accel = [&](const VecX& q, const VecX& v, VecX& a) {
       dynamics(q, v, s.M, s.C);
-      VecX tau = -kp.cwiseProduct(s.e) - (kd + damp).cwiseProduct(v);
+      VecX tau;
+      gravityHold(tau);
+      tau += -kp.cwiseProduct(s.e) - (kd + damp).cwiseProduct(v);
       for (int d = 0; d < nv; ++d) {
         const double servo = -kp[d] * s.e[d] - kd[d] * v[d];
         tau[d] += std::clamp(servo, -cap[d], cap[d]) - servo;
@@ -108,11 +136,13 @@ void ArticulatedBody::smoothStep(StepContext& ctx, VecX& v_star, bool& moved) {
   // whose torque would pass its limit gives that limit instead (explicit), and the step is solved again.
   dynamics(state_.q, state_.v, s.M, s.C);
   const VecX& v = state_.v;
+  VecX hold;
+  gravityHold(hold);
   std::vector<char> clamped(static_cast<std::size_t>(nv), 0);
   VecX a;
   for (int pass = 0; pass < 3; ++pass) {
     s.diag = damp;
-    s.rhs = -s.C - damp.cwiseProduct(v);
+    s.rhs = -s.C - damp.cwiseProduct(v) + hold;
     for (int d = 0; d < nv; ++d) {
       if (kp[d] <= 0) continue;
       if (clamped[static_cast<std::size_t>(d)]) {
@@ -157,6 +187,8 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
   std::vector<VecX> jac;
   linkVelocities(model_, v, s.k);
   std::vector<std::uint32_t> near;
+  foot_points_.clear();
+  left_down_ = right_down_ = false;
   // A link point's velocity as a row: Σ over the joints up to the root of S_v + S_ω × at.
   auto pointJacobian = [&](std::size_t link, const Vec3& at, Eigen::Matrix<double, 3, Eigen::Dynamic>& Jp) {
     Jp.setZero(3, nv);
@@ -191,6 +223,10 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
         const Vec3 vs = c.moving() ? c.velocityAt(cp.position) : Vec3::Zero();
         const Vec3 n = mf.normal, t1 = perpendicular(n), t2 = n.cross(t1);
         const double sep = -cp.depth;
+        if (sep < 0.005 && (static_cast<int>(i) == roles_.foot_l || static_cast<int>(i) == roles_.foot_r)) {
+          foot_points_.push_back(cp.position);
+          (static_cast<int>(i) == roles_.foot_l ? left_down_ : right_down_) = true;
+        }
         Row r;
         r.b0 = n.dot(vs);
         r.target = sep > 0 ? -sep / h : std::min(kPushRate * std::max(0.0, -sep - kSlop) / h, kMaxPush);
@@ -342,13 +378,20 @@ void ArticulatedBody::snapshot(StateBlob& out) const {
   StateWriter w(out);
   w.put(toVector(state_.q, 0, model_.nq));
   w.put(toVector(state_.v, 0, model_.nv));
+  w.put(foot_points_);
+  w.put(static_cast<std::uint8_t>(left_down_ + 2 * right_down_));
 }
 
 bool ArticulatedBody::restore(const StateBlob& in) {
   StateReader r(in);
   std::vector<double> q, v;
+  std::vector<Vec3> feet;
+  std::uint8_t down = 0;
   r.get(q);
   r.get(v);
+  r.get(feet);
+  r.get(down);
+  if (!allWithin(feet, kRunawayDistance) || down > 3) return false;
   if (!r.done() || q.size() != static_cast<std::size_t>(model_.nq) || v.size() != static_cast<std::size_t>(model_.nv)) return false;
   for (double x : q)
     if (!(std::abs(x) < kRunawayDistance)) return false;
@@ -363,6 +406,9 @@ bool ArticulatedBody::restore(const StateBlob& in) {
   }
   state_.q = Eigen::Map<const VecX>(q.data(), model_.nq);
   state_.v = Eigen::Map<const VecX>(v.data(), model_.nv);
+  foot_points_ = std::move(feet);
+  left_down_ = (down & 1) != 0;
+  right_down_ = (down & 2) != 0;
   refresh();
   return true;
 }
@@ -375,6 +421,7 @@ void ArticulatedBody::hash(Hasher& h) const {
 void ArticulatedBody::statistics(std::vector<Statistic>& out) const {
   out.push_back({"kinetic_energy", kineticEnergy(model_, view_k_)});
   out.push_back({"contacts", static_cast<double>(contacts_)});
+  out.push_back({"controller", static_cast<double>(static_cast<int>(active_))});
 }
 
 Result<std::unique_ptr<Body>> buildArticulatedBody(const BodyDesc& desc, const BuildContext& ctx) {
@@ -382,6 +429,9 @@ Result<std::unique_ptr<Body>> buildArticulatedBody(const BodyDesc& desc, const B
   ArticulatedModel m;
   m.iterations = d.iterations;
   m.poses = d.poses;
+  m.pushes = d.pushes;
+  m.gravity_compensation = d.gravity_compensation;
+  m.controllers = d.controllers;
   std::vector<Mat3> R;
   std::vector<Vec3> x;
   startPoses(d, R, x);

@@ -10,6 +10,7 @@
 
 #include "core/scene/articulated.h"
 #include "sim/articulated/articulated.h"
+#include "sim/articulated/controllers.h"
 #include "sim/body.h"
 #include "sim/rigid/parts.h"
 
@@ -35,6 +36,7 @@ class ArticulatedBody final : public Body {
   // Kinematics of the current state (link poses, velocities, spatial inertias).
   const ArtKinematics& kinematics() const { return view_k_; }
   int contacts() const { return contacts_; }
+  ControllerKind activeController() const { return active_; }
 
  private:
   void smoothStep(StepContext& ctx, VecX& v_star, bool& moved);
@@ -49,6 +51,13 @@ class ArticulatedBody final : public Body {
   std::vector<Vec3> x_view_, v_view_;
   std::vector<double> mass_view_;
   int contacts_ = 0;
+  HumanRoles roles_;
+  // The feet's contacts of the last step (the supervisor's support polygon). Recomputed by every
+  // step before use, so a resumed run's first step sees what the uninterrupted run's saw only if
+  // they are part of the snapshot: they are.
+  std::vector<Vec3> foot_points_;
+  bool left_down_ = false, right_down_ = false;
+  ControllerKind active_ = ControllerKind::None;
 };
 
 Result<std::unique_ptr<Body>> buildArticulatedBody(const BodyDesc& desc, const BuildContext& ctx);

@@ -1,0 +1,230 @@
+// Articulated bodies: a hinge pendulum's period, a double pendulum's energy, joints that never
+// come apart, servos with gravity compensation, the human figure's masses and balance, the dump,
+// determinism, bad input.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "core/figure.h"
+#include "core/math.h"
+#include "helpers.h"
+#include "sim/articulated/articulated_body.h"
+#include "sim/world.h"
+
+using namespace reel;
+using namespace reel::test;
+
+namespace {
+
+ArticulatedBody& figure(World& w, std::size_t k = 0) {
+  std::size_t seen = 0;
+  for (const auto& b : w.bodies())
+    if (auto* a = dynamic_cast<ArticulatedBody*>(b.get()))
+      if (seen++ == k) return *a;
+  throw std::runtime_error("no articulated body");
+}
+
+// The farthest a joint's point on the parent is from the same point on the child, m.
+double jointGap(const ArticulatedBody& b) {
+  const ArtKinematics& k = b.kinematics();
+  double worst = 0;
+  for (std::size_t i = 0; i < b.model().joints.size(); ++i) {
+    const ArtJoint& j = b.model().joints[i];
+    if (j.parent < 0) continue;
+    const auto p = static_cast<std::size_t>(j.parent);
+    const Vec3 on_parent = k.x[p] + k.R[p] * j.parent_anchor, on_child = k.x[i] + k.R[i] * j.anchor;
+    worst = std::max(worst, (on_parent - on_child).norm());
+  }
+  return worst;
+}
+
+double energy(const ArticulatedBody& b) {
+  return kineticEnergy(b.model(), b.kinematics()) + potentialEnergy(b.model(), b.kinematics(), Vec3(0, -9.78, 0));
+}
+
+const std::string kPendulum = R"({"format": "reel/1", "duration": 5, "fps": 100, "substeps": 10,
+  "bodies": [{"type": "articulated", "name": "p", "fixed_base": true,
+    "links": [{"name": "base", "shape": "sphere", "radius": 0.01, "density": 1000},
+              {"name": "rod", "shape": "box", "size": [0.02, 1, 0.02], "density": 1000, "parent": "base",
+               "joint": {"type": "hinge", "axis": [0, 0, 1], "anchor": [0, 0.5, 0], "angle_deg": 3}}]}]})";
+
+std::string human(const std::string& keys) {
+  return R"({"format": "reel/1", "duration": 3, "fps": 30, "substeps": 8,
+    "objects": [{"type": "plane", "surface": {"friction": 0.9}}],
+    "bodies": [{"type": "articulated", "name": "man", "figure": "human", "surface": {"friction": 0.9})" + keys + "}]}";
+}
+
+}  // namespace
+
+TEST_CASE("a hinge pendulum swings with the period 2π√(I/(m g d)) (3°, semi-implicit, film step)") {
+  World w = worldFromText(kPendulum);
+  ArticulatedBody& b = figure(w);
+  std::vector<double> crossings;
+  double last = b.state().q[0], t_last = 0;
+  for (int f = 1; f <= 500; ++f) {
+    REQUIRE(w.advanceFrame());
+    const double a = b.state().q[0], t = f / 100.0;
+    if (last > 0 && a <= 0) crossings.push_back(t_last + (t - t_last) * last / (last - a));
+    last = a;
+    t_last = t;
+  }
+  REQUIRE(crossings.size() >= 3);
+  const double period = (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
+  // The rod about its end: I = m(L² + w²)/12 + m(L/2)², d = L/2.
+  const double m = 0.02 * 0.02 * 1.0 * 1000, I = m * (1.0 + 0.0004) / 12 + m * 0.25;
+  const double expected = 2 * kPi * std::sqrt(I / (m * 9.78 * 0.5));
+  CAPTURE(period);
+  CAPTURE(expected);
+  CHECK(std::abs(period / expected - 1) < 0.005);
+}
+
+TEST_CASE("a chaotic double pendulum keeps its energy within 1e-4 over 10 s (rk4, 1 ms)") {
+  World w = worldFromText(R"({"format": "reel/1", "duration": 10, "fps": 100, "substeps": 10, "integrator": "rk4",
+    "bodies": [{"type": "articulated", "name": "dp", "fixed_base": true,
+      "links": [{"name": "base", "shape": "sphere", "radius": 0.01},
+                {"name": "upper", "shape": "capsule", "radius": 0.03, "length": 0.5, "parent": "base",
+                 "joint": {"type": "hinge", "anchor": [0, 0.25, 0], "angle_deg": 120}},
+                {"name": "lower", "shape": "capsule", "radius": 0.03, "length": 0.5, "parent": "upper",
+                 "joint": {"type": "hinge", "anchor": [0, 0.25, 0], "parent_anchor": [0, -0.25, 0], "angle_deg": -50}}]}]})");
+  ArticulatedBody& b = figure(w);
+  const double E0 = energy(b);
+  double worst = 0, swing = 0;
+  for (int f = 0; f < 1000; ++f) {
+    REQUIRE(w.advanceFrame());
+    worst = std::max(worst, std::abs(energy(b) - E0));
+    swing = std::max(swing, kineticEnergy(b.model(), b.kinematics()));
+  }
+  // Relative to the energy that moves about (the kinetic energy's peak), not the arbitrary zero of the potential.
+  CAPTURE(worst / swing);
+  CHECK(swing > 1.0);
+  CHECK(worst / swing < 1e-4);
+}
+
+TEST_CASE("a tumbling figure's joints never come apart (reduced coordinates: under 1e-9 m)") {
+  World w = worldFromText(human(R"(, "strength": 0, "velocity": [0, 3, 2], "angular_velocity": [4, 1, 2])"));
+  ArticulatedBody& b = figure(w);
+  double worst = 0;
+  for (int f = 0; f < 60; ++f) {
+    REQUIRE(w.advanceFrame());
+    worst = std::max(worst, jointGap(b));
+  }
+  CHECK(b.contacts() > 0);  // it landed
+  CHECK(worst < 1e-9);
+}
+
+TEST_CASE("a PD servo with gravity compensation holds an arm's pose within 1°; without it, the arm sags") {
+  auto arm = [](bool compensate) {
+    return std::string(R"({"format": "reel/1", "duration": 2, "fps": 30, "substeps": 8,
+      "bodies": [{"type": "articulated", "name": "arm", "fixed_base": true, "gravity_compensation": )") +
+           (compensate ? "true" : "false") + R"(, "servo": {"kp": 40, "kd": 4},
+        "links": [{"name": "base", "shape": "sphere", "radius": 0.05},
+                  {"name": "upper", "shape": "capsule", "radius": 0.04, "length": 0.3, "parent": "base",
+                   "joint": {"type": "hinge", "anchor": [0, 0.19, 0], "target_deg": 60}},
+                  {"name": "fore", "shape": "capsule", "radius": 0.03, "length": 0.25, "parent": "upper",
+                   "joint": {"type": "hinge", "anchor": [0, 0.15, 0], "parent_anchor": [0, -0.19, 0], "target_deg": -45}}]}]})";
+  };
+  for (bool compensate : {true, false}) {
+    World w = worldFromText(arm(compensate));
+    run(w, 60);
+    const ArticulatedBody& b = figure(w);
+    const double e1 = std::abs(b.state().q[0] - 60 * kPi / 180), e2 = std::abs(b.state().q[1] + 45 * kPi / 180);
+    CAPTURE(compensate);
+    CAPTURE(e1 * 180 / kPi);
+    CAPTURE(e2 * 180 / kPi);
+    if (compensate) CHECK(std::max(e1, e2) < kPi / 180);
+    else CHECK(std::max(e1, e2) > 3 * kPi / 180);
+  }
+}
+
+TEST_CASE("the human figure: Winter's segment masses, 16 links, 33 joint degrees of freedom") {
+  const auto links = humanFigure(1.75, 70.0, 1.0);
+  CHECK(links.size() == 16);
+  double mass = 0;
+  int dofs = 0;
+  for (const auto& l : links) {
+    mass += l.mass.mass;
+    if (l.parent >= 0) dofs += jointDofs(l.joint.type);
+    CHECK(l.mass.inertia.diagonal().minCoeff() > 0);
+  }
+  CHECK(mass == doctest::Approx(70.0).epsilon(1e-9));
+  CHECK(dofs == 33);
+  auto find = [&](const std::string& n) {
+    for (const auto& l : links)
+      if (l.name == n) return l.mass.mass;
+    return -1.0;
+  };
+  CHECK(find("thigh_l") == doctest::Approx(0.100 * 70));
+  CHECK(find("hand_r") == doctest::Approx(0.006 * 70));
+  CHECK(find("head") == doctest::Approx(0.081 * 70));
+  // It stands on its soles: the feet's lowest points at y = 0.
+  World w = worldFromText(human(""));
+  const ArticulatedBody& b = figure(w);
+  CHECK(b.kinematics().x[0].y() == doctest::Approx(humanRootHeight(1.75)));
+}
+
+TEST_CASE("the standing figure balances after a 15 N·s push to the chest and falls from a 40 N·s one") {
+  for (double push : {15.0, 40.0}) {
+    World w = worldFromText(human(R"(, "balance": true, "protect": true,
+      "pushes": [{"time": 0.5, "link": "chest", "impulse": [0, 0, )" + std::to_string(push) + "]}]"));
+    ArticulatedBody& b = figure(w);
+    bool protected_fall = false;
+    for (int f = 0; f < 90; ++f) {
+      REQUIRE(w.advanceFrame());
+      protected_fall = protected_fall || b.activeController() == ControllerKind::Protect;
+    }
+    const double pelvis = b.kinematics().x[0].y();
+    CAPTURE(push);
+    CAPTURE(pelvis);
+    if (push < 20) {
+      CHECK(pelvis > 0.95);
+      CHECK(b.activeController() == ControllerKind::Balance);
+    } else {
+      CHECK(pelvis < 0.4);
+      CHECK(protected_fall);  // the arms went out on the way down
+    }
+  }
+  // Without the balance controller the smaller push already topples it.
+  World w = worldFromText(human(R"(, "pushes": [{"time": 0.5, "link": "chest", "impulse": [0, 0, 25]}])"));
+  run(w, 90);
+  CHECK(figure(w).kinematics().x[0].y() < 0.9);
+}
+
+TEST_CASE("articulated: the same state for 1 and 2 threads, and a dump of links and joints") {
+  const std::string text = human(R"(, "strength": 0.3, "velocity": [0, 0, 1.5], "protect": true)");
+  CHECK(runHash(text, 1, 30) == runHash(text, 2, 30));
+  const auto dir = freshDir("articulated_dump");
+  const std::string scene = (dir / "s.json").string();
+  std::ofstream(scene) << kPendulum;
+  const Run r = runReel("simulate " + scene + " --dump " + (dir / "d.json").string());
+  REQUIRE(r.code == 0);
+  const std::string dump = fileBytes(dir / "d.json");
+  for (const char* key : {"\"links\":", "\"name\":\"rod\"", "\"orientation\":", "\"angular_velocity\":", "\"joints\":", "\"angles\":"})
+    CHECK(dump.find(key) != std::string::npos);
+}
+
+TEST_CASE("articulated: bad input is refused with its JSON path") {
+  auto links = [](const std::string& second, const std::string& extra = "") {
+    return R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "articulated", "name": "a")" + extra + R"(,
+      "links": [{"name": "base"}, )" + second + "]}]}";
+  };
+  checkHas(badInputError(links(R"({"name": "x", "parent": "bse", "joint": {}})")), "/bodies/0/links/1/parent");
+  checkHas(badInputError(links(R"({"name": "x", "parent": "bse", "joint": {}})")), "nearest: 'base'");
+  checkHas(badInputError(links(R"({"name": "x", "parent": "y", "joint": {}}, {"name": "y", "parent": "x", "joint": {}})")), "cycle");
+  checkHas(badInputError(links(R"({"name": "x", "parent": "base", "joint": {"axis": [0, 0, 0]}})")), "/bodies/0/links/1/joint/axis");
+  checkHas(badInputError(links(R"({"name": "x", "parent": "base", "joint": {"lower_deg": 10, "upper_deg": -10}})")),
+           "/bodies/0/links/1/joint/lower_deg");
+  checkHas(badInputError(links(R"({"name": "x", "parent": "base", "joint": {"kp": -1}})")), "/bodies/0/links/1/joint/kp");
+  checkHas(badInputError(links(R"({"name": "x", "parent": "base"})")), "/bodies/0/links/1/joint");
+  checkHas(badInputError(links(R"({"name": "base", "parent": "base", "joint": {}})")), "/bodies/0/links/1/name");
+  checkHas(badInputError(links(R"({"name": "x", "parent": "base", "joint": {"type": "ball", "lower_deg": 1, "upper_deg": 2}})")),
+           "/bodies/0/links/1/joint/lower_deg");
+  checkHas(badInputError(links(R"({"name": "x", "parent": "base", "joint": {"type": "hinge"}})", R"(, "balance": true)")),
+           "/bodies/0/balance");
+  checkHas(badInputError(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "articulated", "name": "m", "figure": "human",
+    "joints": {"knee": {"angle_deg": 10}}}]})"), "/bodies/0/joints/knee");
+  checkHas(badInputError(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "articulated", "name": "m", "figure": "human",
+    "pushes": [{"time": 1, "link": "chst", "impulse": [1, 0, 0]}]}]})"), "/bodies/0/pushes/0/link");
+  checkHas(badInputError(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "articulated", "name": "m", "figure": "human",
+    "poses": [{"time": 1, "joints": {"shin_l": [1, 2]}}]}]})"), "/bodies/0/poses/0/joints/shin_l");
+}
