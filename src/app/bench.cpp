@@ -329,7 +329,7 @@ int benchFilm(const std::string& scene_path, const std::string& range) {
 }  // namespace
 
 int bench(const std::vector<std::string>& given, double seconds, const std::string& frames) {
-  const std::vector<std::string> all = {"springs", "render", "film", "cloth", "fluid", "school", "fish", "rigid", "cloth_liquid", "face", "cache"};
+  const std::vector<std::string> all = {"springs", "render", "film", "cloth", "fluid", "school", "fish", "rigid", "articulated", "cloth_liquid", "face", "cache"};
   // Scene files name the films `film` renders (jelly by default).
   std::vector<std::string> names, films;
   for (const auto& n : given) (n.size() > 5 && n.ends_with(".json") ? films : names).push_back(n);
@@ -360,6 +360,7 @@ int bench(const std::vector<std::string>& given, double seconds, const std::stri
     if (n == "school") rc = benchSchool(seconds);
     if (n == "fish") rc = benchFish(seconds);
     if (n == "rigid") rc = benchRigid();
+    if (n == "articulated") rc = benchArticulated();
     if (n == "cloth_liquid") rc = benchClothLiquid();
     if (n == "face") rc = benchFace();
     if (n == "cache") rc = benchCache(30);

@@ -10,6 +10,7 @@ int benchFluid(double simulated);
 int benchSchool(double seconds);
 int benchFish(double seconds);
 int benchRigid();
+int benchArticulated();
 int benchClothLiquid();
 int benchFace();
 // bench_cache.cpp: the farm cache's bytes per node/particle/agent by kind, after `frames` frames.

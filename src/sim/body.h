@@ -86,6 +86,9 @@ class Body {
   virtual StepLimit stepLimit(IntegratorKind integrator) const = 0;
   // Free objects take what the other bodies handed them in the coupling stage (see Coupling).
   virtual bool coupled() const { return false; }
+  // A coupled body whose step reads only the objects' colliders (not other bodies' own ones) and
+  // writes only its own state and colliders: consecutive ones step in parallel (articulated figures).
+  virtual bool stepsAlone() const { return false; }
   // Advances the body from ctx.t0 to ctx.t1.
   virtual void step(StepContext& ctx) = 0;
   // Exit-3 check after a step: a non-finite or runaway state names body, point and quantity.

@@ -135,21 +135,23 @@ void linkVelocities(const ArticulatedModel& m, const VecX& v, ArtKinematics& k) 
 void massMatrix(const ArticulatedModel& m, const ArtKinematics& k, MatX& M) {
   const std::size_t n = m.links.size();
   M.setZero(m.nv, m.nv);
-  std::vector<Mat6> Ic(k.I);
+  thread_local std::vector<Mat6> Ic;
+  Ic.assign(k.I.begin(), k.I.end());
   for (std::size_t i = n; i-- > 0;) {
     const ArtJoint& j = m.joints[i];
     if (j.parent >= 0) Ic[static_cast<std::size_t>(j.parent)] += Ic[i];
   }
+  // Column by column: F = Ic_i·S_i, then M[j][i] = S_jᵀ·F for i's joint and every joint above it.
   for (std::size_t i = 0; i < n; ++i) {
     const ArtJoint& j = m.joints[i];
-    if (j.nv == 0) continue;
-    const Eigen::Matrix<double, 6, Eigen::Dynamic> F = Ic[i] * k.S.middleCols(j.vi, j.nv);
-    M.block(j.vi, j.vi, j.nv, j.nv) = k.S.middleCols(j.vi, j.nv).transpose() * F;
-    for (int a = j.parent; a >= 0; a = m.joints[static_cast<std::size_t>(a)].parent) {
-      const ArtJoint& ja = m.joints[static_cast<std::size_t>(a)];
-      if (ja.nv == 0) continue;
-      M.block(ja.vi, j.vi, ja.nv, j.nv) = k.S.middleCols(ja.vi, ja.nv).transpose() * F;
-      M.block(j.vi, ja.vi, j.nv, ja.nv) = M.block(ja.vi, j.vi, ja.nv, j.nv).transpose();
+    for (int c = 0; c < j.nv; ++c) {
+      const int col = j.vi + c;
+      const Vec6 F = Ic[i] * k.S.col(col);
+      for (int r = j.vi; r <= col; ++r) M(r, col) = M(col, r) = k.S.col(r).dot(F);
+      for (int a = j.parent; a >= 0; a = m.joints[static_cast<std::size_t>(a)].parent) {
+        const ArtJoint& ja = m.joints[static_cast<std::size_t>(a)];
+        for (int r = ja.vi; r < ja.vi + ja.nv; ++r) M(r, col) = M(col, r) = k.S.col(r).dot(F);
+      }
     }
   }
 }

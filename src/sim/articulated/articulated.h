@@ -126,7 +126,7 @@ void servoTargets(const ArticulatedModel& m, double t, std::vector<std::vector<d
 // part by Runge–Kutta (q advanced too; returns true), else semi-implicit (q not moved; false).
 struct ArtScratch {
   ArtKinematics k;
-  MatX M, W, J;
+  MatX M, Mt, W, J;
   VecX C, rhs, e, diag;
   Eigen::LLT<MatX> llt;
   std::vector<Vec6> f_ext;

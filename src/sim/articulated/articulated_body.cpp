@@ -153,9 +153,9 @@ void ArticulatedBody::smoothStep(StepContext& ctx, VecX& v_star, bool& moved) {
       s.diag[d] += h * kp[d] + kd[d];
       s.rhs[d] += -kp[d] * (s.e[d] + h * v[d]) - kd[d] * v[d];
     }
-    MatX Mt = s.M;
-    Mt.diagonal() += h * s.diag;
-    s.llt.compute(Mt);
+    s.Mt = s.M;
+    s.Mt.diagonal() += h * s.diag;
+    s.llt.compute(s.Mt);
     a = s.llt.solve(s.rhs);
     bool more = false;
     for (int d = 0; d < nv; ++d) {
@@ -184,7 +184,8 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
     int kind = 0;  // 0: unilateral (normal, limit); 1, 2: a contact's two tangents (normal: row − kind)
   };
   std::vector<Row> rows;
-  std::vector<VecX> jac;
+  std::vector<double> jac;  // the rows' Jacobians, nv numbers each
+  auto addJacobian = [&](const VecX& J) { jac.insert(jac.end(), J.data(), J.data() + nv); };
   linkVelocities(model_, v, s.k);
   std::vector<std::uint32_t> near;
   foot_points_.clear();
@@ -232,7 +233,7 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
         r.target = sep > 0 ? -sep / h : std::min(kPushRate * std::max(0.0, -sep - kSlop) / h, kMaxPush);
         r.mu = mu;
         rows.push_back(r);
-        jac.push_back(-(Jp.transpose() * n));
+        addJacobian(-(Jp.transpose() * n));
         for (int t = 1; t <= 2; ++t) {
           const Vec3& dir = t == 1 ? t1 : t2;
           Row f;
@@ -240,7 +241,7 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
           f.b0 = dir.dot(vs);
           f.mu = mu;
           rows.push_back(f);
-          jac.push_back(-(Jp.transpose() * dir));
+          addJacobian(-(Jp.transpose() * dir));
         }
       }
     }
@@ -253,7 +254,7 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
     Row r;
     r.target = gap > 0 ? -gap / h : std::min(kPushRate * -gap / h, kMaxPush);
     rows.push_back(r);
-    jac.push_back(J);
+    addJacobian(J);
   };
   for (std::size_t i = 0; i < model_.joints.size(); ++i) {
     const ArtJoint& j = model_.joints[i];
@@ -274,25 +275,27 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
         Row row;
         row.target = gap > 0 ? -gap / h : std::min(kPushRate * -gap / h, kMaxPush);
         rows.push_back(row);
-        jac.push_back(J);
+        addJacobian(J);
       }
     }
   }
   if (rows.empty()) return;
   const int m = static_cast<int>(rows.size());
-  s.J.resize(m, nv);
-  for (int r = 0; r < m; ++r) s.J.row(r) = jac[static_cast<std::size_t>(r)].transpose();
-  s.W = s.llt.solve(s.J.transpose());  // nv × m: the velocity change of a unit impulse on each row
+  s.J = Eigen::Map<const MatX>(jac.data(), nv, m);  // column r: row r's Jacobian
+  s.W = s.llt.solve(s.J);  // nv × m: the velocity change of a unit impulse on each row
   VecX diag(m), lambda = VecX::Zero(m);
-  for (int r = 0; r < m; ++r) diag[r] = s.J.row(r).dot(s.W.col(r));
-  auto relative = [&](int r) { return s.J.row(r).dot(v) + rows[static_cast<std::size_t>(r)].b0; };
+  for (int r = 0; r < m; ++r) diag[r] = s.J.col(r).dot(s.W.col(r));
+  auto relative = [&](int r) { return s.J.col(r).dot(v) + rows[static_cast<std::size_t>(r)].b0; };
+  // Passes until no row's velocity changes by more than 1e-6 m/s (or rad/s), at most `iterations`.
   for (int it = 0; it < model_.iterations; ++it) {
+    double change = 0.0;
     for (int r = 0; r < m; ++r) {
       const Row& row = rows[static_cast<std::size_t>(r)];
       if (row.kind != 0) continue;
       if (!(diag[r] > 0)) continue;
       const double l = std::max(0.0, lambda[r] + (row.target - relative(r)) / diag[r]);
       v += s.W.col(r) * (l - lambda[r]);
+      change = std::max(change, std::abs(l - lambda[r]) * diag[r]);
       lambda[r] = l;
       // The contact's friction (its tangents follow), in the circle of radius μ·λ_n.
       if (r + 2 < m && rows[static_cast<std::size_t>(r + 1)].kind == 1) {
@@ -302,10 +305,12 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
         const double lim = row.mu * lambda[r], len = std::sqrt(la * la + lb * lb);
         if (len > lim && len > 0) la *= lim / len, lb *= lim / len;
         v += s.W.col(a) * (la - lambda[a]) + s.W.col(b) * (lb - lambda[b]);
+        change = std::max({change, std::abs(la - lambda[a]) * diag[a], std::abs(lb - lambda[b]) * diag[b]});
         lambda[a] = la;
         lambda[b] = lb;
       }
     }
+    if (change < 1e-6) break;
   }
 }
 

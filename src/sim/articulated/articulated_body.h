@@ -21,6 +21,7 @@ class ArticulatedBody final : public Body {
   ArticulatedBody(std::string name, ArticulatedModel model, ArticulatedState state);
   StepLimit stepLimit(IntegratorKind) const override { return {}; }
   bool coupled() const override { return true; }
+  bool stepsAlone() const override { return true; }
   void step(StepContext& ctx) override;
   Status checkState(const StepContext& ctx) const override;
   bool view(BodyView& out) const override;
