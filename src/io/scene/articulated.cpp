@@ -222,7 +222,24 @@ std::shared_ptr<const BodyParams> readArticulatedBody(Obj& o, BodyDesc& body, co
     const double mass = o.number("mass", 70.0, Range::closed(0.1, 1e4));
     const double strength = o.number("strength", 1.0, Range::closed(0.0, 100.0));
     r->links = humanFigure(height, mass, strength);
-    for (auto& l : r->links) l.material = body.material;
+    // Dressed: skin, shirt, trousers and shoes (`outfit`), unless `color` makes it one colour.
+    Vec3 skin(0.78, 0.55, 0.42), shirt(0.18, 0.32, 0.58), trousers(0.16, 0.16, 0.2), shoes(0.08, 0.06, 0.05);
+    readObjectKey(o, "outfit", [&](Obj& oo) {
+      skin = oo.vec3("skin", skin, kUnit);
+      shirt = oo.vec3("shirt", shirt, kUnit);
+      trousers = oo.vec3("trousers", trousers, kUnit);
+      shoes = oo.vec3("shoes", shoes, kUnit);
+    });
+    const bool one_colour = o.has("color");
+    for (auto& l : r->links) {
+      l.material = body.material;
+      if (one_colour) continue;
+      const std::string& n = l.name;
+      l.material.color = n == "head" || n.starts_with("hand") || n.starts_with("forearm") ? skin
+                         : n == "chest" || n == "abdomen" || n.starts_with("upper_arm")   ? shirt
+                         : n.starts_with("foot")                                           ? shoes
+                                                                                          : trousers;
+    }
     // `position`: the point on the ground between its feet.
     r->position = position + r->rotation * Vec3(0, humanRootHeight(height), 0);
     // Per joint: angles, targets and servo keys over the generated ones.
