@@ -8,6 +8,7 @@
 
 #include "core/figure.h"
 #include "core/math.h"
+#include "app/body_kinds.h"
 #include "helpers.h"
 #include "sim/articulated/articulated_body.h"
 #include "sim/world.h"
@@ -227,4 +228,109 @@ TEST_CASE("articulated: bad input is refused with its JSON path") {
     "pushes": [{"time": 1, "link": "chst", "impulse": [1, 0, 0]}]}]})"), "/bodies/0/pushes/0/link");
   checkHas(badInputError(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "articulated", "name": "m", "figure": "human",
     "poses": [{"time": 1, "joints": {"shin_l": [1, 2]}}]}]})"), "/bodies/0/poses/0/joints/shin_l");
+}
+
+namespace {
+
+// A two-link arm on a box base (URDF: z up, the shoulder turned 90° about y, so the arm starts
+// along +x), and a scene that loads it.
+const std::string kArm = R"(<?xml version="1.0"?>
+<robot name="arm">
+  <material name="grey"><color rgba="0.5 0.5 0.5 1"/></material>
+  <link name="base">
+    <inertial><mass value="5"/><inertia ixx="0.1" iyy="0.1" izz="0.1"/></inertial>
+    <collision><geometry><box size="0.3 0.3 0.1"/></geometry></collision>
+  </link>
+  <link name="upper">
+    <inertial><origin xyz="0 0 0.25"/><mass value="2"/><inertia ixx="0.0425" iyy="0.0425" izz="0.0025"/></inertial>
+    <collision><origin xyz="0 0 0.25"/><geometry><cylinder radius="0.05" length="0.5"/></geometry></collision>
+  </link>
+  <link name="fore">
+    <inertial><origin xyz="0 0 0.2"/><mass value="1"/><inertia ixx="0.0137" iyy="0.0137" izz="0.0008"/></inertial>
+    <collision><origin xyz="0 0 0.2"/><geometry><capsule radius="0.04" length="0.32"/></geometry></collision>
+  </link>
+  <joint name="shoulder" type="revolute">
+    <parent link="base"/><child link="upper"/><origin xyz="0 0 0.05" rpy="0 1.5707963267948966 0"/>
+    <axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="50" velocity="3"/><dynamics damping="0.1"/>
+  </joint>
+  <joint name="elbow" type="continuous">
+    <parent link="upper"/><child link="fore"/><origin xyz="0 0 0.5"/><axis xyz="0 1 0"/>
+  </joint>
+</robot>
+)";
+
+// Writes `urdf` beside a scene that loads it; the scene's path.
+std::string robotScene(const std::string& dir_name, const std::string& urdf) {
+  const auto dir = freshDir(dir_name);
+  std::ofstream(dir / "arm.urdf") << urdf;
+  std::ofstream(dir / "s.json") << R"({"format": "reel/1", "duration": 1,
+    "bodies": [{"type": "articulated", "name": "arm", "urdf": "arm.urdf", "fixed_base": true, "rotation_deg": [-90, 0, 0]}]})";
+  return (dir / "s.json").string();
+}
+
+}  // namespace
+
+TEST_CASE("URDF: a small arm's links, masses, inertias and joints match the hand-computed ones") {
+  auto s = app::loadScene(robotScene("urdf_arm", kArm));
+  REQUIRE_MESSAGE(s.ok(), (s.ok() ? "" : s.error().headline()));
+  const auto& d = s.value().bodies[0].as<ArticulatedDesc>();
+  REQUIRE(d.links.size() == 3);
+  CHECK(d.links[0].name == "base");
+  CHECK(d.links[1].mass.mass == 2.0);
+  CHECK(d.links[2].mass.mass == 1.0);
+  // In the robot's frame (z up): the upper arm's inertia turned by the shoulder's 90° about y, its
+  // long axis (z) now along x.
+  const Mat3 I = d.links[1].mass.inertia;
+  CHECK(I(0, 0) == doctest::Approx(0.0025));
+  CHECK(I(1, 1) == doctest::Approx(0.0425));
+  CHECK(I(2, 2) == doctest::Approx(0.0425));
+  CHECK(std::abs(I(0, 2)) < 1e-12);
+  // The shoulder's point (0, 0, 0.05) in the base; the upper arm's centre 0.25 m along the turned z (+x).
+  const ArticulatedJointDesc& sh = d.links[1].joint;
+  CHECK(sh.type == JointType::Hinge);
+  CHECK((sh.parent_anchor - Vec3(0, 0, 0.05)).norm() < 1e-9);
+  CHECK((sh.anchor - Vec3(-0.25, 0, 0)).norm() < 1e-9);
+  CHECK((sh.axis - Vec3(0, 1, 0)).norm() < 1e-9);
+  CHECK(sh.lower == std::vector<double>{-2.0});
+  CHECK(sh.upper == std::vector<double>{2.0});
+  CHECK(sh.damping == 0.1);
+  const ArticulatedJointDesc& el = d.links[2].joint;
+  CHECK(el.lower.empty());
+  CHECK((el.parent_anchor - Vec3(0.25, 0, 0)).norm() < 1e-9);
+  CHECK((el.anchor - Vec3(-0.2, 0, 0)).norm() < 1e-9);
+  // The cylinder stands along the arm (reel's y turned onto the URDF's z, turned onto x).
+  CHECK((d.links[1].shape.rotation * Vec3::UnitY() - Vec3(1, 0, 0)).norm() < 1e-9);
+  CHECK(d.links[1].shape.kind == LinkShape::Kind::Cylinder);
+  // It simulates (turned z up → y up): the arm swings down under gravity, joints together.
+  auto w = app::makeWorld(s.value());
+  REQUIRE(w.ok());
+  const double y0 = figure(w.value()).kinematics().x[2].y();
+  run(w.value(), 10);
+  CHECK(jointGap(figure(w.value())) < 1e-9);
+  CHECK(figure(w.value()).kinematics().x[2].y() < y0 - 0.2);
+}
+
+TEST_CASE("URDF: what is outside the subset, or broken, is refused with its line") {
+  auto refused = [](const std::string& urdf, const std::string& part) {
+    auto s = app::loadScene(robotScene("urdf_bad", urdf));
+    REQUIRE_FALSE(s.ok());
+    CAPTURE(s.error().headline());
+    CHECK(s.error().headline().find("/bodies/0/urdf") != std::string::npos);
+    CHECK(s.error().headline().find(part) != std::string::npos);
+  };
+  auto replace = [](std::string s, const std::string& a, const std::string& b) {
+    const auto p = s.find(a);
+    REQUIRE(p != std::string::npos);
+    return s.replace(p, a.size(), b);
+  };
+  refused(replace(kArm, R"(type="continuous")", R"(type="prismatic")"), "line 20: joint type \"prismatic\"");
+  refused(replace(kArm, R"(<capsule radius="0.04" length="0.32"/>)", R"(<mesh filename="fore.stl"/>)"), "line 14: <mesh>");
+  refused(replace(kArm, R"(<parent link="upper"/>)", R"(<parent link="uper"/>)"), "line 21: no link \"uper\"");
+  refused(replace(kArm, R"(<child link="upper"/>)", R"(<child link="base"/>)"), "cycle");
+  refused(replace(kArm, R"(<mass value="2"/>)", R"(<mass value="-2"/>)"), "line 9: <mass> value must be > 0");
+  refused(replace(kArm, R"(lower="-2" upper="2")", R"(lower="2" upper="-2")"), "line 18: the lower limit");
+  refused(replace(kArm, R"(</robot>)", R"(<link name="tip"/><joint name="x" type="fixed"><parent link="fore"/><child link="tip"/><mimic joint="elbow"/></joint></robot>)"),
+          "line 23: <mimic>");
+  refused(replace(kArm, "  </link>\n  <link name=\"upper\">", "  </lnk>\n  <link name=\"upper\">"), "line 7: </lnk> closes <link>");
+  refused(replace(kArm, R"(<axis xyz="0 1 0"/><limit)", R"(<axis xyz="0 0 0"/><limit)"), "line 18: an axis of zero length");
 }

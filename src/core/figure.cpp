@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 
 #include "core/math.h"
+#include "core/mesh.h"
 
 namespace reel {
 
@@ -47,29 +48,37 @@ ObjectDesc linkObject(const ArticulatedLinkDesc& l, const Mat3& R, const Vec3& x
   o.name = body + "/" + l.name;
   o.free_body = true;
   o.material = l.material;
+  const Mat3 Rs = R * l.shape.rotation;
+  const Vec3 c = x + R * l.shape.offset;
   switch (l.shape.kind) {
     case LinkShape::Kind::Sphere:
-      o.shape = SphereShape{x, l.shape.radius};
+      o.shape = SphereShape{c, l.shape.radius};
       break;
     case LinkShape::Kind::Box:
-      o.shape = BoxShape{x, l.shape.size, eulerDegFromRotation(R)};
+      o.shape = BoxShape{c, l.shape.size, eulerDegFromRotation(Rs)};
       break;
     case LinkShape::Kind::Capsule: {
-      const Vec3 half = R * Vec3(0, 0.5 * l.shape.length, 0);
-      o.shape = CapsuleShape{x - half, x + half, l.shape.radius};
+      const Vec3 half = Rs * Vec3(0, 0.5 * l.shape.length, 0);
+      o.shape = CapsuleShape{c - half, c + half, l.shape.radius};
       break;
     }
+    case LinkShape::Kind::Cylinder:
+      o.shape = MeshObjectShape{"cylinder", std::make_shared<TriMesh>(makeCylinder(l.shape.radius, l.shape.length, 32)), c,
+                                Vec3(1, 1, 1), eulerDegFromRotation(Rs)};
+      break;
   }
   return o;
 }
 
 MassProperties linkMass(const LinkShape& s, double density) {
+  MassProperties m;
   switch (s.kind) {
-    case LinkShape::Kind::Sphere: return sphereMass(s.radius, density);
-    case LinkShape::Kind::Box: return boxMass(s.size, density);
-    case LinkShape::Kind::Capsule: return capsuleMass(s.length, s.radius, density);
+    case LinkShape::Kind::Sphere: m = sphereMass(s.radius, density); break;
+    case LinkShape::Kind::Box: m = boxMass(s.size, density); break;
+    case LinkShape::Kind::Capsule: m = capsuleMass(s.length, s.radius, density); break;
+    case LinkShape::Kind::Cylinder: m = cylinderMass(s.radius, s.length, density); break;
   }
-  return {};
+  return placed(m, s.rotation, s.offset);
 }
 
 namespace {

@@ -63,13 +63,17 @@ struct ArticulatedJointDesc {
   std::vector<double> target;  // rad, the servo's rest target (default the initial angles)
 };
 
-// A link's shape, in its own frame about its centre of mass: a sphere, a box (full size), or a
-// capsule along the frame's y axis (`length` between its caps' centres).
+// A link's shape in its own frame: a sphere, a box (full size), a capsule (`length` between its
+// caps' centres) or a cylinder (`length` its height), the last two along y; centred at `offset`
+// from the centre of mass and turned by `rotation` (both zero for the scene's links; a URDF's
+// collision origin sets them).
 struct LinkShape {
-  enum class Kind { Sphere, Box, Capsule } kind = Kind::Box;
+  enum class Kind { Sphere, Box, Capsule, Cylinder } kind = Kind::Box;
   double radius = 0.0;  // m
   Vec3 size{0.1, 0.1, 0.1};  // m
   double length = 0.0;  // m
+  Vec3 offset{0, 0, 0};  // m, link frame
+  Mat3 rotation = Mat3::Identity();
 };
 
 struct ArticulatedLinkDesc {

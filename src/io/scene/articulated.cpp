@@ -10,13 +10,17 @@
 #include "core/format.h"
 #include "core/math.h"
 #include "core/scene/articulated.h"
+#include "io/files.h"
 #include "io/scene/reader.h"
 #include "io/scene/readers.h"
+#include "io/scene/urdf.h"
+#include "io/xml.h"
 
 namespace reel::io {
 namespace {
 
 constexpr double kDeg = kPi / 180.0;
+constexpr std::size_t kMaxRobotBytes = 16 << 20;  // a URDF file
 
 // `key`: n angles in degrees (a number when n is 1, else a list of n), in rad.
 std::optional<std::vector<double>> anglesOf(const Json* j, const std::string& p, Diagnostics& diag, std::size_t n) {
@@ -198,6 +202,24 @@ int namedLink(Obj& o, const std::vector<ArticulatedLinkDesc>& links, const std::
   return i;
 }
 
+// `joints`: per joint of a generated figure or a robot, angles, targets and servo keys over its own.
+void jointOverrides(Obj& o, ArticulatedDesc& r) {
+  const Json* j = o.raw("joints");
+  if (!j) return;
+  const std::string jp = childPath(o.path(), "joints");
+  if (!j->is_object()) {
+    o.diag().error(jp, "expected an object of link names");
+    return;
+  }
+  for (const auto& [name, value] : j->items()) {
+    const int i = namedLink(o, r.links, name, childPath(jp, name));
+    if (i < 0) continue;
+    Obj jo(value, childPath(jp, name), o.diag());
+    readJointState(jo, r.links[static_cast<std::size_t>(i)].joint);
+    jo.finish();
+  }
+}
+
 }  // namespace
 
 std::shared_ptr<const BodyParams> readArticulatedBody(Obj& o, BodyDesc& body, const SceneDesc&) {
@@ -242,19 +264,29 @@ std::shared_ptr<const BodyParams> readArticulatedBody(Obj& o, BodyDesc& body, co
     }
     // `position`: the point on the ground between its feet.
     r->position = position + r->rotation * Vec3(0, humanRootHeight(height), 0);
-    // Per joint: angles, targets and servo keys over the generated ones.
-    if (const Json* j = o.raw("joints")) {
-      const std::string jp = childPath(p, "joints");
-      if (!j->is_object()) d.error(jp, "expected an object of link names");
-      else
-        for (const auto& [name, value] : j->items()) {
-          const int i = namedLink(o, r->links, name, childPath(jp, name));
-          if (i < 0) continue;
-          Obj jo(value, childPath(jp, name), d);
-          readJointState(jo, r->links[static_cast<std::size_t>(i)].joint);
-          jo.finish();
-        }
+    jointOverrides(o, *r);
+  } else if (o.has("urdf")) {
+    if (o.has("links")) d.error(childPath(p, "links"), "give a urdf or links, not both");
+    const std::string file = o.string("urdf").value_or("");
+    auto path = resolveAsset(d.file(), file, {".urdf", ".xml"}, kMaxRobotBytes);
+    auto text = path.ok() ? readFile(path.value(), kMaxRobotBytes) : Result<std::string>(path.error());
+    auto xml = text.ok() ? parseXml(text.value()) : Result<XmlElement>(text.error());
+    Vec3 root_offset = Vec3::Zero();
+    auto links = xml.ok() ? urdfLinks(xml.value(), root_offset) : Result<std::vector<ArticulatedLinkDesc>>(xml.error());
+    if (!links.ok()) {
+      d.error(childPath(p, "urdf"), "\"" + file + "\": " + links.error().headline());
+      return r;
     }
+    r->links = std::move(links.value());
+    // `position` and `rotation_deg` place the root link's frame; `servo` acts on every joint.
+    r->position = position + r->rotation * root_offset;
+    ServoDesc servo;
+    readObjectKey(o, "servo", [&](Obj& so) { readServo(so, servo); });
+    for (auto& l : r->links) {
+      l.material = body.material;
+      l.joint.servo = servo;
+    }
+    jointOverrides(o, *r);
   } else {
     r->position = position;
     ServoDesc servo;

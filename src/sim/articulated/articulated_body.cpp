@@ -468,20 +468,28 @@ Result<std::unique_ptr<Body>> buildArticulatedBody(const BodyDesc& desc, const B
     l.name = ld.name;
     l.mass = ld.mass.mass;
     l.inertia = ld.mass.inertia;
+    const Mat3& Rs = ld.shape.rotation;
+    const Vec3& off = ld.shape.offset;
     switch (ld.shape.kind) {
       case LinkShape::Kind::Sphere:
         l.shape.kind = CoreKind::Point;
+        l.shape.a = off;
         l.shape.radius = ld.shape.radius;
         break;
       case LinkShape::Kind::Capsule:
         l.shape.kind = CoreKind::Segment;
-        l.shape.a = Vec3(0, -0.5 * ld.shape.length, 0);
-        l.shape.b = Vec3(0, 0.5 * ld.shape.length, 0);
+        l.shape.a = off + Rs * Vec3(0, -0.5 * ld.shape.length, 0);
+        l.shape.b = off + Rs * Vec3(0, 0.5 * ld.shape.length, 0);
         l.shape.radius = ld.shape.radius;
         break;
       case LinkShape::Kind::Box:
         l.shape.kind = CoreKind::Polytope;
-        l.shape.poly = std::make_shared<ConvexPolytope>(boxPolytope(0.5 * ld.shape.size));
+        l.shape.poly = std::make_shared<ConvexPolytope>(transformedPolytope(boxPolytope(0.5 * ld.shape.size), Rs, off));
+        break;
+      case LinkShape::Kind::Cylinder:
+        l.shape.kind = CoreKind::Polytope;
+        l.shape.poly = std::make_shared<ConvexPolytope>(
+            transformedPolytope(prismPolytope(ld.shape.radius, 0.5 * ld.shape.length, 16), Rs, off));
         break;
     }
     Vec3 lo, hi;
