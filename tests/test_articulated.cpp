@@ -11,6 +11,7 @@
 #include "app/body_kinds.h"
 #include "helpers.h"
 #include "sim/articulated/articulated_body.h"
+#include "sim/rigid/rigid_body.h"
 #include "sim/world.h"
 
 using namespace reel;
@@ -333,4 +334,26 @@ TEST_CASE("URDF: what is outside the subset, or broken, is refused with its line
           "line 23: <mimic>");
   refused(replace(kArm, "  </link>\n  <link name=\"upper\">", "  </lnk>\n  <link name=\"upper\">"), "line 7: </lnk> closes <link>");
   refused(replace(kArm, R"(<axis xyz="0 1 0"/><limit)", R"(<axis xyz="0 0 0"/><limit)"), "line 18: an axis of zero length");
+}
+
+TEST_CASE("a figure and a rigid body trade momentum at their contact (equal and opposite, both masses counted)") {
+  World w = worldFromText(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 8, "gravity": [0, 0, 0],
+    "bodies": [{"type": "articulated", "name": "a", "position": [0, 1, 0],
+                "links": [{"name": "block", "shape": "box", "size": [0.4, 0.4, 0.4], "mass": 20}]},
+               {"type": "rigid", "name": "ball", "shape": "sphere", "radius": 0.15, "mass": 5, "position": [-1, 1, 0], "velocity": [3, 0, 0]}]})");
+  ArticulatedBody& a = figure(w);
+  const RigidBody* ball = w.first<RigidBody>();
+  REQUIRE(ball);
+  auto momentum = [&] {
+    Vec3 c, v;
+    centreOfMass(a.model(), a.kinematics(), c, v);
+    return Vec3(20 * v + 5 * ball->states()[0].v);
+  };
+  const Vec3 p0 = momentum();
+  run(w, 30);
+  const Vec3 p1 = momentum();
+  CAPTURE(p1.transpose());
+  CHECK(a.kinematics().vel[0].tail<3>().norm() > 0.5);  // the block was hit
+  CHECK(ball->states()[0].v.x() < 1.5);                   // the ball lost most of its speed
+  CHECK((p1 - p0).norm() < 0.01 * p0.norm());
 }

@@ -89,6 +89,10 @@ class Body {
   // A coupled body whose step reads only the objects' colliders (not other bodies' own ones) and
   // writes only its own state and colliders: consecutive ones step in parallel (articulated figures).
   virtual bool stepsAlone() const { return false; }
+  // A body that steps alone shows the others its new state here (poses its colliders, hands back
+  // impulses), after every body of its run has stepped, in order: so each read the others' last
+  // step whatever the threads' timing.
+  virtual void publish(StepContext& /*ctx*/) {}
   // Advances the body from ctx.t0 to ctx.t1.
   virtual void step(StepContext& ctx) = 0;
   // Exit-3 check after a step: a non-finite or runaway state names body, point and quantity.

@@ -46,6 +46,11 @@ struct Collider {
   Vec3 pos{0, 0, 0}, pos_prev{0, 0, 0};
   double dt = 0.0;  // time between the previous and the current pose, s
   bool free_body = false;  // a rigid body's: posed by its motion (sim/rigid/rigid_body.h), not by keys
+  // A free body's response to an impulse, set where it is posed: inverse mass (1/kg), world inverse
+  // inertia, centre of mass (a figure meeting it solves the contact with both sides' masses).
+  double inv_mass = 0.0;
+  Mat3 inv_inertia = Mat3::Zero();
+  Vec3 centre{0, 0, 0};
   SpeciesSurfaces species_surface;  // per-species surfaces (liquids)
   // A sphere around the authored shape (its thickness included); radius infinite for a plane.
   Vec3 bound_center{0, 0, 0};

@@ -193,29 +193,27 @@ Status World::advanceFrame() {
       for (std::size_t k : {x.first, x.second})
         if (Status st = bodies_[k]->checkState(ctx); !st) return st;
     }
-    // Runs of bodies that step on their own (articulated figures: each reads the objects and
-    // writes only its own state and colliders) step in parallel, then are checked in order.
-    for (std::size_t k = 0; k < bodies_.size();) {
-      Body& b = *bodies_[k];
-      if (!b.coupled()) {
-        ++k;
-        continue;
-      }
-      std::size_t end = k + 1;
-      if (b.stepsAlone())
-        while (end < bodies_.size() && bodies_[end]->coupled() && bodies_[end]->stepsAlone()) ++end;
-      if (end - k > 1) {
-        // (each is tens of microseconds of work: two are worth a parallel region)
-        const auto n = static_cast<std::ptrdiff_t>(end - k);
-        parallelBlocks(
-            n, 1, [&](std::ptrdiff_t i0, std::ptrdiff_t) { bodies_[k + static_cast<std::size_t>(i0)]->step(ctx); },
-            n * kParallelMin);
-      } else {
-        b.step(ctx);
-      }
-      for (std::size_t i = k; i < end; ++i)
-        if (Status st = bodies_[i]->checkState(ctx); !st) return st;
-      k = end;
+    // The coupled bodies that step alone (articulated figures: each reads the objects and the
+    // others' last step, and writes only its own state) first, all together in parallel, each then
+    // publishing its new state in order; then the others (the rigid bodies, which take what the
+    // figures handed them).
+    std::vector<std::size_t> alone;
+    for (std::size_t k = 0; k < bodies_.size(); ++k)
+      if (bodies_[k]->coupled() && bodies_[k]->stepsAlone()) alone.push_back(k);
+    if (!alone.empty()) {
+      // (each is tens of microseconds of work: two are worth a parallel region)
+      const auto n = static_cast<std::ptrdiff_t>(alone.size());
+      parallelBlocks(
+          n, 1, [&](std::ptrdiff_t i0, std::ptrdiff_t) { bodies_[alone[static_cast<std::size_t>(i0)]]->step(ctx); },
+          n > 1 ? n * kParallelMin : 0);
+      for (std::size_t k : alone) bodies_[k]->publish(ctx);
+      for (std::size_t k : alone)
+        if (Status st = bodies_[k]->checkState(ctx); !st) return st;
+    }
+    for (auto& b : bodies_) {
+      if (!b->coupled() || b->stepsAlone()) continue;
+      b->step(ctx);
+      if (Status st = b->checkState(ctx); !st) return st;
     }
   }
   ++frame_;

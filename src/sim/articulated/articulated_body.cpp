@@ -175,13 +175,28 @@ void ArticulatedBody::smoothStep(StepContext& ctx, VecX& v_star, bool& moved) {
 void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
   const double h = ctx.h;
   const std::vector<Collider>& colliders = *ctx.colliders;
-  if (!parts_.built) buildParts(colliders, parts_);
+  if (!parts_.built) {
+    const std::size_t first = model_.links.front().collider;
+    buildParts(colliders, parts_, true, first, first + model_.links.size());
+  }
   ArtScratch& s = s_;
   const ArtKinematics& k = s.k;  // at the configuration the rows are built for
+  // Free bodies met (rigid bodies, other figures' links): their velocities as the solve changes
+  // them, and the impulses they take (handed back when the figure publishes its step).
+  struct Partner {
+    std::size_t collider = 0;
+    double inv_mass = 0;
+    Mat3 inv_inertia = Mat3::Zero();
+    Vec3 centre{0, 0, 0}, v{0, 0, 0}, w{0, 0, 0};
+  };
+  std::vector<Partner> partners;
+  handbacks_.clear();
   const int nv = model_.nv;
   struct Row {
     double b0 = 0, target = 0, mu = 0;
     int kind = 0;  // 0: unilateral (normal, limit); 1, 2: a contact's two tangents (normal: row − kind)
+    int partner = -1;  // a free body's, whose point's velocity b0 follows
+    Vec3 dir{0, 0, 0}, at{0, 0, 0};  // the impulse's direction on the partner, and where
   };
   std::vector<Row> rows;
   std::vector<double> jac;  // the rows' Jacobians, nv numbers each
@@ -218,6 +233,23 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
       Manifold mf;
       if (!collidePart(l.shape, pose, part, c, margin, mf)) continue;
       const double mu = std::sqrt(l.surface.friction * c.surface.friction);
+      int partner = -1;
+      if (c.free_body && c.inv_mass > 0) {
+        for (std::size_t q = 0; q < partners.size(); ++q)
+          if (partners[q].collider == part.collider) partner = static_cast<int>(q);
+        if (partner < 0) {
+          Partner pt;
+          pt.collider = part.collider;
+          pt.inv_mass = c.inv_mass;
+          pt.inv_inertia = c.inv_inertia;
+          pt.centre = c.centre;
+          pt.v = c.velocityAt(c.centre);
+          const Eigen::AngleAxisd turn(c.rot * c.rot_prev.transpose());
+          pt.w = c.dt > 0 ? Vec3(turn.axis() * (turn.angle() / c.dt)) : Vec3::Zero();
+          partner = static_cast<int>(partners.size());
+          partners.push_back(pt);
+        }
+      }
       for (int pt = 0; pt < mf.count; ++pt) {
         const ContactPoint& cp = mf.points[static_cast<std::size_t>(pt)];
         pointJacobian(i, cp.position, Jp);
@@ -229,6 +261,9 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
           (static_cast<int>(i) == roles_.foot_l ? left_down_ : right_down_) = true;
         }
         Row r;
+        r.partner = partner;
+        r.dir = n;
+        r.at = cp.position;
         r.b0 = n.dot(vs);
         r.target = sep > 0 ? -sep / h : std::min(kPushRate * std::max(0.0, -sep - kSlop) / h, kMaxPush);
         r.mu = mu;
@@ -238,6 +273,9 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
           const Vec3& dir = t == 1 ? t1 : t2;
           Row f;
           f.kind = t;
+          f.partner = partner;
+          f.dir = dir;
+          f.at = cp.position;
           f.b0 = dir.dot(vs);
           f.mu = mu;
           rows.push_back(f);
@@ -284,8 +322,31 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
   s.J = Eigen::Map<const MatX>(jac.data(), nv, m);  // column r: row r's Jacobian
   s.W = s.llt.solve(s.J);  // nv × m: the velocity change of a unit impulse on each row
   VecX diag(m), lambda = VecX::Zero(m);
-  for (int r = 0; r < m; ++r) diag[r] = s.J.col(r).dot(s.W.col(r));
-  auto relative = [&](int r) { return s.J.col(r).dot(v) + rows[static_cast<std::size_t>(r)].b0; };
+  for (int r = 0; r < m; ++r) {
+    diag[r] = s.J.col(r).dot(s.W.col(r));
+    const Row& row = rows[static_cast<std::size_t>(r)];
+    if (row.partner < 0) continue;
+    const Partner& pt = partners[static_cast<std::size_t>(row.partner)];
+    const Vec3 rc = (row.at - pt.centre).cross(row.dir);
+    diag[r] += pt.inv_mass + rc.dot(pt.inv_inertia * rc);
+  }
+  // A row's relative velocity: the figure's side, and the partner's point as the solve moves it.
+  auto relative = [&](int r) {
+    const Row& row = rows[static_cast<std::size_t>(r)];
+    double u = s.J.col(r).dot(v);
+    if (row.partner < 0) return u + row.b0;
+    const Partner& pt = partners[static_cast<std::size_t>(row.partner)];
+    return u + row.dir.dot(pt.v + pt.w.cross(row.at - pt.centre));
+  };
+  // An impulse λ on row r: the figure through W, the partner the opposite way.
+  auto apply = [&](int r, double dl) {
+    v += s.W.col(r) * dl;
+    const Row& row = rows[static_cast<std::size_t>(r)];
+    if (row.partner < 0) return;
+    Partner& pt = partners[static_cast<std::size_t>(row.partner)];
+    pt.v += pt.inv_mass * dl * row.dir;
+    pt.w += pt.inv_inertia * ((row.at - pt.centre).cross(row.dir) * dl);
+  };
   // Passes until no row's velocity changes by more than 1e-6 m/s (or rad/s), at most `iterations`.
   for (int it = 0; it < model_.iterations; ++it) {
     double change = 0.0;
@@ -294,7 +355,7 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
       if (row.kind != 0) continue;
       if (!(diag[r] > 0)) continue;
       const double l = std::max(0.0, lambda[r] + (row.target - relative(r)) / diag[r]);
-      v += s.W.col(r) * (l - lambda[r]);
+      apply(r, l - lambda[r]);
       change = std::max(change, std::abs(l - lambda[r]) * diag[r]);
       lambda[r] = l;
       // The contact's friction (its tangents follow), in the circle of radius μ·λ_n.
@@ -304,13 +365,20 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
         double lb = diag[b] > 0 ? lambda[b] - relative(b) / diag[b] : 0.0;
         const double lim = row.mu * lambda[r], len = std::sqrt(la * la + lb * lb);
         if (len > lim && len > 0) la *= lim / len, lb *= lim / len;
-        v += s.W.col(a) * (la - lambda[a]) + s.W.col(b) * (lb - lambda[b]);
+        apply(a, la - lambda[a]);
+        apply(b, lb - lambda[b]);
         change = std::max({change, std::abs(la - lambda[a]) * diag[a], std::abs(lb - lambda[b]) * diag[b]});
         lambda[a] = la;
         lambda[b] = lb;
       }
     }
     if (change < 1e-6) break;
+  }
+  // What the partners took, to hand back (the figure's point was pushed along −dir by λ).
+  for (int r = 0; r < m; ++r) {
+    const Row& row = rows[static_cast<std::size_t>(r)];
+    if (row.partner >= 0 && lambda[r] != 0.0)
+      handbacks_.push_back({partners[static_cast<std::size_t>(row.partner)].collider, row.at, -lambda[r] * row.dir});
   }
 }
 
@@ -328,7 +396,12 @@ void ArticulatedBody::step(StepContext& ctx) {
   }
   state_.v = v;
   refresh();
+}
+
+void ArticulatedBody::publish(StepContext& ctx) {
   pose(*ctx.colliders, ctx.h);
+  // Coupling::handBack gives the collider the opposite of what the figure took.
+  for (const Handback& b : handbacks_) ctx.coupling->handBack(b.collider, b.at, (*ctx.colliders)[b.collider].pos, b.impulse);
 }
 
 void ArticulatedBody::pose(std::vector<Collider>& colliders, double h) const {
@@ -340,6 +413,10 @@ void ArticulatedBody::pose(std::vector<Collider>& colliders, double h) const {
     c.dt = h;
     c.rot = view_k_.R[i] * l.axes0.transpose();
     c.pos = view_k_.x[i] + view_k_.R[i] * l.pivot;
+    // Met by another figure as a free body of the link's mass (its joints not counted).
+    c.inv_mass = 1.0 / l.mass;
+    c.inv_inertia = view_k_.R[i] * l.inertia.inverse() * view_k_.R[i].transpose();
+    c.centre = view_k_.x[i];
   }
 }
 

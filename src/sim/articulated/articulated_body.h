@@ -23,6 +23,7 @@ class ArticulatedBody final : public Body {
   bool coupled() const override { return true; }
   bool stepsAlone() const override { return true; }
   void step(StepContext& ctx) override;
+  void publish(StepContext& ctx) override;
   Status checkState(const StepContext& ctx) const override;
   bool view(BodyView& out) const override;
   void snapshot(StateBlob& out) const override;
@@ -59,6 +60,13 @@ class ArticulatedBody final : public Body {
   std::vector<Vec3> foot_points_;
   bool left_down_ = false, right_down_ = false;
   ControllerKind active_ = ControllerKind::None;
+  // Impulses the figure's contacts gave free bodies (rigid bodies, other figures' links) this
+  // step: handed back when it publishes.
+  struct Handback {
+    std::size_t collider;
+    Vec3 at, impulse;
+  };
+  std::vector<Handback> handbacks_;
 };
 
 Result<std::unique_ptr<Body>> buildArticulatedBody(const BodyDesc& desc, const BuildContext& ctx);

@@ -8,7 +8,8 @@ namespace reel {
 
 Pose colliderPose(const Collider& c) { return {c.rot, c.pos - c.rot * c.pivot}; }
 
-void buildParts(const std::vector<Collider>& colliders, ObjectParts& cache) {
+void buildParts(const std::vector<Collider>& colliders, ObjectParts& cache, bool with_free, std::size_t skip_first,
+                std::size_t skip_end) {
   cache.parts.clear();
   cache.mesh_parts.assign(colliders.size(), {0, 0});
   auto add = [&](std::size_t k, ConvexShape s) {
@@ -26,7 +27,7 @@ void buildParts(const std::vector<Collider>& colliders, ObjectParts& cache) {
   };
   for (std::size_t k = 0; k < colliders.size(); ++k) {
     const Collider& c = colliders[k];
-    if (c.free_body) continue;
+    if (c.free_body && (!with_free || (k >= skip_first && k < skip_end))) continue;
     ConvexShape s;
     switch (c.kind) {
       case ObjectKind::Plane: {

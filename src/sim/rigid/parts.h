@@ -25,14 +25,17 @@ struct ObjectPart {
 };
 
 // Every object's parts, built once from the colliders (their authored shapes; a collider's pose
-// carries them). Free bodies' own colliders (rigid bodies, links) are left out.
+// carries them). Free bodies' own colliders (rigid bodies, links) are left out unless asked for.
 struct ObjectParts {
   std::vector<ObjectPart> parts;
   std::vector<std::pair<std::size_t, std::size_t>> mesh_parts;  // per collider: first part, count (meshes)
   bool built = false;
 };
 
-void buildParts(const std::vector<Collider>& colliders, ObjectParts& cache);
+// `with_free`: free bodies' colliders too, except those in [skip_first, skip_end) (a figure's own
+// links): a figure meets rigid bodies and other figures as parts.
+void buildParts(const std::vector<Collider>& colliders, ObjectParts& cache, bool with_free = false,
+                std::size_t skip_first = 0, std::size_t skip_end = 0);
 
 // Whether two boxes overlap.
 bool overlaps(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi);

@@ -51,6 +51,9 @@ void RigidBody::pose(std::vector<Collider>& colliders, double h) {
     c.dt = h;
     c.rot = R * m.axes0.transpose();
     c.pos = s.x + R * m.pivot;
+    c.inv_mass = m.inv_mass;
+    c.inv_inertia = inverseInertia(m, s);
+    c.centre = s.x;
   }
   refreshView();
 }
