@@ -357,3 +357,85 @@ TEST_CASE("a figure and a rigid body trade momentum at their contact (equal and 
   CHECK(ball->states()[0].v.x() < 1.5);                   // the ball lost most of its speed
   CHECK((p1 - p0).norm() < 0.01 * p0.norm());
 }
+
+namespace {
+
+const std::string kPendulumMjcf = R"(<mujoco model="double pendulum">
+  <compiler angle="degree"/>
+  <option timestep="0.002"/>
+  <worldbody>
+    <geom type="plane" size="2 2 0.1"/>
+    <body name="base" pos="0 0 2">
+      <geom type="sphere" size="0.05" mass="1"/>
+      <body name="upper">
+        <joint name="j1" type="hinge" axis="0 1 0" range="-120 120" damping="0.01"/>
+        <geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.04" density="1000"/>
+        <body name="lower" pos="0.5 0 0">
+          <joint name="j2" type="hinge" axis="0 1 0"/>
+          <geom type="box" pos="0 0 -0.2" size="0.03 0.03 0.2" mass="0.5"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <actuator><motor joint="j1"/></actuator>
+</mujoco>
+)";
+
+std::string mjcfScene(const std::string& xml) {
+  const auto dir = freshDir("mjcf");
+  std::ofstream(dir / "dp.xml") << xml;
+  std::ofstream(dir / "s.json") << R"({"format": "reel/1", "duration": 1,
+    "bodies": [{"type": "articulated", "name": "dp", "mjcf": "dp.xml", "rotation_deg": [-90, 0, 0]}]})";
+  return (dir / "s.json").string();
+}
+
+}  // namespace
+
+TEST_CASE("MJCF: a double pendulum's masses (from density and given), joints and limits, welded to the world") {
+  auto s = app::loadScene(mjcfScene(kPendulumMjcf));
+  REQUIRE_MESSAGE(s.ok(), (s.ok() ? "" : s.error().headline()));
+  const auto& d = s.value().bodies[0].as<ArticulatedDesc>();
+  REQUIRE(d.links.size() == 3);
+  CHECK(d.fixed_base);  // no free joint on the root
+  // The capsule: a 0.5 m cylinder of radius 0.04 and a ball of it, at 1000 kg/m³.
+  const double r = 0.04, L = 0.5, capsule = 1000 * (kPi * r * r * L + 4.0 / 3.0 * kPi * r * r * r);
+  CHECK(d.links[1].mass.mass == doctest::Approx(capsule));
+  CHECK(d.links[2].mass.mass == doctest::Approx(0.5));
+  // The box's inertia about its centre: m(b² + c²)/12 with its full sizes 0.06, 0.06, 0.4.
+  CHECK(d.links[2].mass.inertia(0, 0) == doctest::Approx(0.5 * (0.06 * 0.06 + 0.4 * 0.4) / 12));
+  const ArticulatedJointDesc& j1 = d.links[1].joint;
+  CHECK(j1.type == JointType::Hinge);
+  CHECK((j1.axis - Vec3(0, 1, 0)).norm() < 1e-12);
+  REQUIRE(j1.lower.size() == 1);
+  CHECK(j1.lower[0] == doctest::Approx(-120 * kPi / 180));
+  CHECK(j1.damping == 0.01);
+  CHECK((j1.anchor - Vec3(-0.25, 0, 0)).norm() < 1e-9);     // the joint at the capsule's end
+  CHECK((d.links[2].joint.anchor - Vec3(0, 0, 0.2)).norm() < 1e-9);  // and at the box's top
+  CHECK(d.links[2].joint.lower.empty());
+  auto w = app::makeWorld(s.value());
+  REQUIRE(w.ok());
+  run(w.value(), 10);
+  CHECK(jointGap(figure(w.value())) < 1e-9);
+}
+
+TEST_CASE("MJCF: what is outside the subset is refused with its line") {
+  auto refused = [](const std::string& xml, const std::string& part) {
+    auto s = app::loadScene(mjcfScene(xml));
+    REQUIRE_FALSE(s.ok());
+    CAPTURE(s.error().headline());
+    CHECK(s.error().headline().find("/bodies/0/mjcf") != std::string::npos);
+    CHECK(s.error().headline().find(part) != std::string::npos);
+  };
+  auto replace = [](std::string s, const std::string& a, const std::string& b) {
+    const auto p = s.find(a);
+    REQUIRE(p != std::string::npos);
+    return s.replace(p, a.size(), b);
+  };
+  refused(replace(kPendulumMjcf, R"(type="hinge" axis="0 1 0"/>)", R"(type="slide" axis="0 1 0"/>)"), "line 12: joint type \"slide\"");
+  refused(replace(kPendulumMjcf, "<option timestep=\"0.002\"/>", "<default><geom density=\"500\"/></default>"), "line 3: <default>");
+  refused(replace(kPendulumMjcf, R"(<geom type="sphere" size="0.05" mass="1"/>)", R"(<geom type="mesh" mesh="m"/>)"), "line 7: geom type \"mesh\"");
+  refused(replace(kPendulumMjcf, R"(range="-120 120")", R"(range="120 -120")"), "line 9: the range");
+  refused(replace(kPendulumMjcf, R"(<actuator>)", R"(<tendon/><actuator>)"), "line 18: <tendon>");
+  refused(replace(kPendulumMjcf, R"(size="0.03 0.03 0.2" mass="0.5"/>)", R"(size="0.03 0.03 0.2" mass="0.5"/><geom type="sphere" size="0.1"/>)"),
+          "line 13: a second <geom>");
+}

@@ -13,6 +13,7 @@
 #include "io/files.h"
 #include "io/scene/reader.h"
 #include "io/scene/readers.h"
+#include "io/scene/mjcf.h"
 #include "io/scene/urdf.h"
 #include "io/xml.h"
 
@@ -265,20 +266,27 @@ std::shared_ptr<const BodyParams> readArticulatedBody(Obj& o, BodyDesc& body, co
     // `position`: the point on the ground between its feet.
     r->position = position + r->rotation * Vec3(0, humanRootHeight(height), 0);
     jointOverrides(o, *r);
-  } else if (o.has("urdf")) {
-    if (o.has("links")) d.error(childPath(p, "links"), "give a urdf or links, not both");
-    const std::string file = o.string("urdf").value_or("");
-    auto path = resolveAsset(d.file(), file, {".urdf", ".xml"}, kMaxRobotBytes);
+  } else if (o.has("urdf") || o.has("mjcf")) {
+    const char* key = o.has("urdf") ? "urdf" : "mjcf";
+    if (o.has("urdf") && o.has("mjcf")) d.error(childPath(p, "mjcf"), "give a urdf or an mjcf file, not both");
+    if (o.has("links")) d.error(childPath(p, "links"), std::string("give ") + key + " or links, not both");
+    const std::string file = o.string(key).value_or("");
+    auto path = resolveAsset(d.file(), file, {key == std::string("urdf") ? ".urdf" : ".mjcf", ".xml"}, kMaxRobotBytes);
     auto text = path.ok() ? readFile(path.value(), kMaxRobotBytes) : Result<std::string>(path.error());
     auto xml = text.ok() ? parseXml(text.value()) : Result<XmlElement>(text.error());
     Vec3 root_offset = Vec3::Zero();
-    auto links = xml.ok() ? urdfLinks(xml.value(), root_offset) : Result<std::vector<ArticulatedLinkDesc>>(xml.error());
+    bool free_root = true;
+    auto links = !xml.ok() ? Result<std::vector<ArticulatedLinkDesc>>(xml.error())
+                 : key == std::string("urdf") ? urdfLinks(xml.value(), root_offset)
+                                              : mjcfLinks(xml.value(), root_offset, free_root);
     if (!links.ok()) {
-      d.error(childPath(p, "urdf"), "\"" + file + "\": " + links.error().headline());
+      d.error(childPath(p, key), "\"" + file + "\": " + links.error().headline());
       return r;
     }
+    r->fixed_base = r->fixed_base || !free_root;  // an MJCF root without a free joint is welded
     r->links = std::move(links.value());
-    // `position` and `rotation_deg` place the root link's frame; `servo` acts on every joint.
+    // `position` and `rotation_deg` place the robot's frame (a URDF's root link, an MJCF's world);
+    // `servo` acts on every joint.
     r->position = position + r->rotation * root_offset;
     ServoDesc servo;
     readObjectKey(o, "servo", [&](Obj& so) { readServo(so, servo); });

@@ -9,57 +9,10 @@
 #include <Eigen/Geometry>
 
 #include "core/math.h"
+#include "io/scene/robot_xml.h"
 
 namespace reel::io {
 namespace {
-
-struct Frame {
-  Mat3 R = Mat3::Identity();
-  Vec3 p{0, 0, 0};
-  Frame operator*(const Frame& o) const { return {R * o.R, p + R * o.p}; }
-};
-
-class UrdfError {
- public:
-  UrdfError(int line, std::string m) : line_(line), message_(std::move(m)) {}
-  Error error() const { return Error(ErrorKind::BadInput, "line " + std::to_string(line_) + ": " + message_); }
-
- private:
-  int line_;
-  std::string message_;
-};
-
-[[noreturn]] void refuse(const XmlElement& e, const std::string& m) { throw UrdfError(e.line, m); }
-
-std::vector<double> numbers(const XmlElement& e, const std::string& key, std::size_t n, const std::vector<double>& def) {
-  const std::string* v = e.attribute(key);
-  if (!v) {
-    if (def.empty()) refuse(e, "<" + e.name + "> needs " + key);
-    return def;
-  }
-  std::istringstream in(*v);
-  in.imbue(std::locale::classic());
-  std::vector<double> out;
-  double x = 0;
-  while (in >> x) out.push_back(x);
-  in.clear();
-  std::string rest;
-  if (in >> rest || out.size() != n)
-    refuse(e, "<" + e.name + "> " + key + "=\"" + *v + "\": expected " + std::to_string(n) + (n == 1 ? " number" : " numbers"));
-  for (double d : out)
-    if (!std::isfinite(d) || std::abs(d) > 1e9) refuse(e, "<" + e.name + "> " + key + ": numbers must be finite");
-  return out;
-}
-
-double number(const XmlElement& e, const std::string& key, std::optional<double> def = std::nullopt) {
-  return numbers(e, key, 1, def ? std::vector<double>{*def} : std::vector<double>{})[0];
-}
-
-const XmlElement* child(const XmlElement& e, const std::string& name) {
-  for (const XmlElement& c : e.children)
-    if (c.name == name) return &c;
-  return nullptr;
-}
 
 // <origin xyz rpy>: rpy is roll, pitch, yaw about fixed x, y, z (R = Rz·Ry·Rx).
 Frame originOf(const XmlElement* o) {
@@ -78,15 +31,6 @@ std::string nameOf(const XmlElement& e) {
   if (!n || n->empty()) refuse(e, "<" + e.name + "> needs a name");
   if (n->find('/') != std::string::npos) refuse(e, "<" + e.name + "> name \"" + *n + "\" may not contain '/'");
   return *n;
-}
-
-void onlyChildren(const XmlElement& e, std::initializer_list<const char*> known, std::initializer_list<const char*> passed) {
-  for (const XmlElement& c : e.children) {
-    bool ok = false;
-    for (const char* k : known) ok = ok || c.name == k;
-    for (const char* k : passed) ok = ok || c.name == k;
-    if (!ok) refuse(c, "<" + c.name + "> in <" + e.name + "> is outside the supported URDF subset");
-  }
 }
 
 // A link's shape from its <collision> (else <visual>) at frame `at` (root frame), about centre c.
@@ -261,7 +205,7 @@ Result<std::vector<ArticulatedLinkDesc>> urdfLinks(const XmlElement& robot, Vec3
     }
     root_offset = centre[order[0]];
     return out;
-  } catch (const UrdfError& e) {
+  } catch (const RobotError& e) {
     return e.error();
   }
 }

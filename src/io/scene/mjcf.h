@@ -1,0 +1,26 @@
+// MJCF (MuJoCo's XML) models as articulated bodies, the common subset: one tree of <body>
+// elements under <worldbody>, each with pos and quat / euler / axisangle / zaxis; its joints (none:
+// welded to its parent; one `hinge` or `ball`; two hinges through one point: a universal joint;
+// `free` or <freejoint/> on the root) with axis, pos, range (a hinge's limits, a ball's cone) and
+// damping; one <geom> (sphere, capsule, box, cylinder; size or fromto; pos and orientation; mass or
+// density) and an optional <inertial> (pos, quat, mass, diaginertia or fullinertia). <compiler
+// angle> is honoured. <option>, <visual>, <statistic>, <size>, <asset>, <actuator>, <sensor>,
+// <keyframe>, <contact>, and <site>, <camera>, <light> and <geom> directly under <worldbody> are
+// passed over. Anything else (a `slide` joint, <default> classes, <tendon>, <equality>, a mesh, two
+// geoms in a body, `coordinate="global"`) is refused, named, with its line.
+#pragma once
+
+#include <vector>
+
+#include "core/error.h"
+#include "core/scene/articulated.h"
+#include "io/xml.h"
+
+namespace reel::io {
+
+// The model's links, parents first, in its root body's frame (see urdfLinks). `root_offset`: the
+// root's centre of mass from the root body's frame; `free_root`: the root has a free joint (else
+// it is welded to the world).
+Result<std::vector<ArticulatedLinkDesc>> mjcfLinks(const XmlElement& mujoco, Vec3& root_offset, bool& free_root);
+
+}  // namespace reel::io
