@@ -439,3 +439,30 @@ TEST_CASE("MJCF: what is outside the subset is refused with its line") {
   refused(replace(kPendulumMjcf, R"(size="0.03 0.03 0.2" mass="0.5"/>)", R"(size="0.03 0.03 0.2" mass="0.5"/><geom type="sphere" size="0.1"/>)"),
           "line 13: a second <geom>");
 }
+
+TEST_CASE("a cloth held by a link (a cape's grip) hangs its weight on the figure: the servo sags by m·g·L/kp") {
+  auto scene = [](bool cloth) {
+    return std::string(R"({"format": "reel/1", "duration": 3, "fps": 30, "substeps": 10, "integrator": "implicit_euler",
+      "bodies": [{"type": "articulated", "name": "arm", "fixed_base": true, "gravity_compensation": true, "servo": {"kp": 100, "kd": 20},
+        "links": [{"name": "base", "shape": "sphere", "radius": 0.05},
+                  {"name": "rod", "parent": "base", "shape": "box", "size": [0.04, 0.5, 0.04], "mass": 1,
+                   "joint": {"type": "hinge", "axis": [0, 0, 1], "anchor": [0, 0.25, 0], "angle_deg": 90, "target_deg": 90}}]})") +
+           (cloth ? R"(, {"type": "cloth", "name": "flag", "position": [0.5, -0.2, 0], "rotation_deg": [90, 0, 0], "size": [0.1, 0.4],
+                      "resolution": [3, 9], "mass": 1.0, "stiffness": 5000, "damping": 5, "node_damping": 0.05,
+                      "grips": [{"nodes": ["edge_z0"], "object": "arm/rod"}]})"
+                  : "") +
+           "]}";
+  };
+  for (bool cloth : {false, true}) {
+    World w = worldFromText(scene(cloth));
+    run(w, 90);
+    const double angle = figure(w).state().q[0] * 180 / kPi;
+    // 1 kg hanging from the rod's tip 0.5 m out: 4.89 N·m against kp = 100 N·m/rad, 2.8°.
+    const double expected = cloth ? 90 - 9.78 * 0.5 / 100 * 180 / kPi : 90;
+    CAPTURE(cloth);
+    CAPTURE(angle);
+    CHECK(std::abs(angle - expected) < 0.25);
+  }
+  checkHas(badInputError(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "cloth", "name": "c",
+    "grips": [{"nodes": ["edge_z0"], "object": "x", "velocity": [1, 0, 0]}]}]})"), "/bodies/0/grips/0/velocity");
+}

@@ -5,6 +5,7 @@
 #include <array>
 #include <limits>
 #include <utility>
+#include <string>
 #include <vector>
 
 #include "core/scene/body.h"
@@ -40,6 +41,9 @@ struct GripDesc {
   Vec3 velocity{0, 0, 0};  // m/s
   double start = 0.0, stop = std::numeric_limits<double>::infinity();  // s
   std::vector<std::pair<double, Vec3>> keys;  // (s, m); non-empty: used instead of the velocity
+  // Or held by an object: the nodes move with it (a cape on a figure's chest, "figure/chest"), and
+  // it takes their pull and weight (the coupling stage).
+  std::string object;
 };
 
 // How a sheet meets a liquid (the cloth–liquid exchange, sim/coupling/cloth_liquid.h).

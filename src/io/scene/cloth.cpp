@@ -78,7 +78,11 @@ void readCloth(Obj& o, ClothDesc& c) {
         Obj go((*g)[k], childPath(gp, k), d);
         GripDesc grip;
         readPins(go, {nx, ny}, nx * ny, names, grip.nodes, "nodes", true);
-        if (go.has("keys")) {
+        if (go.has("object")) {
+          for (const char* key : {"velocity", "start", "stop", "keys"})
+            if (go.has(key)) d.error(childPath(go.path(), key), "a grip held by an object moves with it, not by " + std::string(key));
+          grip.object = go.string("object").value_or("");
+        } else if (go.has("keys")) {
           for (const char* key : {"velocity", "start", "stop"})
             if (go.has(key)) d.error(childPath(go.path(), key), "a grip moves by its keys or by a velocity, not both");
           readList(go, "keys", [&](Obj& ko) {

@@ -284,18 +284,30 @@ Vec3 gripVelocity(const GripDesc& g, double t) {
 
 }  // namespace
 
-void gripVelocities(const Cloth& c, double t, std::vector<Vec3>& v) {
-  for (const GripDesc& g : c.grips) {
-    const Vec3 u = gripVelocity(g, t);
-    for (int p : g.nodes) v[static_cast<std::size_t>(p)] = u;
+void gripVelocities(const Cloth& c, double t, const std::vector<Collider>& colliders, std::vector<Vec3>& v) {
+  std::size_t n = 0;
+  for (std::size_t gi = 0; gi < c.grips.size(); ++gi) {
+    const GripDesc& g = c.grips[gi];
+    const int k = c.grip_collider[gi];
+    const Vec3 u = k < 0 ? gripVelocity(g, t) : Vec3::Zero();
+    for (int p : g.nodes) {
+      const Vec3& o = c.grip_origin[n++];
+      const Collider* h = k < 0 ? nullptr : &colliders[static_cast<std::size_t>(k)];
+      v[static_cast<std::size_t>(p)] = h ? h->velocityAt(h->fromAuthored(o)) : u;
+    }
   }
 }
 
-void gripPositions(const Cloth& c, double t, std::vector<Vec3>& x) {
-  std::size_t k = 0;
-  for (const GripDesc& g : c.grips) {
-    const Vec3 off = gripOffset(g, t);
-    for (int p : g.nodes) x[static_cast<std::size_t>(p)] = c.grip_origin[k++] + off;
+void gripPositions(const Cloth& c, double t, const std::vector<Collider>& colliders, std::vector<Vec3>& x) {
+  std::size_t n = 0;
+  for (std::size_t gi = 0; gi < c.grips.size(); ++gi) {
+    const GripDesc& g = c.grips[gi];
+    const int k = c.grip_collider[gi];
+    const Vec3 off = k < 0 ? gripOffset(g, t) : Vec3::Zero();
+    for (int p : g.nodes) {
+      const Vec3& o = c.grip_origin[n++];
+      x[static_cast<std::size_t>(p)] = k < 0 ? Vec3(o + off) : colliders[static_cast<std::size_t>(k)].fromAuthored(o);
+    }
   }
 }
 

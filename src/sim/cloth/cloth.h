@@ -12,6 +12,7 @@
 #include "core/scene.h"
 #include "core/scene/cloth.h"
 #include "core/types.h"
+#include "sim/collide.h"
 #include "sim/grid.h"
 #include "sim/mass_spring.h"
 #include "sim/wind.h"
@@ -34,6 +35,7 @@ struct ClothModel {
   AirDesc air;
   std::vector<GripDesc> grips;
   std::vector<Vec3> grip_origin;  // where each gripped node starts, per grip in order of nodes
+  std::vector<int> grip_collider;  // per grip: the collider that holds it (GripDesc::object), or −1
   WettingDesc wetting;            // how it meets liquids (sim/coupling/cloth_liquid.h)
   std::vector<double> dry_mass;   // kg (nodes): a node's mass is this plus its wetness
   std::vector<double> capacity;   // liquid a node holds before it drips, kg (nodes; empty: not absorbent)
@@ -87,8 +89,12 @@ void airForces(Cloth& c, const Wind& wind, double t, const std::vector<Vec3>& x,
 
 // Grips: sets the gripped nodes' velocity at time t (applied over the next step) and, after the
 // step, places them exactly at origin + velocity·(time gripped so far).
-void gripVelocities(const Cloth& c, double t, std::vector<Vec3>& v);
-void gripPositions(const Cloth& c, double t, std::vector<Vec3>& x);
+// A grip held by an object follows its collider (its pose now, its surface's velocity).
+void gripVelocities(const Cloth& c, double t, const std::vector<Collider>& colliders, std::vector<Vec3>& v);
+void gripPositions(const Cloth& c, double t, const std::vector<Collider>& colliders, std::vector<Vec3>& x);
+// What the cloth pulls on each object that holds a grip with, over the step h: handed to it.
+void handBackGrips(const Cloth& c, const MassSpringModel& m, const MassSpringState& s, double h,
+                   const std::vector<Collider>& colliders, Coupling& coupling);
 
 // Provot 1995, "Deformation constraints in a mass-spring model to describe rigid cloth
 // behavior": structural and shear springs stretched beyond (1 + limit)·l are shortened by

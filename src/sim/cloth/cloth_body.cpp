@@ -1,12 +1,14 @@
 #include "sim/cloth/cloth_body.h"
 
+#include <algorithm>
+
 #include "core/profile.h"
 
 namespace reel {
 
 void ClothBody::step(StepContext& ctx) {
   MassSpringState& s = net_.state;
-  gripVelocities(cloth_, ctx.t0, s.v);
+  gripVelocities(cloth_, ctx.t0, *ctx.colliders, s.v);
   const AirDesc& air = cloth_.air;
   if (air.viscous != 0.0 || air.drag != 0.0 || air.lift != 0.0) {
     airForces(cloth_, *ctx.wind, ctx.t0, s.x, s.v);
@@ -14,7 +16,7 @@ void ClothBody::step(StepContext& ctx) {
   }
   net_.integrate(ctx);
   net_.system->setExternalForces(nullptr);
-  gripPositions(cloth_, ctx.t1, s.x);
+  gripPositions(cloth_, ctx.t1, *ctx.colliders, s.x);
   {
     profile::Scope stage(profile::Stage::StrainLimit);
     limitStrain(cloth_, net_.model, ctx.h, s.x, s.v);
@@ -24,6 +26,7 @@ void ClothBody::step(StepContext& ctx) {
     selfCollide(cloth_, net_.model, s.x, s.v);
   }
   net_.contacts(ctx);
+  handBackGrips(cloth_, net_.model, s, ctx.h, *ctx.colliders, *ctx.coupling);
   spreadWetness(cloth_, net_.model, s.x, s.v, ctx.gravity, ctx.h);
   profile::Scope stage(profile::Stage::Tearing);
   tearSprings(cloth_, net_.model, s.x);
@@ -90,6 +93,21 @@ Result<std::unique_ptr<Body>> buildClothBody(const BodyDesc& desc, const BuildCo
   const auto& d = desc.as<ClothDesc>();
   auto b = std::make_unique<ClothBody>(desc.name, desc.type, desc.material);
   if (Status st = buildNetwork(*b, buildCloth(d, ctx.seed, b->cloth()), desc, ctx, d.thickness); !st) return st.error();
+  // Grips held by objects: the scene's objects, then the bodies' own (a figure's links), by name.
+  std::vector<std::string> names;
+  for (const ObjectDesc& o : ctx.scene->objects) names.push_back(o.name);
+  for (const BodyDesc& bd : ctx.scene->bodies)
+    for (const ObjectDesc& o : bd.params->ownObjects()) names.push_back(o.name);
+  auto& grip_collider = b->cloth().grip_collider;
+  grip_collider.assign(d.grips.size(), -1);
+  for (std::size_t g = 0; g < d.grips.size(); ++g) {
+    if (d.grips[g].object.empty()) continue;
+    const auto at = std::find(names.begin(), names.end(), d.grips[g].object);
+    if (at == names.end())
+      return Error(ErrorKind::BadInput, desc.path + "/grips/" + std::to_string(g) + "/object: no object '" + d.grips[g].object +
+                                            "' (objects and figures' links, as figure/link)");
+    grip_collider[g] = static_cast<int>(at - names.begin());
+  }
   return std::unique_ptr<Body>(std::move(b));
 }
 

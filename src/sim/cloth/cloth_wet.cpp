@@ -59,19 +59,50 @@ void spreadWetness(Cloth& c, MassSpringModel& m, const std::vector<Vec3>& x, std
   }
 }
 
-Vec3 supportForce(const Cloth& c, const MassSpringModel& m, const MassSpringState& s) {
-  Vec3 held = Vec3::Zero();  // springs, weight and liquid on the held nodes
+namespace {
+
+// Per node: the springs' pull and the weight on a held (fixed) node (zero on the others).
+void heldForces(const MassSpringModel& m, const MassSpringState& s, std::vector<Vec3>& held) {
+  held.assign(m.nodes(), Vec3::Zero());
   for (std::size_t i = 0; i < m.nodes(); ++i)
-    if (m.fixed[i]) held += m.mass[i] * m.gravity;
+    if (m.fixed[i]) held[i] += m.mass[i] * m.gravity;
   const Springs& sp = m.springs;
   for (std::size_t k = 0; k < sp.size(); ++k) {
     const auto a = static_cast<std::size_t>(sp.a[k]), b = static_cast<std::size_t>(sp.b[k]);
     if (!m.fixed[a] && !m.fixed[b]) continue;
     const Vec3 f = springForce(s.x[a], s.x[b], s.v[a], s.v[b], sp.stiffness[k], sp.damping[k], sp.rest[k]);
-    if (m.fixed[a]) held += f;
-    if (m.fixed[b]) held -= f;
+    if (m.fixed[a]) held[a] += f;
+    if (m.fixed[b]) held[b] -= f;
   }
-  return -(held + c.pin_liquid_force);
+}
+
+}  // namespace
+
+Vec3 supportForce(const Cloth& c, const MassSpringModel& m, const MassSpringState& s) {
+  std::vector<Vec3> held;  // springs, weight and liquid on the held nodes
+  heldForces(m, s, held);
+  Vec3 sum = Vec3::Zero();
+  for (const Vec3& f : held) sum += f;
+  return -(sum + c.pin_liquid_force);
+}
+
+void handBackGrips(const Cloth& c, const MassSpringModel& m, const MassSpringState& s, double h,
+                   const std::vector<Collider>& colliders, Coupling& coupling) {
+  bool any = false;
+  for (int k : c.grip_collider) any = any || k >= 0;
+  if (!any) return;
+  std::vector<Vec3> held;
+  heldForces(m, s, held);
+  // The holder pulls the nodes along its path (−held); the nodes pull it back (+held) for h.
+  for (std::size_t gi = 0; gi < c.grips.size(); ++gi) {
+    const int k = c.grip_collider[gi];
+    if (k < 0) continue;
+    const Collider& col = colliders[static_cast<std::size_t>(k)];
+    for (int p : c.grips[gi].nodes) {
+      const auto i = static_cast<std::size_t>(p);
+      coupling.handBack(static_cast<std::size_t>(k), s.x[i], col.pos, -h * held[i]);
+    }
+  }
 }
 
 }  // namespace reel
