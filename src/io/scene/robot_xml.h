@@ -34,24 +34,32 @@ class RobotError {
 
 [[noreturn]] inline void refuse(const XmlElement& e, const std::string& m) { throw RobotError(e.line, m); }
 
-inline std::vector<double> numbers(const XmlElement& e, const std::string& key, std::size_t n, const std::vector<double>& def) {
-  const std::string* v = e.attribute(key);
-  if (!v) {
-    if (def.empty()) refuse(e, "<" + e.name + "> needs " + key);
-    return def;
-  }
-  std::istringstream in(*v);
+// The numbers of attribute value v (of `key` in e), refused unless finite and their count in [lo, hi].
+inline std::vector<double> parseNumbers(const XmlElement& e, const std::string& key, const std::string& v, std::size_t lo,
+                                        std::size_t hi) {
+  std::istringstream in(v);
   in.imbue(std::locale::classic());
   std::vector<double> out;
   double x = 0;
   while (in >> x) out.push_back(x);
   in.clear();
   std::string rest;
-  if (in >> rest || out.size() != n)
-    refuse(e, "<" + e.name + "> " + key + "=\"" + *v + "\": expected " + std::to_string(n) + (n == 1 ? " number" : " numbers"));
+  if (in >> rest || out.size() < lo || out.size() > hi)
+    refuse(e, "<" + e.name + "> " + key + "=\"" + v + "\": expected " +
+                  (lo == hi ? std::to_string(lo) + (lo == 1 ? " number" : " numbers") : std::to_string(lo) + " to " + std::to_string(hi) + " numbers"));
   for (double d : out)
     if (!std::isfinite(d) || std::abs(d) > 1e9) refuse(e, "<" + e.name + "> " + key + ": numbers must be finite");
   return out;
+}
+
+// n numbers of attribute `key`; `def` when it is absent (empty `def`: required).
+inline std::vector<double> numbers(const XmlElement& e, const std::string& key, std::size_t n, const std::vector<double>& def) {
+  const std::string* v = e.attribute(key);
+  if (!v) {
+    if (def.empty()) refuse(e, "<" + e.name + "> needs " + key);
+    return def;
+  }
+  return parseNumbers(e, key, *v, n, n);
 }
 
 inline double number(const XmlElement& e, const std::string& key, std::optional<double> def = std::nullopt) {
@@ -74,22 +82,11 @@ inline void onlyChildren(const XmlElement& e, std::initializer_list<const char*>
   }
 }
 
-// Every number of attribute `key` (required), at most `most`.
+// Every number of attribute `key` (required): 1 to `most` of them.
 inline std::vector<double> numberList(const XmlElement& e, const std::string& key, std::size_t most) {
   const std::string* v = e.attribute(key);
   if (!v) refuse(e, "<" + e.name + "> needs " + key);
-  std::istringstream in(*v);
-  in.imbue(std::locale::classic());
-  std::vector<double> out;
-  double x = 0;
-  while (in >> x) out.push_back(x);
-  in.clear();
-  std::string rest;
-  if (in >> rest || out.empty() || out.size() > most)
-    refuse(e, "<" + e.name + "> " + key + "=\"" + *v + "\": expected 1 to " + std::to_string(most) + " numbers");
-  for (double d : out)
-    if (!std::isfinite(d) || std::abs(d) > 1e9) refuse(e, "<" + e.name + "> " + key + ": numbers must be finite");
-  return out;
+  return parseNumbers(e, key, *v, 1, most);
 }
 
 }  // namespace reel::io
