@@ -195,6 +195,14 @@ TEST_CASE("the standing figure balances after a 15 N·s push to the chest and fa
 TEST_CASE("articulated: the same state for 1 and 2 threads, and a dump of links and joints") {
   const std::string text = human(R"(, "strength": 0.3, "velocity": [0, 0, 1.5], "protect": true)");
   CHECK(runHash(text, 1, 30) == runHash(text, 2, 30));
+  // Two figures running into each other and a crate falling on them: the figures step in parallel.
+  const std::string crowd = R"({"format": "reel/1", "duration": 2, "fps": 30, "substeps": 8,
+    "objects": [{"type": "plane", "surface": {"friction": 0.9}}],
+    "bodies": [{"type": "articulated", "name": "a", "figure": "human", "strength": 0.3, "velocity": [0, 0, 2]},
+               {"type": "articulated", "name": "b", "figure": "human", "strength": 0.3, "position": [0, 0, 1.6],
+                "rotation_deg": [0, 180, 0], "velocity": [0, 0, -1]},
+               {"type": "rigid", "name": "crate", "shape": "box", "size": [0.4, 0.4, 0.4], "mass": 10, "position": [0.1, 2.4, 0.8]}]})";
+  CHECK(runHash(crowd, 1, 45) == runHash(crowd, 2, 45));
   const auto dir = freshDir("articulated_dump");
   const std::string scene = (dir / "s.json").string();
   std::ofstream(scene) << kPendulum;
@@ -203,6 +211,20 @@ TEST_CASE("articulated: the same state for 1 and 2 threads, and a dump of links 
   const std::string dump = fileBytes(dir / "d.json");
   for (const char* key : {"\"links\":", "\"name\":\"rod\"", "\"orientation\":", "\"angular_velocity\":", "\"joints\":", "\"angles\":"})
     CHECK(dump.find(key) != std::string::npos);
+}
+
+TEST_CASE("a push at time 0 acts in the first step, and a push acts once") {
+  auto speed = [](const std::string& time) {
+    World w = worldFromText(R"({"format": "reel/1", "duration": 1, "fps": 24, "substeps": 10, "gravity": [0, 0, 0],
+      "bodies": [{"type": "articulated", "name": "a", "links": [{"name": "block", "shape": "box", "size": [0.2, 0.2, 0.2], "mass": 2}],
+                  "pushes": [{"time": )" + time + R"(, "link": "block", "impulse": [1, 0, 0]}]}]})");
+    run(w, 23);
+    Vec3 c, v;
+    centreOfMass(figure(w).model(), figure(w).kinematics(), c, v);
+    return v.x();
+  };
+  CHECK(speed("0") == doctest::Approx(0.5));
+  CHECK(speed("0.925") == doctest::Approx(0.5));
 }
 
 TEST_CASE("articulated: bad input is refused with its JSON path") {
@@ -218,6 +240,7 @@ TEST_CASE("articulated: bad input is refused with its JSON path") {
            "/bodies/0/links/1/joint/lower_deg");
   checkHas(badInputError(links(R"({"name": "x", "parent": "base", "joint": {"kp": -1}})")), "/bodies/0/links/1/joint/kp");
   checkHas(badInputError(links(R"({"name": "x", "parent": "base"})")), "/bodies/0/links/1/joint");
+  checkHas(badInputError(links(R"({"name": "x", "parent": "base", "joint": {}, "mass": 1e9})")), "/bodies/0/links/1/mass");
   checkHas(badInputError(links(R"({"name": "base", "parent": "base", "joint": {}})")), "/bodies/0/links/1/name");
   checkHas(badInputError(links(R"({"name": "x", "parent": "base", "joint": {"type": "ball", "lower_deg": 1, "upper_deg": 2}})")),
            "/bodies/0/links/1/joint/lower_deg");

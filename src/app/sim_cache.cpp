@@ -18,7 +18,7 @@ namespace reel::app {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr char kMagic[9] = "REELSIM2";
+constexpr char kMagic[9] = "REELSIM3";
 constexpr std::size_t kMaxSceneBytes = 64u << 20;
 
 // The snapshot's fields in one order for writing and reading.
@@ -31,7 +31,7 @@ void fields(Snap& s, Archive& a) {
     if (!a.ok() || n > (1u << 20)) return;
     s.colliders.resize(n);
   }
-  for (auto& p : s.colliders) a(p.rot)(p.rot_prev)(p.pos)(p.pos_prev)(p.dt);
+  for (auto& p : s.colliders) a(p.rot)(p.rot_prev)(p.pos)(p.pos_prev)(p.dt)(p.inv_mass)(p.inv_inertia)(p.centre);
   std::size_t b = s.bodies.size();
   a(b);
   if constexpr (std::is_same_v<Archive, StateReader>) {

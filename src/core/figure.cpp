@@ -66,6 +66,9 @@ ObjectDesc linkObject(const ArticulatedLinkDesc& l, const Mat3& R, const Vec3& x
       o.shape = MeshObjectShape{"cylinder", std::make_shared<TriMesh>(makeCylinder(l.shape.radius, l.shape.length, 32)), c,
                                 Vec3(1, 1, 1), eulerDegFromRotation(Rs)};
       break;
+    case LinkShape::Kind::Mesh:
+      o.shape = MeshObjectShape{"mesh", l.shape.mesh, c, l.shape.scale, eulerDegFromRotation(Rs)};
+      break;
   }
   return o;
 }
@@ -77,6 +80,7 @@ MassProperties linkMass(const LinkShape& s, double density) {
     case LinkShape::Kind::Box: m = boxMass(s.size, density); break;
     case LinkShape::Kind::Capsule: m = capsuleMass(s.length, s.radius, density); break;
     case LinkShape::Kind::Cylinder: m = cylinderMass(s.radius, s.length, density); break;
+    case LinkShape::Kind::Mesh: return {};
   }
   return placed(m, s.rotation, s.offset);
 }

@@ -148,6 +148,7 @@ class Parser {
       skipSpace();
       std::string v;
       if (!value(v)) return false;
+      if (e.attributes.size() >= 256) return fail("more than 256 attributes in <" + e.name + ">"), false;
       if (e.attribute(key)) return fail("attribute " + key + " given twice in <" + e.name + ">"), false;
       e.attributes.emplace_back(key, std::move(v));
     }

@@ -2,7 +2,8 @@
 // entities and numeric character references decoded), comments, the declaration and a DOCTYPE
 // skipped; text between elements is ignored. Each element keeps its line, for error messages.
 // Refused with the line: CDATA, processing instructions after the declaration, mismatched or
-// unclosed tags, a repeated attribute, nesting deeper than 64, more than 100,000 elements.
+// unclosed tags, a repeated attribute, more than 256 attributes in an element, nesting deeper
+// than 64, more than 100,000 elements.
 #pragma once
 
 #include <optional>

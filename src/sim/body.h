@@ -86,8 +86,9 @@ class Body {
   virtual StepLimit stepLimit(IntegratorKind integrator) const = 0;
   // Free objects take what the other bodies handed them in the coupling stage (see Coupling).
   virtual bool coupled() const { return false; }
-  // A coupled body whose step reads only the objects' colliders (not other bodies' own ones) and
-  // writes only its own state and colliders: consecutive ones step in parallel (articulated figures).
+  // A coupled body whose step writes only its own state (its colliders and what it hands back wait
+  // for publish): all of them step in parallel, each reading the others' colliders as they were
+  // after the last step (articulated figures).
   virtual bool stepsAlone() const { return false; }
   // A body that steps alone shows the others its new state here (poses its colliders, hands back
   // impulses), after every body of its run has stepped, in order: so each read the others' last

@@ -265,7 +265,8 @@ WorldSnapshot World::snapshot() const {
   WorldSnapshot s;
   s.frame = frame_;
   s.step = step_;
-  for (const Collider& c : colliders_) s.colliders.push_back({c.rot, c.rot_prev, c.pos, c.pos_prev, c.dt});
+  for (const Collider& c : colliders_)
+    s.colliders.push_back({c.rot, c.rot_prev, c.pos, c.pos_prev, c.dt, c.inv_mass, c.inv_inertia, c.centre});
   s.bodies.resize(bodies_.size());
   for (std::size_t k = 0; k < bodies_.size(); ++k) bodies_[k]->snapshot(s.bodies[k]);
   s.solver = solver_;
@@ -297,6 +298,9 @@ Status World::restore(const WorldSnapshot& s) {
     c.pos = p.pos;
     c.pos_prev = p.pos_prev;
     c.dt = p.dt;
+    c.inv_mass = p.inv_mass;
+    c.inv_inertia = p.inv_inertia;
+    c.centre = p.centre;
   }
   frame_ = s.frame;
   step_ = s.step;

@@ -39,6 +39,9 @@ struct WorldSnapshot {
     Mat3 rot, rot_prev;
     Vec3 pos, pos_prev;
     double dt = 0.0;
+    double inv_mass = 0.0;  // a free body's response to an impulse (Collider), kept with its pose
+    Mat3 inv_inertia = Mat3::Zero();
+    Vec3 centre{0, 0, 0};
   };
   std::vector<Pose> colliders;
   std::vector<StateBlob> bodies;

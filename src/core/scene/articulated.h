@@ -14,11 +14,13 @@
 
 #include <cstddef>
 #include <limits>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "core/mass_properties.h"
+#include "core/mesh.h"
 #include "core/scene/body.h"
 #include "core/scene/object.h"
 #include "core/types.h"
@@ -68,7 +70,10 @@ struct ArticulatedJointDesc {
 // from the centre of mass and turned by `rotation` (both zero for the scene's links; a URDF's
 // collision origin sets them).
 struct LinkShape {
-  enum class Kind { Sphere, Box, Capsule, Cylinder } kind = Kind::Box;
+  // Mesh: a robot's (URDF), drawn as itself, met as its convex hull; its mass comes from the file.
+  enum class Kind { Sphere, Box, Capsule, Cylinder, Mesh } kind = Kind::Box;
+  std::shared_ptr<const TriMesh> mesh;  // Mesh: in its own frame, before `scale`
+  Vec3 scale{1, 1, 1};
   double radius = 0.0;  // m
   Vec3 size{0.1, 0.1, 0.1};  // m
   double length = 0.0;  // m
@@ -135,7 +140,8 @@ void startPoses(const ArticulatedDesc& d, std::vector<Mat3>& R, std::vector<Vec3
 // The object a link is drawn and met as, placed at pose (R, x).
 ObjectDesc linkObject(const ArticulatedLinkDesc& l, const Mat3& R, const Vec3& x, const std::string& body);
 
-// A link's mass properties from its shape at a density (kg/m³), about its centre of mass.
+// A link's mass properties from its shape at a density (kg/m³), in the link's frame (a mesh's: zero;
+// a robot file gives them).
 MassProperties linkMass(const LinkShape& s, double density);
 
 }  // namespace reel

@@ -2,6 +2,7 @@
 // figure (`"figure": "human"`), its start pose, servos and pose keys (docs/articulated.md).
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 
 #include <nlohmann/json.hpp>
@@ -11,6 +12,8 @@
 #include "core/math.h"
 #include "core/scene/articulated.h"
 #include "io/files.h"
+#include "io/mesh_import.h"
+#include "io/mesh_scan.h"
 #include "io/scene/reader.h"
 #include "io/scene/readers.h"
 #include "io/scene/mjcf.h"
@@ -21,7 +24,8 @@ namespace reel::io {
 namespace {
 
 constexpr double kDeg = kPi / 180.0;
-constexpr std::size_t kMaxRobotBytes = 16 << 20;  // a URDF file
+constexpr std::size_t kMaxRobotBytes = 16 << 20;  // a URDF or MJCF file
+constexpr std::size_t kMaxLinks = 500;             // links of one articulated body (its matrices are dense)
 
 // `key`: n angles in degrees (a number when n is 1, else a list of n), in rad.
 std::optional<std::vector<double>> anglesOf(const Json* j, const std::string& p, Diagnostics& diag, std::size_t n) {
@@ -276,8 +280,18 @@ std::shared_ptr<const BodyParams> readArticulatedBody(Obj& o, BodyDesc& body, co
     auto xml = text.ok() ? parseXml(text.value()) : Result<XmlElement>(text.error());
     Vec3 root_offset = Vec3::Zero();
     bool free_root = true;
+    // A robot's meshes: paths relative to its file, inside the scene's asset roots.
+    const std::string folder = std::filesystem::path(file).parent_path().string();
+    const MeshLoader loadRobotMesh = [&](const std::string& name) -> Result<std::shared_ptr<const TriMesh>> {
+      const std::string rel = folder.empty() ? name : (std::filesystem::path(folder) / name).string();
+      auto where = resolveAsset(d.file(), rel, {std::begin(kMeshExtensions), std::end(kMeshExtensions)}, kMaxMeshBytes);
+      if (!where.ok()) return where.error();
+      auto m = importMesh(where.value(), assetRoots(d.file()));
+      if (!m.ok()) return m.error();
+      return std::shared_ptr<const TriMesh>(std::make_shared<TriMesh>(std::move(m.value())));
+    };
     auto links = !xml.ok() ? Result<std::vector<ArticulatedLinkDesc>>(xml.error())
-                 : key == std::string("urdf") ? urdfLinks(xml.value(), root_offset)
+                 : key == std::string("urdf") ? urdfLinks(xml.value(), root_offset, loadRobotMesh)
                                               : mjcfLinks(xml.value(), root_offset, free_root);
     if (!links.ok()) {
       d.error(childPath(p, key), "\"" + file + "\": " + links.error().headline());
@@ -309,8 +323,8 @@ std::shared_ptr<const BodyParams> readArticulatedBody(Obj& o, BodyDesc& body, co
           if (!l.name.empty() && findLink(r->links, l.name) >= 0) d.error(childPath(lo.path(), "name"), "a second link named '" + l.name + "'");
           if (l.name.find('/') != std::string::npos) d.error(childPath(lo.path(), "name"), "a link's name may not contain '/'");
           l.shape = readLinkShape(lo);
-          const double density = lo.number("density", 1000.0, kPos);
-          const std::optional<double> mass = lo.number("mass", kPos);
+          const double density = lo.number("density", 1000.0, Range{0.0, 1e5, true, false});
+          const std::optional<double> mass = lo.number("mass", Range{0.0, 1e6, true, false});
           if (mass && lo.has("density")) d.error(childPath(lo.path(), "mass"), "give density or mass, not both");
           l.mass = linkMass(l.shape, density);
           if (mass) l.mass = withMass(l.mass, *mass);
@@ -356,9 +370,17 @@ std::shared_ptr<const BodyParams> readArticulatedBody(Obj& o, BodyDesc& body, co
     if (!d.empty() || !orderLinks(o, r->links, paths)) return r;
   }
   if (r->links.empty()) return r;
+  if (r->links.size() > kMaxLinks) {
+    d.error(childPath(p, o.has("links") ? "links" : o.has("urdf") ? "urdf" : o.has("mjcf") ? "mjcf" : "figure"),
+            std::to_string(r->links.size()) + " links, more than the limit of " + std::to_string(kMaxLinks));
+    return r;
+  }
   for (auto& l : r->links)
-    if (!(l.mass.mass > 0 && std::isfinite(l.mass.mass))) {
-      d.error(childPath(p, "links"), "link '" + l.name + "' has no usable mass");
+    if (!(l.mass.mass > 0 && l.mass.mass <= 1e6 && l.mass.inertia.allFinite() && l.mass.inertia.diagonal().minCoeff() > 0 &&
+          l.mass.inertia.diagonal().maxCoeff() < 1e12)) {
+      d.error(childPath(p, o.has("links") ? "links" : o.has("urdf") ? "urdf" : o.has("mjcf") ? "mjcf" : "figure"),
+              "link '" + l.name + "' has no usable mass and inertia (mass " + formatNumber(l.mass.mass, 3) +
+                  " kg; at most 1e6 kg, inertia positive and below 1e12 kg·m²)");
       return r;
     }
   // Pose keys: [{time, joints: {link: angle_deg}}], times increasing.

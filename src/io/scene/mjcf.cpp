@@ -195,6 +195,12 @@ void readBody(const XmlElement& b, Model& m, int parent, const Frame& parent_fra
       axes.push_back((T.R * a).normalized());
       if (axes.size() > 2) refuse(*je, "three hinges in one body are outside the supported subset");
     }
+    for (const char* key : {"stiffness", "armature", "frictionloss", "ref", "springref", "springdamper"})
+      if (je->attribute(key)) {
+        const auto v = numberList(*je, key, 2);
+        for (double x : v)
+          if (x != 0.0) refuse(*je, std::string("joint ") + key + " is outside the supported MJCF subset");
+      }
     const double damping = number(*je, "damping", 0.0);
     if (damping < 0) refuse(*je, "damping must be ≥ 0");
     j.damping = std::max(j.damping, damping);

@@ -34,8 +34,11 @@ std::string nameOf(const XmlElement& e) {
 }
 
 // A link's shape from its <collision> (else <visual>) at frame `at` (root frame), about centre c.
-LinkShape shapeOf(const XmlElement& link, const Frame& at, const Vec3& c) {
+LinkShape shapeOf(const XmlElement& link, const Frame& at, const Vec3& c, const MeshLoader& load) {
   const XmlElement* g = child(link, "collision");
+  int collisions = 0;
+  for (const XmlElement& c : link.children)
+    if (c.name == "collision" && ++collisions == 2) refuse(c, "a second <collision> in one link is outside the supported subset (one shape per link)");
   if (!g) g = child(link, "visual");
   LinkShape s;
   if (!g) {  // no geometry: a small sphere at the centre of mass, so it is drawn and met
@@ -71,15 +74,27 @@ LinkShape shapeOf(const XmlElement& link, const Frame& at, const Vec3& c) {
     s.radius = positive("radius");
     s.length = positive("length");
     s.rotation = f.R * z_from_y;
+  } else if (shape.name == "mesh") {
+    const std::string* file = shape.attribute("filename");
+    if (!file || file->empty()) refuse(shape, "<mesh> needs a filename");
+    if (file->find("://") != std::string::npos) refuse(shape, "<mesh> \"" + *file + "\": only paths relative to the URDF are read (no package:// or file://)");
+    const auto scale = numbers(shape, "scale", 3, {1, 1, 1});
+    for (double x : scale)
+      if (!(x > 0)) refuse(shape, "<mesh> scale must be > 0");
+    auto m = load(*file);
+    if (!m.ok()) refuse(shape, "<mesh> \"" + *file + "\": " + m.error().headline());
+    s.kind = LinkShape::Kind::Mesh;
+    s.mesh = m.value();
+    s.scale = Vec3(scale[0], scale[1], scale[2]);
   } else {
-    refuse(shape, "<" + shape.name + "> geometry is outside the supported URDF subset (box, sphere, cylinder, capsule)");
+    refuse(shape, "<" + shape.name + "> geometry is outside the supported URDF subset (box, sphere, cylinder, capsule, mesh)");
   }
   return s;
 }
 
 }  // namespace
 
-Result<std::vector<ArticulatedLinkDesc>> urdfLinks(const XmlElement& robot, Vec3& root_offset) {
+Result<std::vector<ArticulatedLinkDesc>> urdfLinks(const XmlElement& robot, Vec3& root_offset, const MeshLoader& mesh) {
   try {
     if (robot.name != "robot") refuse(robot, "expected <robot>, found <" + robot.name + ">");
     std::map<std::string, const XmlElement*> links;
@@ -168,7 +183,7 @@ Result<std::vector<ArticulatedLinkDesc>> urdfLinks(const XmlElement& robot, Vec3
         l.mass.inertia = Mat3::Identity() * 1e-7;
         centre[n] = T.p;
       }
-      l.shape = shapeOf(le, T, centre[n]);
+      l.shape = shapeOf(le, T, centre[n], mesh);
       // The joint: its point is the child frame's origin, its axis in the child frame.
       if (je) {
         const std::string type = je->attribute("type") ? *je->attribute("type") : "";

@@ -59,7 +59,7 @@ void ArticulatedBody::smoothStep(StepContext& ctx, VecX& v_star, bool& moved) {
   // Pushes whose time falls in this step, through their link's centre of mass.
   forwardKinematics(model_, state_.q, s.k);
   for (const PushDesc& push : model_.pushes)
-    if (push.time > ctx.t0 && push.time <= ctx.t1 + 1e-12 * std::max(1.0, ctx.t1)) {
+    if ((push.time > ctx.t0 || (ctx.t0 == 0.0 && push.time == 0.0)) && push.time <= ctx.t1) {
       const auto i = static_cast<std::size_t>(push.link);
       s.f_ext[i].head<3>() += s.k.x[i].cross(push.impulse) / h;
       s.f_ext[i].tail<3>() += push.impulse / h;
@@ -107,7 +107,9 @@ void ArticulatedBody::smoothStep(StepContext& ctx, VecX& v_star, bool& moved) {
         const double servo = -kp[d] * s.e[d] - kd[d] * v[d];
         tau[d] += std::clamp(servo, -cap[d], cap[d]) - servo;
       }
-      a = s.M.llt().solve(tau - s.C);
+      Eigen::LLT<MatX> llt(s.M);
+      if (llt.info() != Eigen::Success) singular_ = true;
+      a = llt.solve(tau - s.C);
     };
     const VecX q0 = state_.q, v0 = state_.v;
     VecX a1, a2, a3, a4, q = q0;
@@ -156,6 +158,7 @@ void ArticulatedBody::smoothStep(StepContext& ctx, VecX& v_star, bool& moved) {
     s.Mt = s.M;
     s.Mt.diagonal() += h * s.diag;
     s.llt.compute(s.Mt);
+    if (s.llt.info() != Eigen::Success) singular_ = true;
     a = s.llt.solve(s.rhs);
     bool more = false;
     for (int d = 0; d < nv; ++d) {
@@ -220,6 +223,10 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
   for (std::size_t i = 0; i < model_.links.size(); ++i) {
     const ArtLink& l = model_.links[i];
     const Pose pose{k.R[i], k.x[i]};
+    if (!k.x[i].allFinite() || !k.vel[i].allFinite() || !(k.x[i].norm() < kRunawayDistance)) {
+      singular_ = singular_ || !k.x[i].allFinite();
+      continue;  // the state check stops the run
+    }
     const double speed = k.vel[i].head<3>().norm() * l.extent + pointVelocity(k.vel[i], k.x[i]).norm();
     const double margin = 0.004 + h * speed;
     Vec3 lo, hi;
@@ -421,6 +428,9 @@ void ArticulatedBody::pose(std::vector<Collider>& colliders, double h) const {
 }
 
 Status ArticulatedBody::checkState(const StepContext& ctx) const {
+  if (singular_)
+    return Error(ErrorKind::Unstable, "frame " + std::to_string(ctx.frame) + ", t = " + std::to_string(ctx.t1) +
+                                          " s: articulated body '" + name() + "': its joint-space inertia is not positive definite");
   for (std::size_t i = 0; i < model_.links.size(); ++i) {
     const char* what = nullptr;
     if (!x_view_[i].allFinite() || !(x_view_[i].norm() < kRunawayDistance)) what = "position";
@@ -568,6 +578,24 @@ Result<std::unique_ptr<Body>> buildArticulatedBody(const BodyDesc& desc, const B
         l.shape.poly = std::make_shared<ConvexPolytope>(
             transformedPolytope(prismPolytope(ld.shape.radius, 0.5 * ld.shape.length, 16), Rs, off));
         break;
+      case LinkShape::Kind::Mesh: {
+        // Met as its convex hull (a flat or degenerate mesh: a sphere around its vertices).
+        std::vector<Vec3> pts;
+        const std::vector<float>& xyz = ld.shape.mesh->positions;
+        for (std::size_t v = 0; v + 2 < xyz.size(); v += 3)
+          pts.push_back(Rs * Vec3(xyz[v], xyz[v + 1], xyz[v + 2]).cwiseProduct(ld.shape.scale) + off);
+        if (auto hull = convexHull(pts)) {
+          l.shape.kind = CoreKind::Polytope;
+          l.shape.poly = std::make_shared<ConvexPolytope>(std::move(*hull));
+        } else {
+          double r = 0.005;
+          for (const Vec3& p : pts) r = std::max(r, (p - off).norm());
+          l.shape.kind = CoreKind::Point;
+          l.shape.a = off;
+          l.shape.radius = r;
+        }
+        break;
+      }
     }
     Vec3 lo, hi;
     shapeBounds(l.shape, Pose{}, lo, hi);
