@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 
 #include "core/figure.h"
@@ -334,6 +335,36 @@ TEST_CASE("URDF: a small arm's links, masses, inertias and joints match the hand
   CHECK(figure(w.value()).kinematics().x[2].y() < y0 - 0.2);
 }
 
+TEST_CASE("URDF: a mesh link is drawn as its mesh and met as its convex hull") {
+  std::string urdf = kArm;
+  const std::string capsule = R"(<capsule radius="0.04" length="0.32"/>)";
+  urdf.replace(urdf.find(capsule), capsule.size(), R"(<mesh filename="parts/fore.obj" scale="0.08 0.4 0.08"/>)");
+  const std::string scene = robotScene("urdf_mesh", urdf);
+  const auto dir = std::filesystem::path(scene).parent_path();
+  std::filesystem::create_directories(dir / "parts");
+  // A unit cube about its centre.
+  std::ofstream(dir / "parts" / "fore.obj") << "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv 0.5 0.5 -0.5\nv -0.5 0.5 -0.5\n"
+                                               "v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n"
+                                               "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\n"
+                                               "f 4 8 7\nf 4 7 3\nf 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n";
+  auto s = app::loadScene(scene);
+  REQUIRE_MESSAGE(s.ok(), (s.ok() ? "" : s.error().headline()));
+  const auto& d = s.value().bodies[0].as<ArticulatedDesc>();
+  CHECK(d.links[2].shape.kind == LinkShape::Kind::Mesh);
+  CHECK(d.links[2].mass.mass == 1.0);  // the inertial's, not the mesh's
+  auto w = app::makeWorld(s.value());
+  REQUIRE(w.ok());
+  const ArtLink& fore = figure(w.value()).model().links[2];
+  REQUIRE(fore.shape.kind == CoreKind::Polytope);
+  CHECK(fore.shape.poly->vertices.size() == 8);  // the cube's hull
+  run(w.value(), 5);
+  CHECK(jointGap(figure(w.value())) < 1e-9);
+  urdf.replace(urdf.find("parts/fore.obj"), 14, "package://arm/fore.obj");
+  auto bad = app::loadScene(robotScene("urdf_mesh", urdf));
+  REQUIRE_FALSE(bad.ok());
+  CHECK(bad.error().headline().find("package://") != std::string::npos);
+}
+
 TEST_CASE("URDF: what is outside the subset, or broken, is refused with its line") {
   auto refused = [](const std::string& urdf, const std::string& part) {
     auto s = app::loadScene(robotScene("urdf_bad", urdf));
@@ -348,7 +379,7 @@ TEST_CASE("URDF: what is outside the subset, or broken, is refused with its line
     return s.replace(p, a.size(), b);
   };
   refused(replace(kArm, R"(type="continuous")", R"(type="prismatic")"), "line 20: joint type \"prismatic\"");
-  refused(replace(kArm, R"(<capsule radius="0.04" length="0.32"/>)", R"(<mesh filename="fore.stl"/>)"), "line 14: <mesh>");
+  refused(replace(kArm, R"(<capsule radius="0.04" length="0.32"/>)", R"(<cone radius="0.04"/>)"), "line 14: <cone>");
   refused(replace(kArm, R"(<parent link="upper"/>)", R"(<parent link="uper"/>)"), "line 21: no link \"uper\"");
   refused(replace(kArm, R"(<child link="upper"/>)", R"(<child link="base"/>)"), "cycle");
   refused(replace(kArm, R"(<mass value="2"/>)", R"(<mass value="-2"/>)"), "line 9: <mass> value must be > 0");
