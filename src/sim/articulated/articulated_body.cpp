@@ -220,6 +220,36 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
     }
   };
   Eigen::Matrix<double, 3, Eigen::Dynamic> Jp;
+  // The parts near the whole figure once; each link then tries those near its own box.
+  std::vector<Vec3> link_lo(model_.links.size()), link_hi(model_.links.size());
+  std::vector<double> link_margin(model_.links.size(), 0.0);
+  Vec3 fig_lo = Vec3::Constant(1e300), fig_hi = Vec3::Constant(-1e300);
+  for (std::size_t i = 0; i < model_.links.size(); ++i) {
+    if (!k.x[i].allFinite() || !k.vel[i].allFinite() || !(k.x[i].norm() < kRunawayDistance)) continue;
+    const ArtLink& l = model_.links[i];
+    const double speed = k.vel[i].head<3>().norm() * l.extent + pointVelocity(k.vel[i], k.x[i]).norm();
+    link_margin[i] = 0.004 + h * speed;
+    shapeBounds(l.shape, Pose{k.R[i], k.x[i]}, link_lo[i], link_hi[i]);
+    link_lo[i] -= Vec3::Constant(link_margin[i]);
+    link_hi[i] += Vec3::Constant(link_margin[i]);
+    fig_lo = fig_lo.cwiseMin(link_lo[i]);
+    fig_hi = fig_hi.cwiseMax(link_hi[i]);
+  }
+  // Refreshed every 8 steps from a box grown by what 8 steps can close at up to 20 m/s (a list that
+  // holds every part in reach, so the contacts do not depend on when it was made: a resumed run
+  // makes it afresh and finds the same).
+  std::vector<std::uint32_t>& candidates = candidates_;
+  if (candidate_age_ <= 0 || candidate_age_ >= 8) {
+    double fastest = 0.0;
+    for (std::size_t i = 0; i < model_.links.size(); ++i)
+      if (k.vel[i].allFinite()) fastest = std::max(fastest, pointVelocity(k.vel[i], k.x[i]).norm() + k.vel[i].head<3>().norm() * model_.links[i].extent);
+    const double grow = 8.0 * h * (fastest + 20.0) + 0.05;
+    candidates.clear();
+    if ((fig_lo.array() <= fig_hi.array()).all())
+      partsNear(parts_, colliders, fig_lo - Vec3::Constant(grow), fig_hi + Vec3::Constant(grow), candidates);
+    candidate_age_ = 0;
+  }
+  ++candidate_age_;
   for (std::size_t i = 0; i < model_.links.size(); ++i) {
     const ArtLink& l = model_.links[i];
     const Pose pose{k.R[i], k.x[i]};
@@ -227,13 +257,16 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
       singular_ = singular_ || !k.x[i].allFinite();
       continue;  // the state check stops the run
     }
-    const double speed = k.vel[i].head<3>().norm() * l.extent + pointVelocity(k.vel[i], k.x[i]).norm();
-    const double margin = 0.004 + h * speed;
-    Vec3 lo, hi;
-    shapeBounds(l.shape, pose, lo, hi);
-    lo -= Vec3::Constant(margin);
-    hi += Vec3::Constant(margin);
-    partsNear(parts_, colliders, lo, hi, near);
+    const double margin = link_margin[i];
+    near.clear();
+    for (std::uint32_t pi : candidates) {
+      const Collider& c = colliders[parts_.parts[pi].collider];
+      if (c.bound_radius < 1e300) {  // (the link's box against the part's collider's sphere)
+        const Vec3 centre = c.fromAuthored(c.bound_center);
+        if ((centre.cwiseMax(link_lo[i]).cwiseMin(link_hi[i]) - centre).squaredNorm() > c.bound_radius * c.bound_radius) continue;
+      }
+      near.push_back(pi);
+    }
     for (std::uint32_t pi : near) {
       const ObjectPart& part = parts_.parts[pi];
       const Collider& c = colliders[part.collider];
@@ -499,6 +532,7 @@ bool ArticulatedBody::restore(const StateBlob& in) {
   state_.q = Eigen::Map<const VecX>(q.data(), model_.nq);
   state_.v = Eigen::Map<const VecX>(v.data(), model_.nv);
   foot_points_ = std::move(feet);
+  candidate_age_ = 0;  // the parts near it are listed afresh
   left_down_ = (down & 1) != 0;
   right_down_ = (down & 2) != 0;
   refresh();

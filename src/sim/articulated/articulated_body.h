@@ -53,7 +53,9 @@ class ArticulatedBody final : public Body {
   std::vector<Vec3> x_view_, v_view_;
   std::vector<double> mass_view_;
   int contacts_ = 0;
-  bool singular_ = false;  // a step met a joint-space inertia it could not factorise (exit 3)
+  bool singular_ = false;
+  std::vector<std::uint32_t> candidates_;  // object parts near the figure (scratch, see constrain)
+  int candidate_age_ = 0;                  // steps since they were listed  // a step met a joint-space inertia it could not factorise (exit 3)
   HumanRoles roles_;
   // The feet's contacts of the last step (the supervisor's support polygon). Recomputed by every
   // step before use, so a resumed run's first step sees what the uninterrupted run's saw only if

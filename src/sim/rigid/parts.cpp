@@ -91,6 +91,16 @@ void partsNear(const ObjectParts& cache, const std::vector<Collider>& colliders,
   for (std::size_t p = 0; p < cache.parts.size();) {
     const ObjectPart& part = cache.parts[p];
     const Collider& c = colliders[part.collider];
+    // The collider's bounding sphere against the box first: one point carried instead of eight.
+    if (c.bound_radius < 1e300) {
+      const Vec3 centre = c.fromAuthored(c.bound_center);
+      const Vec3 nearest = centre.cwiseMax(lo).cwiseMin(hi);
+      if ((nearest - centre).squaredNorm() > c.bound_radius * c.bound_radius) {
+        const auto [first, count] = cache.mesh_parts[part.collider];
+        p = count > 0 && p == first ? first + count : p + 1;
+        continue;
+      }
+    }
     // The box carried into the object's authored frame.
     Vec3 alo = Vec3::Constant(1e300), ahi = Vec3::Constant(-1e300);
     for (int corner = 0; corner < 8; ++corner) {
