@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Geometry>
+
 #include "core/keys.h"
 #include "core/math.h"
 #include "core/parallel.h"
@@ -140,6 +142,11 @@ void Collider::moveTo(double t, double dt_since) {
   pos_prev = pos;
   poseAt(t, rot, pos);
   dt = dt_since;
+}
+
+Vec3 Collider::angularVelocity() const {
+  const Eigen::AngleAxisd turn(rot * rot_prev.transpose());
+  return dt > 0 ? Vec3(turn.axis() * (turn.angle() / dt)) : Vec3::Zero();
 }
 
 Vec3 Collider::velocityAt(const Vec3& p) const {

@@ -75,6 +75,8 @@ struct Collider {
   Vec3 fromAuthored(const Vec3& a) const { return rot * (a - pivot) + pos; }
   // Velocity of the surface point now at p (zero for a static collider), m/s.
   Vec3 velocityAt(const Vec3& p) const;
+  // The angular velocity of its last move (rot_prev → rot over dt), rad/s, world.
+  Vec3 angularVelocity() const;
 
  private:
   bool distanceAuthored(const Vec3& p, double& d, Vec3& n) const;

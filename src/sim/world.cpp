@@ -85,6 +85,8 @@ Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow>
         if (scene.bodies[a].type == row.first && scene.bodies[b].type == row.second)
           w.exchanges_.push_back({a, b, row.exchange});
   w.coupling_.reset(w.colliders_.size());
+  for (std::size_t k = 0; k < w.bodies_.size(); ++k)
+    if (w.bodies_[k]->coupled() && w.bodies_[k]->stepsAlone()) w.alone_.push_back(k);
   w.camera_desc_ = scene.camera.rig;
   for (std::size_t k = 0; k < w.bodies_.size(); ++k)
     if (w.camera_desc_.mode != CameraRigDesc::Mode::None && w.bodies_[k]->name() == w.camera_desc_.body)
@@ -197,9 +199,7 @@ Status World::advanceFrame() {
     // others' last step, and writes only its own state) first, all together in parallel, each then
     // publishing its new state in order; then the others (the rigid bodies, which take what the
     // figures handed them).
-    std::vector<std::size_t> alone;
-    for (std::size_t k = 0; k < bodies_.size(); ++k)
-      if (bodies_[k]->coupled() && bodies_[k]->stepsAlone()) alone.push_back(k);
+    const std::vector<std::size_t>& alone = alone_;
     if (!alone.empty()) {
       // (each is tens of microseconds of work: two are worth a parallel region)
       const auto n = static_cast<std::ptrdiff_t>(alone.size());

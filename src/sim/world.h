@@ -116,6 +116,7 @@ class World {
   Wind wind_;
   Water water_;
   std::vector<std::unique_ptr<Body>> bodies_;
+  std::vector<std::size_t> alone_;  // the coupled bodies that step alone (figures), in scene order
   struct Exchange {
     std::size_t first, second;  // bodies
     void (*run)(Body&, Body&, StepContext&);

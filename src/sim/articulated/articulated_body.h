@@ -48,6 +48,9 @@ class ArticulatedBody final : public Body {
   ArticulatedModel model_;
   ArticulatedState state_;
   ArtScratch s_;
+  struct Gains {
+    VecX kp, kd, damp, cap;  // per velocity: servo gains, joint damping, torque limit
+  } gains_;
   ObjectParts parts_;
   ArtKinematics view_k_;  // of the state (views, energies)
   std::vector<Vec3> x_view_, v_view_;

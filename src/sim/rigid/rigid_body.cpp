@@ -34,8 +34,7 @@ void RigidBody::follow(const std::vector<Collider>& colliders) {
     s.q = Eigen::Quaterniond(R).normalized();
     s.x = c.fromAuthored(m.center0);
     s.v = c.velocityAt(s.x);
-    const Eigen::AngleAxisd turn(c.rot * c.rot_prev.transpose());
-    s.w = c.dt > 0 ? Vec3(turn.axis() * (turn.angle() / c.dt)) : Vec3::Zero();
+    s.w = c.angularVelocity();
   }
 }
 
