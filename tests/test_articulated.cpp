@@ -10,6 +10,7 @@
 #include "core/figure.h"
 #include "core/math.h"
 #include "app/body_kinds.h"
+#include "articulated_helpers.h"
 #include "helpers.h"
 #include "sim/articulated/articulated_body.h"
 #include "sim/rigid/rigid_body.h"
@@ -19,28 +20,6 @@ using namespace reel;
 using namespace reel::test;
 
 namespace {
-
-ArticulatedBody& figure(World& w, std::size_t k = 0) {
-  std::size_t seen = 0;
-  for (const auto& b : w.bodies())
-    if (auto* a = dynamic_cast<ArticulatedBody*>(b.get()))
-      if (seen++ == k) return *a;
-  throw std::runtime_error("no articulated body");
-}
-
-// The farthest a joint's point on the parent is from the same point on the child, m.
-double jointGap(const ArticulatedBody& b) {
-  const ArtKinematics& k = b.kinematics();
-  double worst = 0;
-  for (std::size_t i = 0; i < b.model().joints.size(); ++i) {
-    const ArtJoint& j = b.model().joints[i];
-    if (j.parent < 0) continue;
-    const auto p = static_cast<std::size_t>(j.parent);
-    const Vec3 on_parent = k.x[p] + k.R[p] * j.parent_anchor, on_child = k.x[i] + k.R[i] * j.anchor;
-    worst = std::max(worst, (on_parent - on_child).norm());
-  }
-  return worst;
-}
 
 double energy(const ArticulatedBody& b) {
   return kineticEnergy(b.model(), b.kinematics()) + potentialEnergy(b.model(), b.kinematics(), Vec3(0, -9.78, 0));
@@ -255,141 +234,6 @@ TEST_CASE("articulated: bad input is refused with its JSON path") {
     "poses": [{"time": 1, "joints": {"shin_l": [1, 2]}}]}]})"), "/bodies/0/poses/0/joints/shin_l");
 }
 
-namespace {
-
-// A two-link arm on a box base (URDF: z up, the shoulder turned 90° about y, so the arm starts
-// along +x), and a scene that loads it.
-const std::string kArm = R"(<?xml version="1.0"?>
-<robot name="arm">
-  <material name="grey"><color rgba="0.5 0.5 0.5 1"/></material>
-  <link name="base">
-    <inertial><mass value="5"/><inertia ixx="0.1" iyy="0.1" izz="0.1"/></inertial>
-    <collision><geometry><box size="0.3 0.3 0.1"/></geometry></collision>
-  </link>
-  <link name="upper">
-    <inertial><origin xyz="0 0 0.25"/><mass value="2"/><inertia ixx="0.0425" iyy="0.0425" izz="0.0025"/></inertial>
-    <collision><origin xyz="0 0 0.25"/><geometry><cylinder radius="0.05" length="0.5"/></geometry></collision>
-  </link>
-  <link name="fore">
-    <inertial><origin xyz="0 0 0.2"/><mass value="1"/><inertia ixx="0.0137" iyy="0.0137" izz="0.0008"/></inertial>
-    <collision><origin xyz="0 0 0.2"/><geometry><capsule radius="0.04" length="0.32"/></geometry></collision>
-  </link>
-  <joint name="shoulder" type="revolute">
-    <parent link="base"/><child link="upper"/><origin xyz="0 0 0.05" rpy="0 1.5707963267948966 0"/>
-    <axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="50" velocity="3"/><dynamics damping="0.1"/>
-  </joint>
-  <joint name="elbow" type="continuous">
-    <parent link="upper"/><child link="fore"/><origin xyz="0 0 0.5"/><axis xyz="0 1 0"/>
-  </joint>
-</robot>
-)";
-
-// Writes `urdf` beside a scene that loads it; the scene's path.
-std::string robotScene(const std::string& dir_name, const std::string& urdf) {
-  const auto dir = freshDir(dir_name);
-  std::ofstream(dir / "arm.urdf") << urdf;
-  std::ofstream(dir / "s.json") << R"({"format": "reel/1", "duration": 1,
-    "bodies": [{"type": "articulated", "name": "arm", "urdf": "arm.urdf", "fixed_base": true, "rotation_deg": [-90, 0, 0]}]})";
-  return (dir / "s.json").string();
-}
-
-}  // namespace
-
-TEST_CASE("URDF: a small arm's links, masses, inertias and joints match the hand-computed ones") {
-  auto s = app::loadScene(robotScene("urdf_arm", kArm));
-  REQUIRE_MESSAGE(s.ok(), (s.ok() ? "" : s.error().headline()));
-  const auto& d = s.value().bodies[0].as<ArticulatedDesc>();
-  REQUIRE(d.links.size() == 3);
-  CHECK(d.links[0].name == "base");
-  CHECK(d.links[1].mass.mass == 2.0);
-  CHECK(d.links[2].mass.mass == 1.0);
-  // In the robot's frame (z up): the upper arm's inertia turned by the shoulder's 90° about y, its
-  // long axis (z) now along x.
-  const Mat3 I = d.links[1].mass.inertia;
-  CHECK(I(0, 0) == doctest::Approx(0.0025));
-  CHECK(I(1, 1) == doctest::Approx(0.0425));
-  CHECK(I(2, 2) == doctest::Approx(0.0425));
-  CHECK(std::abs(I(0, 2)) < 1e-12);
-  // The shoulder's point (0, 0, 0.05) in the base; the upper arm's centre 0.25 m along the turned z (+x).
-  const ArticulatedJointDesc& sh = d.links[1].joint;
-  CHECK(sh.type == JointType::Hinge);
-  CHECK((sh.parent_anchor - Vec3(0, 0, 0.05)).norm() < 1e-9);
-  CHECK((sh.anchor - Vec3(-0.25, 0, 0)).norm() < 1e-9);
-  CHECK((sh.axis - Vec3(0, 1, 0)).norm() < 1e-9);
-  CHECK(sh.lower == std::vector<double>{-2.0});
-  CHECK(sh.upper == std::vector<double>{2.0});
-  CHECK(sh.damping == 0.1);
-  const ArticulatedJointDesc& el = d.links[2].joint;
-  CHECK(el.lower.empty());
-  CHECK((el.parent_anchor - Vec3(0.25, 0, 0)).norm() < 1e-9);
-  CHECK((el.anchor - Vec3(-0.2, 0, 0)).norm() < 1e-9);
-  // The cylinder stands along the arm (reel's y turned onto the URDF's z, turned onto x).
-  CHECK((d.links[1].shape.rotation * Vec3::UnitY() - Vec3(1, 0, 0)).norm() < 1e-9);
-  CHECK(d.links[1].shape.kind == LinkShape::Kind::Cylinder);
-  // It simulates (turned z up → y up): the arm swings down under gravity, joints together.
-  auto w = app::makeWorld(s.value());
-  REQUIRE(w.ok());
-  const double y0 = figure(w.value()).kinematics().x[2].y();
-  run(w.value(), 10);
-  CHECK(jointGap(figure(w.value())) < 1e-9);
-  CHECK(figure(w.value()).kinematics().x[2].y() < y0 - 0.2);
-}
-
-TEST_CASE("URDF: a mesh link is drawn as its mesh and met as its convex hull") {
-  std::string urdf = kArm;
-  const std::string capsule = R"(<capsule radius="0.04" length="0.32"/>)";
-  urdf.replace(urdf.find(capsule), capsule.size(), R"(<mesh filename="parts/fore.obj" scale="0.08 0.4 0.08"/>)");
-  const std::string scene = robotScene("urdf_mesh", urdf);
-  const auto dir = std::filesystem::path(scene).parent_path();
-  std::filesystem::create_directories(dir / "parts");
-  // A unit cube about its centre.
-  std::ofstream(dir / "parts" / "fore.obj") << "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv 0.5 0.5 -0.5\nv -0.5 0.5 -0.5\n"
-                                               "v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n"
-                                               "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\n"
-                                               "f 4 8 7\nf 4 7 3\nf 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n";
-  auto s = app::loadScene(scene);
-  REQUIRE_MESSAGE(s.ok(), (s.ok() ? "" : s.error().headline()));
-  const auto& d = s.value().bodies[0].as<ArticulatedDesc>();
-  CHECK(d.links[2].shape.kind == LinkShape::Kind::Mesh);
-  CHECK(d.links[2].mass.mass == 1.0);  // the inertial's, not the mesh's
-  auto w = app::makeWorld(s.value());
-  REQUIRE(w.ok());
-  const ArtLink& fore = figure(w.value()).model().links[2];
-  REQUIRE(fore.shape.kind == CoreKind::Polytope);
-  CHECK(fore.shape.poly->vertices.size() == 8);  // the cube's hull
-  run(w.value(), 5);
-  CHECK(jointGap(figure(w.value())) < 1e-9);
-  urdf.replace(urdf.find("parts/fore.obj"), 14, "package://arm/fore.obj");
-  auto bad = app::loadScene(robotScene("urdf_mesh", urdf));
-  REQUIRE_FALSE(bad.ok());
-  CHECK(bad.error().headline().find("package://") != std::string::npos);
-}
-
-TEST_CASE("URDF: what is outside the subset, or broken, is refused with its line") {
-  auto refused = [](const std::string& urdf, const std::string& part) {
-    auto s = app::loadScene(robotScene("urdf_bad", urdf));
-    REQUIRE_FALSE(s.ok());
-    CAPTURE(s.error().headline());
-    CHECK(s.error().headline().find("/bodies/0/urdf") != std::string::npos);
-    CHECK(s.error().headline().find(part) != std::string::npos);
-  };
-  auto replace = [](std::string s, const std::string& a, const std::string& b) {
-    const auto p = s.find(a);
-    REQUIRE(p != std::string::npos);
-    return s.replace(p, a.size(), b);
-  };
-  refused(replace(kArm, R"(type="continuous")", R"(type="prismatic")"), "line 20: joint type \"prismatic\"");
-  refused(replace(kArm, R"(<capsule radius="0.04" length="0.32"/>)", R"(<cone radius="0.04"/>)"), "line 14: <cone>");
-  refused(replace(kArm, R"(<parent link="upper"/>)", R"(<parent link="uper"/>)"), "line 21: no link \"uper\"");
-  refused(replace(kArm, R"(<child link="upper"/>)", R"(<child link="base"/>)"), "cycle");
-  refused(replace(kArm, R"(<mass value="2"/>)", R"(<mass value="-2"/>)"), "line 9: <mass> value must be > 0");
-  refused(replace(kArm, R"(lower="-2" upper="2")", R"(lower="2" upper="-2")"), "line 18: the lower limit");
-  refused(replace(kArm, R"(</robot>)", R"(<link name="tip"/><joint name="x" type="fixed"><parent link="fore"/><child link="tip"/><mimic joint="elbow"/></joint></robot>)"),
-          "line 23: <mimic>");
-  refused(replace(kArm, "  </link>\n  <link name=\"upper\">", "  </lnk>\n  <link name=\"upper\">"), "line 7: </lnk> closes <link>");
-  refused(replace(kArm, R"(<axis xyz="0 1 0"/><limit)", R"(<axis xyz="0 0 0"/><limit)"), "line 18: an axis of zero length");
-}
-
 TEST_CASE("a figure and a rigid body trade momentum at their contact (equal and opposite, both masses counted)") {
   World w = worldFromText(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 8, "gravity": [0, 0, 0],
     "bodies": [{"type": "articulated", "name": "a", "position": [0, 1, 0],
@@ -410,88 +254,6 @@ TEST_CASE("a figure and a rigid body trade momentum at their contact (equal and 
   CHECK(a.kinematics().vel[0].tail<3>().norm() > 0.5);  // the block was hit
   CHECK(ball->states()[0].v.x() < 1.5);                   // the ball lost most of its speed
   CHECK((p1 - p0).norm() < 0.01 * p0.norm());
-}
-
-namespace {
-
-const std::string kPendulumMjcf = R"(<mujoco model="double pendulum">
-  <compiler angle="degree"/>
-  <option timestep="0.002"/>
-  <worldbody>
-    <geom type="plane" size="2 2 0.1"/>
-    <body name="base" pos="0 0 2">
-      <geom type="sphere" size="0.05" mass="1"/>
-      <body name="upper">
-        <joint name="j1" type="hinge" axis="0 1 0" range="-120 120" damping="0.01"/>
-        <geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.04" density="1000"/>
-        <body name="lower" pos="0.5 0 0">
-          <joint name="j2" type="hinge" axis="0 1 0"/>
-          <geom type="box" pos="0 0 -0.2" size="0.03 0.03 0.2" mass="0.5"/>
-        </body>
-      </body>
-    </body>
-  </worldbody>
-  <actuator><motor joint="j1"/></actuator>
-</mujoco>
-)";
-
-std::string mjcfScene(const std::string& xml) {
-  const auto dir = freshDir("mjcf");
-  std::ofstream(dir / "dp.xml") << xml;
-  std::ofstream(dir / "s.json") << R"({"format": "reel/1", "duration": 1,
-    "bodies": [{"type": "articulated", "name": "dp", "mjcf": "dp.xml", "rotation_deg": [-90, 0, 0]}]})";
-  return (dir / "s.json").string();
-}
-
-}  // namespace
-
-TEST_CASE("MJCF: a double pendulum's masses (from density and given), joints and limits, welded to the world") {
-  auto s = app::loadScene(mjcfScene(kPendulumMjcf));
-  REQUIRE_MESSAGE(s.ok(), (s.ok() ? "" : s.error().headline()));
-  const auto& d = s.value().bodies[0].as<ArticulatedDesc>();
-  REQUIRE(d.links.size() == 3);
-  CHECK(d.fixed_base);  // no free joint on the root
-  // The capsule: a 0.5 m cylinder of radius 0.04 and a ball of it, at 1000 kg/m³.
-  const double r = 0.04, L = 0.5, capsule = 1000 * (kPi * r * r * L + 4.0 / 3.0 * kPi * r * r * r);
-  CHECK(d.links[1].mass.mass == doctest::Approx(capsule));
-  CHECK(d.links[2].mass.mass == doctest::Approx(0.5));
-  // The box's inertia about its centre: m(b² + c²)/12 with its full sizes 0.06, 0.06, 0.4.
-  CHECK(d.links[2].mass.inertia(0, 0) == doctest::Approx(0.5 * (0.06 * 0.06 + 0.4 * 0.4) / 12));
-  const ArticulatedJointDesc& j1 = d.links[1].joint;
-  CHECK(j1.type == JointType::Hinge);
-  CHECK((j1.axis - Vec3(0, 1, 0)).norm() < 1e-12);
-  REQUIRE(j1.lower.size() == 1);
-  CHECK(j1.lower[0] == doctest::Approx(-120 * kPi / 180));
-  CHECK(j1.damping == 0.01);
-  CHECK((j1.anchor - Vec3(-0.25, 0, 0)).norm() < 1e-9);     // the joint at the capsule's end
-  CHECK((d.links[2].joint.anchor - Vec3(0, 0, 0.2)).norm() < 1e-9);  // and at the box's top
-  CHECK(d.links[2].joint.lower.empty());
-  auto w = app::makeWorld(s.value());
-  REQUIRE(w.ok());
-  run(w.value(), 10);
-  CHECK(jointGap(figure(w.value())) < 1e-9);
-}
-
-TEST_CASE("MJCF: what is outside the subset is refused with its line") {
-  auto refused = [](const std::string& xml, const std::string& part) {
-    auto s = app::loadScene(mjcfScene(xml));
-    REQUIRE_FALSE(s.ok());
-    CAPTURE(s.error().headline());
-    CHECK(s.error().headline().find("/bodies/0/mjcf") != std::string::npos);
-    CHECK(s.error().headline().find(part) != std::string::npos);
-  };
-  auto replace = [](std::string s, const std::string& a, const std::string& b) {
-    const auto p = s.find(a);
-    REQUIRE(p != std::string::npos);
-    return s.replace(p, a.size(), b);
-  };
-  refused(replace(kPendulumMjcf, R"(type="hinge" axis="0 1 0"/>)", R"(type="slide" axis="0 1 0"/>)"), "line 12: joint type \"slide\"");
-  refused(replace(kPendulumMjcf, "<option timestep=\"0.002\"/>", "<default><geom density=\"500\"/></default>"), "line 3: <default>");
-  refused(replace(kPendulumMjcf, R"(<geom type="sphere" size="0.05" mass="1"/>)", R"(<geom type="mesh" mesh="m"/>)"), "line 7: geom type \"mesh\"");
-  refused(replace(kPendulumMjcf, R"(range="-120 120")", R"(range="120 -120")"), "line 9: the range");
-  refused(replace(kPendulumMjcf, R"(<actuator>)", R"(<tendon/><actuator>)"), "line 18: <tendon>");
-  refused(replace(kPendulumMjcf, R"(size="0.03 0.03 0.2" mass="0.5"/>)", R"(size="0.03 0.03 0.2" mass="0.5"/><geom type="sphere" size="0.1"/>)"),
-          "line 13: a second <geom>");
 }
 
 TEST_CASE("a cloth held by a link (a cape's grip) hangs its weight on the figure: the servo sags by m·g·L/kp") {

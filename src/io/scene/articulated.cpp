@@ -292,7 +292,7 @@ std::shared_ptr<const BodyParams> readArticulatedBody(Obj& o, BodyDesc& body, co
     };
     auto links = !xml.ok() ? Result<std::vector<ArticulatedLinkDesc>>(xml.error())
                  : key == std::string("urdf") ? urdfLinks(xml.value(), root_offset, loadRobotMesh)
-                                              : mjcfLinks(xml.value(), root_offset, free_root);
+                                              : mjcfLinks(xml.value(), root_offset, free_root, loadRobotMesh);
     if (!links.ok()) {
       d.error(childPath(p, key), "\"" + file + "\": " + links.error().headline());
       return r;

@@ -1,16 +1,32 @@
 #include "io/scene/mjcf.h"
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <map>
+#include <memory>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
+#include "core/mass_properties.h"
 #include "core/math.h"
+#include "core/mesh.h"
 #include "core/scene/articulated.h"
 #include "io/scene/robot_xml.h"
 
 namespace reel::io {
 namespace {
+
+using Attributes = std::vector<std::pair<std::string, std::string>>;
+
+// An <asset> <mesh>: its file (below meshdir) and scale; loaded when a geom first uses it.
+struct MeshAsset {
+  const XmlElement* element = nullptr;
+  std::string file;
+  Vec3 scale{1, 1, 1};
+  std::shared_ptr<const TriMesh> mesh;
+};
 
 struct Model {
   double angle = kPi / 180.0;  // <compiler angle>: degrees unless "radian"
@@ -18,7 +34,67 @@ struct Model {
   std::vector<Vec3> centre;  // per link: its centre of mass, root frame
   bool free_root = false;
   int unnamed = 0;
+  // <default> classes: per class, per element kind (joint, geom, mesh, ...), the attributes it sets.
+  std::map<std::string, std::map<std::string, Attributes>> classes;
+  std::map<std::string, MeshAsset> meshes;
+  std::string meshdir;
+  const MeshLoader* load = nullptr;
 };
+
+// <default> (MJCF's cascade, after CSS): the top one is class "main"; a nested <default class>
+// starts from its parent's settings and overrides them.
+void readDefault(const XmlElement& d, const std::string& parent, Model& m) {
+  const std::string name = parent.empty() ? "main" : d.attribute("class") ? *d.attribute("class") : "";
+  if (name.empty()) refuse(d, "a nested <default> needs a class");
+  if (m.classes.count(name)) refuse(d, "a second default class \"" + name + "\"");
+  std::map<std::string, Attributes> kinds = parent.empty() ? std::map<std::string, Attributes>{} : m.classes[parent];
+  for (const XmlElement& c : d.children) {
+    if (c.name == "default") continue;
+    Attributes& set = kinds[c.name];
+    for (const auto& [k, v] : c.attributes) {
+      if (k == "class" || k == "name") refuse(c, "a default <" + c.name + "> takes no " + k);
+      auto at = std::find_if(set.begin(), set.end(), [&](const auto& a) { return a.first == k; });
+      if (at != set.end()) at->second = v;
+      else set.emplace_back(k, v);
+    }
+  }
+  m.classes[name] = std::move(kinds);
+  for (const XmlElement& c : d.children)
+    if (c.name == "default") readDefault(c, name, m);
+}
+
+// The element with its class's settings for its kind filled in (its own attributes win): its own
+// `class`, else `active` (the nearest enclosing body's childclass, else "main").
+XmlElement withDefaults(const XmlElement& e, const std::string& active, const Model& m) {
+  const std::string* own = e.attribute("class");
+  const std::string cls = own ? *own : active;
+  const auto it = m.classes.find(cls);
+  if (it == m.classes.end()) {
+    if (own || cls != "main") refuse(e, "no default class \"" + cls + "\"");
+    return e;
+  }
+  XmlElement out = e;
+  const auto kind = it->second.find(e.name);
+  if (kind != it->second.end())
+    for (const auto& [k, v] : kind->second)
+      if (!e.attribute(k)) out.attributes.emplace_back(k, v);
+  return out;
+}
+
+// The mesh a geom names, loaded once, scaled.
+const MeshAsset& meshNamed(const XmlElement& g, Model& m) {
+  const std::string* name = g.attribute("mesh");
+  if (!name) refuse(g, "a mesh geom needs mesh=\"...\"");
+  const auto it = m.meshes.find(*name);
+  if (it == m.meshes.end()) refuse(g, "no <mesh> named \"" + *name + "\" in <asset>");
+  MeshAsset& a = it->second;
+  if (!a.mesh) {
+    auto loaded = (*m.load)(m.meshdir.empty() ? a.file : m.meshdir + "/" + a.file);
+    if (!loaded.ok()) refuse(*a.element, "<mesh> \"" + a.file + "\": " + loaded.error().headline());
+    a.mesh = loaded.value();
+  }
+  return a;
+}
 
 // A body's or geom's orientation: quat (w x y z), euler (intrinsic x, y, z), axisangle, zaxis.
 Mat3 orientationOf(const XmlElement& e, const Model& m) {
@@ -63,13 +139,36 @@ Vec3 vec3(const XmlElement& e, const std::string& key, const Vec3& def) {
 }
 
 // The geom as a link shape (its own frame in the body's) and its mass properties in the body frame.
-void readGeom(const XmlElement& g, const Model& m, LinkShape& s, MassProperties& mass) {
+void readGeom(const XmlElement& g, Model& m, LinkShape& s, MassProperties& mass) {
   onlyChildren(g, {}, {});
   const std::string type = g.attribute("type") ? *g.attribute("type") : "sphere";
-  if (type != "sphere" && type != "box" && type != "capsule" && type != "cylinder")
-    refuse(g, "geom type \"" + type + "\" is outside the supported MJCF subset (sphere, capsule, box, cylinder)");
+  if (type != "sphere" && type != "box" && type != "capsule" && type != "cylinder" && type != "mesh")
+    refuse(g, "geom type \"" + type + "\" is outside the supported MJCF subset (sphere, capsule, box, cylinder, mesh)");
   Mat3 R = orientationOf(g, m);
   Vec3 at = vec3(g, "pos", Vec3::Zero());
+  const double density = number(g, "density", 1000.0);
+  if (!(density > 0)) refuse(g, "<geom> density must be > 0");
+  if (type == "mesh") {
+    // The mesh's vertices in the geom's frame (MuJoCo's compiled geom frame undoes its own
+    // recentring, so this is where the file puts them); its mass from its closed volume.
+    const MeshAsset& a = meshNamed(g, m);
+    s.kind = LinkShape::Kind::Mesh;
+    s.mesh = a.mesh;
+    s.scale = a.scale;
+    s.offset = at;
+    s.rotation = R;
+    TriMesh scaled = *a.mesh;
+    for (std::size_t i = 0; i < scaled.positions.size(); ++i) scaled.positions[i] *= static_cast<float>(a.scale[static_cast<Eigen::Index>(i % 3)]);
+    auto solid = solidMassProperties(scaled, density);
+    if (!solid.ok()) refuse(g, "mesh \"" + *g.attribute("mesh") + "\": " + solid.error().headline());
+    mass = placed(solid.value(), R, at);
+    if (g.attribute("mass")) {
+      const double kg = number(g, "mass");
+      if (!(kg > 0)) refuse(g, "<geom> mass must be > 0");
+      mass = withMass(mass, kg);
+    }
+    return;
+  }
   const auto size = numberList(g, "size", 3);
   for (std::size_t k = 0; k < size.size(); ++k)
     if (!(size[k] > 0) && !(k > 0 && g.attribute("fromto"))) refuse(g, "<geom> size must be > 0");
@@ -104,8 +203,6 @@ void readGeom(const XmlElement& g, const Model& m, LinkShape& s, MassProperties&
   } else {
     refuse(g, "geom type \"" + type + "\" is outside the supported MJCF subset (sphere, capsule, box, cylinder)");
   }
-  const double density = number(g, "density", 1000.0);
-  if (!(density > 0)) refuse(g, "<geom> density must be > 0");
   mass = linkMass(s, density);
   if (g.attribute("mass")) {
     const double kg = number(g, "mass");
@@ -114,7 +211,7 @@ void readGeom(const XmlElement& g, const Model& m, LinkShape& s, MassProperties&
   }
 }
 
-void readBody(const XmlElement& b, Model& m, int parent, const Frame& parent_frame) {
+void readBody(const XmlElement& b, Model& m, int parent, const Frame& parent_frame, std::string active) {
   ArticulatedLinkDesc l;
   l.name = b.attribute("name") ? *b.attribute("name") : "body" + std::to_string(m.unnamed++);
   if (l.name.find('/') != std::string::npos) refuse(b, "body name \"" + l.name + "\" may not contain '/'");
@@ -122,11 +219,20 @@ void readBody(const XmlElement& b, Model& m, int parent, const Frame& parent_fra
     if (o.name == l.name) refuse(b, "a second body named \"" + l.name + "\"");
   l.parent = parent;
   const Frame T = parent_frame * Frame{orientationOf(b, m), vec3(b, "pos", Vec3::Zero())};
+  if (const std::string* cc = b.attribute("childclass")) {
+    if (!m.classes.count(*cc)) refuse(b, "no default class \"" + *cc + "\"");
+    active = *cc;
+  }
+  // Joints and geoms with their class's defaults filled in.
+  std::vector<XmlElement> resolved;
+  resolved.reserve(b.children.size());
   std::vector<const XmlElement*> joints, geoms, bodies;
   const XmlElement* inertial = nullptr;
   for (const XmlElement& c : b.children) {
-    if (c.name == "joint" || c.name == "freejoint") joints.push_back(&c);
-    else if (c.name == "geom") geoms.push_back(&c);
+    if (c.name == "joint" || c.name == "geom") resolved.push_back(withDefaults(c, active, m));
+    if (c.name == "joint") joints.push_back(&resolved.back());
+    else if (c.name == "freejoint") joints.push_back(&c);
+    else if (c.name == "geom") geoms.push_back(&resolved.back());
     else if (c.name == "body") bodies.push_back(&c);
     else if (c.name == "inertial") inertial = &c;
     else if (c.name != "site" && c.name != "camera" && c.name != "light")
@@ -242,15 +348,24 @@ void readBody(const XmlElement& b, Model& m, int parent, const Frame& parent_fra
   const int index = static_cast<int>(m.links.size());
   m.links.push_back(std::move(l));
   m.centre.push_back(c);
-  for (const XmlElement* child_body : bodies) readBody(*child_body, m, index, T);
+  for (const XmlElement* child_body : bodies) readBody(*child_body, m, index, T, active);
 }
 
 }  // namespace
 
-Result<std::vector<ArticulatedLinkDesc>> mjcfLinks(const XmlElement& mujoco, Vec3& root_offset, bool& free_root) {
+Result<std::vector<ArticulatedLinkDesc>> mjcfLinks(const XmlElement& mujoco, Vec3& root_offset, bool& free_root,
+                                                   const MeshLoader& load) {
   try {
     if (mujoco.name != "mujoco") refuse(mujoco, "expected <mujoco>, found <" + mujoco.name + ">");
     Model m;
+    m.load = &load;
+    // Defaults first: assets may take them too.
+    for (const XmlElement& e : mujoco.children)
+      if (e.name == "default") {
+        if (m.classes.count("main")) refuse(e, "a second top-level <default>");
+        readDefault(e, "", m);
+      }
+    std::string assetdir;
     const XmlElement* world = nullptr;
     for (const XmlElement& e : mujoco.children) {
       if (e.name == "compiler") {
@@ -262,18 +377,39 @@ Result<std::vector<ArticulatedLinkDesc>> mjcfLinks(const XmlElement& mujoco, Vec
             refuse(e, "coordinate=\"" + v + "\" is outside the supported MJCF subset");
           } else if (k == "eulerseq" && v != "xyz") {
             refuse(e, "eulerseq=\"" + v + "\" is outside the supported MJCF subset");
+          } else if (k == "meshdir") {
+            m.meshdir = v;
+          } else if (k == "assetdir") {
+            assetdir = v;
           }
+        }
+      } else if (e.name == "asset") {
+        for (const XmlElement& a : e.children) {
+          if (a.name != "mesh") continue;  // textures and materials: only drawing, passed over
+          const XmlElement mesh = withDefaults(a, "main", m);
+          onlyChildren(a, {}, {});
+          const std::string* file = mesh.attribute("file");
+          if (!file || file->empty()) refuse(a, "<mesh> needs a file (vertex lists are outside the supported subset)");
+          if (file->find("://") != std::string::npos) refuse(a, "<mesh> \"" + *file + "\": only paths relative to the model are read");
+          const std::string* given = mesh.attribute("name");
+          const std::string name = given ? *given : std::filesystem::path(*file).stem().string();
+          if (m.meshes.count(name)) refuse(a, "a second <mesh> named \"" + name + "\"");
+          const auto scale = numbers(mesh, "scale", 3, {1, 1, 1});
+          for (double x : scale)
+            if (!(x > 0)) refuse(a, "<mesh> scale must be > 0");
+          m.meshes[name] = MeshAsset{&a, *file, Vec3(scale[0], scale[1], scale[2]), nullptr};
         }
       } else if (e.name == "worldbody") {
         if (world) refuse(e, "a second <worldbody>");
         world = &e;
       } else if (e.name != "option" && e.name != "visual" && e.name != "statistic" && e.name != "size" &&
-                 e.name != "asset" && e.name != "actuator" && e.name != "sensor" && e.name != "keyframe" &&
+                 e.name != "default" && e.name != "actuator" && e.name != "sensor" && e.name != "keyframe" &&
                  e.name != "contact") {
         refuse(e, "<" + e.name + "> is outside the supported MJCF subset");
       }
     }
     if (!world) refuse(mujoco, "the model has no <worldbody>");
+    if (m.meshdir.empty()) m.meshdir = assetdir;
     const XmlElement* root = nullptr;
     for (const XmlElement& e : world->children) {
       if (e.name == "body") {
@@ -284,7 +420,7 @@ Result<std::vector<ArticulatedLinkDesc>> mjcfLinks(const XmlElement& mujoco, Vec
       }
     }
     if (!root) refuse(*world, "<worldbody> has no <body>");
-    readBody(*root, m, -1, Frame{});
+    readBody(*root, m, -1, Frame{}, "main");
     root_offset = m.centre[0];
     free_root = m.free_root;
     return m.links;
