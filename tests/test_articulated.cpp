@@ -39,8 +39,9 @@ std::string human(const std::string& keys) {
 
 }  // namespace
 
-TEST_CASE("a hinge pendulum swings with the period 2π√(I/(m g d)) (3°, semi-implicit, film step)") {
-  World w = worldFromText(kPendulum);
+// The period of a pendulum scene's first joint, from its downward zero crossings over 5 s.
+double pendulumPeriod(const std::string& scene) {
+  World w = worldFromText(scene);
   ArticulatedBody& b = figure(w);
   std::vector<double> crossings;
   double last = b.state().q[0], t_last = 0;
@@ -52,13 +53,23 @@ TEST_CASE("a hinge pendulum swings with the period 2π√(I/(m g d)) (3°, semi-
     t_last = t;
   }
   REQUIRE(crossings.size() >= 3);
-  const double period = (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
+  return (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
+}
+
+TEST_CASE("a hinge pendulum swings with the period 2π√(I/(m g d)) (3°, semi-implicit, film step)") {
   // The rod about its end: I = m(L² + w²)/12 + m(L/2)², d = L/2.
   const double m = 0.02 * 0.02 * 1.0 * 1000, I = m * (1.0 + 0.0004) / 12 + m * 0.25;
-  const double expected = 2 * kPi * std::sqrt(I / (m * 9.78 * 0.5));
+  const double period = pendulumPeriod(kPendulum), expected = 2 * kPi * std::sqrt(I / (m * 9.78 * 0.5));
   CAPTURE(period);
   CAPTURE(expected);
   CHECK(std::abs(period / expected - 1) < 0.005);
+  // A rotor's armature a on the hinge adds to its inertia alone: 2π√((I + a)/(m g d)).
+  std::string geared = kPendulum;
+  geared.replace(geared.find(R"("angle_deg": 3)"), 14, R"("angle_deg": 3, "armature": 0.05)");
+  const double slower = pendulumPeriod(geared), expected_geared = 2 * kPi * std::sqrt((I + 0.05) / (m * 9.78 * 0.5));
+  CAPTURE(slower);
+  CHECK(std::abs(slower / expected_geared - 1) < 0.005);
+  CHECK(slower > 1.1 * period);
 }
 
 TEST_CASE("a chaotic double pendulum keeps its energy within 1e-4 over 10 s (rk4, 1 ms)") {
@@ -220,6 +231,7 @@ TEST_CASE("articulated: bad input is refused with its JSON path") {
            "/bodies/0/links/1/joint/lower_deg");
   checkHas(badInputError(links(R"({"name": "x", "parent": "base", "joint": {"kp": -1}})")), "/bodies/0/links/1/joint/kp");
   checkHas(badInputError(links(R"({"name": "x", "parent": "base"})")), "/bodies/0/links/1/joint");
+  checkHas(badInputError(links(R"({"name": "x", "parent": "base", "joint": {"armature": -0.1}})")), "/bodies/0/links/1/joint/armature");
   checkHas(badInputError(links(R"({"name": "x", "parent": "base", "joint": {}, "mass": 1e9})")), "/bodies/0/links/1/mass");
   checkHas(badInputError(links(R"({"name": "base", "parent": "base", "joint": {}})")), "/bodies/0/links/1/name");
   checkHas(badInputError(links(R"({"name": "x", "parent": "base", "joint": {"type": "ball", "lower_deg": 1, "upper_deg": 2}})")),

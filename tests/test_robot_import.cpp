@@ -168,7 +168,7 @@ const std::string kPendulumMjcf = R"(<mujoco model="double pendulum">
     <body name="base" pos="0 0 2">
       <geom type="sphere" size="0.05" mass="1"/>
       <body name="upper">
-        <joint name="j1" type="hinge" axis="0 1 0" range="-120 120" damping="0.01"/>
+        <joint name="j1" type="hinge" axis="0 1 0" range="-120 120" damping="0.01" armature="0.02"/>
         <geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.04" density="1000"/>
         <body name="lower" pos="0.5 0 0">
           <joint name="j2" type="hinge" axis="0 1 0"/>
@@ -209,6 +209,7 @@ TEST_CASE("MJCF: a double pendulum's masses (from density and given), joints and
   REQUIRE(j1.lower.size() == 1);
   CHECK(j1.lower[0] == doctest::Approx(-120 * kPi / 180));
   CHECK(j1.damping == 0.01);
+  CHECK(j1.armature == 0.02);
   CHECK((j1.anchor - Vec3(-0.25, 0, 0)).norm() < 1e-9);     // the joint at the capsule's end
   CHECK((d.links[2].joint.anchor - Vec3(0, 0, 0.2)).norm() < 1e-9);  // and at the box's top
   CHECK(d.links[2].joint.lower.empty());

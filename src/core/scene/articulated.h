@@ -61,6 +61,7 @@ struct ArticulatedJointDesc {
   std::vector<double> lower, upper;
   double cone = 0.0;
   double damping = 0.0;  // N·m·s/rad, on the joint's angular velocity
+  double armature = 0.0;  // kg·m² added to each of the joint's rotations (a motor's reflected rotor inertia)
   ServoDesc servo;
   std::vector<double> target;  // rad, the servo's rest target (default the initial angles)
 };

@@ -91,6 +91,7 @@ void readJointState(Obj& j, ArticulatedJointDesc& joint) {
   if (auto a = readAngles(j, "angle_deg", n)) joint.angles = *a;
   if (auto a = readAngles(j, "target_deg", n)) joint.target = *a;
   joint.damping = j.number("damping", joint.damping, Range::closed(0.0, 1e9));
+  joint.armature = j.number("armature", joint.armature, Range::closed(0.0, 1e6));
   readServo(j, joint.servo);
 }
 

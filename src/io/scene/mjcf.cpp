@@ -301,7 +301,7 @@ void readBody(const XmlElement& b, Model& m, int parent, const Frame& parent_fra
       axes.push_back((T.R * a).normalized());
       if (axes.size() > 2) refuse(*je, "three hinges in one body are outside the supported subset");
     }
-    for (const char* key : {"stiffness", "armature", "frictionloss", "ref", "springref", "springdamper"})
+    for (const char* key : {"stiffness", "frictionloss", "ref", "springref", "springdamper"})
       if (je->attribute(key)) {
         const auto v = numberList(*je, key, 2);
         for (double x : v)
@@ -310,6 +310,9 @@ void readBody(const XmlElement& b, Model& m, int parent, const Frame& parent_fra
     const double damping = number(*je, "damping", 0.0);
     if (damping < 0) refuse(*je, "damping must be ≥ 0");
     j.damping = std::max(j.damping, damping);
+    const double armature = number(*je, "armature", 0.0);
+    if (!(armature >= 0 && armature <= 1e6)) refuse(*je, "armature must be in [0, 1e6]");
+    j.armature = std::max(j.armature, armature);
     if (je->attribute("range") && !(je->attribute("limited") && *je->attribute("limited") == "false")) {
       const auto r = numbers(*je, "range", 2, {});
       if (r[0] > r[1]) refuse(*je, "the range's lower end is above its upper");

@@ -1,8 +1,9 @@
 // MJCF (MuJoCo's XML) models as articulated bodies, the common subset: one tree of <body>
 // elements under <worldbody>, each with pos and quat / euler / axisangle / zaxis; its joints (none:
 // welded to its parent; one `hinge` or `ball`; two hinges through one point: a universal joint;
-// `free` or <freejoint/> on the root) with axis, pos, range (a hinge's limits, a ball's cone) and
-// damping; one <geom> (sphere, capsule, box, cylinder; size or fromto; pos and orientation; mass or
+// `free` or <freejoint/> on the root) with axis, pos, range (a hinge's limits, a ball's cone),
+// damping and armature; one <geom> (sphere, capsule, box, cylinder, mesh; size or fromto; pos and
+// orientation; mass or
 // density) and an optional <inertial> (pos, quat, mass, diaginertia or fullinertia). <compiler
 // angle> is honoured. <option>, <visual>, <statistic>, <size>, <asset>, <actuator>, <sensor>,
 // <keyframe>, <contact>, and <site>, <camera>, <light> and <geom> directly under <worldbody> are

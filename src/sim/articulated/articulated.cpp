@@ -152,6 +152,9 @@ void massMatrix(const ArticulatedModel& m, const ArtKinematics& k, MatX& M) {
         const ArtJoint& ja = m.joints[static_cast<std::size_t>(a)];
         for (int r = ja.vi; r < ja.vi + ja.nv; ++r) M(r, col) = M(col, r) = k.S.col(r).dot(F);
       }
+      // Armature: a rotor geared to the joint adds its reflected inertia to the joint's own
+      // coordinate only (MuJoCo's `armature`; Featherstone 2008, §9.5 on gear-driven joints).
+      M(col, col) += j.armature;
     }
   }
 }

@@ -47,6 +47,7 @@ struct ArtJoint {
   std::vector<double> lower, upper;  // rad per velocity coordinate (hinge, universal); empty: none
   double cone = 0.0;                 // ball: largest angle, rad (0: none)
   double damping = 0.0;              // N·m·s/rad
+  double armature = 0.0;             // kg·m² on the mass matrix's diagonal, per velocity
   ServoDesc servo;
   std::vector<double> target;        // rad per velocity coordinate (ball: rotation vector)
   Mat3 R_fixed = Mat3::Identity();   // a fixed root's pose

@@ -323,6 +323,7 @@ Result<std::unique_ptr<Body>> buildArticulatedBody(const BodyDesc& desc, const B
     j.upper = ld.joint.upper;
     j.cone = ld.joint.cone;
     j.damping = ld.joint.damping;
+    j.armature = ld.joint.armature;
     j.servo = ld.joint.servo;
     j.target = ld.joint.target.empty() ? ld.joint.angles : ld.joint.target;
     j.R_fixed = R[i];
