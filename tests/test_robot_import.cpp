@@ -18,6 +18,26 @@ using namespace reel::test;
 
 namespace {
 
+// s with the first a replaced by b (a must be there).
+std::string replaced(std::string s, const std::string& a, const std::string& b) {
+  const auto p = s.find(a);
+  REQUIRE(p != std::string::npos);
+  return s.replace(p, a.size(), b);
+}
+
+// The scene is refused, naming the body's robot key and `part` (a line and what is wrong).
+void checkRefused(const std::string& scene, const std::string& key, const std::string& part) {
+  auto s = app::loadScene(scene);
+  REQUIRE_FALSE(s.ok());
+  CAPTURE(s.error().headline());
+  CHECK(s.error().headline().find("/bodies/0/" + key) != std::string::npos);
+  CHECK(s.error().headline().find(part) != std::string::npos);
+}
+
+}  // namespace
+
+namespace {
+
 // A two-link arm on a box base (URDF: z up, the shoulder turned 90° about y, so the arm starts
 // along +x), and a scene that loads it.
 const std::string kArm = R"(<?xml version="1.0"?>
@@ -105,22 +125,27 @@ const char* kUnitCubeObj =
     "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\n"
     "f 4 8 7\nf 4 7 3\nf 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n";
 
+// The scene loaded with kUnitCubeObj written as parts/<name> beside it.
+SceneDesc loadWithCube(const std::string& scene, const std::string& name) {
+  const auto dir = std::filesystem::path(scene).parent_path();
+  std::filesystem::create_directories(dir / "parts");
+  std::ofstream(dir / "parts" / name) << kUnitCubeObj;
+  auto s = app::loadScene(scene);
+  REQUIRE_MESSAGE(s.ok(), (s.ok() ? "" : s.error().headline()));
+  return s.value();
+}
+
 }  // namespace
 
 TEST_CASE("URDF: a mesh link is drawn as its mesh and met as its convex hull") {
   std::string urdf = kArm;
   const std::string capsule = R"(<capsule radius="0.04" length="0.32"/>)";
   urdf.replace(urdf.find(capsule), capsule.size(), R"(<mesh filename="parts/fore.obj" scale="0.08 0.4 0.08"/>)");
-  const std::string scene = robotScene("urdf_mesh", urdf);
-  const auto dir = std::filesystem::path(scene).parent_path();
-  std::filesystem::create_directories(dir / "parts");
-  std::ofstream(dir / "parts" / "fore.obj") << kUnitCubeObj;
-  auto s = app::loadScene(scene);
-  REQUIRE_MESSAGE(s.ok(), (s.ok() ? "" : s.error().headline()));
-  const auto& d = s.value().bodies[0].as<ArticulatedDesc>();
+  const SceneDesc loaded = loadWithCube(robotScene("urdf_mesh", urdf), "fore.obj");
+  const auto& d = loaded.bodies[0].as<ArticulatedDesc>();
   CHECK(d.links[2].shape.kind == LinkShape::Kind::Mesh);
   CHECK(d.links[2].mass.mass == 1.0);  // the inertial's, not the mesh's
-  auto w = app::makeWorld(s.value());
+  auto w = app::makeWorld(loaded);
   REQUIRE(w.ok());
   const ArtLink& fore = figure(w.value()).model().links[2];
   REQUIRE(fore.shape.kind == CoreKind::Polytope);
@@ -134,18 +159,8 @@ TEST_CASE("URDF: a mesh link is drawn as its mesh and met as its convex hull") {
 }
 
 TEST_CASE("URDF: what is outside the subset, or broken, is refused with its line") {
-  auto refused = [](const std::string& urdf, const std::string& part) {
-    auto s = app::loadScene(robotScene("urdf_bad", urdf));
-    REQUIRE_FALSE(s.ok());
-    CAPTURE(s.error().headline());
-    CHECK(s.error().headline().find("/bodies/0/urdf") != std::string::npos);
-    CHECK(s.error().headline().find(part) != std::string::npos);
-  };
-  auto replace = [](std::string s, const std::string& a, const std::string& b) {
-    const auto p = s.find(a);
-    REQUIRE(p != std::string::npos);
-    return s.replace(p, a.size(), b);
-  };
+  auto refused = [](const std::string& urdf, const std::string& part) { checkRefused(robotScene("urdf_bad", urdf), "urdf", part); };
+  const auto replace = &replaced;
   refused(replace(kArm, R"(type="continuous")", R"(type="prismatic")"), "line 20: joint type \"prismatic\"");
   refused(replace(kArm, R"(<capsule radius="0.04" length="0.32"/>)", R"(<cone radius="0.04"/>)"), "line 14: <cone>");
   refused(replace(kArm, R"(<parent link="upper"/>)", R"(<parent link="uper"/>)"), "line 21: no link \"uper\"");
@@ -220,18 +235,8 @@ TEST_CASE("MJCF: a double pendulum's masses (from density and given), joints and
 }
 
 TEST_CASE("MJCF: what is outside the subset is refused with its line") {
-  auto refused = [](const std::string& xml, const std::string& part) {
-    auto s = app::loadScene(mjcfScene(xml));
-    REQUIRE_FALSE(s.ok());
-    CAPTURE(s.error().headline());
-    CHECK(s.error().headline().find("/bodies/0/mjcf") != std::string::npos);
-    CHECK(s.error().headline().find(part) != std::string::npos);
-  };
-  auto replace = [](std::string s, const std::string& a, const std::string& b) {
-    const auto p = s.find(a);
-    REQUIRE(p != std::string::npos);
-    return s.replace(p, a.size(), b);
-  };
+  auto refused = [](const std::string& xml, const std::string& part) { checkRefused(mjcfScene(xml), "mjcf", part); };
+  const auto replace = &replaced;
   refused(replace(kPendulumMjcf, R"(type="hinge" axis="0 1 0"/>)", R"(type="slide" axis="0 1 0"/>)"), "line 12: joint type \"slide\"");
   refused(replace(kPendulumMjcf, R"(<geom type="sphere" size="0.05" mass="1"/>)", R"(<geom type="ellipsoid" size="0.05 0.1 0.1"/>)"),
           "line 7: geom type \"ellipsoid\"");
@@ -278,13 +283,8 @@ TEST_CASE("MJCF: default classes cascade onto joints and geoms; a mesh geom's ma
   </worldbody>
 </mujoco>
 )";
-  const std::string scene = mjcfScene(xml);
-  const auto dir = std::filesystem::path(scene).parent_path();
-  std::filesystem::create_directories(dir / "parts");
-  std::ofstream(dir / "parts" / "cube.obj") << kUnitCubeObj;
-  auto s = app::loadScene(scene);
-  REQUIRE_MESSAGE(s.ok(), (s.ok() ? "" : s.error().headline()));
-  const auto& d = s.value().bodies[0].as<ArticulatedDesc>();
+  const SceneDesc loaded = loadWithCube(mjcfScene(xml), "cube.obj");
+  const auto& d = loaded.bodies[0].as<ArticulatedDesc>();
   REQUIRE(d.links.size() == 3);
   // The base: the unit cube scaled to 0.2 × 0.1 × 0.4 m at the main class's 500 kg/m³.
   CHECK(d.links[0].shape.kind == LinkShape::Kind::Mesh);
@@ -305,7 +305,7 @@ TEST_CASE("MJCF: default classes cascade onto joints and geoms; a mesh geom's ma
   CHECK(j2.lower.empty());
   CHECK(j2.damping == 0.2);
   CHECK((j2.axis - Vec3(1, 0, 0)).norm() < 1e-12);
-  auto w = app::makeWorld(s.value());
+  auto w = app::makeWorld(loaded);
   REQUIRE(w.ok());
   REQUIRE(figure(w.value()).model().links[0].shape.kind == CoreKind::Polytope);
   CHECK(figure(w.value()).model().links[0].shape.poly->vertices.size() == 8);  // met as the cube's hull
