@@ -196,8 +196,9 @@ const std::string kPendulumMjcf = R"(<mujoco model="double pendulum">
 </mujoco>
 )";
 
-std::string mjcfScene(const std::string& xml) {
-  const auto dir = freshDir("mjcf");
+// Its own folder per test (tests run in parallel).
+std::string mjcfScene(const std::string& dir_name, const std::string& xml) {
+  const auto dir = freshDir(dir_name);
   std::ofstream(dir / "dp.xml") << xml;
   std::ofstream(dir / "s.json") << R"({"format": "reel/1", "duration": 1,
     "bodies": [{"type": "articulated", "name": "dp", "mjcf": "dp.xml", "rotation_deg": [-90, 0, 0]}]})";
@@ -207,7 +208,7 @@ std::string mjcfScene(const std::string& xml) {
 }  // namespace
 
 TEST_CASE("MJCF: a double pendulum's masses (from density and given), joints and limits, welded to the world") {
-  auto s = app::loadScene(mjcfScene(kPendulumMjcf));
+  auto s = app::loadScene(mjcfScene("mjcf_pendulum", kPendulumMjcf));
   REQUIRE_MESSAGE(s.ok(), (s.ok() ? "" : s.error().headline()));
   const auto& d = s.value().bodies[0].as<ArticulatedDesc>();
   REQUIRE(d.links.size() == 3);
@@ -235,7 +236,7 @@ TEST_CASE("MJCF: a double pendulum's masses (from density and given), joints and
 }
 
 TEST_CASE("MJCF: what is outside the subset is refused with its line") {
-  auto refused = [](const std::string& xml, const std::string& part) { checkRefused(mjcfScene(xml), "mjcf", part); };
+  auto refused = [](const std::string& xml, const std::string& part) { checkRefused(mjcfScene("mjcf_bad", xml), "mjcf", part); };
   const auto replace = &replaced;
   refused(replace(kPendulumMjcf, R"(type="hinge" axis="0 1 0"/>)", R"(type="slide" axis="0 1 0"/>)"), "line 12: joint type \"slide\"");
   refused(replace(kPendulumMjcf, R"(<geom type="sphere" size="0.05" mass="1"/>)", R"(<geom type="ellipsoid" size="0.05 0.1 0.1"/>)"),
@@ -283,7 +284,7 @@ TEST_CASE("MJCF: default classes cascade onto joints and geoms; a mesh geom's ma
   </worldbody>
 </mujoco>
 )";
-  const SceneDesc loaded = loadWithCube(mjcfScene(xml), "cube.obj");
+  const SceneDesc loaded = loadWithCube(mjcfScene("mjcf_classes", xml), "cube.obj");
   const auto& d = loaded.bodies[0].as<ArticulatedDesc>();
   REQUIRE(d.links.size() == 3);
   // The base: the unit cube scaled to 0.2 × 0.1 × 0.4 m at the main class's 500 kg/m³.
