@@ -25,6 +25,13 @@ std::string replaced(std::string s, const std::string& a, const std::string& b) 
   return s.replace(p, a.size(), b);
 }
 
+// The scene, loaded (it must load).
+SceneDesc loadedScene(const std::string& path) {
+  auto s = app::loadScene(path);
+  REQUIRE_MESSAGE(s.ok(), (s.ok() ? "" : s.error().headline()));
+  return s.value();
+}
+
 // The scene is refused, naming the body's robot key and `part` (a line and what is wrong).
 void checkRefused(const std::string& scene, const std::string& key, const std::string& part) {
   auto s = app::loadScene(scene);
@@ -65,21 +72,26 @@ const std::string kArm = R"(<?xml version="1.0"?>
 </robot>
 )";
 
-// Writes `urdf` beside a scene that loads it; the scene's path.
-std::string robotScene(const std::string& dir_name, const std::string& urdf) {
+// Writes a robot file `file` (read by the body's `key`, urdf or mjcf) beside a scene that loads
+// it, in a folder of its own per test (tests run in parallel); the scene's path.
+std::string modelScene(const std::string& dir_name, const std::string& key, const std::string& file, const std::string& text,
+                       const std::string& extra = "") {
   const auto dir = freshDir(dir_name);
-  std::ofstream(dir / "arm.urdf") << urdf;
-  std::ofstream(dir / "s.json") << R"({"format": "reel/1", "duration": 1,
-    "bodies": [{"type": "articulated", "name": "arm", "urdf": "arm.urdf", "fixed_base": true, "rotation_deg": [-90, 0, 0]}]})";
+  std::ofstream(dir / file) << text;
+  std::ofstream(dir / "s.json") << R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "articulated", "name": "robot", ")" +
+                                       key + R"(": ")" + file + R"(")" + extra + R"(, "rotation_deg": [-90, 0, 0]}]})";
   return (dir / "s.json").string();
+}
+
+std::string robotScene(const std::string& dir_name, const std::string& urdf) {
+  return modelScene(dir_name, "urdf", "arm.urdf", urdf, R"(, "fixed_base": true)");
 }
 
 }  // namespace
 
 TEST_CASE("URDF: a small arm's links, masses, inertias and joints match the hand-computed ones") {
-  auto s = app::loadScene(robotScene("urdf_arm", kArm));
-  REQUIRE_MESSAGE(s.ok(), (s.ok() ? "" : s.error().headline()));
-  const auto& d = s.value().bodies[0].as<ArticulatedDesc>();
+  const SceneDesc loaded = loadedScene(robotScene("urdf_arm", kArm));
+  const auto& d = loaded.bodies[0].as<ArticulatedDesc>();
   REQUIRE(d.links.size() == 3);
   CHECK(d.links[0].name == "base");
   CHECK(d.links[1].mass.mass == 2.0);
@@ -108,7 +120,7 @@ TEST_CASE("URDF: a small arm's links, masses, inertias and joints match the hand
   CHECK((d.links[1].shape.rotation * Vec3::UnitY() - Vec3(1, 0, 0)).norm() < 1e-9);
   CHECK(d.links[1].shape.kind == LinkShape::Kind::Cylinder);
   // It simulates (turned z up → y up): the arm swings down under gravity, joints together.
-  auto w = app::makeWorld(s.value());
+  auto w = app::makeWorld(loaded);
   REQUIRE(w.ok());
   const double y0 = figure(w.value()).kinematics().x[2].y();
   run(w.value(), 10);
@@ -130,9 +142,7 @@ SceneDesc loadWithCube(const std::string& scene, const std::string& name) {
   const auto dir = std::filesystem::path(scene).parent_path();
   std::filesystem::create_directories(dir / "parts");
   std::ofstream(dir / "parts" / name) << kUnitCubeObj;
-  auto s = app::loadScene(scene);
-  REQUIRE_MESSAGE(s.ok(), (s.ok() ? "" : s.error().headline()));
-  return s.value();
+  return loadedScene(scene);
 }
 
 }  // namespace
@@ -196,21 +206,13 @@ const std::string kPendulumMjcf = R"(<mujoco model="double pendulum">
 </mujoco>
 )";
 
-// Its own folder per test (tests run in parallel).
-std::string mjcfScene(const std::string& dir_name, const std::string& xml) {
-  const auto dir = freshDir(dir_name);
-  std::ofstream(dir / "dp.xml") << xml;
-  std::ofstream(dir / "s.json") << R"({"format": "reel/1", "duration": 1,
-    "bodies": [{"type": "articulated", "name": "dp", "mjcf": "dp.xml", "rotation_deg": [-90, 0, 0]}]})";
-  return (dir / "s.json").string();
-}
+std::string mjcfScene(const std::string& dir_name, const std::string& xml) { return modelScene(dir_name, "mjcf", "dp.xml", xml); }
 
 }  // namespace
 
 TEST_CASE("MJCF: a double pendulum's masses (from density and given), joints and limits, welded to the world") {
-  auto s = app::loadScene(mjcfScene("mjcf_pendulum", kPendulumMjcf));
-  REQUIRE_MESSAGE(s.ok(), (s.ok() ? "" : s.error().headline()));
-  const auto& d = s.value().bodies[0].as<ArticulatedDesc>();
+  const SceneDesc loaded = loadedScene(mjcfScene("mjcf_pendulum", kPendulumMjcf));
+  const auto& d = loaded.bodies[0].as<ArticulatedDesc>();
   REQUIRE(d.links.size() == 3);
   CHECK(d.fixed_base);  // no free joint on the root
   // The capsule: a 0.5 m cylinder of radius 0.04 and a ball of it, at 1000 kg/m³.
@@ -229,7 +231,7 @@ TEST_CASE("MJCF: a double pendulum's masses (from density and given), joints and
   CHECK((j1.anchor - Vec3(-0.25, 0, 0)).norm() < 1e-9);     // the joint at the capsule's end
   CHECK((d.links[2].joint.anchor - Vec3(0, 0, 0.2)).norm() < 1e-9);  // and at the box's top
   CHECK(d.links[2].joint.lower.empty());
-  auto w = app::makeWorld(s.value());
+  auto w = app::makeWorld(loaded);
   REQUIRE(w.ok());
   run(w.value(), 10);
   CHECK(jointGap(figure(w.value())) < 1e-9);

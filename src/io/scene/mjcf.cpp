@@ -138,8 +138,9 @@ Vec3 vec3(const XmlElement& e, const std::string& key, const Vec3& def) {
   return {v[0], v[1], v[2]};
 }
 
-// The geom as a link shape (its own frame in the body's) and its mass properties in the body frame.
-void readGeom(const XmlElement& g, Model& m, LinkShape& s, MassProperties& mass) {
+// The geom as a link shape (its own frame in the body's) and, at its density, its mass properties
+// in the body frame.
+MassProperties geomShape(const XmlElement& g, Model& m, LinkShape& s) {
   onlyChildren(g, {}, {});
   const std::string type = g.attribute("type") ? *g.attribute("type") : "sphere";
   if (type != "sphere" && type != "box" && type != "capsule" && type != "cylinder" && type != "mesh")
@@ -157,17 +158,9 @@ void readGeom(const XmlElement& g, Model& m, LinkShape& s, MassProperties& mass)
     s.scale = a.scale;
     s.offset = at;
     s.rotation = R;
-    TriMesh scaled = *a.mesh;
-    for (std::size_t i = 0; i < scaled.positions.size(); ++i) scaled.positions[i] *= static_cast<float>(a.scale[static_cast<Eigen::Index>(i % 3)]);
-    auto solid = solidMassProperties(scaled, density);
+    auto solid = solidMassProperties(placeMesh(*a.mesh, a.scale, R, at), density);
     if (!solid.ok()) refuse(g, "mesh \"" + *g.attribute("mesh") + "\": " + solid.error().headline());
-    mass = placed(solid.value(), R, at);
-    if (g.attribute("mass")) {
-      const double kg = number(g, "mass");
-      if (!(kg > 0)) refuse(g, "<geom> mass must be > 0");
-      mass = withMass(mass, kg);
-    }
-    return;
+    return solid.value();
   }
   const auto size = numberList(g, "size", 3);
   for (std::size_t k = 0; k < size.size(); ++k)
@@ -194,16 +187,19 @@ void readGeom(const XmlElement& g, Model& m, LinkShape& s, MassProperties& mass)
     if (size.size() != 3) refuse(g, "a box's size is its three half sizes");
     s.kind = LinkShape::Kind::Box;
     s.size = 2.0 * Vec3(size[0], size[1], size[2]);
-  } else if (type == "capsule" || type == "cylinder") {
+  } else {  // a capsule or a cylinder (the type was checked above)
     if (!(half > 0)) refuse(g, "a " + type + " needs its half length (size or fromto)");
     s.kind = type == "capsule" ? LinkShape::Kind::Capsule : LinkShape::Kind::Cylinder;
     s.radius = size[0];
     s.length = 2.0 * half;
     s.rotation = R * z_from_y;
-  } else {
-    refuse(g, "geom type \"" + type + "\" is outside the supported MJCF subset (sphere, capsule, box, cylinder)");
   }
-  mass = linkMass(s, density);
+  return linkMass(s, density);
+}
+
+// The geom's shape and mass properties: its `mass` if given, else from its density.
+void readGeom(const XmlElement& g, Model& m, LinkShape& s, MassProperties& mass) {
+  mass = geomShape(g, m, s);
   if (g.attribute("mass")) {
     const double kg = number(g, "mass");
     if (!(kg > 0)) refuse(g, "<geom> mass must be > 0");
