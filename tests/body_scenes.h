@@ -102,6 +102,8 @@ inline const std::map<std::string, std::string> kScenes = {
                  {"type": "articulated", "name": "other", "figure": "human", "strength": 0.3, "position": [0, 0, 1.3],
                   "rotation_deg": [0, 180, 0], "pushes": [{"time": 0, "link": "chest", "impulse": [0, 0, 20]}]},
                  {"type": "rigid", "name": "crate", "shape": "box", "size": [0.3, 0.3, 0.3], "mass": 8, "position": [0, 1.6, 0.9]},
+                 {"type": "articulated", "name": "riser", "figure": "human", "position": [-1.5, 0.1, 0], "rotation_deg": [-90, 0, 0],
+                  "stand_up": {"wait": 0.1}},
                  {"type": "articulated", "name": "chain", "position": [1, 1.5, 0], "fixed_base": true,
                   "links": [{"name": "top", "shape": "sphere", "radius": 0.03},
                             {"name": "a", "parent": "top", "shape": "capsule", "radius": 0.03, "length": 0.3,

@@ -183,6 +183,38 @@ TEST_CASE("the standing figure balances after a 15 N·s push to the chest and fa
   CHECK(figure(w).kinematics().x[0].y() < 0.9);
 }
 
+TEST_CASE("a figure lying on its back gets up (curl, sit, tuck, rock, squat, rise) and stands; face down, it waits") {
+  // Lying on its back, still: the stand-up's pre-condition holds after `wait`.
+  const std::string lying = R"(, "position": [0, 0.1, 0], "rotation_deg": [-90, 0, 0])";
+  World w = worldFromText(human(lying + R"(, "stand_up": true, "protect": true)"));
+  ArticulatedBody& b = figure(w);
+  std::vector<int> phases{0};
+  double worst_gap = 0;
+  for (int f = 0; f < 270; ++f) {  // 9 s
+    REQUIRE(w.advanceFrame());
+    if (b.standUpState().phase != phases.back()) phases.push_back(b.standUpState().phase);
+    worst_gap = std::max(worst_gap, jointGap(b));
+  }
+  CAPTURE(phases.size());
+  // Every phase in its order, each once (no retry needed here), ending standing under balance.
+  CHECK(phases == std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7});
+  CHECK(b.activeController() == ControllerKind::StandUp);
+  const double head = b.kinematics().x[3].y(), pelvis = b.kinematics().x[0].y();
+  CAPTURE(head);
+  CHECK(head > 0.85 * 0.905 * 1.75);  // the head's standing height is 0.905 H
+  CHECK(pelvis > 0.85 * 0.575 * 1.75);
+  CHECK(worst_gap < 1e-9);
+  // Without the controller it stays down; face down, the pre-condition never holds.
+  World still = worldFromText(human(lying));
+  run(still, 270);
+  CHECK(figure(still).kinematics().x[3].y() < 0.3);
+  World prone = worldFromText(human(R"(, "position": [0, 0.1, 0], "rotation_deg": [90, 0, 0], "stand_up": true)"));
+  for (int f = 0; f < 90; ++f) {
+    REQUIRE(prone.advanceFrame());
+    CHECK(figure(prone).standUpState().phase == 0);
+  }
+}
+
 TEST_CASE("articulated: the same state for 1 and 2 threads, and a dump of links and joints") {
   const std::string text = human(R"(, "strength": 0.3, "velocity": [0, 0, 1.5], "protect": true)");
   CHECK(runHash(text, 1, 30) == runHash(text, 2, 30));
@@ -238,6 +270,10 @@ TEST_CASE("articulated: bad input is refused with its JSON path") {
            "/bodies/0/links/1/joint/lower_deg");
   checkHas(badInputError(links(R"({"name": "x", "parent": "base", "joint": {"type": "hinge"}})", R"(, "balance": true)")),
            "/bodies/0/balance");
+  checkHas(badInputError(links(R"({"name": "x", "parent": "base", "joint": {"type": "hinge"}})", R"(, "stand_up": true)")),
+           "/bodies/0/stand_up");
+  checkHas(badInputError(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "articulated", "name": "m", "figure": "human",
+    "stand_up": {"wait": -1}}]})"), "/bodies/0/stand_up/wait");
   checkHas(badInputError(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "articulated", "name": "m", "figure": "human",
     "joints": {"knee": {"angle_deg": 10}}}]})"), "/bodies/0/joints/knee");
   checkHas(badInputError(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "articulated", "name": "m", "figure": "human",

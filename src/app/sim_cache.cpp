@@ -18,7 +18,7 @@ namespace reel::app {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr char kMagic[9] = "REELSIM3";
+constexpr char kMagic[9] = "REELSIM4";
 constexpr std::size_t kMaxSceneBytes = 64u << 20;
 
 // The snapshot's fields in one order for writing and reading.

@@ -113,6 +113,8 @@ struct ControllersDesc {
   double margin = 0.02;        // m: the centre of mass this far inside the support still balances
   bool protect = false;
   double reach_deg = 80.0;     // how far the arms swing toward the fall
+  bool stand_up = false;
+  double stand_up_wait = 0.4;  // s: lying still on its back this long before it gets up
 };
 
 struct ArticulatedDesc final : BodyParams {

@@ -429,6 +429,7 @@ std::shared_ptr<const BodyParams> readArticulatedBody(Obj& o, BodyDesc& body, co
     cd.margin = b.number("margin", cd.margin, Range::closed(0.0, 1.0));
   });
   controller("protect", cd.protect, [&](Obj& b) { cd.reach_deg = b.number("reach_deg", cd.reach_deg, Range::closed(0.0, 180.0)); });
+  controller("stand_up", cd.stand_up, [&](Obj& b) { cd.stand_up_wait = b.number("wait", cd.stand_up_wait, Range::closed(0.0, 1e6)); });
   // Pushes: [{time, link, impulse}].
   readList(o, "pushes", [&](Obj& po) {
     PushDesc push;

@@ -16,7 +16,7 @@ std::vector<double> toVector(const VecX& v, int i, int n) { return std::vector<d
 }  // namespace
 
 ArticulatedBody::ArticulatedBody(std::string name, ArticulatedModel model, ArticulatedState state)
-    : Body(std::move(name)), model_(std::move(model)), state_(std::move(state)), roles_(humanRoles(model_)) {
+    : Body(std::move(name)), model_(std::move(model)), state_(std::move(state)), roles_(humanRoles(model_)), stand_links_(standUpLinks(model_)) {
   for (const ArtLink& l : model_.links) mass_view_.push_back(l.mass);
   // Per velocity: the servo's gains (0 where none or where its torque limit is 0) and damping.
   const int nv = model_.nv;
@@ -56,7 +56,15 @@ void ArticulatedBody::smoothStep(StepContext& ctx, VecX& v_star, bool& moved) {
   in.left_down = left_down_;
   in.right_down = right_down_;
   in.gravity = ctx.gravity;
-  active_ = supervise(model_, roles_, model_.controllers, in, s.targets);
+  StandUpInput up;
+  up.k = &view_k_;
+  centreOfMass(model_, view_k_, up.com, up.vcom);
+  up.up = ctx.gravity.norm() > 0 ? Vec3(-ctx.gravity.normalized()) : Vec3::UnitY();
+  up.t = ctx.t1;
+  up.feet_down = left_down_ && right_down_;
+  active_ = standUp(model_, stand_links_, model_.controllers, up, stand_, s.targets)
+                ? ControllerKind::StandUp
+                : supervise(model_, roles_, model_.controllers, in, s.targets);
   // What the other bodies handed the links (coupling stage), as forces over the step.
   s.f_ext.assign(model_.links.size(), Vec6::Zero());
   for (std::size_t i = 0; i < model_.links.size(); ++i) {
@@ -248,6 +256,9 @@ void ArticulatedBody::snapshot(StateBlob& out) const {
   w.put(toVector(state_.v, 0, model_.nv));
   w.put(foot_points_);
   w.put(static_cast<std::uint8_t>(left_down_ + 2 * right_down_));
+  w.put(std::vector<double>{static_cast<double>(stand_.phase), stand_.since, stand_.still_since,
+                            static_cast<double>(stand_.tries)});
+  w.put(std::vector<double>(stand_.from, stand_.from + 7));
 }
 
 bool ArticulatedBody::restore(const StateBlob& in) {
@@ -259,7 +270,14 @@ bool ArticulatedBody::restore(const StateBlob& in) {
   r.get(v);
   r.get(feet);
   r.get(down);
+  std::vector<double> stand, from;
+  r.get(stand);
+  r.get(from);
   if (!allWithin(feet, kRunawayDistance) || down > 3) return false;
+  if (stand.size() != 4 || from.size() != 7 || !(stand[0] >= 0 && stand[0] <= 7) || !(stand[3] >= 0 && stand[3] < 1e6))
+    return false;
+  for (double x : from)
+    if (!(std::abs(x) < 1e3)) return false;
   if (!r.done() || q.size() != static_cast<std::size_t>(model_.nq) || v.size() != static_cast<std::size_t>(model_.nv)) return false;
   for (double x : q)
     if (!(std::abs(x) < kRunawayDistance)) return false;
@@ -278,6 +296,11 @@ bool ArticulatedBody::restore(const StateBlob& in) {
   candidate_age_ = 0;  // the parts near it are listed afresh
   left_down_ = (down & 1) != 0;
   right_down_ = (down & 2) != 0;
+  stand_.phase = static_cast<int>(stand[0]);
+  stand_.since = stand[1];
+  stand_.still_since = stand[2];
+  stand_.tries = static_cast<int>(stand[3]);
+  std::copy(from.begin(), from.end(), stand_.from);
   refresh();
   return true;
 }
@@ -285,12 +308,16 @@ bool ArticulatedBody::restore(const StateBlob& in) {
 void ArticulatedBody::hash(Hasher& h) const {
   h.add(std::span<const double>(state_.q.data(), static_cast<std::size_t>(state_.q.size())));
   h.add(std::span<const double>(state_.v.data(), static_cast<std::size_t>(state_.v.size())));
+  h.add(std::span<const double>(stand_.from, 7));
+  const double stand[4] = {static_cast<double>(stand_.phase), stand_.since, stand_.still_since, static_cast<double>(stand_.tries)};
+  h.add(std::span<const double>(stand, 4));
 }
 
 void ArticulatedBody::statistics(std::vector<Statistic>& out) const {
   out.push_back({"kinetic_energy", kineticEnergy(model_, view_k_)});
   out.push_back({"contacts", static_cast<double>(contacts_)});
   out.push_back({"controller", static_cast<double>(static_cast<int>(active_))});
+  out.push_back({"stand_up_phase", static_cast<double>(stand_.phase)});
 }
 
 Result<std::unique_ptr<Body>> buildArticulatedBody(const BodyDesc& desc, const BuildContext& ctx) {

@@ -11,6 +11,7 @@
 #include "core/scene/articulated.h"
 #include "sim/articulated/articulated.h"
 #include "sim/articulated/controllers.h"
+#include "sim/articulated/stand_up.h"
 #include "sim/body.h"
 #include "sim/rigid/parts.h"
 
@@ -39,6 +40,7 @@ class ArticulatedBody final : public Body {
   const ArtKinematics& kinematics() const { return view_k_; }
   int contacts() const { return contacts_; }
   ControllerKind activeController() const { return active_; }
+  const StandUpState& standUpState() const { return stand_; }
 
  private:
   void smoothStep(StepContext& ctx, VecX& v_star, bool& moved);
@@ -66,6 +68,8 @@ class ArticulatedBody final : public Body {
   std::vector<Vec3> foot_points_;
   bool left_down_ = false, right_down_ = false;
   ControllerKind active_ = ControllerKind::None;
+  StandUpLinks stand_links_;
+  StandUpState stand_;
   // Impulses the figure's contacts gave free bodies (rigid bodies, other figures' links) this
   // step: handed back when it publishes.
   struct Handback {

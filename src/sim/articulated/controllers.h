@@ -31,7 +31,7 @@ struct HumanRoles {
 
 HumanRoles humanRoles(const ArticulatedModel& m);
 
-enum class ControllerKind { None = 0, Balance = 1, Protect = 2 };
+enum class ControllerKind { None = 0, Balance = 1, Protect = 2, StandUp = 3 };
 
 // What the supervisor sees: the state's kinematics and the feet's contact points last step.
 struct ControlInput {

@@ -1,0 +1,59 @@
+// The human figure's stand-up from lying on its back, a controller of the composable set (Faloutsos,
+// van de Panne & Terzopoulos, "Composable Controllers for Physics-Based Character Animation",
+// SIGGRAPH 2001, whose supine-to-stand sits up, tucks and rises over the feet).
+//
+// A state machine of poses in a few symmetric handles (hip and knee flexion, ankle, spine, neck,
+// shoulder, elbow), each phase blending from the last phase's pose to its own:
+//   curl → sit (a crunch, then hip flexion: a sit-up) → tuck (the heels pulled to the seat, the arms
+//   back) → rock (trunk and arms thrown forward until the seat leaves the ground over the feet) →
+//   squat (held, the centre of mass brought over the feet) → rise (the squat blended to standing) →
+//   stand (the standing pose under the ankle-strategy balance).
+// The squat, rise and stand phases close the loop on the centre of mass's offset d from the feet's
+// centre along the pelvis's heading and its velocity ḋ: the ankles lean against it as balance does,
+// and the hips fold the trunk forward when it lags behind (the hip strategy). Phases end on
+// conditions, not clocks alone: a rock that does not lift the seat, or a squat that sits back down,
+// returns to the tuck and tries again.
+#pragma once
+
+#include <vector>
+
+#include "core/scene/articulated.h"
+#include "core/types.h"
+#include "sim/articulated/articulated.h"
+
+namespace reel {
+
+// The links the stand-up moves (indices; −1 where the model has none).
+struct StandUpLinks {
+  int pelvis = -1, abdomen = -1, chest = -1, head = -1;
+  int upper_arm[2] = {-1, -1}, forearm[2] = {-1, -1}, thigh[2] = {-1, -1}, shin[2] = {-1, -1}, foot[2] = {-1, -1};
+  bool valid() const;
+};
+
+StandUpLinks standUpLinks(const ArticulatedModel& m);
+
+// The controller's memory, part of the figure's snapshot.
+struct StandUpState {
+  int phase = 0;           // StandUpPhase
+  double since = 0.0;      // s: when the phase began
+  double still_since = -1; // s: since when the figure has lain still on its back (−1: it has not)
+  int tries = 0;           // rocks that did not lift the seat
+  double from[7] = {};     // the handles' pose the phase blends from (deg)
+};
+
+enum class StandUpPhase { Idle = 0, Curl, Sit, Tuck, Rock, Squat, Rise, Stand };
+
+struct StandUpInput {
+  const ArtKinematics* k = nullptr;
+  Vec3 com{0, 0, 0}, vcom{0, 0, 0};
+  Vec3 up{0, 1, 0};
+  double t = 0.0;  // the step's end time
+  bool feet_down = false;
+};
+
+// Advances the state machine and, while it acts, writes every joint's servo target; returns
+// whether it acted.
+bool standUp(const ArticulatedModel& m, const StandUpLinks& links, const ControllersDesc& c, const StandUpInput& in,
+             StandUpState& s, std::vector<std::vector<double>>& targets);
+
+}  // namespace reel
