@@ -62,7 +62,7 @@ void ArticulatedBody::smoothStep(StepContext& ctx, VecX& v_star, bool& moved) {
   up.up = ctx.gravity.norm() > 0 ? Vec3(-ctx.gravity.normalized()) : Vec3::UnitY();
   up.t = ctx.t1;
   up.feet_down = left_down_ && right_down_;
-  active_ = standUp(model_, stand_links_, model_.controllers, up, stand_, s.targets)
+  active_ = standUp(stand_links_, model_.controllers, up, stand_, s.targets)
                 ? ControllerKind::StandUp
                 : supervise(model_, roles_, model_.controllers, in, s.targets);
   // What the other bodies handed the links (coupling stage), as forces over the step.
@@ -256,8 +256,7 @@ void ArticulatedBody::snapshot(StateBlob& out) const {
   w.put(toVector(state_.v, 0, model_.nv));
   w.put(foot_points_);
   w.put(static_cast<std::uint8_t>(left_down_ + 2 * right_down_));
-  w.put(std::vector<double>{static_cast<double>(stand_.phase), stand_.since, stand_.still_since,
-                            static_cast<double>(stand_.tries)});
+  w.put(std::vector<double>{static_cast<double>(stand_.phase), stand_.since, stand_.still_since});
   w.put(std::vector<double>(stand_.from, stand_.from + 7));
 }
 
@@ -274,7 +273,8 @@ bool ArticulatedBody::restore(const StateBlob& in) {
   r.get(stand);
   r.get(from);
   if (!allWithin(feet, kRunawayDistance) || down > 3) return false;
-  if (stand.size() != 4 || from.size() != 7 || !(stand[0] >= 0 && stand[0] <= 7) || !(stand[3] >= 0 && stand[3] < 1e6))
+  if (stand.size() != 3 || from.size() != 7 || !(stand[0] >= 0 && stand[0] <= 7) || !std::isfinite(stand[1]) ||
+      !std::isfinite(stand[2]))
     return false;
   for (double x : from)
     if (!(std::abs(x) < 1e3)) return false;
@@ -299,7 +299,6 @@ bool ArticulatedBody::restore(const StateBlob& in) {
   stand_.phase = static_cast<int>(stand[0]);
   stand_.since = stand[1];
   stand_.still_since = stand[2];
-  stand_.tries = static_cast<int>(stand[3]);
   std::copy(from.begin(), from.end(), stand_.from);
   refresh();
   return true;
@@ -309,8 +308,8 @@ void ArticulatedBody::hash(Hasher& h) const {
   h.add(std::span<const double>(state_.q.data(), static_cast<std::size_t>(state_.q.size())));
   h.add(std::span<const double>(state_.v.data(), static_cast<std::size_t>(state_.v.size())));
   h.add(std::span<const double>(stand_.from, 7));
-  const double stand[4] = {static_cast<double>(stand_.phase), stand_.since, stand_.still_since, static_cast<double>(stand_.tries)};
-  h.add(std::span<const double>(stand, 4));
+  const double stand[3] = {static_cast<double>(stand_.phase), stand_.since, stand_.still_since};
+  h.add(std::span<const double>(stand, 3));
 }
 
 void ArticulatedBody::statistics(std::vector<Statistic>& out) const {

@@ -3,6 +3,7 @@
 // controller has a pre-condition (the states it can handle); the first in the list whose
 // pre-condition holds acts (its post-condition is that of the next: balance hands over to protect
 // when the centre of mass leaves the feet), and the fallback is the pose keys (or the rest pose).
+// The stand-up (stand_up.h) comes first in the list: while it acts, the others wait.
 //
 //  - balance: while both feet touch and the centre of mass is over the support polygon (with a
 //    margin), the ankles' servo targets lean against the centre of mass's offset from the support's

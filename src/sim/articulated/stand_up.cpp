@@ -95,9 +95,8 @@ StandUpLinks standUpLinks(const ArticulatedModel& m) {
   return r;
 }
 
-bool standUp(const ArticulatedModel& m, const StandUpLinks& l, const ControllersDesc& c, const StandUpInput& in,
-             StandUpState& s, std::vector<std::vector<double>>& targets) {
-  (void)m;
+bool standUp(const StandUpLinks& l, const ControllersDesc& c, const StandUpInput& in, StandUpState& s,
+             std::vector<std::vector<double>>& targets) {
   if (!c.stand_up || !l.valid()) return false;
   const Params P;
   const ArtKinematics& k = *in.k;
@@ -112,7 +111,6 @@ bool standUp(const ArticulatedModel& m, const StandUpLinks& l, const Controllers
   if (forward.norm() < 1e-6) forward = perpendicular(up);
   forward.normalize();
   const double d = (in.com - feet).dot(forward), dv = in.vcom.dot(forward);
-  const double tau = in.t - s.since;
   auto enter = [&](StandUpPhase next, const Handles& from) {
     s.phase = static_cast<int>(next);
     s.since = in.t;
@@ -120,7 +118,6 @@ bool standUp(const ArticulatedModel& m, const StandUpLinks& l, const Controllers
   };
   // Another try: from the tuck while it still sits up, from the curl when it lies back.
   auto retry = [&](const Handles& now) {
-    ++s.tries;
     const bool sitting = (at(l.chest) - at(l.pelvis)).dot(up) > 0.2;
     enter(sitting ? StandUpPhase::Tuck : StandUpPhase::Curl, now);
   };
@@ -138,15 +135,15 @@ bool standUp(const ArticulatedModel& m, const StandUpLinks& l, const Controllers
     }
     if (s.still_since < 0) s.still_since = in.t;
     if (in.t - s.still_since < c.stand_up_wait) return false;
-    s.tries = 0;
     enter(StandUpPhase::Curl, kStanding);
     from = kStanding;
   }
+  const double tau = in.t - s.since;
   Handles pose = kStanding;
   switch (static_cast<StandUpPhase>(s.phase)) {
     case StandUpPhase::Curl:
-      pose = blend(from, P.curl, (in.t - s.since) / P.curl_s);
-      if (in.t - s.since >= P.curl_s) enter(StandUpPhase::Sit, P.curl);
+      pose = blend(from, P.curl, tau / P.curl_s);
+      if (tau >= P.curl_s) enter(StandUpPhase::Sit, P.curl);
       break;
     case StandUpPhase::Sit:
       pose = blend(from, P.sit, tau / P.sit_s);

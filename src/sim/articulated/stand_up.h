@@ -37,7 +37,6 @@ struct StandUpState {
   int phase = 0;           // StandUpPhase
   double since = 0.0;      // s: when the phase began
   double still_since = -1; // s: since when the figure has lain still on its back (−1: it has not)
-  int tries = 0;           // rocks that did not lift the seat
   double from[7] = {};     // the handles' pose the phase blends from (deg)
 };
 
@@ -52,8 +51,9 @@ struct StandUpInput {
 };
 
 // Advances the state machine and, while it acts, writes every joint's servo target; returns
-// whether it acted.
-bool standUp(const ArticulatedModel& m, const StandUpLinks& links, const ControllersDesc& c, const StandUpInput& in,
-             StandUpState& s, std::vector<std::vector<double>>& targets);
+// whether it acted. Once standing it keeps acting (the rest pose under its balance feedback, over
+// any pose keys) until the figure falls.
+bool standUp(const StandUpLinks& links, const ControllersDesc& c, const StandUpInput& in, StandUpState& s,
+             std::vector<std::vector<double>>& targets);
 
 }  // namespace reel
