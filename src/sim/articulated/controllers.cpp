@@ -71,6 +71,13 @@ HumanRoles humanRoles(const ArticulatedModel& m) {
   return r;
 }
 
+Vec3 heading(const Mat3& R, const Vec3& up) {
+  Vec3 forward = R.col(2) - R.col(2).dot(up) * up;
+  if (forward.norm() < 0.2) forward = -(R.col(1) - R.col(1).dot(up) * up);
+  if (forward.norm() < 1e-6) forward = perpendicular(up);
+  return forward.normalized();
+}
+
 void centreOfMass(const ArticulatedModel& m, const ArtKinematics& k, Vec3& c, Vec3& v) {
   double mass = 0;
   c = v = Vec3::Zero();
@@ -90,9 +97,7 @@ ControllerKind supervise(const ArticulatedModel& m, const HumanRoles& roles, con
   const Vec3 up = in.gravity.norm() > 0 ? Vec3(-in.gravity.normalized()) : Vec3::UnitY();
   // The pelvis's heading frame on the ground: forward (its z) and side (its x), horizontal.
   const auto pelvis = static_cast<std::size_t>(roles.pelvis);
-  Vec3 forward = k.R[pelvis].col(2) - k.R[pelvis].col(2).dot(up) * up;
-  if (forward.norm() < 1e-6) forward = perpendicular(up);
-  forward.normalize();
+  const Vec3 forward = heading(k.R[pelvis], up);
   const Vec3 side = up.cross(forward);  // the figure's +x when upright (its left)
   Vec3 com, vcom;
   centreOfMass(m, k, com, vcom);

@@ -46,6 +46,10 @@ struct ControlInput {
 ControllerKind supervise(const ArticulatedModel& m, const HumanRoles& roles, const ControllersDesc& c,
                          const ControlInput& in, std::vector<std::vector<double>>& targets);
 
+// A link's heading on the ground: its forward axis (z) made horizontal, or, where that points
+// nearly straight up or down (lying on its back or front), its y axis's opposite made horizontal.
+Vec3 heading(const Mat3& R, const Vec3& up);
+
 // The whole figure's centre of mass and its velocity.
 void centreOfMass(const ArticulatedModel& m, const ArtKinematics& k, Vec3& c, Vec3& v);
 

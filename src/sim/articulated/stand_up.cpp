@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/math.h"
+#include "sim/articulated/controllers.h"
 
 namespace reel {
 namespace {
@@ -104,12 +105,7 @@ bool standUp(const StandUpLinks& l, const ControllersDesc& c, const StandUpInput
   auto at = [&](int link) { return k.x[static_cast<std::size_t>(link)]; };
   const Vec3 feet = 0.5 * (at(l.foot[0]) + at(l.foot[1]));
   const double pelvis_h = (at(l.pelvis) - feet).dot(up);
-  // The pelvis's heading on the ground (its forward axis; its spine's when it lies flat).
-  const Mat3& Rp = k.R[static_cast<std::size_t>(l.pelvis)];
-  Vec3 forward = Rp.col(2) - Rp.col(2).dot(up) * up;
-  if (forward.norm() < 0.2) forward = -(Rp.col(1) - Rp.col(1).dot(up) * up);
-  if (forward.norm() < 1e-6) forward = perpendicular(up);
-  forward.normalize();
+  const Vec3 forward = heading(k.R[static_cast<std::size_t>(l.pelvis)], up);
   const double d = (in.com - feet).dot(forward), dv = in.vcom.dot(forward);
   auto enter = [&](StandUpPhase next, const Handles& from) {
     s.phase = static_cast<int>(next);
