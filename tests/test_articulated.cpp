@@ -183,7 +183,7 @@ TEST_CASE("the standing figure balances after a 15 N·s push to the chest and fa
   CHECK(figure(w).kinematics().x[0].y() < 0.9);
 }
 
-TEST_CASE("a figure lying on its back gets up (curl, sit, tuck, rock, squat, rise) and stands; face down, it waits") {
+TEST_CASE("a figure lying on its back gets up (curl, sit, tuck, rock, squat, rise), stands a push, gets up again after a harder one; face down, it waits") {
   // Lying on its back, still: the stand-up's pre-condition holds after `wait`.
   const std::string lying = R"(, "position": [0, 0.1, 0], "rotation_deg": [-90, 0, 0])";
   World w = worldFromText(human(lying + R"(, "stand_up": true, "protect": true)"));
@@ -204,6 +204,28 @@ TEST_CASE("a figure lying on its back gets up (curl, sit, tuck, rock, squat, ris
   CHECK(head > 0.85 * 0.905 * 1.75);  // the head's standing height is 0.905 H
   CHECK(pelvis > 0.85 * 0.575 * 1.75);
   CHECK(worst_gap < 1e-9);
+  // Standing, it keeps its feet under a 15 N·s push from the side; a 40 N·s push from the front
+  // throws it on its back, arms out (protect), and it gets up again.
+  for (const char* push : {R"([15, 0, 0])", R"([0, 0, -40])"}) {
+    World pushed = worldFromText(human(lying + R"(, "stand_up": true, "protect": true,
+      "pushes": [{"time": 5, "link": "chest", "impulse": )" + std::string(push) + "}]"));
+    ArticulatedBody& p = figure(pushed);
+    bool protect = false, again = false;
+    for (int f = 0; f < 360; ++f) {  // 12 s
+      REQUIRE(pushed.advanceFrame());
+      if (f < 150) continue;
+      protect = protect || p.activeController() == ControllerKind::Protect;
+      again = again || (protect && p.standUpState().phase >= static_cast<int>(StandUpPhase::Squat));
+    }
+    CAPTURE(push);
+    if (push[1] == '1') {
+      CHECK(p.standUpState().phase == static_cast<int>(StandUpPhase::Stand));
+      CHECK(!protect);
+    } else {
+      CHECK(protect);
+      CHECK(again);  // on its feet again after the fall
+    }
+  }
   // Without the controller it stays down; face down, the pre-condition never holds.
   World still = worldFromText(human(lying));
   run(still, 270);

@@ -407,7 +407,7 @@ std::shared_ptr<const BodyParams> readArticulatedBody(Obj& o, BodyDesc& body, co
     r->poses.push_back(std::move(key));
   });
   r->gravity_compensation = o.boolean("gravity_compensation", false);
-  // The human figure's controllers: `balance` and `protect`, true or their keys.
+  // The human figure's controllers: `balance`, `protect` and `stand_up`, true or their keys.
   auto controller = [&](const char* key, bool& on, auto&& keys) {
     const Json* j = o.raw(key);
     if (!j) return;

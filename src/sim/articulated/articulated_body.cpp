@@ -16,7 +16,7 @@ std::vector<double> toVector(const VecX& v, int i, int n) { return std::vector<d
 }  // namespace
 
 ArticulatedBody::ArticulatedBody(std::string name, ArticulatedModel model, ArticulatedState state)
-    : Body(std::move(name)), model_(std::move(model)), state_(std::move(state)), roles_(humanRoles(model_)), stand_links_(standUpLinks(model_)) {
+    : Body(std::move(name)), model_(std::move(model)), state_(std::move(state)), roles_(humanRoles(model_)) {
   for (const ArtLink& l : model_.links) mass_view_.push_back(l.mass);
   // Per velocity: the servo's gains (0 where none or where its torque limit is 0) and damping.
   const int nv = model_.nv;
@@ -56,13 +56,8 @@ void ArticulatedBody::smoothStep(StepContext& ctx, VecX& v_star, bool& moved) {
   in.left_down = left_down_;
   in.right_down = right_down_;
   in.gravity = ctx.gravity;
-  StandUpInput up;
-  up.k = &view_k_;
-  centreOfMass(model_, view_k_, up.com, up.vcom);
-  up.up = ctx.gravity.norm() > 0 ? Vec3(-ctx.gravity.normalized()) : Vec3::UnitY();
-  up.t = ctx.t1;
-  up.feet_down = left_down_ && right_down_;
-  active_ = standUp(stand_links_, model_.controllers, up, stand_, s.targets)
+  in.t = ctx.t1;
+  active_ = standUp(model_, roles_, model_.controllers, in, stand_, s.targets)
                 ? ControllerKind::StandUp
                 : supervise(model_, roles_, model_.controllers, in, s.targets);
   // What the other bodies handed the links (coupling stage), as forces over the step.
@@ -273,8 +268,8 @@ bool ArticulatedBody::restore(const StateBlob& in) {
   r.get(stand);
   r.get(from);
   if (!allWithin(feet, kRunawayDistance) || down > 3) return false;
-  if (stand.size() != 3 || from.size() != 7 || !(stand[0] >= 0 && stand[0] <= 7) || !std::isfinite(stand[1]) ||
-      !std::isfinite(stand[2]))
+  if (stand.size() != 3 || from.size() != 7 || !(stand[0] >= 0 && stand[0] <= 7) || stand[0] != std::floor(stand[0]) ||
+      !std::isfinite(stand[1]) || !std::isfinite(stand[2]))
     return false;
   for (double x : from)
     if (!(std::abs(x) < 1e3)) return false;

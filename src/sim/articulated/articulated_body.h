@@ -68,7 +68,6 @@ class ArticulatedBody final : public Body {
   std::vector<Vec3> foot_points_;
   bool left_down_ = false, right_down_ = false;
   ControllerKind active_ = ControllerKind::None;
-  StandUpLinks stand_links_;
   StandUpState stand_;
   // Impulses the figure's contacts gave free bodies (rigid bodies, other figures' links) this
   // step: handed back when it publishes.

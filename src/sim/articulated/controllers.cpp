@@ -60,7 +60,13 @@ HumanRoles humanRoles(const ArticulatedModel& m) {
     const std::string& n = m.links[i].name;
     const int k = static_cast<int>(i);
     if (n == "pelvis") r.pelvis = k;
+    else if (n == "abdomen") r.abdomen = k;
     else if (n == "chest") r.chest = k;
+    else if (n == "head") r.head = k;
+    else if (n == "thigh_l") r.thigh_l = k;
+    else if (n == "thigh_r") r.thigh_r = k;
+    else if (n == "shin_l") r.shin_l = k;
+    else if (n == "shin_r") r.shin_r = k;
     else if (n == "foot_l") r.foot_l = k;
     else if (n == "foot_r") r.foot_r = k;
     else if (n == "upper_arm_l") r.upper_arm_l = k;

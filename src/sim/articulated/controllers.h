@@ -25,9 +25,16 @@ namespace reel {
 
 // The human figure's links the controllers move (indices, −1: not a human figure).
 struct HumanRoles {
-  int pelvis = -1, chest = -1, foot_l = -1, foot_r = -1, upper_arm_l = -1, upper_arm_r = -1, forearm_l = -1,
-      forearm_r = -1;
+  int pelvis = -1, abdomen = -1, chest = -1, head = -1, foot_l = -1, foot_r = -1, upper_arm_l = -1, upper_arm_r = -1,
+      forearm_l = -1, forearm_r = -1, thigh_l = -1, thigh_r = -1, shin_l = -1, shin_r = -1;
   bool valid() const { return pelvis >= 0 && chest >= 0 && foot_l >= 0 && foot_r >= 0; }
+  // Every link the stand-up moves.
+  bool complete() const {
+    for (int i : {pelvis, abdomen, chest, head, foot_l, foot_r, upper_arm_l, upper_arm_r, forearm_l, forearm_r, thigh_l,
+                  thigh_r, shin_l, shin_r})
+      if (i < 0) return false;
+    return true;
+  }
 };
 
 HumanRoles humanRoles(const ArticulatedModel& m);
@@ -40,6 +47,7 @@ struct ControlInput {
   const std::vector<Vec3>* foot_points = nullptr;  // world, both feet
   bool left_down = false, right_down = false;
   Vec3 gravity{0, -9.78, 0};
+  double t = 0.0;  // the step's end time
 };
 
 // Picks the controller and adjusts the servo targets; returns the one that acted.

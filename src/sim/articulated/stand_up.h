@@ -7,12 +7,12 @@
 //   curl → sit (a crunch, then hip flexion: a sit-up) → tuck (the heels pulled to the seat, the arms
 //   back) → rock (trunk and arms thrown forward until the seat leaves the ground over the feet) →
 //   squat (held, the centre of mass brought over the feet) → rise (the squat blended to standing) →
-//   stand (the standing pose under the ankle-strategy balance).
+//   stand (the standing pose under this feedback).
 // The squat, rise and stand phases close the loop on the centre of mass's offset d from the feet's
 // centre along the pelvis's heading and its velocity ḋ: the ankles lean against it as balance does,
 // and the hips fold the trunk forward when it lags behind (the hip strategy). Phases end on
-// conditions, not clocks alone: a rock that does not lift the seat, or a squat that sits back down,
-// returns to the tuck and tries again.
+// conditions, not clocks alone: a rock that does not lift the seat, or a squat that sits back down
+// or does not settle, tries again (from the tuck while it sits, from the curl when it lies back).
 #pragma once
 
 #include <vector>
@@ -20,17 +20,9 @@
 #include "core/scene/articulated.h"
 #include "core/types.h"
 #include "sim/articulated/articulated.h"
+#include "sim/articulated/controllers.h"
 
 namespace reel {
-
-// The links the stand-up moves (indices; −1 where the model has none).
-struct StandUpLinks {
-  int pelvis = -1, abdomen = -1, chest = -1, head = -1;
-  int upper_arm[2] = {-1, -1}, forearm[2] = {-1, -1}, thigh[2] = {-1, -1}, shin[2] = {-1, -1}, foot[2] = {-1, -1};
-  bool valid() const;
-};
-
-StandUpLinks standUpLinks(const ArticulatedModel& m);
 
 // The controller's memory, part of the figure's snapshot.
 struct StandUpState {
@@ -42,18 +34,10 @@ struct StandUpState {
 
 enum class StandUpPhase { Idle = 0, Curl, Sit, Tuck, Rock, Squat, Rise, Stand };
 
-struct StandUpInput {
-  const ArtKinematics* k = nullptr;
-  Vec3 com{0, 0, 0}, vcom{0, 0, 0};
-  Vec3 up{0, 1, 0};
-  double t = 0.0;  // the step's end time
-  bool feet_down = false;
-};
-
 // Advances the state machine and, while it acts, writes every joint's servo target; returns
-// whether it acted. Once standing it keeps acting (the rest pose under its balance feedback, over
-// any pose keys) until the figure falls.
-bool standUp(const StandUpLinks& links, const ControllersDesc& c, const StandUpInput& in, StandUpState& s,
-             std::vector<std::vector<double>>& targets);
+// whether it acted. Risen, it keeps the figure standing (the rest pose under its feedback, in both
+// directions, over any pose keys) until it falls: then it idles, and protect takes the fall.
+bool standUp(const ArticulatedModel& m, const HumanRoles& roles, const ControllersDesc& c, const ControlInput& in,
+             StandUpState& s, std::vector<std::vector<double>>& targets);
 
 }  // namespace reel
