@@ -237,6 +237,36 @@ TEST_CASE("a figure lying on its back gets up (curl, sit, tuck, rock, squat, ris
   }
 }
 
+TEST_CASE("the stand-up gets up figures its tuning never saw: other strengths, frictions, sizes, headings, steps") {
+  struct Case {
+    std::string keys;
+    double friction, height;
+    int substeps;
+  };
+  const std::vector<Case> cases = {
+      {R"("strength": 0.72)", 0.8, 1.75, 8},         {R"("strength": 1.4)", 0.8, 1.75, 8},
+      {"", 0.55, 1.75, 8},                             {"", 1.3, 1.75, 8},
+      {R"("height": 1.5, "mass": 45)", 0.8, 1.5, 8},  {R"("height": 2.0, "mass": 100)", 0.8, 2.0, 8},
+      {R"("rotation_deg": [-90, 135, 0])", 0.8, 1.75, 8}, {R"("rotation_deg": [-90, 0, -10])", 0.8, 1.75, 8},
+      {"", 0.8, 1.75, 4},                              {"", 0.8, 1.75, 12}};
+  for (const Case& c : cases) {
+    const std::string f = std::to_string(c.friction);
+    std::string keys = c.keys.find("rotation_deg") == std::string::npos ? R"("rotation_deg": [-90, 0, 0])" : c.keys;
+    if (keys != c.keys && !c.keys.empty()) keys += ", " + c.keys;
+    World w = worldFromText(R"({"format": "reel/1", "duration": 11, "fps": 30, "substeps": )" + std::to_string(c.substeps) +
+                            R"(, "objects": [{"type": "plane", "surface": {"friction": )" + f + R"(}}],
+      "bodies": [{"type": "articulated", "name": "man", "figure": "human", "position": [0, 0.1, 0], "stand_up": true,
+                  "surface": {"friction": )" + f + "}, " + keys + "}]}");
+    run(w, 330);
+    const ArticulatedBody& b = figure(w);
+    CAPTURE(c.keys);
+    CAPTURE(c.friction);
+    CAPTURE(c.substeps);
+    CHECK(b.standUpState().phase == static_cast<int>(StandUpPhase::Stand));
+    CHECK(b.kinematics().x[3].y() > 0.85 * 0.905 * c.height);
+  }
+}
+
 TEST_CASE("articulated: the same state for 1 and 2 threads, and a dump of links and joints") {
   const std::string text = human(R"(, "strength": 0.3, "velocity": [0, 0, 1.5], "protect": true)");
   CHECK(runHash(text, 1, 30) == runHash(text, 2, 30));
