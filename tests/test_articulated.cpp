@@ -183,7 +183,7 @@ TEST_CASE("the standing figure balances after a 15 N·s push to the chest and fa
   CHECK(figure(w).kinematics().x[0].y() < 0.9);
 }
 
-TEST_CASE("a figure lying on its back gets up (curl, sit, tuck, rock, squat, rise), stands a push, gets up again after a harder one; face down, it waits") {
+TEST_CASE("a figure lying on its back gets up (curl, sit, tuck, rock, squat, rise), stands a push, gets up again after a harder one; face down, it rolls over first") {
   // Lying on its back, still: the stand-up's pre-condition holds after `wait`.
   const std::string lying = R"(, "position": [0, 0.1, 0], "rotation_deg": [-90, 0, 0])";
   World w = worldFromText(human(lying + R"(, "stand_up": true, "protect": true)"));
@@ -226,15 +226,25 @@ TEST_CASE("a figure lying on its back gets up (curl, sit, tuck, rock, squat, ris
       CHECK(again);  // on its feet again after the fall
     }
   }
-  // Without the controller it stays down; face down, the pre-condition never holds.
+  // Without the controller it stays down.
   World still = worldFromText(human(lying));
   run(still, 270);
   CHECK(figure(still).kinematics().x[3].y() < 0.3);
-  World prone = worldFromText(human(R"(, "position": [0, 0.1, 0], "rotation_deg": [90, 0, 0], "stand_up": true)"));
-  for (int f = 0; f < 90; ++f) {
-    REQUIRE(prone.advanceFrame());
-    CHECK(figure(prone).standUpState().phase == 0);
+  // Standing, the pre-condition does not hold: the stand-up never acts.
+  World standing = worldFromText(human(R"(, "stand_up": true)"));
+  for (int f = 0; f < 60; ++f) {
+    REQUIRE(standing.advanceFrame());
+    CHECK(figure(standing).standUpState().phase == 0);
   }
+  // Face down, it rolls onto its back first, then gets up.
+  World prone = worldFromText(human(R"(, "position": [0, 0.1, 0], "rotation_deg": [90, 0, 0], "stand_up": true)"));
+  std::vector<int> seen{0};
+  for (int f = 0; f < 270; ++f) {
+    REQUIRE(prone.advanceFrame());
+    if (figure(prone).standUpState().phase != seen.back()) seen.push_back(figure(prone).standUpState().phase);
+  }
+  CHECK(seen == std::vector<int>{0, 8, 0, 1, 2, 3, 4, 5, 6, 7});
+  CHECK(figure(prone).kinematics().x[3].y() > 0.85 * 0.905 * 1.75);
 }
 
 TEST_CASE("the stand-up gets up figures its tuning never saw: other strengths, frictions, sizes, headings, steps") {

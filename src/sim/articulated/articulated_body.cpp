@@ -268,7 +268,7 @@ bool ArticulatedBody::restore(const StateBlob& in) {
   r.get(stand);
   r.get(from);
   if (!allWithin(feet, kRunawayDistance) || down > 3) return false;
-  if (stand.size() != 3 || from.size() != 7 || !(stand[0] >= 0 && stand[0] <= 7) || stand[0] != std::floor(stand[0]) ||
+  if (stand.size() != 3 || from.size() != 7 || !(stand[0] >= 0 && stand[0] <= 8) || stand[0] != std::floor(stand[0]) ||
       !std::isfinite(stand[1]) || !std::isfinite(stand[2]))
     return false;
   for (double x : from)

@@ -8,6 +8,9 @@
 //   back) → rock (trunk and arms thrown forward until the seat leaves the ground over the feet) →
 //   squat (held, the centre of mass brought over the feet) → rise (the squat blended to standing) →
 //   stand (the standing pose under this feedback).
+// Lying face down, it first rolls onto its back (the paper's roll-over): the right arm sweeps up and
+// across, the trunk and head twist and the right leg crosses over, then all return to rest; lying
+// still on its back, it gets up as above (still face down, it rolls again).
 // The squat, rise and stand phases close the loop on the centre of mass's offset d from the feet's
 // centre along the pelvis's heading and its velocity ḋ: the ankles lean against it as balance does,
 // and the hips fold the trunk forward when it lags behind (the hip strategy). Phases end on
@@ -32,7 +35,7 @@ struct StandUpState {
   double from[7] = {};     // the handles' pose the phase blends from (deg)
 };
 
-enum class StandUpPhase { Idle = 0, Curl, Sit, Tuck, Rock, Squat, Rise, Stand };
+enum class StandUpPhase { Idle = 0, Curl, Sit, Tuck, Rock, Squat, Rise, Stand, Roll };
 
 // Advances the state machine and, while it acts, writes every joint's servo target; returns
 // whether it acted. Risen, it keeps the figure standing (the rest pose under its feedback, in both
