@@ -114,7 +114,8 @@ struct ControllersDesc {
   bool protect = false;
   double reach_deg = 80.0;     // how far the arms swing toward the fall
   bool stand_up = false;
-  double stand_up_wait = 0.4;  // s: lying still on its back this long before it gets up
+  double stand_up_wait = 0.4;  // s: lying still this long before it gets up
+  bool any() const { return balance || protect || stand_up; }
 };
 
 struct ArticulatedDesc final : BodyParams {

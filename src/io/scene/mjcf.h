@@ -3,8 +3,8 @@
 // welded to its parent; one `hinge` or `ball`; two hinges through one point: a universal joint;
 // `free` or <freejoint/> on the root) with axis, pos, range (a hinge's limits, a ball's cone),
 // damping and armature; one <geom> (sphere, capsule, box, cylinder, mesh; size or fromto; pos and
-// orientation; mass or
-// density) and an optional <inertial> (pos, quat, mass, diaginertia or fullinertia). <compiler
+// orientation; mass or density) and an optional <inertial> (pos, quat, mass, diaginertia or
+// fullinertia). <compiler
 // angle> is honoured. <option>, <visual>, <statistic>, <size>, <asset>, <actuator>, <sensor>,
 // <keyframe>, <contact>, and <site>, <camera>, <light> and <geom> directly under <worldbody> are
 // passed over. <default> classes cascade (nested classes, `class`, a body's `childclass`) onto
@@ -18,7 +18,7 @@
 
 #include "core/error.h"
 #include "core/scene/articulated.h"
-#include "io/scene/urdf.h"
+#include "io/scene/mesh_loader.h"
 #include "io/xml.h"
 
 namespace reel::io {

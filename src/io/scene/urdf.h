@@ -7,13 +7,11 @@
 // refused, named, with its line.
 #pragma once
 
-#include <functional>
-#include <memory>
-#include <string>
 #include <vector>
 
 #include "core/error.h"
 #include "core/scene/articulated.h"
+#include "io/scene/mesh_loader.h"
 #include "io/xml.h"
 
 namespace reel::io {
@@ -22,7 +20,6 @@ namespace reel::io {
 // root's at the zero pose, each at its centre of mass). `root_offset`: the root's centre of mass
 // from the root link's frame. Errors: BadInput, "line N: ...".
 // `mesh`: loads a <mesh filename> (relative to the URDF's folder), or says why not.
-using MeshLoader = std::function<Result<std::shared_ptr<const TriMesh>>(const std::string& filename)>;
 Result<std::vector<ArticulatedLinkDesc>> urdfLinks(const XmlElement& robot, Vec3& root_offset, const MeshLoader& mesh);
 
 }  // namespace reel::io

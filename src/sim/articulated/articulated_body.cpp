@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "core/figure.h"
 #include "core/math.h"
@@ -57,7 +58,8 @@ void ArticulatedBody::smoothStep(StepContext& ctx, VecX& v_star, bool& moved) {
   in.right_down = right_down_;
   in.gravity = ctx.gravity;
   in.t = ctx.t1;
-  active_ = standUp(model_, roles_, model_.controllers, in, stand_, s.targets)
+  if (model_.controllers.any()) centreOfMass(model_, view_k_, in.com, in.vcom);
+  active_ = standUp(roles_, model_.controllers, in, stand_, s.targets)
                 ? ControllerKind::StandUp
                 : supervise(model_, roles_, model_.controllers, in, s.targets);
   // What the other bodies handed the links (coupling stage), as forces over the step.
@@ -252,7 +254,7 @@ void ArticulatedBody::snapshot(StateBlob& out) const {
   w.put(foot_points_);
   w.put(static_cast<std::uint8_t>(left_down_ + 2 * right_down_));
   w.put(std::vector<double>{static_cast<double>(stand_.phase), stand_.since, stand_.still_since});
-  w.put(std::vector<double>(stand_.from, stand_.from + 7));
+  w.put(std::vector<double>(std::begin(stand_.from), std::end(stand_.from)));
 }
 
 bool ArticulatedBody::restore(const StateBlob& in) {
@@ -268,8 +270,8 @@ bool ArticulatedBody::restore(const StateBlob& in) {
   r.get(stand);
   r.get(from);
   if (!allWithin(feet, kRunawayDistance) || down > 3) return false;
-  if (stand.size() != 3 || from.size() != 7 || !(stand[0] >= 0 && stand[0] <= 8) || stand[0] != std::floor(stand[0]) ||
-      !std::isfinite(stand[1]) || !std::isfinite(stand[2]))
+  if (stand.size() != 3 || from.size() != std::size(stand_.from) || !(stand[0] >= 0 && stand[0] <= kStandUpLastPhase) ||
+      stand[0] != std::floor(stand[0]) || !std::isfinite(stand[1]) || !std::isfinite(stand[2]))
     return false;
   for (double x : from)
     if (!(std::abs(x) < 1e3)) return false;
@@ -302,7 +304,7 @@ bool ArticulatedBody::restore(const StateBlob& in) {
 void ArticulatedBody::hash(Hasher& h) const {
   h.add(std::span<const double>(state_.q.data(), static_cast<std::size_t>(state_.q.size())));
   h.add(std::span<const double>(state_.v.data(), static_cast<std::size_t>(state_.v.size())));
-  h.add(std::span<const double>(stand_.from, 7));
+  h.add(std::span<const double>(stand_.from));
   const double stand[3] = {static_cast<double>(stand_.phase), stand_.since, stand_.still_since};
   h.add(std::span<const double>(stand, 3));
 }

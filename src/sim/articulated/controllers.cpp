@@ -100,13 +100,12 @@ ControllerKind supervise(const ArticulatedModel& m, const HumanRoles& roles, con
                          const ControlInput& in, std::vector<std::vector<double>>& targets) {
   if (!roles.valid() || !(c.balance || c.protect)) return ControllerKind::None;
   const ArtKinematics& k = *in.k;
-  const Vec3 up = in.gravity.norm() > 0 ? Vec3(-in.gravity.normalized()) : Vec3::UnitY();
+  const Vec3 up = in.up();
   // The pelvis's heading frame on the ground: forward (its z) and side (its x), horizontal.
   const auto pelvis = static_cast<std::size_t>(roles.pelvis);
   const Vec3 forward = heading(k.R[pelvis], up);
   const Vec3 side = up.cross(forward);  // the figure's +x when upright (its left)
-  Vec3 com, vcom;
-  centreOfMass(m, k, com, vcom);
+  const Vec3 &com = in.com, &vcom = in.vcom;
   auto flat = [&](const Vec3& p) { return Vec2(p.dot(side), p.dot(forward)); };
   std::vector<Vec2> pts;
   Vec2 centre(0, 0);

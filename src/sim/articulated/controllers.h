@@ -41,13 +41,16 @@ HumanRoles humanRoles(const ArticulatedModel& m);
 
 enum class ControllerKind { None = 0, Balance = 1, Protect = 2, StandUp = 3 };
 
-// What the supervisor sees: the state's kinematics and the feet's contact points last step.
+// What the controllers see: the state's kinematics, its centre of mass and the feet's contact
+// points last step.
 struct ControlInput {
   const ArtKinematics* k = nullptr;
+  Vec3 com{0, 0, 0}, vcom{0, 0, 0};                // the whole figure's (centreOfMass)
   const std::vector<Vec3>* foot_points = nullptr;  // world, both feet
   bool left_down = false, right_down = false;
   Vec3 gravity{0, -9.78, 0};
   double t = 0.0;  // the step's end time
+  Vec3 up() const { return gravity.norm() > 0 ? Vec3(-gravity.normalized()) : Vec3::UnitY(); }
 };
 
 // Picks the controller and adjusts the servo targets; returns the one that acted.

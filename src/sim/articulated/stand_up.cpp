@@ -14,6 +14,7 @@ namespace {
 // spine flexion (abdomen and chest together, forward), neck flexion, shoulder flexion (the arm
 // forward), elbow flexion.
 enum Handle { Hip, Knee, Ankle, Spine, Neck, Shoulder, Elbow, kHandles };
+static_assert(kHandles == kStandUpHandles);
 using Handles = std::array<double, kHandles>;
 
 // The phases' poses and times, found by a search over simulated get-ups (seven figures of strength
@@ -38,6 +39,7 @@ struct Params {
   double settle = 0.05;   // m: the squat's offset before it rises
 };
 
+const Params kParams;
 const Handles kStanding{0, 0, 0, 0, 0, 0, 0};
 
 void set(std::vector<std::vector<double>>& targets, int link, std::vector<double> v) {
@@ -54,9 +56,10 @@ struct RollPose {
   double shin_r = 11.6;
   double roll_s = 0.7, hold_s = 0.2, back_s = 0.5;
 };
+const RollPose kRoll;
 
 void applyRoll(const HumanRoles& l, double w, std::vector<std::vector<double>>& targets) {
-  const RollPose R;
+  const RollPose& R = kRoll;
   const double d = w * kPi / 180.0;
   auto ball = [&](int link, const Vec3& v) { set(targets, link, {d * v.x(), d * v.y(), d * v.z()}); };
   for (int link : {l.abdomen, l.chest, l.head, l.upper_arm_l, l.upper_arm_r, l.thigh_l, l.thigh_r})
@@ -97,15 +100,14 @@ void apply(const HumanRoles& l, const Handles& p, double roll, std::vector<std::
 
 }  // namespace
 
-bool standUp(const ArticulatedModel& m, const HumanRoles& l, const ControllersDesc& c, const ControlInput& in,
-             StandUpState& s, std::vector<std::vector<double>>& targets) {
+bool standUp(const HumanRoles& l, const ControllersDesc& c, const ControlInput& in, StandUpState& s,
+             std::vector<std::vector<double>>& targets) {
   if (!c.stand_up || !l.complete()) return false;
-  const Params P;
+  const Params& P = kParams;
   const ArtKinematics& k = *in.k;
-  const Vec3 up = in.gravity.norm() > 0 ? Vec3(-in.gravity.normalized()) : Vec3::UnitY();
+  const Vec3 up = in.up();
   auto at = [&](int link) { return k.x[static_cast<std::size_t>(link)]; };
-  Vec3 com, vcom;
-  centreOfMass(m, k, com, vcom);
+  const Vec3 &com = in.com, &vcom = in.vcom;
   const Vec3 feet = 0.5 * (at(l.foot_l) + at(l.foot_r));
   const double pelvis_h = (at(l.pelvis) - feet).dot(up);
   // The centre of mass's offset from the feet's centre and its velocity, along the pelvis's heading
@@ -136,7 +138,7 @@ bool standUp(const ArticulatedModel& m, const HumanRoles& l, const ControllersDe
     enter(facing > 0 ? StandUpPhase::Curl : StandUpPhase::Roll, kStanding);
   }
   if (phaseIs(StandUpPhase::Roll)) {
-    const RollPose R;
+    const RollPose& R = kRoll;
     const double tau = in.t - s.since;
     if (tau >= R.roll_s + R.hold_s + R.back_s) return idle();
     const double w = tau < R.roll_s ? tau / R.roll_s : tau < R.roll_s + R.hold_s ? 1.0 : 1.0 - (tau - R.roll_s - R.hold_s) / R.back_s;

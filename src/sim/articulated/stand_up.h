@@ -27,20 +27,22 @@
 
 namespace reel {
 
+enum class StandUpPhase { Idle = 0, Curl, Sit, Tuck, Rock, Squat, Rise, Stand, Roll };
+constexpr int kStandUpLastPhase = static_cast<int>(StandUpPhase::Roll);
+constexpr int kStandUpHandles = 7;  // hip, knee, ankle, spine, neck, shoulder, elbow
+
 // The controller's memory, part of the figure's snapshot.
 struct StandUpState {
   int phase = 0;           // StandUpPhase
   double since = 0.0;      // s: when the phase began
   double still_since = -1; // s: since when the figure has lain still on its back (−1: it has not)
-  double from[7] = {};     // the handles' pose the phase blends from (deg)
+  double from[kStandUpHandles] = {};  // the handles' pose the phase blends from (deg)
 };
-
-enum class StandUpPhase { Idle = 0, Curl, Sit, Tuck, Rock, Squat, Rise, Stand, Roll };
 
 // Advances the state machine and, while it acts, writes every joint's servo target; returns
 // whether it acted. Risen, it keeps the figure standing (the rest pose under its feedback, in both
 // directions, over any pose keys) until it falls: then it idles, and protect takes the fall.
-bool standUp(const ArticulatedModel& m, const HumanRoles& roles, const ControllersDesc& c, const ControlInput& in,
-             StandUpState& s, std::vector<std::vector<double>>& targets);
+bool standUp(const HumanRoles& roles, const ControllersDesc& c, const ControlInput& in, StandUpState& s,
+             std::vector<std::vector<double>>& targets);
 
 }  // namespace reel
