@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,7 @@ namespace reel {
 
 class Wind;
 class Water;
+class ContactExport;
 
 // A state whose speed or distance from the origin passes these is a runaway (exit 3).
 inline constexpr double kRunawaySpeed = 1e4;     // m/s
@@ -96,6 +98,14 @@ class Body {
   virtual void publish(StepContext& /*ctx*/) {}
   // Advances the body from ctx.t0 to ctx.t1.
   virtual void step(StepContext& ctx) = 0;
+  // The World's contact layer (sim/contact_layer.h): a body that has points hands them (and the
+  // triangles of its surface over them) each step after stepping, and takes back their positions
+  // and velocities once the layer has resolved its contacts with every other body's.
+  virtual bool exportsContacts() const { return false; }
+  // Whether pieces of the body meet each other (the fish of one body); else it never meets itself.
+  virtual bool meetsItself() const { return false; }
+  virtual void exportContacts(ContactExport& /*out*/) const {}
+  virtual void importContacts(std::span<const Vec3> /*x*/, std::span<const Vec3> /*v*/) {}
   // Exit-3 check after a step: a non-finite or runaway state names body, point and quantity.
   virtual Status checkState(const StepContext& ctx) const = 0;
   // The state a dump shows (positions, velocities, springs, species); false: nothing to show.

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/profile.h"
+#include "sim/contact_layer.h"
 
 namespace reel {
 
@@ -87,6 +88,20 @@ bool SpringNetworkBody::restore(const StateBlob& in) {
   const std::size_t n = net_.model.nodes();
   return restoreMore(r) && r.done() && net_.state.x.size() == n && net_.state.v.size() == n &&
          allWithin(net_.state.x, kRunawayDistance) && allWithin(net_.state.v, kRunawaySpeed);
+}
+
+void SpringNetworkBody::exportContacts(ContactExport& out) const {
+  out.points(net_.state.x, net_.state.v, net_.model.inv_mass, net_.radius, piece_);
+  exportTriangles(out);
+}
+
+void SpringNetworkBody::exportTriangles(ContactExport& out) const {
+  for (const auto& t : surface_) out.triangle(t[0], t[1], t[2]);
+}
+
+void SpringNetworkBody::importContacts(std::span<const Vec3> x, std::span<const Vec3> v) {
+  std::copy(x.begin(), x.end(), net_.state.x.begin());
+  std::copy(v.begin(), v.end(), net_.state.v.begin());
 }
 
 Status buildNetwork(SpringNetworkBody& body, const MassSpringDesc& nodes, const BodyDesc& desc, const BuildContext& ctx,

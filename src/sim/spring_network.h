@@ -3,7 +3,10 @@
 // made of nodes and springs (the springs kinds, cloth; fish and faces next).
 #pragma once
 
+#include <array>
 #include <memory>
+#include <span>
+#include <vector>
 #include <string>
 
 #include "core/scene/mass_spring.h"
@@ -52,6 +55,18 @@ class SpringNetworkBody : public Body {
   void hash(Hasher& h) const override;
   void snapshot(StateBlob& out) const override;
   bool restore(const StateBlob& in) override;
+  // Its nodes (at the network's contact radius) and its surface meet every other body through the
+  // World's contact layer.
+  bool exportsContacts() const override { return true; }
+  bool meetsItself() const override { return !piece_.empty(); }
+  void exportContacts(ContactExport& out) const override;
+  void importContacts(std::span<const Vec3> x, std::span<const Vec3> v) override;
+
+  // The triangles over its nodes it meets others with, and which piece each node is (empty: one).
+  void setSurface(std::vector<std::array<int, 3>> triangles, std::vector<int> pieces = {}) {
+    surface_ = std::move(triangles);
+    piece_ = std::move(pieces);
+  }
 
   SpringNetwork& network() { return net_; }
   const SpringNetwork& network() const { return net_; }
@@ -61,7 +76,11 @@ class SpringNetworkBody : public Body {
   // What a kind adds to the network's state (cloth: its springs left and its sheet's state).
   virtual void snapshotMore(StateWriter&) const {}
   virtual bool restoreMore(StateReader&) { return true; }
+  // The triangles it meets others with (a sheet's intact ones): `surface_` unless overridden.
+  virtual void exportTriangles(ContactExport& out) const;
   SpringNetwork net_;
+  std::vector<std::array<int, 3>> surface_;  // node indices, counter-clockwise from outside (triangles)
+  std::vector<int> piece_;  // per node: which piece (the fish of one body meet each other); empty: one
 
  private:
   std::string generator_;  // the scene type that built it

@@ -84,6 +84,10 @@ Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow>
       for (std::size_t b = 0; b < scene.bodies.size(); ++b)
         if (scene.bodies[a].type == row.first && scene.bodies[b].type == row.second)
           w.exchanges_.push_back({a, b, row.exchange});
+  // The contact layer takes every pair of bodies but those with an exchange of their own.
+  std::vector<std::array<std::size_t, 2>> own;
+  for (const Exchange& x : w.exchanges_) own.push_back({x.first, x.second});
+  w.contacts_.setup(w.bodies_, own);
   w.coupling_.reset(w.colliders_.size());
   for (std::size_t k = 0; k < w.bodies_.size(); ++k)
     if (w.bodies_[k]->coupled() && w.bodies_[k]->stepsAlone()) w.alone_.push_back(k);
@@ -194,6 +198,13 @@ Status World::advanceFrame() {
       x.run(*bodies_[x.first], *bodies_[x.second], ctx);
       for (std::size_t k : {x.first, x.second})
         if (Status st = bodies_[k]->checkState(ctx); !st) return st;
+    }
+    // The contact layer: every body's points and triangles against every other's.
+    if (contacts_.active()) {
+      contacts_.step(bodies_, ctx.h);
+      for (const auto& b : bodies_)
+        if (b->exportsContacts())
+          if (Status st = b->checkState(ctx); !st) return st;
     }
     // The coupled bodies that step alone (articulated figures: each reads the objects and the
     // others' last step, and writes only its own state) first, all together in parallel, each then

@@ -22,6 +22,7 @@
 #include "core/state_blob.h"
 #include "sim/body.h"
 #include "sim/collide.h"
+#include "sim/contact_layer.h"
 #include "sim/water.h"
 #include "sim/wind.h"
 
@@ -78,6 +79,8 @@ class World {
     return nullptr;
   }
   const std::vector<Collider>& colliders() const { return colliders_; }
+  // The contact layer (its last step's proxies and counts).
+  const ContactLayer& contacts() const { return contacts_; }
   // The camera rig's state when the scene's camera follows or frames a body, else nullptr: hand
   // it to setSceneView.
   const CameraRig* cameraRig() const { return camera_.active ? &camera_ : nullptr; }
@@ -122,6 +125,7 @@ class World {
     void (*run)(Body&, Body&, StepContext&);
   };
   std::vector<Exchange> exchanges_;  // the coupling stage's exchanges, in order
+  ContactLayer contacts_;            // every body's points and triangles against every other's
   Coupling coupling_;
   SolverStats solver_;
   CameraRigDesc camera_desc_;

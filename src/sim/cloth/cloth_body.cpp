@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/profile.h"
+#include "sim/contact_layer.h"
 
 namespace reel {
 
@@ -30,6 +31,12 @@ void ClothBody::step(StepContext& ctx) {
   spreadWetness(cloth_, net_.model, s.x, s.v, ctx.gravity, ctx.h);
   profile::Scope stage(profile::Stage::Tearing);
   tearSprings(cloth_, net_.model, s.x);
+}
+
+// The sheet meets other bodies with its intact triangles (a torn one opens the tear).
+void ClothBody::exportTriangles(ContactExport& out) const {
+  for (std::size_t t = 0; t < cloth_.tris.size(); ++t)
+    if (cloth_.tri_alive[t]) out.triangle(cloth_.tris[t][0], cloth_.tris[t][1], cloth_.tris[t][2]);
 }
 
 bool ClothBody::view(BodyView& out) const {

@@ -25,6 +25,8 @@ class FaceBody final : public SpringNetworkBody {
   bool view(BodyView& out) const override;
   void statistics(std::vector<Statistic>& out) const override;
   std::vector<std::string> notes(double h) const override;
+  // The face keeps to its skull and meets nothing else yet (its skin's nodes would be the proxies).
+  bool exportsContacts() const override { return false; }
 
   const FaceSurface& surface() const { return surface_; }
   const FaceTissue& tissue() const { return tissue_; }

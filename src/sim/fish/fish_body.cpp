@@ -8,6 +8,7 @@
 #include "core/parallel.h"
 #include "core/patterns.h"
 #include "core/random.h"
+#include "sim/contact_layer.h"
 #include "sim/fish/food.h"
 #include "sim/water.h"
 
@@ -277,6 +278,19 @@ void FishBody::step(StepContext& ctx) {
   publish(self);
 }
 
+void FishBody::exportContacts(ContactExport& out) const {
+  contact_inv_mass_ = net_.model.inv_mass;
+  for (std::size_t i = 0; i < count(); ++i)
+    if (caught_[i]) contact_inv_mass_[kFishNodes * i] = 0.0;
+  out.points(net_.state.x, net_.state.v, contact_inv_mass_, net_.radius, piece_);
+  exportTriangles(out);
+}
+
+void FishBody::importContacts(std::span<const Vec3> x, std::span<const Vec3> v) {
+  SpringNetworkBody::importContacts(x, v);
+  publish(self_);
+}
+
 bool FishBody::view(BodyView& out) const {
   SpringNetworkBody::view(out);
   out.masses = net_.model.mass;
@@ -421,6 +435,15 @@ Result<std::unique_ptr<Body>> buildFishBody(const BodyDesc& desc, const BuildCon
       ms.springs.push_back(sd);
     }
   }
+  // Each fish is a piece of its own: its skin meets the other fish, kelp, liquids and sheets.
+  std::vector<std::array<int, 3>> skin;
+  std::vector<int> piece;
+  for (std::size_t i = 0; i < n; ++i) {
+    const int base = static_cast<int>(i) * kFishNodes;
+    for (const auto& tri : t.surface) skin.push_back({base + tri[0], base + tri[1], base + tri[2]});
+    piece.insert(piece.end(), kFishNodes, static_cast<int>(i));
+  }
+  body->setSurface(std::move(skin), std::move(piece));
   // Fish are neutrally buoyant (their weight and the water's lift cancel): no gravity.
   SpringNetwork& net = body->network();
   net.build(ms, Vec3::Zero(), ctx.scene->integrator, d.contactRadius(0));

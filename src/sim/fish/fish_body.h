@@ -28,6 +28,10 @@ class FishBody final : public SpringNetworkBody {
   void statistics(std::vector<Statistic>& out) const override;
   std::vector<std::string> notes(double h) const override;
   void hash(Hasher& h) const override;
+  // A caught fish's mouth is held by the hook (the contact layer cannot move it), and what the
+  // others see of the fish follows the contacts' corrections.
+  void exportContacts(ContactExport& out) const override;
+  void importContacts(std::span<const Vec3> x, std::span<const Vec3> v) override;
 
   const FishDesc& desc() const { return desc_; }
   const FishTemplate& fishTemplate() const { return tmpl_; }
@@ -70,6 +74,7 @@ class FishBody final : public SpringNetworkBody {
   std::vector<Vec3> hook_point_;  // where a caught fish hangs, in the hook's authored frame
   std::int64_t decisions_ = 0;
   std::int64_t meals_ = 0;
+  mutable std::vector<double> contact_inv_mass_;  // scratch: the nodes' inverse masses, 0 at hooked mouths
   int self_ = -1;  // this body's index among the world's bodies (what its sightings say)
 
   // Scratch.

@@ -1,6 +1,7 @@
 #include "sim/fluid/fluid_body.h"
 
 #include "core/format.h"
+#include "sim/contact_layer.h"
 
 namespace reel {
 
@@ -16,6 +17,17 @@ StepLimit FluidBody::stepLimit(IntegratorKind) const {
 
 void FluidBody::step(StepContext& ctx) {
   stepFluid(fluid_, *ctx.colliders, *ctx.coupling, ctx.gravity, ctx.h, ctx.t0, ctx.t1);
+}
+
+void FluidBody::exportContacts(ContactExport& out) const {
+  inv_mass_.resize(fluid_.m.size());
+  for (std::size_t i = 0; i < inv_mass_.size(); ++i) inv_mass_[i] = 1.0 / fluid_.m[i];
+  out.points(fluid_.x, fluid_.v, inv_mass_, fluid_.radius);
+}
+
+void FluidBody::importContacts(std::span<const Vec3> x, std::span<const Vec3> v) {
+  std::copy(x.begin(), x.end(), fluid_.x.begin());
+  std::copy(v.begin(), v.end(), fluid_.v.begin());
 }
 
 Status FluidBody::checkState(const StepContext& ctx) const {

@@ -29,6 +29,10 @@ class FluidBody final : public Body {
   void hash(Hasher& h) const override;
   void draw(DrawList& out) const override;
   std::vector<std::string> notes(double h) const override;
+  // Its particles meet every other body through the World's contact layer.
+  bool exportsContacts() const override { return true; }
+  void exportContacts(ContactExport& out) const override;
+  void importContacts(std::span<const Vec3> x, std::span<const Vec3> v) override;
 
   Fluid& fluid() { return fluid_; }
   const Fluid& fluid() const { return fluid_; }
@@ -44,6 +48,7 @@ class FluidBody final : public Body {
   mutable Fluid fluid_;  // mutable: view() and hash() fill its by-id scratch arrays
   StepBound bound_;
   std::shared_ptr<const TriMesh> nozzles_;  // the emitters' pipes, made once (null: none)
+  mutable std::vector<double> inv_mass_;  // scratch: 1/kg per particle slot (contacts)
 };
 
 // The builder of the registry row `fluid`.

@@ -30,7 +30,15 @@ Result<std::unique_ptr<Body>> buildNetBody(const BodyDesc& desc, const BuildCont
 Result<std::unique_ptr<Body>> buildLatticeBody(const BodyDesc& desc, const BuildContext& ctx) {
   const LatticeDesc& l = desc.as<LatticeDesc>();
   auto b = make(desc, ctx, buildLattice(l));
-  if (b.ok() && l.draw == LatticeDesc::Draw::Skin) {
+  if (!b.ok()) return b;
+  // Its outer faces, each quad as two triangles, meet the other bodies.
+  std::vector<std::array<int, 3>> surface;
+  for (const auto& q : latticeSkin(l)) {
+    surface.push_back({q[0], q[1], q[2]});
+    surface.push_back({q[0], q[2], q[3]});
+  }
+  static_cast<SpringsBody*>(b.value().get())->setSurface(std::move(surface));
+  if (l.draw == LatticeDesc::Draw::Skin) {
     const int nodes = l.resolution[0] * l.resolution[1] * l.resolution[2];
     static_cast<SpringsBody*>(b.value().get())->setSkin(std::make_shared<SubdivisionSurface>(nodes, latticeSkin(l), l.skin_levels));
   }

@@ -1,0 +1,346 @@
+#include "sim/contact_layer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/parallel.h"
+#include "core/profile.h"
+#include "sim/body.h"
+#include "sim/geometry.h"
+
+namespace reel {
+
+void ContactProxies::clear() {
+  x.clear();
+  v.clear();
+  x0.clear();
+  w.clear();
+  r.clear();
+  piece.clear();
+  slot.clear();
+  tri.clear();
+  tri_piece.clear();
+  body.clear();
+  first.assign(1, 0);
+  friction.clear();
+}
+
+void ContactExport::points(std::span<const Vec3> x, std::span<const Vec3> v, std::span<const double> inv_mass,
+                           double radius, std::span<const int> piece) {
+  REEL_CHECK(x.size() == v.size() && x.size() == inv_mass.size() && (piece.empty() || piece.size() == x.size()),
+             "contact points: arrays of different sizes");
+  REEL_CHECK(p_.x.size() == p_.first.back(), "contact points handed twice by one body");
+  const auto slot = static_cast<std::uint32_t>(p_.body.size() - 1);
+  p_.x.insert(p_.x.end(), x.begin(), x.end());
+  p_.v.insert(p_.v.end(), v.begin(), v.end());
+  p_.w.insert(p_.w.end(), inv_mass.begin(), inv_mass.end());
+  p_.r.insert(p_.r.end(), x.size(), radius);
+  p_.slot.insert(p_.slot.end(), x.size(), slot);
+  std::uint32_t pieces = 1;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const auto k = piece.empty() ? 0u : static_cast<std::uint32_t>(std::max(piece[i], 0));
+    p_.piece.push_back(base_piece_ + k);
+    pieces = std::max(pieces, k + 1);
+  }
+  pieces_ = pieces;
+}
+
+void ContactExport::triangle(int a, int b, int c) {
+  const std::uint32_t f = p_.first.back(), n = static_cast<std::uint32_t>(p_.x.size()) - f;
+  REEL_CHECK(a >= 0 && b >= 0 && c >= 0 && static_cast<std::uint32_t>(std::max({a, b, c})) < n,
+             "contact triangle over a point the body did not hand");
+  const std::array<std::uint32_t, 3> t{f + static_cast<std::uint32_t>(a), f + static_cast<std::uint32_t>(b),
+                                       f + static_cast<std::uint32_t>(c)};
+  p_.tri.push_back(t);
+  p_.tri_piece.push_back(p_.piece[t[0]]);
+}
+
+void ContactExport::friction(double mu) { p_.friction.back() = mu; }
+
+bool ContactLayer::skipped(std::size_t a, std::size_t b) const {
+  const std::array<std::size_t, 2> k{std::min(a, b), std::max(a, b)};
+  return std::binary_search(skip_.begin(), skip_.end(), k);
+}
+
+void ContactLayer::setup(const std::vector<std::unique_ptr<Body>>& bodies,
+                         const std::vector<std::array<std::size_t, 2>>& skip) {
+  skip_.clear();
+  for (const auto& s : skip) skip_.push_back({std::min(s[0], s[1]), std::max(s[0], s[1])});
+  std::sort(skip_.begin(), skip_.end());
+  exporters_.clear();
+  for (std::size_t k = 0; k < bodies.size(); ++k)
+    if (bodies[k]->exportsContacts()) exporters_.push_back(k);
+  // A body is worth a search when another exporter (or its own other pieces) may meet it.
+  const std::size_t n = exporters_.size();
+  touches_points_.assign(n, 0);
+  active_ = false;
+  for (std::size_t a = 0; a < n; ++a) {
+    if (bodies[exporters_[a]]->meetsItself()) touches_points_[a] = 1;
+    for (std::size_t b = 0; b < n; ++b)
+      if (a != b && !skipped(exporters_[a], exporters_[b])) touches_points_[a] = 1;
+    active_ = active_ || touches_points_[a];
+  }
+}
+
+// Whether points i and j (or a point and a triangle's piece) may touch: other pieces, and bodies
+// whose contacts are the layer's.
+bool ContactLayer::meet(std::uint32_t i, std::uint32_t j) const {
+  if (p_.piece[i] == p_.piece[j]) return false;
+  const std::uint32_t a = p_.slot[i], b = p_.slot[j];
+  return a == b || !skipped(p_.body[a], p_.body[b]);
+}
+
+// --- broad phase -----------------------------------------------------------------------------
+// Point–triangle: the triangles' boxes over the step (start and end, grown by their radius and
+// the largest point radius) in a grid; each point looks along its own path, a cell at a time, so
+// a fast point finds a sheet it would pass through. Candidates of each point sorted and unique;
+// points in fixed blocks, blocks joined in order.
+void ContactLayer::findPointTriangle(double) {
+  pt_pairs_.clear();
+  const std::size_t nt = p_.tri.size(), np = p_.x.size();
+  if (nt == 0) return;
+  double rmax = 0.0;
+  for (double r : p_.r) rmax = std::max(rmax, r);
+  lo_.resize(nt);
+  hi_.resize(nt);
+  double mean = 0.0;
+  for (std::size_t t = 0; t < nt; ++t) {
+    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+    double rt = 0.0;
+    for (std::uint32_t k : p_.tri[t]) {
+      lo = lo.cwiseMin(p_.x[k]).cwiseMin(p_.x0[k]);
+      hi = hi.cwiseMax(p_.x[k]).cwiseMax(p_.x0[k]);
+      rt = std::max(rt, p_.r[k]);
+    }
+    lo_[t] = lo - Vec3::Constant(rt + rmax);
+    hi_[t] = hi + Vec3::Constant(rt + rmax);
+    mean += (hi_[t] - lo_[t]).maxCoeff();
+  }
+  mean /= static_cast<double>(nt);
+  if (!(mean > 0.0 && mean < 1e6)) return;  // a non-finite state: the state check reports it
+  const double cell = mean;
+  // A triangle spread over very many cells (a corner flung far in one step) is left out.
+  for (std::size_t t = 0; t < nt; ++t)
+    if (!((hi_[t] - lo_[t]).maxCoeff() <= 16 * cell)) lo_[t] = hi_[t] = Vec3::Constant(-1e9 * cell);
+  tri_grid_.build(lo_, hi_, cell);
+  constexpr std::ptrdiff_t kBlock = 256;
+  const std::ptrdiff_t blocks = (static_cast<std::ptrdiff_t>(np) + kBlock - 1) / kBlock;
+  chunk_pairs_.resize(static_cast<std::size_t>(blocks));
+  parallelBlocks(static_cast<std::ptrdiff_t>(np), kBlock, [&](std::ptrdiff_t i0, std::ptrdiff_t i1) {
+    auto& out = chunk_pairs_[static_cast<std::size_t>(i0 / kBlock)];
+    out.clear();
+    std::vector<std::uint32_t> cand;
+    for (std::ptrdiff_t ii = i0; ii < i1; ++ii) {
+      const auto i = static_cast<std::uint32_t>(ii);
+      if (!touches_points_[p_.slot[i]]) continue;
+      const Vec3 &p1 = p_.x[i], &p0 = p_.x0[i];
+      const Vec3 plo = p0.cwiseMin(p1) - Vec3::Constant(p_.r[i]), phi = p0.cwiseMax(p1) + Vec3::Constant(p_.r[i]);
+      const double len = (p1 - p0).norm();
+      const int samples = std::min(64, 1 + static_cast<int>(len / (0.5 * cell)));
+      cand.clear();
+      for (int s = 0; s <= samples; ++s) {
+        const Vec3 q = p0 + (p1 - p0) * (static_cast<double>(s) / samples);
+        tri_grid_.forEachAt(q, [&](int t) {
+          const auto tu = static_cast<std::size_t>(t);
+          if ((plo.array() > hi_[tu].array()).any() || (phi.array() < lo_[tu].array()).any()) return;
+          const auto& T = p_.tri[tu];
+          if (!meet(i, T[0])) return;
+          cand.push_back(static_cast<std::uint32_t>(t));
+        });
+      }
+      std::sort(cand.begin(), cand.end());
+      cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+      for (std::uint32_t t : cand) out.push_back({i, t});
+    }
+  });
+  for (const auto& c : chunk_pairs_) pt_pairs_.insert(pt_pairs_.end(), c.begin(), c.end());
+}
+
+// Point–point: the points' end positions in a grid of cells twice the largest radius; each pair
+// of points closer than their radii, i < j, in order of i then j.
+void ContactLayer::findPointPoint() {
+  pp_pairs_.clear();
+  const std::size_t np = p_.x.size();
+  double rmax = 0.0;
+  for (std::size_t i = 0; i < np; ++i)
+    if (touches_points_[p_.slot[i]]) rmax = std::max(rmax, p_.r[i]);
+  if (!(rmax > 0.0 && rmax < 1e6)) return;
+  const double cell = 2.0 * rmax;
+  lo_.resize(np);
+  hi_.resize(np);
+  for (std::size_t i = 0; i < np; ++i) {
+    // (Points of bodies that meet no one are put far away.)
+    lo_[i] = hi_[i] = touches_points_[p_.slot[i]] ? p_.x[i] : Vec3::Constant(-1e9 * cell);
+  }
+  point_grid_.build(lo_, hi_, cell);
+  constexpr std::ptrdiff_t kBlock = 256;
+  const std::ptrdiff_t blocks = (static_cast<std::ptrdiff_t>(np) + kBlock - 1) / kBlock;
+  chunk_pairs_.resize(static_cast<std::size_t>(blocks));
+  parallelBlocks(static_cast<std::ptrdiff_t>(np), kBlock, [&](std::ptrdiff_t i0, std::ptrdiff_t i1) {
+    auto& out = chunk_pairs_[static_cast<std::size_t>(i0 / kBlock)];
+    out.clear();
+    std::vector<std::uint32_t> cand;
+    for (std::ptrdiff_t ii = i0; ii < i1; ++ii) {
+      const auto i = static_cast<std::uint32_t>(ii);
+      if (!touches_points_[p_.slot[i]]) continue;
+      cand.clear();
+      point_grid_.forEachNear(p_.x[i], [&](int j) {
+        const auto ju = static_cast<std::uint32_t>(j);
+        if (ju <= i || !meet(i, ju)) return;
+        const double rr = p_.r[i] + p_.r[ju];
+        if ((p_.x[ju] - p_.x[i]).squaredNorm() < rr * rr) cand.push_back(ju);
+      });
+      std::sort(cand.begin(), cand.end());
+      cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+      for (std::uint32_t j : cand) out.push_back({i, j});
+    }
+  });
+  for (const auto& c : chunk_pairs_) pp_pairs_.insert(pp_pairs_.end(), c.begin(), c.end());
+}
+
+// --- narrow phase ----------------------------------------------------------------------------
+// One contact: point i against points k (the corners of a triangle, or one other point) at the
+// contact's barycentric weights beta, along the unit normal n (from the others towards i), with
+// `depth` of overlap. Positions first: the overlap closed with each side moved by its inverse
+// mass (no velocity changes, so momentum stays); then velocities: the approach along n taken out
+// (a plastic contact) and Coulomb friction on the sliding part, bounded by μ times the normal
+// impulse (the positional one counted as λ/h). Each impulse acts on i and, opposite, on the k by
+// their weights: Σ beta = 1, so momentum is kept.
+void ContactLayer::apply(std::uint32_t i, const std::uint32_t* k, const double* beta, int nk, const Vec3& n,
+                         double depth, double h) {
+  double W = p_.w[i];
+  for (int q = 0; q < nk; ++q) W += beta[q] * beta[q] * p_.w[k[q]];
+  if (!(W > 0.0)) return;
+  const double lambda = depth / W;  // kg·m
+  p_.x[i] += (p_.w[i] * lambda) * n;
+  for (int q = 0; q < nk; ++q) p_.x[k[q]] -= (beta[q] * p_.w[k[q]] * lambda) * n;
+  Vec3 vk = Vec3::Zero();
+  for (int q = 0; q < nk; ++q) vk += beta[q] * p_.v[k[q]];
+  const Vec3 rel = p_.v[i] - vk;
+  const double vn = rel.dot(n);
+  const double jn = vn < 0.0 ? -vn / W : 0.0;  // N·s
+  Vec3 J = jn * n;
+  const Vec3 vt = rel - vn * n;
+  const double vt_len = vt.norm();
+  if (vt_len > 1e-12) {
+    const std::uint32_t a = p_.slot[i], b = p_.slot[k[0]];
+    const double mu = std::sqrt(p_.friction[a] * p_.friction[b]);
+    const double jt = std::min(vt_len / W, mu * (jn + lambda / h));
+    J -= (jt / vt_len) * vt;
+  }
+  p_.v[i] += p_.w[i] * J;
+  for (int q = 0; q < nk; ++q) p_.v[k[q]] -= (beta[q] * p_.w[k[q]]) * J;
+  touched_[p_.slot[i]] = 1;
+  for (int q = 0; q < nk; ++q) touched_[p_.slot[k[q]]] = 1;
+}
+
+// A point against a triangle, both moving over the step (start x0, end x). The point keeps the
+// side of the triangle it was on at the start: within the sum of the radii of the triangle's
+// face it is pushed out to that distance on that side; one that crossed the plane through the
+// triangle this step (the crossing found on the straight paths of point and corners) is brought
+// back to its side; near an edge or corner it is pushed off the closest point.
+bool ContactLayer::solvePointTriangle(std::uint32_t i, std::uint32_t t, double h) {
+  const auto& T = p_.tri[t];
+  const Vec3 &p = p_.x[i], &p0 = p_.x0[i];
+  const Vec3 &a = p_.x[T[0]], &b = p_.x[T[1]], &c = p_.x[T[2]];
+  const Vec3 &a0 = p_.x0[T[0]], &b0 = p_.x0[T[1]], &c0 = p_.x0[T[2]];
+  Vec3 n1 = (b - a).cross(c - a);
+  const double len1 = n1.norm();
+  if (!(len1 > 1e-300)) return false;
+  n1 /= len1;
+  Vec3 n0 = (b0 - a0).cross(c0 - a0);
+  const double len0 = n0.norm();
+  const double d0 = len0 > 1e-300 ? (p0 - a0).dot(n0) / len0 : 0.0;
+  const double d1 = (p - a).dot(n1);
+  const double s = d0 > 0 ? 1.0 : d0 < 0 ? -1.0 : (d1 >= 0 ? 1.0 : -1.0);
+  const double r = p_.r[i] + (p_.r[T[0]] + p_.r[T[1]] + p_.r[T[2]]) / 3.0;
+  const double sd = s * d1;
+  if (sd >= r) return false;
+  double beta[3];
+  Vec3 n;
+  double depth;
+  if (sd >= 0.0) {
+    // On its side, closer than r to the plane: the closest point of the triangle.
+    const Vec3 wts = closestOnTriangle(p, a, b, c);
+    const Vec3 q = wts[0] * a + wts[1] * b + wts[2] * c;
+    const Vec3 diff = p - q;
+    const double dist = diff.norm();
+    if (dist >= r) return false;
+    beta[0] = wts[0], beta[1] = wts[1], beta[2] = wts[2];
+    const bool face = wts.minCoeff() > 1e-9;
+    n = face || !(dist > 1e-12) ? Vec3(s * n1) : Vec3(diff / dist);
+    depth = r - (face ? sd : dist);
+  } else {
+    // Crossed the plane this step: where the straight paths meet, is the point inside the triangle?
+    const double s0 = s * d0;
+    if (!(s0 - sd > 1e-300)) return false;
+    const double tau = std::clamp(s0 / (s0 - sd), 0.0, 1.0);
+    const Vec3 pc = p0 + tau * (p - p0), ac = a0 + tau * (a - a0), bc = b0 + tau * (b - b0), cc = c0 + tau * (c - c0);
+    const Vec3 nc = (bc - ac).cross(cc - ac);
+    const double area = nc.squaredNorm();
+    if (!(area > 1e-300)) return false;
+    const double wb = (pc - ac).cross(cc - ac).dot(nc) / area, wc = (bc - ac).cross(pc - ac).dot(nc) / area;
+    const double wa = 1.0 - wb - wc;
+    constexpr double kEdge = -1e-3;  // a crossing just beside an edge still counts
+    if (wa < kEdge || wb < kEdge || wc < kEdge) return false;
+    const double ca = std::max(wa, 0.0), cb = std::max(wb, 0.0), cs = std::max(wc, 0.0), sum = ca + cb + cs;
+    beta[0] = ca / sum, beta[1] = cb / sum, beta[2] = cs / sum;
+    n = s * n1;
+    depth = r - sd;
+  }
+  apply(i, T.data(), beta, 3, n, depth, h);
+  return true;
+}
+
+// Two points as spheres: pushed apart to the sum of their radii along the line between them.
+bool ContactLayer::solvePointPoint(std::uint32_t i, std::uint32_t j, double h) {
+  const Vec3 d = p_.x[i] - p_.x[j];
+  const double dist = d.norm(), r = p_.r[i] + p_.r[j];
+  if (dist >= r || !(dist > 1e-12)) return false;
+  const double one = 1.0;
+  apply(i, &j, &one, 1, d / dist, r - dist, h);
+  return true;
+}
+
+void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double h) {
+  counts_ = {};
+  if (!active_) return;
+  profile::Scope stage(profile::Stage::Contacts);
+  // Gather: each exporting body's points and triangles, in scene order.
+  p_.clear();
+  std::uint32_t next_piece = 0;
+  for (std::size_t e = 0; e < exporters_.size(); ++e) {
+    p_.body.push_back(exporters_[e]);
+    p_.friction.push_back(kContactFriction);
+    ContactExport out(p_);
+    out.base_piece_ = next_piece;
+    bodies[exporters_[e]]->exportContacts(out);
+    next_piece += out.pieces_;
+    p_.first.push_back(static_cast<std::uint32_t>(p_.x.size()));
+  }
+  const std::size_t np = p_.x.size();
+  p_.x0.resize(np);
+  for (std::size_t i = 0; i < np; ++i) p_.x0[i] = p_.x[i] - h * p_.v[i];
+  touched_.assign(exporters_.size(), 0);
+  // Broad phase, then the pairs in id order, twice (Gauss–Seidel: a point pressed between two
+  // surfaces settles between them).
+  findPointTriangle(h);
+  findPointPoint();
+  for (int pass = 0; pass < 2; ++pass) {
+    std::size_t pt = 0, pp = 0;
+    for (const auto& q : pt_pairs_) pt += solvePointTriangle(q[0], q[1], h);
+    for (const auto& q : pp_pairs_) pp += solvePointPoint(q[0], q[1], h);
+    if (pass == 0) counts_ = {pt, pp};
+  }
+  total_.point_triangle += counts_.point_triangle;
+  total_.point_point += counts_.point_point;
+  // Hand back each touched body its points.
+  for (std::size_t e = 0; e < exporters_.size(); ++e) {
+    if (!touched_[e]) continue;
+    const std::size_t f = p_.first[e], n = p_.first[e + 1] - f;
+    bodies[exporters_[e]]->importContacts(std::span<const Vec3>(p_.x).subspan(f, n),
+                                          std::span<const Vec3>(p_.v).subspan(f, n));
+  }
+}
+
+}  // namespace reel

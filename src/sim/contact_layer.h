@@ -1,0 +1,116 @@
+// The World's contact layer (DESIGN 2, "one world"): every body that has points hands them to
+// the layer each step as contact proxies in flat arrays (position, velocity, inverse mass,
+// radius), with the triangles of its surface over them; one broad phase runs over all of them,
+// and the narrow phase is keyed by the pair of proxy types, never by the pair of kinds:
+//   point–triangle: a node or particle against a sheet, a fish's skin, a lattice's skin;
+//   point–point: two nodes or particles as spheres.
+// Impulses are equal and opposite (a point's against the triangle's corners by the barycentric
+// weights of the contact), applied in the same step, pairs processed in id order: momentum is
+// kept to rounding and a run is bit-identical for any thread count. The layer keeps no state
+// between steps: where a point was at the start of the step is x − h·v.
+//
+// A kind that exports points and triangles (Body::exportContacts, Body::importContacts) needs no
+// contact code of its own: it touches every other kind that does.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "core/types.h"
+#include "sim/grid.h"
+
+namespace reel {
+
+class Body;
+
+// Coulomb friction between two bodies' proxies (Box2D mixes the two coefficients as √(μa·μb)).
+inline constexpr double kContactFriction = 0.3;
+
+// The proxies of one step, flat arrays addressed by ids: a body's points are a contiguous range,
+// bodies in scene order, so ids are stable for as long as the bodies keep their point counts.
+struct ContactProxies {
+  std::vector<Vec3> x, v;                 // positions, m; velocities, m/s (points)
+  std::vector<Vec3> x0;                   // positions at the start of the step, x − h·v, m (points)
+  std::vector<double> w;                  // inverse masses, 1/kg; 0 for a held point (points)
+  std::vector<double> r;                  // contact radii, m (points)
+  std::vector<std::uint32_t> piece;       // points of one piece never meet each other (points)
+  std::vector<std::uint32_t> slot;        // the exporting body's slot (points)
+  std::vector<std::array<std::uint32_t, 3>> tri;  // point ids, counter-clockwise from outside (triangles)
+  std::vector<std::uint32_t> tri_piece;   // the piece of its corners (triangles)
+  // Per exporting body (slots): its World index, first point, friction coefficient.
+  std::vector<std::size_t> body;
+  std::vector<std::uint32_t> first;       // (slots + 1)
+  std::vector<double> friction;
+  void clear();
+};
+
+// What a body writes its proxies through (Body::exportContacts).
+class ContactExport {
+ public:
+  explicit ContactExport(ContactProxies& p) : p_(p) {}
+  // The body's points: positions (m), velocities (m/s), inverse masses (1/kg, 0: held), one
+  // radius (m). `piece`: per point, which piece of the body it is (pieces of one body meet each
+  // other: the fish of a school); empty: the body is one piece and never meets itself.
+  void points(std::span<const Vec3> x, std::span<const Vec3> v, std::span<const double> inv_mass, double radius,
+              std::span<const int> piece = {});
+  // A triangle over the body's points (indices as handed to points()).
+  void triangle(int a, int b, int c);
+  void friction(double mu);
+
+ private:
+  friend class ContactLayer;
+  ContactProxies& p_;
+  std::uint32_t base_piece_ = 0;  // the body's first piece id
+  std::uint32_t pieces_ = 1;      // pieces the body used
+};
+
+// Counts of the last step (tests, statistics).
+struct ContactCounts {
+  std::size_t point_triangle = 0;  // pairs that touched
+  std::size_t point_point = 0;
+};
+
+class ContactLayer {
+ public:
+  // Which bodies export proxies (Body::exportsContacts) and which pairs of them the layer leaves
+  // alone (`skip`: pairs of World indices whose contacts go through an exchange of their own).
+  // active() is false when no two proxies could ever meet: then step() costs nothing.
+  void setup(const std::vector<std::unique_ptr<Body>>& bodies, const std::vector<std::array<std::size_t, 2>>& skip);
+  bool active() const { return active_; }
+
+  // Gathers every exporting body's proxies, finds the contacts over the step h, resolves them and
+  // hands each touched body its new positions and velocities (Body::importContacts).
+  void step(const std::vector<std::unique_ptr<Body>>& bodies, double h);
+
+  // The last step's contacts, and every step's since the World was made (not part of a snapshot).
+  const ContactCounts& counts() const { return counts_; }
+  const ContactCounts& total() const { return total_; }
+  const ContactProxies& proxies() const { return p_; }
+
+ private:
+  bool skipped(std::size_t a, std::size_t b) const;
+  bool meet(std::uint32_t i, std::uint32_t j) const;  // points of two pieces that may touch
+  void findPointTriangle(double h);
+  void findPointPoint();
+  bool solvePointTriangle(std::uint32_t i, std::uint32_t t, double h);
+  bool solvePointPoint(std::uint32_t i, std::uint32_t j, double h);
+  void apply(std::uint32_t i, const std::uint32_t* k, const double* beta, int nk, const Vec3& n, double depth, double h);
+
+  bool active_ = false;
+  std::vector<std::size_t> exporters_;              // World indices, in order
+  std::vector<std::array<std::size_t, 2>> skip_;    // sorted pairs (a < b)
+  std::vector<std::uint8_t> touches_points_, touches_triangles_;  // per exporter: worth a search
+  ContactProxies p_;
+  std::vector<std::uint8_t> touched_;  // per slot: some point moved
+  // Broad phase scratch.
+  BoxGrid tri_grid_, point_grid_;
+  std::vector<Vec3> lo_, hi_;
+  std::vector<std::vector<std::array<std::uint32_t, 2>>> chunk_pairs_;
+  std::vector<std::array<std::uint32_t, 2>> pt_pairs_, pp_pairs_;  // (point, triangle), (point, point)
+  ContactCounts counts_, total_;
+};
+
+}  // namespace reel

@@ -1,0 +1,235 @@
+// One world: bodies of every kind that has points meet through the World's contact layer
+// (sim/contact_layer.h). For each cell of docs/coupling.md: contact happens, momentum is kept in
+// zero gravity, nothing passes through at speed, 1 and 2 threads give the same bits, and a run
+// resumed from a snapshot gives the same bits.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "helpers.h"
+#include "sim/cloth/cloth_body.h"
+#include "sim/fish/fish_body.h"
+#include "sim/fluid/fluid_body.h"
+#include "sim/springs/springs_body.h"
+#include "sim/world.h"
+
+using namespace reel;
+using namespace reel::test;
+
+namespace {
+
+const Body& bodyNamed(const World& w, const std::string& name) {
+  for (const auto& b : w.bodies())
+    if (b->name() == name) return *b;
+  throw std::runtime_error("no body " + name);
+}
+
+// The points of a body as a dump shows them.
+BodyView viewOf(const World& w, const std::string& name) {
+  BodyView v;
+  REQUIRE(bodyNamed(w, name).view(v));
+  return v;
+}
+
+double lowest(const World& w, const std::string& name) {
+  double y = 1e300;
+  for (const Vec3& p : viewOf(w, name).positions) y = std::min(y, p.y());
+  return y;
+}
+
+// Momentum of every point of every body with points (nodes and particles), and the sum of |m·v|
+// (the scale of rounding).
+Vec3 momentum(const World& w, double& scale) {
+  Vec3 p = Vec3::Zero();
+  scale = 0.0;
+  for (const auto& b : w.bodies()) {
+    if (const auto* n = dynamic_cast<const SpringNetworkBody*>(b.get())) {
+      const auto& net = n->network();
+      for (std::size_t i = 0; i < net.model.nodes(); ++i) {
+        p += net.model.mass[i] * net.state.v[i];
+        scale += net.model.mass[i] * net.state.v[i].norm();
+      }
+    } else if (const auto* f = dynamic_cast<const FluidBody*>(b.get())) {
+      const Fluid& fl = f->fluid();
+      for (std::size_t i = 0; i < fl.size(); ++i) {
+        p += fl.m[i] * fl.v[i];
+        scale += fl.m[i] * fl.v[i].norm();
+      }
+    }
+  }
+  return p;
+}
+
+std::string scene(const std::string& bodies, const std::string& gravity = "[0, -9.78, 0]", double duration = 2,
+                  const std::string& extra = "") {
+  return R"({"format": "reel/1", "duration": )" + std::to_string(duration) +
+         R"(, "fps": 30, "substeps": 40, "auto_substeps": true, "gravity": )" + gravity + extra +
+         R"(, "objects": [{"type": "plane", "name": "floor", "point": [0, -1, 0]}], "bodies": [)" + bodies + "]}";
+}
+
+// A 1 m sheet held at its corners at y = 0.
+const std::string kHeld = R"({"type": "cloth", "name": "held", "position": [0, 0, 0], "size": [1, 1], "resolution": [17, 17],
+    "mass": 0.3, "stiffness": 600, "damping": 0.2, "node_damping": 0.01, "thickness": 0.01,
+    "pinned": ["corner_00", "corner_10", "corner_01", "corner_11"]})";
+
+std::string sheet(const std::string& name, const Vec3& at, double size, const std::string& velocity = "[0, 0, 0]",
+                  const std::string& rotation = "[0, 0, 0]") {
+  auto num = [](double x) { return std::to_string(x); };
+  return R"({"type": "cloth", "name": ")" + name + R"(", "position": [)" + num(at.x()) + ", " + num(at.y()) + ", " +
+         num(at.z()) + R"(], "size": [)" + num(size) + ", " + num(size) + R"(], "resolution": [11, 11],
+    "mass": 0.1, "stiffness": 400, "damping": 0.2, "node_damping": 0.01, "thickness": 0.01, "rotation_deg": )" +
+         rotation + R"(, "velocity": )" + velocity + "}";
+}
+
+const std::string kRope = R"({"type": "rope", "name": "rope", "start": [-0.3, 0.25, 0.05], "end": [0.3, 0.25, -0.05],
+    "segments": 24, "mass": 0.1, "stiffness": 2000, "damping": 0.2, "node_damping": 0.001, "node_radius": 0.01})";
+
+const std::string kWater = R"("species": [{"name": "water", "mass": 0.008, "alpha": 212.6, "beta": 0.085, "cutoff": 0.02725, "viscosity": 6}])";
+
+}  // namespace
+
+TEST_CASE("contact layer: a sheet dropped on a held sheet rests on it") {
+  World w = worldFromText(scene(kHeld + "," + sheet("top", {0, 0.3, 0}, 0.5)));
+  CHECK(w.contacts().active());
+  run(w, 45);
+  // The held sheet sags under it; the dropped one lies above it, not on the floor.
+  CHECK(lowest(w, "held") < -0.02);
+  CHECK(lowest(w, "top") > lowest(w, "held") - 0.005);
+  CHECK(lowest(w, "top") > -0.5);
+  // At rest, not sliding through.
+  for (const Vec3& v : viewOf(w, "top").velocities) CHECK(v.norm() < 0.5);
+}
+
+TEST_CASE("contact layer: a rope dropped on a held sheet rests on it") {
+  World w = worldFromText(scene(kHeld + "," + kRope));
+  run(w, 45);
+  CHECK(lowest(w, "rope") > lowest(w, "held") - 0.005);
+  CHECK(lowest(w, "rope") > -0.5);
+}
+
+TEST_CASE("contact layer: a lattice (jelly) dropped on a held sheet rests on it") {
+  const std::string jelly = R"({"type": "lattice", "name": "jelly", "position": [0, 0.3, 0], "size": [0.2, 0.2, 0.2],
+      "resolution": [3, 3, 3], "mass": 0.2, "stiffness": 300, "damping": 0.5, "node_radius": 0.01})";
+  World w = worldFromText(scene(kHeld + "," + jelly));
+  run(w, 45);
+  CHECK(lowest(w, "jelly") > lowest(w, "held") - 0.005);
+  CHECK(lowest(w, "jelly") > -0.5);
+}
+
+TEST_CASE("contact layer: water poured on a resting fish splashes off it") {
+  // A 1 m fish lying still (behaviour none, no drive) in the way of a column of water.
+  const std::string bodies = R"({"type": "fish", "name": "fish", "behaviour": "none", "length": 1.0, "position": [0, 0, 0]},
+      {"type": "fluid", "name": "water", "radius": 0.01, )" + kWater + R"(,
+       "blocks": [{"min": [-0.04, 0.3, -0.2], "max": [0.04, 0.6, 0.2], "spacing": 0.02}]})";
+  World w = worldFromText(scene(bodies, "[0, -9.78, 0]", 1, R"(, "integrator": "implicit_euler")"));
+  run(w, 15);
+  CHECK(w.contacts().total().point_triangle > 0);
+  // Particles over the fish's back at the start: none has gone through its body to below it.
+  const BodyView fish = viewOf(w, "fish");
+  double belly = 1e300, x0 = 1e300, x1 = -1e300, z0 = 1e300, z1 = -1e300;
+  for (const Vec3& p : fish.positions) {
+    belly = std::min(belly, p.y());
+    x0 = std::min(x0, p.x()), x1 = std::max(x1, p.x());
+    z0 = std::min(z0, p.z()), z1 = std::max(z1, p.z());
+  }
+  int under = 0, total = 0;
+  for (const Vec3& p : viewOf(w, "water").positions) {
+    ++total;
+    if (p.y() < belly && p.x() > x0 + 0.02 && p.x() < x1 - 0.02 && p.z() > z0 + 0.1 && p.z() < z1 - 0.1) ++under;
+  }
+  CHECK(total > 50);
+  CHECK(under == 0);
+  // And the water pushed the fish down.
+  double vy = 0.0;
+  for (const Vec3& v : fish.velocities) vy += v.y();
+  CHECK(vy < 0.0);
+}
+
+TEST_CASE("contact layer: two free sheets thrown at each other collide, momentum kept") {
+  // Zero gravity; facing each other across x, each turned upright (normal along x).
+  const std::string a = sheet("a", {-0.15, 0, 0}, 0.4, "[2, 0, 0]", "[0, 0, 90]");
+  const std::string b = sheet("b", {0.15, 0.05, 0.05}, 0.4, "[-2, 0, 0]", "[0, 0, 90]");
+  World w = worldFromText(scene(a + "," + b, "[0, 0, 0]"));
+  double s0 = 0.0;
+  const Vec3 p0 = momentum(w, s0);
+  run(w, 20);
+  double s1 = 0.0;
+  const Vec3 p1 = momentum(w, s1);
+  CHECK((p1 - p0).norm() < 1e-12 * s0);
+  // They met and did not pass (without contacts they would be 2.3 m apart, a beyond b): a stays
+  // on the −x side of b, the two thicknesses apart.
+  double amean = 0.0, bmean = 0.0;
+  const BodyView va = viewOf(w, "a"), vb = viewOf(w, "b");
+  for (const Vec3& p : va.positions) amean += p.x() / static_cast<double>(va.positions.size());
+  for (const Vec3& p : vb.positions) bmean += p.x() / static_cast<double>(vb.positions.size());
+  CHECK(amean < bmean - 0.01);
+}
+
+TEST_CASE("contact layer: momentum is kept in zero gravity for every pair of proxy kinds") {
+  const std::string held_free = R"({"type": "cloth", "name": "held", "position": [0, 0, 0], "size": [1, 1], "resolution": [13, 13],
+      "mass": 0.3, "stiffness": 600, "damping": 0.2, "thickness": 0.01})";
+  const std::string rope = R"({"type": "rope", "name": "rope", "start": [-0.3, 0.1, 0], "end": [0.3, 0.1, 0], "segments": 20,
+      "mass": 0.1, "stiffness": 2000, "damping": 0.2, "node_radius": 0.01, "velocity": [0, -2, 0]})";
+  const std::string water = R"({"type": "fluid", "name": "water", "radius": 0.01, )" + kWater +
+                            R"(, "blocks": [{"min": [-0.05, 0.25, -0.05], "max": [0.05, 0.35, 0.05], "spacing": 0.02, "velocity": [0, -3, 0]}]})";
+  const std::string fish = R"({"type": "fish", "name": "fish", "behaviour": "none", "length": 1.0, "count": 2,
+      "start": {"min": [-0.05, -0.1, -0.05], "max": [0.05, 0.1, 0.05]}, "heading": [0, 0, 1]})";
+  const std::string jelly = R"({"type": "lattice", "name": "jelly", "position": [0, 0.2, 0], "size": [0.2, 0.2, 0.2],
+      "resolution": [3, 3, 3], "mass": 0.2, "stiffness": 300, "damping": 0.5, "node_radius": 0.01, "velocity": [0, -2, 0]})";
+  for (const std::string& pair : {held_free + "," + rope, held_free + "," + jelly, rope + "," + jelly, fish + "," + water, fish}) {
+    CAPTURE(pair);
+    // (no water around the fish: its drag would be an outside force)
+    World w = worldFromText(scene(pair, "[0, 0, 0]", 2, R"(, "water": {"density": 0})"));
+    double s0 = 0.0;
+    const Vec3 p0 = momentum(w, s0);
+    run(w, 8);
+    CHECK(w.contacts().active());
+    double s1 = 0.0;
+    const Vec3 p1 = momentum(w, s1);
+    CHECK((p1 - p0).norm() < 1e-12 * std::max(s0, s1));
+    // They met.
+    CHECK(w.contacts().total().point_triangle + w.contacts().total().point_point > 0);
+  }
+}
+
+TEST_CASE("contact layer: nothing passes through a sheet or a fish's skin at speed") {
+  // A rope fired at 40 m/s (over 3 cm a step, three times the contact distance) at a held sheet,
+  // and light particles at a fish, in zero gravity.
+  const std::string target = R"({"type": "cloth", "name": "held", "position": [0, 0, 0], "size": [1, 1], "resolution": [9, 9],
+      "mass": 0.3, "stiffness": 600, "damping": 0.2, "thickness": 0.005,
+      "pinned": ["corner_00", "corner_10", "corner_01", "corner_11"]})";
+  const std::string rope = R"({"type": "rope", "name": "shot", "start": [-0.3, 0.1, 0.02], "end": [0.3, 0.1, -0.02],
+      "segments": 30, "mass": 0.02, "stiffness": 500, "damping": 0.1, "node_radius": 0.005, "velocity": [0, -40, 0]})";
+  const std::string fish = R"({"type": "fish", "name": "fish", "behaviour": "none", "length": 1.0, "position": [0, 0, 0]})";
+  const std::string shot = R"({"type": "fluid", "name": "shot", "radius": 0.005,
+      "species": [{"name": "lead", "mass": 0.0002, "alpha": 0.01, "beta": 0.00001, "cutoff": 0.02}],
+      "blocks": [{"min": [-0.02, 0.15, -0.2], "max": [0.02, 0.17, 0.2], "spacing": 0.02, "velocity": [0, -40, 0]}]})";
+  for (const std::string& bodies : {target + "," + rope, fish + "," + shot}) {
+    CAPTURE(bodies);
+    World w = worldFromText(scene(bodies, "[0, 0, 0]", 1, R"(, "water": {"density": 0})"));
+    const std::string hit = bodies == target + "," + rope ? "held" : "fish";
+    run(w, 6);
+    // Above the target's lowest point, every one, after bouncing off it.
+    const double under = lowest(w, hit);
+    for (const Vec3& p : viewOf(w, "shot").positions) CHECK(p.y() > under);
+    CHECK(w.contacts().total().point_triangle > 20);
+  }
+}
+
+TEST_CASE("contact layer: 1 and 2 threads give the same bits; a resumed run gives the same bits") {
+  const std::string text = scene(kHeld + "," + sheet("top", {0, 0.3, 0}, 0.5) + "," + kRope +
+                                 R"(, {"type": "fluid", "name": "water", "radius": 0.01, )" + kWater +
+                                 R"(, "blocks": [{"min": [0.2, 0.3, 0.2], "max": [0.3, 0.4, 0.3], "spacing": 0.02}]})");
+  const std::uint64_t h1 = runHash(text, 1, 12);
+  CHECK(runHash(text, 2, 12) == h1);
+  World a = worldFromText(text);
+  run(a, 6);
+  const WorldSnapshot s = a.snapshot();
+  run(a, 6);
+  World b = worldFromText(text);
+  REQUIRE(b.restore(s).ok());
+  run(b, 6);
+  CHECK(a.stateHash() == b.stateHash());
+  CHECK(a.stateHash() == h1);
+}
