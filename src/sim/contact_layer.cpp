@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "core/parallel.h"
-#include "core/profile.h"
 #include "sim/body.h"
 #include "sim/geometry.h"
 
@@ -104,7 +103,12 @@ void ContactLayer::findPointTriangle(double) {
   lo_.resize(nt);
   hi_.resize(nt);
   double mean = 0.0;
+  std::size_t counted = 0;
   for (std::size_t t = 0; t < nt; ++t) {
+    if (!near_[p_.slot[p_.tri[t][0]]]) {
+      lo_[t] = hi_[t] = Vec3::Constant(-1e300);  // marked: put far away below
+      continue;
+    }
     Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
     double rt = 0.0;
     for (std::uint32_t k : p_.tri[t]) {
@@ -115,13 +119,15 @@ void ContactLayer::findPointTriangle(double) {
     lo_[t] = lo - Vec3::Constant(rt + rmax);
     hi_[t] = hi + Vec3::Constant(rt + rmax);
     mean += (hi_[t] - lo_[t]).maxCoeff();
+    ++counted;
   }
-  mean /= static_cast<double>(nt);
+  if (counted == 0) return;
+  mean /= static_cast<double>(counted);
   if (!(mean > 0.0 && mean < 1e6)) return;  // a non-finite state: the state check reports it
   const double cell = mean;
   // A triangle spread over very many cells (a corner flung far in one step) is left out.
   for (std::size_t t = 0; t < nt; ++t)
-    if (!((hi_[t] - lo_[t]).maxCoeff() <= 16 * cell)) lo_[t] = hi_[t] = Vec3::Constant(-1e9 * cell);
+    if (!((hi_[t] - lo_[t]).maxCoeff() <= 16 * cell) || lo_[t].x() == -1e300) lo_[t] = hi_[t] = Vec3::Constant(-1e9 * cell);
   tri_grid_.build(lo_, hi_, cell);
   constexpr std::ptrdiff_t kBlock = 256;
   const std::ptrdiff_t blocks = (static_cast<std::ptrdiff_t>(np) + kBlock - 1) / kBlock;
@@ -132,7 +138,7 @@ void ContactLayer::findPointTriangle(double) {
     std::vector<std::uint32_t> cand;
     for (std::ptrdiff_t ii = i0; ii < i1; ++ii) {
       const auto i = static_cast<std::uint32_t>(ii);
-      if (!touches_points_[p_.slot[i]]) continue;
+      if (!near_[p_.slot[i]]) continue;
       const Vec3 &p1 = p_.x[i], &p0 = p_.x0[i];
       const Vec3 plo = p0.cwiseMin(p1) - Vec3::Constant(p_.r[i]), phi = p0.cwiseMax(p1) + Vec3::Constant(p_.r[i]);
       const double len = (p1 - p0).norm();
@@ -163,14 +169,14 @@ void ContactLayer::findPointPoint() {
   const std::size_t np = p_.x.size();
   double rmax = 0.0;
   for (std::size_t i = 0; i < np; ++i)
-    if (touches_points_[p_.slot[i]]) rmax = std::max(rmax, p_.r[i]);
+    if (near_[p_.slot[i]]) rmax = std::max(rmax, p_.r[i]);
   if (!(rmax > 0.0 && rmax < 1e6)) return;
   const double cell = 2.0 * rmax;
   lo_.resize(np);
   hi_.resize(np);
   for (std::size_t i = 0; i < np; ++i) {
     // (Points of bodies that meet no one are put far away.)
-    lo_[i] = hi_[i] = touches_points_[p_.slot[i]] ? p_.x[i] : Vec3::Constant(-1e9 * cell);
+    lo_[i] = hi_[i] = near_[p_.slot[i]] ? p_.x[i] : Vec3::Constant(-1e9 * cell);
   }
   point_grid_.build(lo_, hi_, cell);
   constexpr std::ptrdiff_t kBlock = 256;
@@ -182,7 +188,7 @@ void ContactLayer::findPointPoint() {
     std::vector<std::uint32_t> cand;
     for (std::ptrdiff_t ii = i0; ii < i1; ++ii) {
       const auto i = static_cast<std::uint32_t>(ii);
-      if (!touches_points_[p_.slot[i]]) continue;
+      if (!near_[p_.slot[i]]) continue;
       cand.clear();
       point_grid_.forEachNear(p_.x[i], [&](int j) {
         const auto ju = static_cast<std::uint32_t>(j);
@@ -304,8 +310,7 @@ bool ContactLayer::solvePointPoint(std::uint32_t i, std::uint32_t j, double h) {
 
 void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double h) {
   counts_ = {};
-  if (!active_) return;
-  profile::Scope stage(profile::Stage::Contacts);
+  if (!active_) return;  // (its time is the World's coupling stage's)
   // Gather: each exporting body's points and triangles, in scene order.
   p_.clear();
   std::uint32_t next_piece = 0;
@@ -322,6 +327,29 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
   p_.x0.resize(np);
   for (std::size_t i = 0; i < np; ++i) p_.x0[i] = p_.x[i] - h * p_.v[i];
   touched_.assign(exporters_.size(), 0);
+  // Bodies far from every body they may touch sit out this step: each body's box over the step,
+  // grown by its largest radius, against the others'.
+  const std::size_t ns = exporters_.size();
+  slot_lo_.assign(ns, Vec3::Constant(1e300));
+  slot_hi_.assign(ns, Vec3::Constant(-1e300));
+  for (std::size_t i = 0; i < np; ++i) {
+    const std::uint32_t e = p_.slot[i];
+    const Vec3 g = Vec3::Constant(p_.r[i]);
+    slot_lo_[e] = slot_lo_[e].cwiseMin(p_.x[i] - g).cwiseMin(p_.x0[i] - g);
+    slot_hi_[e] = slot_hi_[e].cwiseMax(p_.x[i] + g).cwiseMax(p_.x0[i] + g);
+  }
+  near_.assign(ns, 0);
+  bool any = false;
+  for (std::size_t a = 0; a < ns; ++a) {
+    if (!touches_points_[a]) continue;
+    if (bodies[exporters_[a]]->meetsItself()) near_[a] = 1;
+    for (std::size_t b = a + 1; b < ns; ++b)
+      if (touches_points_[b] && !skipped(exporters_[a], exporters_[b]) &&
+          (slot_lo_[a].array() <= slot_hi_[b].array()).all() && (slot_lo_[b].array() <= slot_hi_[a].array()).all())
+        near_[a] = near_[b] = 1;
+    any = any || near_[a];
+  }
+  if (!any) return;
   // Broad phase, then the pairs in id order, twice (Gauss–Seidel: a point pressed between two
   // surfaces settles between them).
   findPointTriangle(h);

@@ -105,6 +105,8 @@ class ContactLayer {
   std::vector<std::uint8_t> touches_points_, touches_triangles_;  // per exporter: worth a search
   ContactProxies p_;
   std::vector<std::uint8_t> touched_;  // per slot: some point moved
+  std::vector<std::uint8_t> near_;     // per slot: its box over the step meets another's it may touch
+  std::vector<Vec3> slot_lo_, slot_hi_;
   // Broad phase scratch.
   BoxGrid tri_grid_, point_grid_;
   std::vector<Vec3> lo_, hi_;
