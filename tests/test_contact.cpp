@@ -210,12 +210,31 @@ TEST_CASE("contact layer: kelp meets a rope and a fish") {
     const BodyView start = viewOf(w, "kelp");  // (a view: spans into the live state)
     const std::vector<Vec3> before(start.positions.begin(), start.positions.end());
     run(w, 11);
-    CHECK(w.contacts().total().point_triangle + w.contacts().total().point_point > 0);
+    const ContactCounts& c = w.contacts().total();
+    CHECK(c.point_triangle + c.point_point + c.edge_edge > 0);
     const BodyView after = viewOf(w, "kelp");
     double moved = 0.0;
     for (std::size_t i = 0; i < after.positions.size(); ++i) moved = std::max(moved, (after.positions[i] - before[i]).norm());
     CHECK(moved > 0.005);
+    // The rope did not slip through the stalk between its nodes (edge against edge).
+    if (other == rope) CHECK(viewOf(w, "rope").positions[10].z() > after.positions[4].z() - 0.05);
   }
+}
+
+TEST_CASE("contact layer: two ropes thrown across each other do not pass through, momentum kept") {
+  // Crossed at right angles, their nodes out of line (no node meets a node), 4 m/s apart.
+  const std::string a = R"({"type": "rope", "name": "a", "start": [-0.3, 0.05, 0], "end": [0.3, 0.05, 0], "segments": 20,
+      "mass": 0.1, "stiffness": 2000, "damping": 0.2, "node_radius": 0.005, "velocity": [0, -2, 0]})";
+  const std::string b = R"({"type": "rope", "name": "b", "start": [0.0, -0.05, -0.315], "end": [0.0, -0.05, 0.285], "segments": 20,
+      "mass": 0.1, "stiffness": 2000, "damping": 0.2, "node_radius": 0.005, "velocity": [0, 2, 0]})";
+  World w = worldFromText(scene(a + "," + b, "[0, 0, 0]", 1));
+  double s0 = 0.0;
+  const Vec3 p0 = momentum(w, s0);
+  run(w, 6);
+  double s1 = 0.0;
+  CHECK((momentum(w, s1) - p0).norm() < 1e-12 * s0);
+  CHECK(w.contacts().total().edge_edge > 0);
+  CHECK(viewOf(w, "a").positions[10].y() > viewOf(w, "b").positions[10].y());
 }
 
 TEST_CASE("contact layer: nothing passes through a sheet or a fish's skin at speed") {

@@ -19,6 +19,7 @@ void ContactProxies::clear() {
   slot.clear();
   tri.clear();
   tri_piece.clear();
+  edge.clear();
   body.clear();
   first.assign(1, 0);
   friction.clear();
@@ -52,6 +53,13 @@ void ContactExport::triangle(int a, int b, int c) {
                                        f + static_cast<std::uint32_t>(c)};
   p_.tri.push_back(t);
   p_.tri_piece.push_back(p_.piece[t[0]]);
+}
+
+void ContactExport::edge(int a, int b) {
+  const std::uint32_t f = p_.first.back(), n = static_cast<std::uint32_t>(p_.x.size()) - f;
+  REEL_CHECK(a >= 0 && b >= 0 && a != b && static_cast<std::uint32_t>(std::max(a, b)) < n,
+             "contact edge over a point the body did not hand");
+  p_.edge.push_back({f + static_cast<std::uint32_t>(a), f + static_cast<std::uint32_t>(b)});
 }
 
 void ContactExport::friction(double mu) { p_.friction.back() = mu; }
@@ -204,6 +212,59 @@ void ContactLayer::findPointPoint() {
   for (const auto& c : chunk_pairs_) pp_pairs_.insert(pp_pairs_.end(), c.begin(), c.end());
 }
 
+// Edge–edge: the threads' boxes over the step (grown by their radii) in a grid of cells as large
+// as the largest box, so the 27 cells around a box's centre hold every box it overlaps; pairs
+// e < f of other pieces that share no point, in order of e then f.
+void ContactLayer::findEdgeEdge() {
+  ee_pairs_.clear();
+  const std::size_t ne = p_.edge.size();
+  if (ne < 2) return;
+  lo_.resize(ne);
+  hi_.resize(ne);
+  double cell = 0.0;
+  for (std::size_t e = 0; e < ne; ++e) {
+    const auto& E = p_.edge[e];
+    if (!near_[p_.slot[E[0]]]) {
+      lo_[e] = hi_[e] = Vec3::Constant(-1e300);
+      continue;
+    }
+    const Vec3 g = Vec3::Constant(std::max(p_.r[E[0]], p_.r[E[1]]));
+    lo_[e] = p_.x[E[0]].cwiseMin(p_.x[E[1]]).cwiseMin(p_.x0[E[0]]).cwiseMin(p_.x0[E[1]]) - g;
+    hi_[e] = p_.x[E[0]].cwiseMax(p_.x[E[1]]).cwiseMax(p_.x0[E[0]]).cwiseMax(p_.x0[E[1]]) + g;
+    cell = std::max(cell, (hi_[e] - lo_[e]).maxCoeff());
+  }
+  if (!(cell > 0.0 && cell < 1e3)) return;  // none near, or a runaway the state check reports
+  for (std::size_t e = 0; e < ne; ++e)
+    if (lo_[e].x() == -1e300) lo_[e] = hi_[e] = Vec3::Constant(-1e9 * cell);
+  point_grid_.build(lo_, hi_, cell);
+  constexpr std::ptrdiff_t kBlock = 256;
+  const std::ptrdiff_t blocks = (static_cast<std::ptrdiff_t>(ne) + kBlock - 1) / kBlock;
+  chunk_pairs_.resize(static_cast<std::size_t>(blocks));
+  parallelBlocks(static_cast<std::ptrdiff_t>(ne), kBlock, [&](std::ptrdiff_t e0, std::ptrdiff_t e1) {
+    auto& out = chunk_pairs_[static_cast<std::size_t>(e0 / kBlock)];
+    out.clear();
+    std::vector<std::uint32_t> cand;
+    for (std::ptrdiff_t ee = e0; ee < e1; ++ee) {
+      const auto e = static_cast<std::uint32_t>(ee);
+      const auto& E = p_.edge[e];
+      if (!near_[p_.slot[E[0]]]) continue;
+      cand.clear();
+      point_grid_.forEachNear(0.5 * (lo_[e] + hi_[e]), [&](int f) {
+        const auto fu = static_cast<std::uint32_t>(f);
+        if (fu <= e) return;
+        const auto& F = p_.edge[fu];
+        if ((lo_[e].array() > hi_[fu].array()).any() || (hi_[e].array() < lo_[fu].array()).any()) return;
+        if (E[0] == F[0] || E[0] == F[1] || E[1] == F[0] || E[1] == F[1] || !meet(E[0], F[0])) return;
+        cand.push_back(fu);
+      });
+      std::sort(cand.begin(), cand.end());
+      cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+      for (std::uint32_t f : cand) out.push_back({e, f});
+    }
+  });
+  for (const auto& c : chunk_pairs_) ee_pairs_.insert(ee_pairs_.end(), c.begin(), c.end());
+}
+
 // --- narrow phase ----------------------------------------------------------------------------
 // One contact: point i against points k (the corners of a triangle, or one other point) at the
 // contact's barycentric weights beta, along the unit normal n (from the others towards i), with
@@ -212,32 +273,33 @@ void ContactLayer::findPointPoint() {
 // (a plastic contact) and Coulomb friction on the sliding part, bounded by μ times the normal
 // impulse (the positional one counted as λ/h). Each impulse acts on i and, opposite, on the k by
 // their weights: Σ beta = 1, so momentum is kept.
-void ContactLayer::apply(std::uint32_t i, const std::uint32_t* k, const double* beta, int nk, const Vec3& n,
-                         double depth, double h) {
-  double W = p_.w[i];
-  for (int q = 0; q < nk; ++q) W += beta[q] * beta[q] * p_.w[k[q]];
+void ContactLayer::apply(const std::uint32_t* ka, const double* ba, int na, const std::uint32_t* kb, const double* bb,
+                         int nb, const Vec3& n, double depth, double h) {
+  double W = 0.0;
+  for (int q = 0; q < na; ++q) W += ba[q] * ba[q] * p_.w[ka[q]];
+  for (int q = 0; q < nb; ++q) W += bb[q] * bb[q] * p_.w[kb[q]];
   if (!(W > 0.0)) return;
   const double lambda = depth / W;  // kg·m
-  p_.x[i] += (p_.w[i] * lambda) * n;
-  for (int q = 0; q < nk; ++q) p_.x[k[q]] -= (beta[q] * p_.w[k[q]] * lambda) * n;
-  Vec3 vk = Vec3::Zero();
-  for (int q = 0; q < nk; ++q) vk += beta[q] * p_.v[k[q]];
-  const Vec3 rel = p_.v[i] - vk;
+  for (int q = 0; q < na; ++q) p_.x[ka[q]] += (ba[q] * p_.w[ka[q]] * lambda) * n;
+  for (int q = 0; q < nb; ++q) p_.x[kb[q]] -= (bb[q] * p_.w[kb[q]] * lambda) * n;
+  Vec3 va = Vec3::Zero(), vb = Vec3::Zero();
+  for (int q = 0; q < na; ++q) va += ba[q] * p_.v[ka[q]];
+  for (int q = 0; q < nb; ++q) vb += bb[q] * p_.v[kb[q]];
+  const Vec3 rel = va - vb;
   const double vn = rel.dot(n);
   const double jn = vn < 0.0 ? -vn / W : 0.0;  // N·s
   Vec3 J = jn * n;
   const Vec3 vt = rel - vn * n;
   const double vt_len = vt.norm();
   if (vt_len > 1e-12) {
-    const std::uint32_t a = p_.slot[i], b = p_.slot[k[0]];
-    const double mu = std::sqrt(p_.friction[a] * p_.friction[b]);
+    const double mu = std::sqrt(p_.friction[p_.slot[ka[0]]] * p_.friction[p_.slot[kb[0]]]);
     const double jt = std::min(vt_len / W, mu * (jn + lambda / h));
     J -= (jt / vt_len) * vt;
   }
-  p_.v[i] += p_.w[i] * J;
-  for (int q = 0; q < nk; ++q) p_.v[k[q]] -= (beta[q] * p_.w[k[q]]) * J;
-  touched_[p_.slot[i]] = 1;
-  for (int q = 0; q < nk; ++q) touched_[p_.slot[k[q]]] = 1;
+  for (int q = 0; q < na; ++q) p_.v[ka[q]] += (ba[q] * p_.w[ka[q]]) * J;
+  for (int q = 0; q < nb; ++q) p_.v[kb[q]] -= (bb[q] * p_.w[kb[q]]) * J;
+  touched_[p_.slot[ka[0]]] = 1;
+  touched_[p_.slot[kb[0]]] = 1;
 }
 
 // A point against a triangle, both moving over the step (start x0, end x). The point keeps the
@@ -294,7 +356,8 @@ bool ContactLayer::solvePointTriangle(std::uint32_t i, std::uint32_t t, double h
     n = s * n1;
     depth = r - sd;
   }
-  apply(i, T.data(), beta, 3, n, depth, h);
+  const double one = 1.0;
+  apply(&i, &one, 1, T.data(), beta, 3, n, depth, h);
   return true;
 }
 
@@ -304,7 +367,53 @@ bool ContactLayer::solvePointPoint(std::uint32_t i, std::uint32_t j, double h) {
   const double dist = d.norm(), r = p_.r[i] + p_.r[j];
   if (dist >= r || !(dist > 1e-12)) return false;
   const double one = 1.0;
-  apply(i, &j, &one, 1, d / dist, r - dist, h);
+  apply(&i, &one, 1, &j, &one, 1, d / dist, r - dist, h);
+  return true;
+}
+
+// Two threads as capsules: apart by the sum of their radii at their closest points. Threads that
+// crossed this step (their closest points inside both, on the other side of each other along
+// the common normal than at the start) are brought back to the side they came from.
+bool ContactLayer::solveEdgeEdge(std::uint32_t e, std::uint32_t f, double h) {
+  const auto &E = p_.edge[e], &F = p_.edge[f];
+  const Vec3 &a = p_.x[E[0]], &b = p_.x[E[1]], &c = p_.x[F[0]], &d = p_.x[F[1]];
+  double s = 0.0, t = 0.0;
+  closestSegmentSegment(a, b, c, d, s, t);
+  const Vec3 diff = (a + s * (b - a)) - (c + t * (d - c));
+  const double dist = diff.norm();
+  const double r = 0.5 * (p_.r[E[0]] + p_.r[E[1]] + p_.r[F[0]] + p_.r[F[1]]);
+  const Vec3 &a0 = p_.x0[E[0]], &b0 = p_.x0[E[1]], &c0 = p_.x0[F[0]], &d0 = p_.x0[F[1]];
+  Vec3 n1 = (b - a).cross(d - c);
+  const double len1 = n1.norm();
+  Vec3 n;
+  double depth;
+  bool crossed = false;
+  if (len1 > 1e-300 && s > 0.0 && s < 1.0 && t > 0.0 && t < 1.0) {
+    n1 /= len1;
+    const Vec3 n0 = (b0 - a0).cross(d0 - c0);
+    const double side0 = ((a0 + s * (b0 - a0)) - (c0 + t * (d0 - c0))).dot(n0);
+    const double side1 = diff.dot(n1);
+    const double cosine = n0.dot(n1), n0_len = n0.norm();
+    // (threads turned across each other, or farther apart than this step's motion, did not cross)
+    double moved = 0.0;
+    for (std::uint32_t k : {E[0], E[1], F[0], F[1]}) moved = std::max(moved, (p_.x[k] - p_.x0[k]).norm());
+    if (std::abs(cosine) > 0.3 * n0_len && std::abs(side1) < 2.0 * moved + r) {
+      const double from = cosine > 0.0 ? side0 : -side0;  // the start side, along n1
+      if ((from > 0.0 && side1 < 0.0) || (from < 0.0 && side1 > 0.0)) {
+        const double sg = from > 0.0 ? 1.0 : -1.0;
+        n = sg * n1;
+        depth = r - sg * side1;
+        crossed = true;
+      }
+    }
+  }
+  if (!crossed) {
+    if (dist >= r || !(dist > 1e-12)) return false;
+    n = diff / dist;
+    depth = r - dist;
+  }
+  const double wa[2] = {1.0 - s, s}, wb[2] = {1.0 - t, t};
+  apply(E.data(), wa, 2, F.data(), wb, 2, n, depth, h);
   return true;
 }
 
@@ -354,14 +463,17 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
   // surfaces settles between them).
   findPointTriangle(h);
   findPointPoint();
+  findEdgeEdge();
   for (int pass = 0; pass < 2; ++pass) {
-    std::size_t pt = 0, pp = 0;
+    std::size_t pt = 0, pp = 0, ee = 0;
     for (const auto& q : pt_pairs_) pt += solvePointTriangle(q[0], q[1], h);
     for (const auto& q : pp_pairs_) pp += solvePointPoint(q[0], q[1], h);
-    if (pass == 0) counts_ = {pt, pp};
+    for (const auto& q : ee_pairs_) ee += solveEdgeEdge(q[0], q[1], h);
+    if (pass == 0) counts_ = {pt, pp, ee};
   }
   total_.point_triangle += counts_.point_triangle;
   total_.point_point += counts_.point_point;
+  total_.edge_edge += counts_.edge_edge;
   // Hand back each touched body its points.
   for (std::size_t e = 0; e < exporters_.size(); ++e) {
     if (!touched_[e]) continue;

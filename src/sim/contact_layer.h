@@ -3,7 +3,8 @@
 // radius), with the triangles of its surface over them; one broad phase runs over all of them,
 // and the narrow phase is keyed by the pair of proxy types, never by the pair of kinds:
 //   point–triangle: a node or particle against a sheet, a fish's skin, a lattice's skin;
-//   point–point: two nodes or particles as spheres.
+//   point–point: two nodes or particles as spheres;
+//   edge–edge: two threads (a rope's segments, a net's threads, a kelp stalk) as capsules.
 // Impulses are equal and opposite (a point's against the triangle's corners by the barycentric
 // weights of the contact), applied in the same step, pairs processed in id order: momentum is
 // kept to rounding and a run is bit-identical for any thread count. The layer keeps no state
@@ -40,6 +41,7 @@ struct ContactProxies {
   std::vector<std::uint32_t> slot;        // the exporting body's slot (points)
   std::vector<std::array<std::uint32_t, 3>> tri;  // point ids, counter-clockwise from outside (triangles)
   std::vector<std::uint32_t> tri_piece;   // the piece of its corners (triangles)
+  std::vector<std::array<std::uint32_t, 2>> edge;  // point ids of a thread's ends (edges)
   // Per exporting body (slots): its World index, first point, friction coefficient.
   std::vector<std::size_t> body;
   std::vector<std::uint32_t> first;       // (slots + 1)
@@ -58,6 +60,8 @@ class ContactExport {
               std::span<const int> piece = {});
   // A triangle over the body's points (indices as handed to points()).
   void triangle(int a, int b, int c);
+  // A thread between two of its points (a capsule of the points' radius).
+  void edge(int a, int b);
   void friction(double mu);
 
  private:
@@ -71,6 +75,7 @@ class ContactExport {
 struct ContactCounts {
   std::size_t point_triangle = 0;  // pairs that touched
   std::size_t point_point = 0;
+  std::size_t edge_edge = 0;
 };
 
 class ContactLayer {
@@ -95,9 +100,14 @@ class ContactLayer {
   bool meet(std::uint32_t i, std::uint32_t j) const;  // points of two pieces that may touch
   void findPointTriangle(double h);
   void findPointPoint();
+  void findEdgeEdge();
+  bool solveEdgeEdge(std::uint32_t e, std::uint32_t f, double h);
   bool solvePointTriangle(std::uint32_t i, std::uint32_t t, double h);
   bool solvePointPoint(std::uint32_t i, std::uint32_t j, double h);
-  void apply(std::uint32_t i, const std::uint32_t* k, const double* beta, int nk, const Vec3& n, double depth, double h);
+  // One contact between weighted points of each side (a point, a thread's two ends, a triangle's
+  // three corners), n from side b towards side a.
+  void apply(const std::uint32_t* ka, const double* ba, int na, const std::uint32_t* kb, const double* bb, int nb,
+             const Vec3& n, double depth, double h);
 
   bool active_ = false;
   std::vector<std::size_t> exporters_;              // World indices, in order
@@ -111,7 +121,7 @@ class ContactLayer {
   BoxGrid tri_grid_, point_grid_;
   std::vector<Vec3> lo_, hi_;
   std::vector<std::vector<std::array<std::uint32_t, 2>>> chunk_pairs_;
-  std::vector<std::array<std::uint32_t, 2>> pt_pairs_, pp_pairs_;  // (point, triangle), (point, point)
+  std::vector<std::array<std::uint32_t, 2>> pt_pairs_, pp_pairs_, ee_pairs_;  // (point, triangle), (point, point), (edge, edge)
   ContactCounts counts_, total_;
 };
 

@@ -97,6 +97,7 @@ void SpringNetworkBody::exportContacts(ContactExport& out) const {
 
 void SpringNetworkBody::exportTriangles(ContactExport& out) const {
   for (const auto& t : surface_) out.triangle(t[0], t[1], t[2]);
+  for (const auto& e : edges_) out.edge(e[0], e[1]);
 }
 
 void SpringNetworkBody::importContacts(std::span<const Vec3> x, std::span<const Vec3> v) {

@@ -67,6 +67,8 @@ class SpringNetworkBody : public Body {
     surface_ = std::move(triangles);
     piece_ = std::move(pieces);
   }
+  // The threads between its nodes it meets others with (a rope's segments, a kelp stalk's).
+  void setEdges(std::vector<std::array<int, 2>> edges) { edges_ = std::move(edges); }
 
   SpringNetwork& network() { return net_; }
   const SpringNetwork& network() const { return net_; }
@@ -80,6 +82,7 @@ class SpringNetworkBody : public Body {
   virtual void exportTriangles(ContactExport& out) const;
   SpringNetwork net_;
   std::vector<std::array<int, 3>> surface_;  // node indices, counter-clockwise from outside (triangles)
+  std::vector<std::array<int, 2>> edges_;     // node indices (threads)
   std::vector<int> piece_;  // per node: which piece (the fish of one body meet each other); empty: one
 
  private:

@@ -96,6 +96,11 @@ Result<std::unique_ptr<Body>> buildSeaweedBody(const BodyDesc& desc, const Build
   }
   auto body = std::make_unique<SeaweedBody>(desc.name, d, desc.material);
   if (Status st = buildNetwork(*body, ms, desc, ctx, 0.5 * d.width); !st) return st.error();
+  // Each stalk's stretch springs are the threads it meets others with.
+  std::vector<std::array<int, 2>> edges;
+  for (const SpringDesc& s : ms.springs)
+    if (s.stiffness == d.stiffness) edges.push_back({s.a, s.b});
+  body->setEdges(std::move(edges));
   return std::unique_ptr<Body>(std::move(body));
 }
 

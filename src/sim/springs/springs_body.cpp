@@ -8,6 +8,12 @@ namespace {
 Result<std::unique_ptr<Body>> make(const BodyDesc& desc, const BuildContext& ctx, const MassSpringDesc& nodes) {
   auto b = std::make_unique<SpringsBody>(desc.name, desc.type, desc.material);
   if (Status st = buildNetwork(*b, nodes, desc, ctx, desc.node_radius); !st) return st.error();
+  // Its springs are threads that meet other bodies' (a lattice meets them with its skin instead).
+  if (desc.type != "lattice") {
+    std::vector<std::array<int, 2>> edges;
+    for (const SpringDesc& s : nodes.springs) edges.push_back({s.a, s.b});
+    b->setEdges(std::move(edges));
+  }
   return std::unique_ptr<Body>(std::move(b));
 }
 
