@@ -80,9 +80,11 @@ void ContactLayer::setup(const std::vector<std::unique_ptr<Body>>& bodies,
   // A body is worth a search when another exporter (or its own other pieces) may meet it.
   const std::size_t n = exporters_.size();
   touches_points_.assign(n, 0);
+  self_meet_.assign(n, 0);
   active_ = false;
   for (std::size_t a = 0; a < n; ++a) {
-    if (bodies[exporters_[a]]->meetsItself()) touches_points_[a] = 1;
+    self_meet_[a] = bodies[exporters_[a]]->meetsItself();
+    if (self_meet_[a]) touches_points_[a] = 1;
     for (std::size_t b = 0; b < n; ++b)
       if (a != b && !skipped(exporters_[a], exporters_[b])) touches_points_[a] = 1;
     active_ = active_ || touches_points_[a];
@@ -94,7 +96,54 @@ void ContactLayer::setup(const std::vector<std::unique_ptr<Body>>& bodies,
 bool ContactLayer::meet(std::uint32_t i, std::uint32_t j) const {
   if (p_.piece[i] == p_.piece[j]) return false;
   const std::uint32_t a = p_.slot[i], b = p_.slot[j];
-  return a == b || !skipped(p_.body[a], p_.body[b]);
+  return a == b ? self_meet_[a] != 0 : !skipped(p_.body[a], p_.body[b]);
+}
+
+// Which pieces are near a piece they may touch: the pieces' boxes in a grid of cells as large as
+// twice their mean size (each small piece looks in the 27 cells around its centre, which hold
+// every box it overlaps); the few larger pieces (a pool, a big sheet) are tried against every
+// piece. False when none is near.
+bool ContactLayer::nearPieces(std::uint32_t pieces) {
+  near_.assign(pieces, 0);
+  double mean = 0.0;
+  std::uint32_t counted = 0;
+  for (std::uint32_t q = 0; q < pieces; ++q)
+    if (piece_lo_[q].x() <= piece_hi_[q].x()) {
+      mean += (piece_hi_[q] - piece_lo_[q]).maxCoeff();
+      ++counted;
+    }
+  if (counted < 2 || !(mean > 0.0 && mean < 1e300)) return false;
+  const double cell = 2.0 * mean / counted;
+  auto may = [&](std::uint32_t a, std::uint32_t b) {
+    const std::uint32_t sa = piece_slot_[a], sb = piece_slot_[b];
+    if (!touches_points_[sa] || !touches_points_[sb]) return false;
+    if (sa == sb ? !self_meet_[sa] : skipped(p_.body[sa], p_.body[sb])) return false;
+    return (piece_lo_[a].array() <= piece_hi_[b].array()).all() && (piece_lo_[b].array() <= piece_hi_[a].array()).all();
+  };
+  // Small pieces in the grid, large ones (and empty ones) far away.
+  big_.clear();
+  lo_.resize(pieces);
+  hi_.resize(pieces);
+  for (std::uint32_t q = 0; q < pieces; ++q) {
+    const bool empty = !(piece_lo_[q].x() <= piece_hi_[q].x());
+    const bool small = !empty && (piece_hi_[q] - piece_lo_[q]).maxCoeff() <= cell;
+    if (!empty && !small) big_.push_back(q);
+    lo_[q] = small ? piece_lo_[q] : Vec3::Constant(-1e9 * cell);
+    hi_[q] = small ? piece_hi_[q] : Vec3::Constant(-1e9 * cell);
+  }
+  point_grid_.build(lo_, hi_, cell);
+  bool any = false;
+  for (std::uint32_t q = 0; q < pieces; ++q) {
+    if (lo_[q].x() == -1e9 * cell) continue;
+    point_grid_.forEachNear(0.5 * (piece_lo_[q] + piece_hi_[q]), [&](int o) {
+      const auto ou = static_cast<std::uint32_t>(o);
+      if (ou != q && may(q, ou)) near_[q] = near_[ou] = 1, any = true;
+    });
+  }
+  for (std::uint32_t b : big_)
+    for (std::uint32_t q = 0; q < pieces; ++q)
+      if (q != b && may(b, q)) near_[b] = near_[q] = 1, any = true;
+  return any;
 }
 
 // --- broad phase -----------------------------------------------------------------------------
@@ -113,7 +162,7 @@ void ContactLayer::findPointTriangle(double) {
   double mean = 0.0;
   std::size_t counted = 0;
   for (std::size_t t = 0; t < nt; ++t) {
-    if (!near_[p_.slot[p_.tri[t][0]]]) {
+    if (!near(p_.tri[t][0])) {
       lo_[t] = hi_[t] = Vec3::Constant(-1e300);  // marked: put far away below
       continue;
     }
@@ -146,7 +195,7 @@ void ContactLayer::findPointTriangle(double) {
     std::vector<std::uint32_t> cand;
     for (std::ptrdiff_t ii = i0; ii < i1; ++ii) {
       const auto i = static_cast<std::uint32_t>(ii);
-      if (!near_[p_.slot[i]]) continue;
+      if (!near(i)) continue;
       const Vec3 &p1 = p_.x[i], &p0 = p_.x0[i];
       const Vec3 plo = p0.cwiseMin(p1) - Vec3::Constant(p_.r[i]), phi = p0.cwiseMax(p1) + Vec3::Constant(p_.r[i]);
       const double len = (p1 - p0).norm();
@@ -177,14 +226,14 @@ void ContactLayer::findPointPoint() {
   const std::size_t np = p_.x.size();
   double rmax = 0.0;
   for (std::size_t i = 0; i < np; ++i)
-    if (near_[p_.slot[i]]) rmax = std::max(rmax, p_.r[i]);
+    if (near(i)) rmax = std::max(rmax, p_.r[i]);
   if (!(rmax > 0.0 && rmax < 1e6)) return;
   const double cell = 2.0 * rmax;
   lo_.resize(np);
   hi_.resize(np);
   for (std::size_t i = 0; i < np; ++i) {
     // (Points of bodies that meet no one are put far away.)
-    lo_[i] = hi_[i] = near_[p_.slot[i]] ? p_.x[i] : Vec3::Constant(-1e9 * cell);
+    lo_[i] = hi_[i] = near(i) ? p_.x[i] : Vec3::Constant(-1e9 * cell);
   }
   point_grid_.build(lo_, hi_, cell);
   constexpr std::ptrdiff_t kBlock = 256;
@@ -196,7 +245,7 @@ void ContactLayer::findPointPoint() {
     std::vector<std::uint32_t> cand;
     for (std::ptrdiff_t ii = i0; ii < i1; ++ii) {
       const auto i = static_cast<std::uint32_t>(ii);
-      if (!near_[p_.slot[i]]) continue;
+      if (!near(i)) continue;
       cand.clear();
       point_grid_.forEachNear(p_.x[i], [&](int j) {
         const auto ju = static_cast<std::uint32_t>(j);
@@ -224,7 +273,7 @@ void ContactLayer::findEdgeEdge() {
   double cell = 0.0;
   for (std::size_t e = 0; e < ne; ++e) {
     const auto& E = p_.edge[e];
-    if (!near_[p_.slot[E[0]]]) {
+    if (!near(E[0]) && !near(E[1])) {
       lo_[e] = hi_[e] = Vec3::Constant(-1e300);
       continue;
     }
@@ -247,7 +296,7 @@ void ContactLayer::findEdgeEdge() {
     for (std::ptrdiff_t ee = e0; ee < e1; ++ee) {
       const auto e = static_cast<std::uint32_t>(ee);
       const auto& E = p_.edge[e];
-      if (!near_[p_.slot[E[0]]]) continue;
+      if (lo_[e].x() == -1e9 * cell) continue;
       cand.clear();
       point_grid_.forEachNear(0.5 * (lo_[e] + hi_[e]), [&](int f) {
         const auto fu = static_cast<std::uint32_t>(f);
@@ -436,29 +485,19 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
   p_.x0.resize(np);
   for (std::size_t i = 0; i < np; ++i) p_.x0[i] = p_.x[i] - h * p_.v[i];
   touched_.assign(exporters_.size(), 0);
-  // Bodies far from every body they may touch sit out this step: each body's box over the step,
-  // grown by its largest radius, against the others'.
-  const std::size_t ns = exporters_.size();
-  slot_lo_.assign(ns, Vec3::Constant(1e300));
-  slot_hi_.assign(ns, Vec3::Constant(-1e300));
+  // Pieces far from every piece they may touch sit out this step.
+  const std::uint32_t pieces = next_piece;
+  piece_lo_.assign(pieces, Vec3::Constant(1e300));
+  piece_hi_.assign(pieces, Vec3::Constant(-1e300));
+  piece_slot_.assign(pieces, 0);
   for (std::size_t i = 0; i < np; ++i) {
-    const std::uint32_t e = p_.slot[i];
+    const std::uint32_t q = p_.piece[i];
     const Vec3 g = Vec3::Constant(p_.r[i]);
-    slot_lo_[e] = slot_lo_[e].cwiseMin(p_.x[i] - g).cwiseMin(p_.x0[i] - g);
-    slot_hi_[e] = slot_hi_[e].cwiseMax(p_.x[i] + g).cwiseMax(p_.x0[i] + g);
+    piece_lo_[q] = piece_lo_[q].cwiseMin(p_.x[i] - g).cwiseMin(p_.x0[i] - g);
+    piece_hi_[q] = piece_hi_[q].cwiseMax(p_.x[i] + g).cwiseMax(p_.x0[i] + g);
+    piece_slot_[q] = p_.slot[i];
   }
-  near_.assign(ns, 0);
-  bool any = false;
-  for (std::size_t a = 0; a < ns; ++a) {
-    if (!touches_points_[a]) continue;
-    if (bodies[exporters_[a]]->meetsItself()) near_[a] = 1;
-    for (std::size_t b = a + 1; b < ns; ++b)
-      if (touches_points_[b] && !skipped(exporters_[a], exporters_[b]) &&
-          (slot_lo_[a].array() <= slot_hi_[b].array()).all() && (slot_lo_[b].array() <= slot_hi_[a].array()).all())
-        near_[a] = near_[b] = 1;
-    any = any || near_[a];
-  }
-  if (!any) return;
+  if (!nearPieces(pieces)) return;
   // Broad phase, then the pairs in id order, twice (Gauss–Seidel: a point pressed between two
   // surfaces settles between them).
   findPointTriangle(h);

@@ -112,11 +112,18 @@ class ContactLayer {
   bool active_ = false;
   std::vector<std::size_t> exporters_;              // World indices, in order
   std::vector<std::array<std::size_t, 2>> skip_;    // sorted pairs (a < b)
-  std::vector<std::uint8_t> touches_points_, touches_triangles_;  // per exporter: worth a search
+  std::vector<std::uint8_t> touches_points_;  // per exporter: some other body may meet it
+  std::vector<std::uint8_t> self_meet_;       // per exporter: its pieces meet each other
   ContactProxies p_;
   std::vector<std::uint8_t> touched_;  // per slot: some point moved
-  std::vector<std::uint8_t> near_;     // per slot: its box over the step meets another's it may touch
-  std::vector<Vec3> slot_lo_, slot_hi_;
+  // Per piece: its box over the step (grown by its radii), its slot, and whether that box meets
+  // the box of a piece it may touch (only those take part in the step's search).
+  std::vector<Vec3> piece_lo_, piece_hi_;
+  std::vector<std::uint32_t> piece_slot_;
+  std::vector<std::uint8_t> near_;
+  std::vector<std::uint32_t> big_;  // pieces too large for the pieces' grid
+  bool nearPieces(std::uint32_t pieces);
+  bool near(std::uint32_t point) const { return near_[p_.piece[point]] != 0; }
   // Broad phase scratch.
   BoxGrid tri_grid_, point_grid_;
   std::vector<Vec3> lo_, hi_;

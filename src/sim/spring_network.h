@@ -58,11 +58,11 @@ class SpringNetworkBody : public Body {
   // Its nodes (at the network's contact radius) and its surface meet every other body through the
   // World's contact layer.
   bool exportsContacts() const override { return true; }
-  bool meetsItself() const override { return !piece_.empty(); }
   void exportContacts(ContactExport& out) const override;
   void importContacts(std::span<const Vec3> x, std::span<const Vec3> v) override;
 
-  // The triangles over its nodes it meets others with, and which piece each node is (empty: one).
+  // The triangles over its nodes it meets others with, and which piece each node is (empty: one;
+  // a fish, a kelp stalk: the contact layer searches piece by piece).
   void setSurface(std::vector<std::array<int, 3>> triangles, std::vector<int> pieces = {}) {
     surface_ = std::move(triangles);
     piece_ = std::move(pieces);
@@ -83,7 +83,7 @@ class SpringNetworkBody : public Body {
   SpringNetwork net_;
   std::vector<std::array<int, 3>> surface_;  // node indices, counter-clockwise from outside (triangles)
   std::vector<std::array<int, 2>> edges_;     // node indices (threads)
-  std::vector<int> piece_;  // per node: which piece (the fish of one body meet each other); empty: one
+  std::vector<int> piece_;  // per node: which piece (a fish, a stalk); empty: one
 
  private:
   std::string generator_;  // the scene type that built it

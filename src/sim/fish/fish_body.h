@@ -31,6 +31,7 @@ class FishBody final : public SpringNetworkBody {
   // A caught fish's mouth is held by the hook (the contact layer cannot move it), and what the
   // others see of the fish follows the contacts' corrections.
   void exportContacts(ContactExport& out) const override;
+  bool meetsItself() const override { return true; }  // the fish of one body meet each other
   void importContacts(std::span<const Vec3> x, std::span<const Vec3> v) override;
 
   const FishDesc& desc() const { return desc_; }

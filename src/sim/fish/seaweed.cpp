@@ -101,6 +101,10 @@ Result<std::unique_ptr<Body>> buildSeaweedBody(const BodyDesc& desc, const Build
   for (const SpringDesc& s : ms.springs)
     if (s.stiffness == d.stiffness) edges.push_back({s.a, s.b});
   body->setEdges(std::move(edges));
+  // Each stalk a piece of its own (the contact layer looks only at stalks near something).
+  std::vector<int> stalk(ms.nodes.size());
+  for (std::size_t k = 0; k < stalk.size(); ++k) stalk[k] = static_cast<int>(k / static_cast<std::size_t>(n + 1));
+  body->setSurface({}, std::move(stalk));
   return std::unique_ptr<Body>(std::move(body));
 }
 
