@@ -18,11 +18,9 @@ void ContactProxies::clear() {
   piece.clear();
   slot.clear();
   tri.clear();
-  tri_piece.clear();
   edge.clear();
   body.clear();
   first.assign(1, 0);
-  friction.clear();
 }
 
 void ContactExport::points(std::span<const Vec3> x, std::span<const Vec3> v, std::span<const double> inv_mass,
@@ -52,7 +50,6 @@ void ContactExport::triangle(int a, int b, int c) {
   const std::array<std::uint32_t, 3> t{f + static_cast<std::uint32_t>(a), f + static_cast<std::uint32_t>(b),
                                        f + static_cast<std::uint32_t>(c)};
   p_.tri.push_back(t);
-  p_.tri_piece.push_back(p_.piece[t[0]]);
 }
 
 void ContactExport::edge(int a, int b) {
@@ -61,8 +58,6 @@ void ContactExport::edge(int a, int b) {
              "contact edge over a point the body did not hand");
   p_.edge.push_back({f + static_cast<std::uint32_t>(a), f + static_cast<std::uint32_t>(b)});
 }
-
-void ContactExport::friction(double mu) { p_.friction.back() = mu; }
 
 bool ContactLayer::skipped(std::size_t a, std::size_t b) const {
   const std::array<std::size_t, 2> k{std::min(a, b), std::max(a, b)};
@@ -147,11 +142,36 @@ bool ContactLayer::nearPieces(std::uint32_t pieces) {
 }
 
 // --- broad phase -----------------------------------------------------------------------------
+// Pairs (a, b) for every item a in [0, n): candidates(a, cand) appends a's partners to cand, which
+// are then sorted and made unique. Items in fixed blocks (in parallel), blocks joined in order:
+// the same pairs in the same order for any thread count.
+template <class F>
+void ContactLayer::gatherPairs(std::size_t n, std::vector<std::array<std::uint32_t, 2>>& pairs, F&& candidates) {
+  pairs.clear();
+  constexpr std::ptrdiff_t kBlock = 256;
+  const auto count = static_cast<std::ptrdiff_t>(n);
+  chunk_pairs_.resize(static_cast<std::size_t>((count + kBlock - 1) / kBlock));
+  parallelBlocks(count, kBlock, [&](std::ptrdiff_t a0, std::ptrdiff_t a1) {
+    auto& out = chunk_pairs_[static_cast<std::size_t>(a0 / kBlock)];
+    out.clear();
+    std::vector<std::uint32_t> cand;
+    for (std::ptrdiff_t aa = a0; aa < a1; ++aa) {
+      const auto a = static_cast<std::uint32_t>(aa);
+      cand.clear();
+      candidates(a, cand);
+      std::sort(cand.begin(), cand.end());
+      cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+      for (std::uint32_t b : cand) out.push_back({a, b});
+    }
+  });
+  for (const auto& c : chunk_pairs_) pairs.insert(pairs.end(), c.begin(), c.end());
+}
+
 // Point–triangle: the triangles' boxes over the step (start and end, grown by their radius and
 // the largest point radius) in a grid; each point looks along its own path, a cell at a time, so
 // a fast point finds a sheet it would pass through. Candidates of each point sorted and unique;
 // points in fixed blocks, blocks joined in order.
-void ContactLayer::findPointTriangle(double) {
+void ContactLayer::findPointTriangle() {
   pt_pairs_.clear();
   const std::size_t nt = p_.tri.size(), np = p_.x.size();
   if (nt == 0) return;
@@ -186,47 +206,28 @@ void ContactLayer::findPointTriangle(double) {
   for (std::size_t t = 0; t < nt; ++t)
     if (!((hi_[t] - lo_[t]).maxCoeff() <= 16 * cell) || lo_[t].x() == -1e300) lo_[t] = hi_[t] = Vec3::Constant(-1e9 * cell);
   tri_grid_.build(lo_, hi_, cell);
-  constexpr std::ptrdiff_t kBlock = 256;
-  const std::ptrdiff_t blocks = (static_cast<std::ptrdiff_t>(np) + kBlock - 1) / kBlock;
-  chunk_pairs_.resize(static_cast<std::size_t>(blocks));
-  parallelBlocks(static_cast<std::ptrdiff_t>(np), kBlock, [&](std::ptrdiff_t i0, std::ptrdiff_t i1) {
-    auto& out = chunk_pairs_[static_cast<std::size_t>(i0 / kBlock)];
-    out.clear();
-    std::vector<std::uint32_t> cand;
-    for (std::ptrdiff_t ii = i0; ii < i1; ++ii) {
-      const auto i = static_cast<std::uint32_t>(ii);
-      if (!near(i)) continue;
-      const Vec3 &p1 = p_.x[i], &p0 = p_.x0[i];
-      const Vec3 plo = p0.cwiseMin(p1) - Vec3::Constant(p_.r[i]), phi = p0.cwiseMax(p1) + Vec3::Constant(p_.r[i]);
-      const double len = (p1 - p0).norm();
-      const int samples = std::min(64, 1 + static_cast<int>(len / (0.5 * cell)));
-      cand.clear();
-      for (int s = 0; s <= samples; ++s) {
-        const Vec3 q = p0 + (p1 - p0) * (static_cast<double>(s) / samples);
-        tri_grid_.forEachAt(q, [&](int t) {
-          const auto tu = static_cast<std::size_t>(t);
-          if ((plo.array() > hi_[tu].array()).any() || (phi.array() < lo_[tu].array()).any()) return;
-          const auto& T = p_.tri[tu];
-          if (!meet(i, T[0])) return;
-          cand.push_back(static_cast<std::uint32_t>(t));
-        });
-      }
-      std::sort(cand.begin(), cand.end());
-      cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
-      for (std::uint32_t t : cand) out.push_back({i, t});
-    }
+  gatherPairs(np, pt_pairs_, [&](std::uint32_t i, std::vector<std::uint32_t>& cand) {
+    if (!near(i)) return;
+    const Vec3 &p1 = p_.x[i], &p0 = p_.x0[i];
+    const Vec3 plo = p0.cwiseMin(p1) - Vec3::Constant(p_.r[i]), phi = p0.cwiseMax(p1) + Vec3::Constant(p_.r[i]);
+    const int samples = std::min(64, 1 + static_cast<int>((p1 - p0).norm() / (0.5 * cell)));
+    for (int s = 0; s <= samples; ++s)
+      tri_grid_.forEachAt(p0 + (p1 - p0) * (static_cast<double>(s) / samples), [&](int t) {
+        const auto tu = static_cast<std::size_t>(t);
+        if ((plo.array() > hi_[tu].array()).any() || (phi.array() < lo_[tu].array()).any()) return;
+        if (meet(i, p_.tri[tu][0])) cand.push_back(static_cast<std::uint32_t>(t));
+      });
   });
-  for (const auto& c : chunk_pairs_) pt_pairs_.insert(pt_pairs_.end(), c.begin(), c.end());
 }
 
 // Point–point: the points' end positions in a grid of cells twice the largest radius; each pair
 // of points closer than their radii, i < j, in order of i then j.
 void ContactLayer::findPointPoint() {
-  pp_pairs_.clear();
   const std::size_t np = p_.x.size();
   double rmax = 0.0;
   for (std::size_t i = 0; i < np; ++i)
     if (near(i)) rmax = std::max(rmax, p_.r[i]);
+  pp_pairs_.clear();
   if (!(rmax > 0.0 && rmax < 1e6)) return;
   const double cell = 2.0 * rmax;
   lo_.resize(np);
@@ -236,29 +237,15 @@ void ContactLayer::findPointPoint() {
     lo_[i] = hi_[i] = near(i) ? p_.x[i] : Vec3::Constant(-1e9 * cell);
   }
   point_grid_.build(lo_, hi_, cell);
-  constexpr std::ptrdiff_t kBlock = 256;
-  const std::ptrdiff_t blocks = (static_cast<std::ptrdiff_t>(np) + kBlock - 1) / kBlock;
-  chunk_pairs_.resize(static_cast<std::size_t>(blocks));
-  parallelBlocks(static_cast<std::ptrdiff_t>(np), kBlock, [&](std::ptrdiff_t i0, std::ptrdiff_t i1) {
-    auto& out = chunk_pairs_[static_cast<std::size_t>(i0 / kBlock)];
-    out.clear();
-    std::vector<std::uint32_t> cand;
-    for (std::ptrdiff_t ii = i0; ii < i1; ++ii) {
-      const auto i = static_cast<std::uint32_t>(ii);
-      if (!near(i)) continue;
-      cand.clear();
-      point_grid_.forEachNear(p_.x[i], [&](int j) {
-        const auto ju = static_cast<std::uint32_t>(j);
-        if (ju <= i || !meet(i, ju)) return;
-        const double rr = p_.r[i] + p_.r[ju];
-        if ((p_.x[ju] - p_.x[i]).squaredNorm() < rr * rr) cand.push_back(ju);
-      });
-      std::sort(cand.begin(), cand.end());
-      cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
-      for (std::uint32_t j : cand) out.push_back({i, j});
-    }
+  gatherPairs(np, pp_pairs_, [&](std::uint32_t i, std::vector<std::uint32_t>& cand) {
+    if (!near(i)) return;
+    point_grid_.forEachNear(p_.x[i], [&](int j) {
+      const auto ju = static_cast<std::uint32_t>(j);
+      if (ju <= i || !meet(i, ju)) return;
+      const double rr = p_.r[i] + p_.r[ju];
+      if ((p_.x[ju] - p_.x[i]).squaredNorm() < rr * rr) cand.push_back(ju);
+    });
   });
-  for (const auto& c : chunk_pairs_) pp_pairs_.insert(pp_pairs_.end(), c.begin(), c.end());
 }
 
 // Edge–edge: the threads' boxes over the step (grown by their radii) in a grid of cells as large
@@ -286,32 +273,18 @@ void ContactLayer::findEdgeEdge() {
   for (std::size_t e = 0; e < ne; ++e)
     if (lo_[e].x() == -1e300) lo_[e] = hi_[e] = Vec3::Constant(-1e9 * cell);
   point_grid_.build(lo_, hi_, cell);
-  constexpr std::ptrdiff_t kBlock = 256;
-  const std::ptrdiff_t blocks = (static_cast<std::ptrdiff_t>(ne) + kBlock - 1) / kBlock;
-  chunk_pairs_.resize(static_cast<std::size_t>(blocks));
-  parallelBlocks(static_cast<std::ptrdiff_t>(ne), kBlock, [&](std::ptrdiff_t e0, std::ptrdiff_t e1) {
-    auto& out = chunk_pairs_[static_cast<std::size_t>(e0 / kBlock)];
-    out.clear();
-    std::vector<std::uint32_t> cand;
-    for (std::ptrdiff_t ee = e0; ee < e1; ++ee) {
-      const auto e = static_cast<std::uint32_t>(ee);
-      const auto& E = p_.edge[e];
-      if (lo_[e].x() == -1e9 * cell) continue;
-      cand.clear();
-      point_grid_.forEachNear(0.5 * (lo_[e] + hi_[e]), [&](int f) {
-        const auto fu = static_cast<std::uint32_t>(f);
-        if (fu <= e) return;
-        const auto& F = p_.edge[fu];
-        if ((lo_[e].array() > hi_[fu].array()).any() || (hi_[e].array() < lo_[fu].array()).any()) return;
-        if (E[0] == F[0] || E[0] == F[1] || E[1] == F[0] || E[1] == F[1] || !meet(E[0], F[0])) return;
-        cand.push_back(fu);
-      });
-      std::sort(cand.begin(), cand.end());
-      cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
-      for (std::uint32_t f : cand) out.push_back({e, f});
-    }
+  gatherPairs(ne, ee_pairs_, [&](std::uint32_t e, std::vector<std::uint32_t>& cand) {
+    if (lo_[e].x() == -1e9 * cell) return;
+    const auto& E = p_.edge[e];
+    point_grid_.forEachNear(0.5 * (lo_[e] + hi_[e]), [&](int f) {
+      const auto fu = static_cast<std::uint32_t>(f);
+      if (fu <= e) return;
+      const auto& F = p_.edge[fu];
+      if ((lo_[e].array() > hi_[fu].array()).any() || (hi_[e].array() < lo_[fu].array()).any()) return;
+      if (E[0] == F[0] || E[0] == F[1] || E[1] == F[0] || E[1] == F[1] || !meet(E[0], F[0])) return;
+      cand.push_back(fu);
+    });
   });
-  for (const auto& c : chunk_pairs_) ee_pairs_.insert(ee_pairs_.end(), c.begin(), c.end());
 }
 
 // --- narrow phase ----------------------------------------------------------------------------
@@ -341,8 +314,7 @@ void ContactLayer::apply(const std::uint32_t* ka, const double* ba, int na, cons
   const Vec3 vt = rel - vn * n;
   const double vt_len = vt.norm();
   if (vt_len > 1e-12) {
-    const double mu = std::sqrt(p_.friction[p_.slot[ka[0]]] * p_.friction[p_.slot[kb[0]]]);
-    const double jt = std::min(vt_len / W, mu * (jn + lambda / h));
+    const double jt = std::min(vt_len / W, kContactFriction * (jn + lambda / h));
     J -= (jt / vt_len) * vt;
   }
   for (int q = 0; q < na; ++q) p_.v[ka[q]] += (ba[q] * p_.w[ka[q]]) * J;
@@ -468,13 +440,13 @@ bool ContactLayer::solveEdgeEdge(std::uint32_t e, std::uint32_t f, double h) {
 
 void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double h) {
   counts_ = {};
+  touched_bodies_.clear();
   if (!active_) return;  // (its time is the World's coupling stage's)
   // Gather: each exporting body's points and triangles, in scene order.
   p_.clear();
   std::uint32_t next_piece = 0;
   for (std::size_t e = 0; e < exporters_.size(); ++e) {
     p_.body.push_back(exporters_[e]);
-    p_.friction.push_back(kContactFriction);
     ContactExport out(p_);
     out.base_piece_ = next_piece;
     bodies[exporters_[e]]->exportContacts(out);
@@ -500,7 +472,7 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
   if (!nearPieces(pieces)) return;
   // Broad phase, then the pairs in id order, twice (Gauss–Seidel: a point pressed between two
   // surfaces settles between them).
-  findPointTriangle(h);
+  findPointTriangle();
   findPointPoint();
   findEdgeEdge();
   for (int pass = 0; pass < 2; ++pass) {
@@ -516,6 +488,7 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
   // Hand back each touched body its points.
   for (std::size_t e = 0; e < exporters_.size(); ++e) {
     if (!touched_[e]) continue;
+    touched_bodies_.push_back(exporters_[e]);
     const std::size_t f = p_.first[e], n = p_.first[e + 1] - f;
     bodies[exporters_[e]]->importContacts(std::span<const Vec3>(p_.x).subspan(f, n),
                                           std::span<const Vec3>(p_.v).subspan(f, n));

@@ -27,7 +27,7 @@ namespace reel {
 
 class Body;
 
-// Coulomb friction between two bodies' proxies (Box2D mixes the two coefficients as √(μa·μb)).
+// Coulomb friction between two bodies' proxies, the same for every pair.
 inline constexpr double kContactFriction = 0.3;
 
 // The proxies of one step, flat arrays addressed by ids: a body's points are a contiguous range,
@@ -40,12 +40,10 @@ struct ContactProxies {
   std::vector<std::uint32_t> piece;       // points of one piece never meet each other (points)
   std::vector<std::uint32_t> slot;        // the exporting body's slot (points)
   std::vector<std::array<std::uint32_t, 3>> tri;  // point ids, counter-clockwise from outside (triangles)
-  std::vector<std::uint32_t> tri_piece;   // the piece of its corners (triangles)
   std::vector<std::array<std::uint32_t, 2>> edge;  // point ids of a thread's ends (edges)
-  // Per exporting body (slots): its World index, first point, friction coefficient.
+  // Per exporting body (slots): its World index, first point.
   std::vector<std::size_t> body;
   std::vector<std::uint32_t> first;       // (slots + 1)
-  std::vector<double> friction;
   void clear();
 };
 
@@ -62,7 +60,6 @@ class ContactExport {
   void triangle(int a, int b, int c);
   // A thread between two of its points (a capsule of the points' radius).
   void edge(int a, int b);
-  void friction(double mu);
 
  private:
   friend class ContactLayer;
@@ -93,14 +90,18 @@ class ContactLayer {
   // The last step's contacts, and every step's since the World was made (not part of a snapshot).
   const ContactCounts& counts() const { return counts_; }
   const ContactCounts& total() const { return total_; }
+  // The World indices of the bodies whose points the last step moved (they need a state check).
+  const std::vector<std::size_t>& touchedBodies() const { return touched_bodies_; }
   const ContactProxies& proxies() const { return p_; }
 
  private:
   bool skipped(std::size_t a, std::size_t b) const;
   bool meet(std::uint32_t i, std::uint32_t j) const;  // points of two pieces that may touch
-  void findPointTriangle(double h);
+  void findPointTriangle();
   void findPointPoint();
   void findEdgeEdge();
+  template <class F>
+  void gatherPairs(std::size_t n, std::vector<std::array<std::uint32_t, 2>>& pairs, F&& candidates);
   bool solveEdgeEdge(std::uint32_t e, std::uint32_t f, double h);
   bool solvePointTriangle(std::uint32_t i, std::uint32_t t, double h);
   bool solvePointPoint(std::uint32_t i, std::uint32_t j, double h);
@@ -116,6 +117,7 @@ class ContactLayer {
   std::vector<std::uint8_t> self_meet_;       // per exporter: its pieces meet each other
   ContactProxies p_;
   std::vector<std::uint8_t> touched_;  // per slot: some point moved
+  std::vector<std::size_t> touched_bodies_;
   // Per piece: its box over the step (grown by its radii), its slot, and whether that box meets
   // the box of a piece it may touch (only those take part in the step's search).
   std::vector<Vec3> piece_lo_, piece_hi_;

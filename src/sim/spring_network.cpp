@@ -92,10 +92,10 @@ bool SpringNetworkBody::restore(const StateBlob& in) {
 
 void SpringNetworkBody::exportContacts(ContactExport& out) const {
   out.points(net_.state.x, net_.state.v, net_.model.inv_mass, net_.radius, piece_);
-  exportTriangles(out);
+  exportSurface(out);
 }
 
-void SpringNetworkBody::exportTriangles(ContactExport& out) const {
+void SpringNetworkBody::exportSurface(ContactExport& out) const {
   for (const auto& t : surface_) out.triangle(t[0], t[1], t[2]);
   for (const auto& e : edges_) out.edge(e[0], e[1]);
 }

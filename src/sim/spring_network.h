@@ -78,8 +78,9 @@ class SpringNetworkBody : public Body {
   // What a kind adds to the network's state (cloth: its springs left and its sheet's state).
   virtual void snapshotMore(StateWriter&) const {}
   virtual bool restoreMore(StateReader&) { return true; }
-  // The triangles it meets others with (a sheet's intact ones): `surface_` unless overridden.
-  virtual void exportTriangles(ContactExport& out) const;
+  // The triangles and threads it meets others with: `surface_` and `edges_` unless overridden (a
+  // sheet's intact triangles).
+  virtual void exportSurface(ContactExport& out) const;
   SpringNetwork net_;
   std::vector<std::array<int, 3>> surface_;  // node indices, counter-clockwise from outside (triangles)
   std::vector<std::array<int, 2>> edges_;     // node indices (threads)

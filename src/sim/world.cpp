@@ -202,9 +202,8 @@ Status World::advanceFrame() {
     // The contact layer: every body's points and triangles against every other's.
     if (contacts_.active()) {
       contacts_.step(bodies_, ctx.h);
-      for (const auto& b : bodies_)
-        if (b->exportsContacts())
-          if (Status st = b->checkState(ctx); !st) return st;
+      for (std::size_t k : contacts_.touchedBodies())
+        if (Status st = bodies_[k]->checkState(ctx); !st) return st;
     }
     // The coupled bodies that step alone (articulated figures: each reads the objects and the
     // others' last step, and writes only its own state) first, all together in parallel, each then

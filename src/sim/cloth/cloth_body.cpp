@@ -34,7 +34,7 @@ void ClothBody::step(StepContext& ctx) {
 }
 
 // The sheet meets other bodies with its intact triangles (a torn one opens the tear).
-void ClothBody::exportTriangles(ContactExport& out) const {
+void ClothBody::exportSurface(ContactExport& out) const {
   for (std::size_t t = 0; t < cloth_.tris.size(); ++t)
     if (cloth_.tri_alive[t]) out.triangle(cloth_.tris[t][0], cloth_.tris[t][1], cloth_.tris[t][2]);
 }

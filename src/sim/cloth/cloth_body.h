@@ -27,7 +27,7 @@ class ClothBody final : public SpringNetworkBody {
  private:
   template <class Self, class Archive>
   static void fields(Self& self, Archive& a);
-  void exportTriangles(ContactExport& out) const override;
+  void exportSurface(ContactExport& out) const override;
   void snapshotMore(StateWriter& w) const override;
   bool restoreMore(StateReader& r) override;
   Material material_;

@@ -283,7 +283,7 @@ void FishBody::exportContacts(ContactExport& out) const {
   for (std::size_t i = 0; i < count(); ++i)
     if (caught_[i]) contact_inv_mass_[kFishNodes * i] = 0.0;
   out.points(net_.state.x, net_.state.v, contact_inv_mass_, net_.radius, piece_);
-  exportTriangles(out);
+  exportSurface(out);
 }
 
 void FishBody::importContacts(std::span<const Vec3> x, std::span<const Vec3> v) {

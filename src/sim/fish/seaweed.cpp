@@ -77,6 +77,7 @@ Result<std::unique_ptr<Body>> buildSeaweedBody(const BodyDesc& desc, const Build
                          d.min.z() + uniformAt(ctx.seed, 0x5EA, 3 * i + 1) * (d.max.z() - d.min.z())));
   }
   MassSpringDesc ms;
+  std::vector<std::array<int, 2>> edges;  // each stalk's stretch springs: the threads it meets others with
   const int n = d.segments;
   for (std::size_t s = 0; s < bases.size(); ++s) {
     const double height = d.height * (1.0 - d.height_variation * uniformAt(ctx.seed, 0x5EA, 3 * s + 2));
@@ -91,15 +92,14 @@ Result<std::unique_ptr<Body>> buildSeaweedBody(const BodyDesc& desc, const Build
     }
     // Stretch springs between neighbours, bend springs across two; damped at a tenth of critical.
     const double damping = 0.2 * std::sqrt(d.stiffness * m);
-    for (int j = 0; j < n; ++j) ms.springs.push_back({first + j, first + j + 1, d.stiffness, damping, -1.0});
+    for (int j = 0; j < n; ++j) {
+      ms.springs.push_back({first + j, first + j + 1, d.stiffness, damping, -1.0});
+      edges.push_back({first + j, first + j + 1});
+    }
     for (int j = 0; j + 2 <= n; ++j) ms.springs.push_back({first + j, first + j + 2, 0.25 * d.stiffness, damping, -1.0});
   }
   auto body = std::make_unique<SeaweedBody>(desc.name, d, desc.material);
   if (Status st = buildNetwork(*body, ms, desc, ctx, 0.5 * d.width); !st) return st.error();
-  // Each stalk's stretch springs are the threads it meets others with.
-  std::vector<std::array<int, 2>> edges;
-  for (const SpringDesc& s : ms.springs)
-    if (s.stiffness == d.stiffness) edges.push_back({s.a, s.b});
   body->setEdges(std::move(edges));
   // Each stalk a piece of its own (the contact layer looks only at stalks near something).
   std::vector<int> stalk(ms.nodes.size());

@@ -38,15 +38,16 @@ Result<std::unique_ptr<Body>> buildLatticeBody(const BodyDesc& desc, const Build
   auto b = make(desc, ctx, buildLattice(l));
   if (!b.ok()) return b;
   // Its outer faces, each quad as two triangles, meet the other bodies.
+  const std::vector<std::array<int, 4>> skin = latticeSkin(l);
   std::vector<std::array<int, 3>> surface;
-  for (const auto& q : latticeSkin(l)) {
+  for (const auto& q : skin) {
     surface.push_back({q[0], q[1], q[2]});
     surface.push_back({q[0], q[2], q[3]});
   }
   static_cast<SpringsBody*>(b.value().get())->setSurface(std::move(surface));
   if (l.draw == LatticeDesc::Draw::Skin) {
     const int nodes = l.resolution[0] * l.resolution[1] * l.resolution[2];
-    static_cast<SpringsBody*>(b.value().get())->setSkin(std::make_shared<SubdivisionSurface>(nodes, latticeSkin(l), l.skin_levels));
+    static_cast<SpringsBody*>(b.value().get())->setSkin(std::make_shared<SubdivisionSurface>(nodes, skin, l.skin_levels));
   }
   return b;
 }
