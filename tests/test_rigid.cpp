@@ -240,6 +240,37 @@ TEST_CASE("rigid bodies: the same state for 1 and 2 threads, and the dump lists 
   CHECK(b.fields[2].values[0] == doctest::Approx(b.masses[0] * (0.2 * 0.2 + 0.4 * 0.4) / 12));  // I_xx, body frame
 }
 
+TEST_CASE("rigid bodies are one system of the World: entries apart in the scene meet, and its cache resumes bit for bit") {
+  // A ball entry after a cloth lands on a crate entry before it: the system steps both together.
+  const std::string scene = R"({"format": "reel/1", "duration": 2, "fps": 30, "substeps": 4, "integrator": "implicit_euler",
+    "objects": [{"type": "plane", "name": "floor"}],
+    "bodies": [{"type": "rigid", "name": "crate", "shape": "box", "size": [0.4, 0.4, 0.4], "position": [0, 0.2, 0]},
+               {"type": "cloth", "name": "flag", "size": [0.3, 0.3], "resolution": [4, 4], "position": [3, 0.01, 0]},
+               {"type": "rigid", "name": "ball", "shape": "sphere", "radius": 0.1, "position": [0, 0.6, 0]}]})";
+  World w = worldFromText(scene);
+  run(w, 12);  // 0.4 s: landed, not yet asleep
+  CHECK(rigid(w, 1).states()[0].x.y() == doctest::Approx(0.5).epsilon(0.02));  // resting on the crate
+  CHECK(rigid(w, 0).solverStats().contacts > 0);
+  CHECK(&rigid(w, 0).solverStats() == &rigid(w, 1).solverStats());  // one joint step
+  // The warm-start cache is the system's: resuming from a snapshot gives the same bits.
+  const WorldSnapshot snap = w.snapshot();
+  REQUIRE(snap.systems.size() == 1);
+  CHECK(snap.systems[0].bytes.size() > sizeof(std::size_t));  // it holds impulses
+  run(w, 10);
+  World again = worldFromText(scene);
+  REQUIRE(again.restore(snap).ok());
+  run(again, 10);
+  CHECK(again.stateHash() == w.stateHash());
+  // A snapshot whose system state does not parse is refused, and the world stays as it was.
+  WorldSnapshot bad = snap;
+  bad.systems[0].bytes.push_back(std::byte{1});
+  const std::uint64_t before = again.stateHash();
+  CHECK_FALSE(again.restore(bad).ok());
+  CHECK(again.stateHash() == before);
+  bad.systems.clear();
+  CHECK_FALSE(again.restore(bad).ok());
+}
+
 TEST_CASE("rigid bodies: bad input is refused with its JSON path") {
   auto scene = [](const std::string& keys) {
     return R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "rigid", "name": "b", "shape": "box", )" + keys + "}]}";

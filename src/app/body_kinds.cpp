@@ -33,7 +33,7 @@ constexpr BodyKind kBodyKinds[] = {
     {"fish", io::readFishBody, buildFishBody, kFishStream},
     {"food", io::readFoodBody, buildFoodBody, kFoodStream},
     {"seaweed", io::readSeaweedBody, buildSeaweedBody, kSeaweedStream},
-    {"rigid", io::readRigidBody, buildRigidBody, kRigidStream},
+    {"rigid", io::readRigidBody, buildRigidBody, kRigidStream, makeRigidSystem},
     {"face", io::readFaceBody, buildFaceBody, kFaceStream},
     {"articulated", io::readArticulatedBody, buildArticulatedBody, kArticulatedStream},
 };
@@ -60,7 +60,7 @@ std::span<const io::BodyReaderRow> bodyReaders() {
 }
 
 std::span<const BodyKindRow> bodyBuilders() {
-  static const auto r = rows<BodyKindRow>([](const BodyKind& k) { return BodyKindRow{k.type, k.build, k.seed_stream}; });
+  static const auto r = rows<BodyKindRow>([](const BodyKind& k) { return BodyKindRow{k.type, k.build, k.seed_stream, k.system}; });
   return r;
 }
 

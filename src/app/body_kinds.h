@@ -18,6 +18,7 @@ struct BodyKind {
   io::BodyReader read;     // its keys → its description
   BodyBuilder build;       // its description → a Body
   std::uint64_t seed_stream;  // tag of the seed stream its bodies draw from (sim/body.h)
+  SystemBuilder system = nullptr;  // the World's system that steps its bodies together, if any
 };
 
 std::span<const BodyKind> bodyKinds();

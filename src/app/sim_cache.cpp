@@ -18,7 +18,7 @@ namespace reel::app {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr char kMagic[9] = "REELSIM4";
+constexpr char kMagic[9] = "REELSIM5";
 constexpr std::size_t kMaxSceneBytes = 64u << 20;
 
 // The snapshot's fields in one order for writing and reading.
@@ -39,6 +39,13 @@ void fields(Snap& s, Archive& a) {
     s.bodies.resize(b);
   }
   for (auto& blob : s.bodies) a(blob.bytes);
+  std::size_t y = s.systems.size();
+  a(y);
+  if constexpr (std::is_same_v<Archive, StateReader>) {
+    if (!a.ok() || y > (1u << 10)) return;
+    s.systems.resize(y);
+  }
+  for (auto& blob : s.systems) a(blob.bytes);
   a(s.solver.last.cg_iterations)(s.solver.last.cg_relative_residual)(s.solver.unconverged)(s.solver.worst_residual);
   auto& c = s.camera;
   a(c.active)(c.centre0)(c.centre)(c.velocity)(c.radius)(c.radius_rate);

@@ -27,6 +27,7 @@
 namespace reel {
 
 class Wind;
+struct SharedView;
 class Water;
 class ContactExport;
 
@@ -54,9 +55,10 @@ struct StepContext {
   std::vector<Collider>* colliders = nullptr;  // at their pose at t1 (keyframed ones moved)
   Coupling* coupling = nullptr;
   SolverStats* solver = nullptr;
-  // Every body of the world, in stepping order: a body that reacts to another (a school fleeing
-  // a predator school) reads it here. Bodies earlier in the list have already taken this step.
-  const std::vector<std::unique_ptr<class Body>>* bodies = nullptr;
+  // What the bodies show one another (sim/shared_view.h): a body that reacts to another (a school
+  // fleeing a predator school, a fish seeing fish and food) reads it here. Bodies earlier in scene
+  // order have already taken this step.
+  const SharedView* shown = nullptr;
 };
 
 
@@ -98,6 +100,9 @@ class Body {
   virtual void publish(StepContext& /*ctx*/) {}
   // Advances the body from ctx.t0 to ctx.t1.
   virtual void step(StepContext& ctx) = 0;
+  // Adds to `out` what the body shows the others (sim/shared_view.h), as pointers to its own
+  // published state; called once, when the World is built. `self`: its index in scene order.
+  virtual void show(SharedView& /*out*/, int /*self*/) {}
   // The World's contact layer (sim/contact_layer.h): a body that has points hands them (and the
   // triangles of its surface over them) each step after stepping, and takes back their positions
   // and velocities once the layer has resolved its contacts with every other body's.
@@ -143,13 +148,33 @@ inline bool allWithin(const std::vector<Vec3>& x, double limit) {
 // A builder: makes a body of its kind from its description (BadInput when it cannot be built).
 using BodyBuilder = Result<std::unique_ptr<Body>> (*)(const BodyDesc& desc, const BuildContext& ctx);
 
+// A system the World owns that solves every body of one kind together (the rigid bodies: one
+// joint contact solve over all of them). No body steps another: the World hands the system its
+// members, in scene order, and the system keeps what belongs to all of them (a solver's
+// warm-start cache) in its own snapshot.
+class BodySystem {
+ public:
+  virtual ~BodySystem() = default;
+  // Called once, before the first step: the members, in scene order (they outlive the system).
+  virtual void adopt(std::vector<Body*> members) = 0;
+  // Advances every member from ctx.t0 to ctx.t1 (in the coupling stage: after the bodies that
+  // push them, and the figures).
+  virtual void step(StepContext& ctx) = 0;
+  virtual void snapshot(StateBlob& out) const = 0;
+  virtual bool restore(const StateBlob& in) = 0;
+};
+using SystemBuilder = std::unique_ptr<BodySystem> (*)();
+
 // A body kind as the World sees it: its scene name, its builder, and the stream tag of the seed
 // from which its bodies draw their random numbers (a body's stream: the tag and how many bodies
 // with that tag come before it in the scene).
+// `system`: the builder of the system that steps the kind's bodies together, or nullptr when
+// each body steps itself.
 struct BodyKindRow {
   const char* type;
   BodyBuilder build;
   std::uint64_t seed_stream;
+  SystemBuilder system = nullptr;
 };
 
 // An exchange between two kinds in the coupling stage (a liquid and a cloth): after every body

@@ -125,7 +125,7 @@ class ContactLayer {
   std::vector<std::uint8_t> near_;
   std::vector<std::uint32_t> big_;  // pieces too large for the pieces' grid
   bool nearPieces(std::uint32_t pieces);
-  bool near(std::uint32_t point) const { return near_[p_.piece[point]] != 0; }
+  bool near(std::size_t point) const { return near_[p_.piece[point]] != 0; }
   // Broad phase scratch.
   BoxGrid tri_grid_, point_grid_;
   std::vector<Vec3> lo_, hi_;

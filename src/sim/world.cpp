@@ -84,13 +84,28 @@ Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow>
       for (std::size_t b = 0; b < scene.bodies.size(); ++b)
         if (scene.bodies[a].type == row.first && scene.bodies[b].type == row.second)
           w.exchanges_.push_back({a, b, row.exchange});
+  for (std::size_t k = 0; k < w.bodies_.size(); ++k) w.bodies_[k]->show(w.shown_, static_cast<int>(k));
   // The contact layer takes every pair of bodies but those with an exchange of their own.
   std::vector<std::array<std::size_t, 2>> own;
   for (const Exchange& x : w.exchanges_) own.push_back({x.first, x.second});
   w.contacts_.setup(w.bodies_, own);
   w.coupling_.reset(w.colliders_.size());
+  // A system per kind that has one and bodies in the scene, stepping them together.
+  w.in_system_.assign(w.bodies_.size(), 0);
+  for (const BodyKindRow& row : kinds) {
+    if (!row.system) continue;
+    System sys;
+    std::vector<Body*> members;
+    for (std::size_t k = 0; k < scene.bodies.size(); ++k)
+      if (scene.bodies[k].type == row.type) sys.members.push_back(k), members.push_back(w.bodies_[k].get());
+    if (members.empty()) continue;
+    for (std::size_t k : sys.members) w.in_system_[k] = 1;
+    sys.solver = row.system();
+    sys.solver->adopt(std::move(members));
+    w.systems_.push_back(std::move(sys));
+  }
   for (std::size_t k = 0; k < w.bodies_.size(); ++k)
-    if (w.bodies_[k]->coupled() && w.bodies_[k]->stepsAlone()) w.alone_.push_back(k);
+    if (!w.in_system_[k] && w.bodies_[k]->coupled() && w.bodies_[k]->stepsAlone()) w.alone_.push_back(k);
   w.camera_desc_ = scene.camera.rig;
   for (std::size_t k = 0; k < w.bodies_.size(); ++k)
     if (w.camera_desc_.mode != CameraRigDesc::Mode::None && w.bodies_[k]->name() == w.camera_desc_.body)
@@ -176,7 +191,7 @@ Status World::advanceFrame() {
   ctx.colliders = &colliders_;
   ctx.coupling = &coupling_;
   ctx.solver = &solver_;
-  ctx.bodies = &bodies_;
+  ctx.shown = &shown_;
   for (int s = 0; s < steps; ++s) {
     ctx.t0 = static_cast<double>(step_) * per_step;
     ++step_;
@@ -185,8 +200,9 @@ Status World::advanceFrame() {
     for (std::size_t o : moving_objects_) colliders_[o].moveTo(ctx.t1, ctx.h);
     coupling_.reset(colliders_.size());
     // The bodies, in scene order, each checked for a bad state.
-    for (auto& b : bodies_) {
-      if (b->coupled()) continue;
+    for (std::size_t k = 0; k < bodies_.size(); ++k) {
+      Body* b = bodies_[k].get();
+      if (b->coupled() || in_system_[k]) continue;
       profile::Scope stage(profile::Stage::Integration);  // what the body's own scopes do not claim
       b->step(ctx);
       if (Status st = b->checkState(ctx); !st) return st;
@@ -207,8 +223,8 @@ Status World::advanceFrame() {
     }
     // The coupled bodies that step alone (articulated figures: each reads the objects and the
     // others' last step, and writes only its own state) first, all together in parallel, each then
-    // publishing its new state in order; then the others (the rigid bodies, which take what the
-    // figures handed them).
+    // publishing its new state in order; then the other coupled bodies, and the systems (the rigid
+    // bodies, which take what the figures handed them).
     const std::vector<std::size_t>& alone = alone_;
     if (!alone.empty()) {
       // (each is tens of microseconds of work: two are worth a parallel region)
@@ -220,10 +236,16 @@ Status World::advanceFrame() {
       for (std::size_t k : alone)
         if (Status st = bodies_[k]->checkState(ctx); !st) return st;
     }
-    for (auto& b : bodies_) {
-      if (!b->coupled() || b->stepsAlone()) continue;
+    for (std::size_t k = 0; k < bodies_.size(); ++k) {
+      Body* b = bodies_[k].get();
+      if (!b->coupled() || b->stepsAlone() || in_system_[k]) continue;
       b->step(ctx);
       if (Status st = b->checkState(ctx); !st) return st;
+    }
+    for (System& sys : systems_) {
+      sys.solver->step(ctx);
+      for (std::size_t k : sys.members)
+        if (Status st = bodies_[k]->checkState(ctx); !st) return st;
     }
   }
   ++frame_;
@@ -279,13 +301,15 @@ WorldSnapshot World::snapshot() const {
     s.colliders.push_back({c.rot, c.rot_prev, c.pos, c.pos_prev, c.dt, c.inv_mass, c.inv_inertia, c.centre});
   s.bodies.resize(bodies_.size());
   for (std::size_t k = 0; k < bodies_.size(); ++k) bodies_[k]->snapshot(s.bodies[k]);
+  s.systems.resize(systems_.size());
+  for (std::size_t k = 0; k < systems_.size(); ++k) systems_[k].solver->snapshot(s.systems[k]);
   s.solver = solver_;
   s.camera = camera_;
   return s;
 }
 
 Status World::restore(const WorldSnapshot& s) {
-  if (s.colliders.size() != colliders_.size() || s.bodies.size() != bodies_.size())
+  if (s.colliders.size() != colliders_.size() || s.bodies.size() != bodies_.size() || s.systems.size() != systems_.size())
     return Error(ErrorKind::BadInput, "snapshot of another scene: " + std::to_string(s.bodies.size()) + " bodies and " +
                                           std::to_string(s.colliders.size()) + " objects, this scene has " +
                                           std::to_string(bodies_.size()) + " and " + std::to_string(colliders_.size()));
@@ -299,6 +323,12 @@ Status World::restore(const WorldSnapshot& s) {
     if (!bodies_[k]->restore(s.bodies[k])) {
       for (std::size_t j = 0; j <= k; ++j) REEL_CHECK(bodies_[j]->restore(before.bodies[j]), "a body refused its own snapshot");
       return Error(ErrorKind::BadInput, "snapshot of another scene: body '" + bodies_[k]->name() + "' does not match");
+    }
+  for (std::size_t k = 0; k < systems_.size(); ++k)
+    if (!systems_[k].solver->restore(s.systems[k])) {
+      for (std::size_t j = 0; j < k; ++j) REEL_CHECK(systems_[j].solver->restore(before.systems[j]), "a system refused its own snapshot");
+      for (std::size_t j = 0; j < bodies_.size(); ++j) REEL_CHECK(bodies_[j]->restore(before.bodies[j]), "a body refused its own snapshot");
+      return Error(ErrorKind::BadInput, "snapshot of another scene: the state of the bodies solved together does not match");
     }
   for (std::size_t k = 0; k < colliders_.size(); ++k) {
     Collider& c = colliders_[k];

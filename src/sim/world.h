@@ -2,10 +2,12 @@
 // (DESIGN 2). Time always comes from integer counters: t = step / (fps · steps per frame).
 //
 // A step: keyframed objects move to the step's end; every body steps (the scene's bodies in
-// scene order, each checked for a bad state); then the coupling stage: the free objects take what
-// the bodies handed them (sim/body.h: Coupling) and step, after the exchanges between kinds
-// (InteractionRow: liquid ↔ cloth). The World knows no body kind: the
-// builders come from the registry of kinds (app/body_kinds.cpp).
+// scene order, each checked for a bad state); then the coupling stage: the exchanges between
+// kinds (InteractionRow: liquid ↔ cloth), the contact layer (every body's points, triangles and
+// threads against every other's), the figures (in parallel, each publishing in order), and last
+// the systems that step a kind's bodies together (BodySystem: the rigid bodies, taking what the
+// others handed their objects, sim/body.h: Coupling). The World knows no body kind: the builders
+// and systems come from the registry of kinds (app/body_kinds.cpp).
 #pragma once
 
 #include <cstdint>
@@ -23,6 +25,7 @@
 #include "sim/body.h"
 #include "sim/collide.h"
 #include "sim/contact_layer.h"
+#include "sim/shared_view.h"
 #include "sim/water.h"
 #include "sim/wind.h"
 
@@ -46,6 +49,7 @@ struct WorldSnapshot {
   };
   std::vector<Pose> colliders;
   std::vector<StateBlob> bodies;
+  std::vector<StateBlob> systems;  // the World's systems (the rigid bodies' warm-start cache)
   SolverStats solver;
   CameraRig camera;
 };
@@ -119,7 +123,14 @@ class World {
   Wind wind_;
   Water water_;
   std::vector<std::unique_ptr<Body>> bodies_;
+  SharedView shown_;  // what the bodies show one another (Body::show), built once
   std::vector<std::size_t> alone_;  // the coupled bodies that step alone (figures), in scene order
+  struct System {
+    std::unique_ptr<BodySystem> solver;
+    std::vector<std::size_t> members;  // bodies, in scene order
+  };
+  std::vector<System> systems_;      // in the registry's order of kinds
+  std::vector<char> in_system_;      // per body: stepped by a system
   struct Exchange {
     std::size_t first, second;  // bodies
     void (*run)(Body&, Body&, StepContext&);

@@ -15,22 +15,13 @@
 #include "sim/fish/fish.h"
 #include "sim/grid.h"
 #include "sim/school/school.h"
+#include "sim/shared_view.h"
 
 namespace reel {
 
 enum class Intention : int { Wander, AvoidObstacle, AvoidFish, Escape, School, Chase, Eat, Mate, Caught };
 inline constexpr std::array<const char*, 9> kIntentionNames = {"wander", "avoid_obstacle", "avoid_fish", "escape",
                                                                 "school", "chase", "eat", "mate", "caught"};
-
-// A fish as others see it (published by its body after each step).
-struct FishSighting {
-  Vec3 center{0, 0, 0}, mouth{0, 0, 0}, velocity{0, 0, 0}, forward{0, 0, 1};
-  double length = 0.5;
-  int body = -1, index = -1;  // its body among the world's bodies, and its index there
-  FishSpecies species = FishSpecies::Prey;
-  bool hunts = false, mates = false, caught = false;
-  bool biting = false;  // its mouth is open for food (intention eat)
-};
 
 // One thing a fish perceives.
 struct Seen {

@@ -9,7 +9,6 @@
 #include "core/patterns.h"
 #include "core/random.h"
 #include "sim/contact_layer.h"
-#include "sim/fish/food.h"
 #include "sim/water.h"
 
 namespace reel {
@@ -22,13 +21,6 @@ constexpr double kMeal = 0.35;  // hunger a particle of food takes away
 // The pectoral fins sit at ring 2's sides (nodes 5, 8 on the left; 6, 7 on the right), each of
 // this area in lengths².
 constexpr double kFinArea = 0.04;
-
-// The world's bodies: the index of `self`.
-int indexOf(const StepContext& ctx, const Body* self) {
-  for (std::size_t b = 0; b < ctx.bodies->size(); ++b)
-    if ((*ctx.bodies)[b].get() == self) return static_cast<int>(b);
-  return -1;
-}
 
 }  // namespace
 
@@ -85,15 +77,8 @@ void FishBody::decide(StepContext& ctx, int self) {
   everyone_.clear();
   std::vector<FishWorldView::Food> food;
   double reach = desc_.vision_radius * 2.0;
-  for (std::size_t b = 0; b < ctx.bodies->size(); ++b) {
-    const Body* body = (*ctx.bodies)[b].get();
-    if (const auto* f = dynamic_cast<const FishBody*>(body)) {
-      const auto& s = body == this ? sightings_ : f->sightings();
-      everyone_.insert(everyone_.end(), s.begin(), s.end());
-    } else if (const auto* fd = dynamic_cast<const FoodBody*>(body)) {
-      food.push_back({static_cast<int>(b), &fd->particles(), &fd->ids()});
-    }
-  }
+  for (const SharedView::Fish& f : ctx.shown->fish) everyone_.insert(everyone_.end(), f.sightings->begin(), f.sightings->end());
+  for (const SharedView::Food& fd : ctx.shown->food) food.push_back({fd.body, fd.x, fd.id});
   std::vector<Vec3> lo(everyone_.size()), hi(everyone_.size());
   for (std::size_t k = 0; k < everyone_.size(); ++k) lo[k] = hi[k] = everyone_[k].center;
   grid_.build(lo, hi, reach);
@@ -225,18 +210,22 @@ void FishBody::publish(int self) {
   }
 }
 
+void FishBody::show(SharedView& out, int self) {
+  self_ = self;
+  out.fish.push_back({self, &sightings_});
+}
+
 void FishBody::step(StepContext& ctx) {
-  const int self = self_ = indexOf(ctx, this);
+  const int self = self_;
   if (sightings_.size() != count()) publish(self);
   // Meals the food bodies listed for this body's fish.
-  for (const auto& b : *ctx.bodies)
-    if (const auto* food = dynamic_cast<const FoodBody*>(b.get()))
-      for (const FoodMeal& meal : food->meals())
-        if (meal.body == self && meal.fish >= 0 && static_cast<std::size_t>(meal.fish) < count()) {
-          FishMind& m = mind_[static_cast<std::size_t>(meal.fish)];
-          m.hunger = std::max(0.0, m.hunger - kMeal);
-          ++meals_;
-        }
+  for (const SharedView::Food& food : ctx.shown->food)
+    for (const FoodMeal& meal : *food.meals)
+      if (meal.body == self && meal.fish >= 0 && static_cast<std::size_t>(meal.fish) < count()) {
+        FishMind& m = mind_[static_cast<std::size_t>(meal.fish)];
+        m.hunger = std::max(0.0, m.hunger - kMeal);
+        ++meals_;
+      }
   const bool decision = std::floor(ctx.t1 / kFishDecision) > std::floor(ctx.t0 / kFishDecision) || decisions_ == 0;
   if (desc_.behaviour && decision) decide(ctx, self);
 
@@ -334,7 +323,7 @@ void FishBody::snapshotMore(StateWriter& w) const {
   w.put(hook_point_);
   w.put(decisions_);
   w.put(meals_);
-  w.put(self_);
+  w.put(static_cast<int>(sightings_.empty() ? -1 : self_));  // −1: nothing published yet
 }
 
 bool FishBody::restoreMore(StateReader& r) {
@@ -373,9 +362,9 @@ bool FishBody::restoreMore(StateReader& r) {
       if (!(x >= 0 && x <= 1)) return false;
   }
   motor_ = std::move(motor), mind_ = std::move(mind), command_ = std::move(command), caught_ = std::move(caught);
-  hook_point_ = std::move(hook), decisions_ = decisions, meals_ = meals, self_ = self;
+  hook_point_ = std::move(hook), decisions_ = decisions, meals_ = meals;
   // What the others see is the state just restored, as the last step published it.
-  if (self_ >= 0) publish(self_);
+  if (self >= 0) publish(self_);
   else sightings_.clear();
   return true;
 }

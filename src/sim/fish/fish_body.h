@@ -23,6 +23,7 @@ class FishBody final : public SpringNetworkBody {
   FishBody(std::string name, const FishDesc& desc, const Material& material, std::uint64_t seed, int hook,
            double water_density);
   void step(StepContext& ctx) override;
+  void show(SharedView& out, int self) override;
   bool view(BodyView& out) const override;
   void draw(DrawList& out) const override;
   void statistics(std::vector<Statistic>& out) const override;
@@ -76,7 +77,7 @@ class FishBody final : public SpringNetworkBody {
   std::int64_t decisions_ = 0;
   std::int64_t meals_ = 0;
   mutable std::vector<double> contact_inv_mass_;  // scratch: the nodes' inverse masses, 0 at hooked mouths
-  int self_ = -1;  // this body's index among the world's bodies (what its sightings say)
+  int self_ = -1;  // this body's index among the world's bodies (what its sightings say), from show()
 
   // Scratch.
   std::vector<Percept> percept_;

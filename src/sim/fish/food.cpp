@@ -6,7 +6,6 @@
 #include "core/math.h"
 #include "core/random.h"
 #include "sim/draw_material.h"
-#include "sim/fish/fish_body.h"
 #include "sim/water.h"
 
 namespace reel {
@@ -37,6 +36,8 @@ void FoodBody::emit(std::int64_t upto) {
   }
 }
 
+void FoodBody::show(SharedView& out, int self) { out.food.push_back({self, &x_, &id_, &meals_}); }
+
 void FoodBody::step(StepContext& ctx) {
   meals_.clear();
   // Emission: `initial` at the start, then `rate` per second.
@@ -55,16 +56,14 @@ void FoodBody::step(StepContext& ctx) {
   // Eaten: for each biting mouth, body by body and fish by fish, the first particle (in the order
   // they were emitted) within its reach.
   std::vector<std::uint8_t> gone(x_.size(), 0);
-  for (std::size_t b = 0; b < ctx.bodies->size(); ++b) {
-    const auto* fish = dynamic_cast<const FishBody*>((*ctx.bodies)[b].get());
-    if (!fish) continue;
-    const double bite = desc_.bite > 0 ? desc_.bite : 0.1 * fish->desc().length;
-    for (const FishSighting& f : fish->sightings()) {
+  for (const SharedView::Fish& fish : ctx.shown->fish) {
+    for (const FishSighting& f : *fish.sightings) {
       if (!f.biting) continue;
+      const double bite = desc_.bite > 0 ? desc_.bite : 0.1 * f.length;  // the fish's length
       for (std::size_t i = 0; i < x_.size(); ++i)
         if (!gone[i] && (x_[i] - f.mouth).squaredNorm() < bite * bite) {
           gone[i] = 1;
-          meals_.push_back({static_cast<int>(b), f.index});
+          meals_.push_back({fish.body, f.index});
           ++eaten_;
           break;  // one particle per mouth per step
         }

@@ -10,18 +10,16 @@
 
 #include "core/scene/fish.h"
 #include "sim/body.h"
+#include "sim/shared_view.h"
 
 namespace reel {
-
-struct FoodMeal {
-  int body = -1, fish = -1;  // the eater: its body among the world's bodies, its index there
-};
 
 class FoodBody final : public Body {
  public:
   FoodBody(std::string name, const FoodDesc& desc, const Material& material, std::uint64_t seed);
   StepLimit stepLimit(IntegratorKind) const override { return {StepBound{}, "of food '" + name() + "'", ""}; }
   void step(StepContext& ctx) override;
+  void show(SharedView& out, int self) override;
   Status checkState(const StepContext& ctx) const override;
   bool view(BodyView& out) const override;
   void snapshot(StateBlob& out) const override;

@@ -57,16 +57,40 @@ void RigidBody::pose(std::vector<Collider>& colliders, double h) {
   refreshView();
 }
 
-void RigidBody::step(StepContext& ctx) {
-  // The first rigid entry steps them all (the World's list of bodies never changes).
-  if (role_ == Role::Unknown) {
-    for (const auto& b : *ctx.bodies)
-      if (auto* r = dynamic_cast<RigidBody*>(b.get())) entries_.push_back(r);
-    role_ = entries_.front() == this ? Role::Leader : Role::Member;
-    if (role_ == Role::Member) entries_.clear();
+void RigidBody::step(StepContext&) { REEL_CHECK(false, "rigid body '" + name() + "' stepped outside the rigid system"); }
+
+void RigidSystem::adopt(std::vector<Body*> members) {
+  for (Body* b : members) {
+    auto* r = static_cast<RigidBody*>(b);  // the World hands a system only bodies of its kind
+    r->joint_ = &stats_;
+    r->reports_joint_ = entries_.empty();
+    entries_.push_back(r);
   }
-  if (role_ == Role::Leader) stepRigidBodies(entries_, ctx, cache_, stats_);
 }
+
+void RigidSystem::step(StepContext& ctx) { stepRigidBodies(entries_, ctx, cache_, stats_); }
+
+void RigidSystem::snapshot(StateBlob& out) const {
+  StateWriter w(out);
+  w.put(cache_.impulses);
+}
+
+bool RigidSystem::restore(const StateBlob& in) {
+  StateReader r(in);
+  std::vector<CachedImpulse> impulses;
+  r.get(impulses);
+  if (!r.done()) return false;
+  // The warm-start cache: finite, sorted (it is searched).
+  if (!std::is_sorted(impulses.begin(), impulses.end())) return false;
+  for (const CachedImpulse& c : impulses)
+    if (!std::isfinite(c.normal) || !std::isfinite(c.t1) || !std::isfinite(c.t2) || !std::isfinite(c.anchor[0]) ||
+        !std::isfinite(c.anchor[1]) || !std::isfinite(c.anchor[2]))
+      return false;
+  cache_.impulses = std::move(impulses);
+  return true;
+}
+
+std::unique_ptr<BodySystem> makeRigidSystem() { return std::make_unique<RigidSystem>(); }
 
 Status RigidBody::checkState(const StepContext& ctx) const {
   for (std::size_t i = 0; i < states_.size(); ++i) {
@@ -113,7 +137,6 @@ void RigidBody::snapshot(StateBlob& out) const {
     w.put(s.rest);
     w.put(static_cast<std::uint8_t>(s.asleep));
   }
-  w.put(cache_.impulses);
 }
 
 bool RigidBody::restore(const StateBlob& in) {
@@ -135,21 +158,11 @@ bool RigidBody::restore(const StateBlob& in) {
     s.asleep = asleep != 0;
     if (!(std::abs(s.q.norm() - 1.0) < 1e-6)) return false;
   }
-  std::vector<CachedImpulse> impulses;
-  r.get(impulses);
   if (!r.done()) return false;
   for (const RigidState& s : states)
     if (!allWithin({s.x}, kRunawayDistance) || !allWithin({s.v, s.w}, kRunawaySpeed) || !(s.rest >= 0 && s.rest < 1e300))
       return false;
-  // The warm-start cache: finite, sorted (it is searched), and only the leading entry's.
-  if (role_ == Role::Member && !impulses.empty()) return false;
-  if (!std::is_sorted(impulses.begin(), impulses.end())) return false;
-  for (const CachedImpulse& c : impulses)
-    if (!std::isfinite(c.normal) || !std::isfinite(c.t1) || !std::isfinite(c.t2) || !std::isfinite(c.anchor[0]) ||
-        !std::isfinite(c.anchor[1]) || !std::isfinite(c.anchor[2]))
-      return false;
   states_ = std::move(states);
-  cache_.impulses = std::move(impulses);
   refreshView();
   return true;
 }
@@ -165,9 +178,9 @@ void RigidBody::statistics(std::vector<Statistic>& out) const {
   double energy = 0.0;
   for (std::size_t i = 0; i < states_.size(); ++i) energy += kineticEnergy(models_[i], states_[i]);
   out.push_back({"kinetic_energy", energy});
-  if (role_ != Role::Member) {  // the leader (or, before the first step, maybe): the whole World's
-    out.push_back({"contacts", static_cast<double>(stats_.contacts)});
-    out.push_back({"asleep", static_cast<double>(stats_.asleep)});
+  if (reports_joint_) {  // the first entry: the joint step's, over every rigid entry
+    out.push_back({"contacts", static_cast<double>(joint_->contacts)});
+    out.push_back({"asleep", static_cast<double>(joint_->asleep)});
   }
 }
 

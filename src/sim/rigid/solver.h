@@ -55,7 +55,7 @@ struct RigidSolverStats {
   int awake = 0, asleep = 0;
 };
 
-// One step of every rigid entry (the first entry's cache and statistics).
+// One step of every rigid entry (the World's RigidSystem keeps the cache and statistics).
 void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, RigidSolverCache& cache,
                      RigidSolverStats& stats);
 

@@ -17,13 +17,14 @@ PredatorView SchoolBody::predator(const StepContext& ctx) const {
   if (!p) return pv;
   if (predator_object_ >= 0) {
     pv.object = &(*ctx.colliders)[static_cast<std::size_t>(predator_object_)];
-  } else if (ctx.bodies) {
-    for (const auto& b : *ctx.bodies)
-      if (b->name() == p->name)
-        if (const auto* s = dynamic_cast<const SchoolBody*>(b.get())) pv.points = &s->school().x, pv.velocities = &s->school().v;
+  } else if (ctx.shown) {
+    for (const SharedView::Agents& a : ctx.shown->agents)
+      if (a.body == p->name) pv.points = a.x, pv.velocities = a.v;
   }
   return pv;
 }
+
+void SchoolBody::show(SharedView& out, int) { out.agents.push_back({name(), &school_.x, &school_.v}); }
 
 void SchoolBody::step(StepContext& ctx) { stepSchool(school_, *ctx.colliders, predator(ctx), ctx.t0, ctx.h); }
 

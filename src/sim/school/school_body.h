@@ -8,6 +8,7 @@
 
 #include "sim/body.h"
 #include "sim/school/school.h"
+#include "sim/shared_view.h"
 
 namespace reel {
 
@@ -17,6 +18,7 @@ class SchoolBody final : public Body {
       : Body(school.name), material_(material), school_(std::move(school)), predator_object_(predator_object) {}
   StepLimit stepLimit(IntegratorKind integrator) const override;
   void step(StepContext& ctx) override;
+  void show(SharedView& out, int self) override;
   Status checkState(const StepContext& ctx) const override;
   bool view(BodyView& out) const override;
   void snapshot(StateBlob& out) const override;
