@@ -21,30 +21,27 @@ namespace fs = std::filesystem;
 constexpr char kMagic[9] = "REELSIM5";
 constexpr std::size_t kMaxSceneBytes = 64u << 20;
 
+// A vector's length; on reading, the vector sized to it (false: unreadable or above `limit`).
+template <class Archive, class Vector>
+bool sized(Archive& a, Vector& v, std::size_t limit) {
+  std::size_t n = v.size();
+  a(n);
+  if constexpr (std::is_same_v<Archive, StateReader>) {
+    if (!a.ok() || n > limit) return false;
+    v.resize(n);
+  }
+  return true;
+}
+
 // The snapshot's fields in one order for writing and reading.
 template <class Snap, class Archive>
 void fields(Snap& s, Archive& a) {
   a(s.frame)(s.step);
-  std::size_t n = s.colliders.size();
-  a(n);
-  if constexpr (std::is_same_v<Archive, StateReader>) {
-    if (!a.ok() || n > (1u << 20)) return;
-    s.colliders.resize(n);
-  }
+  if (!sized(a, s.colliders, 1u << 20)) return;
   for (auto& p : s.colliders) a(p.rot)(p.rot_prev)(p.pos)(p.pos_prev)(p.dt)(p.inv_mass)(p.inv_inertia)(p.centre);
-  std::size_t b = s.bodies.size();
-  a(b);
-  if constexpr (std::is_same_v<Archive, StateReader>) {
-    if (!a.ok() || b > (1u << 20)) return;
-    s.bodies.resize(b);
-  }
+  if (!sized(a, s.bodies, 1u << 20)) return;
   for (auto& blob : s.bodies) a(blob.bytes);
-  std::size_t y = s.systems.size();
-  a(y);
-  if constexpr (std::is_same_v<Archive, StateReader>) {
-    if (!a.ok() || y > (1u << 10)) return;
-    s.systems.resize(y);
-  }
+  if (!sized(a, s.systems, 1u << 10)) return;
   for (auto& blob : s.systems) a(blob.bytes);
   a(s.solver.last.cg_iterations)(s.solver.last.cg_relative_residual)(s.solver.unconverged)(s.solver.worst_residual);
   auto& c = s.camera;
