@@ -33,10 +33,36 @@ void ClothBody::step(StepContext& ctx) {
   tearSprings(cloth_, net_.model, s.x);
 }
 
-// The sheet meets other bodies with its intact triangles (a torn one opens the tear).
+// The sheet meets other bodies with its intact triangles (a torn one opens the tear) and with its
+// border as threads, so that two sheets whose rims cross between their nodes (a falling sheet's
+// hem across a hanging one's top) catch there: the edge–edge handler.
 void ClothBody::exportSurface(ContactExport& out) const {
+  std::size_t alive = 0;
   for (std::size_t t = 0; t < cloth_.tris.size(); ++t)
-    if (cloth_.tri_alive[t]) out.triangle(cloth_.tris[t][0], cloth_.tris[t][1], cloth_.tris[t][2]);
+    if (cloth_.tri_alive[t]) {
+      out.triangle(cloth_.tris[t][0], cloth_.tris[t][1], cloth_.tris[t][2]);
+      ++alive;
+    }
+  if (alive != border_at_) {
+    std::vector<std::array<int, 2>> e;
+    e.reserve(3 * alive);
+    for (std::size_t t = 0; t < cloth_.tris.size(); ++t)
+      if (cloth_.tri_alive[t])
+        for (int k = 0; k < 3; ++k) {
+          const int a = cloth_.tris[t][k], b = cloth_.tris[t][(k + 1) % 3];
+          e.push_back({std::min(a, b), std::max(a, b)});
+        }
+    std::sort(e.begin(), e.end());
+    border_.clear();
+    for (std::size_t i = 0; i < e.size();) {
+      std::size_t j = i + 1;
+      while (j < e.size() && e[j] == e[i]) ++j;
+      if (j == i + 1) border_.push_back(e[i]);
+      i = j;
+    }
+    border_at_ = alive;
+  }
+  for (const auto& b : border_) out.edge(b[0], b[1]);
 }
 
 bool ClothBody::view(BodyView& out) const {
@@ -72,6 +98,7 @@ void ClothBody::snapshotMore(StateWriter& w) const { fields(*this, w); }
 
 bool ClothBody::restoreMore(StateReader& r) {
   fields(*this, r);
+  border_at_ = static_cast<std::size_t>(-1);  // found again from the restored triangles
   const Springs& sp = net_.model.springs;
   const ClothState& c = cloth_;
   const std::size_t n = net_.model.nodes(), ns = sp.a.size();

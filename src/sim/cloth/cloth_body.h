@@ -32,6 +32,10 @@ class ClothBody final : public SpringNetworkBody {
   bool restoreMore(StateReader& r) override;
   Material material_;
   Cloth cloth_;
+  // The sheet's border (edges of one intact triangle only: its rim and the lips of its tears),
+  // kept for the count of intact triangles it was found at (tearing only ever lowers it).
+  mutable std::vector<std::array<int, 2>> border_;
+  mutable std::size_t border_at_ = static_cast<std::size_t>(-1);
 };
 
 // The builder of the registry row `cloth`.
