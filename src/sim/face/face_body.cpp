@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "core/keys.h"
 #include "core/math.h"
 #include "core/parallel.h"
+#include "sim/contact_layer.h"
 
 namespace reel {
 
@@ -78,6 +80,15 @@ void FaceBody::muscleForces() {
   }
 }
 
+void FaceBody::exportContacts(ContactExport& out) const {
+  const std::size_t n = surface_.size();
+  out.points(net_.state.x, net_.state.v, contact_w_.size() == 3 * n ? contact_w_ : net_.model.inv_mass, net_.radius);
+  const auto& t = surface_.tris;
+  for (std::size_t layer : {std::size_t{0}, 2 * n})
+    for (std::size_t k = 0; k + 2 < t.size(); k += 3)
+      out.triangle(static_cast<int>(layer + t[k]), static_cast<int>(layer + t[k + 1]), static_cast<int>(layer + t[k + 2]));
+}
+
 // The skull's non-penetration (Lee, Terzopoulos & Waters 1995, eq. 6, as a constraint on
 // position): a node that sinks below its floor above its bone point is put back on it and loses
 // its velocity into the skull.
@@ -100,6 +111,16 @@ void FaceBody::keepAboveSkull() {
   });
 }
 
+void FaceBody::contactMasses() {
+  const std::size_t n = surface_.size();
+  const auto& x = net_.state.x;
+  contact_w_ = net_.model.inv_mass;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double d = (x[k] - x[2 * n + k]).dot(boneRotation(k) * tissue_.out[k]);
+    if (d < tissue_.floor_skin[k] + net_.radius) contact_w_[k] = 0.0;
+  }
+}
+
 void FaceBody::step(StepContext& ctx) {
   pose(ctx.t1);
   ext_.assign(net_.model.nodes(), Vec3::Zero());
@@ -110,6 +131,7 @@ void FaceBody::step(StepContext& ctx) {
   preserveVolumes(tissue_, net_.model, net_.state.x, net_.state.v, ctx.h);
   keepAboveSkull();
   net_.contacts(ctx);
+  contactMasses();
 }
 
 void FaceBody::settle(const ImplicitSettings& implicit) {

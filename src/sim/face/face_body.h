@@ -25,8 +25,13 @@ class FaceBody final : public SpringNetworkBody {
   bool view(BodyView& out) const override;
   void statistics(std::vector<Statistic>& out) const override;
   std::vector<std::string> notes(double h) const override;
-  // The face keeps to its skull and meets nothing else yet (its skin's nodes would be the proxies).
-  bool exportsContacts() const override { return false; }
+  // It meets every other body through the World's contact layer with all its nodes and two
+  // surfaces over them: the skin (the epidermis nodes' triangles) and the skull (the same
+  // triangles over the bone nodes, held). The skin is light: a hard hit dents it into the tissue,
+  // and the skull under it stops what the skin did not. A skin node pressed down to its floor above
+  // the bone rests on the skull, which no contact moves: the layer sees it held.
+  bool exportsContacts() const override { return true; }
+  void exportContacts(ContactExport& out) const override;
 
   const FaceSurface& surface() const { return surface_; }
   const FaceTissue& tissue() const { return tissue_; }
@@ -59,6 +64,8 @@ class FaceBody final : public SpringNetworkBody {
   Vec3 attachmentWorld(std::size_t m) const;
   void muscleForces();
   void keepAboveSkull();
+  // Each node's inverse mass as the contact layer sees it (a skin node resting on the skull: 0).
+  void contactMasses();
   void drawSkin(DrawList& out) const;
   void drawLayers(DrawList& out) const;
 
@@ -70,6 +77,7 @@ class FaceBody final : public SpringNetworkBody {
   FaceActivations activations_;
   std::vector<double> act_;  // contractions now (controls)
   std::vector<Vec3> ext_;    // muscle and tissue forces, N (nodes)
+  std::vector<double> contact_w_;  // 1/kg (nodes) as the contact layer sees them, found at the end of each step
   double t_ = 0.0;           // time of the last pose, s
   Mat3 R_ = Mat3::Identity();
   double jaw_ = 0.0;
