@@ -48,8 +48,8 @@ TEST_CASE("dynamic objects: momentum is exchanged exactly; a light ball floats, 
     for (const Vec3& p : fluid(w).x) ys.push_back(p.y());
     std::sort(ys.begin(), ys.end());
     for (std::size_t i = ys.size() * 9 / 10; i < ys.size(); ++i) top += ys[i] / static_cast<double>(ys.size() - ys.size() * 9 / 10);
-    MESSAGE("ball of " << mass << " kg at y = " << w.colliders()[1].pos.y() << ", pool surface " << top);
-    return std::make_pair(w.colliders()[1].pos.y(), top);
+    MESSAGE("ball of " << mass << " kg at y = " << w.colliders()[1].pose.pos.y() << ", pool surface " << top);
+    return std::make_pair(w.colliders()[1].pose.pos.y(), top);
   };
   // The settled liquid is about 1900 kg/m³ (0.008 kg per 1.6 cm cell); the ball's volume is 1.13e-4 m³.
   const auto [light, top] = finalHeight(0.02);
@@ -277,7 +277,7 @@ TEST_CASE("agitation melts the glass: a heavy ball sinks through a viscous pool 
                   "beta": 0.085, "cutoff": 0.02725, "viscosity": 10, "agitation": )") + std::to_string(agitation) + R"(}],
         "blocks": [{"min": [-0.15, 0.02, -0.15], "max": [0.15, 0.14, 0.15], "spacing": 0.02}]}]})");
     run(w, 75);
-    return w.colliders()[1].pos.y();
+    return w.colliders()[1].pose.pos.y();
   };
   const double cold = finalHeight(0.0), warm = finalHeight(0.08);
   MESSAGE("ball at " << cold << " m without agitation, " << warm << " m with");

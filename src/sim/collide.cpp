@@ -59,7 +59,8 @@ std::shared_ptr<MeshShape> makeMeshShape(const TriMesh& mesh, double reach) {
 }
 
 Collider makeCollider(const ObjectDesc& o, double reach) {
-  Collider c;
+  auto shape = std::make_shared<ColliderShape>();
+  ColliderShape& c = *shape;
   c.kind = o.kind();
   c.thickness = o.thickness;
   c.surface = o.surface;
@@ -67,9 +68,8 @@ Collider makeCollider(const ObjectDesc& o, double reach) {
   c.free_body = o.free_body;
   c.keys = o.motion;
   c.pivot = o.referencePoint();
-  c.pos = c.pos_prev = c.pivot;
   struct Shape {
-    Collider& c;
+    ColliderShape& c;
     double reach;
     double thickness;
     void operator()(const PlaneShape& s) const {
@@ -111,15 +111,18 @@ Collider makeCollider(const ObjectDesc& o, double reach) {
   };
   std::visit(Shape{c, reach, o.thickness}, o.shape);
   c.bound_radius += o.thickness;
+  Collider out;
+  out.pose.pos = out.pose.pos_prev = c.pivot;
   if (c.moving()) {
-    c.poseAt(0.0, c.rot, c.pos);
-    c.rot_prev = c.rot;
-    c.pos_prev = c.pos;
+    c.poseAt(0.0, out.pose.rot, out.pose.pos);
+    out.pose.rot_prev = out.pose.rot;
+    out.pose.pos_prev = out.pose.pos;
   }
-  return c;
+  out.shape = std::move(shape);
+  return out;
 }
 
-void Collider::poseAt(double t, Mat3& r, Vec3& p) const {
+void ColliderShape::poseAt(double t, Mat3& r, Vec3& p) const {
   if (keys.empty()) {
     r = Mat3::Identity();
     p = pivot;
@@ -138,28 +141,28 @@ void Collider::poseAt(double t, Mat3& r, Vec3& p) const {
 
 void Collider::moveTo(double t, double dt_since) {
   if (!moving()) return;
-  rot_prev = rot;
-  pos_prev = pos;
-  poseAt(t, rot, pos);
-  dt = dt_since;
+  pose.rot_prev = pose.rot;
+  pose.pos_prev = pose.pos;
+  shape->poseAt(t, pose.rot, pose.pos);
+  pose.dt = dt_since;
 }
 
 Vec3 Collider::angularVelocity() const {
-  const Eigen::AngleAxisd turn(rot * rot_prev.transpose());
-  return dt > 0 ? Vec3(turn.axis() * (turn.angle() / dt)) : Vec3::Zero();
+  const Eigen::AngleAxisd turn(pose.rot * pose.rot_prev.transpose());
+  return pose.dt > 0 ? Vec3(turn.axis() * (turn.angle() / pose.dt)) : Vec3::Zero();
 }
 
 Vec3 Collider::velocityAt(const Vec3& p) const {
-  if (!moving() || !(dt > 0)) return Vec3::Zero();
+  if (!moving() || !(pose.dt > 0)) return Vec3::Zero();
   // Where the material point now at p was one step ago: authored point, then the old pose.
-  const Vec3 before = rot_prev * (toAuthored(p) - pivot) + pos_prev;
-  return (p - before) / dt;
+  const Vec3 before = pose.rot_prev * (toAuthored(p) - shape->pivot) + pose.pos_prev;
+  return (p - before) / pose.dt;
 }
 
 bool Collider::distance(const Vec3& p, double& d, Vec3& n) const {
-  if (!moving()) return distanceAuthored(p, d, n);
-  if (!distanceAuthored(toAuthored(p), d, n)) return false;
-  n = rot * n;
+  if (!moving()) return shape->distance(p, d, n);
+  if (!shape->distance(toAuthored(p), d, n)) return false;
+  n = pose.rot * n;
   return true;
 }
 
@@ -186,7 +189,7 @@ void boxDistance(const Vec3& q, const Vec3& half, double& d, Vec3& n) {
 
 // One case per shape, each short; kept in one switch (past 80 lines) so that every shape's
 // distance and normal read side by side.
-bool Collider::distanceAuthored(const Vec3& p, double& d, Vec3& n) const {
+bool ColliderShape::distance(const Vec3& p, double& d, Vec3& n) const {
   switch (kind) {
     case ObjectKind::Container: {
       // The union of the floor and four walls: the nearest of the five boxes.
@@ -306,27 +309,27 @@ void resolveContacts(const std::vector<Collider>& colliders, double radius, doub
     double d;
     Vec3 n;
     if (!c.distance(x[i], d, n)) return false;
-    const double reach = c.thickness + radius;
+    const double reach = c.shape->thickness + radius;
     if (d >= reach) return false;
-    contactNode(c, c.surface, reach, d, n, h, x[i], v[i]);
+    contactNode(c, c.shape->surface, reach, d, n, h, x[i], v[i]);
     return true;
   };
   parallelFor(static_cast<std::ptrdiff_t>(x.size()), [&](std::ptrdiff_t i) {
     if (fixed[i]) return;
     for (const Collider& c : colliders)
-      if (!c.free_body) touch(c, static_cast<std::size_t>(i));
+      if (!c.shape->free_body) touch(c, static_cast<std::size_t>(i));
   });
-  if (std::none_of(colliders.begin(), colliders.end(), [](const Collider& c) { return c.free_body; })) return;
+  if (std::none_of(colliders.begin(), colliders.end(), [](const Collider& c) { return c.shape->free_body; })) return;
   // Rigid bodies: node by node, each impulse handed back to the body, in a fixed order.
   for (std::size_t i = 0; i < x.size(); ++i) {
     if (fixed[i]) continue;
     for (std::size_t k = 0; k < colliders.size(); ++k) {
       const Collider& c = colliders[k];
-      if (!c.free_body) continue;
+      if (!c.shape->free_body) continue;
       const Vec3 before = v[i];
       if (!touch(c, i)) continue;
       const Vec3 J = mass[i] * (v[i] - before);
-      coupling.handBack(k, x[i], c.pos, J);
+      coupling.handBack(k, x[i], c.pose.pos, J);
     }
   }
 }
@@ -338,7 +341,7 @@ bool segmentBlocked(const std::vector<Collider>& colliders, const Vec3& a, const
   const Vec3 u = d / len;
   for (const Collider& c : colliders) {
     // Beyond a mesh's reach its distance is unknown but at least the reach.
-    const double unknown = std::max(step, c.mesh ? c.mesh->reach : 0.0);
+    const double unknown = std::max(step, c.shape->mesh ? c.shape->mesh->reach : 0.0);
     for (double t = 0.0; t <= len;) {
       double dist;
       Vec3 n;

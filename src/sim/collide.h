@@ -26,7 +26,11 @@ struct MeshShape {
   double reach = 0.0;                         // m: points farther than this see no triangle
 };
 
-struct Collider {
+// What a collider is, authored once when the World is built and never changed after: an object's
+// geometry in the scene's frame, its surface, and how it may move (its motion keys and the pivot
+// they turn it about, or posed as a free body). Shared by every copy of the collider (a snapshot
+// copies poses only).
+struct ColliderShape {
   ObjectKind kind = ObjectKind::Plane;
   Vec3 p0{0, 0, 0};     // plane point, sphere/box centre, capsule end a
   Vec3 p1{0, 0, 0};     // capsule end b
@@ -36,50 +40,60 @@ struct Collider {
   double wall = 0.0;    // container
   double thickness = 0.0;
   Surface surface;
+  SpeciesSurfaces species_surface;  // per-species surfaces (liquids)
   std::shared_ptr<const MeshShape> mesh;  // kind Mesh
-
-  // Keyframed motion: the shape above is authored; its pose at a time maps an authored point x
-  // to rot·(x − pivot) + pos. Static colliders keep the identity pose.
+  // Keyframed motion: its pose at a time maps an authored point x to rot·(x − pivot) + pos.
   std::vector<MotionKey> keys;
   Vec3 pivot{0, 0, 0};
-  Mat3 rot = Mat3::Identity(), rot_prev = Mat3::Identity();
-  Vec3 pos{0, 0, 0}, pos_prev{0, 0, 0};
-  double dt = 0.0;  // time between the previous and the current pose, s
   bool free_body = false;  // a rigid body's: posed by its motion (sim/rigid/rigid_body.h), not by keys
-  // A free body's response to an impulse, set where it is posed: inverse mass (1/kg), world inverse
-  // inertia, centre of mass (a figure meeting it solves the contact with both sides' masses).
-  double inv_mass = 0.0;
-  Mat3 inv_inertia = Mat3::Zero();
-  Vec3 centre{0, 0, 0};
-  SpeciesSurfaces species_surface;  // per-species surfaces (liquids)
   // A sphere around the authored shape (its thickness included); radius infinite for a plane.
   Vec3 bound_center{0, 0, 0};
   double bound_radius = 0.0;
   bool moving() const { return free_body || !keys.empty(); }
-  // Whether p may lie within `margin` of the surface (a cheap test before distance()).
-  bool near(const Vec3& p, double margin) const {
-    const double r = bound_radius + margin;
-    return !(r < 1e300) || (toAuthored(p) - bound_center).squaredNorm() <= r * r;
-  }
   // The pose at time t (keys interpolated: position linearly, rotation by slerp, held outside).
   void poseAt(double t, Mat3& r, Vec3& p) const;
-  // Moves to time t; the pose before becomes the previous one (surface velocities).
-  void moveTo(double t, double dt_since);
+  // Signed distance from an authored point p to the surface (negative inside) and the outward
+  // normal there, authored. False when p is outside the collider's reach: beside a finite plane,
+  // more than its thickness plus 5% of its smaller half-size below it, or farther than a mesh's
+  // reach.
+  bool distance(const Vec3& p, double& d, Vec3& n) const;
+};
 
-  // Signed distance from p to the surface (negative inside) and the outward normal there.
-  // Returns false when p is outside the collider's reach: beside a finite plane, more than its
-  // thickness plus 5% of its smaller half-size below it, or farther than a mesh's reach.
+// Where a collider is and how it moves: the pose now and one step ago (surface velocities), and a
+// free body's response to an impulse, set where it is posed (a figure meeting it solves the
+// contact with both sides' masses). What a snapshot keeps of a collider.
+struct ColliderPose {
+  Mat3 rot = Mat3::Identity(), rot_prev = Mat3::Identity();
+  Vec3 pos{0, 0, 0}, pos_prev{0, 0, 0};
+  double dt = 0.0;  // time between the previous and the current pose, s
+  double inv_mass = 0.0;  // 1/kg (free bodies)
+  Mat3 inv_inertia = Mat3::Zero();  // world (free bodies)
+  Vec3 centre{0, 0, 0};  // centre of mass (free bodies)
+};
+
+// A collider: its shape and its pose. Static colliders keep the identity pose.
+struct Collider {
+  std::shared_ptr<const ColliderShape> shape;
+  ColliderPose pose;
+
+  bool moving() const { return shape->moving(); }
+  // Whether p may lie within `margin` of the surface (a cheap test before distance()).
+  bool near(const Vec3& p, double margin) const {
+    const double r = shape->bound_radius + margin;
+    return !(r < 1e300) || (toAuthored(p) - shape->bound_center).squaredNorm() <= r * r;
+  }
+  // Moves to time t by its keys; the pose before becomes the previous one (surface velocities).
+  void moveTo(double t, double dt_since);
+  // Signed distance from p to the surface (negative inside) and the outward normal (see
+  // ColliderShape::distance).
   bool distance(const Vec3& p, double& d, Vec3& n) const;
   // The authored point of the material point now at p, and back (the current pose).
-  Vec3 toAuthored(const Vec3& p) const { return rot.transpose() * (p - pos) + pivot; }
-  Vec3 fromAuthored(const Vec3& a) const { return rot * (a - pivot) + pos; }
+  Vec3 toAuthored(const Vec3& p) const { return pose.rot.transpose() * (p - pose.pos) + shape->pivot; }
+  Vec3 fromAuthored(const Vec3& a) const { return pose.rot * (a - shape->pivot) + pose.pos; }
   // Velocity of the surface point now at p (zero for a static collider), m/s.
   Vec3 velocityAt(const Vec3& p) const;
   // The angular velocity of its last move (rot_prev → rot over dt), rad/s, world.
   Vec3 angularVelocity() const;
-
- private:
-  bool distanceAuthored(const Vec3& p, double& d, Vec3& n) const;
 };
 
 // Whether the segment from a to b passes through an object (sphere tracing along it with each

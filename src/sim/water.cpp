@@ -16,7 +16,7 @@ Vec3 Water::at(const Vec3& x, double t, const std::vector<Collider>& colliders) 
     }
     // A point source of volume flow Q: u = ±Q/(4π r²) r̂ (continuity through any sphere around
     // it), falling linearly to zero inside the core so the flow stays finite.
-    const Vec3 r = x - colliders[static_cast<std::size_t>(c.collider)].pos;  // its reference point now
+    const Vec3 r = x - colliders[static_cast<std::size_t>(c.collider)].pose.pos;  // its reference point now
     const double d = r.norm();
     if (!(d > 1e-12)) continue;
     const double q = (c.kind == CurrentDesc::Kind::Source ? 1.0 : -1.0) * c.rate / (4 * kPi);

@@ -271,8 +271,8 @@ void World::draw(DrawList& out) const {
   for (std::size_t o : posed_objects_) {
     const Collider& c = colliders_[o];
     TriMesh m = *object_meshes_[o].mesh;
-    const Vec3 shift = c.pos - c.rot * object_pivots_[o];
-    m.transform(c.rot, shift);
+    const Vec3 shift = c.pose.pos - c.pose.rot * object_pivots_[o];
+    m.transform(c.pose.rot, shift);
     out.meshes[o].mesh = std::make_shared<const TriMesh>(std::move(m));
     out.meshes[o].per_frame = true;
   }
@@ -298,7 +298,7 @@ WorldSnapshot World::snapshot() const {
   s.frame = frame_;
   s.step = step_;
   for (const Collider& c : colliders_)
-    s.colliders.push_back({c.rot, c.rot_prev, c.pos, c.pos_prev, c.dt, c.inv_mass, c.inv_inertia, c.centre});
+    s.colliders.push_back(c.pose);
   s.bodies.resize(bodies_.size());
   for (std::size_t k = 0; k < bodies_.size(); ++k) bodies_[k]->snapshot(s.bodies[k]);
   s.systems.resize(systems_.size());
@@ -331,16 +331,7 @@ Status World::restore(const WorldSnapshot& s) {
       return Error(ErrorKind::BadInput, "snapshot of another scene: the state of the bodies solved together does not match");
     }
   for (std::size_t k = 0; k < colliders_.size(); ++k) {
-    Collider& c = colliders_[k];
-    const WorldSnapshot::Pose& p = s.colliders[k];
-    c.rot = p.rot;
-    c.rot_prev = p.rot_prev;
-    c.pos = p.pos;
-    c.pos_prev = p.pos_prev;
-    c.dt = p.dt;
-    c.inv_mass = p.inv_mass;
-    c.inv_inertia = p.inv_inertia;
-    c.centre = p.centre;
+    colliders_[k].pose = s.colliders[k];
   }
   frame_ = s.frame;
   step_ = s.step;

@@ -39,15 +39,7 @@ inline constexpr double kMaxStepsPerFrame = 1e7;
 struct WorldSnapshot {
   int frame = 0;
   long long step = 0;
-  struct Pose {
-    Mat3 rot, rot_prev;
-    Vec3 pos, pos_prev;
-    double dt = 0.0;
-    double inv_mass = 0.0;  // a free body's response to an impulse (Collider), kept with its pose
-    Mat3 inv_inertia = Mat3::Zero();
-    Vec3 centre{0, 0, 0};
-  };
-  std::vector<Pose> colliders;
+  std::vector<ColliderPose> colliders;  // each collider's pose (its shape never changes)
   std::vector<StateBlob> bodies;
   std::vector<StateBlob> systems;  // the World's systems (the rigid bodies' warm-start cache)
   SolverStats solver;

@@ -67,7 +67,7 @@ void ArticulatedBody::smoothStep(StepContext& ctx, VecX& v_star, bool& moved) {
   for (std::size_t i = 0; i < model_.links.size(); ++i) {
     const std::size_t c = model_.links[i].collider;
     const Vec3 J = ctx.coupling->impulse[c];
-    const Vec3 L = ctx.coupling->angular[c] + (*ctx.colliders)[c].pos.cross(J);
+    const Vec3 L = ctx.coupling->angular[c] + (*ctx.colliders)[c].pose.pos.cross(J);
     s.f_ext[i].head<3>() = L / h;
     s.f_ext[i].tail<3>() = J / h;
   }
@@ -193,22 +193,22 @@ void ArticulatedBody::step(StepContext& ctx) {
 void ArticulatedBody::publish(StepContext& ctx) {
   pose(*ctx.colliders, ctx.h);
   // Coupling::handBack gives the collider the opposite of what the figure took.
-  for (const Handback& b : handbacks_) ctx.coupling->handBack(b.collider, b.at, (*ctx.colliders)[b.collider].pos, b.impulse);
+  for (const Handback& b : handbacks_) ctx.coupling->handBack(b.collider, b.at, (*ctx.colliders)[b.collider].pose.pos, b.impulse);
 }
 
 void ArticulatedBody::pose(std::vector<Collider>& colliders, double h) const {
   for (std::size_t i = 0; i < model_.links.size(); ++i) {
     const ArtLink& l = model_.links[i];
     Collider& c = colliders[l.collider];
-    c.rot_prev = c.rot;
-    c.pos_prev = c.pos;
-    c.dt = h;
-    c.rot = view_k_.R[i] * l.axes0.transpose();
-    c.pos = view_k_.x[i] + view_k_.R[i] * l.pivot;
+    c.pose.rot_prev = c.pose.rot;
+    c.pose.pos_prev = c.pose.pos;
+    c.pose.dt = h;
+    c.pose.rot = view_k_.R[i] * l.axes0.transpose();
+    c.pose.pos = view_k_.x[i] + view_k_.R[i] * l.pivot;
     // Met by another figure as a free body of the link's mass (its joints not counted).
-    c.inv_mass = 1.0 / l.mass;
-    c.inv_inertia = view_k_.R[i] * l.inertia.inverse() * view_k_.R[i].transpose();
-    c.centre = view_k_.x[i];
+    c.pose.inv_mass = 1.0 / l.mass;
+    c.pose.inv_inertia = view_k_.R[i] * l.inertia.inverse() * view_k_.R[i].transpose();
+    c.pose.centre = view_k_.x[i];
   }
 }
 

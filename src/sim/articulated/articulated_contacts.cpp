@@ -110,24 +110,24 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
     for (std::uint32_t pi : candidates) {
       const ObjectPart& part = parts_.parts[pi];
       const Collider& c = colliders[part.collider];
-      if (c.bound_radius < 1e300) {  // the link's box against the part's collider's sphere first
-        const Vec3 centre = c.fromAuthored(c.bound_center);
-        if ((centre.cwiseMax(link_lo[i]).cwiseMin(link_hi[i]) - centre).squaredNorm() > c.bound_radius * c.bound_radius) continue;
+      if (c.shape->bound_radius < 1e300) {  // the link's box against the part's collider's sphere first
+        const Vec3 centre = c.fromAuthored(c.shape->bound_center);
+        if ((centre.cwiseMax(link_lo[i]).cwiseMin(link_hi[i]) - centre).squaredNorm() > c.shape->bound_radius * c.shape->bound_radius) continue;
       }
       Manifold mf;
       if (!collidePart(l.shape, pose, part, c, margin, mf)) continue;
-      const double mu = std::sqrt(l.surface.friction * c.surface.friction);
+      const double mu = std::sqrt(l.surface.friction * c.shape->surface.friction);
       int partner = -1;
-      if (c.free_body && c.inv_mass > 0) {
+      if (c.shape->free_body && c.pose.inv_mass > 0) {
         for (std::size_t q = 0; q < partners.size(); ++q)
           if (partners[q].collider == part.collider) partner = static_cast<int>(q);
         if (partner < 0) {
           Partner pt;
           pt.collider = part.collider;
-          pt.inv_mass = c.inv_mass;
-          pt.inv_inertia = c.inv_inertia;
-          pt.centre = c.centre;
-          pt.v = c.velocityAt(c.centre);
+          pt.inv_mass = c.pose.inv_mass;
+          pt.inv_inertia = c.pose.inv_inertia;
+          pt.centre = c.pose.centre;
+          pt.v = c.velocityAt(c.pose.centre);
           pt.w = c.angularVelocity();
           partner = static_cast<int>(partners.size());
           partners.push_back(pt);

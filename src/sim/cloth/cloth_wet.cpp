@@ -100,7 +100,7 @@ void handBackGrips(const Cloth& c, const MassSpringModel& m, const MassSpringSta
     const Collider& col = colliders[static_cast<std::size_t>(k)];
     for (int p : c.grips[gi].nodes) {
       const auto i = static_cast<std::size_t>(p);
-      coupling.handBack(static_cast<std::size_t>(k), s.x[i], col.pos, -h * held[i]);
+      coupling.handBack(static_cast<std::size_t>(k), s.x[i], col.pose.pos, -h * held[i]);
     }
   }
 }

@@ -81,7 +81,7 @@ void perceive(const FishDesc& d, const FishFrame& self, int self_body, int self_
   for (std::size_t k = 0; k < std::min(food.size(), kMaxFood); ++k) out.seen.push_back(food[k]);
   if (w.hook) {
     double dist;
-    const Vec3 p = w.hook->pos;
+    const Vec3 p = w.hook->pose.pos;
     if (inCone(p, dist) && dist <= d.vision_radius && !(w.obstacles && segmentBlocked(*w.obstacles, eye, shortOf(eye, p, 0.1 * d.length), step))) {
       Seen s;
       s.kind = Seen::Kind::Hook, s.x = p, s.v = w.hook->velocityAt(p), s.distance = dist;

@@ -382,7 +382,7 @@ void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, Coupling&
     const double range = fl.pairs[si * S + si].cutoff;
     const Collider& c = colliders[k];
     const Surface& sf = fl.surfaces[k * S + si];
-    const double reach = c.thickness + fl.radius;
+    const double reach = c.shape->thickness + fl.radius;
     if (!c.near(fl.x[i], fl.radius + (sf.adhesion > 0 ? range : 0.0))) return Vec3::Zero();
     double d;
     Vec3 nrm;
@@ -405,7 +405,7 @@ void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, Coupling&
       if (fl.collider_object[k] < 0) continue;
       const Vec3 J = touch(i, k);
       if (J.isZero()) continue;
-      coupling.handBack(k, fl.x[i], colliders[k].pos, J);
+      coupling.handBack(k, fl.x[i], colliders[k].pose.pos, J);
     }
 }
 

@@ -155,7 +155,7 @@ void addBlocks(Fluid& fl, const FluidDesc& d, const std::vector<Collider>& colli
           for (const Collider& c : colliders) {
             double dist;
             Vec3 nrm;
-            inside = inside || (c.distance(p, dist, nrm) && dist < c.thickness + d.radius);
+            inside = inside || (c.distance(p, dist, nrm) && dist < c.shape->thickness + d.radius);
           }
           if (inside) continue;
           fl.id.push_back(static_cast<std::int32_t>(fl.id.size()));
@@ -206,8 +206,8 @@ Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<
   // Surfaces per collider and species; free objects by collider.
   fl.surfaces.reserve(colliders.size() * S);
   for (const Collider& o : colliders) {
-    for (std::size_t k = 0; k < S; ++k) fl.surfaces.push_back(surfaceFor(o.surface, o.species_surface, fl.species_names[k]));
-    fl.collider_object.push_back(o.free_body ? fl.object_count++ : -1);
+    for (std::size_t k = 0; k < S; ++k) fl.surfaces.push_back(surfaceFor(o.shape->surface, o.shape->species_surface, fl.species_names[k]));
+    fl.collider_object.push_back(o.shape->free_body ? fl.object_count++ : -1);
   }
   addBlocks(fl, d, colliders, seed);
   for (const FluidParticlesDesc& p : d.particles)

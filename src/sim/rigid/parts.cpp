@@ -6,7 +6,7 @@
 
 namespace reel {
 
-Pose colliderPose(const Collider& c) { return {c.rot, c.pos - c.rot * c.pivot}; }
+Pose colliderPose(const Collider& c) { return {c.pose.rot, c.pose.pos - c.pose.rot * c.shape->pivot}; }
 
 void buildParts(const std::vector<Collider>& colliders, ObjectParts& cache, bool with_free, std::size_t skip_first,
                 std::size_t skip_end) {
@@ -27,18 +27,18 @@ void buildParts(const std::vector<Collider>& colliders, ObjectParts& cache, bool
   };
   for (std::size_t k = 0; k < colliders.size(); ++k) {
     const Collider& c = colliders[k];
-    if (c.free_body && (!with_free || (k >= skip_first && k < skip_end))) continue;
+    if (c.shape->free_body && (!with_free || (k >= skip_first && k < skip_end))) continue;
     ConvexShape s;
-    switch (c.kind) {
+    switch (c.shape->kind) {
       case ObjectKind::Plane: {
         ObjectPart p;
         p.collider = k;
         p.half_space = true;
-        p.frame = c.R;
-        p.normal = c.R.col(1);
-        p.offset = p.normal.dot(c.p0) + c.thickness;
-        p.half_w = c.half.x();
-        p.half_d = c.half.z();
+        p.frame = c.shape->R;
+        p.normal = c.shape->R.col(1);
+        p.offset = p.normal.dot(c.shape->p0) + c.shape->thickness;
+        p.half_w = c.shape->half.x();
+        p.half_d = c.shape->half.z();
         p.lo = Vec3::Constant(-1e300);
         p.hi = Vec3::Constant(1e300);
         cache.parts.push_back(std::move(p));
@@ -46,26 +46,26 @@ void buildParts(const std::vector<Collider>& colliders, ObjectParts& cache, bool
       }
       case ObjectKind::Sphere:
         s.kind = CoreKind::Point;
-        s.a = c.p0;
-        s.radius = c.radius + c.thickness;
+        s.a = c.shape->p0;
+        s.radius = c.shape->radius + c.shape->thickness;
         add(k, std::move(s));
         break;
       case ObjectKind::Capsule:
         s.kind = CoreKind::Segment;
-        s.a = c.p0;
-        s.b = c.p1;
-        s.radius = c.radius + c.thickness;
+        s.a = c.shape->p0;
+        s.b = c.shape->p1;
+        s.radius = c.shape->radius + c.shape->thickness;
         add(k, std::move(s));
         break;
       case ObjectKind::Box:
-        box(k, c.p0, c.R, c.half + Vec3::Constant(c.thickness));
+        box(k, c.shape->p0, c.shape->R, c.shape->half + Vec3::Constant(c.shape->thickness));
         break;
       case ObjectKind::Container: {
-        for (const auto& [centre, size] : containerBoxes(2.0 * c.half, c.wall)) box(k, c.p0 + c.R * centre, c.R, 0.5 * size);
+        for (const auto& [centre, size] : containerBoxes(2.0 * c.shape->half, c.shape->wall)) box(k, c.shape->p0 + c.shape->R * centre, c.shape->R, 0.5 * size);
         break;
       }
       case ObjectKind::Mesh: {
-        const MeshShape& m = *c.mesh;
+        const MeshShape& m = *c.shape->mesh;
         cache.mesh_parts[k] = {cache.parts.size(), m.triangles.size()};
         for (const auto& t : m.triangles) {
           ConvexShape ts;
@@ -92,10 +92,10 @@ void partsNear(const ObjectParts& cache, const std::vector<Collider>& colliders,
     const ObjectPart& part = cache.parts[p];
     const Collider& c = colliders[part.collider];
     // The collider's bounding sphere against the box first: one point carried instead of eight.
-    if (c.bound_radius < 1e300) {
-      const Vec3 centre = c.fromAuthored(c.bound_center);
+    if (c.shape->bound_radius < 1e300) {
+      const Vec3 centre = c.fromAuthored(c.shape->bound_center);
       const Vec3 nearest = centre.cwiseMax(lo).cwiseMin(hi);
-      if ((nearest - centre).squaredNorm() > c.bound_radius * c.bound_radius) {
+      if ((nearest - centre).squaredNorm() > c.shape->bound_radius * c.shape->bound_radius) {
         const auto [first, count] = cache.mesh_parts[part.collider];
         p = count > 0 && p == first ? first + count : p + 1;
         continue;
@@ -112,7 +112,7 @@ void partsNear(const ObjectParts& cache, const std::vector<Collider>& colliders,
     const auto [first, count] = cache.mesh_parts[part.collider];
     if (count > 0 && p == first) {
       // A mesh: its triangles through its grid, each once, in order.
-      const BoxGrid& g = c.mesh->grid;
+      const BoxGrid& g = c.shape->mesh->grid;
       const double cell = g.cell();
       const std::size_t start = out.size();
       const auto c0 = g.cellOf(alo), c1 = g.cellOf(ahi);
@@ -146,14 +146,14 @@ void partsNear(const ObjectParts& cache, const std::vector<Collider>& colliders,
 bool collidePart(const ConvexShape& shape, const Pose& pose, const ObjectPart& part, const Collider& c, double margin,
                  Manifold& m) {
   if (!part.half_space) return collide(shape, pose, part.shape, colliderPose(c), margin, m);
-  const Vec3 n = c.rot * part.normal;
+  const Vec3 n = c.pose.rot * part.normal;
   const double offset = n.dot(c.fromAuthored(part.offset * part.normal));
   if (!collideHalfSpace(shape, pose, n, offset, margin, m)) return false;
   if (part.half_w <= 0 && part.half_d <= 0) return true;
   // A finite plane: only the points over it.
   int keep = 0;
   for (int i = 0; i < m.count; ++i) {
-    const Vec3 a = c.toAuthored(m.points[static_cast<std::size_t>(i)].position) - c.p0;
+    const Vec3 a = c.toAuthored(m.points[static_cast<std::size_t>(i)].position) - c.shape->p0;
     if ((part.half_w <= 0 || std::abs(a.dot(part.frame.col(0))) <= part.half_w) &&
         (part.half_d <= 0 || std::abs(a.dot(part.frame.col(2))) <= part.half_d))
       m.points[static_cast<std::size_t>(keep++)] = m.points[static_cast<std::size_t>(i)];

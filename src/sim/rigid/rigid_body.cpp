@@ -30,7 +30,7 @@ void RigidBody::follow(const std::vector<Collider>& colliders) {
     if (!m.kinematic) continue;
     const Collider& c = colliders[m.collider];
     RigidState& s = states_[i];
-    const Mat3 R = c.rot * m.axes0;
+    const Mat3 R = c.pose.rot * m.axes0;
     s.q = Eigen::Quaterniond(R).normalized();
     s.x = c.fromAuthored(m.center0);
     s.v = c.velocityAt(s.x);
@@ -45,14 +45,14 @@ void RigidBody::pose(std::vector<Collider>& colliders, double h) {
     Collider& c = colliders[m.collider];
     const RigidState& s = states_[i];
     const Mat3 R = s.q.toRotationMatrix();
-    c.rot_prev = c.rot;
-    c.pos_prev = c.pos;
-    c.dt = h;
-    c.rot = R * m.axes0.transpose();
-    c.pos = s.x + R * m.pivot;
-    c.inv_mass = m.inv_mass;
-    c.inv_inertia = inverseInertia(m, s);
-    c.centre = s.x;
+    c.pose.rot_prev = c.pose.rot;
+    c.pose.pos_prev = c.pose.pos;
+    c.pose.dt = h;
+    c.pose.rot = R * m.axes0.transpose();
+    c.pose.pos = s.x + R * m.pivot;
+    c.pose.inv_mass = m.inv_mass;
+    c.pose.inv_inertia = inverseInertia(m, s);
+    c.pose.centre = s.x;
   }
   refreshView();
 }
@@ -265,7 +265,7 @@ Result<std::unique_ptr<Body>> buildRigidBody(const BodyDesc& desc, const BuildCo
     if (!(m.moments.minCoeff() > 0))
       return Error(ErrorKind::BadInput, o.path + ": rigid body '" + it.name + "' has no rotational inertia about an axis");
     const Collider& c = (*ctx.colliders)[m.collider];
-    m.pivot = it.axes.transpose() * (c.pivot - m.center0);
+    m.pivot = it.axes.transpose() * (c.shape->pivot - m.center0);
     m.surface = o.surface;
     m.sleep_time = d.sleep_time;
     m.force = it.force;

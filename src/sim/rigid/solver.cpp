@@ -153,7 +153,7 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
       RigidState& s = states[i];
       const std::size_t c = m.collider;
       const Vec3 J = ctx.coupling->impulse[c];
-      const Vec3 L = ctx.coupling->angular[c] + (colliders[c].pos - s.x).cross(J);
+      const Vec3 L = ctx.coupling->angular[c] + (colliders[c].pose.pos - s.x).cross(J);
       const double wake = 1e-3 * m.mass * kSleepSpeed;  // N·s: a push that would move it a little
       if (s.asleep && (J.norm() > wake || L.norm() > wake * m.extent)) s.asleep = false, s.rest = 0.0;
       SolverBody b;
@@ -240,7 +240,7 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
     const SolverBody& A = bodies[static_cast<std::size_t>(p.a)];
     const Surface& sa = A.model->surface;
     const Surface sb = p.b >= 0 ? bodies[static_cast<std::size_t>(p.b)].model->surface
-                                : colliders[cache.parts[p.part].collider].surface;
+                                : colliders[cache.parts[p.part].collider].shape->surface;
     const double extent = std::min(A.model->extent, p.b >= 0 ? bodies[static_cast<std::size_t>(p.b)].model->extent : 1e300);
     for (int i = 0; i < m.count; ++i) {
       const ContactPoint& cp = m.points[static_cast<std::size_t>(i)];
