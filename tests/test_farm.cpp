@@ -342,6 +342,44 @@ TEST_CASE("farm cache: a killed run resumes to the same bytes; damaged frames ar
   CHECK(test::fileBytes(d / "fresh" / "frames.bin") == bin);
 }
 
+TEST_CASE("farm cache: a record whose header names a huge raw size is refused before anything is allocated") {
+  // The header's sizes are outside the checksum: one changed field once ran reel out of memory
+  // (std::bad_alloc, exit 134) before any check. Each is refused as a damaged frame, and --resume
+  // rewrites it.
+  const fs::path d = test::freshDir("farm_raw_size");
+  const std::string cd = "cd " + d.string() + " && ";
+  REQUIRE(runReel("simulate " + kTear + " --cache c -q", cd).code == 0);
+  const std::string bin = test::fileBytes(d / "c" / "frames.bin"), idx = test::fileBytes(d / "c" / "frames.idx");
+  std::uint64_t e3[2];
+  std::memcpy(e3, idx.data() + 8 + 16 * 3, 16);
+  for (const std::uint64_t raw : {std::uint64_t{1} << 33, std::uint64_t{3} << 29, std::uint64_t{5}}) {
+    std::string forged = bin;
+    std::memcpy(forged.data() + e3[0] + 8, &raw, 8);  // RecordHeader: magic, frame, raw_size, ...
+    writeBytes(d / "c" / "frames.bin", forged);
+    // Under a 4 GB address space: a believed size could not even be allocated.
+    const std::string limit = "ulimit -v 4000000 && ";
+    Run r = runReel("render " + kTear + " --cache c -q -o o/f_####.png", cd + limit);
+    CHECK(r.code == 2);
+    CHECK(has(r.out, "frame 3: its record header is damaged"));
+    r = runReel("still " + kTear + " --cache c --frame 3 -q -o s.png", cd + limit);
+    CHECK(r.code == 2);
+    CHECK(has(r.out, "frame 3: its record header is damaged"));
+    CHECK_FALSE(fs::exists(d / "s.png"));
+    r = runReel("simulate " + kTear + " --cache c --resume -q", cd + limit);
+    CHECK(r.code == 0);
+    CHECK(has(r.out, "resumed after frame 2"));
+    CHECK(test::fileBytes(d / "c" / "frames.bin") == bin);
+  }
+  // An index entry longer than the file holds is a cut-short frame, not an allocation.
+  std::string idx_forged = idx;
+  const std::uint64_t huge = std::uint64_t{1} << 33;
+  std::memcpy(idx_forged.data() + 8 + 16 * 3 + 8, &huge, 8);
+  writeBytes(d / "c" / "frames.idx", idx_forged);
+  Run r = runReel("still " + kTear + " --cache c --frame 3 -q -o s.png", cd + "ulimit -v 4000000 && ");
+  CHECK(r.code == 2);
+  CHECK(has(r.out, "frame 3"));
+}
+
 TEST_CASE("farm cache: bad input") {
   const fs::path d = test::freshDir("farm_bad");
   const std::string cd = "cd " + d.string() + " && ";

@@ -225,6 +225,35 @@ TEST_CASE("an output that is a FIFO, a folder or a device is refused with exit 4
   CHECK(io::checkOutputTarget((d / "new.json").string()).ok());
 }
 
+TEST_CASE("an output that is a symbolic link is written through it, never renamed over") {
+  // `-o /dev/stdout > f.png` as root replaced the system's /dev/stdout link with the PNG: the
+  // part file was renamed onto the link. The same with links of the test's own.
+  const fs::path d = test::freshDir("hardening_links");
+  const std::string scene = put(d, "s.json", R"({"format": "reel/1", "duration": 0.1, "fps": 10, "render": {"width": 16, "height": 16}})");
+  fs::create_directories(d / "real");
+  fs::create_symlink(d / "real" / "target.json", d / "link.json");  // dangling until written
+  auto r = runReel("simulate " + scene + " --dump " + (d / "link.json").string());
+  CHECK(r.code == 0);
+  CHECK(fs::is_symlink(d / "link.json"));
+  CHECK(fs::is_regular_file(d / "real" / "target.json"));
+  CHECK(has(test::fileBytes(d / "real" / "target.json"), "reel-dump/1"));
+  CHECK_FALSE(fs::exists(d / "real" / "target.json.part"));
+  // A link to the process's own standard output, which the shell sent to a file: that file gets
+  // the still, the link stays.
+  fs::create_symlink("/proc/self/fd/1", d / "stdout.png");
+  r = runReel("still " + scene + " --frame 0 -q -o " + (d / "stdout.png").string() + " > " + (d / "f.png").string(), "");
+  CHECK(r.code == 0);
+  CHECK(fs::is_symlink(d / "stdout.png"));
+  CHECK(test::fileBytes(d / "f.png").substr(1, 3) == "PNG");
+  // A link to a FIFO is refused like the FIFO, and stays a link.
+  REQUIRE(mkfifo((d / "pipe").c_str(), 0600) == 0);
+  fs::create_symlink(d / "pipe", d / "to_pipe.json");
+  r = runReel("simulate " + scene + " --dump " + (d / "to_pipe.json").string());
+  CHECK(r.code == 4);
+  CHECK(has(r.out, "is a FIFO, not a regular file"));
+  CHECK(fs::is_symlink(d / "to_pipe.json"));
+}
+
 TEST_CASE("a full disk during --dump names the file and leaves no dump behind") {
   const fs::path d = test::freshDir("hardening_full");
   const std::string rope = std::string(REEL_SOURCE_DIR) + "/scenes/rope.json";

@@ -133,6 +133,19 @@ Status checkOutputTarget(const std::string& path) {
   return {};
 }
 
+std::string writeThrough(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_symlink(fs::symlink_status(path, ec))) return path;
+  fs::path p = path;
+  // Link after link (a dangling one too: the file it names is made), as the kernel's 40 at most.
+  for (int hops = 0; hops < 40 && fs::is_symlink(fs::symlink_status(p, ec)); ++hops) {
+    const fs::path t = fs::read_symlink(p, ec);
+    if (ec) return path;  // (a link it cannot read: the rename fails, exit 4)
+    p = t.is_absolute() ? t : p.parent_path() / t;
+  }
+  return p.lexically_normal().string();
+}
+
 std::string safeFileName(const std::string& name) {
   std::string out;
   const std::string in = name.substr(0, 100);
@@ -153,9 +166,11 @@ AtomicFile::~AtomicFile() { abandon(); }
 Status AtomicFile::open(const std::string& path) {
   abandon();
   if (Status st = checkOutputTarget(path); !st) return st;
-  if (Status st = createParentFolders(path); !st) return st;
-  path_ = path;
-  part_ = path + ".part";
+  path_ = writeThrough(path);
+  if (path_ != path)
+    if (Status st = checkOutputTarget(path_); !st) return st;
+  if (Status st = createParentFolders(path_); !st) return st;
+  part_ = path_ + ".part";
   f_ = std::fopen(part_.c_str(), "wb");
   if (!f_) return Error(ErrorKind::Output, part_ + ": cannot write: " + std::strerror(errno));
   return {};

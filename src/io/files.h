@@ -41,6 +41,12 @@ Status createParentFolders(const std::string& path);
 // (`--dump /dev/full` as root would replace the device) or blocking (a FIFO).
 Status checkOutputTarget(const std::string& path);
 
+// Where an output named PATH is written: PATH itself, or, when PATH is a symbolic link, the file it
+// finally points to (its .part file beside that file). Renaming over PATH would replace the link
+// (`-o /dev/stdout` as root replaced the system's link with a PNG); writing through it is what a
+// user who names a link means. A link to a device or FIFO is refused by checkOutputTarget.
+std::string writeThrough(const std::string& path);
+
 // A scene name as a file name: letters, digits, '-', '_' and a '.' between letters kept; each
 // run of anything else (a '/', "..", spaces) becomes one '_'; never empty, at most 100 bytes. Default outputs use it, so a
 // `name` of "../../x" stays inside render_out/.

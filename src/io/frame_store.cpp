@@ -1,6 +1,7 @@
 #include "io/frame_store.h"
 
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <zstd.h>
 
@@ -75,11 +76,20 @@ Result<Bytes> readRecord(std::FILE* f, const std::string& file, int k, const Ind
   if (h.magic != kRecordMagic || h.frame != static_cast<std::uint32_t>(k) || h.stored_size != e.length - sizeof h ||
       h.raw_size > kMaxRecord)
     return Error(ErrorKind::BadInput, where + ": its record header is damaged (`reel simulate --resume` rewrites it)");
+  // Nothing is allocated for bytes the file does not hold, nor for a raw size the checksummed
+  // data does not name: the header's sizes are not under the checksum, and a changed one must be
+  // refused before it is believed (a forged raw size of 8 GiB once ran reel out of memory).
+  struct stat st {};
+  if (::fstat(fileno(f), &st) != 0 || e.offset + e.length > static_cast<std::uint64_t>(st.st_size))
+    return Error(ErrorKind::BadInput, where + " is cut short (the cache is truncated; `reel simulate --resume` rewrites it)");
   Bytes stored(h.stored_size);
   if (std::fread(stored.data(), 1, stored.size(), f) != stored.size())
     return Error(ErrorKind::BadInput, where + " is cut short (the cache is truncated; `reel simulate --resume` rewrites it)");
   if (checksum(stored.data(), stored.size()) != h.checksum)
     return Error(ErrorKind::BadInput, where + ": checksum mismatch, the frame is corrupted (`reel simulate --resume` rewrites it)");
+  // The compressed frame records its own content size (under the checksum): the header's must agree.
+  if (ZSTD_getFrameContentSize(stored.data(), stored.size()) != h.raw_size)
+    return Error(ErrorKind::BadInput, where + ": its record header is damaged (`reel simulate --resume` rewrites it)");
   auto raw = unpackFrame(stored.data(), stored.size(), h.raw_size);
   if (!raw.ok()) return Error(ErrorKind::BadInput, where + ": " + raw.error().headline());
   return raw;

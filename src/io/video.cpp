@@ -87,8 +87,8 @@ VideoWriter::~VideoWriter() = default;
 
 Status VideoWriter::open(const std::string& path, int width, int height, int fps, int crf, const ChunkTag* tag) {
   Impl& v = *impl_;
-  v.path = path;
-  v.part = path + ".part";
+  v.path = writeThrough(path);
+  v.part = v.path + ".part";
   v.width = width;
   v.height = height;
   const std::string ext = extensionOf(path);
@@ -454,7 +454,8 @@ Status joinVideos(const std::vector<std::string>& inputs, const std::string& out
       av_packet_free(&pkt);
     }
   } out;
-  out.part = output + ".part";
+  const std::string target = writeThrough(output);
+  out.part = target + ".part";
   const std::string ext = extensionOf(output);
   auto fail = [&](const std::string& what, int e) { return Error(ErrorKind::Output, output + ": " + what + ": " + averr(e)); };
   int r = avformat_alloc_output_context2(&out.fmt, nullptr, ext == ".mp4" ? "mp4" : "webm", out.part.c_str());
@@ -513,7 +514,7 @@ Status joinVideos(const std::vector<std::string>& inputs, const std::string& out
   }
   if ((r = av_write_trailer(out.fmt)) < 0) return fail("write failed (disk full?)", r);
   if ((r = avio_closep(&out.fmt->pb)) < 0) return fail("write failed (disk full?)", r);
-  if (std::rename(out.part.c_str(), output.c_str()) != 0) return Error(ErrorKind::Output, output + ": cannot rename from .part");
+  if (std::rename(out.part.c_str(), target.c_str()) != 0) return Error(ErrorKind::Output, output + ": cannot rename from .part");
   out.done = true;
   return {};
 }
