@@ -44,21 +44,30 @@ void ClothBody::exportSurface(ContactExport& out) const {
       ++alive;
     }
   if (alive != border_at_) {
-    std::vector<std::array<int, 2>> e;
-    e.reserve(3 * alive);
-    for (std::size_t t = 0; t < cloth_.tris.size(); ++t)
-      if (cloth_.tri_alive[t])
+    if (edges_of_.empty()) {  // the sheet's edges and the one or two triangles of each, found once
+      std::vector<std::array<int, 3>> e;  // (a < b, triangle)
+      e.reserve(3 * cloth_.tris.size());
+      for (std::size_t t = 0; t < cloth_.tris.size(); ++t)
         for (int k = 0; k < 3; ++k) {
           const int a = cloth_.tris[t][k], b = cloth_.tris[t][(k + 1) % 3];
-          e.push_back({std::min(a, b), std::max(a, b)});
+          e.push_back({std::min(a, b), std::max(a, b), static_cast<int>(t)});
         }
-    std::sort(e.begin(), e.end());
+      std::sort(e.begin(), e.end());
+      for (std::size_t i = 0; i < e.size(); ++i) {
+        if (i > 0 && e[i][0] == e[i - 1][0] && e[i][1] == e[i - 1][1]) {
+          tris_of_.back()[1] = e[i][2];
+          continue;
+        }
+        edges_of_.push_back({e[i][0], e[i][1]});
+        tris_of_.push_back({e[i][2], -1});
+      }
+    }
     border_.clear();
-    for (std::size_t i = 0; i < e.size();) {
-      std::size_t j = i + 1;
-      while (j < e.size() && e[j] == e[i]) ++j;
-      if (j == i + 1) border_.push_back(e[i]);
-      i = j;
+    for (std::size_t k = 0; k < edges_of_.size(); ++k) {
+      const auto [s, t] = tris_of_[k];
+      const bool a = cloth_.tri_alive[static_cast<std::size_t>(s)] != 0;
+      const bool b = t >= 0 && cloth_.tri_alive[static_cast<std::size_t>(t)] != 0;
+      if (a != b) border_.push_back(edges_of_[k]);
     }
     border_at_ = alive;
   }

@@ -36,6 +36,8 @@ class ClothBody final : public SpringNetworkBody {
   // kept for the count of intact triangles it was found at (tearing only ever lowers it).
   mutable std::vector<std::array<int, 2>> border_;
   mutable std::size_t border_at_ = static_cast<std::size_t>(-1);
+  mutable std::vector<std::array<int, 2>> edges_of_;  // every edge of its triangles (a < b), once
+  mutable std::vector<std::array<int, 2>> tris_of_;   // its one or two triangles (−1: one)
 };
 
 // The builder of the registry row `cloth`.
