@@ -13,6 +13,7 @@
 #include "helpers.h"
 #include "io/files.h"
 #include "io/mesh_import.h"
+#include "io/xml.h"
 
 using namespace reel;
 using reel::test::runReel;
@@ -252,6 +253,24 @@ TEST_CASE("an output that is a symbolic link is written through it, never rename
   CHECK(r.code == 4);
   CHECK(has(r.out, "is a FIFO, not a regular file"));
   CHECK(fs::is_symlink(d / "to_pipe.json"));
+}
+
+TEST_CASE("a UTF-8 byte-order mark is read past; a DOCTYPE with declarations is refused in plain words") {
+  const fs::path d = test::freshDir("hardening_bom");
+  // A scene an editor saved with a byte-order mark loads; an error in it keeps its position.
+  const std::string scene = put(d, "bom.json", "\xEF\xBB\xBF{\"format\": \"reel/1\", \"duration\": 0.1, \"fps\": 10}");
+  auto r = runReel("check " + scene);
+  CHECK(r.code == 0);
+  r = runReel("check " + put(d, "bom_bad.json", "\xEF\xBB\xBF{\"format\": \"reel/1\",\n  \"duration\": }"));
+  CHECK(r.code == 2);
+  CHECK(has(r.out, "bom_bad.json:2:"));
+  // Robot files: the mark is read past; a bare DOCTYPE is skipped; one that declares entities is
+  // refused as such, not as a syntax error further on.
+  CHECK(io::parseXml("\xEF\xBB\xBF<robot name=\"r\"/>").ok());
+  CHECK(io::parseXml("<?xml version=\"1.0\"?>\n<!DOCTYPE robot>\n<robot/>").ok());
+  const auto bomb = io::parseXml("<!DOCTYPE r [<!ENTITY a \"aaaa\"><!ENTITY b \"&a;&a;\">]>\n<r x=\"&b;\"/>");
+  REQUIRE_FALSE(bomb.ok());
+  CHECK(has(bomb.error().headline(), "line 1: a DOCTYPE with declarations (entities) is not supported"));
 }
 
 TEST_CASE("a full disk during --dump names the file and leaves no dump behind") {

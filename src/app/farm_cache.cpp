@@ -96,7 +96,12 @@ Result<CacheManifest> readManifest(const std::string& dir) {
     m.frames = j.at("frames").get<int>();
     for (const auto& a : j.at("assets")) m.assets.push_back({a.at(0).get<std::string>(), a.at(1).get<std::string>()});
   } catch (const nlohmann::json::exception& e) {
-    return Error(ErrorKind::BadInput, manifestPath(dir) + ": damaged: " + e.what());
+    // In plain words (nlohmann's own text names its exception types, not the file's fault).
+    const char* why = dynamic_cast<const nlohmann::json::parse_error*>(&e)    ? "it is not JSON"
+                      : dynamic_cast<const nlohmann::json::out_of_range*>(&e) ? "a field reel writes is missing"
+                                                                              : "a field has the wrong type";
+    return Error(ErrorKind::BadInput, manifestPath(dir) + ": damaged (" + why +
+                                          "): not the cache.json reel writes; `reel simulate --cache` makes the cache anew");
   }
   return m;
 }

@@ -14,6 +14,7 @@ class Parser {
   explicit Parser(const std::string& s) : s_(s) {}
 
   Result<XmlElement> document() {
+    if (s_.compare(0, 3, "\xEF\xBB\xBF") == 0) at_ = 3;  // a UTF-8 byte-order mark
     skipMisc(true);
     if (failed()) return error();
     if (at_ >= s_.size() || s_[at_] != '<') return fail("expected the root element"), error();
@@ -55,6 +56,11 @@ class Parser {
       } else if (prolog && startsWith("<?xml")) {
         if (!skipPast("?>", "declaration")) return;
       } else if (prolog && startsWith("<!DOCTYPE")) {
+        // A bare DOCTYPE names the root and is skipped; one with declarations ("[ ... ]": entities,
+        // the way to expand a file into megabytes or read another) is refused in plain words.
+        const std::size_t close = s_.find('>', at_), open = s_.find('[', at_);
+        if (open != std::string::npos && (close == std::string::npos || open < close))
+          return fail("a DOCTYPE with declarations (entities) is not supported");
         if (!skipPast(">", "DOCTYPE")) return;
       } else if (startsWith("<?")) {
         return fail("processing instructions are not supported");
