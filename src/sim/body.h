@@ -103,6 +103,9 @@ class Body {
   // Adds to `out` what the body shows the others (sim/shared_view.h), as pointers to its own
   // published state; called once, when the World is built. `self`: its index in scene order.
   virtual void show(SharedView& /*out*/, int /*self*/) {}
+  // How far (m) the body looks for other bodies' points to steer around (SharedView::points);
+  // 0: it does not (then the World gathers none).
+  virtual double watchRadius() const { return 0.0; }
   // The World's contact layer (sim/contact_layer.h): a body that has points hands them (and the
   // triangles of its surface over them) each step after stepping, and takes back their positions
   // and velocities once the layer has resolved its contacts with every other body's.

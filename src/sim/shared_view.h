@@ -12,6 +12,7 @@
 
 #include "core/scene/fish.h"
 #include "core/types.h"
+#include "sim/grid.h"
 
 namespace reel {
 
@@ -28,6 +29,17 @@ struct FishSighting {
 // A particle of food eaten: by which fish of which body.
 struct FoodMeal {
   int body = -1, fish = -1;  // the eater: its body among the world's bodies, its index there
+};
+
+// The points of every body that has them (nodes and particles, with their contact radii, as the
+// World's contact layer sees them), gathered by the World at the start of each step when a body
+// steers around others (Body::watchRadius): the boxes of the points grown by their radius and
+// `reach` in a grid, so the points within `reach` of a place are those whose boxes hold it.
+struct BodyPoints {
+  std::vector<Vec3> x;    // m
+  std::vector<double> r;  // m
+  double reach = 0.0;     // m
+  BoxGrid grid;
 };
 
 struct SharedView {
@@ -52,6 +64,7 @@ struct SharedView {
   std::vector<Agents> agents;  // each in scene order
   std::vector<Fish> fish;
   std::vector<Food> food;
+  const BodyPoints* points = nullptr;  // none when no body watches the others
 };
 
 }  // namespace reel

@@ -85,6 +85,11 @@ Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow>
         if (scene.bodies[a].type == row.first && scene.bodies[b].type == row.second)
           w.exchanges_.push_back({a, b, row.exchange});
   for (std::size_t k = 0; k < w.bodies_.size(); ++k) w.bodies_[k]->show(w.shown_, static_cast<int>(k));
+  // Bodies that steer around the others (a school) see every body's points within their reach.
+  for (const auto& b : w.bodies_) w.body_points_.reach = std::max(w.body_points_.reach, b->watchRadius());
+  if (w.body_points_.reach > 0.0)
+    for (std::size_t k = 0; k < w.bodies_.size(); ++k)
+      if (w.bodies_[k]->exportsContacts()) w.watched_.push_back(k);
   // The contact layer takes every pair of bodies but those with an exchange of their own.
   std::vector<std::array<std::size_t, 2>> own;
   for (const Exchange& x : w.exchanges_) own.push_back({x.first, x.second});
@@ -177,6 +182,26 @@ Status World::buildBodies(const SceneDesc& scene, std::span<const BodyKindRow> k
   return {};
 }
 
+// The watched bodies' points as the contact layer would take them, in a grid of cells as large as
+// the watchers' reach and the largest radius: the points within reach of a place lie in the 27
+// cells around it.
+void World::gatherBodyPoints() {
+  ContactProxies& p = watch_proxies_;
+  p.clear();
+  for (std::size_t k : watched_) {
+    p.body.push_back(k);
+    ContactExport out(p);
+    bodies_[k]->exportContacts(out);
+    p.first.push_back(static_cast<std::uint32_t>(p.x.size()));
+  }
+  BodyPoints& b = body_points_;
+  b.x.swap(p.x);
+  b.r.swap(p.r);
+  double rmax = 0.0;
+  for (double r : b.r) rmax = std::max(rmax, r);
+  b.grid.build(b.x, b.x, b.reach + rmax);
+}
+
 Status World::advanceFrame() {
   const int steps = stepsPerFrame();
   const double per_step = 1.0 / (static_cast<double>(fps_) * steps);
@@ -192,6 +217,7 @@ Status World::advanceFrame() {
   ctx.coupling = &coupling_;
   ctx.solver = &solver_;
   ctx.shown = &shown_;
+  shown_.points = watched_.empty() ? nullptr : &body_points_;  // (this World's, wherever it was moved)
   for (int s = 0; s < steps; ++s) {
     ctx.t0 = static_cast<double>(step_) * per_step;
     ++step_;
@@ -199,6 +225,7 @@ Status World::advanceFrame() {
     // Moving objects take their pose at the end of the step; contacts see their velocity.
     for (std::size_t o : moving_objects_) colliders_[o].moveTo(ctx.t1, ctx.h);
     coupling_.reset(colliders_.size());
+    if (!watched_.empty()) gatherBodyPoints();
     // The bodies, in scene order, each checked for a bad state.
     for (std::size_t k = 0; k < bodies_.size(); ++k) {
       Body* b = bodies_[k].get();

@@ -116,6 +116,12 @@ class World {
   Water water_;
   std::vector<std::unique_ptr<Body>> bodies_;
   SharedView shown_;  // what the bodies show one another (Body::show), built once
+  // The points of the bodies that have them, for the bodies that steer around others
+  // (Body::watchRadius), gathered at the start of each step; none when no body watches.
+  BodyPoints body_points_;
+  std::vector<std::size_t> watched_;  // the bodies whose points they are
+  ContactProxies watch_proxies_;      // (scratch)
+  void gatherBodyPoints();
   std::vector<std::size_t> alone_;  // the coupled bodies that step alone (figures), in scene order
   struct System {
     std::unique_ptr<BodySystem> solver;

@@ -133,6 +133,31 @@ void avoidObstacles(const std::vector<Collider>& cs, const Vec3& x, const Vec3& 
   }
 }
 
+// Other bodies (a sheet, a rope, a liquid, fish) as their points: at each probe the nearest
+// point's surface (its contact radius) within the margin pushes away from that point, as a
+// surface does above.
+void avoidPoints(const BodyPoints& b, const Vec3& x, const Vec3& ahead, double m, Steering& s) {
+  double best = 0.0;
+  Vec3 bn{0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    const double f = 0.5 * k;
+    const Vec3 probe = x + f * ahead;
+    double nearest = m;
+    Vec3 n{0, 0, 0};
+    b.grid.forEachNear(probe, [&](int j) {
+      const Vec3 r = probe - b.x[static_cast<std::size_t>(j)];
+      const double len = r.norm();
+      const double dist = len - b.r[static_cast<std::size_t>(j)];
+      if (dist < nearest && len > 1e-12) nearest = dist, n = r / len;
+    });
+    if (!(nearest < m)) continue;
+    const double urgency = std::clamp(1.0 - nearest / m, 0.0, 1.0) * (1.0 - 0.4 * f);
+    if (urgency > best) best = urgency, bn = n;
+  }
+  s.push += best * bn;
+  s.avoid = std::max(s.avoid, best);
+}
+
 void containBounds(const SchoolBoundsDesc& b, const Vec3& p, Steering& s) {
   auto wall = [&](double depth, const Vec3& inward) {  // depth: how far into the margin, m
     const double urgency = std::clamp(depth / b.margin, 0.0, 1.0);
@@ -156,7 +181,7 @@ namespace {
 // Flight: away from the nearest predator point inside the fear radius, more urgently the nearer
 // it is, and mostly sideways from its path (the "fountain" escape of fish schools, Pitcher &
 // Parrish 1993): the part of r along the predator's heading is kept at a third.
-void fleePredator(const SchoolDesc& d, const PredatorView& pv, const Vec3& x, Steering& s) {
+void fleePredator(const SchoolDesc& d, const SchoolView& pv, const Vec3& x, Steering& s) {
   const double fr = d.predator->fear_radius;
   double best = fr;
   Vec3 heading{0, 0, 0};
@@ -177,13 +202,14 @@ void fleePredator(const SchoolDesc& d, const PredatorView& pv, const Vec3& x, St
   s.away = unitOr(s.away - (2.0 / 3.0) * s.away.dot(h) * h, s.away);
 }
 
-Steering steering(const School& sc, const std::vector<Collider>& cs, const PredatorView& pv, std::size_t i,
+Steering steering(const School& sc, const std::vector<Collider>& cs, const SchoolView& pv, std::size_t i,
                   double t) {
   const SchoolDesc& d = sc.desc;
   Steering s;
   const double speed = sc.v[i].norm();
   const Vec3 u = sc.v[i] / speed;
   avoidObstacles(cs, sc.x[i], speed * d.look_ahead * u, d.avoid_margin, s);
+  if (pv.bodies) avoidPoints(*pv.bodies, sc.x[i], speed * d.look_ahead * u, d.avoid_margin, s);
   if (d.bounds) containBounds(*d.bounds, sc.x[i] + 0.5 * speed * d.look_ahead * u, s);
   if (d.predator) fleePredator(d, pv, sc.x[i], s);
   if (d.goal && sc.informed[i]) s.goal = unitOr(d.goal->target.at(t) - sc.x[i], Vec3::Zero());
@@ -263,7 +289,7 @@ void forEachAgent(School& sc, double cell, bool unit_headings, F&& decide) {
   }, static_cast<std::ptrdiff_t>(sc.size()));
 }
 
-void couzinDecide(School& sc, const std::vector<Collider>& cs, const PredatorView& pv, double t) {
+void couzinDecide(School& sc, const std::vector<Collider>& cs, const SchoolView& pv, double t) {
   const SchoolDesc& d = sc.desc;
   CouzinDesc now = d.couzin;
   now.r_orientation = d.couzin.orientationAt(t);
@@ -297,7 +323,7 @@ struct Budget {
   }
 };
 
-void boidsDecide(School& sc, const std::vector<Collider>& cs, const PredatorView& pv, double t) {
+void boidsDecide(School& sc, const std::vector<Collider>& cs, const SchoolView& pv, double t) {
   const SchoolDesc& d = sc.desc;
   const BoidsDesc& b = d.boids;
   const double cos_half = std::cos(d.field_of_view_deg * kPi / 360.0);
@@ -420,7 +446,7 @@ School makeSchool(const SchoolDesc& d, const std::string& name, std::uint64_t se
   return s;
 }
 
-void stepSchool(School& sc, const std::vector<Collider>& cs, const PredatorView& pv, double t0, double h) {
+void stepSchool(School& sc, const std::vector<Collider>& cs, const SchoolView& pv, double t0, double h) {
   const SchoolDesc& d = sc.desc;
   const auto n = static_cast<std::ptrdiff_t>(sc.size());
   if (n == 0) return;

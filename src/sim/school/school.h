@@ -14,6 +14,7 @@
 #include "core/scene/school.h"
 #include "core/types.h"
 #include "sim/collide.h"
+#include "sim/shared_view.h"
 #include "sim/grid.h"
 
 namespace reel {
@@ -56,11 +57,13 @@ struct SchoolScratch {
   std::vector<Vec3> steer;  // boids: each agent's acceleration, m/s²
 };
 
-// Where a predator is for the agents: the points of a school or an object's collider.
-struct PredatorView {
+// What a school sees of the other bodies: where its predator is (the points of a school or an
+// object's collider), and the points of every body that has them, to steer around.
+struct SchoolView {
   const std::vector<Vec3>* points = nullptr;  // a school's agents
   const std::vector<Vec3>* velocities = nullptr;  // and their velocities
   const Collider* object = nullptr;           // or an object
+  const BodyPoints* bodies = nullptr;         // other bodies' points (sim/shared_view.h)
 };
 
 struct School : SchoolModelData, SchoolState, SchoolScratch {
@@ -77,6 +80,8 @@ struct Steering {
 };
 // Obstacles within `margin` of probes at x, x + ahead/2 and x + ahead push the agent away.
 void avoidObstacles(const std::vector<Collider>& cs, const Vec3& x, const Vec3& ahead, double margin, Steering& s);
+// The same for other bodies' points (nodes, particles) within `margin` of their surfaces.
+void avoidPoints(const BodyPoints& b, const Vec3& x, const Vec3& ahead, double margin, Steering& s);
 // The walls of a bounding box or sphere within its margin push the agent back in.
 void containBounds(const SchoolBoundsDesc& b, const Vec3& p, Steering& s);
 
@@ -84,7 +89,7 @@ void containBounds(const SchoolBoundsDesc& b, const Vec3& p, Steering& s);
 School makeSchool(const SchoolDesc& d, const std::string& name, std::uint64_t seed);
 
 // Advances the school from t0 to t0 + h against the colliders at their pose at t0 + h.
-void stepSchool(School& s, const std::vector<Collider>& colliders, const PredatorView& predator, double t0,
+void stepSchool(School& s, const std::vector<Collider>& colliders, const SchoolView& predator, double t0,
                 double h);
 
 // Collective order (Couzin et al. 2002): polarisation p = |Σ v̂_i|/N, milling m = |Σ r̂_ic × v̂_i|/N

@@ -11,8 +11,9 @@ StepLimit SchoolBody::stepLimit(IntegratorKind) const {
   return {StepBound{}, "of school '" + name() + "'", ""};
 }
 
-PredatorView SchoolBody::predator(const StepContext& ctx) const {
-  PredatorView pv;
+SchoolView SchoolBody::sees(const StepContext& ctx) const {
+  SchoolView pv;
+  if (ctx.shown) pv.bodies = ctx.shown->points;
   const auto& p = school_.desc.predator;
   if (!p) return pv;
   if (predator_object_ >= 0) {
@@ -26,7 +27,7 @@ PredatorView SchoolBody::predator(const StepContext& ctx) const {
 
 void SchoolBody::show(SharedView& out, int) { out.agents.push_back({name(), &school_.x, &school_.v}); }
 
-void SchoolBody::step(StepContext& ctx) { stepSchool(school_, *ctx.colliders, predator(ctx), ctx.t0, ctx.h); }
+void SchoolBody::step(StepContext& ctx) { stepSchool(school_, *ctx.colliders, sees(ctx), ctx.t0, ctx.h); }
 
 Status SchoolBody::checkState(const StepContext& ctx) const {
   return checkPoints(ctx, name(), "agent", school_.x, school_.v, StepBound{});

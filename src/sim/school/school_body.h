@@ -34,7 +34,8 @@ class SchoolBody final : public Body {
  private:
   template <class State, class Archive>
   static void fields(State& s, Archive& a);
-  PredatorView predator(const StepContext& ctx) const;
+  SchoolView sees(const StepContext& ctx) const;  // its predator, the other bodies' points
+  double watchRadius() const override { return school_.desc.avoid_margin; }
   Material material_;
   School school_;
   int predator_object_ = -1;  // the collider of an object predator
