@@ -283,6 +283,12 @@ TEST_CASE("a full disk during --dump names the file and leaves no dump behind") 
   CHECK(has(r.out, out.string() + ": write failed: File too large"));
   CHECK_FALSE(fs::exists(out));
   CHECK_FALSE(fs::exists(out.string() + ".part"));
+  // The same limit without the shell's trap: reel itself ignores SIGXFSZ (it was killed by the
+  // signal, rc 153, with no word).
+  const auto plain = runReel("simulate " + rope + " --dump " + out.string(), "ulimit -f 128; ");
+  CHECK(plain.code == 4);
+  CHECK(has(plain.out, out.string() + ": write failed: File too large"));
+  CHECK_FALSE(fs::exists(out));
 }
 
 TEST_CASE("counts and times from doubles are checked before they are converted") {

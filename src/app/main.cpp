@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdint>
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <optional>
@@ -181,6 +182,9 @@ struct Cli {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A file-size limit (`ulimit -f`) would kill reel with SIGXFSZ and no word; ignored, the write
+  // fails with EFBIG instead and is reported like a full disk (exit 4, naming the file).
+  std::signal(SIGXFSZ, SIG_IGN);
   Cli cli;
   cli.app.require_subcommand(1);
   cli.app.set_version_flag("--version", std::string(REEL_VERSION));
