@@ -273,6 +273,21 @@ TEST_CASE("a UTF-8 byte-order mark is read past; a DOCTYPE with declarations is 
   CHECK(has(bomb.error().headline(), "line 1: a DOCTYPE with declarations (entities) is not supported"));
 }
 
+TEST_CASE("join names what a chunk that is not a file is: a folder, a FIFO, a device") {
+  const fs::path d = test::freshDir("hardening_join_inputs");
+  fs::create_directories(d / "folder.mp4");
+  REQUIRE(mkfifo((d / "pipe.mp4").c_str(), 0600) == 0);
+  for (const auto& [chunk, what] : std::vector<std::pair<std::string, std::string>>{
+           {(d / "folder.mp4").string(), "is a folder"}, {(d / "pipe.mp4").string(), "is a FIFO"},
+           {"/dev/zero", "is a device"}, {(d / "missing.mp4").string(), "no such file"}}) {
+    CAPTURE(chunk);
+    const auto r = runReel("join " + chunk + " -o " + (d / "out.mp4").string());
+    CHECK(r.code == 2);
+    CHECK(has(r.out, chunk + ": " + what));
+    CHECK_FALSE(fs::exists(d / "out.mp4"));
+  }
+}
+
 TEST_CASE("a full disk during --dump names the file and leaves no dump behind") {
   const fs::path d = test::freshDir("hardening_full");
   const std::string rope = std::string(REEL_SOURCE_DIR) + "/scenes/rope.json";

@@ -116,6 +116,14 @@ Status createParentFolders(const std::string& path) {
                                       (ec ? ec.message() : std::string("a file of that name is in the way")));
 }
 
+std::string kindInWords(const fs::file_status& st) {
+  return fs::is_directory(st)                                 ? "a folder"
+         : fs::is_character_file(st) || fs::is_block_file(st) ? "a device"
+         : fs::is_fifo(st)                                    ? "a FIFO"
+         : fs::is_socket(st)                                  ? "a socket"
+                                                              : "not a regular file";
+}
+
 Status checkOutputTarget(const std::string& path) {
   std::error_code ec;
   if (fs::is_symlink(fs::symlink_status(path + ".part", ec)))  // reel's own part file is never a link
@@ -123,12 +131,7 @@ Status checkOutputTarget(const std::string& path) {
   for (const std::string& p : {path, path + ".part"}) {
     const fs::file_status st = fs::status(p, ec);
     if (ec || !fs::exists(st) || fs::is_regular_file(st)) continue;
-    const char* what = fs::is_directory(st)   ? "a folder"
-                       : fs::is_character_file(st) || fs::is_block_file(st) ? "a device"
-                       : fs::is_fifo(st)      ? "a FIFO"
-                       : fs::is_socket(st)    ? "a socket"
-                                              : "not a regular file";
-    return Error(ErrorKind::Output, p + ": is " + std::string(what) + ", not a regular file: reel writes its outputs only to regular files");
+    return Error(ErrorKind::Output, p + ": is " + kindInWords(st) + ", not a regular file: reel writes its outputs only to regular files");
   }
   return {};
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,10 @@ Status createParentFolders(const std::string& path);
 // node, FIFO, socket or folder there is refused (exit-4 kind) instead of being renamed over
 // (`--dump /dev/full` as root would replace the device) or blocking (a FIFO).
 Status checkOutputTarget(const std::string& path);
+
+// What a file that is there but not a regular file is, in words: "a folder", "a device", "a FIFO",
+// "a socket" or "not a regular file".
+std::string kindInWords(const std::filesystem::file_status& st);
 
 // Where an output named PATH is written: PATH itself, or, when PATH is a symbolic link, the file it
 // finally points to (its .part file beside that file). Renaming over PATH would replace the link

@@ -383,7 +383,10 @@ struct JoinInput {
 Status openJoinInput(const std::string& path, JoinInput& in) {
   in.path = path;
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return Error(ErrorKind::BadInput, path + ": no such file");
+  const std::filesystem::file_status st = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(st)) return Error(ErrorKind::BadInput, path + ": no such file");
+  if (!std::filesystem::is_regular_file(st))
+    return Error(ErrorKind::BadInput, path + ": is " + kindInWords(st) + ", not a video file (join reads MP4 or WebM files)");
   av_log_set_level(AV_LOG_ERROR);
   int r = avformat_open_input(&in.fmt, path.c_str(), nullptr, nullptr);
   if (r < 0) return Error(ErrorKind::BadInput, path + ": not a video file: " + averr(r));
