@@ -113,49 +113,48 @@ Vec3 wrappedGaussian(const Vec3& d, double sigma, std::uint64_t seed, std::int64
 // ---- Steering both models share (and the artificial fish): what the surroundings ask of an
 // agent this moment.
 
-// Reynolds (1999), "containment" and "obstacle avoidance": probes at the agent and ahead of it
-// along its heading; each surface nearer a probe than the margin pushes along its normal, more
-// urgently the nearer it is and the sooner the agent gets there.
-void avoidObstacles(const std::vector<Collider>& cs, const Vec3& x, const Vec3& ahead, double m, Steering& s) {
-  for (const Collider& c : cs) {
-    double best = 0.0;
-    Vec3 bn{0, 0, 0};
-    for (int k = 0; k < 3; ++k) {
-      const double f = 0.5 * k;  // probes at 0, ½ and 1 of the look-ahead
-      double dist;
-      Vec3 n;
-      if (!c.distance(x + f * ahead, dist, n)) continue;
-      const double urgency = std::clamp(1.0 - dist / m, 0.0, 1.0) * (1.0 - 0.4 * f);
-      if (urgency > best) best = urgency, bn = n;
-    }
-    s.push += best * bn;
-    s.avoid = std::max(s.avoid, best);
-  }
-}
+namespace {
 
-// Other bodies (a sheet, a rope, a liquid, fish) as their points: at each probe the nearest
-// point's surface (its contact radius) within the margin pushes away from that point, as a
-// surface does above.
-void avoidPoints(const BodyPoints& b, const Vec3& x, const Vec3& ahead, double m, Steering& s) {
+// Reynolds (1999), "containment" and "obstacle avoidance": probes at the agent and ahead of it
+// along its heading; a surface nearer a probe than the margin pushes along its normal, more
+// urgently the nearer it is and the sooner the agent gets there. `distance(probe, d, n)` gives
+// the surface's signed distance and outward normal (false: none near).
+template <class Distance>
+void avoidSurface(const Vec3& x, const Vec3& ahead, double m, Steering& s, Distance&& distance) {
   double best = 0.0;
   Vec3 bn{0, 0, 0};
   for (int k = 0; k < 3; ++k) {
-    const double f = 0.5 * k;
-    const Vec3 probe = x + f * ahead;
-    double nearest = m;
-    Vec3 n{0, 0, 0};
-    b.grid.forEachNear(probe, [&](int j) {
-      const Vec3 r = probe - b.x[static_cast<std::size_t>(j)];
-      const double len = r.norm();
-      const double dist = len - b.r[static_cast<std::size_t>(j)];
-      if (dist < nearest && len > 1e-12) nearest = dist, n = r / len;
-    });
-    if (!(nearest < m)) continue;
-    const double urgency = std::clamp(1.0 - nearest / m, 0.0, 1.0) * (1.0 - 0.4 * f);
+    const double f = 0.5 * k;  // probes at 0, ½ and 1 of the look-ahead
+    double dist;
+    Vec3 n;
+    if (!distance(x + f * ahead, dist, n)) continue;
+    const double urgency = std::clamp(1.0 - dist / m, 0.0, 1.0) * (1.0 - 0.4 * f);
     if (urgency > best) best = urgency, bn = n;
   }
   s.push += best * bn;
   s.avoid = std::max(s.avoid, best);
+}
+
+}  // namespace
+
+void avoidObstacles(const std::vector<Collider>& cs, const Vec3& x, const Vec3& ahead, double m, Steering& s) {
+  for (const Collider& c : cs)
+    avoidSurface(x, ahead, m, s, [&](const Vec3& p, double& d, Vec3& n) { return c.distance(p, d, n); });
+}
+
+// Other bodies (a sheet, a rope, a liquid, fish) as their points: the nearest point's surface
+// (its contact radius) within the margin of a probe, its normal away from that point.
+void avoidPoints(const BodyPoints& b, const Vec3& x, const Vec3& ahead, double m, Steering& s) {
+  avoidSurface(x, ahead, m, s, [&](const Vec3& probe, double& d, Vec3& n) {
+    d = m;
+    b.grid.forEachNear(probe, [&](int j) {
+      const Vec3 r = probe - b.x[static_cast<std::size_t>(j)];
+      const double len = r.norm();
+      const double dist = len - b.r[static_cast<std::size_t>(j)];
+      if (dist < d && len > 1e-12) d = dist, n = r / len;
+    });
+    return d < m;
+  });
 }
 
 void containBounds(const SchoolBoundsDesc& b, const Vec3& p, Steering& s) {
