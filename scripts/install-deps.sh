@@ -6,7 +6,8 @@ set -euo pipefail
 pkgs=(build-essential cmake ninja-build ccache pkg-config
       libeigen3-dev nlohmann-json3-dev libcli11-dev doctest-dev
       libpng-dev libassimp-dev libavcodec-dev libavformat-dev libswscale-dev libavutil-dev libzstd-dev libopenexr-dev
-      libgl-dev libegl-dev libosmesa6 libegl1 libegl-mesa0 libgl1-mesa-dri)
+      libgl-dev libegl-dev libosmesa6 libegl1 libegl-mesa0 libgl1-mesa-dri
+      chromium-headless-shell)  # the golden report's browser test (docs/testing.md)
 # `install-deps.sh --fuzz`: also clang with libFuzzer and its OpenMP, for the fuzz preset.
 if [ "${1:-}" = "--fuzz" ]; then pkgs+=(clang libclang-rt-14-dev libomp-14-dev); fi
 missing=()

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/image.h"
 #include "core/profile.h"
 
 namespace reel::app {
@@ -44,6 +45,9 @@ struct RenderOptions {
   std::string from;  // --cache DIR: draw the frames from the farm cache there, never simulating
 };
 int still(const RenderOptions& opt, double time, int frame);
+// Frames `frames` of opt.scene (at opt's size, samples and seed) as images in that order, the
+// scene simulated once (the simulation cache applies); a frame outside the film is BadInput.
+Status renderFrames(const RenderOptions& opt, const std::vector<int>& frames, std::vector<Image>& out);
 
 // Where a render's time went (reel bench film): the busy seconds of each of the pipeline's three
 // threads, which overlap, the simulation's split by stage (core/profile.h), and the wall time.
@@ -63,8 +67,23 @@ struct CompareOptions {
   int threshold = 16;         // a pixel differs when a channel differs by more than this
   double max_mean = 1.0;      // tolerance: mean absolute error (0..255)
   double max_fraction = 0.005;  // tolerance: fraction of differing pixels
+  double min_ssim = -1.0;       // tolerance: mean SSIM (default: not checked)
+  double max_flip = 1.0;        // tolerance: mean FLIP, a the reference (default: not checked)
 };
 int compare(const CompareOptions& o);
+
+// `reel test SUITE.json` (docs/testing.md): exit 0 when every frame is within its tolerance, 1
+// when one differs, has no golden or does not render, 2 for a bad suite, 4 for an output error.
+struct TestOptions {
+  std::string suite;
+  bool update = false;  // write missing and differing goldens (never one that passes); exit 0
+  std::string report;   // a folder for the HTML report; empty: none
+  std::string junit;    // a JUnit XML file; empty: none
+  int jobs = 1;         // cases at once
+  std::string gl;       // OpenGL backend
+  bool quiet = false;   // print only what fails, and the summary
+};
+int test(const TestOptions& o);
 int info();
 // `reel info --video FILE`: what a video holds, as one JSON object.
 int videoInfo(const std::string& file);

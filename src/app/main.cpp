@@ -40,6 +40,7 @@ struct Cli {
   std::string frames;
   bool no_overwrite = false;
   reel::app::CompareOptions cmp;
+  reel::app::TestOptions topt;
   std::vector<std::string> bench_names;
   double bench_seconds = 1.0;
   std::string mass_file;   // info --mass
@@ -48,7 +49,7 @@ struct Cli {
   std::string join_out;
   double density = 1000.0;  // info --density, kg/m³
   CLI::App *simulate = nullptr, *check = nullptr, *info = nullptr, *still = nullptr, *render = nullptr,
-           *compare = nullptr, *bench = nullptr, *join = nullptr;
+           *compare = nullptr, *bench = nullptr, *join = nullptr, *test = nullptr;
 
   void addThreads(CLI::App* sub) {
     sub->add_option("--threads", threads, "worker threads (default: all cores)")->check(CLI::Range(1, 1024));
@@ -124,6 +125,20 @@ struct Cli {
         ->check(CLI::Range(0.0, 255.0));
     compare->add_option("--max-fraction", cmp.max_fraction, "largest fraction of differing pixels allowed (default 0.005)")
         ->check(CLI::Range(0.0, 1.0));
+    compare->add_option("--min-ssim", cmp.min_ssim, "smallest mean SSIM allowed (default: not checked)")
+        ->check(CLI::Range(-1.0, 1.0));
+    compare->add_option("--max-flip", cmp.max_flip, "largest mean FLIP allowed, a the reference (default: not checked)")
+        ->check(CLI::Range(0.0, 1.0));
+    test = app.add_subcommand("test", "golden-image tests: render a suite's cases and compare each frame with its golden "
+                                      "(exit 0 all within tolerance, 1 some differ or lack a golden; docs/testing.md)");
+    test->add_option("suite", topt.suite, "the suite (reel-test/1 JSON)")->required();
+    test->add_flag("--update", topt.update, "write the goldens that are missing or differ (never one that passes) and exit 0");
+    test->add_option("--report", topt.report, "write an HTML report into DIR (DIR/index.html)")->type_name("DIR");
+    test->add_option("--junit", topt.junit, "write JUnit XML here, for CI")->type_name("FILE");
+    test->add_option("-j,--jobs", topt.jobs, "cases rendered at once (default 1)")->check(CLI::Range(1, 64));
+    test->add_option("--gl", topt.gl, "OpenGL backend: auto, osmesa or egl (default: $REEL_GL or auto)");
+    test->add_flag("-q,--quiet", topt.quiet, "print only the frames that fail, and the summary");
+    addThreads(test);
     join = app.add_subcommand("join", "join video chunks of one film into one video without re-encoding");
     join->add_option("chunks", chunks, "the chunks (reel's chunks go in film order whatever order they are given in)")->required();
     join->add_option("-o,--output", join_out, "the joined video (same type as the chunks)")->required();
@@ -174,6 +189,7 @@ struct Cli {
     }
     if (*render) return reel::app::render(ropt, frames, no_overwrite);
     if (*compare) return reel::app::compare(cmp);
+    if (*test) return reel::app::test(topt);
     if (*bench) return reel::app::bench(bench_names, bench_seconds, frames);
     return 1;
   }

@@ -1,6 +1,7 @@
 // reel still / reel render: simulate, draw each frame headlessly, write PNGs.
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -19,6 +20,7 @@
 #include "core/format.h"
 #include "core/hash.h"
 #include "core/image_compare.h"
+#include "core/image_metrics.h"
 #include "core/scene_view.h"
 #include "core/queue.h"
 #include "io/files.h"
@@ -134,6 +136,51 @@ DrawList frameList(const Setup& s) {
 
 }  // namespace
 
+namespace {
+
+// Draws frames `ks` (ascending, within the film) of the set-up scene, handing each image to `take`
+// as it is made: the world simulates forward once, from the farm cache (--cache) or the nearest
+// frame the simulation cache holds.
+template <class Take>
+Status drawFrames(const RenderOptions& opt, Setup& s, const std::vector<int>& ks, Take&& take) {
+  if (ks.empty()) return {};
+  const int n = s.scene.frameCount();
+  // With motion blur the shutter opens on frame k − 1: its draw list goes with frame k's.
+  const bool blur = s.scene.render.shutter_deg > 0.0;
+  CacheReader farm;
+  if (!opt.from.empty())
+    if (Status st = openFarmCache(opt, s, blur ? std::max(0, ks.front() - 1) : ks.front(), ks.back(), farm); !st) return st;
+  std::optional<SimCache> cache = opt.from.empty() ? openCache(opt, n) : std::nullopt;
+  if (cache) cache->restoreNearest(*s.world, blur && ks.front() > 0 ? ks.front() - 1 : ks.front());
+  Progress progress(ks.back() - s.world->frame(), opt.quiet, "simulating frame");
+  int done = 0;
+  for (const int k : ks) {
+    std::shared_ptr<const DrawList> before;
+    const bool open_before = blur && k > 0;
+    if (!opt.from.empty()) {
+      if (open_before) {
+        if (Status st = farm.restore(*s.world, k - 1); !st) return st;
+        before = std::make_shared<const DrawList>(frameList(s));
+      }
+      if (Status st = farm.restore(*s.world, k); !st) return st;
+    }
+    while (s.world->frame() < k) {
+      if (open_before && s.world->frame() == k - 1) before = std::make_shared<const DrawList>(frameList(s));
+      if (Status st = s.world->advanceFrame(); !st) return st;
+      if (cache) cache->offer(*s.world, s.world->frame() == k);
+      progress.update(++done);
+    }
+    DrawList list = frameList(s);
+    list.previous = before;
+    Image img;
+    if (Status st = s.renderer->draw(list, img); !st) return st;
+    if (Status st = take(k, std::move(img)); !st) return st;
+  }
+  return {};
+}
+
+}  // namespace
+
 int still(const RenderOptions& opt, double time, int frame) {
   Setup s;
   if (Status st = setup(opt, s); !st) return report(st.error());
@@ -147,34 +194,27 @@ int still(const RenderOptions& opt, double time, int frame) {
   if (k < 0 || k >= n)
     return report(Error(ErrorKind::BadInput, "frame " + std::to_string(k) + " is outside the film (frames 0.." +
                                                  std::to_string(n - 1) + ")"));
-  // With motion blur the shutter opens on frame k − 1: its draw list goes with frame k's.
-  const bool blur = s.scene.render.shutter_deg > 0.0 && k > 0;
-  std::shared_ptr<const DrawList> before;
-  // From the farm cache, or from the nearest frame a render or still of this scene left.
-  CacheReader farm;
-  if (!opt.from.empty()) {
-    if (Status st = openFarmCache(opt, s, blur ? k - 1 : k, k, farm); !st) return report(st.error());
-    if (blur) {
-      if (Status st = farm.restore(*s.world, k - 1); !st) return report(st.error());
-      before = std::make_shared<const DrawList>(frameList(s));
-    }
-    if (Status st = farm.restore(*s.world, k); !st) return report(st.error());
-  }
-  std::optional<SimCache> cache = opt.from.empty() ? openCache(opt, n) : std::nullopt;
-  if (cache) cache->restoreNearest(*s.world, blur ? k - 1 : k);
-  Progress progress(k - s.world->frame(), opt.quiet, "simulating frame");
-  for (int done = 1; s.world->frame() < k; ++done) {
-    if (blur && s.world->frame() == k - 1) before = std::make_shared<const DrawList>(frameList(s));
-    if (Status st = s.world->advanceFrame(); !st) return report(st.error());
-    if (cache) cache->offer(*s.world, s.world->frame() == k);
-    progress.update(done);
-  }
-  DrawList list = frameList(s);
-  list.previous = before;
-  Image img;
-  if (Status st = s.renderer->draw(list, img); !st) return report(st.error());
-  if (Status st = io::writePng(opt.outputs.at(0), img, pngText(s, k)); !st) return report(st.error());
-  return 0;
+  const Status st = drawFrames(opt, s, {k}, [&](int, Image img) { return io::writePng(opt.outputs.at(0), img, pngText(s, k)); });
+  return st ? 0 : report(st.error());
+}
+
+Status renderFrames(const RenderOptions& opt, const std::vector<int>& frames, std::vector<Image>& out) {
+  Setup s;
+  if (Status st = setup(opt, s); !st) return st;
+  const int n = s.scene.frameCount();
+  for (int k : frames)
+    if (k < 0 || k >= n)
+      return Error(ErrorKind::BadInput, opt.scene + ": frame " + std::to_string(k) + " is outside the film (frames 0.." +
+                                            std::to_string(n - 1) + ")");
+  std::vector<int> ks = frames;
+  std::sort(ks.begin(), ks.end());
+  ks.erase(std::unique(ks.begin(), ks.end()), ks.end());
+  std::vector<Image> drawn;
+  if (Status st = drawFrames(opt, s, ks, [&](int, Image img) { drawn.push_back(std::move(img)); return Status{}; }); !st)
+    return st;
+  out.clear();
+  for (int k : frames) out.push_back(drawn[static_cast<std::size_t>(std::lower_bound(ks.begin(), ks.end(), k) - ks.begin())]);
+  return {};
 }
 
 namespace {
@@ -455,9 +495,12 @@ int compare(const CompareOptions& o) {
                                                  std::to_string(b.value().height)));
   Image diff;
   const ImageDiff d = compareImages(a.value(), b.value(), o.threshold, o.diff.empty() ? nullptr : &diff);
-  const bool ok = d.mean_abs <= o.max_mean && d.over_fraction <= o.max_fraction;
-  std::printf("max %d, mean %.4f, PSNR %.2f dB, %lld pixels (%.4f%%) over %d: %s\n", d.max_abs, d.mean_abs,
-              d.psnr_db, d.over, 100.0 * d.over_fraction, o.threshold,
+  // (a is the reference of the perceptual metric)
+  const double s = ssim(a.value(), b.value());
+  const FlipResult f = flip(a.value(), b.value());
+  const bool ok = d.mean_abs <= o.max_mean && d.over_fraction <= o.max_fraction && s >= o.min_ssim && f.mean <= o.max_flip;
+  std::printf("max %d, mean %.4f, PSNR %.2f dB, %lld pixels (%.4f%%) over %d, SSIM %.5f, FLIP %.4f (worst %.4f): %s\n",
+              d.max_abs, d.mean_abs, d.psnr_db, d.over, 100.0 * d.over_fraction, o.threshold, s, f.mean, f.max,
               ok ? "within tolerance" : "NOT within tolerance");
   if (!o.diff.empty())
     if (Status st = io::writePng(o.diff, diff); !st) return report(st.error());

@@ -175,7 +175,7 @@ void SimCache::offer(const World& world, bool always) {
   const std::uint64_t sum = checksum(blob.bytes.data(), blob.bytes.size());
   out.append(reinterpret_cast<const char*>(&sum), sizeof sum);
   io::AtomicFile file;
-  Status st = file.open(path(f));
+  Status st = file.open(path(f), /*shared=*/true);
   if (st) st = file.write(out);
   if (st) st = file.commit();
   if (!st) {

@@ -1,5 +1,8 @@
 #include "io/files.h"
 
+#include <unistd.h>
+
+#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <cstring>
@@ -166,14 +169,19 @@ std::string safeFileName(const std::string& name) {
 
 AtomicFile::~AtomicFile() { abandon(); }
 
-Status AtomicFile::open(const std::string& path) {
+Status AtomicFile::open(const std::string& path, bool shared) {
   abandon();
   if (Status st = checkOutputTarget(path); !st) return st;
   path_ = writeThrough(path);
   if (path_ != path)
     if (Status st = checkOutputTarget(path_); !st) return st;
   if (Status st = createParentFolders(path_); !st) return st;
-  part_ = path_ + ".part";
+  if (shared) {
+    static std::atomic<unsigned long long> writers{0};
+    part_ = path_ + "." + std::to_string(::getpid()) + "-" + std::to_string(writers++) + ".part";
+  } else {
+    part_ = path_ + ".part";
+  }
   f_ = std::fopen(part_.c_str(), "wb");
   if (!f_) return Error(ErrorKind::Output, part_ + ": cannot write: " + std::strerror(errno));
   return {};

@@ -64,8 +64,10 @@ class AtomicFile {
   AtomicFile& operator=(const AtomicFile&) = delete;
   ~AtomicFile();  // an uncommitted file is removed
   // Creates PATH's missing folders and opens PATH.part for writing (exit-4 kind of error when it
-  // cannot).
-  Status open(const std::string& path);
+  // cannot). `shared`: PATH is in a cache that other processes or threads may write the same file
+  // into at once (the simulation cache), so the part file's name is this writer's own
+  // (PATH.<pid>-<n>.part); the last rename wins, and every writer's file is whole.
+  Status open(const std::string& path, bool shared = false);
   std::FILE* get() const { return f_; }
   // Appends bytes; the error (exit-4 kind) names PATH and the reason (a full disk).
   Status write(const std::string& bytes);

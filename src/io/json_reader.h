@@ -11,11 +11,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/error.h"
 #include "core/types.h"
 
 namespace reel::io {
 
 using Json = nlohmann::json;
+
+// JSON text (comments allowed) as a tree; a syntax error as "file:line:col: reason" and duplicate
+// keys with both places, as BadInput (defined with the scene loader).
+Result<Json> parseJson(const std::string& text, const std::string& file);
 
 class Diagnostics {
  public:

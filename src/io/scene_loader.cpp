@@ -321,7 +321,8 @@ std::vector<std::string> duplicateKeys(const std::string& text, const std::strin
   return out;
 }
 
-// The JSON text as a tree; a syntax error as "file:line:col: reason".
+}  // namespace
+
 Result<Json> parseJson(const std::string& text, const std::string& file) {
   try {
     Json j = Json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
@@ -350,6 +351,8 @@ Result<Json> parseJson(const std::string& text, const std::string& file) {
     return Error(ErrorKind::BadInput, file + ": " + what.substr(0, 200));
   }
 }
+
+namespace {
 
 // The scene's own keys: format, name, duration, rates, seed, gravity, wind, integrator.
 void readSceneKeys(Obj& o, SceneDesc& s) {
@@ -531,9 +534,9 @@ Result<SceneDesc> parseScene(const std::string& text, const std::string& file, s
   checkBodies(s, d);
   if (const CameraRigDesc& rig = s.camera.rig; rig.mode != CameraRigDesc::Mode::None && !rig.path.empty() &&
       std::none_of(s.bodies.begin(), s.bodies.end(), [&](const BodyDesc& b) { return b.name == rig.body; })) {
-    std::vector<std::string> names;
-    for (const BodyDesc& b : s.bodies) names.push_back(b.name);
-    const std::string near = nearest(rig.body, names);
+    std::vector<std::string> body_names;
+    for (const BodyDesc& b : s.bodies) body_names.push_back(b.name);
+    const std::string near = nearest(rig.body, body_names);
     d.error(rig.path, "no body named '" + rig.body + "'" + (near.empty() ? "" : "; did you mean \"" + near + "\"?") +
                           " (a camera follows or frames a body or a dynamic object)");
   }
