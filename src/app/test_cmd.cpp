@@ -153,6 +153,7 @@ struct Runner {
       o.seconds = seconds / static_cast<double>(p.frames.size());
       const std::string golden_file = goldenName(c.name, o.frame);
       const std::string golden = suite.goldens + "/" + golden_file;
+      o.golden = golden;
       const std::string stem = golden_file.substr(0, golden_file.size() - 4);
       if (!rendered) {
         o.verdict = FrameOutcome::Verdict::Error;

@@ -73,6 +73,7 @@ std::string failureCard(const FrameOutcome& o, int id) {
                   verdictWord(o) + "</span> " + escape(title) + " <small>t = " + num(o.time) + " s · " + escape(o.scene) +
                   "</small></h2>";
   if (!o.message.empty()) s += "<p class=\"msg\">" + escape(o.message) + "</p>";
+  if (!o.golden.empty()) s += "<p class=\"golden\">golden: <code>" + escape(o.golden) + "</code></p>";
   if (o.verdict == FrameOutcome::Verdict::Fail) s += metricsTable(o);
   const bool both = !o.expected.empty() && !o.actual.empty();
   s += "<div class=\"views\">";
@@ -100,9 +101,10 @@ std::string failureCard(const FrameOutcome& o, int id) {
 }
 
 constexpr const char* kStyle = R"(
+[hidden]{display:none!important}
 body{font:14px/1.45 system-ui,sans-serif;margin:0;background:#f4f4f2;color:#222}
 header{background:#1d2330;color:#eee;padding:14px 24px}header h1{margin:0;font-size:20px}
-header p{margin:4px 0 0;color:#bbb}.sum b.bad{color:#ff8a80}.sum b.ok{color:#9be59b}
+header p{margin:4px 0 0;color:#bbb}header code{background:#2c3446;color:#eee}.sum b.bad{color:#ff8a80}.sum b.ok{color:#9be59b}
 main{padding:16px 24px;max-width:1400px}
 .card{background:#fff;border-radius:6px;box-shadow:0 1px 3px #0002;padding:12px 16px;margin:0 0 16px}
 .card.fail{border-left:5px solid #d33}.card h2{font-size:16px;margin:0 0 8px}.card h2 small{color:#777;font-weight:normal}
@@ -113,14 +115,15 @@ table.metrics th,table.metrics td{padding:2px 10px;text-align:left;border-bottom
 tr.bad td,tr.bad th{color:#c11;font-weight:600}tr.info{color:#666}
 .tabs button{border:1px solid #bbb;background:#f7f7f7;padding:3px 10px;cursor:pointer;border-radius:3px;margin-right:4px}
 .tabs button.on{background:#1d2330;color:#fff;border-color:#1d2330}
-.view{margin-top:8px}.side{display:flex;flex-wrap:wrap;gap:10px}
+.view{margin-top:8px}.side{display:flex;gap:10px}
 figure{margin:0}figcaption{font-size:12px;color:#555}
 img{image-rendering:pixelated;display:block;max-width:100%}
-.side img{width:min(420px,30vw)}
-.stack{position:relative;display:inline-block;line-height:0}.stack img{width:min(840px,90vw)}
+.side figure{flex:1 1 0;min-width:0;max-width:480px}.side img{width:100%}
+.golden{font-size:12px;color:#666;margin:0 0 6px}code{background:#eef;padding:0 3px;border-radius:2px}
+.stack{position:relative;display:inline-block;line-height:0}.stack img{width:min(720px,90vw)}
 .clip{position:absolute;top:0;left:0;bottom:0;overflow:hidden;border-right:2px solid #ff0}
 .clip img{max-width:none}.flip-layer{position:absolute;top:0;left:0}
-input[type=range]{display:block;width:min(840px,90vw);margin:6px 0}.hint{color:#666;font-size:12px;margin:2px 0}
+input[type=range]{display:block;width:min(720px,90vw);margin:6px 0}.hint{color:#666;font-size:12px;margin:2px 0}
 details{background:#fff;border-radius:6px;padding:10px 16px;box-shadow:0 1px 3px #0002}
 summary{cursor:pointer;font-weight:600}
 .thumbs{display:flex;flex-wrap:wrap;gap:10px;margin-top:10px}
@@ -129,8 +132,9 @@ summary{cursor:pointer;font-weight:600}
 )";
 
 // Tabs switch the views; the slider uncovers the actual picture over the expected; the flicker
-// view swaps them twice a second. With #selftest the page checks itself: every picture decoded
-// and a slider moves its line.
+// view swaps them twice a second; #slider or #flicker in the address opens every card on that view.
+// With #selftest the page checks itself: every picture decoded
+// a tab shows its view alone, and a slider moves its line.
 constexpr const char* kScript = R"(
 document.querySelectorAll('.card').forEach(function(card){
   var tabs=card.querySelectorAll('.tabs button');
@@ -152,12 +156,18 @@ document.querySelectorAll('.card').forEach(function(card){
 function selftest(){
   var bad=[];
   document.querySelectorAll('img').forEach(function(i){if(!i.complete||i.naturalWidth===0)bad.push('image '+i.getAttribute('src')+' did not decode')});
+  var tab=document.querySelector('.tabs button[data-view=slider]');
+  if(tab){tab.click();var card=tab.closest('.card');
+    if(card.querySelector('.view.side').offsetParent!==null)bad.push('the side-by-side view stays shown on the slider tab');
+    if(card.querySelector('.view.slider').offsetParent===null)bad.push('the slider tab does not show the slider')}
   var r=document.querySelector('input[type=range]');
   if(r){var c=r.parentNode.querySelector('.clip');r.value=25;r.dispatchEvent(new Event('input'));
     if(c.style.width!=='25%')bad.push('the slider did not move its line ('+c.style.width+')')}
   document.body.setAttribute('data-selftest',bad.length?'fail: '+bad.join('; '):'pass');
   document.body.setAttribute('data-images',String(document.querySelectorAll('img').length));
 }
+if(location.hash==='#slider'||location.hash==='#flicker')
+  document.querySelectorAll('.tabs button[data-view='+location.hash.slice(1)+']').forEach(function(b){b.click()});
 if(location.hash==='#selftest'){if(document.readyState==='complete')selftest();else window.addEventListener('load',selftest)}
 )";
 
@@ -182,7 +192,8 @@ Status writeHtmlReport(const std::string& dir, const TestSuite& suite, const std
   h += "<header><h1>reel test · " + escape(suite.name) + "</h1><p class=\"sum\">" + escape(suite.file) + " · " +
        std::to_string(outcomes.size()) + " frames: <b class=\"" + (failed.empty() ? "ok" : "bad") + "\">" +
        std::to_string(failed.size()) + " failed</b>, " + std::to_string(passed.size()) + " passed · goldens in " +
-       escape(suite.goldens) + "</p></header><main>\n";
+       escape(suite.goldens) + (failed.empty() ? std::string() : " · to accept every change: <code>reel test " + escape(suite.file) + " --update</code>") +
+       "</p></header><main>\n";
   if (failed.empty()) h += "<p class=\"all-ok\">Every frame is within its tolerance.</p>\n";
   int id = 0;
   for (const FrameOutcome* o : failed) h += failureCard(*o, id++);

@@ -13,7 +13,7 @@
 namespace reel::app {
 
 struct FrameOutcome {
-  std::string test_case, scene;
+  std::string test_case, scene, golden;  // golden: its file
   int frame = 0;
   double time = 0.0;  // s
   enum class Verdict { Pass, Fail, Missing, Error } verdict = Verdict::Pass;

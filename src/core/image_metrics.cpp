@@ -21,21 +21,29 @@ struct Plane {
   double at(int x, int y) const { return v[static_cast<std::size_t>(y) * w + x]; }
 };
 
+// body(y) for every row of a plane's size, rows in parallel (each writes its own row).
+template <class F>
+void rows(const Plane& p, F&& body) {
+  parallelBlocks(
+      p.h, 8, [&](std::ptrdiff_t y0, std::ptrdiff_t y1) {
+        for (auto y = y0; y < y1; ++y) body(static_cast<int>(y));
+      },
+      static_cast<std::ptrdiff_t>(p.w) * p.h);
+}
+
 // Separable convolution with a symmetric or antisymmetric kernel along x, then another along y;
 // borders repeat the edge pixel.
 Plane convolve(const Plane& in, const std::vector<double>& kx, const std::vector<double>& ky) {
   const int rx = static_cast<int>(kx.size() / 2), ry = static_cast<int>(ky.size() / 2);
   Plane tmp(in.w, in.h), out(in.w, in.h);
-  parallelFor(in.h, [&](std::ptrdiff_t yy) {
-    const int y = static_cast<int>(yy);
+  rows(in, [&](int y) {
     for (int x = 0; x < in.w; ++x) {
       double s = 0.0;
       for (int i = -rx; i <= rx; ++i) s += kx[static_cast<std::size_t>(i + rx)] * in.at(std::clamp(x + i, 0, in.w - 1), y);
       tmp.at(x, y) = s;
     }
   });
-  parallelFor(in.h, [&](std::ptrdiff_t yy) {
-    const int y = static_cast<int>(yy);
+  rows(in, [&](int y) {
     for (int x = 0; x < in.w; ++x) {
       double s = 0.0;
       for (int j = -ry; j <= ry; ++j) s += ky[static_cast<std::size_t>(j + ry)] * tmp.at(x, std::clamp(y + j, 0, in.h - 1));
@@ -179,11 +187,13 @@ void prepare(const Image& im, double ppd, int radius, std::vector<V3>& lab, Plan
     }
   for (int c = 0; c < 3; ++c) ch[static_cast<std::size_t>(c)] = csfFilter(ch[static_cast<std::size_t>(c)], kCsf[c], radius, ppd);
   lab.resize(ch[0].v.size());
-  for (std::size_t i = 0; i < lab.size(); ++i) {
-    V3 rgb = mul(kXyzToRgb, ycxczToXyz({ch[0].v[i], ch[1].v[i], ch[2].v[i]}, w));
-    for (double& v : rgb) v = std::clamp(v, 0.0, 1.0);
-    lab[i] = huntLab(rgb, w);
-  }
+  rows(lum, [&](int y) {
+    for (std::size_t i = static_cast<std::size_t>(y) * lum.w; i < static_cast<std::size_t>(y + 1) * lum.w; ++i) {
+      V3 rgb = mul(kXyzToRgb, ycxczToXyz({ch[0].v[i], ch[1].v[i], ch[2].v[i]}, w));
+      for (double& v : rgb) v = std::clamp(v, 0.0, 1.0);
+      lab[i] = huntLab(rgb, w);
+    }
+  });
 }
 
 }  // namespace
@@ -257,17 +267,22 @@ FlipResult flip(const Image& reference, const Image& test, double ppd, std::vect
   Plane edge_r, point_r, edge_t, point_t;
   features(lum_r, edge_r, point_r);
   features(lum_t, edge_t, point_t);
-  double sum = 0.0;
+  std::vector<double> value(n);
+  rows(lum_r, [&](int y) {
+    for (std::size_t i = static_cast<std::size_t>(y) * lum_r.w; i < static_cast<std::size_t>(y + 1) * lum_r.w; ++i) {
+      const double e = std::pow(hyab(lab_r[i], lab_t[i]), qc);
+      const double ec = e < pc * cmax ? pt / (pc * cmax) * e : pt + (e - pc * cmax) / (cmax - pc * cmax) * (1.0 - pt);
+      const double ef = std::pow(std::max(std::abs(edge_r.v[i] - edge_t.v[i]), std::abs(point_r.v[i] - point_t.v[i])) /
+                                     std::numbers::sqrt2,
+                                 qf);
+      value[i] = std::pow(ec, 1.0 - ef);
+    }
+  });
+  double sum = 0.0;  // (in pixel order: the same bits for any thread count)
   for (std::size_t i = 0; i < n; ++i) {
-    const double e = std::pow(hyab(lab_r[i], lab_t[i]), qc);
-    const double ec = e < pc * cmax ? pt / (pc * cmax) * e : pt + (e - pc * cmax) / (cmax - pc * cmax) * (1.0 - pt);
-    const double ef = std::pow(std::max(std::abs(edge_r.v[i] - edge_t.v[i]), std::abs(point_r.v[i] - point_t.v[i])) /
-                                   std::numbers::sqrt2,
-                               qf);
-    const double d = std::pow(ec, 1.0 - ef);
-    sum += d;
-    r.max = std::max(r.max, d);
-    if (map) (*map)[i] = static_cast<float>(d);
+    sum += value[i];
+    r.max = std::max(r.max, value[i]);
+    if (map) (*map)[i] = static_cast<float>(value[i]);
   }
   r.mean = sum / static_cast<double>(n);
   return r;
