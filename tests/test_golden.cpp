@@ -219,6 +219,20 @@ TEST_CASE("reel test: a missing scene or a frame outside the film is exit 2 befo
   CHECK(late.out.find("/cases/0/frames/1: frame 999 is outside the film") != std::string::npos);
   CHECK(late.out.find("/cases/1/times/0: 99 s is outside the film") != std::string::npos);
   CHECK(!fs::exists(d / "late"));
+  // A case whose simulation goes unstable fails alone (exit 1, even with --update); the rest run.
+  writeText(d / "boom.json", R"({"format": "reel/1", "duration": 200, "fps": 1, "substeps": 1, "gravity": [0, 0, 0],
+     "render": {"width": 32, "height": 24},
+     "bodies": [{"type": "mass_spring", "name": "probe", "nodes": [{"position": [0,0,0], "mass": 1, "velocity": [9000, 0, 0]}]}]})");
+  writeText(d / "boom_suite.json", R"({ "format": "reel-test/1",
+    "cases": [ {"name": "boom", "scene": "boom.json", "frames": [150]}, {"name": "same", "scene": "lights.json", "frames": [10]} ] })");
+  auto boom = test::runReel("test " + (d / "boom_suite.json").string() + " --update --junit " + (d / "boom.xml").string());
+  CAPTURE(boom.out);
+  CHECK(boom.code == 1);
+  CHECK(boom.out.find("ERROR    boom, frame 150:") != std::string::npos);
+  CHECK(boom.out.find("position ran away") != std::string::npos);
+  CHECK(fs::exists(d / "boom_suite" / "same_f0010.png"));
+  CHECK(!fs::exists(d / "boom_suite" / "boom_f0150.png"));
+  CHECK(test::fileBytes(d / "boom.xml").find("<error type=\"render\" message=\"") != std::string::npos);
   // A report folder under a regular file: exit 4, naming it.
   writeText(d / "file", "x");
   auto out = test::runReel("test " + (d / "s.json").string() + " --update --report " + (d / "file" / "r").string());
