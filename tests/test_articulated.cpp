@@ -342,6 +342,9 @@ TEST_CASE("articulated: bad input is refused with its JSON path") {
     "pushes": [{"time": 1, "link": "chst", "impulse": [1, 0, 0]}]}]})"), "/bodies/0/pushes/0/link");
   checkHas(badInputError(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "articulated", "name": "m", "figure": "human",
     "poses": [{"time": 1, "joints": {"shin_l": [1, 2]}}]}]})"), "/bodies/0/poses/0/joints/shin_l");
+  // An angle past the cap is named as such, not as "not finite".
+  checkHas(badInputError(links(R"({"name": "x", "parent": "base", "joint": {"angle_deg": 1e200}})")),
+           "/bodies/0/links/1/joint/angle_deg: an angle of 1e+200 degrees is beyond the limit of ±1e6");
 }
 
 TEST_CASE("a figure and a rigid body trade momentum at their contact (equal and opposite, both masses counted)") {

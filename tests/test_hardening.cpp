@@ -367,3 +367,21 @@ TEST_CASE("OpenMP threads spin briefly, then sleep: a loaded machine is not made
   // A user's own choice is kept.
   CHECK(has(runReel("info", "OMP_WAIT_POLICY=active ").out, "waiting: active"));
 }
+
+TEST_CASE("two writers of one cache file at once each write their own part file; the last rename wins, whole") {
+  // The simulation cache may be filled by two processes or two threads (`reel test -j 2` on one
+  // scene) at the same frame: one shared PATH.part made the second rename fail and the cache off.
+  const std::filesystem::path d = reel::test::freshDir("shared_part");
+  const std::string path = (d / "frame_000004.sim").string();
+  reel::io::AtomicFile a, b;
+  REQUIRE(a.open(path, /*shared=*/true).ok());
+  REQUIRE(b.open(path, /*shared=*/true).ok());
+  REQUIRE(a.write("first writer").ok());
+  REQUIRE(b.write("second writer").ok());
+  CHECK(a.commit().ok());
+  CHECK(b.commit().ok());
+  CHECK(reel::test::fileBytes(path) == "second writer");
+  int left = 0;
+  for (const auto& e : std::filesystem::directory_iterator(d)) left += e.path().string() != path;
+  CHECK(left == 0);  // no part file left behind
+}

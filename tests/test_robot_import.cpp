@@ -181,6 +181,8 @@ TEST_CASE("URDF: what is outside the subset, or broken, is refused with its line
           "line 23: <mimic>");
   refused(replace(kArm, "  </link>\n  <link name=\"upper\">", "  </lnk>\n  <link name=\"upper\">"), "line 7: </lnk> closes <link>");
   refused(replace(kArm, R"(<axis xyz="0 1 0"/><limit)", R"(<axis xyz="0 0 0"/><limit)"), "line 18: an axis of zero length");
+  refused(replace(kArm, R"(<mass value="5"/>)", R"(<mass value="5e7"/>)"), "line 5: <inertial> gives no usable mass and inertia (mass 5e+07 kg");
+  refused(replace(kArm, R"(<mass value="5"/>)", R"(<mass value="5e10"/>)"), "line 5: <mass> value: 5e+10 is beyond the limit of ±1e9");
 }
 
 namespace {
@@ -256,6 +258,15 @@ TEST_CASE("MJCF: what is outside the subset is refused with its line") {
   refused(replace(kPendulumMjcf, R"(<actuator>)", R"(<tendon/><actuator>)"), "line 18: <tendon>");
   refused(replace(kPendulumMjcf, R"(size="0.03 0.03 0.2" mass="0.5"/>)", R"(size="0.03 0.03 0.2" mass="0.5"/><geom type="sphere" size="0.1"/>)"),
           "line 13: a second <geom>");
+  // Sizes and masses at the edges, each named with its line: a cap is not "not finite".
+  refused(replace(kPendulumMjcf, R"(size="0.03 0.03 0.2" mass="0.5")", R"(size="0.03 1e-300 0.2" mass="0.5")"),
+          "line 13: <geom> size must be at least 1e-6 m");
+  refused(replace(kPendulumMjcf, R"(size="0.03 0.03 0.2" mass="0.5")", R"(size="0.03 1e200 0.2" mass="0.5")"),
+          "line 13: <geom> size: 1e+200 is beyond the limit of ±1e9");
+  refused(replace(kPendulumMjcf, R"(size="0.03 0.03 0.2" mass="0.5")", R"(size="0.03 0.03 0.2" mass="1e8")"),
+          "line 13: <geom> gives no usable mass and inertia (mass 1e+08 kg");
+  refused(replace(kPendulumMjcf, "<option timestep=\"0.002\"/>", "<default class=\"main\"><default class=\"a\"><default class=\"a\"/></default></default>"),
+          "line 3: a second default class \"a\"");
 }
 
 TEST_CASE("MJCF: default classes cascade onto joints and geoms; a mesh geom's mass comes from its volume") {

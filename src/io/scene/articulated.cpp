@@ -45,8 +45,12 @@ std::optional<std::vector<double>> anglesOf(const Json* j, const std::string& p,
     return std::nullopt;
   }
   for (double& a : out) {
-    if (!std::isfinite(a) || std::abs(a) > 1e6) {
+    if (!std::isfinite(a)) {
       diag.error(p, "an angle must be finite");
+      return std::nullopt;
+    }
+    if (std::abs(a) > 1e6) {
+      diag.error(p, "an angle of " + formatNumber(a, 6) + " degrees is beyond the limit of ±1e6");
       return std::nullopt;
     }
     a *= kDeg;

@@ -41,6 +41,9 @@ struct Model {
   const MeshLoader* load = nullptr;
 };
 
+// The smallest size of a geom, m: below it no mass or contact means anything.
+constexpr double kMinGeomSize = 1e-6;
+
 // <default> (MJCF's cascade, after CSS): the top one is class "main"; a nested <default class>
 // starts from its parent's settings and overrides them.
 void readDefault(const XmlElement& d, const std::string& parent, Model& m) {
@@ -164,7 +167,8 @@ MassProperties geomShape(const XmlElement& g, Model& m, LinkShape& s) {
   }
   const auto size = numberList(g, "size", 3);
   for (std::size_t k = 0; k < size.size(); ++k)
-    if (!(size[k] > 0) && !(k > 0 && g.attribute("fromto"))) refuse(g, "<geom> size must be > 0");
+    if (!(size[k] >= kMinGeomSize) && !(k > 0 && g.attribute("fromto")))
+      refuse(g, "<geom> size must be at least 1e-6 m (a micron)");
   // fromto: a capsule's or cylinder's axis between two points (its length from them).
   double half = size.size() > 1 ? size[1] : 0.0;
   if (g.attribute("fromto")) {
@@ -262,6 +266,7 @@ void readBody(const XmlElement& b, Model& m, int parent, const Frame& parent_fra
     mass.mass = 1e-3;
     mass.inertia = Mat3::Identity() * 1e-7;
   }
+  if (inertial || !geoms.empty()) requireUsableMass(inertial ? *inertial : *geoms[0], mass.mass, mass.inertia);
   const Vec3 c = T.p + T.R * mass.center_of_mass;
   l.mass.mass = mass.mass;
   l.mass.inertia = T.R * mass.inertia * T.R.transpose();

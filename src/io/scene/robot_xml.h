@@ -47,9 +47,29 @@ inline std::vector<double> parseNumbers(const XmlElement& e, const std::string& 
   if (in >> rest || out.size() < lo || out.size() > hi)
     refuse(e, "<" + e.name + "> " + key + "=\"" + v + "\": expected " +
                   (lo == hi ? std::to_string(lo) + (lo == 1 ? " number" : " numbers") : std::to_string(lo) + " to " + std::to_string(hi) + " numbers"));
-  for (double d : out)
-    if (!std::isfinite(d) || std::abs(d) > 1e9) refuse(e, "<" + e.name + "> " + key + ": numbers must be finite");
+  for (double d : out) {
+    if (!std::isfinite(d)) refuse(e, "<" + e.name + "> " + key + ": numbers must be finite");
+    if (std::abs(d) > 1e9) {
+      std::ostringstream got;
+      got.imbue(std::locale::classic());
+      got << d;
+      refuse(e, "<" + e.name + "> " + key + ": " + got.str() + " is beyond the limit of ±1e9");
+    }
+  }
   return out;
+}
+
+// A link's mass (kg) and inertia (kg·m², any axes) as the articulated body takes them: mass in
+// (0, 1e6], inertia finite with its diagonal positive and below 1e12; refused at element e (the
+// geom or inertial they came from, so the message has its line).
+inline void requireUsableMass(const XmlElement& e, double mass, const Mat3& inertia) {
+  if (mass > 0 && mass <= 1e6 && inertia.allFinite() && inertia.diagonal().minCoeff() > 0 && inertia.diagonal().maxCoeff() < 1e12)
+    return;
+  std::ostringstream m;
+  m.imbue(std::locale::classic());
+  m << "<" << e.name << "> gives no usable mass and inertia (mass " << mass << " kg, inertia diagonal " << inertia(0, 0) << ", "
+    << inertia(1, 1) << ", " << inertia(2, 2) << " kg·m²; the mass must be in (0, 1e6] kg and the inertia positive and below 1e12)";
+  refuse(e, m.str());
 }
 
 // n numbers of attribute `key`; `def` when it is absent (empty `def`: required).

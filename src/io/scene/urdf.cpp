@@ -177,6 +177,7 @@ Result<std::vector<ArticulatedLinkDesc>> urdfLinks(const XmlElement& robot, Vec3
         const Vec3 e = eig.eigenvalues();
         if (e[0] + e[1] < e[2] * (1 - 1e-9)) refuse(*I, "<inertia> breaks the triangle inequality (no body has it)");
         l.mass.inertia = f.R * J * f.R.transpose();
+        requireUsableMass(*in, l.mass.mass, l.mass.inertia);
         centre[n] = f.p;
       } else {  // a massless frame: a gram, so that the joint-space inertia stays invertible
         l.mass.mass = 1e-3;
