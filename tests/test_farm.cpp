@@ -257,6 +257,32 @@ TEST_CASE("join: MP4 chunks become one film of the right frames and duration, wi
     r = runReel("join c0.mp4 short.mp4 c2.mp4 c3.mp4 c4.mp4 -o early.mp4", cd);
     CHECK(r.code == 2);
     CHECK(has(r.out, "short.mp4: holds 1 frames where its tag says 2"));
+    // A tag moved onto another chunk's frames (the same count): its check does not match them.
+    {
+      auto c1 = io::probeVideo((d / "c1.mp4").string());
+      REQUIRE(c1.ok());
+      io::ChunkTag t1;
+      REQUIRE(io::ChunkTag::parse(c1.value().comment, t1));
+      CHECK(t1.check.size() == 16);
+      REQUIRE(io::joinVideos({(d / "c3.mp4").string()}, (d / "forged.mp4").string(), &t1).ok());  // c3's frames, c1's tag
+      r = runReel("join c0.mp4 forged.mp4 c2.mp4 c3.mp4 c4.mp4 -o moved.mp4", cd);
+      CHECK(r.code == 2);
+      CHECK(has(r.out, "forged.mp4: its frames are not the ones its tag was written for (frames 2-3)"));
+      // A tag whose film is said to be far longer: named as an edited tag, not as another film.
+      const io::ChunkTag huge{2, 3, 2000000000, "cloth_tear", tag.film, ""};
+      REQUIRE(io::joinVideos({(d / "c1.mp4").string()}, (d / "huge.mp4").string(), &huge).ok());
+      r = runReel("join c0.mp4 huge.mp4 c2.mp4 c3.mp4 c4.mp4 -o long.mp4", cd);
+      CHECK(r.code == 2);
+      CHECK(has(r.out, "huge.mp4: its tag says film " + tag.film + " has 2000000000 frames, c0.mp4's says 12"));
+      // A chunk cut short: named as damaged, without libav's own log lines.
+      fs::copy_file(d / "c1.mp4", d / "cut.mp4");
+      fs::resize_file(d / "cut.mp4", fs::file_size(d / "cut.mp4") / 3);
+      r = runReel("join c0.mp4 cut.mp4 c2.mp4 c3.mp4 c4.mp4 -o cut_film.mp4", cd);
+      CHECK(r.code == 2);
+      CHECK(has(r.out, "cut.mp4: a damaged or truncated video"));
+      CHECK(!has(r.out, "@ 0x"));  // "[h264 @ 0x55...]": libav's log
+      for (const char* f : {"moved.mp4", "long.mp4", "cut_film.mp4"}) CHECK_FALSE(fs::exists(d / f));
+    }
     // A video reel did not tag among reel's chunks.
     {
       io::VideoWriter w;

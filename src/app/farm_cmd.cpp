@@ -61,7 +61,7 @@ int join(const std::vector<std::string>& chunks, const std::string& output, bool
     return Error(ErrorKind::BadInput, "frames " + std::to_string(a) + "-" + std::to_string(b) + " are in none of the chunks " + where);
   };
   std::vector<std::string> order = chunks;
-  std::vector<long long> frames;
+  std::vector<io::ChunkTag> tags;
   std::optional<io::ChunkTag> whole;
   if (!tagged.empty()) {
     std::stable_sort(tagged.begin(), tagged.end(), [](const Chunk& a, const Chunk& b) { return a.tag.first < b.tag.first; });
@@ -69,7 +69,11 @@ int join(const std::vector<std::string>& chunks, const std::string& output, bool
     if (head.tag.first > 0) return report(missing(0, head.tag.first - 1, "(before " + head.path + range(head) + ")"));
     for (std::size_t i = 1; i < tagged.size(); ++i) {
       const Chunk &p = tagged[i - 1], &c = tagged[i];
-      if (c.tag.film != p.tag.film || c.tag.total != p.tag.total)
+      if (c.tag.film == p.tag.film && c.tag.total != p.tag.total)
+        return report(Error(ErrorKind::BadInput, c.path + ": its tag says film " + c.tag.film + " has " + std::to_string(c.tag.total) +
+                                                     " frames, " + p.path + "'s says " + std::to_string(p.tag.total) +
+                                                     " (an edited or damaged tag: render the chunk again)"));
+      if (c.tag.film != p.tag.film)
         return report(Error(ErrorKind::BadInput, c.path + ": a chunk of another film (\"" + c.tag.scene + "\", film " + c.tag.film +
                                                      ") than " + p.path + " (\"" + p.tag.scene + "\", film " + p.tag.film +
                                                      "): another scene, seed, --size or --samples"));
@@ -82,11 +86,11 @@ int join(const std::vector<std::string>& chunks, const std::string& output, bool
       return report(missing(tail.tag.last + 1, tail.tag.total - 1, "(after " + tail.path + range(tail) + ")"));
     for (std::size_t i = 0; i < tagged.size(); ++i) {
       order[i] = tagged[i].path;
-      frames.push_back(tagged[i].tag.last - tagged[i].tag.first + 1);
+      tags.push_back(tagged[i].tag);
     }
-    whole = io::ChunkTag{0, tail.tag.total - 1, tail.tag.total, head.tag.scene, head.tag.film};
+    whole = io::ChunkTag{0, tail.tag.total - 1, tail.tag.total, head.tag.scene, head.tag.film, ""};
   }
-  if (Status st = io::joinVideos(order, output, whole ? &*whole : nullptr, frames); !st) return report(st.error());
+  if (Status st = io::joinVideos(order, output, whole ? &*whole : nullptr, tags); !st) return report(st.error());
   if (!quiet) {
     if (whole)
       std::printf("%s: frames 0-%d of \"%s\" (%zu chunks)\n", output.c_str(), whole->last, whole->scene.c_str(), chunks.size());

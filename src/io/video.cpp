@@ -9,10 +9,14 @@ extern "C" {
 }
 
 #include <algorithm>
+#include <cstdarg>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
+#include <optional>
 
+#include "core/hash.h"
 #include "io/files.h"
 
 namespace reel::io {
@@ -25,6 +29,25 @@ std::string extensionOf(const std::string& path) {
   return e;
 }
 
+// libav's own log never reaches the user: its last error line is kept (per thread) and quoted in
+// reel's message when it explains one ("partial file").
+thread_local std::string g_libav_last;
+void quietLog(void* avcl, int level, const char* fmt, va_list vl) {
+  if (level > AV_LOG_ERROR) return;
+  char line[512];
+  int prefix = 1;
+  av_log_format_line2(avcl, level, fmt, vl, line, sizeof line, &prefix);
+  std::string m = line;
+  while (!m.empty() && (m.back() == '\n' || m.back() == ' ')) m.pop_back();
+  // Without the "[h264 @ 0x...] " context.
+  if (const std::size_t at = m.find("] "); !m.empty() && m[0] == '[' && at != std::string::npos) m = m.substr(at + 2);
+  if (!m.empty()) g_libav_last = m;
+}
+void silenceLibav() {
+  static std::once_flag once;
+  std::call_once(once, [] { av_log_set_callback(quietLog); });
+}
+
 std::string averr(int e) {
   char buf[AV_ERROR_MAX_STRING_SIZE] = {};
   av_strerror(e, buf, sizeof buf);
@@ -35,6 +58,42 @@ std::string averr(int e) {
 constexpr int kBayer[4][4] = {{0, 8, 2, 10}, {12, 4, 14, 6}, {3, 11, 1, 9}, {15, 7, 13, 5}};
 
 }  // namespace
+
+// An encoded frame into a chunk's check, by its NAL units' contents when it is H.264: the encoder
+// writes them after start codes (Annex B) and MP4 stores them after their lengths, so only the
+// units themselves are the same on both sides. Other codecs' frames are hashed as they are.
+void hashFrame(Hasher& h, const AVPacket* p, bool h264, bool annex_b) {
+  const std::uint8_t* d = p->data;
+  const std::size_t n = static_cast<std::size_t>(p->size);
+  auto unit = [&](std::size_t a, std::size_t b) {
+    while (b > a && d[b - 1] == 0) --b;  // trailing zeros belong to no unit
+    const std::uint64_t len = b - a;
+    h.add(&len, sizeof len);
+    h.add(d + a, b - a);
+  };
+  if (!h264) {
+    h.add(d, n);
+  } else if (annex_b) {
+    std::size_t start = n;  // of the current unit
+    for (std::size_t i = 0; i + 2 < n;) {
+      if (d[i] == 0 && d[i + 1] == 0 && d[i + 2] == 1) {
+        if (start < n) unit(start, i);
+        i += 3;
+        start = i;
+      } else {
+        ++i;
+      }
+    }
+    if (start < n) unit(start, n);
+  } else {
+    for (std::size_t i = 0; i + 4 <= n;) {
+      const std::size_t len = (std::size_t{d[i]} << 24) | (std::size_t{d[i + 1]} << 16) | (std::size_t{d[i + 2]} << 8) | d[i + 3];
+      if (len > n - i - 4) break;
+      unit(i + 4, i + 4 + len);
+      i += 4 + len;
+    }
+  }
+}
 
 bool isVideoPath(const std::string& path) {
   const std::string e = extensionOf(path);
@@ -51,6 +110,8 @@ struct VideoWriter::Impl {
   AVPacket* pkt = nullptr;
   bool gif = false, header = false, done = false;
   int width = 0, height = 0;  // of the input images
+  std::optional<ChunkTag> tag;  // a chunk's tag: its check is written when the file is finished
+  Hasher frames;                // of the encoded frames, in order
   std::int64_t next_pts = 0;
 
   ~Impl() {
@@ -76,6 +137,7 @@ struct VideoWriter::Impl {
       if (r < 0) return fail("encoding failed", r);
       av_packet_rescale_ts(pkt, enc->time_base, stream->time_base);
       pkt->stream_index = stream->index;
+      hashFrame(frames, pkt, enc->codec_id == AV_CODEC_ID_H264, /*annex_b=*/true);
       r = av_interleaved_write_frame(fmt, pkt);
       if (r < 0) return fail("write failed (disk full?)", r);
     }
@@ -96,7 +158,7 @@ Status VideoWriter::open(const std::string& path, int width, int height, int fps
   if (!muxer) return Error(ErrorKind::BadInput, path + ": unsupported video type (mp4, webm, gif)");
   v.gif = ext == ".gif";
   if (Status st = checkOutputTarget(path); !st) return st;
-  av_log_set_level(AV_LOG_ERROR);  // FFmpeg speaks only when something is wrong
+  silenceLibav();
   int r = avformat_alloc_output_context2(&v.fmt, nullptr, muxer, v.part.c_str());
   if (r < 0 || !v.fmt) return v.fail("cannot set up the " + std::string(muxer) + " muxer", r);
   const AVCodec* codec = ext == ".mp4"  ? avcodec_find_encoder_by_name("libx264")
@@ -151,7 +213,11 @@ Status VideoWriter::open(const std::string& path, int width, int height, int fps
   if (Status st = createParentFolders(path); !st) return st;
   r = avio_open(&v.fmt->pb, v.part.c_str(), AVIO_FLAG_WRITE);
   if (r < 0) return v.fail("cannot write " + v.part, r);
-  if (tag && !v.gif) av_dict_set(&v.fmt->metadata, "comment", tag->comment().c_str(), 0);
+  if (tag && !v.gif) {
+    v.tag = *tag;
+    v.tag->check.clear();
+    av_dict_set(&v.fmt->metadata, "comment", v.tag->comment().c_str(), 0);
+  }
   AVDictionary* mux = nullptr;
   if (ext == ".mp4") av_dict_set(&mux, "movflags", "+faststart", 0);
   r = avformat_write_header(v.fmt, &mux);
@@ -229,6 +295,11 @@ Status VideoWriter::finish() {
   int r = avcodec_send_frame(v.enc, nullptr);
   if (r < 0) return v.fail("encoding failed", r);
   if (Status st = v.drain(); !st) return st;
+  // The tag with its check over the frames, for the index the muxer writes last (MP4's moov).
+  if (v.tag) {
+    v.tag->check = v.tag->checkOf(v.frames.h);
+    av_dict_set(&v.fmt->metadata, "comment", v.tag->comment().c_str(), 0);
+  }
   r = av_write_trailer(v.fmt);
   if (r < 0) return v.fail("write failed (disk full?)", r);
   r = avio_closep(&v.fmt->pb);
@@ -249,6 +320,7 @@ Status decodeAll(const std::string& path, VideoInfo& info, Sink&& sink) {
   AVFormatContext* fmt = nullptr;
   int r = avformat_open_input(&fmt, path.c_str(), nullptr, nullptr);
   if (r < 0) return Error(ErrorKind::BadInput, path + ": cannot open: " + averr(r));
+  silenceLibav();
   struct Guard {
     AVFormatContext** f;
     AVCodecContext* c = nullptr;
@@ -355,7 +427,17 @@ namespace reel::io {
 
 std::string ChunkTag::comment() const {
   return "reel frames " + std::to_string(first) + "-" + std::to_string(last) + " of " + std::to_string(total) +
-         ", scene " + scene + ", film " + film;
+         ", scene " + scene + ", film " + film + (check.empty() ? "" : ", check " + check);
+}
+
+std::string ChunkTag::checkOf(std::uint64_t frames_hash) const {
+  ChunkTag t = *this;
+  t.check.clear();
+  Hasher h;
+  const std::string fields = t.comment();
+  h.add(fields.data(), fields.size());
+  h.add(&frames_hash, sizeof frames_hash);
+  return h.hex();
 }
 
 bool ChunkTag::parse(const std::string& comment, ChunkTag& out) {
@@ -363,10 +445,15 @@ bool ChunkTag::parse(const std::string& comment, ChunkTag& out) {
   if (std::sscanf(comment.c_str(), "reel frames %d-%d of %d, scene %n", &a, &b, &n, &used) != 3 || used == 0 || a < 0 ||
       b < a || n <= b)
     return false;
-  const std::string rest = comment.substr(static_cast<std::size_t>(used));
+  std::string rest = comment.substr(static_cast<std::size_t>(used));
+  std::string check;
+  if (const std::size_t c = rest.rfind(", check "); c != std::string::npos && rest.size() - c == 8 + 16) {
+    check = rest.substr(c + 8);
+    rest.resize(c);
+  }
   const std::size_t at = rest.rfind(", film ");
   if (at == std::string::npos) return false;
-  out = ChunkTag{a, b, n, rest.substr(0, at), rest.substr(at + 7)};
+  out = ChunkTag{a, b, n, rest.substr(0, at), rest.substr(at + 7), check};
   return true;
 }
 
@@ -387,13 +474,19 @@ Status openJoinInput(const std::string& path, JoinInput& in) {
   if (!std::filesystem::exists(st)) return Error(ErrorKind::BadInput, path + ": no such file");
   if (!std::filesystem::is_regular_file(st))
     return Error(ErrorKind::BadInput, path + ": is " + kindInWords(st) + ", not a video file (join reads MP4 or WebM files)");
-  av_log_set_level(AV_LOG_ERROR);
+  silenceLibav();
+  g_libav_last.clear();
   int r = avformat_open_input(&in.fmt, path.c_str(), nullptr, nullptr);
   if (r < 0) return Error(ErrorKind::BadInput, path + ": not a video file: " + averr(r));
   if ((r = avformat_find_stream_info(in.fmt, nullptr)) < 0) return Error(ErrorKind::BadInput, path + ": " + averr(r));
   const int si = av_find_best_stream(in.fmt, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0);
   if (si < 0 || in.fmt->nb_streams != 1) return Error(ErrorKind::BadInput, path + ": not a video file of one video stream");
   in.st = in.fmt->streams[si];
+  // A file cut short (a copy that stopped, a full disk) has no readable picture format.
+  if (in.st->codecpar->format < 0 || in.st->codecpar->width <= 0 || in.st->codecpar->height <= 0)
+    return Error(ErrorKind::BadInput, path + ": a damaged or truncated video (" +
+                                          (g_libav_last.empty() ? std::string("its pictures cannot be read") : "libav: " + g_libav_last) +
+                                          "); render it again");
   return {};
 }
 
@@ -423,7 +516,7 @@ Result<std::string> videoComment(const std::string& path) {
 }
 
 Status joinVideos(const std::vector<std::string>& inputs, const std::string& output, const ChunkTag* tag,
-                  const std::vector<long long>& frames) {
+                  const std::vector<ChunkTag>& tags) {
   if (inputs.empty()) return Error(ErrorKind::BadInput, "join: no input videos");
   if (!isVideoPath(output) || extensionOf(output) == ".gif")
     return Error(ErrorKind::BadInput, output + ": join writes .mp4 or .webm (a GIF's frames are joined as PNG chunks)");
@@ -487,12 +580,14 @@ Status joinVideos(const std::vector<std::string>& inputs, const std::string& out
     const std::int64_t start = in.st->start_time != AV_NOPTS_VALUE ? in.st->start_time : 0;
     std::int64_t end = offset;
     long long packets = 0;
+    Hasher frames;  // of its encoded frames, as the writer hashed them
     while ((r = av_read_frame(in.fmt, out.pkt)) >= 0) {
       if (out.pkt->stream_index != in.st->index) {
         av_packet_unref(out.pkt);
         continue;
       }
       ++packets;
+      hashFrame(frames, out.pkt, in.st->codecpar->codec_id == AV_CODEC_ID_H264, /*annex_b=*/false);
       if (out.pkt->pts != AV_NOPTS_VALUE) {
         out.pkt->pts += offset - start;
         end = std::max(end, out.pkt->pts + (out.pkt->duration > 0 ? out.pkt->duration : period));
@@ -510,9 +605,16 @@ Status joinVideos(const std::vector<std::string>& inputs, const std::string& out
       if ((r = av_interleaved_write_frame(out.fmt, out.pkt)) < 0) return fail("write failed (disk full?)", r);
     }
     if (r != AVERROR_EOF) return Error(ErrorKind::BadInput, inputs[k] + ": read error: " + averr(r));
-    if (k < frames.size() && frames[k] != packets)
-      return Error(ErrorKind::BadInput, inputs[k] + ": holds " + std::to_string(packets) + " frames where its tag says " +
-                                            std::to_string(frames[k]) + " (a render that stopped early?)");
+    if (k < tags.size()) {
+      const long long said = static_cast<long long>(tags[k].last) - tags[k].first + 1;
+      if (said != packets)
+        return Error(ErrorKind::BadInput, inputs[k] + ": holds " + std::to_string(packets) + " frames where its tag says " +
+                                              std::to_string(said) + " (a render that stopped early?)");
+      if (!tags[k].check.empty() && tags[k].checkOf(frames.h) != tags[k].check)
+        return Error(ErrorKind::BadInput, inputs[k] + ": its frames are not the ones its tag was written for (frames " +
+                                              std::to_string(tags[k].first) + "-" + std::to_string(tags[k].last) +
+                                              "): an edited tag, or another chunk's frames; render the chunk again");
+    }
     offset = end;
   }
   if ((r = av_write_trailer(out.fmt)) < 0) return fail("write failed (disk full?)", r);

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <memory>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -25,7 +26,12 @@ bool isVideoPath(const std::string& path);
 struct ChunkTag {
   int first = 0, last = -1, total = 0;
   std::string scene, film;
-  std::string comment() const;
+  // FNV-1a of the tag's other fields and of every encoded frame, written when the file is finished
+  // ("" in a tag not yet finished, or from a reel before the check): `join` recomputes it from the
+  // frames it copies, so a tag edited onto another chunk's frames is refused.
+  std::string check;
+  std::string comment() const;  // the fields, then ", check C" when there is one
+  std::string checkOf(std::uint64_t frames_hash) const;
   static bool parse(const std::string& comment, ChunkTag& out);
 };
 
@@ -52,10 +58,10 @@ class VideoWriter {
 // previous file's end. Written to OUTPUT.part, renamed when complete. A file that is not a video,
 // one whose codec, size, pixel format, frame rate or codec headers differ from the first's, or
 // whose timestamps would go back in time, is refused (exit-2 kind), naming both and the
-// difference. `tag`: the joined file's comment; `frames`: when given, how many frames each input
-// must hold (one that holds another number is refused).
+// difference. `tag`: the joined file's comment; `tags`: when given, each input's own tag: it must
+// hold the number of frames its tag says, and its frames must match the tag's check.
 Status joinVideos(const std::vector<std::string>& inputs, const std::string& output, const ChunkTag* tag = nullptr,
-                  const std::vector<long long>& frames = {});
+                  const std::vector<ChunkTag>& tags = {});
 // The comment a video file carries ("" when none); an unreadable file is an exit-2 kind of error.
 Result<std::string> videoComment(const std::string& path);
 
