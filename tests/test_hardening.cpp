@@ -385,3 +385,22 @@ TEST_CASE("two writers of one cache file at once each write their own part file;
   for (const auto& e : std::filesystem::directory_iterator(d)) left += e.path().string() != path;
   CHECK(left == 0);  // no part file left behind
 }
+
+TEST_CASE("a scene that needs more memory than the process may use: exit 2, said as such") {
+  // 100,000 fish (the documented maximum) under a 500 MB address-space limit (not under
+  // AddressSanitizer, whose shadow memory alone is larger).
+#if defined(__SANITIZE_ADDRESS__)
+  return;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  return;
+#endif
+#endif
+  const std::filesystem::path d = reel::test::freshDir("oom");
+  std::ofstream(d / "fish.json") << R"({ "format": "reel/1", "duration": 1, "fps": 30, "substeps": 10, "auto_substeps": true,
+    "bodies": [ { "type": "fish", "name": "f", "count": 100000 } ] })";
+  const auto r = reel::test::runReel("check " + (d / "fish.json").string(), "ulimit -v 500000; ");
+  CAPTURE(r.out);
+  CHECK(r.code == 2);
+  CHECK(r.out.find("reel: out of memory: the scene or the options") != std::string::npos);
+}

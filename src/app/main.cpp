@@ -223,8 +223,11 @@ int main(int argc, char** argv) {
   try {
     return cli.run();
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "reel: out of memory\n");
-    return 1;
+    // What the input asks for is more than the machine gives: bad input for this machine (exit 2),
+    // said as such; nothing half-written is left (outputs are written as .part files).
+    std::fprintf(stderr, "reel: out of memory: the scene or the options (bodies' counts and resolutions, --size) need more "
+                         "memory than this process may use; lower them or run where there is more\n");
+    return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "reel: internal error: %s\n", e.what());
     return 1;
