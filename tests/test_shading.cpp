@@ -198,6 +198,19 @@ TEST_CASE("environment files: Radiance .hdr (run-length and flat), OpenEXR and P
   REQUIRE(!cut.ok());
   CHECK(cut.error().headline().find("truncated") != std::string::npos);
   CHECK(cut.error().headline().find("cut.hdr") != std::string::npos);
+  // A 20 MB resolution line: refused as a too-long header line, quoted short, without reading a
+  // picture's worth of memory; a file larger than the largest picture is refused before reading.
+  {
+    std::ofstream f(dir / "long.hdr", std::ios::binary);
+    f << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X " << std::string(20u << 20, '9') << "\n";
+  }
+  auto long_line = io::readEnvironmentMap((dir / "long.hdr").string());
+  REQUIRE(!long_line.ok());
+  CHECK(long_line.error().headline().find("a header line longer than 4096 bytes") != std::string::npos);
+  CHECK(long_line.error().headline().size() < 400);
+  auto small_cap = io::readEnvironmentMap((dir / "long.hdr").string(), 1000);
+  REQUIRE(!small_cap.ok());
+  CHECK(small_cap.error().headline().find("more than a picture of at most 1000 pixels can take") != std::string::npos);
   std::ofstream(dir / "no.hdr", std::ios::binary) << "P6\n8 2\n255\n";
   CHECK(!io::readEnvironmentMap((dir / "no.hdr").string()).ok());
   CHECK(!io::readEnvironmentMap((dir / "a.tga").string()).ok());

@@ -24,30 +24,58 @@ Error bad(const std::string& path, const std::string& why) { return Error(ErrorK
 // empty line, a resolution line "-Y H +X W", then scanlines of 4-byte pixels (mantissas and a
 // shared exponent), each either flat or, when it starts with 2 2 and the width, run-length
 // encoded channel by channel.
+// A header line longer than this is not Radiance's (its lines are a few dozen bytes).
+constexpr std::size_t kMaxHdrLine = 4096;
+
+// At most the first 60 bytes of a bad line, for a message.
+std::string excerpt(const std::string& l) { return l.size() <= 60 ? l : l.substr(0, 60) + "..."; }
+
 Result<RadianceMap> readHdr(const std::string& path, std::size_t max_pixels) {
+  // The largest file a picture of max_pixels can be: 4 bytes a pixel, flat, after a header. A
+  // larger one is refused before it is read.
+  const std::size_t most = 4 * max_pixels + (1u << 20);
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (!ec && size > most)
+    return bad(path, std::to_string(size) + " bytes, more than a picture of at most " + std::to_string(max_pixels) +
+                         " pixels can take (" + std::to_string(most) + ")");
   std::ifstream in(path, std::ios::binary);
   if (!in) return bad(path, "cannot be opened");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes;
+  bytes.resize(most + 1);
+  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  bytes.resize(static_cast<std::size_t>(in.gcount()));
+  if (bytes.size() > most) return bad(path, "more than a picture of at most " + std::to_string(max_pixels) + " pixels can take");
   std::size_t at = 0;
+  bool long_line = false;
   auto line = [&](std::string& out) {
     const std::size_t e = bytes.find('\n', at);
-    if (e == std::string::npos) return false;
+    if (e == std::string::npos || e - at > kMaxHdrLine) {
+      long_line = e != std::string::npos || bytes.size() - at > kMaxHdrLine;
+      return false;
+    }
     out = bytes.substr(at, e - at);
     at = e + 1;
     return true;
   };
+  auto tooLong = [&] {
+    return bad(path, "a header line longer than " + std::to_string(kMaxHdrLine) + " bytes (\"" + excerpt(bytes.substr(at, 60)) +
+                         "\"): not a Radiance .hdr header");
+  };
   std::string l;
   if (!line(l) || (l.rfind("#?RADIANCE", 0) != 0 && l.rfind("#?RGBE", 0) != 0))
-    return bad(path, "not a Radiance .hdr file (no #?RADIANCE header)");
+    return long_line ? tooLong() : bad(path, "not a Radiance .hdr file (no #?RADIANCE header)");
   bool rgbe = true;
   while (line(l) && !l.empty())
     if (l.rfind("FORMAT=", 0) == 0) rgbe = l == "FORMAT=32-bit_rle_rgbe";
+  if (long_line) return tooLong();
   if (!rgbe) return bad(path, "only the 32-bit_rle_rgbe format is read (not XYZE)");
   int w = 0, h = 0;
   char ys[3] = {}, xs[3] = {};
-  if (!line(l) || std::sscanf(l.c_str(), "%2s %d %2s %d", ys, &h, xs, &w) != 4 || std::strcmp(ys, "-Y") != 0 ||
+  if (!line(l)) return long_line ? tooLong() : bad(path, "ends before its resolution line (-Y H +X W)");
+  if (std::sscanf(l.c_str(), "%2s %d %2s %d", ys, &h, xs, &w) != 4 || std::strcmp(ys, "-Y") != 0 ||
       std::strcmp(xs, "+X") != 0 || w <= 0 || h <= 0)
-    return bad(path, "unsupported resolution line \"" + l + "\" (expected -Y H +X W)");
+    return bad(path, "unsupported resolution line \"" + excerpt(l) + "\" (expected -Y H +X W)");
   if (static_cast<std::size_t>(w) * h > max_pixels)
     return bad(path, std::to_string(w) + "x" + std::to_string(h) + " is more than the " + std::to_string(max_pixels) + " pixels allowed");
   RadianceMap m;
