@@ -215,6 +215,26 @@ TEST_CASE("face: bad input") {
   // Layers that would cross the skull; a mesh without its skull.
   checkHas(badInputError(faceScene(R"(, "dermis": {"thickness": 0.02}, "muscle": {"thickness": 0.02})")), "cross the skull");
   checkHas(badInputError(faceScene(R"(, "skull": "x.obj")")), "/bodies/0/skull");
+  // Past the largest resolution a film can use.
+  checkHas(badInputError(faceScene("", 1.0, "[130, 40]")), "/bodies/0/resolution");
+}
+
+TEST_CASE("face: reel check builds without settling; a run settles before its first frame") {
+  auto scene = app::parseScene(faceScene("", 1.0, "[32, 24]"), "s.json");
+  REQUIRE(scene.ok());
+  auto checked = app::makeWorld(scene.value(), /*check_only=*/true);
+  auto run_world = app::makeWorld(scene.value());
+  REQUIRE(checked.ok());
+  REQUIRE(run_world.ok());
+  // The same tissue, but only the run's has sagged under gravity to rest (Body::prepare).
+  const auto& x0 = face(checked.value()).network().state.x;
+  const auto& x1 = face(run_world.value()).network().state.x;
+  REQUIRE(x0.size() == x1.size());
+  double sag = 0.0;
+  for (std::size_t i = 0; i < x0.size(); ++i) sag = std::max(sag, (x1[i] - x0[i]).norm());
+  CHECK(sag > 1e-5);
+  CHECK(face(checked.value()).stepLimit(IntegratorKind::SymplecticEuler).bound.h_max ==
+        face(run_world.value()).stepLimit(IntegratorKind::SymplecticEuler).bound.h_max);
 }
 
 TEST_CASE("face: a user's mesh must be closed and its inset must not fold") {

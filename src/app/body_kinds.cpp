@@ -70,6 +70,8 @@ Result<SceneDesc> parseScene(const std::string& text, const std::string& file) {
 }
 std::span<const InteractionRow> interactions() { return kInteractions; }
 
-Result<World> makeWorld(const SceneDesc& scene) { return World::create(scene, bodyBuilders(), kInteractions); }
+Result<World> makeWorld(const SceneDesc& scene, bool check_only) {
+  return World::create(scene, bodyBuilders(), kInteractions, check_only);
+}
 
 }  // namespace reel::app

@@ -30,6 +30,7 @@ std::span<const InteractionRow> interactions();
 // The scene and the world with every kind reel has.
 Result<SceneDesc> loadScene(const std::string& path);
 Result<SceneDesc> parseScene(const std::string& text, const std::string& file);
-Result<World> makeWorld(const SceneDesc& scene);
+// `check_only`: for `reel check`, never stepped (World::create).
+Result<World> makeWorld(const SceneDesc& scene, bool check_only = false);
 
 }  // namespace reel::app

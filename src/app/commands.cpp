@@ -158,7 +158,7 @@ int check(const std::vector<std::string>& scenes) {
     auto scene = loadScene(path);
     Error err;
     if (scene.ok()) {
-      auto world = makeWorld(scene.value());  // also refuses unstable steps
+      auto world = makeWorld(scene.value(), /*check_only=*/true);  // also refuses unstable steps
       if (world.ok()) {
         std::printf("%s: ok (%zu bodies, %zu objects, %d frames)\n", path.c_str(),
                     scene.value().bodies.size(), scene.value().objects.size(), scene.value().frameCount());

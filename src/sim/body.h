@@ -88,6 +88,10 @@ class Body {
   const std::string& name() const { return name_; }
   // The largest step an explicit method takes stably, and what to say when a scene's is above it.
   virtual StepLimit stepLimit(IntegratorKind integrator) const = 0;
+  // What a run needs before its first frame and a check does not (a face settles under gravity):
+  // done once the World has accepted every body's step (so a refusal comes first and fast), never
+  // for `reel check`.
+  virtual void prepare() {}
   // Free objects take what the other bodies handed them in the coupling stage (see Coupling).
   virtual bool coupled() const { return false; }
   // A coupled body whose step writes only its own state (its colliders and what it hands back wait

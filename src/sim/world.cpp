@@ -44,7 +44,7 @@ bool bodyExtent(const Body& b, Vec3& centre, double& radius) {
 }  // namespace
 
 Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow> kinds,
-                            std::span<const InteractionRow> interactions) {
+                            std::span<const InteractionRow> interactions, bool check_only) {
   World w;
   w.integrator_ = scene.integrator;
   w.implicit_ = scene.implicit;
@@ -78,7 +78,7 @@ Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow>
   w.wind_ = Wind(scene.wind, scene.seed);
   w.water_ = Water(scene.water);
   w.gravity_ = scene.gravity;
-  if (Status st = w.buildBodies(scene, kinds, first_object); !st) return st.error();
+  if (Status st = w.buildBodies(scene, kinds, first_object, check_only); !st) return st.error();
   for (const InteractionRow& row : interactions)
     for (std::size_t a = 0; a < scene.bodies.size(); ++a)
       for (std::size_t b = 0; b < scene.bodies.size(); ++b)
@@ -137,7 +137,7 @@ void World::advanceCamera() {
 // seed. A step above a body's stable bound is subdivided under auto_substeps; otherwise it is an
 // error naming what sets the bound and what else would do. All errors are reported at once.
 Status World::buildBodies(const SceneDesc& scene, std::span<const BodyKindRow> kinds,
-                          const std::vector<std::size_t>& first_object) {
+                          const std::vector<std::size_t>& first_object, bool check_only) {
   const double h = 1.0 / (static_cast<double>(scene.fps) * scene.substeps);
   auto num = [](double x) { return formatNumber(x, 3); };
   std::vector<std::string> errors;
@@ -179,6 +179,8 @@ Status World::buildBodies(const SceneDesc& scene, std::span<const BodyKindRow> k
     bodies_.push_back(std::move(made.value()));
   }
   if (!errors.empty()) return Error(ErrorKind::BadInput, std::move(errors));
+  if (!check_only)
+    for (auto& b : bodies_) b->prepare();
   return {};
 }
 

@@ -52,8 +52,9 @@ class World {
   // explicit integrator's stability bound unless the scene sets `auto_substeps`, in which case
   // steps are subdivided.
   // `interactions`: the exchanges between kinds (the registry's), run in the coupling stage.
+  // `check_only`: built for `reel check`, never stepped: no body prepares (Body::prepare).
   static Result<World> create(const SceneDesc& scene, std::span<const BodyKindRow> kinds,
-                              std::span<const InteractionRow> interactions = {});
+                              std::span<const InteractionRow> interactions = {}, bool check_only = false);
 
   // Advances from the current frame k to k + 1: substeps × step(h). Fails with an Unstable
   // error naming frame, time, body, node and quantity when the state goes bad.
@@ -99,7 +100,8 @@ class World {
   double worstResidual() const { return solver_.worst_residual; }
 
  private:
-  Status buildBodies(const SceneDesc& scene, std::span<const BodyKindRow> kinds, const std::vector<std::size_t>& first_object);
+  Status buildBodies(const SceneDesc& scene, std::span<const BodyKindRow> kinds, const std::vector<std::size_t>& first_object,
+                     bool check_only);
   IntegratorKind integrator_ = IntegratorKind::SymplecticEuler;
   ImplicitSettings implicit_;
   int fps_ = 30, substeps_ = 1;

@@ -134,6 +134,12 @@ void FaceBody::step(StepContext& ctx) {
   contactMasses();
 }
 
+void FaceBody::prepare() {
+  ImplicitSettings implicit;
+  implicit.cg_tolerance = 1e-6;
+  settle(implicit);
+}
+
 void FaceBody::settle(const ImplicitSettings& implicit) {
   constexpr double kSettleStep = 0.1;  // s: implicit Euler's large steps, close to a static solve
   // Under gravity from rest, damped by implicit Euler's large steps, then still: a face at rest
@@ -254,9 +260,6 @@ Result<std::unique_ptr<Body>> buildFaceBody(const BodyDesc& desc, const BuildCon
   Material material = desc.material;
   auto body = std::make_unique<FaceBody>(desc.name, desc.as<FaceDesc>(), material);
   if (Status st = body->setup(desc, ctx); !st) return st.error();
-  ImplicitSettings implicit;
-  implicit.cg_tolerance = 1e-6;
-  body->settle(implicit);
   return std::unique_ptr<Body>(std::move(body));
 }
 

@@ -48,6 +48,7 @@ class FaceBody final : public SpringNetworkBody {
 
   // Builds everything but the network; the builder then settles the face under gravity.
   Status setup(const BodyDesc& desc, const BuildContext& ctx);
+  void prepare() override;  // settles under gravity (settle)
   void settle(const ImplicitSettings& implicit);
 
  protected:
