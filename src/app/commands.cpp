@@ -57,19 +57,10 @@ int simulate(const SimulateOptions& opt) {
   // The last good frame not yet in the dump, copied so that it can still be written when the
   // next frame goes unstable (DESIGN 5: the last frame is always written).
   int pending = -1;
-  std::vector<std::vector<Vec3>> pending_x, pending_v;
-  FrameView pending_snap;
+  FrameCopy pending_snap;
   auto keepPending = [&] {
-    world.view(pending_snap);
-    pending_x.resize(pending_snap.bodies.size());
-    pending_v.resize(pending_snap.bodies.size());
-    for (std::size_t b = 0; b < pending_snap.bodies.size(); ++b) {
-      auto& bs = pending_snap.bodies[b];
-      pending_x[b].assign(bs.positions.begin(), bs.positions.end());
-      pending_v[b].assign(bs.velocities.begin(), bs.velocities.end());
-      bs.positions = pending_x[b];
-      bs.velocities = pending_v[b];
-    }
+    world.view(snap);
+    pending_snap.take(snap);
     pending = world.frame();
   };
   io::StatsWriter stats;
@@ -107,7 +98,7 @@ int simulate(const SimulateOptions& opt) {
       if (counting) (void)stats.finish();  // the statistics of the good frames
       if (dumping) {
         // Keep what was simulated: the dump ends with the last good frame.
-        Status w = pending >= 0 ? dump.write(pending_snap) : Status{};
+        Status w = pending >= 0 ? dump.write(pending_snap.view()) : Status{};
         if (Status fin = dump.finish(); w && fin)
           std::fprintf(stderr, "reel: the dump %s holds frames up to %d\n", opt.dump.c_str(), k - 1);
       }

@@ -51,4 +51,44 @@ struct FrameView {
   std::vector<BodyView> bodies;
 };
 
+// A FrameView that owns what its spans show: it stays valid after the World steps on (the last
+// good frame a dump still writes after the next one goes unstable; after a tear its springs are
+// the frame's own, not the model's now).
+class FrameCopy {
+ public:
+  FrameCopy() = default;
+  FrameCopy(const FrameCopy&) = delete;
+  FrameCopy& operator=(const FrameCopy&) = delete;
+  void take(const FrameView& v) {
+    view_ = v;
+    store_.assign(v.bodies.size(), {});
+    for (std::size_t b = 0; b < v.bodies.size(); ++b) {
+      BodyView& bv = view_.bodies[b];
+      Store& s = store_[b];
+      s.x.assign(bv.positions.begin(), bv.positions.end());
+      s.v.assign(bv.velocities.begin(), bv.velocities.end());
+      s.a.assign(bv.spring_a.begin(), bv.spring_a.end());
+      s.b.assign(bv.spring_b.begin(), bv.spring_b.end());
+      s.species.assign(bv.species.begin(), bv.species.end());
+      s.masses.assign(bv.masses.begin(), bv.masses.end());
+      bv.positions = s.x;
+      bv.velocities = s.v;
+      bv.spring_a = s.a;
+      bv.spring_b = s.b;
+      bv.species = s.species;
+      bv.masses = s.masses;
+    }
+  }
+  const FrameView& view() const { return view_; }
+
+ private:
+  struct Store {
+    std::vector<Vec3> x, v;
+    std::vector<int> a, b, species;
+    std::vector<double> masses;
+  };
+  FrameView view_;
+  std::vector<Store> store_;
+};
+
 }  // namespace reel
