@@ -2,7 +2,8 @@
 # doctest_discover_tests passes each name to --test-case= as it is, but doctest splits that filter
 # at commas, and CMake splits the list of names at semicolons: a case whose name holds either
 # selected no case at all and "passed". Here each name is one line, and its filter escapes
-# doctest's separators (\ and ,), so every entry runs exactly its own case.
+# doctest's separators (\ and ,), so every entry runs exactly its own case; and an entry whose
+# filter still selects nothing fails instead of passing.
 #
 #   cmake -D TEST_EXECUTABLE=... -D CTEST_FILE=... -D WORKING_DIR=... [-D TEST_ENV=...] -P discover_tests.cmake
 execute_process(COMMAND "${TEST_EXECUTABLE}" --list-test-cases --no-version
@@ -23,7 +24,8 @@ foreach(line IN LISTS lines)
   string(REPLACE "\\" "\\\\" filter "${name}")
   string(REPLACE "," "\\," filter "${filter}")
   string(APPEND script "add_test([==[${name}]==] \"${TEST_EXECUTABLE}\" [==[--test-case=${filter}]==])\n")
-  string(APPEND script "set_tests_properties([==[${name}]==] PROPERTIES WORKING_DIRECTORY \"${WORKING_DIR}\"")
+  # A filter that selects no case makes doctest report "test cases: 0" and exit 0: that entry fails.
+  string(APPEND script "set_tests_properties([==[${name}]==] PROPERTIES WORKING_DIRECTORY \"${WORKING_DIR}\" FAIL_REGULAR_EXPRESSION [==[test cases: 0 [|]]==]")
   if(TEST_ENV)
     string(APPEND script " ENVIRONMENT [==[${TEST_ENV}]==]")
   endif()
