@@ -229,3 +229,77 @@ TEST_CASE("the icosphere: 20·4^s triangles, every vertex on the sphere, every f
     }
   }
 }
+
+TEST_CASE("assimp's own test models: which load, and why the others are refused") {
+  // tests/data/assimp/README.md: unmodified files from assimp's repository. Each loads with its
+  // triangle count, or is refused with the reason in plain words (never "cannot import:" alone).
+  const fs::path d = fs::path(REEL_SOURCE_DIR) / "tests" / "data" / "assimp";
+  struct Model {
+    const char* file;
+    std::size_t triangles;  // 0: refused
+    const char* why;        // part of the refusal
+  };
+  const Model models[] = {
+      {"OBJ/box.obj", 12, ""},
+      {"OBJ/number_formats.obj", 1, ""},
+      {"OBJ/concave_polygon.obj", 0, ""},  // (triangulated; count checked > 0 below)
+      {"PLY/cube.ply", 12, ""},
+      {"PLY/cube_binary.ply", 12, ""},
+      {"PLY/cube_binary_header_with_RN_newline.ply", 12, ""},
+      {"PLY/cube_binary_starts_with_nl.ply", 12, ""},  // its data begins with a newline byte
+      {"PLY/float-color.ply", 1, ""},
+      {"STL/triangle.stl", 1, ""},
+      {"STL/triangle_with_two_solids.stl", 2, ""},
+      {"glTF2/BoxBadNormals-glTF-Binary/BoxBadNormals.glb", 12, ""},
+      {"glTF2/cameras/Cameras.gltf", 2, ""},
+      {"OBJ/testline.obj", 0, "holds no triangles (its faces are points or lines)"},
+      {"OBJ/point_cloud.obj", 0, "contains no faces"},
+      {"PLY/points.ply", 0, "contains no faces"},
+      {"PLY/issue623.ply", 0, ":14: vertex 0: too few values"},  // its face element is missing
+      {"STL/triangle_with_empty_solid.stl", 0, "contains no vertices"},
+      {"glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb", 0, "holds non-finite coordinates"},
+      {"glTF2/RecursiveNodes/RecursiveNodes.gltf", 0, "the nodes form a cycle"},
+      {"glTF2/TestNoRootNode/NoScene.gltf", 0, "no scene"},
+      {"glTF2/TestNoRootNode/SceneWithoutNodes.gltf", 0, "holds nothing to draw (no meshes in its scene)"},
+      {"glTF2/IndexOutOfRange/AllIndicesOutOfRange.gltf", 0, "has no faces"},
+  };
+  int loaded = 0, refused = 0;
+  for (const Model& m : models) {
+    CAPTURE(m.file);
+    auto mesh = io::importMesh((d / m.file).string());
+    if (*m.why == '\0') {
+      REQUIRE_MESSAGE(mesh.ok(), (mesh.ok() ? "" : mesh.error().headline()));
+      if (m.triangles > 0) CHECK(mesh.value().triangleCount() == m.triangles);
+      else CHECK(mesh.value().triangleCount() > 0);
+      ++loaded;
+    } else {
+      REQUIRE(!mesh.ok());
+      const std::string why = mesh.error().headline();
+      CHECK(why.find(m.why) != std::string::npos);
+      CHECK(why.substr(why.size() - std::min<std::size_t>(why.size(), 16)) != "cannot import: ");
+      ++refused;
+    }
+  }
+  MESSAGE(loaded << " of assimp's test models load, " << refused << " are refused with the reason");
+  // The binary cube whose data begins with 0x0A is the same unit cube as the plain binary one, moved.
+  auto nl = io::importMesh((d / "PLY/cube_binary_starts_with_nl.ply").string());
+  auto plain = io::importMesh((d / "PLY/cube_binary.ply").string());
+  REQUIRE(nl.ok());
+  REQUIRE(plain.ok());
+  auto extent = [](const TriMesh& t, int axis) {
+    float lo = 1e30f, hi = -1e30f;
+    for (std::size_t i = static_cast<std::size_t>(axis); i < t.positions.size(); i += 3) lo = std::min(lo, t.positions[i]), hi = std::max(hi, t.positions[i]);
+    return hi - lo;
+  };
+  for (int a = 0; a < 3; ++a) CHECK(extent(nl.value(), a) == doctest::Approx(extent(plain.value(), a)));
+}
+
+TEST_CASE("a PLY header line that is not PLY's (a Blender export's \"Created by\") is read past") {
+  const fs::path d = test::freshDir("ply_created");
+  std::ofstream(d / "tri.ply") << "ply\nformat ascii 1.0\nCreated by Blender 2.47\nelement vertex 3\nproperty float x\n"
+                                  "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                  "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  auto m = io::importMesh((d / "tri.ply").string());
+  REQUIRE_MESSAGE(m.ok(), (m.ok() ? "" : m.error().headline()));
+  CHECK(m.value().triangleCount() == 1);
+}

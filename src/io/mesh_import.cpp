@@ -71,6 +71,8 @@ class Budget : public Assimp::ProgressHandler {
 // Assimp's own wording, as a sentence about the file.
 std::string explain(std::string what) {
   std::smatch m;
+  // (assimp 5.2 fails a glTF scene without nodes, and some empty files, without a word)
+  if (what.find_first_not_of(" \t\r\n") == std::string::npos) return "holds nothing to draw (no meshes in its scene)";
   if (std::regex_search(what, m, std::regex(R"(aiMesh::mFaces\[(\d+)\] is a (LINE|POINT))")))
     return "face " + m[1].str() + " has " + (m[2] == "LINE" ? "2 corners" : "1 corner") + "; a face needs 3 or more";
   if (std::regex_search(what, m, std::regex(R"(aiMesh::mFaces\[(\d+)\]::mIndices\[(\d+)\] is out of range)")))
@@ -106,10 +108,12 @@ Result<TriMesh> importMesh(const std::string& path, const std::vector<std::strin
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const aiScene* scene = nullptr;
   std::string failure;
+  const unsigned flags = aiProcess_Triangulate | aiProcess_GenSmoothNormals | aiProcess_JoinIdenticalVertices |
+                         aiProcess_PreTransformVertices | aiProcess_SortByPType | aiProcess_ValidateDataStructure;
+  // (a binary PLY that this assimp would misread goes in as the same mesh in ASCII)
+  const std::optional<std::string> ply = plyForAssimp(path);
   try {
-    scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_GenSmoothNormals |
-                                        aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices |
-                                        aiProcess_SortByPType | aiProcess_ValidateDataStructure);
+    scene = ply ? importer.ReadFileFromMemory(ply->data(), ply->size(), flags, "ply") : importer.ReadFile(path, flags);
   } catch (const std::bad_alloc&) {
     failure = "out of memory while importing";
   } catch (const std::exception& e) {

@@ -144,6 +144,7 @@ struct PlyProperty {
   int size = 0;        // bytes of a scalar, or of a list's items
   int count_size = 0;  // a list: bytes of its count; 0: a scalar
   bool corners = false;  // a face's vertex indices: 3 or more (assimp aborts on an empty face)
+  char kind = 'f';       // its values: 'i' signed, 'u' unsigned integers, 'f' floating point
 };
 struct PlyElement {
   std::string name;
@@ -151,6 +152,12 @@ struct PlyElement {
   std::vector<PlyProperty> props;
   std::size_t line = 0;
 };
+
+char plyTypeKind(std::string_view t) {
+  if (t == "float" || t == "float32" || t == "double" || t == "float64") return 'f';
+  if (t == "uchar" || t == "uint8" || t == "ushort" || t == "uint16" || t == "uint" || t == "uint32") return 'u';
+  return 'i';
+}
 
 int plyTypeSize(std::string_view t) {
   if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
@@ -236,9 +243,21 @@ Status walkBinaryPly(const std::string& path, const std::string& body, bool big_
   return {};
 }
 
-Status scanPly(const std::string& path, std::uintmax_t size) {
+// A PLY header: its format (0 ASCII, 1 binary little-endian, 2 big-endian), elements, where the
+// body starts, and its text.
+struct PlyHeader {
+  int format = -1;
+  std::vector<PlyElement> elements;
+  std::size_t body_at = 0;
+  std::uintmax_t body_bytes = 0;
+  std::string text;  // the first MiB of the file
+  std::size_t end = 0;  // where "\nend_header" starts
+};
+
+Status readPlyHeader(const std::string& path, std::uintmax_t size, PlyHeader& out) {
   constexpr std::size_t kMaxHeader = 1u << 20;
-  const std::string text = head(path, kMaxHeader);
+  out.text = head(path, kMaxHeader);
+  const std::string& text = out.text;
   if (text.rfind("ply\n", 0) != 0 && text.rfind("ply\r\n", 0) != 0) return bad(path, "not a PLY file (it must start with the line \"ply\")");
   // The header ends at a line that is exactly "end_header" ("end_headerel" is not one).
   std::size_t end = text.find("\nend_header");
@@ -250,8 +269,11 @@ Status scanPly(const std::string& path, std::uintmax_t size) {
   std::size_t body_at = text.find('\n', end + 1);
   body_at = body_at == std::string::npos ? text.size() : body_at + 1;
   const std::uintmax_t body_bytes = size - body_at;
-  int format = -1;  // 0 ascii, 1 binary little-endian, 2 big-endian
-  std::vector<PlyElement> elements;
+  int& format = out.format;
+  std::vector<PlyElement>& elements = out.elements;
+  out.body_at = body_at;
+  out.body_bytes = body_bytes;
+  out.end = end;
   std::size_t line_no = 1, pos = 0;
   while (pos < end + 1) {
     const std::size_t nl = text.find('\n', pos);
@@ -283,10 +305,15 @@ Status scanPly(const std::string& path, std::uintmax_t size) {
       if (plyTypeSize(type) == 0 || (list && plyTypeSize(w[2]) == 0))
         return Error(ErrorKind::BadInput, at + ": unknown property type \"" + std::string(plyTypeSize(type) == 0 ? type : w[2]) + "\"");
       const bool corners = list && elements.back().name == "face" && (w[4] == "vertex_indices" || w[4] == "vertex_index");
-      elements.back().props.push_back({plyTypeSize(type), list ? plyTypeSize(w[2]) : 0, corners});
-    } else if (w[0] != "end_header") {
-      return Error(ErrorKind::BadInput, at + ": unknown PLY header line \"" + std::string(w[0]).substr(0, 40) + "\"");
+      elements.back().props.push_back({plyTypeSize(type), list ? plyTypeSize(w[2]) : 0, corners, plyTypeKind(type)});
     }
+    // Any other line (a Blender export's "Created by ...") is read past, as PLY readers do: it
+    // declares nothing the body's layout depends on. But a keyword with more after it
+    // ("end_headerel") is refused: assimp takes it for the keyword and reads the body elsewhere.
+    else if (w[0] != "end_header")
+      for (const char* k : {"ply", "format", "element", "property", "comment", "obj_info", "end_header"})
+        if (w[0].rfind(k, 0) == 0)
+          return Error(ErrorKind::BadInput, at + ": unknown PLY header line \"" + std::string(w[0]).substr(0, 40) + "\"");
   }
   if (format < 0) return bad(path, "the PLY header has no format line");
   // Before reading the body: at least a digit and a separator (ASCII) or the fixed bytes (binary)
@@ -301,12 +328,52 @@ Status scanPly(const std::string& path, std::uintmax_t size) {
       return Error(ErrorKind::BadInput, path + ":" + std::to_string(e.line) + ": declares " + thousands(e.count) + " " + e.name +
                                             " elements, more than its " + thousands(body_bytes) + " bytes of data can hold");
   }
+  return {};
+}
+
+std::string plyBody(const std::string& path, const PlyHeader& h) {
   std::ifstream in(path, std::ios::binary);
-  in.seekg(static_cast<std::streamoff>(body_at));
-  std::string body(static_cast<std::size_t>(body_bytes), '\0');
+  in.seekg(static_cast<std::streamoff>(h.body_at));
+  std::string body(static_cast<std::size_t>(h.body_bytes), '\0');
   in.read(body.data(), static_cast<std::streamsize>(body.size()));
-  const std::size_t body_line = static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(body_at), '\n')) + 1;
-  return format == 0 ? walkAsciiPly(path, body, body_line, elements) : walkBinaryPly(path, body, format == 2, elements);
+  return body;
+}
+
+Status scanPly(const std::string& path, std::uintmax_t size) {
+  PlyHeader h;
+  if (Status st = readPlyHeader(path, size, h); !st) return st;
+  const std::string body = plyBody(path, h);
+  const std::size_t body_line =
+      static_cast<std::size_t>(std::count(h.text.begin(), h.text.begin() + static_cast<std::ptrdiff_t>(h.body_at), '\n')) + 1;
+  return h.format == 0 ? walkAsciiPly(path, body, body_line, h.elements) : walkBinaryPly(path, body, h.format == 2, h.elements);
+}
+
+// One binary value of `size` bytes and `kind` at p, as text.
+std::string plyValue(const char* p, int size, char kind, bool big_endian) {
+  unsigned char b[8] = {};
+  for (int i = 0; i < size; ++i) b[i] = static_cast<unsigned char>(p[big_endian ? size - 1 - i : i]);
+  std::uint64_t u = 0;
+  for (int i = 0; i < size; ++i) u |= std::uint64_t{b[i]} << (8 * i);
+  char out[40];
+  if (kind == 'f') {
+    if (size == 4) {
+      float f;
+      const auto v = static_cast<std::uint32_t>(u);
+      std::memcpy(&f, &v, 4);
+      std::snprintf(out, sizeof out, "%.9g", static_cast<double>(f));
+    } else {
+      double d;
+      std::memcpy(&d, &u, 8);
+      std::snprintf(out, sizeof out, "%.17g", d);
+    }
+  } else if (kind == 'u') {
+    std::snprintf(out, sizeof out, "%llu", static_cast<unsigned long long>(u));
+  } else {
+    const int bits = 8 * size;
+    const long long s = bits < 64 && (u >> (bits - 1)) ? static_cast<long long>(u) - (1LL << bits) : static_cast<long long>(u);
+    std::snprintf(out, sizeof out, "%lld", s);
+  }
+  return out;
 }
 
 // STL: binary (an 80-byte header, a triangle count, 50 bytes per triangle) or ASCII ("solid").
@@ -569,6 +636,44 @@ Status scanGltf(const std::string& path, std::uintmax_t size, bool binary, const
 }
 
 }  // namespace
+
+std::optional<std::string> plyForAssimp(const std::string& path) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  PlyHeader h;
+  if (ec || !readPlyHeader(path, size, h).ok() || h.format == 0) return std::nullopt;
+  const std::string body = plyBody(path, h);
+  if (body.empty() || !std::isspace(static_cast<unsigned char>(body[0]))) return std::nullopt;
+  // The header again, as ASCII: every line but the format's kept as it is.
+  std::string out;
+  for (std::size_t pos = 0; pos < h.end + 1;) {
+    const std::size_t nl = h.text.find('\n', pos);
+    const std::string line = h.text.substr(pos, nl - pos);
+    pos = nl + 1;
+    out += words(line).size() > 0 && words(line)[0] == "format" ? std::string("format ascii 1.0") : line;
+    out += '\n';
+  }
+  out += "end_header\n";
+  // The body, one element a line (its layout was checked by the scan).
+  const bool big = h.format == 2;
+  std::size_t at = 0;
+  for (const PlyElement& e : h.elements)
+    for (unsigned long long k = 0; k < e.count; ++k) {
+      for (const PlyProperty& p : e.props) {
+        std::uint64_t items = 1;
+        if (p.count_size > 0) {
+          const std::string n = plyValue(body.data() + at, p.count_size, 'u', big);
+          at += static_cast<std::size_t>(p.count_size);
+          items = std::stoull(n);
+          out += n + ' ';
+        }
+        for (std::uint64_t i = 0; i < items; ++i, at += static_cast<std::size_t>(p.size))
+          out += plyValue(body.data() + at, p.size, p.kind, big) + ' ';
+      }
+      out.back() = '\n';
+    }
+  return out;
+}
 
 Status scanMesh(const std::string& path, const std::vector<std::string>& roots) {
   std::error_code ec;

@@ -6,6 +6,7 @@
 // then allocates is bounded by the caps and by the file's size.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,5 +22,11 @@ inline constexpr std::size_t kMaxMeshBytes = 256u << 20;                 // a me
 // the folders a glTF's buffers may come from. The error (BadInput) names the file, the line or
 // field where that helps, and the limit.
 Status scanMesh(const std::string& path, const std::vector<std::string>& roots);
+
+// A binary PLY whose data begins with a whitespace byte (0x09, 0x0A, 0x0D or 0x20: the first byte
+// of about one binary PLY in sixty) is misread by Debian 12's assimp (5.2), which skips those bytes
+// as the header's and reads the whole body shifted. For such a file (already scanned) this is the
+// same mesh as an ASCII PLY, for assimp to read from memory; nullopt for any other file.
+std::optional<std::string> plyForAssimp(const std::string& path);
 
 }  // namespace reel::io
