@@ -158,13 +158,31 @@ inline void checkHas(const std::string& line, const std::string& part) {
   CHECK(line.find(part) != std::string::npos);
 }
 
-// The state hash of the scene `text` after `frames` frames on `threads` threads (determinism).
+// `threads` threads, every loop of 2 or more elements in parallel (the parallel paths taken even by
+// a test's small scenes), for as long as it lives.
+struct ParallelForTest {
+  explicit ParallelForTest(int threads) : threads_(threadCount()), min_(parallelMin()) {
+    setThreadCount(threads);
+    setParallelMin(2);
+  }
+  ~ParallelForTest() {
+    setThreadCount(threads_);
+    setParallelMin(min_);
+  }
+  ParallelForTest(const ParallelForTest&) = delete;
+  ParallelForTest& operator=(const ParallelForTest&) = delete;
+
+ private:
+  int threads_;
+  std::ptrdiff_t min_;
+};
+
+// The state hash of the scene `text` after `frames` frames on `threads` threads (determinism),
+// through the parallel paths.
 inline std::uint64_t runHash(const std::string& text, int threads, int frames) {
-  const int before = threadCount();
-  setThreadCount(threads);
+  ParallelForTest parallel(threads);
   World w = worldFromText(text);
   run(w, frames);
-  setThreadCount(before);
   return w.stateHash();
 }
 

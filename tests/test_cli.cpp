@@ -85,8 +85,8 @@ TEST_CASE("dumps are byte-identical for 1 and 2 threads") {
     "auto_substeps": true, "objects": [{"type": "sphere", "center": [0, -0.6, 0], "radius": 0.5}],
     "bodies": [{"type": "net", "name": "net", "size": [2, 2], "resolution": [64, 64], "mass": 1,
                 "stiffness": 100, "damping": 0.02, "velocity": [0.3, 0, 0.1], "pinned": ["corner_00"]}]})");
-  REQUIRE(runReel("simulate " + net + " --dump " + a + " --threads 1").code == 0);
-  REQUIRE(runReel("simulate " + net + " --dump " + b + " --threads 2").code == 0);
+  REQUIRE(runReel("simulate " + net + " --dump " + a + " --threads 1", "REEL_PARALLEL_MIN=2 ").code == 0);
+  REQUIRE(runReel("simulate " + net + " --dump " + b + " --threads 2", "REEL_PARALLEL_MIN=2 ").code == 0);
   std::ifstream fa(a), fb(b);
   const std::string sa((std::istreambuf_iterator<char>(fa)), {}), sb((std::istreambuf_iterator<char>(fb)), {});
   CHECK(sa.size() > 1000);

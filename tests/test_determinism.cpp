@@ -1,6 +1,11 @@
 // Same scene, same binary: bit-identical state whatever the thread count (DESIGN 6).
 #include <doctest/doctest.h>
 
+#include <chrono>
+#include <mutex>
+#include <set>
+#include <thread>
+
 #include "core/parallel.h"
 #include "helpers.h"
 #include "sim/world.h"
@@ -39,4 +44,27 @@ TEST_CASE("a different scene gives a different hash (the check can fail)") {
   std::string t = s;
   t.replace(t.find("\"velocity\": [0.1"), 16, "\"velocity\": [0.2");
   CHECK(runHash(s, 2, 3) != runHash(t, 2, 3));
+}
+
+TEST_CASE("the determinism tests' small scenes go through the parallel paths (parallelMin lowered)") {
+  // By default a loop under 2,048 elements runs on one thread, so a 1-vs-2-thread comparison of a
+  // small scene compares the serial path with itself; ParallelForTest lowers the threshold.
+  auto threadsUsed = [](std::ptrdiff_t n) {
+    std::mutex m;
+    std::set<std::thread::id> ids;
+    parallelFor(n, [&](std::ptrdiff_t) {
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+      std::lock_guard lock(m);
+      ids.insert(std::this_thread::get_id());
+    });
+    return ids.size();
+  };
+  {
+    const int before = threadCount();
+    setThreadCount(2);
+    CHECK(threadsUsed(64) == 1);  // below the default threshold: serial
+    setThreadCount(before);
+  }
+  test::ParallelForTest parallel(2);
+  CHECK(threadsUsed(64) == 2);
 }

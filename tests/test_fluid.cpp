@@ -139,11 +139,9 @@ TEST_CASE("the force loop equals a brute-force sum of pair and viscous forces (v
     CHECK(checked > n / 2);  // most particles have several neighbours
     // The same steps on 1 and 2 threads give the same bits.
     auto run = [&](int threads) {
-      const int before = threadCount();
-      setThreadCount(threads);
+      test::ParallelForTest parallel(threads);
       Fluid f = start;
       for (int k = 0; k < 5; ++k) stepFluid(f, {}, none, g, 1e-4, k * 1e-4, (k + 1) * 1e-4);
-      setThreadCount(before);
       return f.x;
     };
     CHECK(run(1) == run(2));
@@ -243,11 +241,9 @@ TEST_CASE("fluid state is bit-identical for 1 and 2 threads (emitter, objects, a
       "blocks": [{"min": [-0.18, 0.02, -0.13], "max": [0.0, 0.12, 0.13], "spacing": 0.02, "jitter": 0.1}],
       "emitters": [{"position": [0.1, 0.3, 0], "direction": [0, -1, 0], "speed": 1, "radius": 0.03, "rate": 400}]}]})";
   auto hashWith = [&](int threads) {
-    const int before = threadCount();
-    setThreadCount(threads);
+    test::ParallelForTest parallel(threads);
     World w = makeWorld(text);
     run(w, 15);
-    setThreadCount(before);
     return std::make_pair(w.stateHash(), fluid(w).size());
   };
   const auto one = hashWith(1), two = hashWith(2);

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <optional>
 #include <string>
@@ -201,6 +202,10 @@ int main(int argc, char** argv) {
   // A file-size limit (`ulimit -f`) would kill reel with SIGXFSZ and no word; ignored, the write
   // fails with EFBIG instead and is reported like a full disk (exit 4, naming the file).
   std::signal(SIGXFSZ, SIG_IGN);
+  // REEL_PARALLEL_MIN=N: loops of N or more elements run in parallel (tests: 1, every parallel
+  // path; the results are the same bits whatever it is).
+  if (const char* pm = std::getenv("REEL_PARALLEL_MIN"))
+    if (const long n = std::strtol(pm, nullptr, 10); n >= 1) reel::setParallelMin(n);
   Cli cli;
   cli.app.require_subcommand(1);
   cli.app.set_version_flag("--version", std::string(REEL_VERSION));

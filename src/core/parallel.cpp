@@ -5,9 +5,17 @@
 #include <sys/auxv.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cstring>
 
 namespace reel {
+
+namespace {
+std::atomic<std::ptrdiff_t> g_parallel_min{kParallelMin};
+}  // namespace
+
+std::ptrdiff_t parallelMin() { return g_parallel_min.load(std::memory_order_relaxed); }
+void setParallelMin(std::ptrdiff_t n) { g_parallel_min.store(n < 1 ? 1 : n, std::memory_order_relaxed); }
 
 int threadCount() { return omp_get_max_threads(); }
 void setThreadCount(int n) { omp_set_num_threads(n); }

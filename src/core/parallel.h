@@ -12,23 +12,28 @@ namespace reel {
 
 // Below this many elements a loop runs on the calling thread: a parallel region costs microseconds.
 inline constexpr std::ptrdiff_t kParallelMin = 2048;
+// The threshold in force: kParallelMin, or what setParallelMin set (the determinism tests lower it
+// to 1 so that their 2-thread runs go through every parallel path; `REEL_PARALLEL_MIN` does the
+// same for the reel binary). Results never depend on it: only which loops open a region.
+std::ptrdiff_t parallelMin();
+void setParallelMin(std::ptrdiff_t n);
 // Reduction chunk size: fixed, independent of the thread count.
 inline constexpr std::ptrdiff_t kReduceChunk = 1024;
 
 template <class F>
 void parallelFor(std::ptrdiff_t n, F&& body) {
-#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+#pragma omp parallel for schedule(static) if (n >= parallelMin())
   for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
 }
 
 // body(i0, i1) over [0, n) cut into blocks of `block` elements, in parallel once n reaches
-// kParallelMin (the threshold is on the elements, not the blocks): for kernels that take a range
+// parallelMin() (the threshold is on the elements, not the blocks): for kernels that take a range
 // (one call per block, not per element).
 // `work`: the elements the threshold is taken on when n counts groups of them (cells of agents).
 template <class F>
 void parallelBlocks(std::ptrdiff_t n, std::ptrdiff_t block, F&& body, std::ptrdiff_t work = -1) {
   const std::ptrdiff_t blocks = (n + block - 1) / block;
-#pragma omp parallel for schedule(static) if ((work < 0 ? n : work) >= kParallelMin)
+#pragma omp parallel for schedule(static) if ((work < 0 ? n : work) >= parallelMin())
   for (std::ptrdiff_t b = 0; b < blocks; ++b) body(b * block, (b + 1) * block < n ? (b + 1) * block : n);
 }
 
@@ -49,7 +54,7 @@ std::array<double, K> deterministicSums(std::ptrdiff_t n, F&& term) {
   };
   if (chunks <= 1) return chunkSum(0);  // (one chunk: no scratch, no threads)
   std::vector<std::array<double, K>> partial(static_cast<std::size_t>(chunks));
-#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+#pragma omp parallel for schedule(static) if (n >= parallelMin())
   for (std::ptrdiff_t c = 0; c < chunks; ++c) partial[static_cast<std::size_t>(c)] = chunkSum(c);
   std::array<double, K> s{};
   for (const auto& q : partial)
@@ -69,7 +74,7 @@ template <class F>
 double deterministicMax(std::ptrdiff_t n, F&& value) {
   const std::ptrdiff_t chunks = (n + kReduceChunk - 1) / kReduceChunk;
   std::vector<double> part(static_cast<std::size_t>(chunks > 0 ? chunks : 1), 0.0);
-#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+#pragma omp parallel for schedule(static) if (n >= parallelMin())
   for (std::ptrdiff_t c = 0; c < chunks; ++c) {
     const std::ptrdiff_t end = (c + 1) * kReduceChunk < n ? (c + 1) * kReduceChunk : n;
     double m = 0.0;

@@ -260,7 +260,7 @@ Status World::advanceFrame() {
       const auto n = static_cast<std::ptrdiff_t>(alone.size());
       parallelBlocks(
           n, 1, [&](std::ptrdiff_t i0, std::ptrdiff_t) { bodies_[alone[static_cast<std::size_t>(i0)]]->step(ctx); },
-          n > 1 ? n * kParallelMin : 0);
+          n > 1 ? n * parallelMin() : 0);
       for (std::size_t k : alone) bodies_[k]->publish(ctx);
       for (std::size_t k : alone)
         if (Status st = bodies_[k]->checkState(ctx); !st) return st;

@@ -139,7 +139,7 @@ void buildNeighbours(Fluid& fl) {
   const std::ptrdiff_t chunks = (n + kChunk - 1) / kChunk;
   fl.chunk_lists.resize(static_cast<std::size_t>(chunks));
   fl.nbr_start.assign(static_cast<std::size_t>(n) + 1, 0);
-#pragma omp parallel for schedule(dynamic, 1) if (n >= kParallelMin)
+#pragma omp parallel for schedule(dynamic, 1) if (n >= parallelMin())
   for (std::ptrdiff_t c = 0; c < chunks; ++c) {
     std::vector<std::int32_t>& out = fl.chunk_lists[static_cast<std::size_t>(c)];
     std::size_t count = 0;
