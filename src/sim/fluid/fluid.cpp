@@ -234,7 +234,7 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
     const Lane4 xi0 = zero + pi.x[0], xi1 = zero + pi.x[1], xi2 = zero + pi.x[2];
     const Lane4 vi0 = zero + pi.v[0], vi1 = zero + pi.v[1], vi2 = zero + pi.v[2];
     Lane4 cut2 = zero + row[0].cutoff2, mass = zero + row[0].mass_product, al = zero + row[0].alpha, be = zero + row[0].beta;
-    Lane4 mu = zero + row[0].visc_mu, icut = zero + row[0].inv_cutoff;
+    Lane4 mu = zero + row[0].visc_mu, icut = zero + row[0].inv_cutoff, cap2 = zero + row[0].cap_r2, capr = zero + row[0].cap_r;
     Lane4 a0 = zero, a1 = zero, a2 = zero;
     const std::uint32_t end = fl.nbr_start[i + 1];
     for (std::uint32_t e = fl.nbr_start[i]; e < end; e += 4) {
@@ -247,7 +247,7 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
         const PairParams* p[4] = {&row[q0.s], &row[q1.s], &row[q2.s], &row[q3.s]};
         for (int k = 0; k < 4; ++k) {
           cut2[k] = p[k]->cutoff2, mass[k] = p[k]->mass_product, al[k] = p[k]->alpha, be[k] = p[k]->beta;
-          mu[k] = p[k]->visc_mu, icut[k] = p[k]->inv_cutoff;
+          mu[k] = p[k]->visc_mu, icut[k] = p[k]->inv_cutoff, cap2[k] = p[k]->cap_r2, capr[k] = p[k]->cap_r;
         }
       }
       const Lane4 d0 = xi0 - Lane4{q0.x[0], q1.x[0], q2.x[0], q3.x[0]};
@@ -256,11 +256,16 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
       const Lane4 r2 = d0 * d0 + d1 * d1 + d2 * d2;
       const Mask4 in = (r2 < cut2) & (r2 > zero);
       const Lane4 safe = in ? r2 : one;
-      // The seed's exponents: m_i m_j (−α/r² + β/r⁴) = m_i m_j (β/r² − α)/r², one division.
-      const Lane4 inv = one / safe;
-      const Lane4 c = in ? mass * (be * inv - al) * inv : zero;
+      // The seed's exponents: m_i m_j (−α/r² + β/r⁴) = m_i m_j (β/r² − α)/r², one division;
+      // inside the cap, at the cap's distance and scaled to keep the force's magnitude there.
+      Lane4 rc2 = safe;
+      for (int k = 0; k < 4; ++k) rc2[k] = safe[k] < cap2[k] ? cap2[k] : safe[k];
+      const Lane4 inv = one / rc2;
+      Lane4 c = in ? mass * (be * inv - al) * inv : zero;
       Lane4 r = safe;
       for (int k = 0; k < 4; ++k) r[k] = std::sqrt(r[k]);
+      for (int k = 0; k < 4; ++k)
+        if (safe[k] < cap2[k]) c[k] *= capr[k] / r[k];
       const Lane4 w = in ? mu * (one - r * icut) : zero;
       a0 += c * d0 + w * (Lane4{q0.v[0], q1.v[0], q2.v[0], q3.v[0]} - vi0);
       a1 += c * d1 + w * (Lane4{q0.v[1], q1.v[1], q2.v[1], q3.v[1]} - vi1);

@@ -35,6 +35,11 @@ struct PairParams {
   double mass_product = 1.0, visc_mu = 0.0, inv_cutoff = 20.0;
   double sigma = 0.0;  // random pair force amplitude √(2·γμ·kT), kT = mean of m·agitation², N·√s
   bool seed_form = false;
+  // Closer than cap_r (half the rest distance) the repulsion stops growing: the force keeps its
+  // magnitude at cap_r. Two particles pressed nearly onto each other (stacked by a contact, a
+  // stream landing on a plane) would otherwise meet β/r^b without bound and fling each other off
+  // at thousands of m/s. Normal liquid never comes this close. 0: no cap (no rest distance).
+  double cap_r = 0.0, cap_r2 = 0.0;
 };
 
 PairParams makePair(double alpha, double beta, double a, double b, double epsilon, double cutoff, double viscosity);

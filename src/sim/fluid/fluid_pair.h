@@ -24,9 +24,12 @@ inline double power(double x, double e, int ie) {
   }
 }
 
-// The scalar c with g_ij = c·(x_i − x_j), at distance r.
+// The scalar c with g_ij = c·(x_i − x_j), at distance r; inside cap_r the force's magnitude stays
+// what it is at cap_r (PairParams::cap_r).
 inline double pairCoefficient(const PairParams& p, double mi, double mj, double r) {
-  return mi * mj * (-p.alpha / power(r + p.epsilon, p.a, p.ia) + p.beta / power(r, p.b, p.ib));
+  const double rc = r < p.cap_r ? p.cap_r : r;
+  const double c = mi * mj * (-p.alpha / power(rc + p.epsilon, p.a, p.ia) + p.beta / power(rc, p.b, p.ib));
+  return r < p.cap_r ? c * (p.cap_r / r) : c;
 }
 
 // The radial force (positive: repulsive) between particles of masses mi, mj at distance r.
