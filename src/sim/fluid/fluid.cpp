@@ -221,6 +221,7 @@ void refreshNeighbours(Fluid& fl, bool force) {
 // ... of the particle's list, in order, and the lanes are added in a fixed order at the end. The
 // cutoff is a mask, not a branch (half the entries of a Verlet list lie in its skin). Compiled for
 // AVX2 and for any x86-64 (core/lanes.h): both give the same bits.
+void generalForces(const Fluid& fl, std::size_t i, const Vec3& gravity, Vec3* out);
 REEL_CLONED
 void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const Vec3& gravity, Vec3* out) {
   const Fluid::Packed* P = fl.packed.data();
@@ -234,7 +235,8 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
     const Lane4 xi0 = zero + pi.x[0], xi1 = zero + pi.x[1], xi2 = zero + pi.x[2];
     const Lane4 vi0 = zero + pi.v[0], vi1 = zero + pi.v[1], vi2 = zero + pi.v[2];
     Lane4 cut2 = zero + row[0].cutoff2, mass = zero + row[0].mass_product, al = zero + row[0].alpha, be = zero + row[0].beta;
-    Lane4 mu = zero + row[0].visc_mu, icut = zero + row[0].inv_cutoff, cap2 = zero + row[0].cap_r2, capr = zero + row[0].cap_r;
+    Lane4 mu = zero + row[0].visc_mu, icut = zero + row[0].inv_cutoff, cap2 = zero + row[0].cap_r2;
+    Mask4 close = {0, 0, 0, 0};
     Lane4 a0 = zero, a1 = zero, a2 = zero;
     const std::uint32_t end = fl.nbr_start[i + 1];
     for (std::uint32_t e = fl.nbr_start[i]; e < end; e += 4) {
@@ -247,7 +249,7 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
         const PairParams* p[4] = {&row[q0.s], &row[q1.s], &row[q2.s], &row[q3.s]};
         for (int k = 0; k < 4; ++k) {
           cut2[k] = p[k]->cutoff2, mass[k] = p[k]->mass_product, al[k] = p[k]->alpha, be[k] = p[k]->beta;
-          mu[k] = p[k]->visc_mu, icut[k] = p[k]->inv_cutoff, cap2[k] = p[k]->cap_r2, capr[k] = p[k]->cap_r;
+          mu[k] = p[k]->visc_mu, icut[k] = p[k]->inv_cutoff, cap2[k] = p[k]->cap_r2;
         }
       }
       const Lane4 d0 = xi0 - Lane4{q0.x[0], q1.x[0], q2.x[0], q3.x[0]};
@@ -258,20 +260,22 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
       const Lane4 safe = in ? r2 : one;
       // The seed's exponents: m_i m_j (−α/r² + β/r⁴) = m_i m_j (β/r² − α)/r², one division;
       // inside the cap, at the cap's distance and scaled to keep the force's magnitude there.
-      Lane4 rc2 = safe;
-      for (int k = 0; k < 4; ++k) rc2[k] = safe[k] < cap2[k] ? cap2[k] : safe[k];
-      const Lane4 inv = one / rc2;
-      Lane4 c = in ? mass * (be * inv - al) * inv : zero;
+      // A pair inside the repulsion's cap is rare (particles pressed together): it is only noted
+      // here, and the particle's forces are then taken again by the general loop, which caps.
+      close |= safe < cap2;
+      const Lane4 inv = one / safe;
+      const Lane4 c = in ? mass * (be * inv - al) * inv : zero;
       Lane4 r = safe;
       for (int k = 0; k < 4; ++k) r[k] = std::sqrt(r[k]);
-      for (int k = 0; k < 4; ++k)
-        if (safe[k] < cap2[k]) c[k] *= capr[k] / r[k];
       const Lane4 w = in ? mu * (one - r * icut) : zero;
       a0 += c * d0 + w * (Lane4{q0.v[0], q1.v[0], q2.v[0], q3.v[0]} - vi0);
       a1 += c * d1 + w * (Lane4{q0.v[1], q1.v[1], q2.v[1], q3.v[1]} - vi1);
       a2 += c * d2 + w * (Lane4{q0.v[2], q1.v[2], q2.v[2], q3.v[2]} - vi2);
     }
-    out[i] = Vec3(pi.m * gravity.x() + hsum(a0), pi.m * gravity.y() + hsum(a1), pi.m * gravity.z() + hsum(a2));
+    if (close[0] | close[1] | close[2] | close[3])
+      generalForces(fl, i, gravity, out);
+    else
+      out[i] = Vec3(pi.m * gravity.x() + hsum(a0), pi.m * gravity.y() + hsum(a1), pi.m * gravity.z() + hsum(a2));
   }
 }
 
