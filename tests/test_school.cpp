@@ -313,7 +313,10 @@ TEST_CASE("bad school scenes: a clear error with the JSON path") {
   has(errors(s + R"("count": 10, "field_of_view_deg": 361})"), "/bodies/0/field_of_view_deg");
   has(errors(s + R"("count": 10, "speed": 0})"), "/bodies/0/speed");
   has(errors(s + R"("count": 0})"), "/bodies/0/count");
-  has(errors(s + R"("count": 10, "max_agents": 5})"), "/bodies/0/count");
+  has(errors(s + R"("count": 10, "max_agents": 5})"), "/bodies/0/count: 10 agents, more than max_agents = 5");
+  // The default stops at a million at most (a school that still steps in about 1.5 s), said as such.
+  has(errors(s + R"("count": 2000000})"), "/bodies/0/count: 2000000 agents, more than max_agents = ");
+  has(errors(s + R"("count": 2000000})"), "(set \"max_agents\" for more, up to 50000000)");
   has(errors(s + R"("agents": []})"), "/bodies/0/agents");
   has(errors(s + R"("count": 10, "noise": -0.1})"), "/bodies/0/noise");
   has(errors(s + R"("count": 10, "predator": {"object": "reef"}})"), "/bodies/0/predator/object");

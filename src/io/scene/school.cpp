@@ -16,7 +16,9 @@ const Range kSpeed{0.0, 1000.0, true, false}, kTime{0.0, 1e4, false, false},
 
 // Agents one machine holds: a tenth of its memory at about 1 KiB per agent (state, grid, drawing
 // data), at most 50 million.
-long long defaultMaxAgents() { return itemsInMemory(0.1, 1024, 10'000, 50'000'000, 1'000'000); }
+// A tenth of memory at about 1 KiB an agent, and at most a million: a school of a million steps
+// in about 1.5 s on two cores (docs/schools.md); a scene that wants more says so (max_agents).
+long long defaultMaxAgents() { return itemsInMemory(0.1, 1024, 10'000, 1'000'000, 1'000'000); }
 
 void readAgents(Obj& o, SchoolDesc& s, long long max_agents) {
   const bool listed = o.has("agents");
@@ -30,7 +32,10 @@ void readAgents(Obj& o, SchoolDesc& s, long long max_agents) {
     });
     if (o.has("count")) o.diag().error(childPath(o.path(), "count"), "give count or agents, not both");
   } else {
-    s.count = o.integer("count", 1ll, max_agents, true).value_or(0);
+    s.count = o.integer("count", 1ll, 50'000'000ll, true).value_or(0);
+    if (s.count > max_agents)
+      o.diag().error(childPath(o.path(), "count"), std::to_string(s.count) + " agents, more than max_agents = " +
+                                                       std::to_string(max_agents) + " (set \"max_agents\" for more, up to 50000000)");
   }
   if (listed && s.agents.empty()) o.diag().error(childPath(o.path(), "agents"), "must list at least one agent");
   if (static_cast<long long>(s.agents.size()) > max_agents)
