@@ -379,67 +379,82 @@ void FishBody::hash(Hasher& h) const {
 }
 
 Result<std::unique_ptr<Body>> buildFishBody(const BodyDesc& desc, const BuildContext& ctx) {
+  auto buildFish = [&](const FishDesc& d) -> Result<std::unique_ptr<Body>> {
+    const int hook = d.hook.empty() ? -1 : objectIndex(*ctx.scene, d.hook);
+    auto body = std::make_unique<FishBody>(desc.name, d, desc.material, ctx.seed, hook, ctx.scene->water.density);
+    body->ignored_.assign(ctx.colliders->size(), 0);  // rigid bodies' colliders come after the scene's objects
+    for (std::size_t c = 0; c < ctx.scene->objects.size(); ++c)
+      body->ignored_[c] = std::find(d.ignore.begin(), d.ignore.end(), ctx.scene->objects[c].name) != d.ignore.end();
+    const FishTemplate& t = body->fishTemplate();
+    // Every fish: the template turned to its heading and moved so its centre of mass is at its
+    // start point.
+    MassSpringDesc ms;
+    const auto n = static_cast<std::size_t>(d.count);
+    for (std::size_t i = 0; i < n; ++i) {
+      auto u = [&](int k) { return uniformAt(ctx.seed, kStartStream, 8 * i + static_cast<std::size_t>(k)); };
+      const bool one = !d.start_given;
+      const Vec3 at = one ? d.position : d.start.point(u(0), u(1), u(2));
+      Vec3 heading = one ? d.heading.value_or(Vec3::UnitZ()) : d.start.heading.value_or(Vec3::Zero());
+      if (heading.squaredNorm() == 0) {
+        const double a = 2 * kPi * u(3);
+        heading = Vec3(std::sin(a), 0.0, std::cos(a));  // random, level
+      }
+      const Vec3 fwd = heading.normalized();
+      body->mind_[i].wander = {fwd.x(), fwd.y(), fwd.z()};
+      body->motor_[i].heading = {fwd.x(), fwd.y(), fwd.z()};
+      const Vec3 left = unitOr(Vec3::UnitY().cross(fwd), Vec3::UnitX());
+      const Vec3 up = fwd.cross(left);
+      Mat3 R;
+      R.col(0) = left, R.col(1) = up, R.col(2) = fwd;
+      const std::size_t base = ms.nodes.size();
+      for (int k = 0; k < kFishNodes; ++k) {
+        NodeDesc nd;
+        nd.position = at + R * (t.x[static_cast<std::size_t>(k)] - t.center_of_mass);
+        nd.mass = t.mass[static_cast<std::size_t>(k)];
+        nd.velocity = Vec3::Zero();
+        ms.nodes.push_back(nd);
+      }
+      for (std::size_t s = 0; s < t.springs.size(); ++s) {
+        SpringDesc sd;
+        sd.a = static_cast<int>(base) + t.springs.a[s];
+        sd.b = static_cast<int>(base) + t.springs.b[s];
+        sd.stiffness = t.springs.stiffness[s];
+        sd.damping = t.springs.damping[s];
+        sd.rest_length = t.springs.rest[s];
+        ms.springs.push_back(sd);
+      }
+    }
+    // Each fish is a piece of its own: its skin meets the other fish, kelp, liquids and sheets.
+    std::vector<std::array<int, 3>> skin;
+    std::vector<int> piece;
+    for (std::size_t i = 0; i < n; ++i) {
+      const int base = static_cast<int>(i) * kFishNodes;
+      for (const auto& tri : t.surface) skin.push_back({base + tri[0], base + tri[1], base + tri[2]});
+      piece.insert(piece.end(), kFishNodes, static_cast<int>(i));
+    }
+    body->setSurface(std::move(skin), std::move(piece));
+    // Fish are neutrally buoyant (their weight and the water's lift cancel): no gravity.
+    SpringNetwork& net = body->network();
+    net.build(ms, Vec3::Zero(), ctx.scene->integrator, d.contactRadius(0));
+    net.tolerance = 1e-4;  // a fish's thrust comes from small differences of its body wave
+    if (std::string e = net.unstableMethod(desc.name, ctx.scene->integrator); !e.empty())
+      return Error(ErrorKind::BadInput, ctx.scene->file + ": " + e);
+    return std::unique_ptr<Body>(std::move(body));
+  };
   const auto& d = desc.as<FishDesc>();
-  const int hook = d.hook.empty() ? -1 : objectIndex(*ctx.scene, d.hook);
-  auto body = std::make_unique<FishBody>(desc.name, d, desc.material, ctx.seed, hook, ctx.scene->water.density);
-  body->ignored_.assign(ctx.colliders->size(), 0);  // rigid bodies' colliders come after the scene's objects
-  for (std::size_t c = 0; c < ctx.scene->objects.size(); ++c)
-    body->ignored_[c] = std::find(d.ignore.begin(), d.ignore.end(), ctx.scene->objects[c].name) != d.ignore.end();
-  const FishTemplate& t = body->fishTemplate();
-  // Every fish: the template turned to its heading and moved so its centre of mass is at its
-  // start point.
-  MassSpringDesc ms;
-  const auto n = static_cast<std::size_t>(d.count);
-  for (std::size_t i = 0; i < n; ++i) {
-    auto u = [&](int k) { return uniformAt(ctx.seed, kStartStream, 8 * i + static_cast<std::size_t>(k)); };
-    const bool one = !d.start_given;
-    const Vec3 at = one ? d.position : d.start.point(u(0), u(1), u(2));
-    Vec3 heading = one ? d.heading.value_or(Vec3::UnitZ()) : d.start.heading.value_or(Vec3::Zero());
-    if (heading.squaredNorm() == 0) {
-      const double a = 2 * kPi * u(3);
-      heading = Vec3(std::sin(a), 0.0, std::cos(a));  // random, level
-    }
-    const Vec3 fwd = heading.normalized();
-    body->mind_[i].wander = {fwd.x(), fwd.y(), fwd.z()};
-    body->motor_[i].heading = {fwd.x(), fwd.y(), fwd.z()};
-    const Vec3 left = unitOr(Vec3::UnitY().cross(fwd), Vec3::UnitX());
-    const Vec3 up = fwd.cross(left);
-    Mat3 R;
-    R.col(0) = left, R.col(1) = up, R.col(2) = fwd;
-    const std::size_t base = ms.nodes.size();
-    for (int k = 0; k < kFishNodes; ++k) {
-      NodeDesc nd;
-      nd.position = at + R * (t.x[static_cast<std::size_t>(k)] - t.center_of_mass);
-      nd.mass = t.mass[static_cast<std::size_t>(k)];
-      nd.velocity = Vec3::Zero();
-      ms.nodes.push_back(nd);
-    }
-    for (std::size_t s = 0; s < t.springs.size(); ++s) {
-      SpringDesc sd;
-      sd.a = static_cast<int>(base) + t.springs.a[s];
-      sd.b = static_cast<int>(base) + t.springs.b[s];
-      sd.stiffness = t.springs.stiffness[s];
-      sd.damping = t.springs.damping[s];
-      sd.rest_length = t.springs.rest[s];
-      ms.springs.push_back(sd);
-    }
+  const SceneDesc& scene = *ctx.scene;
+  // Every fish of a body is the same template: a step one of them cannot take, none can, and the
+  // World refuses the scene. One fish is built to say so (a body of 100,000 took 10 s and 1.1 GB
+  // to be refused); otherwise all of them.
+  if (d.count > 1 && !scene.auto_substeps) {
+    FishDesc one = d;
+    one.count = 1;
+    auto probe = buildFish(one);
+    if (!probe.ok()) return probe;
+    const double h = 1.0 / (static_cast<double>(scene.fps) * scene.substeps);
+    if (h > probe.value()->stepLimit(scene.integrator).bound.h_max) return probe;
   }
-  // Each fish is a piece of its own: its skin meets the other fish, kelp, liquids and sheets.
-  std::vector<std::array<int, 3>> skin;
-  std::vector<int> piece;
-  for (std::size_t i = 0; i < n; ++i) {
-    const int base = static_cast<int>(i) * kFishNodes;
-    for (const auto& tri : t.surface) skin.push_back({base + tri[0], base + tri[1], base + tri[2]});
-    piece.insert(piece.end(), kFishNodes, static_cast<int>(i));
-  }
-  body->setSurface(std::move(skin), std::move(piece));
-  // Fish are neutrally buoyant (their weight and the water's lift cancel): no gravity.
-  SpringNetwork& net = body->network();
-  net.build(ms, Vec3::Zero(), ctx.scene->integrator, d.contactRadius(0));
-  net.tolerance = 1e-4;  // a fish's thrust comes from small differences of its body wave
-  if (std::string e = net.unstableMethod(desc.name, ctx.scene->integrator); !e.empty())
-    return Error(ErrorKind::BadInput, ctx.scene->file + ": " + e);
-  return std::unique_ptr<Body>(std::move(body));
+  return buildFish(d);
 }
 
 }  // namespace reel
