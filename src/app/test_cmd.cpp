@@ -220,7 +220,8 @@ struct Runner {
     if (opt.quiet && o.passed()) return;
     const char* word = o.passed() ? "pass" : o.updated ? "updated" : o.verdict == FrameOutcome::Verdict::Fail ? "FAIL"
                                             : o.verdict == FrameOutcome::Verdict::Missing ? "MISSING" : "ERROR";
-    const bool measured = o.verdict == FrameOutcome::Verdict::Pass || o.verdict == FrameOutcome::Verdict::Fail;
+    const bool measured = (o.verdict == FrameOutcome::Verdict::Pass || o.verdict == FrameOutcome::Verdict::Fail) &&
+                          std::find(o.broken.begin(), o.broken.end(), "size") == o.broken.end();
     std::printf("%-8s %s, frame %d: %s\n", word, o.test_case.c_str(), o.frame,
                 measured ? (metricsLine(o) + (o.message.empty() ? "" : "; " + o.message)).c_str() : o.message.c_str());
   }

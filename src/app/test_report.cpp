@@ -74,7 +74,8 @@ std::string failureCard(const FrameOutcome& o, int id) {
                   "</small></h2>";
   if (!o.message.empty()) s += "<p class=\"msg\">" + escape(o.message) + "</p>";
   if (!o.golden.empty()) s += "<p class=\"golden\">golden: <code>" + escape(o.golden) + "</code></p>";
-  if (o.verdict == FrameOutcome::Verdict::Fail) s += metricsTable(o);
+  if (o.verdict == FrameOutcome::Verdict::Fail && std::find(o.broken.begin(), o.broken.end(), "size") == o.broken.end())
+    s += metricsTable(o);
   const bool both = !o.expected.empty() && !o.actual.empty();
   s += "<div class=\"views\">";
   if (both) {
