@@ -229,9 +229,12 @@ Status writeJunit(const std::string& file, const TestSuite& suite, const std::ve
          "\" file=\"" + escape(o.scene) + "\" time=\"" + num(o.seconds, 6) + "\">";
     switch (o.verdict) {
       case FrameOutcome::Verdict::Pass: break;
-      case FrameOutcome::Verdict::Fail:
-        x += "\n      <failure type=\"differs\" message=\"" + escape(metricsLine(o)) + "\">" + escape(metricsLine(o)) + "</failure>\n    ";
+      case FrameOutcome::Verdict::Fail: {
+        const bool sized = std::find(o.broken.begin(), o.broken.end(), "size") != o.broken.end();
+        const std::string what = sized ? o.message : metricsLine(o);
+        x += "\n      <failure type=\"differs\" message=\"" + escape(what) + "\">" + escape(what) + "</failure>\n    ";
         break;
+      }
       case FrameOutcome::Verdict::Missing:
         x += "\n      <failure type=\"missing\" message=\"" + escape(o.message) + "\"/>\n    ";
         break;
