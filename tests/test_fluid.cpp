@@ -53,8 +53,8 @@ TEST_CASE("the pair force matches g_ij = m_i m_j (x_i - x_j)(-alpha/(r+eps)^a + 
           b = 5;
         }
         const Vec3 d = xi - xj;
-        // Inside half the rest distance the force keeps its magnitude there (PairParams::cap_r).
-        const double rc = std::max(r, 0.5 * restDistance(makePair(alpha, beta, a, b, eps, cut, 0)));
+        // Inside kRepulsionCap of the rest distance the force keeps its magnitude there (PairParams::cap_r).
+        const double rc = std::max(r, kRepulsionCap * restDistance(makePair(alpha, beta, a, b, eps, cut, 0)));
         const Vec3 g = r < cut ? Vec3(sp[s].m * sp[t].m * (d / r) * rc * (-alpha / std::pow(rc + eps, a) + beta / std::pow(rc, b)))
                                : Vec3::Zero();
         // Slots may be re-sorted; particle 0 (i) and 1 (j) by their ids.
@@ -72,14 +72,14 @@ TEST_CASE("the pair force matches g_ij = m_i m_j (x_i - x_j)(-alpha/(r+eps)^a + 
   CHECK(pairForce(p, 1, 1, Vec3(0.9 * r0, 0, 0), Vec3::Zero()).x() > 0);
   CHECK(pairForce(p, 1, 1, Vec3(1.1 * r0, 0, 0), Vec3::Zero()).x() < 0);
   CHECK(pairForce(p, 1, 1, Vec3(0.0501, 0, 0), Vec3::Zero()).isZero());
-  // Closer than half the rest distance the repulsion stops growing: the same force at r0/2, r0/5
-  // and 10⁻⁷ m, still pushing apart.
-  CHECK(p.cap_r == doctest::Approx(0.5 * r0));
-  const double at_cap = pairForce(p, 1, 1, Vec3(0.5 * r0, 0, 0), Vec3::Zero()).x();
+  // Closer than kRepulsionCap·r0 the repulsion stops growing: the same force there, at r0/5 and
+  // at 10⁻⁷ m, still pushing apart.
+  CHECK(p.cap_r == doctest::Approx(kRepulsionCap * r0));
+  const double at_cap = pairForce(p, 1, 1, Vec3(kRepulsionCap * r0, 0, 0), Vec3::Zero()).x();
   CHECK(at_cap > 0);
   CHECK(pairForce(p, 1, 1, Vec3(0.2 * r0, 0, 0), Vec3::Zero()).x() == doctest::Approx(at_cap));
   CHECK(pairForce(p, 1, 1, Vec3(1e-7, 0, 0), Vec3::Zero()).x() == doctest::Approx(at_cap));
-  CHECK(pairForce(p, 1, 1, Vec3(0.6 * r0, 0, 0), Vec3::Zero()).x() < at_cap);
+  CHECK(pairForce(p, 1, 1, Vec3(0.5 * r0, 0, 0), Vec3::Zero()).x() < at_cap);
 }
 
 TEST_CASE("the force loop equals a brute-force sum of pair and viscous forces (vector and scalar paths, threads)") {

@@ -25,6 +25,12 @@
 
 namespace reel {
 
+// Where the pair repulsion stops growing, as a fraction of the rest distance (PairParams::cap_r):
+// close enough that a jammed, viscous pool still holds a heavy ball up ("agitation melts the
+// glass": 0.5 let it sink), far enough that particles stacked by a landing stream are not kicked
+// faster than their fall (0.3 let drops out of the tank).
+inline constexpr double kRepulsionCap = 0.35;
+
 // Parameters of the force between two species (symmetric).
 struct PairParams {
   double alpha = 0, beta = 0, a = 2, b = 4, epsilon = 0, cutoff = 0.05, viscosity = 0;
@@ -35,7 +41,7 @@ struct PairParams {
   double mass_product = 1.0, visc_mu = 0.0, inv_cutoff = 20.0;
   double sigma = 0.0;  // random pair force amplitude √(2·γμ·kT), kT = mean of m·agitation², N·√s
   bool seed_form = false;
-  // Closer than cap_r (half the rest distance) the repulsion stops growing: the force keeps its
+  // Closer than cap_r (kRepulsionCap of the rest distance) the repulsion stops growing: the force keeps its
   // magnitude at cap_r. Two particles pressed nearly onto each other (stacked by a contact, a
   // stream landing on a plane) would otherwise meet β/r^b without bound and fling each other off
   // at thousands of m/s. Normal liquid never comes this close. 0: no cap (no rest distance).

@@ -36,7 +36,7 @@ PairParams makePair(double alpha, double beta, double a, double b, double epsilo
   p.viscosity = viscosity;
   p.ia = wholeExponent(a);
   p.ib = wholeExponent(b);
-  p.cap_r = 0.5 * restDistance(p);
+  p.cap_r = kRepulsionCap * restDistance(p);
   p.cap_r2 = p.cap_r * p.cap_r;
   return p;
 }
