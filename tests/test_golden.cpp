@@ -200,6 +200,14 @@ TEST_CASE("reel test: a changed scene fails (exit 1), an unchanged one passes, a
   CHECK(again.out.find("updated  crate, frame 10") != std::string::npos);
   CHECK(fs::last_write_time(d / "s" / "same_f0010.png") == kept);
   CHECK(test::runReel("test " + suite + " -q").code == 0);
+  // --case: only the case named runs; a name not in the suite is exit 2 with the nearest one.
+  auto one = test::runReel("test " + suite + " --case crate");
+  CHECK(one.code == 0);
+  CHECK(one.out.find("1 frames of 1 cases") != std::string::npos);
+  CHECK(one.out.find("same, frame") == std::string::npos);
+  auto typo = test::runReel("test " + suite + " --case crat");
+  CHECK(typo.code == 2);
+  CHECK(typo.out.find("--case crat: no such case; did you mean \"crate\"?") != std::string::npos);
 }
 
 TEST_CASE("reel test: a missing scene or a frame outside the film is exit 2 before anything renders; outputs exit 4") {

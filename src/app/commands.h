@@ -82,6 +82,7 @@ struct TestOptions {
   int jobs = 1;         // cases at once
   std::string gl;       // OpenGL backend
   bool quiet = false;   // print only what fails, and the summary
+  std::vector<std::string> cases;  // --case NAME (repeatable): only these; empty: all
 };
 int test(const TestOptions& o);
 int info();

@@ -139,6 +139,7 @@ struct Cli {
     test->add_option("-j,--jobs", topt.jobs, "cases rendered at once (default 1)")->check(CLI::Range(1, 64));
     test->add_option("--gl", topt.gl, "OpenGL backend: auto, osmesa or egl (default: $REEL_GL or auto)");
     test->add_flag("-q,--quiet", topt.quiet, "print only the frames that fail, and the summary");
+    test->add_option("--case", topt.cases, "run only this case (repeatable)")->type_name("NAME");
     addThreads(test);
     join = app.add_subcommand("join", "join video chunks of one film into one video without re-encoding");
     join->add_option("chunks", chunks, "the chunks (reel's chunks go in film order whatever order they are given in)")->required();

@@ -17,6 +17,7 @@
 #include "core/format.h"
 #include "core/image_metrics.h"
 #include "io/files.h"
+#include "io/json_reader.h"
 #include "io/png.h"
 #include "io/test_suite.h"
 
@@ -233,7 +234,21 @@ int test(const TestOptions& opt) {
   const auto t0 = Clock::now();
   auto loaded = io::loadTestSuite(opt.suite);
   if (!loaded.ok()) return report(loaded.error());
-  const TestSuite& suite = loaded.value();
+  TestSuite& suite = loaded.value();
+  // --case: only the cases named, each of which must be in the suite.
+  if (!opt.cases.empty()) {
+    std::vector<std::string> names, errors;
+    for (const TestCase& c : suite.cases) names.push_back(c.name);
+    for (const std::string& want : opt.cases)
+      if (std::find(names.begin(), names.end(), want) == names.end()) {
+        const std::string near = io::nearest(want, names);
+        errors.push_back(suite.file + ": --case " + want + ": no such case" + (near.empty() ? "" : "; did you mean \"" + near + "\"?"));
+      }
+    if (!errors.empty()) return report(Error(ErrorKind::BadInput, std::move(errors)));
+    std::erase_if(suite.cases, [&](const TestCase& c) {
+      return std::find(opt.cases.begin(), opt.cases.end(), c.name) == opt.cases.end();
+    });
+  }
   std::vector<Planned> planned;
   if (Status st = plan(suite, planned); !st) return report(st.error());
   for (const std::string& out : {opt.report.empty() ? std::string() : opt.report + "/index.html", opt.junit})
