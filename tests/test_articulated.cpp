@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "capture.h"
 #include "core/figure.h"
 #include "core/math.h"
 #include "app/body_kinds.h"
@@ -407,8 +408,8 @@ TEST_CASE("film step sizes: a figure falling over a box at one step a frame (33 
   };
   const auto [coarse, gap] = fall(1);
   const auto [fine, gap8] = fall(8);
-  CAPTURE(coarse.transpose());
-  CAPTURE(fine.transpose());
+  CAPTURE_BINDING(coarse.transpose());
+  CAPTURE_BINDING(fine.transpose());
   CHECK(gap < 1e-9);
   CHECK(coarse.y() < 0.3);  // it fell
   CHECK((coarse - fine).norm() < 0.1);

@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "capture.h"
 #include "body_scenes.h"
 #include "helpers.h"
 #include "sim/world.h"
@@ -21,7 +22,7 @@ World build(const std::string& text) { return worldFromText(text, "bodies.json")
 
 TEST_CASE("every body kind: a run resumed from a snapshot at frame k equals the uninterrupted run bit for bit") {
   for (const auto& [kind, text] : kScenes) {
-    CAPTURE(kind);
+    CAPTURE_BINDING(kind);
     World whole = build(text);
     const int frames = sceneFromText(text).frameCount() - 1;
     std::vector<std::uint64_t> hashes;
@@ -47,7 +48,7 @@ TEST_CASE("every body kind: a run resumed from a snapshot at frame k equals the 
 
 TEST_CASE("a world goes back to an earlier frame of its own and runs on as before") {
   for (const auto& [kind, text] : kScenes) {
-    CAPTURE(kind);
+    CAPTURE_BINDING(kind);
     World w = build(text);
     const int frames = sceneFromText(text).frameCount() - 1;
     run(w, frames / 3);
@@ -62,7 +63,7 @@ TEST_CASE("a world goes back to an earlier frame of its own and runs on as befor
 
 TEST_CASE("a damaged snapshot is refused and leaves the world as it was; one that reads leaves it runnable") {
   for (const auto& [kind, text] : kScenes) {
-    CAPTURE(kind);
+    CAPTURE_BINDING(kind);
     World w = build(text);
     run(w, 3);
     const WorldSnapshot good = w.snapshot();

@@ -9,6 +9,7 @@
 #include <iterator>
 #include <string>
 
+#include "capture.h"
 #include "app/farm_cache.h"
 #include "app/sim_cache.h"
 #include "body_scenes.h"
@@ -36,7 +37,7 @@ const std::string kLiquid = std::string(REEL_SOURCE_DIR) + "/tests/scenes/fluid_
 
 TEST_CASE("farm cache: every body kind's frames go through the store and come back bit for bit") {
   for (const auto& [kind, text] : test::kScenes) {
-    CAPTURE(kind);
+    CAPTURE_BINDING(kind);
     const fs::path d = test::freshDir("farm_kinds");
     World w = test::worldFromText(text, "kinds.json");
     const int frames = test::sceneFromText(text).frameCount();
@@ -149,7 +150,7 @@ TEST_CASE("farm cache: every body kind draws the same picture from the cache as 
   const fs::path d = test::freshDir("farm_draw");
   const std::string cd = "cd " + d.string() + " && ";
   for (const auto& [kind, text] : test::kScenes) {
-    CAPTURE(kind);
+    CAPTURE_BINDING(kind);
     std::string name = kind;
     std::replace(name.begin(), name.end(), '+', '_');
     writeBytes(d / (name + ".json"), text);
@@ -249,7 +250,7 @@ TEST_CASE("join: MP4 chunks become one film of the right frames and duration, wi
     // A chunk whose render stopped early holds fewer frames than its tag says.
     {
       io::VideoWriter w;
-      const io::ChunkTag t{2, 3, 12, "cloth_tear", tag.film};
+      const io::ChunkTag t{2, 3, 12, "cloth_tear", tag.film, ""};
       REQUIRE(w.open((d / "short.mp4").string(), 160, 120, 10, 18, &t).ok());
       REQUIRE(w.write(Image(160, 120)).ok());
       REQUIRE(w.finish().ok());
@@ -447,7 +448,7 @@ TEST_CASE("farm cache: bad input") {
   for (const auto& [text, why] : std::vector<std::pair<std::string, std::string>>{
            {"{ not json", "it is not JSON"}, {R"({"format": 5})", "a field has the wrong type"},
            {R"({"format": "reel-cache/1"})", "a field reel writes is missing"}}) {
-    CAPTURE(text);
+    CAPTURE_BINDING(text);
     writeBytes(d / "cache" / "cache.json", text);
     r = runReel("render " + kTear + " --cache cache -q -o o.mp4", cd);
     CHECK(r.code == 2);

@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "capture.h"
 #include "core/isosurface.h"
 #include "core/math.h"
 #include "core/parallel.h"
@@ -150,8 +151,8 @@ TEST_CASE("dam break: the surge front against Martin & Moyce (1952), n² = 2") {
     if (T > sim.rbegin()->first || T < 1.5) continue;
     auto hi = sim.lower_bound(T), lo = std::prev(hi);
     const double z = lo->second + (hi->second - lo->second) * (T - lo->first) / (hi->first - lo->first);
-    CAPTURE(T);
-    CAPTURE(Z);
+    CAPTURE_BINDING(T);
+    CAPTURE_BINDING(Z);
     CAPTURE(z);
     // The cohesive particle liquid starts late (about 0.7 in T), then keeps pace (docs/fluids.md).
     CHECK(z > 0.6 * Z);

@@ -10,6 +10,7 @@
 #include <iterator>
 #include <string>
 
+#include "capture.h"
 #include "helpers.h"
 #include "io/files.h"
 #include "io/mesh_import.h"
@@ -282,7 +283,7 @@ TEST_CASE("join names what a chunk that is not a file is: a folder, a FIFO, a de
   for (const auto& [chunk, what] : std::vector<std::pair<std::string, std::string>>{
            {(d / "folder.mp4").string(), "is a folder"}, {(d / "pipe.mp4").string(), "is a FIFO"},
            {"/dev/zero", "is a device"}, {(d / "missing.mp4").string(), "no such file"}}) {
-    CAPTURE(chunk);
+    CAPTURE_BINDING(chunk);
     const auto r = runReel("join " + chunk + " -o " + (d / "out.mp4").string());
     CHECK(r.code == 2);
     CHECK(has(r.out, chunk + ": " + what));

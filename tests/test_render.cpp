@@ -44,8 +44,9 @@ std::string litPlane(double rho, double theta_deg, double ambient) {
 }  // namespace
 
 TEST_CASE("a lit Lambertian plane has the value sRGB(ρ·cos θ + ρ·ambient)") {
-  for (auto [rho, theta, amb] : {std::tuple{0.5, 60.0, 0.0}, std::tuple{0.8, 0.0, 0.0}, std::tuple{0.3, 45.0, 0.2},
-                                 std::tuple{0.6, 100.0, 0.25}}) {
+  for (const auto& row : {std::tuple{0.5, 60.0, 0.0}, std::tuple{0.8, 0.0, 0.0}, std::tuple{0.3, 45.0, 0.2},
+                          std::tuple{0.6, 100.0, 0.25}}) {
+    const double rho = std::get<0>(row), theta = std::get<1>(row), amb = std::get<2>(row);
     CAPTURE(rho);
     CAPTURE(theta);
     const Image img = renderScene(litPlane(rho, theta, amb));
@@ -583,7 +584,8 @@ TEST_CASE("wrap lighting: the diffuse term (n·l + w)/(1 + w), lit past the term
   const int W = 64, H = 48;
   DirectRenderer dr(W, H, 1);
   const double rho = 0.6;
-  for (auto [theta, wrap] : {std::pair{60.0, 0.5}, std::pair{100.0, 0.5}, std::pair{100.0, 0.0}, std::pair{30.0, 0.2}}) {
+  for (const auto& row : {std::pair{60.0, 0.5}, std::pair{100.0, 0.5}, std::pair{100.0, 0.0}, std::pair{30.0, 0.2}}) {
+    const double theta = row.first, wrap = row.second;
     CAPTURE(theta);
     CAPTURE(wrap);
     const double t = theta * kPi / 180.0;

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "capture.h"
 #include "core/brdf.h"
 #include "core/environment.h"
 #include "core/math.h"
@@ -125,12 +126,13 @@ TEST_CASE("furnace: a white rough sphere under a uniform white environment rende
                                   std::pair{std::string(R"("color": [1, 1, 1], "metallic": 1, "roughness": 0.9)"), 1.0},
                                   std::pair{std::string(R"("color": [1, 1, 1], "metallic": 1, "roughness": 0.2)"), 1.0},
                                   std::pair{std::string(R"("color": [0.5, 0.5, 0.5])"), 0.5}}) {
-    CAPTURE(material);
+    CAPTURE_BINDING(material);
+    const double want = albedo;  // (a plain variable: the lambda below cannot capture a binding)
     const Image img = renderScene(sphereScene(material, "", uniformSky(L)));
     double worst = 0;
     int n = 0;
     forSpherePixels(img, [&](int x, int y) {
-      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(linear(img.pixel(x, y)[c]) / (albedo * L) - 1.0));
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(linear(img.pixel(x, y)[c]) / (want * L) - 1.0));
       ++n;
     });
     CHECK(n > 2000);
@@ -181,7 +183,7 @@ TEST_CASE("environment files: Radiance .hdr (run-length and flat), OpenEXR and P
   // 8 x 2: a run-length scanline of (128, 64, 32 | e 129), then a flat one of (128, 128, 128 | 128).
   std::string hdr = "#?RADIANCE\n# reel test\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 8\n";
   hdr += std::string{2, 2, 0, 8};
-  for (unsigned char v : {128, 64, 32, 129}) hdr += std::string{static_cast<char>(128 + 8), static_cast<char>(v)};
+  for (int v : {128, 64, 32, 129}) hdr += std::string{static_cast<char>(128 + 8), static_cast<char>(v)};
   for (int x = 0; x < 8; ++x) hdr += std::string(4, static_cast<char>(128));
   std::ofstream(dir / "a.hdr", std::ios::binary) << hdr;
   auto m = io::readEnvironmentMap((dir / "a.hdr").string());
@@ -217,7 +219,7 @@ TEST_CASE("environment files: Radiance .hdr (run-length and flat), OpenEXR and P
   // OpenEXR: half floats, any value including above 1.
   {
     Imf::Rgba px[2 * 4];
-    for (int k = 0; k < 8; ++k) px[k] = Imf::Rgba(k * 1.5f, 0.25f, 3.0f, 1.0f);
+    for (int k = 0; k < 8; ++k) px[k] = Imf::Rgba(static_cast<float>(k) * 1.5f, 0.25f, 3.0f, 1.0f);
     Imf::RgbaOutputFile out((dir / "e.exr").c_str(), 4, 2, Imf::WRITE_RGBA);
     out.setFrameBuffer(px, 1, 4);
     out.writePixels(2);
@@ -309,7 +311,7 @@ double penumbraWidth(double h, double angle) {
   auto cross = [&](double f) {
     const double level = dark + f * (lit - dark);
     for (std::size_t x = 77; x < 136; ++x)
-      if (p[x - 1] < level && p[x] >= level) return (x - 1) + (level - p[x - 1]) / (p[x] - p[x - 1]);
+      if (p[x - 1] < level && p[x] >= level) return static_cast<double>(x - 1) + (level - p[x - 1]) / (p[x] - p[x - 1]);
     return -1.0;
   };
   const double m_per_px = 2.0 * 8 * std::tan(14.25 * kPi / 360) / 120;

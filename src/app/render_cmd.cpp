@@ -440,7 +440,7 @@ int render(const RenderOptions& opt, const std::string& range, bool no_overwrite
     if (Status st = openFarmCache(opt, s, s.scene.render.shutter_deg > 0.0 ? std::max(0, first - 1) : first, last, farm); !st)
       return report(st.error());
   std::vector<Output> outs;
-  const io::ChunkTag tag{first, last, n, s.scene.name, filmId(opt, s)};
+  const io::ChunkTag tag{first, last, n, s.scene.name, filmId(opt, s), ""};
   if (Status st = openOutputs(opt, s, no_overwrite, tag, outs); !st) return report(st.error());
   const int W = s.scene.render.width, H = s.scene.render.height;
   // Frames that need drawing: all of them unless every output already has a valid PNG.

@@ -254,8 +254,7 @@ int test(const TestOptions& opt) {
   for (const std::string& out : {opt.report.empty() ? std::string() : opt.report + "/index.html", opt.junit})
     if (!out.empty())
       if (Status st = io::checkOutputTarget(out); !st) return report(st.error());
-  Runner run{opt, suite};
-  run.planned = &planned;
+  Runner run{opt, suite, {}, {}, {}, &planned, {}, 0};
   run.results.resize(planned.size());
   run.done.assign(planned.size(), 0);
   // Cases in parallel, each on its own thread with its own GL context, taken in suite order.

@@ -56,7 +56,7 @@ void readDefault(const XmlElement& d, const std::string& parent, Model& m) {
     Attributes& set = kinds[c.name];
     for (const auto& [k, v] : c.attributes) {
       if (k == "class" || k == "name") refuse(c, "a default <" + c.name + "> takes no " + k);
-      auto at = std::find_if(set.begin(), set.end(), [&](const auto& a) { return a.first == k; });
+      auto at = std::find_if(set.begin(), set.end(), [&key = k](const auto& a) { return a.first == key; });
       if (at != set.end()) at->second = v;
       else set.emplace_back(k, v);
     }

@@ -37,8 +37,8 @@ std::string nameOf(const XmlElement& e) {
 LinkShape shapeOf(const XmlElement& link, const Frame& at, const Vec3& c, const MeshLoader& load) {
   const XmlElement* g = child(link, "collision");
   int collisions = 0;
-  for (const XmlElement& c : link.children)
-    if (c.name == "collision" && ++collisions == 2) refuse(c, "a second <collision> in one link is outside the supported subset (one shape per link)");
+  for (const XmlElement& e : link.children)
+    if (e.name == "collision" && ++collisions == 2) refuse(e, "a second <collision> in one link is outside the supported subset (one shape per link)");
   if (!g) g = child(link, "visual");
   LinkShape s;
   if (!g) {  // no geometry: a small sphere at the centre of mass, so it is drawn and met

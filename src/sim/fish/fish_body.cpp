@@ -198,7 +198,7 @@ void FishBody::waterForces(const StepContext& ctx) {
   });
 }
 
-void FishBody::publish(int self) {
+void FishBody::publishSightings(int self) {
   sightings_.resize(count());
   for (std::size_t i = 0; i < count(); ++i) {
     const FishFrame f = frame(i);
@@ -217,7 +217,7 @@ void FishBody::show(SharedView& out, int self) {
 
 void FishBody::step(StepContext& ctx) {
   const int self = self_;
-  if (sightings_.size() != count()) publish(self);
+  if (sightings_.size() != count()) publishSightings(self);
   // Meals the food bodies listed for this body's fish.
   for (const SharedView::Food& food : ctx.shown->food)
     for (const FoodMeal& meal : *food.meals)
@@ -264,7 +264,7 @@ void FishBody::step(StepContext& ctx) {
         net_.state.v[kFishNodes * i] = c.velocityAt(p);
       }
   }
-  publish(self);
+  publishSightings(self);
 }
 
 void FishBody::exportContacts(ContactExport& out) const {
@@ -277,7 +277,7 @@ void FishBody::exportContacts(ContactExport& out) const {
 
 void FishBody::importContacts(std::span<const Vec3> x, std::span<const Vec3> v) {
   SpringNetworkBody::importContacts(x, v);
-  publish(self_);
+  publishSightings(self_);
 }
 
 bool FishBody::view(BodyView& out) const {
@@ -364,7 +364,7 @@ bool FishBody::restoreMore(StateReader& r) {
   motor_ = std::move(motor), mind_ = std::move(mind), command_ = std::move(command), caught_ = std::move(caught);
   hook_point_ = std::move(hook), decisions_ = decisions, meals_ = meals;
   // What the others see is the state just restored, as the last step published it.
-  if (self >= 0) publish(self_);
+  if (self >= 0) publishSightings(self_);
   else sightings_.clear();
   return true;
 }

@@ -58,7 +58,7 @@ class FishBody final : public SpringNetworkBody {
   void addPatterns(double t, FishMotor& m) const;
   void rollBalance();  // from frames_
   void waterForces(const StepContext& ctx);
-  void publish(int self);
+  void publishSightings(int self);
 
   FishDesc desc_;
   FishTemplate tmpl_;
