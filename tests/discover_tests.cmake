@@ -27,7 +27,9 @@ foreach(line IN LISTS lines)
   # A filter that selects no case makes doctest report "test cases: 0" and exit 0: that entry fails.
   string(APPEND script "set_tests_properties([==[${name}]==] PROPERTIES WORKING_DIRECTORY \"${WORKING_DIR}\" FAIL_REGULAR_EXPRESSION [==[test cases: 0 [|]]==]")
   if(TEST_ENV)
-    string(APPEND script " ENVIRONMENT [==[${TEST_ENV}]==]")
+    # Variables come joined by "|" (a ";" would split the command line that passes them).
+    string(REPLACE "|" ";" env "${TEST_ENV}")
+    string(APPEND script " ENVIRONMENT [==[${env}]==]")
   endif()
   string(APPEND script ")\n")
   math(EXPR count "${count} + 1")
