@@ -14,6 +14,8 @@
 #include <string>
 #include <string_view>
 
+#include "io/files.h"
+
 namespace reel::fuzz {
 
 // A folder of this process's own, made once: the only folder an input may make reel read.
@@ -42,15 +44,10 @@ inline std::string put(const std::string& name, std::string_view bytes) {
   return path;
 }
 
-// Reads a whole file ("" when it cannot be read).
+// Reads a whole file of ours (io::readFile; "" when it cannot be read).
 inline std::string slurp(const std::string& path) {
-  std::string out;
-  if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
-    char buf[65536];
-    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;) out.append(buf, n);
-    std::fclose(f);
-  }
-  return out;
+  auto text = io::readFile(path, std::size_t{1} << 30);
+  return text.ok() ? text.value() : std::string();
 }
 
 // The seed folder (REEL_FUZZ_SEEDS), or nullptr when fuzzing.
