@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages reel needs, only those that are missing.
 # Run as root (or with sudo available); does nothing when everything is present.
-# With --fuzz, also what the fuzz preset needs (docs/fuzzing.md).
+# With --fuzz, also what the fuzz, asan and tsan presets need (clang; docs/fuzzing.md).
 set -euo pipefail
 pkgs=(build-essential cmake ninja-build ccache pkg-config
       libeigen3-dev nlohmann-json3-dev libcli11-dev doctest-dev
       libpng-dev libassimp-dev libavcodec-dev libavformat-dev libswscale-dev libavutil-dev libzstd-dev libopenexr-dev
       libgl-dev libegl-dev libosmesa6 libegl1 libegl-mesa0 libgl1-mesa-dri
       chromium-headless-shell)  # the golden report's browser test (docs/testing.md)
-# `install-deps.sh --fuzz`: also clang with libFuzzer and its OpenMP, for the fuzz preset.
+# `install-deps.sh --fuzz`: also clang with libFuzzer and its OpenMP, for the fuzz, asan and tsan presets.
 if [ "${1:-}" = "--fuzz" ]; then pkgs+=(clang libclang-rt-14-dev libomp-14-dev); fi
 missing=()
 for p in "${pkgs[@]}"; do

@@ -12,6 +12,7 @@
 
 #include "capture.h"
 #include "helpers.h"
+#include "sanitizers.h"
 #include "io/files.h"
 #include "io/mesh_import.h"
 #include "io/xml.h"
@@ -389,23 +390,11 @@ TEST_CASE("two writers of one cache file at once each write their own part file;
   CHECK(left == 0);  // no part file left behind
 }
 
-// AddressSanitizer reserves more address space than a ulimit -v test allows.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
 
 TEST_CASE("a scene that needs more memory than the process may use: exit 2, said as such") {
   // 100,000 fish (the documented maximum) under a 500 MB address-space limit (not under
   // AddressSanitizer, whose shadow memory alone is larger).
-  if (kAddressSanitizer) return;
+  if (reel::test::kSanitizerAddressSpace) return;
   const std::filesystem::path d = reel::test::freshDir("oom");
   std::ofstream(d / "fish.json") << R"({ "format": "reel/1", "duration": 1, "fps": 30, "substeps": 10, "auto_substeps": true,
     "bodies": [ { "type": "fish", "name": "f", "count": 100000 } ] })";
@@ -418,7 +407,7 @@ TEST_CASE("a scene that needs more memory than the process may use: exit 2, said
 TEST_CASE("a step too long for a fish is refused before its 100,000 fish are built") {
   // Every fish of a body is the same template: one is built to find the bound. Under a 500 MB
   // address-space limit the whole body could not be built (it took 1.1 GB and 10 s to be refused).
-  if (kAddressSanitizer) return;
+  if (reel::test::kSanitizerAddressSpace) return;
   const std::filesystem::path d = reel::test::freshDir("fish_refused");
   std::ofstream(d / "fish.json") << R"({ "format": "reel/1", "duration": 1, "fps": 30, "substeps": 10,
     "bodies": [ { "type": "fish", "name": "f", "count": 100000 } ] })";

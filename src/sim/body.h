@@ -118,6 +118,14 @@ class Body {
   virtual bool meetsItself() const { return false; }
   virtual void exportContacts(ContactExport& /*out*/) const {}
   virtual void importContacts(std::span<const Vec3> /*x*/, std::span<const Vec3> /*v*/) {}
+  // A body moved by a system (rigid bodies, figures) hands the layer its convex parts
+  // (ContactExport::convex) at their pose and velocity before its system steps; what the layer's
+  // contacts give them comes back through the World's Coupling, which the system reads.
+  virtual bool exportsConvex() const { return false; }
+  virtual void exportConvex(ContactExport& /*out*/) const {}
+  // The colliders that hold some of its points (a cloth's grips): the layer leaves its surface and
+  // those colliders' convex parts apart (what holds it does not also push it away).
+  virtual void heldBy(std::vector<std::size_t>& /*colliders*/) const {}
   // Exit-3 check after a step: a non-finite or runaway state names body, point and quantity.
   virtual Status checkState(const StepContext& ctx) const = 0;
   // The state a dump shows (positions, velocities, springs, species); false: nothing to show.

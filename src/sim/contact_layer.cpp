@@ -5,7 +5,9 @@
 
 #include "core/parallel.h"
 #include "sim/body.h"
+#include "sim/collide.h"
 #include "sim/geometry.h"
+#include "sim/rigid/hull.h"
 
 namespace reel {
 
@@ -19,6 +21,7 @@ void ContactProxies::clear() {
   slot.clear();
   tri.clear();
   edge.clear();
+  convex.clear();
   body.clear();
   first.assign(1, 0);
 }
@@ -59,6 +62,11 @@ void ContactExport::edge(int a, int b) {
   p_.edge.push_back({f + static_cast<std::uint32_t>(a), f + static_cast<std::uint32_t>(b)});
 }
 
+void ContactExport::convex(const ConvexShape& shape, const Pose& pose, const Vec3& v, const Vec3& w, double inv_mass,
+                           const Mat3& inv_inertia, std::size_t collider) {
+  p_.convex.push_back({&shape, pose, v, w, inv_mass, inv_inertia, collider, body_});
+}
+
 bool ContactLayer::skipped(std::size_t a, std::size_t b) const {
   const std::array<std::size_t, 2> k{std::min(a, b), std::max(a, b)};
   return std::binary_search(skip_.begin(), skip_.end(), k);
@@ -70,8 +78,16 @@ void ContactLayer::setup(const std::vector<std::unique_ptr<Body>>& bodies,
   for (const auto& s : skip) skip_.push_back({std::min(s[0], s[1]), std::max(s[0], s[1])});
   std::sort(skip_.begin(), skip_.end());
   exporters_.clear();
-  for (std::size_t k = 0; k < bodies.size(); ++k)
+  convex_exporters_.clear();
+  held_.clear();
+  for (std::size_t k = 0; k < bodies.size(); ++k) {
     if (bodies[k]->exportsContacts()) exporters_.push_back(k);
+    if (bodies[k]->exportsConvex()) convex_exporters_.push_back(k);
+    std::vector<std::size_t> holders;
+    bodies[k]->heldBy(holders);
+    for (std::size_t c : holders) held_.push_back({k, c});
+  }
+  std::sort(held_.begin(), held_.end());
   // A body is worth a search when another exporter (or its own other pieces) may meet it.
   const std::size_t n = exporters_.size();
   touches_points_.assign(n, 0);
@@ -84,6 +100,11 @@ void ContactLayer::setup(const std::vector<std::unique_ptr<Body>>& bodies,
       if (a != b && !skipped(exporters_[a], exporters_[b])) touches_points_[a] = 1;
     active_ = active_ || touches_points_[a];
   }
+  // Convex parts meet the surfaces of every exporter (their own contacts among themselves are
+  // their system's).
+  for (std::size_t c : convex_exporters_)
+    for (std::size_t k : exporters_)
+      if (k != c && !skipped(k, c)) active_ = true;
 }
 
 // Whether points i and j (or a point and a triangle's piece) may touch: other pieces, and bodies
@@ -287,6 +308,52 @@ void ContactLayer::findEdgeEdge() {
   });
 }
 
+// Triangle–convex: each convex part's box (its shape at its pose, grown by the largest radius and
+// its motion over the step) against the boxes of the triangles over the step; a body whose points'
+// box misses it is passed over whole. Pairs in order of part, then triangle.
+void ContactLayer::findTriangleConvex(double h) {
+  tc_pairs_.clear();
+  const std::size_t nc = p_.convex.size(), nt = p_.tri.size(), slots = p_.body.size();
+  if (nc == 0 || nt == 0) return;
+  double rmax = 0.0;
+  for (double r : p_.r) rmax = std::max(rmax, r);
+  // Per exporting body: its points' box over the step, and its triangles (contiguous, in order).
+  std::vector<Vec3> slot_lo(slots, Vec3::Constant(1e300)), slot_hi(slots, Vec3::Constant(-1e300));
+  for (std::size_t i = 0; i < p_.x.size(); ++i) {
+    const std::uint32_t e = p_.slot[i];
+    slot_lo[e] = slot_lo[e].cwiseMin(p_.x[i]).cwiseMin(p_.x0[i]);
+    slot_hi[e] = slot_hi[e].cwiseMax(p_.x[i]).cwiseMax(p_.x0[i]);
+  }
+  std::vector<std::size_t> tri_first(slots + 1, nt);
+  for (std::size_t t = nt; t-- > 0;) tri_first[p_.slot[p_.tri[t][0]]] = t;
+  for (std::size_t e = slots; e-- > 0;) tri_first[e] = std::min(tri_first[e], tri_first[e + 1]);
+  for (std::size_t c = 0; c < nc; ++c) {
+    const ContactProxies::Convex& C = p_.convex[c];
+    Vec3 lo, hi;
+    shapeBounds(*C.shape, C.pose, lo, hi);
+    const double extent = 0.5 * (hi - lo).norm();
+    const Vec3 g = Vec3::Constant(rmax + h * (C.v.norm() + C.w.norm() * extent));
+    lo -= g;
+    hi += g;
+    if (!lo.allFinite() || !hi.allFinite()) continue;  // a runaway its own state check reports
+    for (std::size_t e = 0; e < slots; ++e) {
+      if (p_.body[e] == C.body || skipped(p_.body[e], C.body)) continue;
+      if (std::binary_search(held_.begin(), held_.end(), std::array<std::size_t, 2>{p_.body[e], C.collider})) continue;
+      if ((lo.array() > slot_hi[e].array() + rmax).any() || (hi.array() < slot_lo[e].array() - rmax).any()) continue;
+      for (std::size_t t = tri_first[e]; t < tri_first[e + 1]; ++t) {
+        const auto& T = p_.tri[t];
+        Vec3 tlo = p_.x[T[0]].cwiseMin(p_.x0[T[0]]), thi = p_.x[T[0]].cwiseMax(p_.x0[T[0]]);
+        for (int q = 1; q < 3; ++q) {
+          tlo = tlo.cwiseMin(p_.x[T[q]]).cwiseMin(p_.x0[T[q]]);
+          thi = thi.cwiseMax(p_.x[T[q]]).cwiseMax(p_.x0[T[q]]);
+        }
+        if ((lo.array() > thi.array()).any() || (hi.array() < tlo.array()).any()) continue;
+        tc_pairs_.push_back({static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(c)});
+      }
+    }
+  }
+}
+
 // --- narrow phase ----------------------------------------------------------------------------
 // One contact: point i against points k (the corners of a triangle, or one other point) at the
 // contact's barycentric weights beta, along the unit normal n (from the others towards i), with
@@ -438,7 +505,95 @@ bool ContactLayer::solveEdgeEdge(std::uint32_t e, std::uint32_t f, double h) {
   return true;
 }
 
-void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double h) {
+// A triangle (a plate of its corners' mean radius) against a convex part: the rigid bodies'
+// narrow phase (sim/rigid/contact.h) gives up to four points along one normal. The part keeps the
+// side of the triangle its centre of mass was on at the start of the step (a normal that would
+// push it through is left alone). At each point, sequential impulses: the approach along the
+// normal taken out, with the part's overlap share as a separating speed (20% of it a step, at
+// most 0.5 m/s), and Coulomb friction bounded by μ times the normal impulse; the effective mass
+// counts the part's rotation (1/m + (r×n)·I⁻¹(r×n)) and the triangle's corners by their weights.
+// The triangle's share of the deepest point's overlap is closed at once, by moving its corners
+// (positions only). The triangle's corners take the opposite of the part's impulse: momentum and
+// angular momentum are kept.
+bool ContactLayer::solveTriangleConvex(std::uint32_t t, std::uint32_t ci, double h) {
+  const auto& T = p_.tri[t];
+  ContactProxies::Convex& C = p_.convex[ci];
+  const Vec3 a = p_.x[T[0]], b = p_.x[T[1]], c = p_.x[T[2]];
+  Vec3 nt = (b - a).cross(c - a);
+  const double len = nt.norm();
+  if (!(len > 1e-300)) return false;
+  nt /= len;
+  const Vec3 &a0 = p_.x0[T[0]], &b0 = p_.x0[T[1]], &c0 = p_.x0[T[2]];
+  double side = ((C.pose.p - h * C.v) - a0).dot((b0 - a0).cross(c0 - a0));
+  if (side == 0.0 || !std::isfinite(side)) side = (C.pose.p - a).dot(nt);
+  const Vec3 up = side >= 0.0 ? nt : Vec3(-nt);  // from the triangle toward the part
+  ConvexShape plate;
+  plate.kind = CoreKind::Polytope;
+  plate.radius = (p_.r[T[0]] + p_.r[T[1]] + p_.r[T[2]]) / 3.0;
+  plate.poly = std::make_shared<const ConvexPolytope>(trianglePolytope(a, b, c));
+  Manifold m;
+  if (!collide(plate, Pose{}, *C.shape, C.pose, 0.0, m) || m.count == 0) return false;
+  const Vec3 n = m.normal;  // from the triangle toward the part
+  if (!(n.dot(up) >= 0.0)) return false;
+  int deepest = -1;
+  for (int k = 0; k < m.count; ++k)
+    if (m.points[k].depth > 0.0 && (deepest < 0 || m.points[k].depth > m.points[deepest].depth)) deepest = k;
+  if (deepest < 0) return false;
+  auto triangleMass = [&](const Vec3& beta) {
+    double W = 0.0;
+    for (int q = 0; q < 3; ++q) W += beta[q] * beta[q] * p_.w[T[q]];
+    return W;
+  };
+  auto partMass = [&](const Vec3& r, const Vec3& dir) {
+    const Vec3 rd = r.cross(dir);
+    return C.inv_mass + rd.dot(C.inv_inertia * rd);
+  };
+  // Positions: the triangle's share of the deepest overlap.
+  double lambda_pos = 0.0;  // kg·m
+  {
+    const ContactPoint& q = m.points[deepest];
+    const Vec3 beta = closestOnTriangle(q.position, a, b, c);
+    const double Wt = triangleMass(beta), Wc = partMass(q.position - C.pose.p, n);
+    if (Wt > 0.0 && Wt + Wc > 0.0) {
+      lambda_pos = q.depth / (Wt + Wc);
+      for (int k = 0; k < 3; ++k) p_.x[T[k]] -= (beta[k] * p_.w[T[k]] * lambda_pos) * n;
+    }
+  }
+  // Velocities, point by point.
+  bool any = false;
+  for (int k = 0; k < m.count; ++k) {
+    const ContactPoint& q = m.points[k];
+    if (!(q.depth > 0.0)) continue;
+    const Vec3 beta = closestOnTriangle(q.position, a, b, c);
+    const Vec3 r = q.position - C.pose.p;
+    const double Wt = triangleMass(beta), Wc = partMass(r, n);
+    if (!(Wt + Wc > 0.0)) continue;
+    const Vec3 vt_tri = beta[0] * p_.v[T[0]] + beta[1] * p_.v[T[1]] + beta[2] * p_.v[T[2]];
+    const Vec3 rel = C.v + C.w.cross(r) - vt_tri;
+    const double vn = rel.dot(n);
+    const double push = std::min(0.2 * q.depth * Wc / (Wt + Wc) / h, 0.5);  // m/s
+    const double jn = std::max(0.0, push - vn) / (Wt + Wc);
+    Vec3 J = jn * n;
+    const Vec3 slide = rel - vn * n;
+    const double slide_len = slide.norm();
+    if (slide_len > 1e-12) {
+      const Vec3 dir = slide / slide_len;
+      const double jt = std::min(slide_len / (Wt + partMass(r, dir)), kContactFriction * (jn + lambda_pos / h));
+      J -= jt * dir;
+    }
+    C.v += C.inv_mass * J;
+    C.w += C.inv_inertia * r.cross(J);
+    convex_J_[ci] += J;
+    convex_L_[ci] += r.cross(J);
+    for (int c3 = 0; c3 < 3; ++c3) p_.v[T[c3]] -= (beta[c3] * p_.w[T[c3]]) * J;
+    any = true;
+  }
+  if (any || lambda_pos > 0.0) touched_[p_.slot[T[0]]] = 1;
+  return any || lambda_pos > 0.0;
+}
+
+void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double h,
+                        const std::vector<Collider>& colliders, Coupling& coupling) {
   counts_ = {};
   touched_bodies_.clear();
   if (!active_) return;  // (its time is the World's coupling stage's)
@@ -469,22 +624,46 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
     piece_hi_[q] = piece_hi_[q].cwiseMax(p_.x[i] + g).cwiseMax(p_.x0[i] + g);
     piece_slot_[q] = p_.slot[i];
   }
-  if (!nearPieces(pieces)) return;
+  // The convex parts of the bodies moved by systems.
+  for (std::size_t k : convex_exporters_) {
+    ContactExport out(p_);
+    out.body_ = k;
+    bodies[k]->exportConvex(out);
+  }
+  const bool points_near = nearPieces(pieces);
+  pt_pairs_.clear();
+  pp_pairs_.clear();
+  ee_pairs_.clear();
   // Broad phase, then the pairs in id order, twice (Gauss–Seidel: a point pressed between two
   // surfaces settles between them).
-  findPointTriangle();
-  findPointPoint();
-  findEdgeEdge();
+  if (points_near) {
+    findPointTriangle();
+    findPointPoint();
+    findEdgeEdge();
+  }
+  findTriangleConvex(h);
+  if (!points_near && tc_pairs_.empty()) return;
+  convex_J_.assign(p_.convex.size(), Vec3::Zero());
+  convex_L_.assign(p_.convex.size(), Vec3::Zero());
   for (int pass = 0; pass < 2; ++pass) {
-    std::size_t pt = 0, pp = 0, ee = 0;
+    std::size_t pt = 0, pp = 0, ee = 0, tc = 0;
     for (const auto& q : pt_pairs_) pt += solvePointTriangle(q[0], q[1], h);
     for (const auto& q : pp_pairs_) pp += solvePointPoint(q[0], q[1], h);
     for (const auto& q : ee_pairs_) ee += solveEdgeEdge(q[0], q[1], h);
-    if (pass == 0) counts_ = {pt, pp, ee};
+    for (const auto& q : tc_pairs_) tc += solveTriangleConvex(q[0], q[1], h);
+    if (pass == 0) counts_ = {pt, pp, ee, tc};
   }
   total_.point_triangle += counts_.point_triangle;
   total_.point_point += counts_.point_point;
   total_.edge_edge += counts_.edge_edge;
+  total_.triangle_convex += counts_.triangle_convex;
+  // What the convex parts took, to their colliders' Coupling entries (angular about pose.pos).
+  for (std::size_t c = 0; c < p_.convex.size(); ++c) {
+    const std::size_t k = p_.convex[c].collider;
+    if (convex_J_[c].isZero(0.0) && convex_L_[c].isZero(0.0)) continue;
+    coupling.impulse[k] += convex_J_[c];
+    coupling.angular[k] += convex_L_[c] + (p_.convex[c].pose.p - colliders[k].pose.pos).cross(convex_J_[c]);
+  }
   // Hand back each touched body its points.
   for (std::size_t e = 0; e < exporters_.size(); ++e) {
     if (!touched_[e]) continue;

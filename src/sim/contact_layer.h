@@ -4,7 +4,10 @@
 // and the narrow phase is keyed by the pair of proxy types, never by the pair of kinds:
 //   point–triangle: a node or particle against a sheet, a fish's skin, a lattice's skin;
 //   point–point: two nodes or particles as spheres;
-//   edge–edge: two threads (a rope's segments, a net's threads, a kelp stalk) as capsules.
+//   edge–edge: two threads (a rope's segments, a net's threads, a kelp stalk) as capsules;
+//   triangle–convex: a sheet's, a fish's or a lattice's surface against a convex part (a rigid
+//   body, a figure's link), whose impulse the World's Coupling carries to the system that moves
+//   it, in the same step.
 // Impulses are equal and opposite (a point's against the triangle's corners by the barycentric
 // weights of the contact), applied in the same step, pairs processed in id order: momentum is
 // kept to rounding and a run is bit-identical for any thread count. The layer keeps no state
@@ -22,10 +25,13 @@
 
 #include "core/types.h"
 #include "sim/grid.h"
+#include "sim/rigid/contact.h"
 
 namespace reel {
 
 class Body;
+struct Collider;
+struct Coupling;
 
 // Coulomb friction between two bodies' proxies, the same for every pair.
 inline constexpr double kContactFriction = 0.3;
@@ -41,6 +47,19 @@ struct ContactProxies {
   std::vector<std::uint32_t> slot;        // the exporting body's slot (points)
   std::vector<std::array<std::uint32_t, 3>> tri;  // point ids, counter-clockwise from outside (triangles)
   std::vector<std::array<std::uint32_t, 2>> edge;  // point ids of a thread's ends (edges)
+  // A convex part of a body moved by a system (a rigid body, a figure's link): its shape at its
+  // pose now, its velocity, how it answers an impulse, and the collider whose Coupling entry
+  // takes what it is given. v and w change as the layer's contacts act on it.
+  struct Convex {
+    const ConvexShape* shape = nullptr;
+    Pose pose;                          // the shape's frame; pose.p the centre of mass, m
+    Vec3 v{0, 0, 0}, w{0, 0, 0};        // m/s at the centre of mass; rad/s, world
+    double inv_mass = 0.0;              // 1/kg; 0: moved by keys, nothing moves it
+    Mat3 inv_inertia = Mat3::Zero();    // world, 1/(kg·m²)
+    std::size_t collider = 0;           // its collider (the World's Coupling entry)
+    std::size_t body = 0;               // the exporting body's World index
+  };
+  std::vector<Convex> convex;  // (convex parts)
   // Per exporting body (slots): its World index, first point.
   std::vector<std::size_t> body;
   std::vector<std::uint32_t> first;       // (slots + 1)
@@ -60,12 +79,18 @@ class ContactExport {
   void triangle(int a, int b, int c);
   // A thread between two of its points (a capsule of the points' radius).
   void edge(int a, int b);
+  // A convex part (Body::exportConvex): `shape` in its frame, posed at `pose` (pose.p at the
+  // centre of mass), moving at v (m/s) and w (rad/s), answering an impulse with inv_mass (1/kg)
+  // and inv_inertia (world); the impulses it takes go to `collider`'s Coupling entry.
+  void convex(const ConvexShape& shape, const Pose& pose, const Vec3& v, const Vec3& w, double inv_mass,
+              const Mat3& inv_inertia, std::size_t collider);
 
  private:
   friend class ContactLayer;
   ContactProxies& p_;
   std::uint32_t base_piece_ = 0;  // the body's first piece id
   std::uint32_t pieces_ = 1;      // pieces the body used
+  std::size_t body_ = 0;          // the World index of the body exporting (convex parts)
 };
 
 // Counts of the last step (tests, statistics).
@@ -73,6 +98,7 @@ struct ContactCounts {
   std::size_t point_triangle = 0;  // pairs that touched
   std::size_t point_point = 0;
   std::size_t edge_edge = 0;
+  std::size_t triangle_convex = 0;
 };
 
 class ContactLayer {
@@ -84,8 +110,10 @@ class ContactLayer {
   bool active() const { return active_; }
 
   // Gathers every exporting body's proxies, finds the contacts over the step h, resolves them and
-  // hands each touched body its new positions and velocities (Body::importContacts).
-  void step(const std::vector<std::unique_ptr<Body>>& bodies, double h);
+  // hands each touched body its new positions and velocities (Body::importContacts); what the
+  // convex parts took goes into `coupling` (per collider; angular about the collider's pose.pos).
+  void step(const std::vector<std::unique_ptr<Body>>& bodies, double h, const std::vector<Collider>& colliders,
+            Coupling& coupling);
 
   // The last step's contacts, and every step's since the World was made (not part of a snapshot).
   const ContactCounts& counts() const { return counts_; }
@@ -100,6 +128,8 @@ class ContactLayer {
   void findPointTriangle();
   void findPointPoint();
   void findEdgeEdge();
+  void findTriangleConvex(double h);
+  bool solveTriangleConvex(std::uint32_t t, std::uint32_t c, double h);
   template <class F>
   void gatherPairs(std::size_t n, std::vector<std::array<std::uint32_t, 2>>& pairs, F&& candidates);
   bool solveEdgeEdge(std::uint32_t e, std::uint32_t f, double h);
@@ -112,6 +142,8 @@ class ContactLayer {
 
   bool active_ = false;
   std::vector<std::size_t> exporters_;              // World indices, in order
+  std::vector<std::size_t> convex_exporters_;       // World indices of the bodies with convex parts
+  std::vector<std::array<std::size_t, 2>> held_;    // sorted (World index, collider): a body and what holds it
   std::vector<std::array<std::size_t, 2>> skip_;    // sorted pairs (a < b)
   std::vector<std::uint8_t> touches_points_;  // per exporter: some other body may meet it
   std::vector<std::uint8_t> self_meet_;       // per exporter: its pieces meet each other
@@ -131,6 +163,8 @@ class ContactLayer {
   std::vector<Vec3> lo_, hi_;
   std::vector<std::vector<std::array<std::uint32_t, 2>>> chunk_pairs_;
   std::vector<std::array<std::uint32_t, 2>> pt_pairs_, pp_pairs_, ee_pairs_;  // (point, triangle), (point, point), (edge, edge)
+  std::vector<std::array<std::uint32_t, 2>> tc_pairs_;  // (triangle, convex part)
+  std::vector<Vec3> convex_J_, convex_L_;  // per convex part: impulse this step (N·s), its moment about the centre of mass
   ContactCounts counts_, total_;
 };
 

@@ -246,7 +246,7 @@ Status World::advanceFrame() {
     }
     // The contact layer: every body's points and triangles against every other's.
     if (contacts_.active()) {
-      contacts_.step(bodies_, ctx.h);
+      contacts_.step(bodies_, ctx.h, colliders_, coupling_);
       for (std::size_t k : contacts_.touchedBodies())
         if (Status st = bodies_[k]->checkState(ctx); !st) return st;
     }

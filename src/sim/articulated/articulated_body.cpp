@@ -6,6 +6,7 @@
 
 #include "core/figure.h"
 #include "core/math.h"
+#include "sim/contact_layer.h"
 #include "sim/rigid/hull.h"
 #include "sim/rigid/rigid.h"
 
@@ -224,6 +225,15 @@ Status ArticulatedBody::checkState(const StepContext& ctx) const {
                                             " s: link '" + model_.links[i].name + "' of articulated body '" + name() +
                                             "': angular velocity is not finite or ran away");
   return {};
+}
+
+void ArticulatedBody::exportConvex(ContactExport& out) const {
+  for (std::size_t i = 0; i < model_.links.size(); ++i) {
+    const ArtLink& l = model_.links[i];
+    const Mat3& R = view_k_.R[i];
+    out.convex(l.shape, Pose{R, view_k_.x[i]}, pointVelocity(view_k_.vel[i], view_k_.x[i]), view_k_.vel[i].head<3>(),
+               1.0 / l.mass, R * l.inertia.inverse() * R.transpose(), l.collider);
+  }
 }
 
 bool ArticulatedBody::view(BodyView& out) const {

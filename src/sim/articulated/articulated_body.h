@@ -32,6 +32,10 @@ class ArticulatedBody final : public Body {
   void hash(Hasher& h) const override;
   void draw(DrawList&) const override {}  // the World draws its links' objects at their pose
   void statistics(std::vector<Statistic>& out) const override;
+  // Its links as convex parts of the contact layer, each answering as a free body of its own mass
+  // (its joints not counted, as when another figure meets it).
+  bool exportsConvex() const override { return true; }
+  void exportConvex(ContactExport& out) const override;
 
   const ArticulatedModel& model() const { return model_; }
   const ArticulatedState& state() const { return state_; }

@@ -23,6 +23,10 @@ class ClothBody final : public SpringNetworkBody {
   void statistics(std::vector<Statistic>& out) const override;
   Cloth& cloth() { return cloth_; }
   const Cloth& cloth() const { return cloth_; }
+  void heldBy(std::vector<std::size_t>& colliders) const override {
+    for (int k : cloth_.grip_collider)
+      if (k >= 0) colliders.push_back(static_cast<std::size_t>(k));
+  }
 
  private:
   template <class Self, class Archive>

@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "core/math.h"
+#include "sim/contact_layer.h"
 
 namespace reel {
 
@@ -105,6 +106,14 @@ Status RigidBody::checkState(const StepContext& ctx) const {
                                             " is not finite or ran away");
   }
   return {};
+}
+
+void RigidBody::exportConvex(ContactExport& out) const {
+  for (std::size_t i = 0; i < models_.size(); ++i) {
+    const RigidModel& m = models_[i];
+    const RigidState& s = states_[i];
+    out.convex(m.shape, Pose{s.q.toRotationMatrix(), s.x}, s.v, s.w, m.inv_mass, inverseInertia(m, s), m.collider);
+  }
 }
 
 bool RigidBody::view(BodyView& out) const {

@@ -29,6 +29,9 @@ class RigidBody final : public Body {
   void hash(Hasher& h) const override;
   void draw(DrawList&) const override {}  // the World draws its objects at their pose
   void statistics(std::vector<Statistic>& out) const override;
+  // Its bodies as convex parts of the contact layer (a kinematic one with infinite mass).
+  bool exportsConvex() const override { return true; }
+  void exportConvex(ContactExport& out) const override;
 
   const std::vector<RigidModel>& models() const { return models_; }
   const std::vector<RigidState>& states() const { return states_; }
