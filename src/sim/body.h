@@ -124,7 +124,8 @@ class Body {
   virtual bool exportsConvex() const { return false; }
   virtual void exportConvex(ContactExport& /*out*/) const {}
   // The colliders that hold some of its points (a cloth's grips): the layer leaves its surface and
-  // those colliders' convex parts apart (what holds it does not also push it away).
+  // the convex parts of the body that holds it apart (a cape does not push its wearer; its nodes
+  // still meet the wearer's links as colliders).
   virtual void heldBy(std::vector<std::size_t>& /*colliders*/) const {}
   // Exit-3 check after a step: a non-finite or runaway state names body, point and quantity.
   virtual Status checkState(const StepContext& ctx) const = 0;

@@ -309,49 +309,76 @@ void ContactLayer::findEdgeEdge() {
 }
 
 // Triangle–convex: each convex part's box (its shape at its pose, grown by the largest radius and
-// its motion over the step) against the boxes of the triangles over the step; a body whose points'
-// box misses it is passed over whole. Pairs in order of part, then triangle.
+// its motion over the step) against the boxes of the triangles over the step. Triangles are taken
+// in blocks of 32 in id order (a body's surface is handed over row by row, so a block is a patch
+// of it): a part tries the triangles of the blocks whose box meets its own. Only bodies whose
+// points' box meets some part's box are looked at. Pairs in order of part, then triangle.
+// (Runs after the other searches: it reuses their scratch.)
 void ContactLayer::findTriangleConvex(double h) {
   tc_pairs_.clear();
   const std::size_t nc = p_.convex.size(), nt = p_.tri.size(), slots = p_.body.size();
   if (nc == 0 || nt == 0) return;
   double rmax = 0.0;
   for (double r : p_.r) rmax = std::max(rmax, r);
-  // Per exporting body: its points' box over the step, and its triangles (contiguous, in order).
+  // The parts' boxes.
+  std::vector<Vec3> clo(nc), chi(nc);
+  for (std::size_t c = 0; c < nc; ++c) {
+    const ContactProxies::Convex& C = p_.convex[c];
+    shapeBounds(*C.shape, C.pose, clo[c], chi[c]);
+    const double extent = 0.5 * (chi[c] - clo[c]).norm();
+    const Vec3 g = Vec3::Constant(rmax + h * (C.v.norm() + C.w.norm() * extent));
+    clo[c] -= g;
+    chi[c] += g;
+    if (!clo[c].allFinite() || !chi[c].allFinite()) clo[c] = Vec3::Constant(1e300), chi[c] = Vec3::Constant(-1e300);
+  }
+  // Per exporting body: its points' box over the step; whether a part it may meet is near it.
   std::vector<Vec3> slot_lo(slots, Vec3::Constant(1e300)), slot_hi(slots, Vec3::Constant(-1e300));
   for (std::size_t i = 0; i < p_.x.size(); ++i) {
     const std::uint32_t e = p_.slot[i];
     slot_lo[e] = slot_lo[e].cwiseMin(p_.x[i]).cwiseMin(p_.x0[i]);
     slot_hi[e] = slot_hi[e].cwiseMax(p_.x[i]).cwiseMax(p_.x0[i]);
   }
-  std::vector<std::size_t> tri_first(slots + 1, nt);
-  for (std::size_t t = nt; t-- > 0;) tri_first[p_.slot[p_.tri[t][0]]] = t;
-  for (std::size_t e = slots; e-- > 0;) tri_first[e] = std::min(tri_first[e], tri_first[e + 1]);
-  for (std::size_t c = 0; c < nc; ++c) {
+  auto may = [&](std::size_t e, std::size_t c) {
     const ContactProxies::Convex& C = p_.convex[c];
-    Vec3 lo, hi;
-    shapeBounds(*C.shape, C.pose, lo, hi);
-    const double extent = 0.5 * (hi - lo).norm();
-    const Vec3 g = Vec3::Constant(rmax + h * (C.v.norm() + C.w.norm() * extent));
-    lo -= g;
-    hi += g;
-    if (!lo.allFinite() || !hi.allFinite()) continue;  // a runaway its own state check reports
-    for (std::size_t e = 0; e < slots; ++e) {
-      if (p_.body[e] == C.body || skipped(p_.body[e], C.body)) continue;
-      if (std::binary_search(held_.begin(), held_.end(), std::array<std::size_t, 2>{p_.body[e], C.collider})) continue;
-      if ((lo.array() > slot_hi[e].array() + rmax).any() || (hi.array() < slot_lo[e].array() - rmax).any()) continue;
-      for (std::size_t t = tri_first[e]; t < tri_first[e + 1]; ++t) {
-        const auto& T = p_.tri[t];
-        Vec3 tlo = p_.x[T[0]].cwiseMin(p_.x0[T[0]]), thi = p_.x[T[0]].cwiseMax(p_.x0[T[0]]);
-        for (int q = 1; q < 3; ++q) {
-          tlo = tlo.cwiseMin(p_.x[T[q]]).cwiseMin(p_.x0[T[q]]);
-          thi = thi.cwiseMax(p_.x[T[q]]).cwiseMax(p_.x0[T[q]]);
-        }
-        if ((lo.array() > thi.array()).any() || (hi.array() < tlo.array()).any()) continue;
-        tc_pairs_.push_back({static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(c)});
-      }
+    if (p_.body[e] == C.body || skipped(p_.body[e], C.body)) return false;
+    return !std::binary_search(held_bodies_.begin(), held_bodies_.end(), std::array<std::size_t, 2>{p_.body[e], C.body});
+  };
+  auto overlap = [](const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
+    return (alo.array() <= bhi.array()).all() && (blo.array() <= ahi.array()).all();
+  };
+  std::vector<std::uint8_t> slot_near(slots, 0);
+  bool any = false;
+  for (std::size_t e = 0; e < slots; ++e)
+    for (std::size_t c = 0; c < nc && !slot_near[e]; ++c)
+      if (may(e, c) && overlap(clo[c], chi[c], slot_lo[e] - Vec3::Constant(rmax), slot_hi[e] + Vec3::Constant(rmax)))
+        slot_near[e] = 1, any = true;
+  if (!any) return;
+  // The triangles of those bodies by their boxes over the step, and the blocks' boxes.
+  constexpr std::size_t kBlock = 32;
+  const std::size_t nb = (nt + kBlock - 1) / kBlock;
+  lo_.assign(nt, Vec3::Constant(1e300));
+  hi_.assign(nt, Vec3::Constant(-1e300));
+  std::vector<Vec3> blo(nb, Vec3::Constant(1e300)), bhi(nb, Vec3::Constant(-1e300));
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto& T = p_.tri[t];
+    if (!slot_near[p_.slot[T[0]]]) continue;
+    Vec3 lo = p_.x[T[0]].cwiseMin(p_.x0[T[0]]), hi = p_.x[T[0]].cwiseMax(p_.x0[T[0]]);
+    for (int q = 1; q < 3; ++q) {
+      lo = lo.cwiseMin(p_.x[T[q]]).cwiseMin(p_.x0[T[q]]);
+      hi = hi.cwiseMax(p_.x[T[q]]).cwiseMax(p_.x0[T[q]]);
     }
+    lo_[t] = lo;
+    hi_[t] = hi;
+    blo[t / kBlock] = blo[t / kBlock].cwiseMin(lo);
+    bhi[t / kBlock] = bhi[t / kBlock].cwiseMax(hi);
   }
+  for (std::size_t c = 0; c < nc; ++c)
+    for (std::size_t b = 0; b < nb; ++b) {
+      if (!overlap(clo[c], chi[c], blo[b], bhi[b])) continue;
+      for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t)
+        if (overlap(clo[c], chi[c], lo_[t], hi_[t]) && may(p_.slot[p_.tri[t][0]], c))
+          tc_pairs_.push_back({static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(c)});
+    }
 }
 
 // --- narrow phase ----------------------------------------------------------------------------
@@ -527,10 +554,20 @@ bool ContactLayer::solveTriangleConvex(std::uint32_t t, std::uint32_t ci, double
   double side = ((C.pose.p - h * C.v) - a0).dot((b0 - a0).cross(c0 - a0));
   if (side == 0.0 || !std::isfinite(side)) side = (C.pose.p - a).dot(nt);
   const Vec3 up = side >= 0.0 ? nt : Vec3(-nt);  // from the triangle toward the part
+  // The plate: a flat triangle's polytope (sim/rigid/hull.h), made once and moved to this
+  // triangle (its faces' planes; the loops and edges stay).
+  static thread_local const std::shared_ptr<ConvexPolytope> poly =
+      std::make_shared<ConvexPolytope>(trianglePolytope(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1)));
+  poly->vertices = {a, b, c};
+  const double off = nt.dot(a + b + c) / 3.0;
+  poly->faces[0].normal = nt;
+  poly->faces[0].offset = off;
+  poly->faces[1].normal = -nt;
+  poly->faces[1].offset = -off;
   ConvexShape plate;
   plate.kind = CoreKind::Polytope;
   plate.radius = (p_.r[T[0]] + p_.r[T[1]] + p_.r[T[2]]) / 3.0;
-  plate.poly = std::make_shared<const ConvexPolytope>(trianglePolytope(a, b, c));
+  plate.poly = poly;
   Manifold m;
   if (!collide(plate, Pose{}, *C.shape, C.pose, 0.0, m) || m.count == 0) return false;
   const Vec3 n = m.normal;  // from the triangle toward the part
@@ -630,6 +667,12 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
     out.body_ = k;
     bodies[k]->exportConvex(out);
   }
+  // Which bodies hold which (a cloth gripped by a figure's link is left apart from the figure).
+  held_bodies_.clear();
+  for (const auto& [held, collider] : held_)
+    for (const ContactProxies::Convex& C : p_.convex)
+      if (C.collider == collider) held_bodies_.push_back({held, C.body});
+  std::sort(held_bodies_.begin(), held_bodies_.end());
   const bool points_near = nearPieces(pieces);
   pt_pairs_.clear();
   pp_pairs_.clear();

@@ -144,6 +144,7 @@ class ContactLayer {
   std::vector<std::size_t> exporters_;              // World indices, in order
   std::vector<std::size_t> convex_exporters_;       // World indices of the bodies with convex parts
   std::vector<std::array<std::size_t, 2>> held_;    // sorted (World index, collider): a body and what holds it
+  std::vector<std::array<std::size_t, 2>> held_bodies_;  // sorted (World index, World index): a body and the body holding it
   std::vector<std::array<std::size_t, 2>> skip_;    // sorted pairs (a < b)
   std::vector<std::uint8_t> touches_points_;  // per exporter: some other body may meet it
   std::vector<std::uint8_t> self_meet_;       // per exporter: its pieces meet each other
