@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "helpers.h"
+#include "contact_helpers.h"
 #include "articulated_helpers.h"
 #include "sim/cloth/cloth_body.h"
 #include "sim/face/face_body.h"
@@ -20,25 +21,6 @@ using namespace reel;
 using namespace reel::test;
 
 namespace {
-
-const Body& bodyNamed(const World& w, const std::string& name) {
-  for (const auto& b : w.bodies())
-    if (b->name() == name) return *b;
-  throw std::runtime_error("no body " + name);
-}
-
-// The points of a body as a dump shows them.
-BodyView viewOf(const World& w, const std::string& name) {
-  BodyView v;
-  REQUIRE(bodyNamed(w, name).view(v));
-  return v;
-}
-
-double lowest(const World& w, const std::string& name) {
-  double y = 1e300;
-  for (const Vec3& p : viewOf(w, name).positions) y = std::min(y, p.y());
-  return y;
-}
 
 // Momentum of every point of every body with points (nodes and particles), and the sum of |m·v|
 // (the scale of rounding).

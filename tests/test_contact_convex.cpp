@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "helpers.h"
+#include "contact_helpers.h"
 #include "sim/springs/springs_body.h"
 #include "sim/world.h"
 
@@ -16,22 +17,6 @@ using namespace reel;
 using namespace reel::test;
 
 namespace {
-
-BodyView viewOf(const World& w, const std::string& name) {
-  for (const auto& b : w.bodies())
-    if (b->name() == name) {
-      BodyView v;
-      REQUIRE(b->view(v));
-      return v;
-    }
-  throw std::runtime_error("no body " + name);
-}
-
-double lowest(const World& w, const std::string& name) {
-  double y = 1e300;
-  for (const Vec3& p : viewOf(w, name).positions) y = std::min(y, p.y());
-  return y;
-}
 
 // Momentum of every body (nodes, rigid bodies' and links' centres of mass), and the sum of |m·v|
 // (the scale of rounding).

@@ -1,0 +1,185 @@
+// The contact layer's convex parts (sim/contact_layer.h): the triangle–convex search and handler.
+// Rigid bodies and figures' links meet the triangles of every body's surface here.
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include <Eigen/Geometry>
+
+#include "sim/contact_layer.h"
+#include "sim/geometry.h"
+#include "sim/rigid/hull.h"
+
+namespace reel {
+
+// Triangle–convex: each convex part's box (its shape at its pose, grown by the largest radius and
+// its motion over the step) against the boxes of the triangles over the step. Triangles are taken
+// in blocks of 32 in id order (a body's surface is handed over row by row, so a block is a patch
+// of it): a part tries the triangles of the blocks whose box meets its own. Only bodies whose
+// points' box meets some part's box are looked at. Pairs in order of part, then triangle.
+// (Runs after the other searches: it reuses their scratch.)
+void ContactLayer::findTriangleConvex(double h) {
+  tc_pairs_.clear();
+  const std::size_t nc = p_.convex.size(), nt = p_.tri.size(), slots = p_.body.size();
+  if (nc == 0 || nt == 0) return;
+  double rmax = 0.0;
+  for (double r : p_.r) rmax = std::max(rmax, r);
+  // The parts' boxes.
+  std::vector<Vec3> clo(nc), chi(nc);
+  for (std::size_t c = 0; c < nc; ++c) {
+    const ContactProxies::Convex& C = p_.convex[c];
+    shapeBounds(*C.shape, C.pose, clo[c], chi[c]);
+    const double extent = 0.5 * (chi[c] - clo[c]).norm();
+    const Vec3 g = Vec3::Constant(rmax + h * (C.v.norm() + C.w.norm() * extent));
+    clo[c] -= g;
+    chi[c] += g;
+    if (!clo[c].allFinite() || !chi[c].allFinite()) clo[c] = Vec3::Constant(1e300), chi[c] = Vec3::Constant(-1e300);
+  }
+  // Per exporting body: its points' box over the step; whether a part it may meet is near it.
+  std::vector<Vec3> slot_lo(slots, Vec3::Constant(1e300)), slot_hi(slots, Vec3::Constant(-1e300));
+  for (std::size_t i = 0; i < p_.x.size(); ++i) {
+    const std::uint32_t e = p_.slot[i];
+    slot_lo[e] = slot_lo[e].cwiseMin(p_.x[i]).cwiseMin(p_.x0[i]);
+    slot_hi[e] = slot_hi[e].cwiseMax(p_.x[i]).cwiseMax(p_.x0[i]);
+  }
+  auto may = [&](std::size_t e, std::size_t c) {
+    const ContactProxies::Convex& C = p_.convex[c];
+    if (p_.body[e] == C.body || skipped(p_.body[e], C.body)) return false;
+    return !std::binary_search(held_bodies_.begin(), held_bodies_.end(), std::array<std::size_t, 2>{p_.body[e], C.body});
+  };
+  auto overlap = [](const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
+    return (alo.array() <= bhi.array()).all() && (blo.array() <= ahi.array()).all();
+  };
+  std::vector<std::uint8_t> slot_near(slots, 0);
+  bool any = false;
+  for (std::size_t e = 0; e < slots; ++e)
+    for (std::size_t c = 0; c < nc && !slot_near[e]; ++c)
+      if (may(e, c) && overlap(clo[c], chi[c], slot_lo[e] - Vec3::Constant(rmax), slot_hi[e] + Vec3::Constant(rmax)))
+        slot_near[e] = 1, any = true;
+  if (!any) return;
+  // The triangles of those bodies by their boxes over the step, and the blocks' boxes.
+  constexpr std::size_t kBlock = 32;
+  const std::size_t nb = (nt + kBlock - 1) / kBlock;
+  lo_.assign(nt, Vec3::Constant(1e300));
+  hi_.assign(nt, Vec3::Constant(-1e300));
+  std::vector<Vec3> blo(nb, Vec3::Constant(1e300)), bhi(nb, Vec3::Constant(-1e300));
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto& T = p_.tri[t];
+    if (!slot_near[p_.slot[T[0]]]) continue;
+    Vec3 lo = p_.x[T[0]].cwiseMin(p_.x0[T[0]]), hi = p_.x[T[0]].cwiseMax(p_.x0[T[0]]);
+    for (int q = 1; q < 3; ++q) {
+      lo = lo.cwiseMin(p_.x[T[q]]).cwiseMin(p_.x0[T[q]]);
+      hi = hi.cwiseMax(p_.x[T[q]]).cwiseMax(p_.x0[T[q]]);
+    }
+    lo_[t] = lo;
+    hi_[t] = hi;
+    blo[t / kBlock] = blo[t / kBlock].cwiseMin(lo);
+    bhi[t / kBlock] = bhi[t / kBlock].cwiseMax(hi);
+  }
+  for (std::size_t c = 0; c < nc; ++c)
+    for (std::size_t b = 0; b < nb; ++b) {
+      if (!overlap(clo[c], chi[c], blo[b], bhi[b])) continue;
+      for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t)
+        if (overlap(clo[c], chi[c], lo_[t], hi_[t]) && may(p_.slot[p_.tri[t][0]], c))
+          tc_pairs_.push_back({static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(c)});
+    }
+}
+
+// A triangle (a plate of its corners' mean radius) against a convex part: the rigid bodies'
+// narrow phase (sim/rigid/contact.h) gives up to four points along one normal. The part keeps the
+// side of the triangle its centre of mass was on at the start of the step (a normal that would
+// push it through is left alone). At each point, sequential impulses: the approach along the
+// normal taken out, with the part's overlap share as a separating speed (20% of it a step, at
+// most 0.5 m/s), and Coulomb friction bounded by μ times the normal impulse; the effective mass
+// counts the part's rotation (1/m + (r×n)·I⁻¹(r×n)) and the triangle's corners by their weights.
+// The triangle's share of the deepest point's overlap is closed at once, by moving its corners
+// (positions only). The triangle's corners take the opposite of the part's impulse: momentum and
+// angular momentum are kept.
+bool ContactLayer::solveTriangleConvex(std::uint32_t t, std::uint32_t ci, double h) {
+  const auto& T = p_.tri[t];
+  ContactProxies::Convex& C = p_.convex[ci];
+  const Vec3 a = p_.x[T[0]], b = p_.x[T[1]], c = p_.x[T[2]];
+  Vec3 nt = (b - a).cross(c - a);
+  const double len = nt.norm();
+  if (!(len > 1e-300)) return false;
+  nt /= len;
+  const Vec3 &a0 = p_.x0[T[0]], &b0 = p_.x0[T[1]], &c0 = p_.x0[T[2]];
+  double side = ((C.pose.p - h * C.v) - a0).dot((b0 - a0).cross(c0 - a0));
+  if (side == 0.0 || !std::isfinite(side)) side = (C.pose.p - a).dot(nt);
+  const Vec3 up = side >= 0.0 ? nt : Vec3(-nt);  // from the triangle toward the part
+  // The plate: a flat triangle's polytope (sim/rigid/hull.h), made once and moved to this
+  // triangle (its faces' planes; the loops and edges stay).
+  static thread_local const std::shared_ptr<ConvexPolytope> poly =
+      std::make_shared<ConvexPolytope>(trianglePolytope(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1)));
+  poly->vertices = {a, b, c};
+  const double off = nt.dot(a + b + c) / 3.0;
+  poly->faces[0].normal = nt;
+  poly->faces[0].offset = off;
+  poly->faces[1].normal = -nt;
+  poly->faces[1].offset = -off;
+  ConvexShape plate;
+  plate.kind = CoreKind::Polytope;
+  plate.radius = (p_.r[T[0]] + p_.r[T[1]] + p_.r[T[2]]) / 3.0;
+  plate.poly = poly;
+  Manifold m;
+  if (!collide(plate, Pose{}, *C.shape, C.pose, 0.0, m) || m.count == 0) return false;
+  const Vec3 n = m.normal;  // from the triangle toward the part
+  if (!(n.dot(up) >= 0.0)) return false;
+  int deepest = -1;
+  for (int k = 0; k < m.count; ++k)
+    if (m.points[k].depth > 0.0 && (deepest < 0 || m.points[k].depth > m.points[deepest].depth)) deepest = k;
+  if (deepest < 0) return false;
+  auto triangleMass = [&](const Vec3& beta) {
+    double W = 0.0;
+    for (int q = 0; q < 3; ++q) W += beta[q] * beta[q] * p_.w[T[q]];
+    return W;
+  };
+  auto partMass = [&](const Vec3& r, const Vec3& dir) {
+    const Vec3 rd = r.cross(dir);
+    return C.inv_mass + rd.dot(C.inv_inertia * rd);
+  };
+  // Positions: the triangle's share of the deepest overlap.
+  double lambda_pos = 0.0;  // kg·m
+  {
+    const ContactPoint& q = m.points[deepest];
+    const Vec3 beta = closestOnTriangle(q.position, a, b, c);
+    const double Wt = triangleMass(beta), Wc = partMass(q.position - C.pose.p, n);
+    if (Wt > 0.0 && Wt + Wc > 0.0) {
+      lambda_pos = q.depth / (Wt + Wc);
+      for (int k = 0; k < 3; ++k) p_.x[T[k]] -= (beta[k] * p_.w[T[k]] * lambda_pos) * n;
+    }
+  }
+  // Velocities, point by point.
+  bool any = false;
+  for (int k = 0; k < m.count; ++k) {
+    const ContactPoint& q = m.points[k];
+    if (!(q.depth > 0.0)) continue;
+    const Vec3 beta = closestOnTriangle(q.position, a, b, c);
+    const Vec3 r = q.position - C.pose.p;
+    const double Wt = triangleMass(beta), Wc = partMass(r, n);
+    if (!(Wt + Wc > 0.0)) continue;
+    const Vec3 vt_tri = beta[0] * p_.v[T[0]] + beta[1] * p_.v[T[1]] + beta[2] * p_.v[T[2]];
+    const Vec3 rel = C.v + C.w.cross(r) - vt_tri;
+    const double vn = rel.dot(n);
+    const double push = std::min(0.2 * q.depth * Wc / (Wt + Wc) / h, 0.5);  // m/s
+    const double jn = std::max(0.0, push - vn) / (Wt + Wc);
+    Vec3 J = jn * n;
+    const Vec3 slide = rel - vn * n;
+    const double slide_len = slide.norm();
+    if (slide_len > 1e-12) {
+      const Vec3 dir = slide / slide_len;
+      const double jt = std::min(slide_len / (Wt + partMass(r, dir)), kContactFriction * (jn + lambda_pos / h));
+      J -= jt * dir;
+    }
+    C.v += C.inv_mass * J;
+    C.w += C.inv_inertia * r.cross(J);
+    convex_J_[ci] += J;
+    convex_L_[ci] += r.cross(J);
+    for (int c3 = 0; c3 < 3; ++c3) p_.v[T[c3]] -= (beta[c3] * p_.w[T[c3]]) * J;
+    any = true;
+  }
+  if (any || lambda_pos > 0.0) touched_[p_.slot[T[0]]] = 1;
+  return any || lambda_pos > 0.0;
+}
+
+}  // namespace reel
