@@ -295,6 +295,17 @@ TEST_CASE("join: MP4 chunks become one film of the right frames and duration, wi
     r = runReel("join c0.mp4 plain.mp4 -o mixed.mp4", cd);
     CHECK(r.code == 2);
     CHECK(has(r.out, "plain.mp4: not a chunk reel rendered"));
+    // A GIF named .mp4: refused when it is opened, before any of libav's other decoders sees it.
+    {
+      io::VideoWriter w;
+      REQUIRE(w.open((d / "anim.gif").string(), 160, 120, 10).ok());
+      REQUIRE(w.write(Image(160, 120)).ok());
+      REQUIRE(w.finish().ok());
+      fs::copy_file(d / "anim.gif", d / "anim.mp4");
+    }
+    r = runReel("join c0.mp4 anim.mp4 -o mixed.mp4", cd);
+    CHECK(r.code == 2);
+    CHECK(has(r.out, "anim.mp4: not a video file reel joins (MP4 of H.264 or WebM of VP9)"));
     std::ofstream(d / "not.mp4") << "not a video";
     r = runReel("join c0.mp4 not.mp4 -o bad.mp4", cd);
     CHECK(r.code == 2);
