@@ -248,13 +248,17 @@ TEST_CASE("join: MP4 chunks become one film of the right frames and duration, wi
     REQUIRE_FALSE(st.ok());
     CHECK(st.error().kind == ErrorKind::BadInput);
     CHECK(has(st.error().headline(), "size 96x64, unlike 160x120"));
-    // A chunk whose render stopped early holds fewer frames than its tag says.
-    {
+    // A video of one black 160x120 frame at 10 frames/s, tagged or not.
+    auto oneFrame = [&](const char* name, const io::ChunkTag* t = nullptr) {
       io::VideoWriter w;
-      const io::ChunkTag t{2, 3, 12, "cloth_tear", tag.film, ""};
-      REQUIRE(w.open((d / "short.mp4").string(), 160, 120, 10, 18, &t).ok());
+      REQUIRE(w.open((d / name).string(), 160, 120, 10, 18, t).ok());
       REQUIRE(w.write(Image(160, 120)).ok());
       REQUIRE(w.finish().ok());
+    };
+    // A chunk whose render stopped early holds fewer frames than its tag says.
+    {
+      const io::ChunkTag t{2, 3, 12, "cloth_tear", tag.film, ""};
+      oneFrame("short.mp4", &t);
     }
     r = runReel("join c0.mp4 short.mp4 c2.mp4 c3.mp4 c4.mp4 -o early.mp4", cd);
     CHECK(r.code == 2);
@@ -286,23 +290,13 @@ TEST_CASE("join: MP4 chunks become one film of the right frames and duration, wi
       for (const char* f : {"moved.mp4", "long.mp4", "cut_film.mp4"}) CHECK_FALSE(fs::exists(d / f));
     }
     // A video reel did not tag among reel's chunks.
-    {
-      io::VideoWriter w;
-      REQUIRE(w.open((d / "plain.mp4").string(), 160, 120, 10).ok());
-      REQUIRE(w.write(Image(160, 120)).ok());
-      REQUIRE(w.finish().ok());
-    }
+    oneFrame("plain.mp4");
     r = runReel("join c0.mp4 plain.mp4 -o mixed.mp4", cd);
     CHECK(r.code == 2);
     CHECK(has(r.out, "plain.mp4: not a chunk reel rendered"));
     // A GIF named .mp4: refused when it is opened, before any of libav's other decoders sees it.
-    {
-      io::VideoWriter w;
-      REQUIRE(w.open((d / "anim.gif").string(), 160, 120, 10).ok());
-      REQUIRE(w.write(Image(160, 120)).ok());
-      REQUIRE(w.finish().ok());
-      fs::copy_file(d / "anim.gif", d / "anim.mp4");
-    }
+    oneFrame("anim.gif");
+    fs::copy_file(d / "anim.gif", d / "anim.mp4");
     r = runReel("join c0.mp4 anim.mp4 -o mixed.mp4", cd);
     CHECK(r.code == 2);
     CHECK(has(r.out, "anim.mp4: not a video file reel joins (MP4 of H.264 or WebM of VP9)"));
