@@ -5,6 +5,7 @@
 #include <unistd.h>
 #include <zstd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -103,7 +104,8 @@ Bytes packFrame(const Bytes& raw, void* cctx) {
   Bytes shuffled(n);
   for (std::size_t p = 0; p < kPlanes; ++p)
     for (std::size_t i = 0; i < words; ++i) shuffled[p * words + i] = raw[i * kPlanes + p];
-  std::memcpy(shuffled.data() + words * kPlanes, raw.data() + words * kPlanes, n - words * kPlanes);
+  std::copy(raw.begin() + static_cast<std::ptrdiff_t>(words * kPlanes), raw.end(),
+            shuffled.begin() + static_cast<std::ptrdiff_t>(words * kPlanes));  // (an empty frame: nothing, no null pointer)
   Bytes out(ZSTD_compressBound(n));
   const std::size_t got = cctx ? ZSTD_compressCCtx(static_cast<ZSTD_CCtx*>(cctx), out.data(), out.size(),
                                                    shuffled.data(), n, kLevel)
@@ -122,7 +124,8 @@ Result<Bytes> unpackFrame(const std::byte* packed, std::size_t n, std::size_t ra
   Bytes raw(raw_size);
   for (std::size_t p = 0; p < kPlanes; ++p)
     for (std::size_t i = 0; i < words; ++i) raw[i * kPlanes + p] = shuffled[p * words + i];
-  std::memcpy(raw.data() + words * kPlanes, shuffled.data() + words * kPlanes, raw_size - words * kPlanes);
+  std::copy(shuffled.begin() + static_cast<std::ptrdiff_t>(words * kPlanes), shuffled.end(),
+            raw.begin() + static_cast<std::ptrdiff_t>(words * kPlanes));
   return raw;
 }
 
