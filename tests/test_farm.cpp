@@ -16,6 +16,7 @@
 #include "helpers.h"
 #include "sanitizers.h"
 #include "io/frame_store.h"
+#include "io/png.h"
 #include "io/video.h"
 #include "core/image.h"
 #include "sim/world.h"
@@ -210,6 +211,12 @@ TEST_CASE("join: MP4 chunks become one film of the right frames and duration, wi
   const Run info = runReel("info --video film.mp4", cd);
   CHECK(info.code == 0);
   CHECK(has(info.out, "\"frames\":12"));
+  // It opens only what reel writes: a PNG named .mp4 (which libav's image demuxer would read as a
+  // one-frame video) is refused before any other demuxer or decoder sees it.
+  REQUIRE(io::writePng((d / "picture.mp4").string(), Image(32, 24)).ok());
+  const Run pic = runReel("info --video picture.mp4", cd);
+  CHECK(pic.code == 2);
+  CHECK(has(pic.out, "not a video file reel reads (MP4 of H.264, WebM of VP9 or GIF)"));
 
   SUBCASE("WebM chunks join the same way") {
     for (int i = 0; i < 2; ++i)

@@ -3,6 +3,8 @@
 
 extern "C" {
 #include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/dict.h>
 #include <libavutil/log.h>
 }
 
@@ -41,6 +43,17 @@ std::string averr(int e) {
   return buf;
 }
 
+// The demuxers of MP4 (libav names the family mov,mp4,…), WebM (matroska,webm) and GIF; the
+// decoders of the encoders video.cpp chooses (libx264 writes h264, libvpx-vp9 vp9, gif gif): a
+// writer that gains a codec adds its decoder here.
+int openReelVideo(AVFormatContext** fmt, const std::string& path, bool gif) {
+  AVDictionary* opts = nullptr;
+  av_dict_set(&opts, "format_whitelist", gif ? "mov,mp4,m4a,3gp,3g2,mj2,matroska,webm,gif" : "mov,mp4,m4a,3gp,3g2,mj2,matroska,webm", 0);
+  av_dict_set(&opts, "codec_whitelist", gif ? "h264,vp9,libvpx-vp9,gif" : "h264,vp9,libvpx-vp9", 0);
+  const int r = avformat_open_input(fmt, path.c_str(), nullptr, &opts);
+  av_dict_free(&opts);
+  return r;
+}
 
 std::string lastLibavError() { return g_libav_last; }
 void clearLibavError() { g_libav_last.clear(); }

@@ -6,6 +6,7 @@
 
 #include "core/hash.h"
 
+struct AVFormatContext;
 struct AVPacket;
 
 namespace reel::io {
@@ -19,6 +20,12 @@ std::string lastLibavError();
 void clearLibavError();
 // A libav error code in words.
 std::string averr(int e);
+// Opens a video for reading (avformat_open_input) with only the demuxers and decoders of what
+// reel writes (MP4 of H.264, WebM of VP9, and with `gif` GIF): libav's others never see a file a
+// user hands reel (docs/fuzzing.md, fuzz_join's finding). Returns libav's code.
+int openReelVideo(AVFormatContext** fmt, const std::string& path, bool gif);
+inline constexpr const char* kReelVideos = "MP4 of H.264 or WebM of VP9";  // what join reads
+inline constexpr const char* kReelVideosGif = "MP4 of H.264, WebM of VP9 or GIF";  // what info --video reads
 // An encoded frame into a chunk's check (ChunkTag::check): H.264 by its NAL units' contents
 // (`annex_b`: after start codes, as the encoder writes them; else after 4-byte lengths, as MP4
 // stores them), other codecs' frames as they are.

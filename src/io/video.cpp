@@ -251,10 +251,10 @@ namespace {
 // Opens, decodes every frame, and hands each to `sink` as RGB24.
 template <class Sink>
 Status decodeAll(const std::string& path, VideoInfo& info, Sink&& sink) {
-  AVFormatContext* fmt = nullptr;
-  int r = avformat_open_input(&fmt, path.c_str(), nullptr, nullptr);
-  if (r < 0) return Error(ErrorKind::BadInput, path + ": cannot open: " + averr(r));
   silenceLibav();
+  AVFormatContext* fmt = nullptr;
+  int r = openReelVideo(&fmt, path, true);
+  if (r < 0) return Error(ErrorKind::BadInput, path + ": not a video file reel reads (" + kReelVideosGif + "): " + averr(r));
   struct Guard {
     AVFormatContext** f;
     AVCodecContext* c = nullptr;

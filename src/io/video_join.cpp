@@ -68,15 +68,8 @@ Status openJoinInput(const std::string& path, JoinInput& in) {
     return Error(ErrorKind::BadInput, path + ": is " + kindInWords(st) + ", not a video file (join reads MP4 or WebM files)");
   silenceLibav();
   clearLibavError();
-  // Only the demuxers and decoders of what reel writes see the file (MP4 of H.264, WebM of VP9):
-  // libav's others are not exposed to untrusted input (docs/fuzzing.md, fuzz_join's finding).
-  AVDictionary* opts = nullptr;
-  av_dict_set(&opts, "format_whitelist", "mov,mp4,m4a,3gp,3g2,mj2,matroska,webm", 0);
-  av_dict_set(&opts, "codec_whitelist", "h264,vp9,libvpx-vp9", 0);
-  int r = avformat_open_input(&in.fmt, path.c_str(), nullptr, &opts);
-  av_dict_free(&opts);
-  if (r < 0)
-    return Error(ErrorKind::BadInput, path + ": not a video file reel joins (MP4 of H.264 or WebM of VP9): " + averr(r));
+  int r = openReelVideo(&in.fmt, path, false);
+  if (r < 0) return Error(ErrorKind::BadInput, path + ": not a video file reel joins (" + kReelVideos + "): " + averr(r));
   if ((r = avformat_find_stream_info(in.fmt, nullptr)) < 0) return Error(ErrorKind::BadInput, path + ": " + averr(r));
   const int si = av_find_best_stream(in.fmt, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0);
   if (si < 0 || in.fmt->nb_streams != 1) return Error(ErrorKind::BadInput, path + ": not a video file of one video stream");
