@@ -6,11 +6,70 @@
 
 #include <Eigen/Geometry>
 
+#include "sim/collide.h"
 #include "sim/contact_layer.h"
 #include "sim/geometry.h"
 #include "sim/rigid/hull.h"
+#include "sim/rigid/parts.h"
 
 namespace reel {
+
+// The scene objects as convex parts: the parts (sim/rigid/parts.h; not the planes, whose
+// half-spaces every node already meets) whose box meets the box of the points of the bodies
+// with triangles over the step, each with inverse mass 0 and its surface's motion. A body with a
+// held point (inverse mass 0) on an object or within 1 cm of it, when the World was made or now,
+// is held there by it (a flag pinned to its pole): the layer leaves the two apart, as the pin
+// says where the body is.
+void ContactLayer::gatherObjectParts(const std::vector<Collider>& colliders) {
+  const std::size_t slots = p_.body.size();
+  std::vector<std::uint8_t> surface(slots, 0);
+  for (const auto& T : p_.tri) surface[p_.slot[T[0]]] = 1;
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  for (std::size_t i = 0; i < p_.x.size(); ++i)
+    if (surface[p_.slot[i]]) {
+      const Vec3 g = Vec3::Constant(p_.r[i]);
+      lo = lo.cwiseMin(p_.x[i] - g).cwiseMin(p_.x0[i] - g);
+      hi = hi.cwiseMax(p_.x[i] + g).cwiseMax(p_.x0[i] + g);
+    }
+  if (!(lo.array() <= hi.array()).all() || !lo.allFinite() || !hi.allFinite()) return;
+  partsNear(*objects_, colliders, lo, hi, object_near_);
+  std::vector<std::size_t> near_colliders;
+  for (std::uint32_t id : object_near_) {
+    const ObjectPart& part = objects_->parts[id];
+    if (part.half_space) continue;
+    const Collider& c = colliders[part.collider];
+    ContactProxies::Convex C;
+    C.shape = &part.shape;
+    C.pose = colliderPose(c);
+    C.centre = C.pose.R * (0.5 * (part.lo + part.hi)) + C.pose.p;
+    C.v = c.velocityAt(C.centre);
+    C.w = c.angularVelocity();
+    C.collider = part.collider;
+    C.body = ContactProxies::kObject;
+    p_.convex.push_back(C);
+    if (near_colliders.empty() || near_colliders.back() != part.collider) near_colliders.push_back(part.collider);
+  }
+  object_held_ = held_at_start_;
+  objectHolds(p_, colliders, near_colliders, object_held_);
+}
+
+void ContactLayer::objectHolds(const ContactProxies& p, const std::vector<Collider>& colliders,
+                               const std::vector<std::size_t>& which, std::vector<std::array<std::size_t, 2>>& out) {
+  std::vector<std::uint8_t> surface(p.body.size(), 0);
+  for (const auto& T : p.tri) surface[p.slot[T[0]]] = 1;
+  for (std::size_t i = 0; i < p.x.size() && !which.empty(); ++i) {
+    if (p.w[i] != 0.0 || !surface[p.slot[i]]) continue;
+    for (std::size_t k : which) {
+      const Collider& c = colliders[k];
+      const double reach = c.shape->thickness + p.r[i] + 0.01;
+      double d = 0.0;
+      Vec3 n;
+      if (c.near(p.x[i], reach) && c.distance(p.x[i], d, n) && d < reach) out.push_back({p.slot[i], k});
+    }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
 
 // Triangle–convex: each convex part's box (its shape at its pose, grown by the largest radius and
 // its motion over the step) against the boxes of the triangles over the step. Triangles are taken
@@ -44,6 +103,8 @@ void ContactLayer::findTriangleConvex(double h) {
   }
   auto may = [&](std::size_t e, std::size_t c) {
     const ContactProxies::Convex& C = p_.convex[c];
+    if (C.body == ContactProxies::kObject)
+      return !std::binary_search(object_held_.begin(), object_held_.end(), std::array<std::size_t, 2>{e, C.collider});
     if (p_.body[e] == C.body || skipped(p_.body[e], C.body)) return false;
     return !std::binary_search(held_bodies_.begin(), held_bodies_.end(), std::array<std::size_t, 2>{p_.body[e], C.body});
   };
@@ -76,13 +137,54 @@ void ContactLayer::findTriangleConvex(double h) {
     blo[t / kBlock] = blo[t / kBlock].cwiseMin(lo);
     bhi[t / kBlock] = bhi[t / kBlock].cwiseMax(hi);
   }
-  for (std::size_t c = 0; c < nc; ++c)
-    for (std::size_t b = 0; b < nb; ++b) {
+  // The blocks in a grid of cells about as large as the typical block (at most 16 cells a side
+  // for the largest), so that a part (a mesh's triangle among hundreds) looks only at the blocks
+  // in the cells its box covers; a part over more than 512 cells tries every block.
+  std::vector<std::uint32_t> live;
+  std::vector<double> extent;
+  for (std::size_t b = 0; b < nb; ++b)
+    if (blo[b].x() <= bhi[b].x()) {
+      live.push_back(static_cast<std::uint32_t>(b));
+      extent.push_back((bhi[b] - blo[b]).maxCoeff());
+    }
+  if (live.empty()) return;
+  std::vector<Vec3> llo(live.size()), lhi(live.size());
+  for (std::size_t k = 0; k < live.size(); ++k) llo[k] = blo[live[k]], lhi[k] = bhi[live[k]];
+  const double largest = *std::max_element(extent.begin(), extent.end());
+  std::nth_element(extent.begin(), extent.begin() + static_cast<std::ptrdiff_t>(extent.size() / 2), extent.end());
+  const double cell = std::max({extent[extent.size() / 2], largest / 15.0, 1e-6});
+  const bool gridded = std::isfinite(cell) && cell < 1e200;
+  if (gridded) tri_grid_.build(llo, lhi, cell);
+  std::vector<std::uint32_t> blocks;
+  for (std::size_t c = 0; c < nc; ++c) {
+    blocks.clear();
+    double cells = 0.0;
+    std::array<std::int64_t, 3> c0{}, c1{};
+    if (gridded && clo[c].x() <= chi[c].x()) {
+      c0 = tri_grid_.cellOf(clo[c]);
+      c1 = tri_grid_.cellOf(chi[c]);
+      cells = 1.0;
+      for (std::size_t k = 0; k < 3; ++k) cells *= static_cast<double>(c1[k] - c0[k] + 1);
+    }
+    if (gridded && cells > 0.0 && cells <= 512.0) {
+      for (std::int64_t k = c0[2]; k <= c1[2]; ++k)
+        for (std::int64_t j = c0[1]; j <= c1[1]; ++j)
+          for (std::int64_t i = c0[0]; i <= c1[0]; ++i)
+            tri_grid_.forEachAt(Vec3((static_cast<double>(i) + 0.5) * cell, (static_cast<double>(j) + 0.5) * cell,
+                                       (static_cast<double>(k) + 0.5) * cell),
+                                  [&](std::int32_t q) { blocks.push_back(live[static_cast<std::size_t>(q)]); });
+      std::sort(blocks.begin(), blocks.end());
+      blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
+    } else if (clo[c].x() <= chi[c].x()) {
+      blocks = live;
+    }
+    for (std::uint32_t b : blocks) {
       if (!overlap(clo[c], chi[c], blo[b], bhi[b])) continue;
       for (std::size_t t = b * kBlock; t < std::min(nt, (b + 1) * kBlock); ++t)
         if (overlap(clo[c], chi[c], lo_[t], hi_[t]) && may(p_.slot[p_.tri[t][0]], c))
           tc_pairs_.push_back({static_cast<std::uint32_t>(t), static_cast<std::uint32_t>(c)});
     }
+  }
 }
 
 // A triangle (a plate of its corners' mean radius) against a convex part: the rigid bodies'
@@ -91,7 +193,7 @@ void ContactLayer::findTriangleConvex(double h) {
 // push it through is left alone). At each point, sequential impulses: the approach along the
 // normal taken out, with the part's overlap share as a separating speed (20% of it a step, at
 // most 0.5 m/s), and Coulomb friction bounded by μ times the normal impulse; the effective mass
-// counts the part's rotation (1/m + (r×n)·I⁻¹(r×n)) and the triangle's corners by their weights.
+// counts the part's rotation (1/m + (r×n)·I⁻¹(r×n)) and the triangle's largest corner's share.
 // The triangle's share of the deepest point's overlap is closed at once, by moving its corners
 // (positions only). The triangle's corners take the opposite of the part's impulse: momentum and
 // angular momentum are kept.
@@ -104,9 +206,35 @@ bool ContactLayer::solveTriangleConvex(std::uint32_t t, std::uint32_t ci, double
   if (!(len > 1e-300)) return false;
   nt /= len;
   const Vec3 &a0 = p_.x0[T[0]], &b0 = p_.x0[T[1]], &c0 = p_.x0[T[2]];
-  double side = ((C.pose.p - h * C.v) - a0).dot((b0 - a0).cross(c0 - a0));
-  if (side == 0.0 || !std::isfinite(side)) side = (C.pose.p - a).dot(nt);
+  double side = ((C.centre - h * C.v) - a0).dot((b0 - a0).cross(c0 - a0));
+  if (side == 0.0 || !std::isfinite(side)) side = (C.centre - a).dot(nt);
   const Vec3 up = side >= 0.0 ? nt : Vec3(-nt);  // from the triangle toward the part
+  const double radius = (p_.r[T[0]] + p_.r[T[1]] + p_.r[T[2]]) / 3.0;
+  // An object's part meets the triangles none of whose corners touches the object: a corner that
+  // does is held off it by its own contact (sim/collide.h, with the object's surface), and the
+  // triangle's plate would answer the same contact a second time. What the layer adds is what
+  // pokes between the corners (a post, a rail, a box's edge under a coarse mesh).
+  const bool object = C.body == ContactProxies::kObject;
+  if (object) {
+    const Collider& obj = (*colliders_)[C.collider];
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& x = p_.x[T[k]];
+      const double reach = obj.shape->thickness + 1.5 * p_.r[T[k]];
+      double d = 0.0;
+      Vec3 dn;
+      if (obj.near(x, reach) && obj.distance(x, d, dn) && d < reach) return false;
+    }
+  }
+  // An object's polytope part with the whole plate outside one of its faces (a sheet lying on a
+  // thin box, its nodes held off it by their own contacts) is apart: the narrow phase is not asked.
+  if (object && C.shape->kind == CoreKind::Polytope && C.shape->poly) {
+    const double reach = radius + C.shape->radius - 1e-9;
+    for (const ConvexPolytope::Face& f : C.shape->poly->faces) {
+      const Vec3 nw = C.pose.R * f.normal;
+      const double off = f.offset + nw.dot(C.pose.p);
+      if (std::min({nw.dot(a), nw.dot(b), nw.dot(c)}) - off >= reach) return false;
+    }
+  }
   // The plate: a flat triangle's polytope (sim/rigid/hull.h), made once and moved to this
   // triangle (its faces' planes; the loops and edges stay).
   static thread_local const std::shared_ptr<ConvexPolytope> poly =
@@ -119,7 +247,7 @@ bool ContactLayer::solveTriangleConvex(std::uint32_t t, std::uint32_t ci, double
   poly->faces[1].offset = -off;
   ConvexShape plate;
   plate.kind = CoreKind::Polytope;
-  plate.radius = (p_.r[T[0]] + p_.r[T[1]] + p_.r[T[2]]) / 3.0;
+  plate.radius = radius;
   plate.poly = poly;
   Manifold m;
   if (!collide(plate, Pose{}, *C.shape, C.pose, 0.0, m) || m.count == 0) return false;
@@ -129,9 +257,15 @@ bool ContactLayer::solveTriangleConvex(std::uint32_t t, std::uint32_t ci, double
   for (int k = 0; k < m.count; ++k)
     if (m.points[k].depth > 0.0 && (deepest < 0 || m.points[k].depth > m.points[deepest].depth)) deepest = k;
   if (deepest < 0) return false;
+  // The triangle's inverse mass at a point of weights β: Σβ²w (the point's velocity change per
+  // unit impulse shared by the weights). Against an object (nothing moves it, so the triangle
+  // takes the whole overlap) its largest corner's share max βw instead (never less, as Σβ = 1): no
+  // corner moves more than the point must, where Σβ²w would throw a free corner by 1/β of the
+  // overlap when the point lies by a held one (a flag's cloth beside its pins). Against a body's
+  // part the part's own inverse mass bounds the throw.
   auto triangleMass = [&](const Vec3& beta) {
     double W = 0.0;
-    for (int q = 0; q < 3; ++q) W += beta[q] * beta[q] * p_.w[T[q]];
+    for (int q = 0; q < 3; ++q) W = object ? std::max(W, beta[q] * p_.w[T[q]]) : W + beta[q] * beta[q] * p_.w[T[q]];
     return W;
   };
   auto partMass = [&](const Vec3& r, const Vec3& dir) {
@@ -143,7 +277,7 @@ bool ContactLayer::solveTriangleConvex(std::uint32_t t, std::uint32_t ci, double
   {
     const ContactPoint& q = m.points[deepest];
     const Vec3 beta = closestOnTriangle(q.position, a, b, c);
-    const double Wt = triangleMass(beta), Wc = partMass(q.position - C.pose.p, n);
+    const double Wt = triangleMass(beta), Wc = partMass(q.position - C.centre, n);
     if (Wt > 0.0 && Wt + Wc > 0.0) {
       lambda_pos = q.depth / (Wt + Wc);
       for (int k = 0; k < 3; ++k) p_.x[T[k]] -= (beta[k] * p_.w[T[k]] * lambda_pos) * n;
@@ -155,7 +289,7 @@ bool ContactLayer::solveTriangleConvex(std::uint32_t t, std::uint32_t ci, double
     const ContactPoint& q = m.points[k];
     if (!(q.depth > 0.0)) continue;
     const Vec3 beta = closestOnTriangle(q.position, a, b, c);
-    const Vec3 r = q.position - C.pose.p;
+    const Vec3 r = q.position - C.centre;
     const double Wt = triangleMass(beta), Wc = partMass(r, n);
     if (!(Wt + Wc > 0.0)) continue;
     const Vec3 vt_tri = beta[0] * p_.v[T[0]] + beta[1] * p_.v[T[1]] + beta[2] * p_.v[T[2]];

@@ -7,6 +7,7 @@
 #include "sim/body.h"
 #include "sim/collide.h"
 #include "sim/geometry.h"
+#include "sim/rigid/parts.h"
 
 namespace reel {
 
@@ -63,7 +64,7 @@ void ContactExport::edge(int a, int b) {
 
 void ContactExport::convex(const ConvexShape& shape, const Pose& pose, const Vec3& v, const Vec3& w, double inv_mass,
                            const Mat3& inv_inertia, std::size_t collider) {
-  p_.convex.push_back({&shape, pose, v, w, inv_mass, inv_inertia, collider, body_});
+  p_.convex.push_back({&shape, pose, v, w, inv_mass, inv_inertia, collider, body_, pose.p});
 }
 
 bool ContactLayer::skipped(std::size_t a, std::size_t b) const {
@@ -72,7 +73,7 @@ bool ContactLayer::skipped(std::size_t a, std::size_t b) const {
 }
 
 void ContactLayer::setup(const std::vector<std::unique_ptr<Body>>& bodies,
-                         const std::vector<std::array<std::size_t, 2>>& skip) {
+                         const std::vector<std::array<std::size_t, 2>>& skip, const std::vector<Collider>& colliders) {
   skip_.clear();
   for (const auto& s : skip) skip_.push_back({std::min(s[0], s[1]), std::max(s[0], s[1])});
   std::sort(skip_.begin(), skip_.end());
@@ -104,6 +105,59 @@ void ContactLayer::setup(const std::vector<std::unique_ptr<Body>>& bodies,
   for (std::size_t c : convex_exporters_)
     for (std::size_t k : exporters_)
       if (k != c && !skipped(k, c)) active_ = true;
+  // The scene objects meet the triangles of every exporter that has some (a trial export), when
+  // one of them is more than a plane and does not hold it (a flag pinned to its pole).
+  objects_active_ = false;
+  objects_ = nullptr;
+  held_at_start_.clear();
+  ContactProxies trial;
+  trial.clear();
+  for (std::size_t k : exporters_) {
+    trial.body.push_back(k);
+    ContactExport out(trial);
+    bodies[k]->exportContacts(out);
+    trial.first.push_back(static_cast<std::uint32_t>(trial.x.size()));
+  }
+  std::vector<std::size_t> solid;
+  for (std::size_t k = 0; k < colliders.size(); ++k)
+    if (!colliders[k].shape->free_body && colliders[k].shape->kind != ObjectKind::Plane) solid.push_back(k);
+  if (trial.tri.empty() || solid.empty()) return;
+  objectHolds(trial, colliders, solid, held_at_start_);
+  // An object no thinner than a surface's longest edge (at the start) is left to that surface's
+  // nodes: their contacts already hold the surface off it, and a triangle's interior dips into it
+  // by no more than the sag of one edge over its curve or edge. What the layer adds is what fits
+  // between the nodes: a post, a rail, a paddle, a pole. (A fold jammed between two large objects
+  // would otherwise be pushed back and forth by them and by the sheet's own self-collision.)
+  auto parts = std::make_shared<ObjectParts>();
+  buildParts(colliders, *parts);
+  std::vector<double> thinnest(colliders.size(), 0.0);
+  {
+    std::vector<Vec3> lo(colliders.size(), Vec3::Constant(1e300)), hi(colliders.size(), Vec3::Constant(-1e300));
+    for (const ObjectPart& part : parts->parts)
+      if (!part.half_space) {
+        lo[part.collider] = lo[part.collider].cwiseMin(part.lo);
+        hi[part.collider] = hi[part.collider].cwiseMax(part.hi);
+      }
+    for (std::size_t k : solid)
+      if (lo[k].x() <= hi[k].x()) thinnest[k] = (hi[k] - lo[k]).minCoeff() + 2.0 * colliders[k].shape->thickness;
+  }
+  std::vector<double> longest(exporters_.size(), 0.0);
+  std::vector<std::uint8_t> surface(exporters_.size(), 0);
+  for (const auto& T : trial.tri) {
+    const std::uint32_t e = trial.slot[T[0]];
+    surface[e] = 1;
+    for (int q = 0; q < 3; ++q) longest[e] = std::max(longest[e], (trial.x[T[q]] - trial.x[T[(q + 1) % 3]]).norm());
+  }
+  for (std::size_t e = 0; e < exporters_.size(); ++e)
+    for (std::size_t k : solid)
+      if (surface[e] && !(thinnest[k] < longest[e])) held_at_start_.push_back({e, k});
+  std::sort(held_at_start_.begin(), held_at_start_.end());
+  held_at_start_.erase(std::unique(held_at_start_.begin(), held_at_start_.end()), held_at_start_.end());
+  for (std::size_t e = 0; e < exporters_.size(); ++e)
+    for (std::size_t k : solid)
+      if (surface[e] && !std::binary_search(held_at_start_.begin(), held_at_start_.end(), std::array<std::size_t, 2>{e, k}))
+        objects_active_ = true;
+  if (objects_active_) objects_ = std::move(parts);
 }
 
 // Whether points i and j (or a point and a triangle's piece) may touch: other pieces, and bodies
@@ -462,7 +516,7 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
                         const std::vector<Collider>& colliders, Coupling& coupling) {
   counts_ = {};
   touched_bodies_.clear();
-  if (!active_) return;  // (its time is the World's coupling stage's)
+  if (!active_ && !objects_active_) return;  // (its time is the World's coupling stage's)
   // Gather: each exporting body's points and triangles, in scene order.
   p_.clear();
   std::uint32_t next_piece = 0;
@@ -496,13 +550,16 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
     out.body_ = k;
     bodies[k]->exportConvex(out);
   }
+  // The scene objects near the bodies' surfaces.
+  colliders_ = &colliders;
+  if (objects_active_) gatherObjectParts(colliders);
   // Which bodies hold which (a cloth gripped by a figure's link is left apart from the figure).
   held_bodies_.clear();
   for (const auto& [held, collider] : held_)
     for (const ContactProxies::Convex& C : p_.convex)
       if (C.collider == collider) held_bodies_.push_back({held, C.body});
   std::sort(held_bodies_.begin(), held_bodies_.end());
-  const bool points_near = nearPieces(pieces);
+  const bool points_near = active_ && nearPieces(pieces);
   pt_pairs_.clear();
   pp_pairs_.clear();
   ee_pairs_.clear();
@@ -529,12 +586,14 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
   total_.point_point += counts_.point_point;
   total_.edge_edge += counts_.edge_edge;
   total_.triangle_convex += counts_.triangle_convex;
-  // What the convex parts took, to their colliders' Coupling entries (angular about pose.pos).
+  // What the bodies' convex parts took, to their colliders' Coupling entries (angular about the
+  // collider's pose.pos). The objects' is taken by what holds them.
   for (std::size_t c = 0; c < p_.convex.size(); ++c) {
     const std::size_t k = p_.convex[c].collider;
+    if (p_.convex[c].body == ContactProxies::kObject) continue;
     if (convex_J_[c].isZero(0.0) && convex_L_[c].isZero(0.0)) continue;
     coupling.impulse[k] += convex_J_[c];
-    coupling.angular[k] += convex_L_[c] + (p_.convex[c].pose.p - colliders[k].pose.pos).cross(convex_J_[c]);
+    coupling.angular[k] += convex_L_[c] + (p_.convex[c].centre - colliders[k].pose.pos).cross(convex_J_[c]);
   }
   // Hand back each touched body its points.
   for (std::size_t e = 0; e < exporters_.size(); ++e) {

@@ -6,8 +6,9 @@
 //   point–point: two nodes or particles as spheres;
 //   edge–edge: two threads (a rope's segments, a net's threads, a kelp stalk) as capsules;
 //   triangle–convex: a sheet's, a fish's or a lattice's surface against a convex part (a rigid
-//   body, a figure's link), whose impulse the World's Coupling carries to the system that moves
-//   it, in the same step.
+//   body, a figure's link, whose impulse the World's Coupling carries to the system that moves
+//   it in the same step; or a scene object's sphere, box, capsule, container wall or mesh
+//   triangle thinner than the surface's longest edge, which nothing moves).
 // Impulses are equal and opposite (a point's against the triangle's corners by the barycentric
 // weights of the contact), applied in the same step, pairs processed in id order: momentum is
 // kept to rounding and a run is bit-identical for any thread count. The layer keeps no state
@@ -32,6 +33,7 @@ namespace reel {
 class Body;
 struct Collider;
 struct Coupling;
+struct ObjectParts;
 
 // Coulomb friction between two bodies' proxies, the same for every pair.
 inline constexpr double kContactFriction = 0.3;
@@ -50,15 +52,19 @@ struct ContactProxies {
   // A convex part of a body moved by a system (a rigid body, a figure's link): its shape at its
   // pose now, its velocity, how it answers an impulse, and the collider whose Coupling entry
   // takes what it is given. v and w change as the layer's contacts act on it.
+  // A scene object's part (a sphere, a box, a capsule, a container's wall, a mesh's triangle)
+  // is one too, with inverse mass 0 and `body` kObject.
   struct Convex {
     const ConvexShape* shape = nullptr;
-    Pose pose;                          // the shape's frame; pose.p the centre of mass, m
-    Vec3 v{0, 0, 0}, w{0, 0, 0};        // m/s at the centre of mass; rad/s, world
+    Pose pose;                          // the shape's frame, m
+    Vec3 v{0, 0, 0}, w{0, 0, 0};        // m/s at `centre`; rad/s, world
     double inv_mass = 0.0;              // 1/kg; 0: moved by keys, nothing moves it
     Mat3 inv_inertia = Mat3::Zero();    // world, 1/(kg·m²)
     std::size_t collider = 0;           // its collider (the World's Coupling entry)
-    std::size_t body = 0;               // the exporting body's World index
+    std::size_t body = 0;               // the exporting body's World index; kObject for an object
+    Vec3 centre{0, 0, 0};               // a point inside it: a body's part's centre of mass (pose.p), m
   };
+  static constexpr std::size_t kObject = ~std::size_t{0};
   std::vector<Convex> convex;  // (convex parts)
   // Per exporting body (slots): its World index, first point.
   std::vector<std::size_t> body;
@@ -105,9 +111,12 @@ class ContactLayer {
  public:
   // Which bodies export proxies (Body::exportsContacts) and which pairs of them the layer leaves
   // alone (`skip`: pairs of World indices whose contacts go through an exchange of their own).
-  // active() is false when no two proxies could ever meet: then step() costs nothing.
-  void setup(const std::vector<std::unique_ptr<Body>>& bodies, const std::vector<std::array<std::size_t, 2>>& skip);
-  bool active() const { return active_; }
+  // The scene objects (the static and keyed colliders: not the free bodies') are convex parts
+  // the bodies' triangles meet. active() is false when no two proxies could ever meet: then
+  // step() costs nothing.
+  void setup(const std::vector<std::unique_ptr<Body>>& bodies, const std::vector<std::array<std::size_t, 2>>& skip,
+             const std::vector<Collider>& colliders);
+  bool active() const { return active_ || objects_active_; }
 
   // Gathers every exporting body's proxies, finds the contacts over the step h, resolves them and
   // hands each touched body its new positions and velocities (Body::importContacts); what the
@@ -128,6 +137,7 @@ class ContactLayer {
   void findPointTriangle();
   void findPointPoint();
   void findEdgeEdge();
+  void gatherObjectParts(const std::vector<Collider>& colliders);
   void findTriangleConvex(double h);
   bool solveTriangleConvex(std::uint32_t t, std::uint32_t c, double h);
   template <class F>
@@ -146,6 +156,19 @@ class ContactLayer {
   std::vector<std::array<std::size_t, 2>> held_;    // sorted (World index, collider): a body and what holds it
   std::vector<std::array<std::size_t, 2>> held_bodies_;  // sorted (World index, World index): a body and the body holding it
   std::vector<std::array<std::size_t, 2>> skip_;    // sorted pairs (a < b)
+  // The scene objects as convex parts (built once, shared by copies of the World), and the
+  // sorted (slot, collider) pairs the layer leaves apart: a body held at a point on or in an
+  // object (a flag pinned to its pole), when the World was made or in the step, and an object no
+  // thinner than the body's longest triangle edge (its nodes' contacts hold the body off it).
+  std::shared_ptr<const ObjectParts> objects_;
+  bool objects_active_ = false;  // some body's triangles may meet some object that is not a plane
+  std::vector<std::uint32_t> object_near_;
+  std::vector<std::array<std::size_t, 2>> held_at_start_, object_held_;
+  const std::vector<Collider>* colliders_ = nullptr;  // the step's (objects' parts)
+  // Adds to `out` the (slot, collider) pairs of p's held points with triangles on or within 1 cm
+  // of the colliders `which`.
+  static void objectHolds(const ContactProxies& p, const std::vector<Collider>& colliders,
+                          const std::vector<std::size_t>& which, std::vector<std::array<std::size_t, 2>>& out);
   std::vector<std::uint8_t> touches_points_;  // per exporter: some other body may meet it
   std::vector<std::uint8_t> self_meet_;       // per exporter: its pieces meet each other
   ContactProxies p_;

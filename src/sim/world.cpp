@@ -93,7 +93,7 @@ Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow>
   // The contact layer takes every pair of bodies but those with an exchange of their own.
   std::vector<std::array<std::size_t, 2>> own;
   for (const Exchange& x : w.exchanges_) own.push_back({x.first, x.second});
-  w.contacts_.setup(w.bodies_, own);
+  w.contacts_.setup(w.bodies_, own, w.colliders_);
   w.coupling_.reset(w.colliders_.size());
   // A system per kind that has one and bodies in the scene, stepping them together.
   w.in_system_.assign(w.bodies_.size(), 0);
