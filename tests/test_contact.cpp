@@ -249,17 +249,7 @@ TEST_CASE("contact layer: 1 and 2 threads give the same bits; a resumed run give
   const std::string text = scene(kHeld + "," + sheet("top", {0, 0.3, 0}, 0.5) + "," + kRope +
                                  R"(, {"type": "fluid", "name": "water", "radius": 0.01, )" + kWater +
                                  R"(, "blocks": [{"min": [0.2, 0.3, 0.2], "max": [0.3, 0.4, 0.3], "spacing": 0.02}]})");
-  const std::uint64_t h1 = runHash(text, 1, 12);
-  CHECK(runHash(text, 2, 12) == h1);
-  World a = worldFromText(text);
-  run(a, 6);
-  const WorldSnapshot s = a.snapshot();
-  run(a, 6);
-  World b = worldFromText(text);
-  REQUIRE(b.restore(s).ok());
-  run(b, 6);
-  CHECK(a.stateHash() == b.stateHash());
-  CHECK(a.stateHash() == h1);
+  sameBitsThreadsAndResume(text, 12);
 }
 
 TEST_CASE("water thrown at a figure in zero gravity pushes it in the same step: momentum kept to rounding") {
