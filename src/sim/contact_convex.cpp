@@ -193,7 +193,8 @@ void ContactLayer::findTriangleConvex(double h) {
 // push it through is left alone). At each point, sequential impulses: the approach along the
 // normal taken out, with the part's overlap share as a separating speed (20% of it a step, at
 // most 0.5 m/s), and Coulomb friction bounded by μ times the normal impulse; the effective mass
-// counts the part's rotation (1/m + (r×n)·I⁻¹(r×n)) and the triangle's largest corner's share.
+// counts the part's rotation (1/m + (r×n)·I⁻¹(r×n)) and the triangle's corners by their weights
+// (against an object, which nothing moves, its largest corner's share).
 // The triangle's share of the deepest point's overlap is closed at once, by moving its corners
 // (positions only). The triangle's corners take the opposite of the part's impulse: momentum and
 // angular momentum are kept.
