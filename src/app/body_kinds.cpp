@@ -38,9 +38,9 @@ constexpr BodyKind kBodyKinds[] = {
     {"articulated", io::readArticulatedBody, buildArticulatedBody, kArticulatedStream},
 };
 
-// Exchanges between kinds in the coupling stage, in this order.
+// Contact laws of pairs of kinds (the contact layer's hooks), in this order.
 constexpr InteractionRow kInteractions[] = {
-    {"fluid", "cloth", exchangeClothLiquid},
+    {"fluid", "cloth", clothLiquidHook},
 };
 
 template <class Row, class F>

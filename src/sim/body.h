@@ -30,6 +30,7 @@ class Wind;
 struct SharedView;
 class Water;
 class ContactExport;
+class ContactHook;
 
 // A state whose speed or distance from the origin passes these is a runaway (exit 3).
 inline constexpr double kRunawaySpeed = 1e4;     // m/s
@@ -118,6 +119,10 @@ class Body {
   virtual bool meetsItself() const { return false; }
   virtual void exportContacts(ContactExport& /*out*/) const {}
   virtual void importContacts(std::span<const Vec3> /*x*/, std::span<const Vec3> /*v*/) {}
+  // Takes out the points a contact hook gave to another body (`gone`: per point, after
+  // importContacts; a drop a sheet soaked up). Only a body whose points a hook may take (a
+  // liquid's) has any to drop.
+  virtual void dropPoints(std::span<const std::uint8_t> /*gone*/) {}
   // A body moved by a system (rigid bodies, figures) hands the layer its convex parts
   // (ContactExport::convex) at their pose and velocity before its system steps; what the layer's
   // contacts give them comes back through the World's Coupling, which the system reads.
@@ -193,13 +198,13 @@ struct BodyKindRow {
   SystemBuilder system = nullptr;
 };
 
-// An exchange between two kinds in the coupling stage (a liquid and a cloth): after every body
-// not coupled has stepped, `exchange` runs once for every pair of a body of kind `first` and one
-// of kind `second`, rows in order, pairs in scene order; it acts on both, equal and opposite.
+// A law of its own for the contacts of the points of a body of kind `first` with the triangles
+// of one of kind `second` (a liquid on a sheet): `make` builds the contact layer's hook
+// (sim/contact_layer.h) for every such pair of bodies, rows in order, pairs in scene order.
 struct InteractionRow {
   const char* first;
   const char* second;
-  void (*exchange)(Body& first, Body& second, StepContext& ctx);
+  std::unique_ptr<ContactHook> (*make)(Body& first, Body& second);
 };
 
 }  // namespace reel

@@ -21,12 +21,10 @@ namespace reel {
 // is held there by it (a flag pinned to its pole): the layer leaves the two apart, as the pin
 // says where the body is.
 void ContactLayer::gatherObjectParts(const std::vector<Collider>& colliders) {
-  const std::size_t slots = p_.body.size();
-  std::vector<std::uint8_t> surface(slots, 0);
-  for (const auto& T : p_.tri) surface[p_.slot[T[0]]] = 1;
+  auto surface = [&](std::uint32_t slot) { return p_.tri_first[slot + 1] > p_.tri_first[slot]; };
   Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
   for (std::size_t i = 0; i < p_.x.size(); ++i)
-    if (surface[p_.slot[i]]) {
+    if (surface(p_.slot[i])) {
       const Vec3 g = Vec3::Constant(p_.r[i]);
       lo = lo.cwiseMin(p_.x[i] - g).cwiseMin(p_.x0[i] - g);
       hi = hi.cwiseMax(p_.x[i] + g).cwiseMax(p_.x0[i] + g);
@@ -55,10 +53,9 @@ void ContactLayer::gatherObjectParts(const std::vector<Collider>& colliders) {
 
 void ContactLayer::objectHolds(const ContactProxies& p, const std::vector<Collider>& colliders,
                                const std::vector<std::size_t>& which, std::vector<std::array<std::size_t, 2>>& out) {
-  std::vector<std::uint8_t> surface(p.body.size(), 0);
-  for (const auto& T : p.tri) surface[p.slot[T[0]]] = 1;
   for (std::size_t i = 0; i < p.x.size() && !which.empty(); ++i) {
-    if (p.w[i] != 0.0 || !surface[p.slot[i]]) continue;
+    const std::uint32_t s = p.slot[i];
+    if (p.w[i] != 0.0 || !(p.tri_first[s + 1] > p.tri_first[s])) continue;  // held points of bodies with a surface
     for (std::size_t k : which) {
       const Collider& c = colliders[k];
       const double reach = c.shape->thickness + p.r[i] + 0.01;

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "sim/body.h"
 #include "sim/contact_layer.h"
 
 namespace reel {
@@ -17,9 +18,21 @@ void ContactProxies::clear() {
   slot.clear();
   tri.clear();
   edge.clear();
+  gone.clear();
   convex.clear();
   body.clear();
   first.assign(1, 0);
+  tri_first.assign(1, 0);
+}
+
+std::uint32_t ContactProxies::add(const Body& b, std::size_t index, std::uint32_t base_piece) {
+  body.push_back(index);
+  ContactExport out(*this);
+  out.base_piece_ = base_piece;
+  b.exportContacts(out);
+  first.push_back(static_cast<std::uint32_t>(x.size()));
+  tri_first.push_back(static_cast<std::uint32_t>(tri.size()));
+  return out.pieces_;
 }
 
 void ContactExport::points(std::span<const Vec3> x, std::span<const Vec3> v, std::span<const double> inv_mass,

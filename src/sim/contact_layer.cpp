@@ -16,11 +16,12 @@ bool ContactLayer::skipped(std::size_t a, std::size_t b) const {
   return std::binary_search(skip_.begin(), skip_.end(), k);
 }
 
-void ContactLayer::setup(const std::vector<std::unique_ptr<Body>>& bodies,
-                         const std::vector<std::array<std::size_t, 2>>& skip, const std::vector<Collider>& colliders) {
-  skip_.clear();
-  for (const auto& s : skip) skip_.push_back({std::min(s[0], s[1]), std::max(s[0], s[1])});
-  std::sort(skip_.begin(), skip_.end());
+int ContactLayer::hookOf(std::uint32_t point_slot, std::uint32_t surface_slot) const {
+  return hook_of_.empty() ? -1 : hook_of_[point_slot * exporters_.size() + surface_slot];
+}
+
+void ContactLayer::setup(const std::vector<std::unique_ptr<Body>>& bodies, std::span<const HookedPair> hooks,
+                         const std::vector<Collider>& colliders) {
   exporters_.clear();
   convex_exporters_.clear();
   held_.clear();
@@ -32,8 +33,29 @@ void ContactLayer::setup(const std::vector<std::unique_ptr<Body>>& bodies,
     for (std::size_t c : holders) held_.push_back({k, c});
   }
   std::sort(held_.begin(), held_.end());
-  // A body is worth a search when another exporter (or its own other pieces) may meet it.
   const std::size_t n = exporters_.size();
+  // The hooked pairs: between them only the hook's law (on the points of one against the
+  // triangles of the other, those grown by its margin).
+  skip_.clear();
+  hooks_.clear();
+  hook_of_.clear();
+  grow_.assign(n, 0.0);
+  auto slotOf = [&](std::size_t k) {
+    return static_cast<std::uint32_t>(std::lower_bound(exporters_.begin(), exporters_.end(), k) - exporters_.begin());
+  };
+  for (const HookedPair& h : hooks) {
+    skip_.push_back({std::min(h.points, h.surface), std::max(h.points, h.surface)});
+    const std::uint32_t a = slotOf(h.points), b = slotOf(h.surface);
+    if (a >= n || exporters_[a] != h.points || b >= n || exporters_[b] != h.surface) continue;
+    REEL_CHECK(hooks_.size() < 32767 && a != b, "contact hooks: too many, or a body hooked to itself");
+    if (hook_of_.empty()) hook_of_.assign(n * n, -1);
+    if (hook_of_[a * n + b] >= 0) continue;  // (one law a pair)
+    hook_of_[a * n + b] = static_cast<std::int16_t>(hooks_.size());
+    hooks_.push_back({a, b, h.hook});
+    grow_[b] = std::max(grow_[b], h.hook->margin());
+  }
+  std::sort(skip_.begin(), skip_.end());
+  // A body is worth a search when another exporter (or its own other pieces) may meet it.
   touches_points_.assign(n, 0);
   self_meet_.assign(n, 0);
   active_ = false;
@@ -44,6 +66,7 @@ void ContactLayer::setup(const std::vector<std::unique_ptr<Body>>& bodies,
       if (a != b && !skipped(exporters_[a], exporters_[b])) touches_points_[a] = 1;
     active_ = active_ || touches_points_[a];
   }
+  for (const Hook& h : hooks_) touches_points_[h.points] = touches_points_[h.surface] = 1, active_ = true;
   // Convex parts meet the surfaces of every exporter (their own contacts among themselves are
   // their system's).
   for (std::size_t c : convex_exporters_)
@@ -56,12 +79,7 @@ void ContactLayer::setup(const std::vector<std::unique_ptr<Body>>& bodies,
   held_at_start_.clear();
   ContactProxies trial;
   trial.clear();
-  for (std::size_t k : exporters_) {
-    trial.body.push_back(k);
-    ContactExport out(trial);
-    bodies[k]->exportContacts(out);
-    trial.first.push_back(static_cast<std::uint32_t>(trial.x.size()));
-  }
+  for (std::size_t k : exporters_) trial.add(*bodies[k], k);
   std::vector<std::size_t> solid;
   for (std::size_t k = 0; k < colliders.size(); ++k)
     if (!colliders[k].shape->free_body && colliders[k].shape->kind != ObjectKind::Plane) solid.push_back(k);
@@ -127,11 +145,18 @@ bool ContactLayer::nearPieces(std::uint32_t pieces) {
     }
   if (counted < 2 || !(mean > 0.0 && mean < 1e300)) return false;
   const double cell = 2.0 * mean / counted;
-  auto may = [&](std::uint32_t a, std::uint32_t b) {
+  // 0: they do not meet; kPlain: by the layer's own law; kHooked: by a hook's.
+  auto may = [&](std::uint32_t a, std::uint32_t b) -> std::uint8_t {
     const std::uint32_t sa = piece_slot_[a], sb = piece_slot_[b];
-    if (!touches_points_[sa] || !touches_points_[sb]) return false;
-    if (sa == sb ? !self_meet_[sa] : skipped(p_.body[sa], p_.body[sb])) return false;
-    return (piece_lo_[a].array() <= piece_hi_[b].array()).all() && (piece_lo_[b].array() <= piece_hi_[a].array()).all();
+    if (!touches_points_[sa] || !touches_points_[sb]) return 0;
+    std::uint8_t how = kPlain;
+    if (sa == sb ? !self_meet_[sa] : skipped(p_.body[sa], p_.body[sb])) {
+      if (sa == sb || (hookOf(sa, sb) < 0 && hookOf(sb, sa) < 0)) return 0;
+      how = kHooked;
+    }
+    const bool overlap =
+        (piece_lo_[a].array() <= piece_hi_[b].array()).all() && (piece_lo_[b].array() <= piece_hi_[a].array()).all();
+    return overlap ? how : 0;
   };
   // Small pieces in the grid, large ones (and empty ones) far away.
   big_.clear();
@@ -150,12 +175,15 @@ bool ContactLayer::nearPieces(std::uint32_t pieces) {
     if (lo_[q].x() == -1e9 * cell) continue;
     point_grid_.forEachNear(0.5 * (piece_lo_[q] + piece_hi_[q]), [&](int o) {
       const auto ou = static_cast<std::uint32_t>(o);
-      if (ou != q && may(q, ou)) near_[q] = near_[ou] = 1, any = true;
+      if (ou == q) return;
+      if (const std::uint8_t how = may(q, ou)) near_[q] |= how, near_[ou] |= how, any = true;
     });
   }
   for (std::uint32_t b : big_)
-    for (std::uint32_t q = 0; q < pieces; ++q)
-      if (q != b && may(b, q)) near_[b] = near_[q] = 1, any = true;
+    for (std::uint32_t q = 0; q < pieces; ++q) {
+      if (q == b) continue;
+      if (const std::uint8_t how = may(b, q)) near_[b] |= how, near_[q] |= how, any = true;
+    }
   return any;
 }
 
@@ -211,6 +239,7 @@ void ContactLayer::findPointTriangle() {
       hi = hi.cwiseMax(p_.x[k]).cwiseMax(p_.x0[k]);
       rt = std::max(rt, p_.r[k]);
     }
+    rt += grow_[p_.slot[p_.tri[t][0]]];
     lo_[t] = lo - Vec3::Constant(rt + rmax);
     hi_[t] = hi + Vec3::Constant(rt + rmax);
     mean += (hi_[t] - lo_[t]).maxCoeff();
@@ -224,18 +253,61 @@ void ContactLayer::findPointTriangle() {
   for (std::size_t t = 0; t < nt; ++t)
     if (!((hi_[t] - lo_[t]).maxCoeff() <= 16 * cell) || lo_[t].x() == -1e300) lo_[t] = hi_[t] = Vec3::Constant(-1e9 * cell);
   tri_grid_.build(lo_, hi_, cell);
+  // Each surface's triangles' boxes together: a point outside those of the surfaces it may meet
+  // meets none.
+  const std::size_t slots = p_.body.size();
+  slot_lo_.assign(slots, Vec3::Constant(1e300));
+  slot_hi_.assign(slots, Vec3::Constant(-1e300));
+  for (std::size_t t = 0; t < nt; ++t)
+    if (lo_[t].x() != -1e9 * cell) {
+      const std::uint32_t e = p_.slot[p_.tri[t][0]];
+      slot_lo_[e] = slot_lo_[e].cwiseMin(lo_[t]);
+      slot_hi_[e] = slot_hi_[e].cwiseMax(hi_[t]);
+    }
+  std::vector<std::uint32_t> surfaces;
+  for (std::uint32_t e = 0; e < slots; ++e)
+    if (slot_lo_[e].x() <= slot_hi_[e].x()) surfaces.push_back(e);
+  auto mayMeet = [&](std::uint32_t a, std::uint32_t b) {
+    return a == b ? self_meet_[a] != 0 : !skipped(p_.body[a], p_.body[b]) || hookOf(a, b) >= 0;
+  };
   gatherPairs(np, pt_pairs_, [&](std::uint32_t i, std::vector<std::uint32_t>& cand) {
     if (!near(i)) return;
     const Vec3 &p1 = p_.x[i], &p0 = p_.x0[i];
     const Vec3 plo = p0.cwiseMin(p1) - Vec3::Constant(p_.r[i]), phi = p0.cwiseMax(p1) + Vec3::Constant(p_.r[i]);
+    bool any = false;
+    for (std::uint32_t e : surfaces)
+      if (!((plo.array() > slot_hi_[e].array()).any() || (phi.array() < slot_lo_[e].array()).any()) && mayMeet(p_.slot[i], e)) {
+        any = true;
+        break;
+      }
+    if (!any) return;
     const int samples = std::min(64, 1 + static_cast<int>((p1 - p0).norm() / (0.5 * cell)));
-    for (int s = 0; s <= samples; ++s)
-      tri_grid_.forEachAt(p0 + (p1 - p0) * (static_cast<double>(s) / samples), [&](int t) {
+    std::array<std::int64_t, 3> last{};
+    for (int s = 0; s <= samples; ++s) {
+      const Vec3 at = p0 + (p1 - p0) * (static_cast<double>(s) / samples);
+      const std::array<std::int64_t, 3> c = tri_grid_.cellOf(at);
+      if (s > 0 && c == last) continue;  // (the cell just visited)
+      last = c;
+      tri_grid_.forEachAt(at, [&](int t) {
         const auto tu = static_cast<std::size_t>(t);
         if ((plo.array() > hi_[tu].array()).any() || (phi.array() < lo_[tu].array()).any()) return;
-        if (meet(i, p_.tri[tu][0])) cand.push_back(static_cast<std::uint32_t>(t));
+        const std::uint32_t k = p_.tri[tu][0];
+        if (meet(i, k) || (!hooks_.empty() && hookOf(p_.slot[i], p_.slot[k]) >= 0)) cand.push_back(static_cast<std::uint32_t>(t));
       });
+    }
   });
+  // The hooked pairs apart, in the same order.
+  hk_pairs_.clear();
+  if (hooks_.empty()) return;
+  std::size_t kept = 0;
+  for (const auto& q : pt_pairs_) {
+    const int h = hookOf(p_.slot[q[0]], p_.slot[p_.tri[q[1]][0]]);
+    if (h >= 0)
+      hk_pairs_.push_back({q[0], q[1], static_cast<std::uint32_t>(h)});
+    else
+      pt_pairs_[kept++] = q;
+  }
+  pt_pairs_.resize(kept);
 }
 
 // Point–point: the points' end positions in a grid of cells twice the largest radius; each pair
@@ -244,19 +316,19 @@ void ContactLayer::findPointPoint() {
   const std::size_t np = p_.x.size();
   double rmax = 0.0;
   for (std::size_t i = 0; i < np; ++i)
-    if (near(i)) rmax = std::max(rmax, p_.r[i]);
+    if (nearPlain(i)) rmax = std::max(rmax, p_.r[i]);
   pp_pairs_.clear();
   if (!(rmax > 0.0 && rmax < 1e6)) return;
   const double cell = 2.0 * rmax;
   lo_.resize(np);
   hi_.resize(np);
   for (std::size_t i = 0; i < np; ++i) {
-    // (Points of bodies that meet no one are put far away.)
-    lo_[i] = hi_[i] = near(i) ? p_.x[i] : Vec3::Constant(-1e9 * cell);
+    // (Points of bodies that meet no one by the layer's own law are put far away.)
+    lo_[i] = hi_[i] = nearPlain(i) ? p_.x[i] : Vec3::Constant(-1e9 * cell);
   }
   point_grid_.build(lo_, hi_, cell);
   gatherPairs(np, pp_pairs_, [&](std::uint32_t i, std::vector<std::uint32_t>& cand) {
-    if (!near(i)) return;
+    if (!nearPlain(i)) return;
     point_grid_.forEachNear(p_.x[i], [&](int j) {
       const auto ju = static_cast<std::uint32_t>(j);
       if (ju <= i || !meet(i, ju)) return;
@@ -278,7 +350,7 @@ void ContactLayer::findEdgeEdge() {
   double cell = 0.0;
   for (std::size_t e = 0; e < ne; ++e) {
     const auto& E = p_.edge[e];
-    if (!near(E[0]) && !near(E[1])) {
+    if (!nearPlain(E[0]) && !nearPlain(E[1])) {
       lo_[e] = hi_[e] = Vec3::Constant(-1e300);
       continue;
     }
@@ -464,15 +536,9 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
   // Gather: each exporting body's points and triangles, in scene order.
   p_.clear();
   std::uint32_t next_piece = 0;
-  for (std::size_t e = 0; e < exporters_.size(); ++e) {
-    p_.body.push_back(exporters_[e]);
-    ContactExport out(p_);
-    out.base_piece_ = next_piece;
-    bodies[exporters_[e]]->exportContacts(out);
-    next_piece += out.pieces_;
-    p_.first.push_back(static_cast<std::uint32_t>(p_.x.size()));
-  }
+  for (std::size_t k : exporters_) next_piece += p_.add(*bodies[k], k, next_piece);
   const std::size_t np = p_.x.size();
+  p_.gone.assign(np, 0);
   p_.x0.resize(np);
   for (std::size_t i = 0; i < np; ++i) p_.x0[i] = p_.x[i] - h * p_.v[i];
   touched_.assign(exporters_.size(), 0);
@@ -483,7 +549,7 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
   piece_slot_.assign(pieces, 0);
   for (std::size_t i = 0; i < np; ++i) {
     const std::uint32_t q = p_.piece[i];
-    const Vec3 g = Vec3::Constant(p_.r[i]);
+    const Vec3 g = Vec3::Constant(p_.r[i] + grow_[p_.slot[i]]);
     piece_lo_[q] = piece_lo_[q].cwiseMin(p_.x[i] - g).cwiseMin(p_.x0[i] - g);
     piece_hi_[q] = piece_hi_[q].cwiseMax(p_.x[i] + g).cwiseMax(p_.x0[i] + g);
     piece_slot_[q] = p_.slot[i];
@@ -505,6 +571,7 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
   std::sort(held_bodies_.begin(), held_bodies_.end());
   const bool points_near = active_ && nearPieces(pieces);
   pt_pairs_.clear();
+  hk_pairs_.clear();
   pp_pairs_.clear();
   ee_pairs_.clear();
   // Broad phase, then the pairs in id order, twice (Gauss–Seidel: a point pressed between two
@@ -524,12 +591,28 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
     for (const auto& q : pp_pairs_) pp += solvePointPoint(q[0], q[1], h);
     for (const auto& q : ee_pairs_) ee += solveEdgeEdge(q[0], q[1], h);
     for (const auto& q : tc_pairs_) tc += solveTriangleConvex(q[0], q[1], h);
-    if (pass == 0) counts_ = {pt, pp, ee, tc};
+    if (pass == 0) counts_ = {pt, pp, ee, tc, 0};
+  }
+  // The hooks' laws, after the layer's own, a point's candidate triangles at a time, in id order.
+  std::vector<std::uint8_t> started(hooks_.size(), 0);  // begun this step
+  for (std::size_t a = 0; a < hk_pairs_.size();) {
+    const std::uint32_t i = hk_pairs_[a][0], k = hk_pairs_[a][2];
+    std::size_t b = a;
+    hk_tris_.clear();
+    for (; b < hk_pairs_.size() && hk_pairs_[b][0] == i && hk_pairs_[b][2] == k; ++b) hk_tris_.push_back(hk_pairs_[b][1]);
+    const Hook& hk = hooks_[k];
+    if (!started[k]) hk.hook->begin(p_, hk.points, hk.surface, h), started[k] = 1;
+    if (!p_.gone[i] && hk.hook->point(p_, i, hk_tris_, h)) {
+      touched_[hk.points] = touched_[hk.surface] = 1;
+      ++counts_.hooked;
+    }
+    a = b;
   }
   total_.point_triangle += counts_.point_triangle;
   total_.point_point += counts_.point_point;
   total_.edge_edge += counts_.edge_edge;
   total_.triangle_convex += counts_.triangle_convex;
+  total_.hooked += counts_.hooked;
   // What the bodies' convex parts took, to their colliders' Coupling entries (angular about the
   // collider's pose.pos). The objects' is taken by what holds them.
   for (std::size_t c = 0; c < p_.convex.size(); ++c) {
@@ -546,6 +629,8 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
     const std::size_t f = p_.first[e], n = p_.first[e + 1] - f;
     bodies[exporters_[e]]->importContacts(std::span<const Vec3>(p_.x).subspan(f, n),
                                           std::span<const Vec3>(p_.v).subspan(f, n));
+    const std::span<const std::uint8_t> gone = std::span<const std::uint8_t>(p_.gone).subspan(f, n);
+    if (std::find(gone.begin(), gone.end(), std::uint8_t{1}) != gone.end()) bodies[exporters_[e]]->dropPoints(gone);
   }
 }
 

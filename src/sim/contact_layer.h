@@ -9,6 +9,8 @@
 //   body, a figure's link, whose impulse the World's Coupling carries to the system that moves
 //   it in the same step; or a scene object's sphere, box, capsule, container wall or mesh
 //   triangle thinner than the surface's longest edge, which nothing moves).
+// A pair of bodies may have a law of its own for its point–triangle contacts (a liquid and a
+// sheet: porosity, soaking up, adhesion): a ContactHook, which takes the pairs the layer found.
 // Impulses are equal and opposite (a point's against the triangle's corners by the barycentric
 // weights of the contact), applied in the same step, pairs processed in id order: momentum is
 // kept to rounding and a run is bit-identical for any thread count. The layer keeps no state
@@ -31,6 +33,7 @@
 namespace reel {
 
 class Body;
+struct StepContext;
 struct Collider;
 struct Coupling;
 struct ObjectParts;
@@ -49,6 +52,7 @@ struct ContactProxies {
   std::vector<std::uint32_t> slot;        // the exporting body's slot (points)
   std::vector<std::array<std::uint32_t, 3>> tri;  // point ids, counter-clockwise from outside (triangles)
   std::vector<std::array<std::uint32_t, 2>> edge;  // point ids of a thread's ends (edges)
+  std::vector<std::uint8_t> gone;         // taken by another body in the step (a drop soaked up), out of its contacts (points)
   // A convex part of a body moved by a system (a rigid body, a figure's link): its shape at its
   // pose now, its velocity, how it answers an impulse, and the collider whose Coupling entry
   // takes what it is given. v and w change as the layer's contacts act on it.
@@ -69,7 +73,11 @@ struct ContactProxies {
   // Per exporting body (slots): its World index, first point.
   std::vector<std::size_t> body;
   std::vector<std::uint32_t> first;       // (slots + 1)
+  std::vector<std::uint32_t> tri_first;   // its first triangle (slots + 1)
   void clear();
+  // Appends body b's points and triangles (b is the World's body `index`; its pieces numbered
+  // from `base_piece`) as the next slot; returns how many pieces it used.
+  std::uint32_t add(const Body& b, std::size_t index, std::uint32_t base_piece = 0);
 };
 
 // What a body writes its proxies through (Body::exportContacts).
@@ -93,6 +101,7 @@ class ContactExport {
 
  private:
   friend class ContactLayer;
+  friend struct ContactProxies;
   ContactProxies& p_;
   std::uint32_t base_piece_ = 0;  // the body's first piece id
   std::uint32_t pieces_ = 1;      // pieces the body used
@@ -105,22 +114,51 @@ struct ContactCounts {
   std::size_t point_point = 0;
   std::size_t edge_edge = 0;
   std::size_t triangle_convex = 0;
+  std::size_t hooked = 0;  // points a hook's law touched
+};
+
+// A law of its own for the point–triangle contacts between the points of one body and the
+// triangles of another (a liquid and a sheet: porosity, soaking up, adhesion; the registry's
+// InteractionRow makes it). The layer's broad phase finds the pairs (the surface's triangles
+// grown by margin()) and hands them to the hook after its own pairs, point by point in id order;
+// the two bodies meet in no other way through the layer.
+class ContactHook {
+ public:
+  virtual ~ContactHook() = default;
+  // How far beyond the sum of the radii the law reaches (adhesion), m.
+  virtual double margin() const = 0;
+  // Before the step's first pair: the slots of the points' body and the surface's body in p.
+  virtual void begin(const ContactProxies& p, std::uint32_t points, std::uint32_t surface, double h) = 0;
+  // Point i against its candidate triangles (ascending ids). It may change the positions and
+  // velocities in p of the point and of the triangles' corners (equal and opposite), and mark
+  // the point gone (taken by the surface's body: Body::dropPoints takes it out after the step).
+  // True when it changed anything.
+  virtual bool point(ContactProxies& p, std::uint32_t i, std::span<const std::uint32_t> tris, double h) = 0;
+  // After the layer's step, every step (also one without pairs): what the law does to the two
+  // bodies beyond their points' motion (drips).
+  virtual void end(const StepContext& ctx) = 0;
+};
+
+// A hook and the World indices of its points' body and surface's body.
+struct HookedPair {
+  std::size_t points = 0, surface = 0;
+  ContactHook* hook = nullptr;
 };
 
 class ContactLayer {
  public:
-  // Which bodies export proxies (Body::exportsContacts) and which pairs of them the layer leaves
-  // alone (`skip`: pairs of World indices whose contacts go through an exchange of their own).
-  // The scene objects (the static and keyed colliders: not the free bodies') are convex parts
-  // the bodies' triangles meet. active() is false when no two proxies could ever meet: then
-  // step() costs nothing.
-  void setup(const std::vector<std::unique_ptr<Body>>& bodies, const std::vector<std::array<std::size_t, 2>>& skip,
+  // Which bodies export proxies (Body::exportsContacts) and which pairs of them meet by a law of
+  // their own (`hooks`, which outlive the layer's use of them). The scene objects (the static and
+  // keyed colliders: not the free bodies') are convex parts the bodies' triangles meet. active()
+  // is false when no two proxies could ever meet: then step() costs nothing.
+  void setup(const std::vector<std::unique_ptr<Body>>& bodies, std::span<const HookedPair> hooks,
              const std::vector<Collider>& colliders);
   bool active() const { return active_ || objects_active_; }
 
   // Gathers every exporting body's proxies, finds the contacts over the step h, resolves them and
-  // hands each touched body its new positions and velocities (Body::importContacts); what the
-  // convex parts took goes into `coupling` (per collider; angular about the collider's pose.pos).
+  // hands each touched body its new positions and velocities (Body::importContacts) and the points
+  // a hook took from it (Body::dropPoints); what the convex parts took goes into `coupling` (per
+  // collider; angular about the collider's pose.pos). The hooks' end() is the caller's.
   void step(const std::vector<std::unique_ptr<Body>>& bodies, double h, const std::vector<Collider>& colliders,
             Coupling& coupling);
 
@@ -132,7 +170,8 @@ class ContactLayer {
   const ContactProxies& proxies() const { return p_; }
 
  private:
-  bool skipped(std::size_t a, std::size_t b) const;
+  bool skipped(std::size_t a, std::size_t b) const;  // World indices of a hooked pair
+  int hookOf(std::uint32_t point_slot, std::uint32_t surface_slot) const;  // index in hooks_, or -1
   bool meet(std::uint32_t i, std::uint32_t j) const;  // points of two pieces that may touch
   void findPointTriangle();
   void findPointPoint();
@@ -155,7 +194,14 @@ class ContactLayer {
   std::vector<std::size_t> convex_exporters_;       // World indices of the bodies with convex parts
   std::vector<std::array<std::size_t, 2>> held_;    // sorted (World index, collider): a body and what holds it
   std::vector<std::array<std::size_t, 2>> held_bodies_;  // sorted (World index, World index): a body and the body holding it
-  std::vector<std::array<std::size_t, 2>> skip_;    // sorted pairs (a < b)
+  std::vector<std::array<std::size_t, 2>> skip_;    // sorted pairs (a < b) of hooked bodies
+  struct Hook {
+    std::uint32_t points, surface;  // slots
+    ContactHook* hook;
+  };
+  std::vector<Hook> hooks_;
+  std::vector<std::int16_t> hook_of_;  // per (point slot, surface slot): index in hooks_, or -1
+  std::vector<double> grow_;  // per slot: how far beyond the radii its triangles reach (hooks' margins), m
   // The scene objects as convex parts (built once, shared by copies of the World), and the
   // sorted (slot, collider) pairs the layer leaves apart: a body held at a point on or in an
   // object (a flag pinned to its pole), when the World was made or in the step, and an object no
@@ -178,16 +224,22 @@ class ContactLayer {
   // the box of a piece it may touch (only those take part in the step's search).
   std::vector<Vec3> piece_lo_, piece_hi_;
   std::vector<std::uint32_t> piece_slot_;
-  std::vector<std::uint8_t> near_;
+  std::vector<std::uint8_t> near_;  // kPlain | kHooked
+  static constexpr std::uint8_t kPlain = 1, kHooked = 2;
   std::vector<std::uint32_t> big_;  // pieces too large for the pieces' grid
   bool nearPieces(std::uint32_t pieces);
   bool near(std::size_t point) const { return near_[p_.piece[point]] != 0; }
+  // Near a piece it meets by the layer's own law (point–point, edge–edge).
+  bool nearPlain(std::size_t point) const { return (near_[p_.piece[point]] & kPlain) != 0; }
   // Broad phase scratch.
   BoxGrid tri_grid_, point_grid_;
   std::vector<Vec3> lo_, hi_;
   std::vector<std::vector<std::array<std::uint32_t, 2>>> chunk_pairs_;
   std::vector<std::array<std::uint32_t, 2>> pt_pairs_, pp_pairs_, ee_pairs_;  // (point, triangle), (point, point), (edge, edge)
   std::vector<std::array<std::uint32_t, 2>> tc_pairs_;  // (triangle, convex part)
+  std::vector<std::array<std::uint32_t, 3>> hk_pairs_;  // (point, triangle, hook): a hook's
+  std::vector<std::uint32_t> hk_tris_;                  // (scratch)
+  std::vector<Vec3> slot_lo_, slot_hi_;                 // per slot: its triangles' grown boxes together
   std::vector<Vec3> convex_J_, convex_L_;  // per convex part: impulse this step (N·s), its moment about the centre of mass
   ContactCounts counts_, total_;
 };

@@ -80,20 +80,20 @@ Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow>
   w.gravity_ = scene.gravity;
   if (Status st = w.buildBodies(scene, kinds, first_object, check_only); !st) return st.error();
   for (const InteractionRow& row : interactions)
-    for (std::size_t a = 0; a < scene.bodies.size(); ++a)
-      for (std::size_t b = 0; b < scene.bodies.size(); ++b)
-        if (scene.bodies[a].type == row.first && scene.bodies[b].type == row.second)
-          w.exchanges_.push_back({a, b, row.exchange});
+    for (std::size_t a = 0; a < w.bodies_.size(); ++a)
+      for (std::size_t b = 0; b < w.bodies_.size(); ++b)
+        if (a != b && scene.bodies[a].type == row.first && scene.bodies[b].type == row.second)
+          w.hooks_.push_back({a, b, row.make(*w.bodies_[a], *w.bodies_[b])});
   for (std::size_t k = 0; k < w.bodies_.size(); ++k) w.bodies_[k]->show(w.shown_, static_cast<int>(k));
   // Bodies that steer around the others (a school) see every body's points within their reach.
   for (const auto& b : w.bodies_) w.body_points_.reach = std::max(w.body_points_.reach, b->watchRadius());
   if (w.body_points_.reach > 0.0)
     for (std::size_t k = 0; k < w.bodies_.size(); ++k)
       if (w.bodies_[k]->exportsContacts()) w.watched_.push_back(k);
-  // The contact layer takes every pair of bodies but those with an exchange of their own.
-  std::vector<std::array<std::size_t, 2>> own;
-  for (const Exchange& x : w.exchanges_) own.push_back({x.first, x.second});
-  w.contacts_.setup(w.bodies_, own, w.colliders_);
+  // The contact layer takes every pair of bodies, the hooked ones by their hook's law.
+  std::vector<HookedPair> hooked;
+  for (const Hooked& hk : w.hooks_) hooked.push_back({hk.points, hk.surface, hk.hook.get()});
+  w.contacts_.setup(w.bodies_, hooked, w.colliders_);
   w.coupling_.reset(w.colliders_.size());
   // A system per kind that has one and bodies in the scene, stepping them together.
   w.in_system_.assign(w.bodies_.size(), 0);
@@ -190,12 +190,7 @@ Status World::buildBodies(const SceneDesc& scene, std::span<const BodyKindRow> k
 void World::gatherBodyPoints() {
   ContactProxies& p = watch_proxies_;
   p.clear();
-  for (std::size_t k : watched_) {
-    p.body.push_back(k);
-    ContactExport out(p);
-    bodies_[k]->exportContacts(out);
-    p.first.push_back(static_cast<std::uint32_t>(p.x.size()));
-  }
+  for (std::size_t k : watched_) p.add(*bodies_[k], k);
   BodyPoints& b = body_points_;
   b.x.swap(p.x);
   b.r.swap(p.r);
@@ -236,18 +231,18 @@ Status World::advanceFrame() {
       b->step(ctx);
       if (Status st = b->checkState(ctx); !st) return st;
     }
-    // The coupling stage: the exchanges between kinds, then the free objects take what the bodies
-    // handed them, in order.
+    // The coupling stage: the contact layer, every body's points and triangles against every
+    // other's (the hooked pairs by their own law, which then ends its step); then the free objects
+    // take what the bodies handed them, in order.
     profile::Scope coupling(profile::Stage::Coupling);
-    for (const Exchange& x : exchanges_) {
-      x.run(*bodies_[x.first], *bodies_[x.second], ctx);
-      for (std::size_t k : {x.first, x.second})
-        if (Status st = bodies_[k]->checkState(ctx); !st) return st;
-    }
-    // The contact layer: every body's points and triangles against every other's.
     if (contacts_.active()) {
       contacts_.step(bodies_, ctx.h, colliders_, coupling_);
       for (std::size_t k : contacts_.touchedBodies())
+        if (Status st = bodies_[k]->checkState(ctx); !st) return st;
+    }
+    for (const Hooked& hk : hooks_) {
+      hk.hook->end(ctx);
+      for (std::size_t k : {hk.points, hk.surface})
         if (Status st = bodies_[k]->checkState(ctx); !st) return st;
     }
     // The coupled bodies that step alone (articulated figures: each reads the objects and the

@@ -2,9 +2,9 @@
 // (DESIGN 2). Time always comes from integer counters: t = step / (fps · steps per frame).
 //
 // A step: keyframed objects move to the step's end; every body steps (the scene's bodies in
-// scene order, each checked for a bad state); then the coupling stage: the exchanges between
-// kinds (InteractionRow: liquid ↔ cloth), the contact layer (every body's points, triangles and
-// threads against every other's), the figures (in parallel, each publishing in order), and last
+// scene order, each checked for a bad state); then the coupling stage: the contact layer (every
+// body's points, triangles, threads and convex parts against every other's; a pair of kinds with
+// a law of its own, InteractionRow: liquid ↔ cloth, as the layer's hook), the figures (in parallel, each publishing in order), and last
 // the systems that step a kind's bodies together (BodySystem: the rigid bodies, taking what the
 // others handed their objects, sim/body.h: Coupling). The World knows no body kind: the builders
 // and systems come from the registry of kinds (app/body_kinds.cpp).
@@ -51,7 +51,7 @@ class World {
   // Builds the colliders and, through `kinds`, the bodies; refuses (BadInput) a step above an
   // explicit integrator's stability bound unless the scene sets `auto_substeps`, in which case
   // steps are subdivided.
-  // `interactions`: the exchanges between kinds (the registry's), run in the coupling stage.
+  // `interactions`: the contact laws of pairs of kinds (the registry's hooks of the contact layer).
   // `check_only`: built for `reel check`, never stepped: no body prepares (Body::prepare).
   static Result<World> create(const SceneDesc& scene, std::span<const BodyKindRow> kinds,
                               std::span<const InteractionRow> interactions = {}, bool check_only = false);
@@ -131,11 +131,11 @@ class World {
   };
   std::vector<System> systems_;      // in the registry's order of kinds
   std::vector<char> in_system_;      // per body: stepped by a system
-  struct Exchange {
-    std::size_t first, second;  // bodies
-    void (*run)(Body&, Body&, StepContext&);
+  struct Hooked {
+    std::size_t points, surface;  // bodies
+    std::unique_ptr<ContactHook> hook;
   };
-  std::vector<Exchange> exchanges_;  // the coupling stage's exchanges, in order
+  std::vector<Hooked> hooks_;  // the pairs of bodies with a contact law of their own, in order
   ContactLayer contacts_;            // every body's points and triangles against every other's
   Coupling coupling_;
   SolverStats solver_;

@@ -132,8 +132,8 @@ inline constexpr double kDrainRate = 12.0;  // 1/s
 void spreadWetness(Cloth& c, MassSpringModel& m, const std::vector<Vec3>& x, std::vector<Vec3>& v,
                    const Vec3& gravity, double h);
 // Node i takes or loses liquid mass dm (kg) moving at velocity u: its mass becomes dry + wet and
-// its velocity the mass-weighted mean (a fixed node keeps its own).
-void wetNode(Cloth& c, MassSpringModel& m, std::vector<Vec3>& v, std::size_t i, double dm, const Vec3& u);
+// its velocity vi the mass-weighted mean (a fixed node keeps its own).
+void wetNode(Cloth& c, MassSpringModel& m, Vec3& vi, std::size_t i, double dm, const Vec3& u);
 
 // The force the pinned and gripped nodes hold the sheet with (their reaction: minus the springs,
 // weight and liquid acting on them), N; at rest it balances the weight of sheet and liquid.

@@ -9,6 +9,7 @@ namespace reel {
 
 void ClothBody::step(StepContext& ctx) {
   MassSpringState& s = net_.state;
+  cloth_.pin_liquid_force.setZero();  // what liquids give the pins this step (the contact layer's hook)
   gripVelocities(cloth_, ctx.t0, *ctx.colliders, s.v);
   const AirDesc& air = cloth_.air;
   if (air.viscous != 0.0 || air.drag != 0.0 || air.lift != 0.0) {

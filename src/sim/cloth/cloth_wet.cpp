@@ -6,11 +6,11 @@
 
 namespace reel {
 
-void wetNode(Cloth& c, MassSpringModel& m, std::vector<Vec3>& v, std::size_t i, double dm, const Vec3& u) {
+void wetNode(Cloth& c, MassSpringModel& m, Vec3& vi, std::size_t i, double dm, const Vec3& u) {
   const double before = m.mass[i];
   c.wet[i] = std::max(0.0, c.wet[i] + dm);
   const double after = c.dry_mass[i] + c.wet[i];
-  if (!m.fixed[i] && dm > 0) v[i] = (before * v[i] + dm * u) * (1.0 / after);
+  if (!m.fixed[i] && dm > 0) vi = (before * vi + dm * u) * (1.0 / after);
   setNodeMass(m, i, after);
 }
 
@@ -23,8 +23,8 @@ void spreadWetness(Cloth& c, MassSpringModel& m, const std::vector<Vec3>& x, std
   auto move = [&](std::size_t i, std::size_t j, double dm) {
     if (!(dm > 0)) return;
     const Vec3 u = v[i];
-    wetNode(c, m, v, i, -dm, u);
-    wetNode(c, m, v, j, dm, u);
+    wetNode(c, m, v[i], i, -dm, u);
+    wetNode(c, m, v[j], j, dm, u);
     c.wet_species[j] = c.wet_species[i];
   };
   // Wicking along the threads, one spring after another in index order (deterministic): the

@@ -1,9 +1,12 @@
-// Cloth ↔ liquid, both ways (the coupling stage's exchange between a `fluid` and a `cloth`).
+// Cloth ↔ liquid, both ways: the contact layer's hook for a `fluid`'s particles against a
+// `cloth`'s triangles (sim/contact_layer.h, ContactHook). The layer's broad phase finds each
+// particle's candidate triangles (the sheet's grown by the adhesion range); the hook's law
+// replaces the layer's own for the pair.
 //
 // After both have stepped, every particle within reach of a drawn triangle of the sheet (its
 // contact radius plus the sheet's thickness, plus the adhesion range where the sheet's surface
 // is sticky for its species) meets the closest one at its closest point, on the side it came
-// from (the particle and the triangle a step back): the pair is pushed apart to that reach,
+// from (the particle and the triangle at the start of the step): the pair is pushed apart to that reach,
 // weighted by inverse masses (the point of the sheet moves its three nodes by its barycentric
 // weights), and their relative velocity there takes one impulse J: restitution and Coulomb
 // friction from the sheet's `surface` for the particle's species, adhesion pulling them
@@ -21,16 +24,18 @@
 // drains (cloth_wet.cpp), and a node holding a drop's mass beyond its capacity releases it as a
 // new particle below itself, at its own velocity.
 //
-// Particles are resolved one after another in slot order (deterministic for any thread count);
-// the search for each particle's closest triangle runs in parallel over a grid of the
-// triangles' boxes.
+// Particles are resolved one after another in id order, after the layer's other contacts
+// (deterministic for any thread count); a soaked-up particle leaves the liquid after the step
+// (Body::dropPoints), and the drips follow (ContactHook::end).
 #pragma once
+
+#include <memory>
 
 #include "sim/body.h"
 
 namespace reel {
 
 // The registry's interaction row (fluid, cloth): `liquid` is a FluidBody, `sheet` a ClothBody.
-void exchangeClothLiquid(Body& liquid, Body& sheet, StepContext& ctx);
+std::unique_ptr<ContactHook> clothLiquidHook(Body& liquid, Body& sheet);
 
 }  // namespace reel

@@ -30,6 +30,10 @@ void FluidBody::importContacts(std::span<const Vec3> x, std::span<const Vec3> v)
   std::copy(v.begin(), v.end(), fluid_.v.begin());
 }
 
+void FluidBody::dropPoints(std::span<const std::uint8_t> gone) {
+  removeParticles(fluid_, std::vector<std::uint8_t>(gone.begin(), gone.end()));
+}
+
 Status FluidBody::checkState(const StepContext& ctx) const {
   return checkPoints(ctx, name(), "particle", fluid_.x, fluid_.v, bound_);
 }

@@ -33,6 +33,7 @@ class FluidBody final : public Body {
   bool exportsContacts() const override { return true; }
   void exportContacts(ContactExport& out) const override;
   void importContacts(std::span<const Vec3> x, std::span<const Vec3> v) override;
+  void dropPoints(std::span<const std::uint8_t> gone) override;
 
   Fluid& fluid() { return fluid_; }
   const Fluid& fluid() const { return fluid_; }
