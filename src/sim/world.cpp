@@ -80,8 +80,8 @@ Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow>
   w.gravity_ = scene.gravity;
   if (Status st = w.buildBodies(scene, kinds, first_object, check_only); !st) return st.error();
   for (const InteractionRow& row : interactions)
-    for (std::size_t a = 0; a < w.bodies_.size(); ++a)
-      for (std::size_t b = 0; b < w.bodies_.size(); ++b)
+    for (std::size_t a = 0; a < scene.bodies.size(); ++a)
+      for (std::size_t b = 0; b < scene.bodies.size(); ++b)
         if (a != b && scene.bodies[a].type == row.first && scene.bodies[b].type == row.second)
           w.hooks_.push_back({a, b, row.make(*w.bodies_[a], *w.bodies_[b])});
   for (std::size_t k = 0; k < w.bodies_.size(); ++k) w.bodies_[k]->show(w.shown_, static_cast<int>(k));
