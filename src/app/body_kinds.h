@@ -24,7 +24,7 @@ struct BodyKind {
 std::span<const BodyKind> bodyKinds();
 std::span<const io::BodyReaderRow> bodyReaders();
 std::span<const BodyKindRow> bodyBuilders();
-// The exchanges between kinds in the coupling stage, in order.
+// The contact laws of pairs of kinds (the contact layer's hooks), in order.
 std::span<const InteractionRow> interactions();
 
 // The scene and the world with every kind reel has.

@@ -4,10 +4,11 @@
 // A step: keyframed objects move to the step's end; every body steps (the scene's bodies in
 // scene order, each checked for a bad state); then the coupling stage: the contact layer (every
 // body's points, triangles, threads and convex parts against every other's; a pair of kinds with
-// a law of its own, InteractionRow: liquid ↔ cloth, as the layer's hook), the figures (in parallel, each publishing in order), and last
-// the systems that step a kind's bodies together (BodySystem: the rigid bodies, taking what the
-// others handed their objects, sim/body.h: Coupling). The World knows no body kind: the builders
-// and systems come from the registry of kinds (app/body_kinds.cpp).
+// a law of its own, InteractionRow: liquid ↔ cloth, as the layer's hook), the figures (in
+// parallel, each publishing in order), and last the systems that step a kind's bodies together
+// (BodySystem: the rigid bodies, taking what the others handed their objects, sim/body.h:
+// Coupling). The World knows no body kind: the builders and systems come from the registry of
+// kinds (app/body_kinds.cpp).
 #pragma once
 
 #include <cstdint>
