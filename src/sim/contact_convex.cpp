@@ -81,7 +81,10 @@ void ContactLayer::findTriangleConvex(double h) {
   double rmax = 0.0;
   for (double r : p_.r) rmax = std::max(rmax, r);
   // The parts' boxes.
-  std::vector<Vec3> clo(nc), chi(nc);
+  std::vector<Vec3>& clo = tc_.clo;
+  std::vector<Vec3>& chi = tc_.chi;
+  clo.resize(nc);
+  chi.resize(nc);
   for (std::size_t c = 0; c < nc; ++c) {
     const ContactProxies::Convex& C = p_.convex[c];
     shapeBounds(*C.shape, C.pose, clo[c], chi[c]);
@@ -92,7 +95,10 @@ void ContactLayer::findTriangleConvex(double h) {
     if (!clo[c].allFinite() || !chi[c].allFinite()) clo[c] = Vec3::Constant(1e300), chi[c] = Vec3::Constant(-1e300);
   }
   // Per exporting body: its points' box over the step; whether a part it may meet is near it.
-  std::vector<Vec3> slot_lo(slots, Vec3::Constant(1e300)), slot_hi(slots, Vec3::Constant(-1e300));
+  std::vector<Vec3>& slot_lo = tc_.slot_lo;
+  std::vector<Vec3>& slot_hi = tc_.slot_hi;
+  slot_lo.assign(slots, Vec3::Constant(1e300));
+  slot_hi.assign(slots, Vec3::Constant(-1e300));
   for (std::size_t i = 0; i < p_.x.size(); ++i) {
     const std::uint32_t e = p_.slot[i];
     slot_lo[e] = slot_lo[e].cwiseMin(p_.x[i]).cwiseMin(p_.x0[i]);
@@ -108,7 +114,8 @@ void ContactLayer::findTriangleConvex(double h) {
   auto overlap = [](const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
     return (alo.array() <= bhi.array()).all() && (blo.array() <= ahi.array()).all();
   };
-  std::vector<std::uint8_t> slot_near(slots, 0);
+  std::vector<std::uint8_t>& slot_near = tc_.slot_near;
+  slot_near.assign(slots, 0);
   bool any = false;
   for (std::size_t e = 0; e < slots; ++e)
     for (std::size_t c = 0; c < nc && !slot_near[e]; ++c)
@@ -120,7 +127,10 @@ void ContactLayer::findTriangleConvex(double h) {
   const std::size_t nb = (nt + kBlock - 1) / kBlock;
   lo_.assign(nt, Vec3::Constant(1e300));
   hi_.assign(nt, Vec3::Constant(-1e300));
-  std::vector<Vec3> blo(nb, Vec3::Constant(1e300)), bhi(nb, Vec3::Constant(-1e300));
+  std::vector<Vec3>& blo = tc_.blo;
+  std::vector<Vec3>& bhi = tc_.bhi;
+  blo.assign(nb, Vec3::Constant(1e300));
+  bhi.assign(nb, Vec3::Constant(-1e300));
   for (std::size_t t = 0; t < nt; ++t) {
     const auto& T = p_.tri[t];
     if (!slot_near[p_.slot[T[0]]]) continue;
@@ -137,22 +147,27 @@ void ContactLayer::findTriangleConvex(double h) {
   // The blocks in a grid of cells about as large as the typical block (at most 16 cells a side
   // for the largest), so that a part (a mesh's triangle among hundreds) looks only at the blocks
   // in the cells its box covers; a part over more than 512 cells tries every block.
-  std::vector<std::uint32_t> live;
-  std::vector<double> extent;
+  std::vector<std::uint32_t>& live = tc_.live;
+  std::vector<double>& extent = tc_.extent;
+  live.clear();
+  extent.clear();
   for (std::size_t b = 0; b < nb; ++b)
     if (blo[b].x() <= bhi[b].x()) {
       live.push_back(static_cast<std::uint32_t>(b));
       extent.push_back((bhi[b] - blo[b]).maxCoeff());
     }
   if (live.empty()) return;
-  std::vector<Vec3> llo(live.size()), lhi(live.size());
+  std::vector<Vec3>& llo = tc_.llo;
+  std::vector<Vec3>& lhi = tc_.lhi;
+  llo.resize(live.size());
+  lhi.resize(live.size());
   for (std::size_t k = 0; k < live.size(); ++k) llo[k] = blo[live[k]], lhi[k] = bhi[live[k]];
   const double largest = *std::max_element(extent.begin(), extent.end());
   std::nth_element(extent.begin(), extent.begin() + static_cast<std::ptrdiff_t>(extent.size() / 2), extent.end());
   const double cell = std::max({extent[extent.size() / 2], largest / 15.0, 1e-6});
   const bool gridded = std::isfinite(cell) && cell < 1e200;
   if (gridded) tri_grid_.build(llo, lhi, cell);
-  std::vector<std::uint32_t> blocks;
+  std::vector<std::uint32_t>& blocks = tc_.blocks;
   for (std::size_t c = 0; c < nc; ++c) {
     blocks.clear();
     double cells = 0.0;

@@ -240,6 +240,12 @@ class ContactLayer {
   std::vector<std::array<std::uint32_t, 3>> hk_pairs_;  // (point, triangle, hook): a hook's
   std::vector<std::uint32_t> hk_tris_;                  // (scratch)
   std::vector<Vec3> slot_lo_, slot_hi_;                 // per slot: its triangles' grown boxes together
+  struct TriangleConvexScratch {  // findTriangleConvex's, kept between steps
+    std::vector<Vec3> clo, chi, slot_lo, slot_hi, blo, bhi, llo, lhi;
+    std::vector<std::uint8_t> slot_near;
+    std::vector<std::uint32_t> live, blocks;
+    std::vector<double> extent;
+  } tc_;
   std::vector<Vec3> convex_J_, convex_L_;  // per convex part: impulse this step (N·s), its moment about the centre of mass
   ContactCounts counts_, total_;
 };
