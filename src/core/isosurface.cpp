@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "core/math.h"
+#include "core/parallel.h"
 
 namespace reel {
 
@@ -108,6 +109,48 @@ TriMesh isosurface(const GridField& f, double iso) {
         }
       }
   return out;
+}
+
+void smoothSurface(TriMesh& m, int passes) {
+  const std::size_t n = m.vertexCount();
+  if (passes <= 0 || n == 0) return;
+  // Each vertex's edge neighbours, once each (a CSR table).
+  std::vector<std::uint64_t> edges;
+  edges.reserve(2 * m.indices.size());
+  for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3)
+    for (int e = 0; e < 3; ++e) {
+      const std::uint64_t a = m.indices[t + static_cast<std::size_t>(e)], b = m.indices[t + static_cast<std::size_t>((e + 1) % 3)];
+      edges.push_back(a << 32 | b);
+      edges.push_back(b << 32 | a);
+    }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<std::uint32_t> start(n + 1, 0);
+  for (std::uint64_t e : edges) ++start[(e >> 32) + 1];
+  for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+  std::vector<float> next(m.positions.size());
+  auto relax = [&](double factor) {
+    parallelFor(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t vi) {
+      const auto v = static_cast<std::size_t>(vi);
+      for (int a = 0; a < 3; ++a) next[3 * v + static_cast<std::size_t>(a)] = m.positions[3 * v + static_cast<std::size_t>(a)];
+      if (start[v + 1] == start[v]) return;
+      double mean[3] = {0, 0, 0};
+      for (std::uint32_t e = start[v]; e < start[v + 1]; ++e) {
+        const auto u = static_cast<std::size_t>(edges[e] & 0xFFFFFFFFu);
+        for (int a = 0; a < 3; ++a) mean[a] += m.positions[3 * u + static_cast<std::size_t>(a)];
+      }
+      const double k = 1.0 / static_cast<double>(start[v + 1] - start[v]);
+      for (int a = 0; a < 3; ++a) {
+        const double x = m.positions[3 * v + static_cast<std::size_t>(a)];
+        next[3 * v + static_cast<std::size_t>(a)] = static_cast<float>(x + factor * (k * mean[a] - x));
+      }
+    });
+    m.positions.swap(next);
+  };
+  for (int p = 0; p < passes; ++p) {
+    relax(0.5);
+    relax(-0.53);
+  }
 }
 
 }  // namespace reel

@@ -36,4 +36,12 @@ struct GridField {
 // gradient (pointing towards lower values), colours interpolated when the field has them.
 TriMesh isosurface(const GridField& f, double iso);
 
+// `passes` of Taubin's smoothing (Taubin 1995, "A signal processing approach to fair surface
+// design"): each pass moves every vertex λ = 0.5 of the way to the mean of its edge neighbours, then
+// μ = −0.53 of the way (back out), which damps the grid's stair steps and a kernel's bumps without
+// shrinking the surface as plain Laplacian smoothing does. Normals are left as they are (an
+// isosurface's come from the field's gradient, smoother than its facets'). Vertices are moved all
+// at once each half-pass: the same bits on any number of threads.
+void smoothSurface(TriMesh& m, int passes);
+
 }  // namespace reel

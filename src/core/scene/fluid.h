@@ -88,6 +88,8 @@ struct FluidDesc final : BodyParams {
   double surface_cell = 0.0;    // m, marching grid cell; 0: the particle radius
   double surface_kernel = 0.0;  // m, smoothing radius of the density field; 0: 4 × radius
   double surface_iso = 0.5;     // density level of the surface, in particles per kernel volume
+  bool surface_anisotropic = true;  // kernels stretched along each particle's neighbourhood (Yu & Turk 2013)
+  int surface_smoothing = 2;        // passes of Taubin's smoothing over the extracted mesh
   // Particles the emitters release in all.
   long long emitted() const {
     long long n = 0;

@@ -92,6 +92,8 @@ struct FluidModel {
   bool agitated = false;  // some pair has random forces
   FluidDraw draw = FluidDraw::Spheres;
   double surface_cell = 0.01, surface_kernel = 0.04, surface_iso = 0.5;
+  bool surface_anisotropic = true;
+  int surface_smoothing = 2;
   std::vector<FluidEmitter> emitters;
 };
 

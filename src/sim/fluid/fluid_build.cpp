@@ -205,6 +205,8 @@ Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<
   fl.surface_cell = d.surface_cell > 0 ? d.surface_cell : d.radius;
   fl.surface_kernel = d.surface_kernel > 0 ? d.surface_kernel : 4.0 * d.radius;
   fl.surface_iso = d.surface_iso;
+  fl.surface_anisotropic = d.surface_anisotropic;
+  fl.surface_smoothing = d.surface_smoothing;
   // Surfaces per collider and species; free objects by collider.
   fl.surfaces.reserve(colliders.size() * S);
   for (const Collider& o : colliders) {

@@ -1,0 +1,33 @@
+// The surface a liquid is drawn with, from its particles (fluid_surface.cpp).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "core/mesh.h"
+#include "core/types.h"
+#include "sim/fluid/fluid.h"
+
+namespace reel {
+
+// One particle's smoothing kernel: W(x) = (1 − q²)³ for q = |A·(x − centre)| < 1, A symmetric
+// with det A = 1/R³ (every kernel holds the volume of the isotropic one of radius R); `half` the
+// half-extents of the box around its ellipsoid.
+struct SurfaceKernel {
+  Vec3 centre{0, 0, 0};
+  Mat3 A = Mat3::Identity();
+  Vec3 half{0, 0, 0};
+};
+
+// The kernels of the particles `part` of x (positions, m), of radius R. Anisotropic (after Yu &
+// Turk 2013): each particle's neighbours within R give its centre (moved towards their weighted
+// mean) and its ellipsoid (the axes of their spread); isotropic: a ball of radius R at the particle.
+std::vector<SurfaceKernel> surfaceKernels(const std::vector<Vec3>& x, const std::vector<std::size_t>& part, double R,
+                                          bool anisotropic);
+
+// The liquid's surface (the particles' `colors` splatted with their kernels, marching tetrahedra,
+// Taubin smoothing), piece by piece; the particles of pieces too small for a surface are added to
+// `spray`. `tint`: colours darkened with the depth of liquid behind (an opaque liquid).
+TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, std::vector<std::size_t>& spray, bool tint);
+
+}  // namespace reel

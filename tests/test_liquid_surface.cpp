@@ -1,0 +1,172 @@
+// The surface a liquid is drawn with (sim/fluid/fluid_surface.*): anisotropic kernels (Yu & Turk
+// 2013) keep a resting pool flat and a thin stream whole, the surface stays by its particles, and
+// it is the same bits on any number of threads.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <random>
+
+#include "core/union_find.h"
+#include "fluid_helpers.h"
+#include "sim/fluid/fluid_surface.h"
+
+using namespace reel;
+using namespace reel::test;
+
+namespace {
+
+// A world of one liquid (the tests' water, 2 cm apart at rest) at the given particles, at rest and
+// without gravity, drawn as a surface with `kernels` ("anisotropic" or "isotropic").
+World liquidAt(const std::vector<Vec3>& p, const std::string& kernels, int smoothing = 2) {
+  std::string list;
+  for (const Vec3& x : p) list += (list.empty() ? "" : ",") + vec(x);
+  return makeWorld(std::string(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 30, "gravity": [0, 0, 0],
+    "bodies": [{"type": "fluid", "name": "f", "radius": 0.01, "draw": "surface", "surface_kernels": ")") + kernels +
+                   R"(", "surface_smoothing": )" + std::to_string(smoothing) + R"(, "species": [)" + kWater +
+                   R"(], "particles": [{"positions": [)" + list + "]}]}]}");
+}
+
+// The liquid's drawn surface.
+TriMesh surfaceOf(const World& w) {
+  DrawList list;
+  w.draw(list);
+  REQUIRE(list.meshes.size() == 1);
+  return *list.meshes[0].mesh;
+}
+
+Vec3 vertex(const TriMesh& m, std::size_t v) { return {m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]}; }
+
+// A pool packed as a settled liquid packs (1.6 cm apart, 0.8 of the rest distance), each particle
+// moved up to 0.3 of that at random (seeded), 16 × 4 × 16 particles from the origin: its top layer
+// at 4.8 cm.
+std::vector<Vec3> roughPool(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> jitter(-0.005, 0.005);
+  std::vector<Vec3> p;
+  for (int k = 0; k < 16; ++k)
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 16; ++i) p.push_back(0.016 * Vec3(i, j, k) + Vec3(jitter(rng), jitter(rng), jitter(rng)));
+  return p;
+}
+
+// The mean height of the pool's top surface over its middle (5 cm from its sides) and its
+// standard deviation, m.
+std::pair<double, double> topHeights(const TriMesh& m) {
+  double s1 = 0, s2 = 0;
+  int n = 0;
+  for (std::size_t v = 0; v < m.vertexCount(); ++v) {
+    const Vec3 x = vertex(m, v);
+    if (x.y() < 0.03 || std::abs(x.x() - 0.12) > 0.07 || std::abs(x.z() - 0.12) > 0.07) continue;
+    s1 += x.y(), s2 += x.y() * x.y(), ++n;
+  }
+  REQUIRE(n > 100);
+  const double mean = s1 / n;
+  return {mean, std::sqrt(std::max(0.0, s2 / n - mean * mean))};
+}
+
+// How many pieces the mesh is in (triangles joined through shared vertices).
+int pieces(const TriMesh& m) {
+  std::vector<int> parent(m.vertexCount());
+  for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<int>(v);
+  for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+    unite(parent, static_cast<int>(m.indices[t]), static_cast<int>(m.indices[t + 1]));
+    unite(parent, static_cast<int>(m.indices[t]), static_cast<int>(m.indices[t + 2]));
+  }
+  int n = 0;
+  for (std::size_t v = 0; v < parent.size(); ++v) n += findRoot(parent, static_cast<int>(v)) == static_cast<int>(v);
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("a resting pool's surface is flat, and flatter with anisotropic kernels") {
+  const std::vector<Vec3> pool = roughPool(7);
+  const auto [amean, astd] = topHeights(surfaceOf(liquidAt(pool, "anisotropic")));
+  const auto [imean, istd] = topHeights(surfaceOf(liquidAt(pool, "isotropic", 0)));
+  MESSAGE("top surface over the middle: anisotropic " << amean << " ± " << astd << " m, isotropic unsmoothed " << imean
+                                                       << " ± " << istd << " m");
+  // Its heights spread by less than a tenth of the particle spacing (their own jitter: ±0.3).
+  CHECK(astd < 0.1 * 0.016);
+  CHECK(istd < 0.1 * 0.016);
+  CHECK(astd < 0.95 * istd);
+  // Above the top layer (4.8 cm), and within half a spacing of where the isotropic surface is
+  // (the centres' smoothing draws the surface in a little).
+  CHECK(amean > 0.048);
+  CHECK(std::abs(amean - imean) < 0.5 * 0.016);
+}
+
+TEST_CASE("a thin stream stays one connected surface along its length") {
+  // A falling stream thinned to three particles across, 3 cm apart along it (stretched by its
+  // fall beyond the 2 cm of rest), its particles jittered: 40 cm long.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> jitter(-0.003, 0.003);
+  std::vector<Vec3> stream;
+  for (int k = 0; k < 14; ++k)
+    for (int a = 0; a < 3; ++a) {
+      const double t = 2.0944 * a + 0.6 * k;  // the three turn about the axis as they fall
+      stream.push_back(Vec3(0.01 * std::cos(t), 0.03 * k, 0.01 * std::sin(t)) + Vec3(jitter(rng), jitter(rng), jitter(rng)));
+    }
+  const TriMesh a = surfaceOf(liquidAt(stream, "anisotropic"));
+  double top = -1e9, bottom = 1e9, widest = 0;
+  for (std::size_t v = 0; v < a.vertexCount(); ++v) {
+    const Vec3 x = vertex(a, v);
+    top = std::max(top, x.y()), bottom = std::min(bottom, x.y());
+    widest = std::max(widest, std::hypot(x.x(), x.z()));
+  }
+  const World iso = liquidAt(stream, "isotropic", 0);
+  DrawList list;
+  iso.draw(list);
+  const int iso_pieces = list.meshes.empty() ? 0 : pieces(*list.meshes[0].mesh);
+  MESSAGE("anisotropic: " << pieces(a) << " piece(s) from y = " << bottom << " to " << top << " m, " << widest
+                          << " m from the axis at most; isotropic: " << iso_pieces << " piece(s)");
+  CHECK(pieces(a) == 1);
+  CHECK(bottom < 0.01);  // from within 1 cm of the first particle (at 0) to the last (0.39 m)
+  CHECK(top > 0.38);
+  CHECK(widest < 0.035);  // a stream, not a row of blobs: within 3.5 cm of its axis
+  CHECK(iso_pieces != 1);  // the isotropic kernels of so few particles leave beads or nothing
+}
+
+TEST_CASE("the liquid's surface stays within a kernel radius of its particles") {
+  for (const char* kernels : {"anisotropic", "isotropic"}) {
+    CAPTURE(kernels);
+    const std::vector<Vec3> pool = roughPool(11);
+    const TriMesh m = surfaceOf(liquidAt(pool, kernels));
+    REQUIRE(m.vertexCount() > 100);
+    double farthest = 0;
+    for (std::size_t v = 0; v < m.vertexCount(); ++v) {
+      double d = 1e9;
+      for (const Vec3& p : pool) d = std::min(d, (vertex(m, v) - p).norm());
+      farthest = std::max(farthest, d);
+    }
+    MESSAGE("farthest vertex from a particle: " << farthest << " m");
+    CHECK(farthest < 0.04);  // the kernel radius, 4 × the particle radius
+  }
+}
+
+TEST_CASE("the liquid's surface is the same bits on one thread and two") {
+  const std::vector<Vec3> pool = roughPool(5);
+  auto mesh = [&](int threads) {
+    const ParallelForTest parallel(threads);
+    return surfaceOf(liquidAt(pool, "anisotropic"));
+  };
+  const TriMesh one = mesh(1), two = mesh(2);
+  REQUIRE(one.vertexCount() > 100);
+  CHECK(one.positions == two.positions);
+  CHECK(one.normals == two.normals);
+  CHECK(one.indices == two.indices);
+}
+
+TEST_CASE("surface_kernels and surface_smoothing: bad values are refused with their path") {
+  const std::string text = R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "fluid", "name": "f", "draw": "surface",
+    "surface_kernels": "elliptic", "surface_smoothing": 40, "species": [{"name": "w"}],
+    "blocks": [{"min": [0, 0, 0], "max": [0.1, 0.1, 0.1], "spacing": 0.02}]}]})";
+  const auto r = app::parseScene(text, "bad.json");
+  REQUIRE(!r.ok());
+  std::string all;
+  for (const std::string& m : r.error().messages) all += m + "\n";
+  CAPTURE(all);
+  CHECK(all.find("/bodies/0/surface_kernels") != std::string::npos);
+  CHECK(all.find("/bodies/0/surface_smoothing") != std::string::npos);
+}
