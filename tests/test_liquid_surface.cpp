@@ -4,10 +4,14 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <random>
+#include <set>
 
+#include "core/isosurface.h"
 #include "core/union_find.h"
 #include "fluid_helpers.h"
 #include "sim/fluid/fluid_surface.h"
@@ -169,4 +173,45 @@ TEST_CASE("surface_kernels and surface_smoothing: bad values are refused with th
   CAPTURE(all);
   CHECK(all.find("/bodies/0/surface_kernels") != std::string::npos);
   CHECK(all.find("/bodies/0/surface_smoothing") != std::string::npos);
+}
+
+TEST_CASE("marching in slabs: one mesh, no vertex made twice, the same on one thread and two") {
+  // A torus's field over 40 node layers (slabs of 3): its surface crosses every slab boundary.
+  GridField f;
+  const int n = 40;
+  f.dims = {n, n, n};
+  f.cell = 0.05;
+  f.origin = Vec3::Constant(-1.0);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const Vec3 p = f.origin + f.cell * Vec3(i, j, k);
+        const double ring = std::hypot(p.x(), p.z()) - 0.6;
+        f.value.push_back(static_cast<float>(0.3 - std::hypot(ring, p.y() * 1.5)));
+      }
+  auto march = [&](int threads) {
+    const ParallelForTest parallel(threads);
+    return isosurface(f, 0.0123);  // (no node exactly on the level: its edges would share a point)
+  };
+  const TriMesh one = march(1), two = march(2);
+  REQUIRE(one.triangleCount() > 500);
+  CHECK(one.positions == two.positions);
+  CHECK(one.indices == two.indices);
+  std::set<std::array<float, 3>> distinct;
+  for (std::size_t v = 0; v < one.vertexCount(); ++v) distinct.insert({one.positions[3 * v], one.positions[3 * v + 1], one.positions[3 * v + 2]});
+  CHECK(distinct.size() == one.vertexCount());
+  CHECK(pieces(one) == 1);
+  // Every vertex is used, every edge has two triangles (closed across the slabs' seams).
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+  std::vector<char> used(one.vertexCount(), 0);
+  for (std::size_t t = 0; t < one.indices.size(); t += 3)
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = one.indices[t + static_cast<std::size_t>(e)], b = one.indices[t + static_cast<std::size_t>((e + 1) % 3)];
+      used[a] = 1;
+      ++edges[{std::min(a, b), std::max(a, b)}];
+    }
+  CHECK(std::count(used.begin(), used.end(), 1) == static_cast<std::ptrdiff_t>(one.vertexCount()));
+  int open = 0;
+  for (const auto& [e, count] : edges) open += count != 2;
+  CHECK(open == 0);
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <unordered_map>
+#include <vector>
 
 #include "core/math.h"
 #include "core/parallel.h"
@@ -24,12 +25,15 @@ double GridField::sample(const Vec3& p) const {
   return s;
 }
 
-// The marching loop in one piece (84 lines): its cell, tetrahedron and edge-cache steps share
-// their indices, which separate functions would have to pass around.
-TriMesh isosurface(const GridField& f, double iso) {
-  TriMesh out;
+namespace {
+
+using EdgeVertices = std::unordered_map<std::uint64_t, std::uint32_t>;
+
+// The marching loop over the cube layers [k0, k1), in one piece: its cell, tetrahedron and
+// edge-cache steps share their indices, which separate functions would have to pass around. One
+// vertex per crossed grid edge, keyed by its two node ids in `edge_vertex`.
+void marchSlab(const GridField& f, double iso, int k0, int k1, TriMesh& out, EdgeVertices& edge_vertex) {
   const int nx = f.dims[0], ny = f.dims[1], nz = f.dims[2];
-  if (nx < 2 || ny < 2 || nz < 2) return out;
   const bool coloured = f.color.size() == 3 * f.value.size();
   // Gradient at a node by central differences (one-sided at the border).
   auto gradient = [&](int i, int j, int k) {
@@ -43,8 +47,6 @@ TriMesh isosurface(const GridField& f, double iso) {
     j = static_cast<int>((id / static_cast<std::size_t>(nx)) % static_cast<std::size_t>(ny));
     k = static_cast<int>(id / (static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny)));
   };
-  // One vertex per crossed grid edge, keyed by its two node ids.
-  std::unordered_map<std::uint64_t, std::uint32_t> edge_vertex;
   auto vertexOn = [&](std::size_t a, std::size_t b) -> std::uint32_t {
     if (a > b) std::swap(a, b);
     const std::uint64_t key = static_cast<std::uint64_t>(a) << 32 | static_cast<std::uint64_t>(b);  // ids < 2³²
@@ -77,7 +79,7 @@ TriMesh isosurface(const GridField& f, double iso) {
     if (n.dot(outward) < 0) std::swap(b, c);
     out.indices.insert(out.indices.end(), {a, b, c});
   };
-  for (int k = 0; k + 1 < nz; ++k)
+  for (int k = k0; k < k1; ++k)
     for (int j = 0; j + 1 < ny; ++j)
       for (int i = 0; i + 1 < nx; ++i) {
         std::size_t id[8];
@@ -108,6 +110,62 @@ TriMesh isosurface(const GridField& f, double iso) {
           }
         }
       }
+}
+
+}  // namespace
+
+// In slabs of cube layers, marched in parallel, each with its own vertices; then joined in slab
+// order, a vertex on the node layer two slabs share (its edge's both nodes on that layer) taken
+// from the lower slab, which met it first. Vertices and triangles come out in the order one pass
+// over the cubes would make them: the same bits on any number of threads.
+TriMesh isosurface(const GridField& f, double iso) {
+  const int nx = f.dims[0], ny = f.dims[1], nz = f.dims[2];
+  if (nx < 2 || ny < 2 || nz < 2) return {};
+  const int layers = nz - 1, thick = std::max(2, (layers + 15) / 16), slabs = (layers + thick - 1) / thick;
+  std::vector<TriMesh> part(static_cast<std::size_t>(slabs));
+  std::vector<EdgeVertices> edges(static_cast<std::size_t>(slabs));
+  parallelBlocks(
+      slabs, 1,
+      [&](std::ptrdiff_t s0, std::ptrdiff_t) {
+        const auto s = static_cast<std::size_t>(s0);
+        const int k0 = static_cast<int>(s0) * thick;
+        marchSlab(f, iso, k0, std::min(layers, k0 + thick), part[s], edges[s]);
+      },
+      static_cast<std::ptrdiff_t>(f.value.size() / 64));
+  const std::size_t per_layer = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
+  TriMesh out;
+  const bool coloured = f.color.size() == 3 * f.value.size();
+  std::vector<std::uint32_t> remap, below_remap;  // a slab's vertices in `out`, and the slab below's
+  for (std::size_t s = 0; s < part.size(); ++s) {
+    const TriMesh& m = part[s];
+    remap.assign(m.vertexCount(), 0);
+    std::vector<char> shared(m.vertexCount(), 0);
+    if (s > 0) {
+      // The edges on this slab's bottom node layer: the slab below made their vertices.
+      const std::size_t layer = s * static_cast<std::size_t>(thick);
+      for (const auto& [key, v] : edges[s]) {
+        const std::uint64_t a = key >> 32, b = key & 0xFFFFFFFFu;
+        if (a / per_layer != layer || b / per_layer != layer) continue;
+        const auto below = edges[s - 1].find(key);
+        if (below == edges[s - 1].end()) continue;  // (both slabs cross every edge they share)
+        remap[v] = below_remap[below->second];
+        shared[v] = 1;
+      }
+    }
+    for (std::size_t v = 0; v < m.vertexCount(); ++v) {
+      if (shared[v]) continue;
+      remap[v] = static_cast<std::uint32_t>(out.vertexCount());
+      out.positions.insert(out.positions.end(), m.positions.begin() + 3 * static_cast<std::ptrdiff_t>(v),
+                           m.positions.begin() + 3 * static_cast<std::ptrdiff_t>(v) + 3);
+      out.normals.insert(out.normals.end(), m.normals.begin() + 3 * static_cast<std::ptrdiff_t>(v),
+                         m.normals.begin() + 3 * static_cast<std::ptrdiff_t>(v) + 3);
+      if (coloured)
+        out.colors.insert(out.colors.end(), m.colors.begin() + 3 * static_cast<std::ptrdiff_t>(v),
+                          m.colors.begin() + 3 * static_cast<std::ptrdiff_t>(v) + 3);
+    }
+    for (std::uint32_t i : m.indices) out.indices.push_back(remap[i]);
+    below_remap.swap(remap);
+  }
   return out;
 }
 
