@@ -215,3 +215,55 @@ TEST_CASE("marching in slabs: one mesh, no vertex made twice, the same on one th
   for (const auto& [e, count] : edges) open += count != 2;
   CHECK(open == 0);
 }
+
+TEST_CASE("a fast droplet of spray is drawn as the streak it leaves over half a frame") {
+  // A pool, and one particle far above it falling at 3 m/s; the scene runs at 30 frames a second.
+  std::vector<Vec3> p = roughPool(2);
+  const Vec3 drop(0.1, 0.5, 0.1);
+  p.push_back(drop);
+  std::string list, vel;
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    list += (list.empty() ? "" : ",") + vec(p[k]);
+    vel += (vel.empty() ? "" : ",") + vec(k + 1 == p.size() ? Vec3(0, -3, 0) : Vec3::Zero());
+  }
+  const World w = makeWorld(std::string(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 30, "gravity": [0, 0, 0],
+    "bodies": [{"type": "fluid", "name": "f", "radius": 0.01, "draw": "surface", "species": [)") + kWater +
+                            R"(], "particles": [{"positions": [)" + list + "], \"velocities\": [" + vel + "]}]}]}");
+  DrawList out;
+  w.draw(out);
+  REQUIRE(out.tubes.size() == 1);
+  const std::vector<float>& e = out.tubes[0].ends;
+  REQUIRE(e.size() == 6);
+  // From where it was half a frame ago (5 cm higher) to where it is.
+  CHECK(e[1] == doctest::Approx(0.5 + 3.0 / 60.0));
+  CHECK(e[4] == doctest::Approx(0.5));
+  CHECK(e[0] == doctest::Approx(0.1));
+  CHECK(out.tubes[0].radius == doctest::Approx(0.006));
+  // Capped by a droplet at each end.
+  REQUIRE(out.spheres.size() == 1);
+  CHECK(out.spheres[0].centers.size() == 6);
+}
+
+TEST_CASE("reel check says when a nozzle pours separate discs, and the rate that pours a stream") {
+  auto notes = [](double rate) {
+    const World w = makeWorld(std::string(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 30,
+      "bodies": [{"type": "fluid", "name": "f", "radius": 0.01, "draw": "surface", "species": [)") + kWater +
+                              R"(], "emitters": [{"position": [0, 1, 0], "speed": 1.5, "radius": 0.05, "rate": )" +
+                              std::to_string(rate) + "}]}]}");
+    std::string all;
+    for (const auto& b : w.bodies())
+      for (const std::string& line : b->notes(w.stepSize())) all += line + "\n";
+    return all;
+  };
+  const std::string sparse = notes(900);  // cloth_liquid's pours: 1.5 m/s, 5 cm, 900 a second
+  CAPTURE(sparse);
+  const auto at = sparse.find("emitter 0: its layers leave ");
+  REQUIRE(at != std::string::npos);
+  CHECK(sparse.find("pours separate discs") != std::string::npos);
+  const auto rate_at = sparse.find("\"rate\": ", at);
+  REQUIRE(rate_at != std::string::npos);
+  const double suggested = std::stod(sparse.substr(rate_at + 8));
+  CHECK(suggested > 900 * 0.02725 / 0.02);  // at least so much more that the layers come within the cutoff
+  // At the suggested rate the layers leave 2 cm apart, within the cutoff: no note.
+  CHECK(notes(suggested).find("emitter 0") == std::string::npos);
+}

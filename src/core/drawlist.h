@@ -140,6 +140,9 @@ struct DrawList {
   double shutter_deg = 0.0;
   int shutter_samples = 5;
   std::shared_ptr<const DrawList> previous;
+  // Seconds between the frames (0: unknown): what a body that draws its fastest parts as streaks
+  // (a liquid's spray) takes the exposure from.
+  double frame_time = 0.0;
   void clearGeometry() {
     meshes.clear();
     spheres.clear();

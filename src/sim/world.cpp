@@ -290,6 +290,7 @@ void World::view(FrameView& out) const {
 void World::draw(DrawList& out) const {
   profile::Scope stage(profile::Stage::DrawList);
   out.clearGeometry();
+  out.frame_time = 1.0 / static_cast<double>(fps_);
   out.meshes = object_meshes_;
   // Moving objects: their authored mesh carried to the current pose.
   for (std::size_t o : posed_objects_) {

@@ -114,6 +114,18 @@ std::vector<std::string> FluidBody::notes(double h) const {
                   num(restDistance(p), 4) + " m, bulk spacing " + num(bulkSpacing(p), 4) + " m, cutoff " +
                   num(p.cutoff, 4) + " m");
   }
+  // A nozzle whose layers leave farther apart than its species' cutoff pours separate discs (no
+  // pair force joins them): say so, with the rate that would pack them at the layer's spacing.
+  for (std::size_t k = 0; k < fl.emitters.size(); ++k) {
+    const FluidEmitter& e = fl.emitters[k];
+    const PairParams& p = fl.pairs[static_cast<std::size_t>(e.desc.species * (fl.species_count + 1))];
+    const double gap = e.desc.speed * e.layer_dt;
+    if (!(gap > p.cutoff)) continue;
+    out.push_back("  emitter " + std::to_string(k) + ": its layers leave " + num(gap, 3) + " m apart, farther than the cutoff " +
+                  num(p.cutoff, 4) + " m: it pours separate discs; \"rate\": " +
+                  num(std::ceil(e.desc.rate * gap / e.desc.spacing), 4) + " (layers " + num(e.desc.spacing, 3) +
+                  " m apart) pours one stream");
+  }
   return out;
 }
 

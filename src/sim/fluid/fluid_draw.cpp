@@ -89,6 +89,33 @@ void FluidBody::draw(DrawList& out) const {
       set.colors.push_back(static_cast<float>(colors[i][a]));
     }
   };
+  // A droplet that moves more than its radius in half a frame (a film camera's 180° shutter) is
+  // drawn as the streak it leaves over that time: a tube from where it was to where it is, capped
+  // by droplets at both ends, in its species' colour (tubes carry no colour of their own).
+  const double exposure = 0.5 * out.frame_time;
+  std::vector<DrawTubes> streaks(static_cast<std::size_t>(fl.species_count));
+  for (std::size_t k = 0; k < streaks.size(); ++k) {
+    streaks[k].radius = drops.radius;
+    streaks[k].material = drops.material;
+    streaks[k].material.color = fl.species_color[k];
+  }
+  auto addSpray = [&](std::size_t i) {
+    add(drops, i);
+    const Vec3 tail = fl.x[i] - exposure * fl.v[i];
+    if (!((tail - fl.x[i]).norm() > drops.radius) || !tail.allFinite()) return;
+    DrawTubes& t = streaks[static_cast<std::size_t>(fl.s[i])];
+    for (int a = 0; a < 3; ++a) t.ends.push_back(static_cast<float>(tail[a]));
+    for (int a = 0; a < 3; ++a) t.ends.push_back(static_cast<float>(fl.x[i][a]));
+    for (int a = 0; a < 3; ++a) {
+      drops.centers.push_back(static_cast<float>(tail[a]));
+      drops.colors.push_back(static_cast<float>(colors[i][a]));
+    }
+  };
+  auto finish = [&] {
+    if (!drops.centers.empty()) out.spheres.push_back(std::move(drops));
+    for (DrawTubes& t : streaks)
+      if (!t.ends.empty()) out.tubes.push_back(std::move(t));
+  };
   if (fl.draw == FluidDraw::Surface) {
     profile::Scope stage(profile::Stage::Surface);
     DrawMesh mesh;
@@ -98,12 +125,12 @@ void FluidBody::draw(DrawList& out) const {
     mesh.material = dm;
     if (mesh.mesh->triangleCount() > 0) out.meshes.push_back(std::move(mesh));
     std::sort(spray.begin(), spray.end());  // in particle order, the same draw run to run
-    for (std::size_t i : spray) add(drops, i);
-    if (!drops.centers.empty()) out.spheres.push_back(std::move(drops));
+    for (std::size_t i : spray) addSpray(i);
+    finish();
     return;
   }
   // Particles drawn as balls; those with fewer than two neighbours within their pair cutoff are
-  // spray, drawn as droplets.
+  // spray, drawn as droplets or streaks.
   DrawSpheres sp;
   sp.radius = static_cast<float>(fl.radius);
   sp.material = dm;
@@ -119,10 +146,13 @@ void FluidBody::draw(DrawList& out) const {
         const PairParams& p = fl.pairs[static_cast<std::size_t>(fl.s[i]) * S + static_cast<std::size_t>(fl.s[j])];
         near += (fl.x[i] - fl.x[j]).norm() < p.cutoff ? 1 : 0;
       }
-    add(!listed || near >= 2 ? sp : drops, i);
+    if (!listed || near >= 2)
+      add(sp, i);
+    else
+      addSpray(i);
   }
   out.spheres.push_back(std::move(sp));
-  if (!drops.centers.empty()) out.spheres.push_back(std::move(drops));
+  finish();
 }
 
 }  // namespace reel

@@ -202,16 +202,16 @@ constexpr std::size_t kSprayParticles = 12;
 
 }  // namespace
 
-// Piece by piece: particles are grouped by cells of 2·(largest kernel reach + cell) (a group is
-// the particles of cells joined through their 26 neighbours), so no kernel reaches from one group
-// into another, and each group's surface is extracted on a grid over its own box. A splash far
-// from the pool costs a small grid of its own, not one spanning both.
+// Piece by piece: particles are grouped by cells of 2·(kernel radius + 2 cells) (a group is the
+// particles of cells joined through their 26 neighbours), so no ball kernel reaches from one group
+// into another and a particle's neighbours within the kernel radius (which shape its anisotropic
+// kernel) are in its group; each group's surface is extracted on a grid over its own box. A splash
+// far from the pool costs a small grid of its own, not one spanning both. (An anisotropic kernel
+// reaches up to 2.5 radii along a stream: groups cut by the cells' rule may then overlap a little
+// where they face each other, two surfaces that meet instead of one; cells as large as that reach
+// would join a droplet half a metre above a pool to the pool, where its lone ball has no surface.)
 TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, std::vector<std::size_t>& spray, bool tint) {
-  // An anisotropic kernel reaches at most k_r^(2/3) R along its longest axis (2.52 R)
-  // (and its centre lies up to λR from its particle).
-  const double R = fl.surface_kernel;
-  const double reach = fl.surface_anisotropic ? (std::cbrt(kAxisRatio * kAxisRatio) + kCentreSmoothing) * R : R;
-  const double C = 2.0 * (reach + 2.0 * fl.surface_cell);
+  const double C = 2.0 * (fl.surface_kernel + 2.0 * fl.surface_cell);
   std::vector<std::array<std::int64_t, 3>> key;  // each finite particle's cell
   std::vector<std::size_t> who;
   for (std::size_t p = 0; p < fl.x.size(); ++p) {
