@@ -267,3 +267,35 @@ TEST_CASE("reel check says when a nozzle pours separate discs, and the rate that
   // At the suggested rate the layers leave 2 cm apart, within the cutoff: no note.
   CHECK(notes(suggested).find("emitter 0") == std::string::npos);
 }
+
+TEST_CASE("foam: where a thrown blob churns into a pool it is drawn white; a pool at rest has none") {
+  // A pool at rest, and a blob thrown down into it at 3 m/s; under gravity, 30 frames a second.
+  auto world = [](double foam, bool thrown) {
+    std::string blocks = R"({"min": [0, 0, 0], "max": [0.3, 0.06, 0.3], "spacing": 0.016})";
+    if (thrown) blocks += R"(, {"min": [0.1, 0.15, 0.1], "max": [0.2, 0.22, 0.2], "spacing": 0.016, "velocity": [0, -3, 0]})";
+    return makeWorld(std::string(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 40,
+      "objects": [{"type": "container", "center": [0.15, 0.1, 0.15], "size": [0.34, 0.2, 0.34], "wall": 0.02}],
+      "bodies": [{"type": "fluid", "name": "f", "radius": 0.008, "draw": "surface", "foam": )") + std::to_string(foam) +
+                     R"(, "species": [)" + kWater + R"(], "blocks": [)" + blocks + "]}]}");
+  };
+  auto bubbles = [](const World& w) {
+    DrawList out;
+    w.draw(out);
+    std::size_t n = 0;
+    for (const DrawSpheres& s : out.spheres)
+      if (s.material.color.x() > 0.9 && s.material.roughness && *s.material.roughness > 0.5) n += s.centers.size() / 3;
+    return n;
+  };
+  World still = world(1.0, false), thrown = world(1.0, true), plain = world(0.0, true);
+  std::size_t at_rest = 0, churned = 0, none = 0;  // the most in any of the first 8 frames
+  for (int f = 0; f < 8; ++f) {
+    run(still, 1);
+    run(thrown, 1);
+    run(plain, 1);
+    at_rest = std::max(at_rest, bubbles(still)), churned = std::max(churned, bubbles(thrown)), none = std::max(none, bubbles(plain));
+  }
+  MESSAGE("foam bubbles: pool at rest " << at_rest << ", blob thrown in " << churned << ", foam 0 " << none);
+  CHECK(at_rest == 0);
+  CHECK(churned > 20);
+  CHECK(none == 0);
+}

@@ -94,6 +94,7 @@ struct FluidModel {
   double surface_cell = 0.01, surface_kernel = 0.04, surface_iso = 0.5;
   bool surface_anisotropic = true;
   int surface_smoothing = 2;
+  double foam = 0.0;
   std::vector<FluidEmitter> emitters;
 };
 

@@ -207,6 +207,7 @@ Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<
   fl.surface_iso = d.surface_iso;
   fl.surface_anisotropic = d.surface_anisotropic;
   fl.surface_smoothing = d.surface_smoothing;
+  fl.foam = d.foam;
   // Surfaces per collider and species; free objects by collider.
   fl.surfaces.reserve(colliders.size() * S);
   for (const Collider& o : colliders) {
