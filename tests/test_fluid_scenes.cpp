@@ -161,14 +161,7 @@ TEST_CASE("dam break: the surge front against Martin & Moyce (1952), n² = 2") {
 }
 
 TEST_CASE("the isosurface of a sphere's field is a closed sphere with outward normals") {
-  GridField f;
-  const int n = 24;
-  f.dims = {n, n, n};
-  f.cell = 0.1;
-  f.origin = Vec3::Constant(-1.15);
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) f.value.push_back(static_cast<float>(1.0 - (f.origin + f.cell * Vec3(i, j, k)).norm()));
+  const GridField f = sampledField(24, 0.1, Vec3::Constant(-1.15), [](const Vec3& p) { return 1.0 - p.norm(); });
   const TriMesh m = isosurface(f, 0.3);  // the sphere of radius 0.7
   REQUIRE(m.triangleCount() > 100);
   std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;

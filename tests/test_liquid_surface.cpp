@@ -177,18 +177,9 @@ TEST_CASE("surface_kernels and surface_smoothing: bad values are refused with th
 
 TEST_CASE("marching in slabs: one mesh, no vertex made twice, the same on one thread and two") {
   // A torus's field over 40 node layers (slabs of 3): its surface crosses every slab boundary.
-  GridField f;
-  const int n = 40;
-  f.dims = {n, n, n};
-  f.cell = 0.05;
-  f.origin = Vec3::Constant(-1.0);
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const Vec3 p = f.origin + f.cell * Vec3(i, j, k);
-        const double ring = std::hypot(p.x(), p.z()) - 0.6;
-        f.value.push_back(static_cast<float>(0.3 - std::hypot(ring, p.y() * 1.5)));
-      }
+  const GridField f = sampledField(40, 0.05, Vec3::Constant(-1.0), [](const Vec3& p) {
+    return 0.3 - std::hypot(std::hypot(p.x(), p.z()) - 0.6, p.y() * 1.5);
+  });
   auto march = [&](int threads) {
     const ParallelForTest parallel(threads);
     return isosurface(f, 0.0123);  // (no node exactly on the level: its edges would share a point)
