@@ -91,6 +91,7 @@ struct FluidDesc final : BodyParams {
   bool surface_anisotropic = true;  // kernels stretched along each particle's neighbourhood (Yu & Turk 2013)
   int surface_smoothing = 2;        // passes of Taubin's smoothing over the extracted mesh
   double foam = 0.0;                // 0..1: churned liquid drawn with white foam (0: none)
+  double shutter = 0.5;             // of a frame: spray and surface drawn swept along their motion (0: sharp)
   // Particles the emitters release in all.
   long long emitted() const {
     long long n = 0;

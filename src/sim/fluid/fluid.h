@@ -95,6 +95,7 @@ struct FluidModel {
   bool surface_anisotropic = true;
   int surface_smoothing = 2;
   double foam = 0.0;
+  double shutter = 0.5;
   std::vector<FluidEmitter> emitters;
 };
 

@@ -208,6 +208,7 @@ Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<
   fl.surface_anisotropic = d.surface_anisotropic;
   fl.surface_smoothing = d.surface_smoothing;
   fl.foam = d.foam;
+  fl.shutter = d.shutter;
   // Surfaces per collider and species; free objects by collider.
   fl.surfaces.reserve(colliders.size() * S);
   for (const Collider& o : colliders) {

@@ -138,10 +138,11 @@ void FluidBody::draw(DrawList& out) const {
       set.colors.push_back(static_cast<float>(colors[i][a]));
     }
   };
-  // A droplet that moves more than its radius in half a frame (a film camera's 180° shutter) is
-  // drawn as the streak it leaves over that time: a tube from where it was to where it is, capped
-  // by droplets at both ends, in its species' colour (tubes carry no colour of their own).
-  const double exposure = 0.5 * out.frame_time;
+  // A droplet that moves more than its radius while the shutter is open (`shutter` of a frame; half
+  // a frame is a film camera's 180° shutter) is drawn as the streak it leaves over that time: a
+  // tube from where it was to where it is, capped by droplets at both ends, in its species' colour
+  // (tubes carry no colour of their own).
+  const double exposure = fl.shutter * out.frame_time;
   std::vector<DrawTubes> streaks(static_cast<std::size_t>(fl.species_count));
   for (std::size_t k = 0; k < streaks.size(); ++k) {
     streaks[k].radius = drops.radius;
@@ -170,7 +171,7 @@ void FluidBody::draw(DrawList& out) const {
     profile::Scope stage(profile::Stage::Surface);
     DrawMesh mesh;
     std::vector<std::size_t> spray;
-    mesh.mesh = std::make_shared<const TriMesh>(liquidSurface(fl, colors, spray, material.transmission <= 0));
+    mesh.mesh = std::make_shared<const TriMesh>(liquidSurface(fl, colors, spray, material.transmission <= 0, exposure));
     mesh.per_frame = true;
     mesh.material = dm;
     if (mesh.mesh->triangleCount() > 0) out.meshes.push_back(std::move(mesh));

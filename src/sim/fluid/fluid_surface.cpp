@@ -112,6 +112,19 @@ std::vector<SurfaceKernel> surfaceKernels(const std::vector<Vec3>& x, const std:
   return out;
 }
 
+// A film camera sees a fast stream of drops as one streak: each kernel swept over the path its
+// particle took while the shutter was open, every point of the path as dense as the kernel's
+// centre (the sweep's envelope: a solid streak rather than the shutter's semi-transparent blur),
+// so a string of drops reads as the stream it is.
+void sweepKernels(std::vector<SurfaceKernel>& kernels, const std::vector<Vec3>& v, const std::vector<std::size_t>& part,
+                  double exposure) {
+  if (!(exposure > 0)) return;
+  for (std::size_t i = 0; i < kernels.size(); ++i) {
+    const Vec3 travel = -exposure * v[part[i]];
+    if (travel.allFinite()) kernels[i].travel = travel;
+  }
+}
+
 namespace {
 
 // The surface of the particles `part` (whose kernels overlap no other particle's): their density
@@ -120,15 +133,17 @@ namespace {
 // with the depth of liquid behind the surface (colour^(1 + 1.5·density one kernel radius inside):
 // Beer–Lambert-like) when `tint` (not for a see-through liquid, which the renderer absorbs along
 // its true depth).
-TriMesh pieceSurface(const Fluid& fl, const std::vector<Vec3>& colors, const std::vector<std::size_t>& part, bool tint) {
+TriMesh pieceSurface(const Fluid& fl, const std::vector<Vec3>& colors, const std::vector<std::size_t>& part, bool tint,
+                     double exposure) {
   if (part.empty()) return {};
   const double R = fl.surface_kernel;
   double cell = fl.surface_cell;
-  const std::vector<SurfaceKernel> kernels = surfaceKernels(fl.x, part, R, fl.surface_anisotropic);
-  Vec3 lo = kernels[0].centre, hi = lo;
+  std::vector<SurfaceKernel> kernels = surfaceKernels(fl.x, part, R, fl.surface_anisotropic);
+  sweepKernels(kernels, fl.v, part, exposure);
+  Vec3 lo = kernels[0].lo(), hi = kernels[0].hi();
   for (const SurfaceKernel& k : kernels) {
-    lo = lo.cwiseMin(k.centre - k.half);
-    hi = hi.cwiseMax(k.centre + k.half);
+    lo = lo.cwiseMin(k.lo());
+    hi = hi.cwiseMax(k.hi());
   }
   lo -= Vec3::Constant(2 * cell);
   hi += Vec3::Constant(2 * cell);
@@ -158,16 +173,16 @@ TriMesh pieceSurface(const Fluid& fl, const std::vector<Vec3>& colors, const std
   parallelBlocks(layers, slab, [&](std::ptrdiff_t k0, std::ptrdiff_t k1) {
     for (std::size_t q = 0; q < part.size(); ++q) {
       const SurfaceKernel& K = kernels[q];
-      const int klo = std::max(static_cast<int>(k0), node(K.centre.z() - K.half.z(), 2) + 1),
-                khi = std::min(static_cast<int>(k1) - 1, node(K.centre.z() + K.half.z(), 2));
+      const Vec3 blo = K.lo(), bhi = K.hi();
+      const int klo = std::max(static_cast<int>(k0), node(blo.z(), 2) + 1), khi = std::min(static_cast<int>(k1) - 1, node(bhi.z(), 2));
       if (klo > khi) continue;
-      const int jlo = std::max(0, node(K.centre.y() - K.half.y(), 1) + 1), jhi = std::min(f.dims[1] - 1, node(K.centre.y() + K.half.y(), 1));
-      const int ilo = std::max(0, node(K.centre.x() - K.half.x(), 0) + 1), ihi = std::min(f.dims[0] - 1, node(K.centre.x() + K.half.x(), 0));
+      const int jlo = std::max(0, node(blo.y(), 1) + 1), jhi = std::min(f.dims[1] - 1, node(bhi.y(), 1));
+      const int ilo = std::max(0, node(blo.x(), 0) + 1), ihi = std::min(f.dims[0] - 1, node(bhi.x(), 0));
       const Vec3& c = colors[part[q]];
       for (int k = klo; k <= khi; ++k)
         for (int j = jlo; j <= jhi; ++j)
           for (int i = ilo; i <= ihi; ++i) {
-            const double q2 = (K.A * (lo + cell * Vec3(i, j, k) - K.centre)).squaredNorm();
+            const double q2 = K.q2(lo + cell * Vec3(i, j, k));
             if (q2 >= 1.0) continue;
             const double w = (1 - q2) * (1 - q2) * (1 - q2) / bulk;
             const std::size_t id = f.index(i, j, k);
@@ -210,7 +225,8 @@ constexpr std::size_t kSprayParticles = 12;
 // reaches up to 2.5 radii along a stream: groups cut by the cells' rule may then overlap a little
 // where they face each other, two surfaces that meet instead of one; cells as large as that reach
 // would join a droplet half a metre above a pool to the pool, where its lone ball has no surface.)
-TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, std::vector<std::size_t>& spray, bool tint) {
+TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, std::vector<std::size_t>& spray, bool tint,
+                      double exposure) {
   const double C = 2.0 * (fl.surface_kernel + 2.0 * fl.surface_cell);
   std::vector<std::array<std::int64_t, 3>> key;  // each finite particle's cell
   std::vector<std::size_t> who;
@@ -246,7 +262,7 @@ TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, std::vec
       spray.insert(spray.end(), g.begin(), g.end());
       continue;
     }
-    const TriMesh m = pieceSurface(fl, colors, g, tint);
+    const TriMesh m = pieceSurface(fl, colors, g, tint, exposure);
     const auto base = static_cast<std::uint32_t>(out.vertexCount());
     out.positions.insert(out.positions.end(), m.positions.begin(), m.positions.end());
     out.normals.insert(out.normals.end(), m.normals.begin(), m.normals.end());

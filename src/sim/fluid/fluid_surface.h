@@ -1,6 +1,7 @@
 // The surface a liquid is drawn with, from its particles (fluid_surface.cpp).
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <vector>
 
@@ -12,11 +13,23 @@ namespace reel {
 
 // One particle's smoothing kernel: W(x) = (1 − q²)³ for q = |A·(x − centre)| < 1, A symmetric
 // with det A = 1/R³ (every kernel holds the volume of the isotropic one of radius R); `half` the
-// half-extents of the box around its ellipsoid.
+// half-extents of the box around its ellipsoid. Swept along `travel` (m, from where it is back to
+// where it was), q is the least over the sweep: q = min over s in [0, 1] of |A·(x − centre − s·travel)|.
 struct SurfaceKernel {
   Vec3 centre{0, 0, 0};
   Mat3 A = Mat3::Identity();
   Vec3 half{0, 0, 0};
+  Vec3 travel{0, 0, 0};
+  // q² at x.
+  double q2(const Vec3& x) const {
+    const Vec3 y = A * (x - centre), u = A * travel;
+    const double uu = u.squaredNorm();
+    const double s = uu > 0 ? std::clamp(y.dot(u) / uu, 0.0, 1.0) : 0.0;
+    return (y - s * u).squaredNorm();
+  }
+  // The box around the swept kernel.
+  Vec3 lo() const { return centre.cwiseMin(centre + travel) - half; }
+  Vec3 hi() const { return centre.cwiseMax(centre + travel) + half; }
 };
 
 // The kernels of the particles `part` of x (positions, m), of radius R. Anisotropic (after Yu &
@@ -25,9 +38,16 @@ struct SurfaceKernel {
 std::vector<SurfaceKernel> surfaceKernels(const std::vector<Vec3>& x, const std::vector<std::size_t>& part, double R,
                                           bool anisotropic);
 
-// The liquid's surface (the particles' `colors` splatted with their kernels, marching tetrahedra,
-// Taubin smoothing), piece by piece; the particles of pieces too small for a surface are added to
-// `spray`. `tint`: colours darkened with the depth of liquid behind (an opaque liquid).
-TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, std::vector<std::size_t>& spray, bool tint);
+// Each kernel swept back along its particle's velocity v over `exposure` s (what an open shutter
+// sees of it): travel = −v·exposure.
+void sweepKernels(std::vector<SurfaceKernel>& kernels, const std::vector<Vec3>& v, const std::vector<std::size_t>& part,
+                  double exposure);
+
+// The liquid's surface (the particles' `colors` splatted with their kernels, swept over
+// `exposure` s, marching tetrahedra, Taubin smoothing), piece by piece; the particles of pieces too
+// small for a surface are added to `spray`. `tint`: colours darkened with the depth of liquid
+// behind (an opaque liquid).
+TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, std::vector<std::size_t>& spray, bool tint,
+                      double exposure = 0.0);
 
 }  // namespace reel
