@@ -323,3 +323,18 @@ TEST_CASE("a falling string of drops is drawn as the streak an open shutter sees
   CHECK(top > 0.07 * 7 + 0.016 + 0.03);
   CHECK(bottom > -0.03);
 }
+
+TEST_CASE("a kernel's sweep runs back along its particle's path and is at most as long as asked") {
+  const std::vector<Vec3> x = {Vec3(0, 0, 0), Vec3(0.02, 0, 0), Vec3(0, 0.02, 0)};
+  const std::vector<Vec3> v = {Vec3(0, -100, 0), Vec3(1, 0, 0), Vec3(0, 0, 0)};  // flung, a pour, at rest
+  const std::vector<std::size_t> part = {0, 1, 2};
+  std::vector<SurfaceKernel> k = surfaceKernels(x, part, 0.04, true);
+  sweepKernels(k, v, part, 1.0 / 60.0, 0.08);
+  CHECK(k[0].travel.isApprox(Vec3(0, 0.08, 0)));           // 1.67 m cut to 8 cm, up where it came from
+  CHECK(k[1].travel.isApprox(Vec3(-1.0 / 60.0, 0, 0)));  // 1.7 cm back
+  CHECK(k[2].travel == Vec3::Zero());
+  // Along the sweep the kernel is as dense as at its centre; beyond its ends it falls off.
+  CHECK(k[0].q2(k[0].centre + 0.5 * k[0].travel) == doctest::Approx(0.0).epsilon(1e-12));
+  CHECK(k[0].q2(k[0].centre + 1.2 * k[0].travel) > 0.0);
+  CHECK(k[0].hi().y() >= k[0].centre.y() + 0.08);
+}

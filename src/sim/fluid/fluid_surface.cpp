@@ -115,13 +115,17 @@ std::vector<SurfaceKernel> surfaceKernels(const std::vector<Vec3>& x, const std:
 // A film camera sees a fast stream of drops as one streak: each kernel swept over the path its
 // particle took while the shutter was open, every point of the path as dense as the kernel's
 // centre (the sweep's envelope: a solid streak rather than the shutter's semi-transparent blur),
-// so a string of drops reads as the stream it is.
+// so a string of drops reads as the stream it is. A sweep is at most `longest` (m): a kernel's box
+// grows with it, and one flung at tens of metres a second would cost a grid of its own.
 void sweepKernels(std::vector<SurfaceKernel>& kernels, const std::vector<Vec3>& v, const std::vector<std::size_t>& part,
-                  double exposure) {
+                  double exposure, double longest) {
   if (!(exposure > 0)) return;
   for (std::size_t i = 0; i < kernels.size(); ++i) {
-    const Vec3 travel = -exposure * v[part[i]];
-    if (travel.allFinite()) kernels[i].travel = travel;
+    Vec3 travel = -exposure * v[part[i]];
+    const double len = travel.norm();
+    if (!std::isfinite(len)) continue;
+    if (len > longest) travel *= longest / len;
+    kernels[i].travel = travel;
   }
 }
 
@@ -139,7 +143,7 @@ TriMesh pieceSurface(const Fluid& fl, const std::vector<Vec3>& colors, const std
   const double R = fl.surface_kernel;
   double cell = fl.surface_cell;
   std::vector<SurfaceKernel> kernels = surfaceKernels(fl.x, part, R, fl.surface_anisotropic);
-  sweepKernels(kernels, fl.v, part, exposure);
+  sweepKernels(kernels, fl.v, part, exposure, 2.0 * R);  // (a pour at 5 m/s sweeps 8 cm in half a frame at 30 fps)
   Vec3 lo = kernels[0].lo(), hi = kernels[0].hi();
   for (const SurfaceKernel& k : kernels) {
     lo = lo.cwiseMin(k.lo());

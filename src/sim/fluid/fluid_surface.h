@@ -39,9 +39,9 @@ std::vector<SurfaceKernel> surfaceKernels(const std::vector<Vec3>& x, const std:
                                           bool anisotropic);
 
 // Each kernel swept back along its particle's velocity v over `exposure` s (what an open shutter
-// sees of it): travel = −v·exposure.
+// sees of it): travel = −v·exposure, at most `longest` m long.
 void sweepKernels(std::vector<SurfaceKernel>& kernels, const std::vector<Vec3>& v, const std::vector<std::size_t>& part,
-                  double exposure);
+                  double exposure, double longest);
 
 // The liquid's surface (the particles' `colors` splatted with their kernels, swept over
 // `exposure` s, marching tetrahedra, Taubin smoothing), piece by piece; the particles of pieces too
