@@ -53,7 +53,7 @@ std::vector<Vec3> blendedColors(const Fluid& fl) {
 // diffuse particles at that rate and carry them on; here the amount is drawn at the particle
 // itself each frame, as a white bubble whose size grows with it in three steps (a set of spheres
 // each, as one set has one radius), so a splash turns white where it churns and clears as it
-// settles. The thresholds in reel's units: I_ta 0.5..4 m/s, speed 0.2..1.5 m/s (a splash's
+// settles. The thresholds in reel's units: I_ta 1..5 m/s, speed 0.2..1.5 m/s (a splash's
 // churn stays white for a few tenths of a second as it slows).
 void addFoam(const Fluid& fl, DrawList& out) {
   const std::size_t n = fl.x.size();
@@ -74,7 +74,7 @@ void addFoam(const Fluid& fl, DrawList& out) {
       if (!(r < cutoff) || !(r > 0) || !(u > 0)) continue;
       ta += u * (1.0 - vij.dot(xij) / (u * r)) * (1.0 - r / cutoff);
     }
-    amount[i] = static_cast<float>(fl.foam * speed * phi(ta, 0.5, 4.0));
+    amount[i] = static_cast<float>(fl.foam * speed * phi(ta, 1.0, 5.0));
   });
   std::array<DrawSpheres, 3> foam;
   for (std::size_t k = 0; k < foam.size(); ++k) {
