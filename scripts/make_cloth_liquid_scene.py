@@ -59,9 +59,11 @@ def hammock(objects, bodies, x0, t0, name, tear, rate, stop, color, stiffness, t
         cloth["tear"] = {"strain": tear, "variation": 0.3}
     bodies.append(cloth)
     nozzle(objects, x0 + 0.05, 1.45, 0.0, name + "_pipe")
-    # Layers 19 particles wide leave the nozzle about 2.5 cm apart (spacing 2 cm).
-    bodies.append(water(name + "_water", emitters=[{"position": vec(x0 + 0.05, 1.4, 0.0), "direction": [0, -1, 0],
-                                                   "speed": 1.5, "radius": 0.05, "rate": rate, "start": t0, "stop": stop,
+    # A stream as wide as the pipe (3.5 cm): its layers of 11 particles leave under 2 cm apart at
+    # these rates, within the cutoff (5 cm layers of 19 left 3 cm apart, a string of discs: `reel
+    # check` says so); it leaves just under the pipe's mouth.
+    bodies.append(water(name + "_water", emitters=[{"position": vec(x0 + 0.05, 1.43, 0.0), "direction": [0, -1, 0],
+                                                   "speed": 1.5, "radius": 0.035, "rate": rate, "start": t0, "stop": stop,
                                                    "nozzle": False}]))  # the copper pipe above is its nozzle
 
 
