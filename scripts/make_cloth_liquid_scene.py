@@ -40,10 +40,33 @@ def nozzle(objects, x, y, z, name):
                     "radius": 0.035, "color": [0.72, 0.42, 0.25], "specular": 0.7, "shininess": 60})
 
 
-def water(name, blocks=(), emitters=()):
+def water(name, blocks=(), emitters=(), particles=None):
     # A lower surface level than the default (0.5) keeps a falling stream joined.
-    return {"type": "fluid", "name": name, "radius": 0.01, "draw": "surface", "surface_iso": 0.3, "species": [WATER],
-            "blocks": list(blocks), "emitters": list(emitters), "transmission": 0.85, "absorption_depth": 0.1, "specular": 0.5, "roughness": 0.08}
+    w = {"type": "fluid", "name": name, "radius": 0.01, "draw": "surface", "surface_iso": 0.3, "species": [WATER],
+         "blocks": list(blocks), "emitters": list(emitters), "transmission": 0.85, "absorption_depth": 0.1, "specular": 0.5, "roughness": 0.08}
+    if particles:
+        w["particles"] = [{"positions": particles}]
+    return w
+
+
+def puddle_points(cx, cz, radius, spacing, y):
+    """A puddle's particles: a hexagonal layer `spacing` apart inside a rounded, uneven outline
+    (radius varying by a fifth around it), each moved a little off the lattice (a fixed pattern)."""
+    pts = []
+    row = spacing * math.sqrt(3) / 2
+    n = int(radius * 1.3 / row) + 1
+    for j in range(-n, n + 1):
+        for i in range(-n, n + 1):
+            x = (i + 0.5 * (j % 2)) * spacing
+            z = j * row
+            a = math.atan2(z, x)
+            edge = radius * (1 + 0.12 * math.sin(3 * a + 1.0) + 0.08 * math.sin(5 * a + 2.0))
+            if math.hypot(x, z) > edge:
+                continue
+            k = i * 7919 + j * 104729
+            dx, dz = 0.15 * spacing * math.sin(k * 0.7), 0.15 * spacing * math.cos(k * 1.3)
+            pts.append([r(cx + x + dx), r(y), r(cz + z + dz)])
+    return pts
 
 
 def hammock(objects, bodies, x0, t0, name, tear, rate, stop, color, stiffness, tilt=0.0):
@@ -103,8 +126,8 @@ def towel(objects, bodies, x0):
                    "surface": {"friction": 0.5},
                    "grips": [{"nodes": ["edge_x1"], "keys": [{"time": t, "offset": [r(dx), 0.03, 0]} for t, dx in keys]}],
                    "color": [0.3, 0.5, 0.78], "specular": 0.03})
-    bodies.append(water("puddle", blocks=[{"min": vec(x0 + 0.05, 0.002, -0.14), "max": vec(x0 + 0.33, 0.024, 0.14),
-                                           "spacing": 0.02}]))
+    # A rounded puddle of about 200 particles (a square block of them read as a tile).
+    bodies.append(water("puddle", particles=puddle_points(x0 + 0.19, 0.0, 0.15, 0.02, 0.013)))
 
 
 def main():
