@@ -17,6 +17,11 @@ namespace reel {
 
 namespace {
 
+// The force parameters between particles i and j (their species' pair).
+const PairParams& pairOf(const Fluid& fl, std::size_t i, std::size_t j) {
+  return fl.pairs[static_cast<std::size_t>(fl.s[i]) * static_cast<std::size_t>(fl.species_count) + static_cast<std::size_t>(fl.s[j])];
+}
+
 // Each particle's colour: its species colour blended with its neighbours' (weights (1 − r/c)²
 // inside the pair cutoff), so where species mix their colours mix, and a pure region keeps its own.
 std::vector<Vec3> blendedColors(const Fluid& fl) {
@@ -31,7 +36,7 @@ std::vector<Vec3> blendedColors(const Fluid& fl) {
     if (S > 1 && listed)
       for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e) {
         const auto j = static_cast<std::size_t>(fl.nbr[e]);
-        const PairParams& p = fl.pairs[static_cast<std::size_t>(fl.s[i]) * S + static_cast<std::size_t>(fl.s[j])];
+        const PairParams& p = pairOf(fl, i, j);
         const double r = (fl.x[i] - fl.x[j]).norm();
         if (r >= p.cutoff) continue;
         const double w = (1.0 - r / p.cutoff) * (1.0 - r / p.cutoff);
@@ -59,7 +64,6 @@ void addFoam(const Fluid& fl, DrawList& out) {
   const std::size_t n = fl.x.size();
   if (!(fl.foam > 0) || fl.nbr_start.size() != n + 1) return;
   auto phi = [](double I, double lo, double hi) { return (std::min(I, hi) - std::min(I, lo)) / (hi - lo); };
-  const auto S = static_cast<std::size_t>(fl.species_count);
   std::vector<float> amount(n, 0.0f);
   parallelFor(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t ii) {
     const auto i = static_cast<std::size_t>(ii);
@@ -68,7 +72,7 @@ void addFoam(const Fluid& fl, DrawList& out) {
     double ta = 0;
     for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e) {
       const auto j = static_cast<std::size_t>(fl.nbr[e]);
-      const double cutoff = fl.pairs[static_cast<std::size_t>(fl.s[i]) * S + static_cast<std::size_t>(fl.s[j])].cutoff;
+      const double cutoff = pairOf(fl, i, j).cutoff;
       const Vec3 xij = fl.x[i] - fl.x[j], vij = fl.v[i] - fl.v[j];
       const double r = xij.norm(), u = vij.norm();
       if (!(r < cutoff) || !(r > 0) || !(u > 0)) continue;
@@ -132,9 +136,10 @@ void FluidBody::draw(DrawList& out) const {
   drops.radius = static_cast<float>(0.6 * fl.radius);
   drops.material = dm;
   drops.material.roughness = std::min(dm.roughnessValue(), 0.1);
-  auto add = [&](DrawSpheres& set, std::size_t i) {
+  // Particle i's sphere at `at` (where it is, or where its streak began).
+  auto add = [&](DrawSpheres& set, std::size_t i, const Vec3& at) {
     for (int a = 0; a < 3; ++a) {
-      set.centers.push_back(static_cast<float>(fl.x[i][a]));
+      set.centers.push_back(static_cast<float>(at[a]));
       set.colors.push_back(static_cast<float>(colors[i][a]));
     }
   };
@@ -150,16 +155,13 @@ void FluidBody::draw(DrawList& out) const {
     streaks[k].material.color = fl.species_color[k];
   }
   auto addSpray = [&](std::size_t i) {
-    add(drops, i);
+    add(drops, i, fl.x[i]);
     const Vec3 tail = fl.x[i] - exposure * fl.v[i];
     if (!((tail - fl.x[i]).norm() > drops.radius) || !tail.allFinite()) return;
     DrawTubes& t = streaks[static_cast<std::size_t>(fl.s[i])];
     for (int a = 0; a < 3; ++a) t.ends.push_back(static_cast<float>(tail[a]));
     for (int a = 0; a < 3; ++a) t.ends.push_back(static_cast<float>(fl.x[i][a]));
-    for (int a = 0; a < 3; ++a) {
-      drops.centers.push_back(static_cast<float>(tail[a]));
-      drops.colors.push_back(static_cast<float>(colors[i][a]));
-    }
+    add(drops, i, tail);
   };
   auto finish = [&] {
     addFoam(fl, out);
@@ -188,17 +190,15 @@ void FluidBody::draw(DrawList& out) const {
   sp.centers.reserve(3 * fl.x.size());
   sp.colors.reserve(3 * fl.x.size());
   const bool listed = fl.nbr_start.size() == fl.x.size() + 1;
-  const auto S = static_cast<std::size_t>(fl.species_count);
   for (std::size_t i = 0; i < fl.x.size(); ++i) {
     int near = 0;
     if (listed)
       for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1] && near < 2; ++e) {
         const auto j = static_cast<std::size_t>(fl.nbr[e]);
-        const PairParams& p = fl.pairs[static_cast<std::size_t>(fl.s[i]) * S + static_cast<std::size_t>(fl.s[j])];
-        near += (fl.x[i] - fl.x[j]).norm() < p.cutoff ? 1 : 0;
+        near += (fl.x[i] - fl.x[j]).norm() < pairOf(fl, i, j).cutoff ? 1 : 0;
       }
     if (!listed || near >= 2)
-      add(sp, i);
+      add(sp, i, fl.x[i]);
     else
       addSpray(i);
   }

@@ -125,7 +125,7 @@ void sweepKernels(std::vector<SurfaceKernel>& kernels, const std::vector<Vec3>& 
     const double len = travel.norm();
     if (!std::isfinite(len)) continue;
     if (len > longest) travel *= longest / len;
-    kernels[i].travel = travel;
+    kernels[i].sweep(travel);
   }
 }
 

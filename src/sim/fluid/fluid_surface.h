@@ -20,16 +20,25 @@ struct SurfaceKernel {
   Mat3 A = Mat3::Identity();
   Vec3 half{0, 0, 0};
   Vec3 travel{0, 0, 0};
-  // q² at x.
+  // Sweeps the kernel along `t` (after A is set).
+  void sweep(const Vec3& t) {
+    travel = t;
+    trail = A * t;
+    trail2 = trail.squaredNorm();
+  }
+  // q² at x (the splat's inner loop).
   double q2(const Vec3& x) const {
-    const Vec3 y = A * (x - centre), u = A * travel;
-    const double uu = u.squaredNorm();
-    const double s = uu > 0 ? std::clamp(y.dot(u) / uu, 0.0, 1.0) : 0.0;
-    return (y - s * u).squaredNorm();
+    const Vec3 y = A * (x - centre);
+    const double s = trail2 > 0 ? std::clamp(y.dot(trail) / trail2, 0.0, 1.0) : 0.0;
+    return (y - s * trail).squaredNorm();
   }
   // The box around the swept kernel.
   Vec3 lo() const { return centre.cwiseMin(centre + travel) - half; }
   Vec3 hi() const { return centre.cwiseMax(centre + travel) + half; }
+
+ private:
+  Vec3 trail{0, 0, 0};  // A·travel, and its squared length: set once, read at every node
+  double trail2 = 0.0;
 };
 
 // The kernels of the particles `part` of x (positions, m), of radius R. Anisotropic (after Yu &
