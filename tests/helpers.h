@@ -152,6 +152,16 @@ inline std::string badInputError(const std::string& text) {
   return r.error().messages.front();
 }
 
+// Every error line of a scene text that must be refused as bad input, one per line.
+inline std::string badInputErrors(const std::string& text) {
+  auto r = app::parseScene(text, "bad.json");
+  REQUIRE(!r.ok());
+  CHECK(r.error().kind == ErrorKind::BadInput);
+  std::string all;
+  for (const std::string& l : r.error().messages) all += l + "\n";
+  return all;
+}
+
 // Checks that `line` holds `part` (and shows the line when it does not).
 inline void checkHas(const std::string& line, const std::string& part) {
   CAPTURE(line);

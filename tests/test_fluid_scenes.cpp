@@ -183,15 +183,7 @@ TEST_CASE("the isosurface of a sphere's field is a closed sphere with outward no
 }
 
 TEST_CASE("fluid bad input names the JSON path") {
-  auto errors = [](const std::string& text) {
-    auto r = app::parseScene(text, "bad.json");
-    REQUIRE(!r.ok());
-    CHECK(r.error().kind == ErrorKind::BadInput);
-    std::string all;
-    for (const auto& l : r.error().messages) all += l + "\n";
-    return all;
-  };
-  const std::string all = errors(R"({"format": "reel/1", "duration": 1,
+  const std::string all = badInputErrors(R"({"format": "reel/1", "duration": 1,
     "objects": [{"type": "box", "size": [1, 1, 1], "surface": {"species": {"watr": {"adhesion": 1}}}},
                 {"type": "plane", "dynamic": true, "mass": 1}],
     "bodies": [{"type": "fluid", "name": "f", "max_particles": 100,
