@@ -42,8 +42,7 @@ TEST_CASE("the pair force matches g_ij = m_i m_j (x_i - x_j)(-alpha/(r+eps)^a + 
             {"species": ")" + names[t] + R"(", "positions": [)" + vec(xj) + R"(]}]}]})");
         // One step of a picosecond: the forces it computes are those of the positions above.
         Fluid fl = buildFluid(scene.bodies[0].as<FluidDesc>(), "f", {}, 0);
-        Coupling none;
-        stepFluid(fl, {}, none, Vec3::Zero(), 1e-12, 0.0, 1e-12);
+        stepFluid(fl, {}, Vec3::Zero(), 1e-12, 0.0, 1e-12);
         // Expected: the mean of the two species' parameters, C–A overridden.
         auto mean = [&](double Sp::*f) { return 0.5 * (sp[s].*f + sp[t].*f); };
         double alpha = mean(&Sp::alpha), beta = mean(&Sp::beta), a = mean(&Sp::a), b = mean(&Sp::b);
@@ -123,9 +122,8 @@ TEST_CASE("the force loop equals a brute-force sum of pair and viscous forces (v
     // Which loop runs: the four-lane one for rows whose every pair has the seed's form.
     for (const PairParams& p : start.pairs) CHECK(p.seed_form == (cfg.seed_form || &p == &start.pairs[0]));
     Fluid fl = start;
-    Coupling none;
     const Vec3 g(0, -9.81, 0);
-    stepFluid(fl, {}, none, g, 1e-12, 0.0, 1e-12);  // the forces of the positions and velocities above
+    stepFluid(fl, {}, g, 1e-12, 0.0, 1e-12);  // the forces of the positions and velocities above
     const auto S = static_cast<std::size_t>(cfg.species);
     int checked = 0;
     for (std::size_t k = 0; k < fl.size(); ++k) {
@@ -151,7 +149,7 @@ TEST_CASE("the force loop equals a brute-force sum of pair and viscous forces (v
     auto run = [&](int threads) {
       test::ParallelForTest parallel(threads);
       Fluid f = start;
-      for (int k = 0; k < 5; ++k) stepFluid(f, {}, none, g, 1e-4, k * 1e-4, (k + 1) * 1e-4);
+      for (int k = 0; k < 5; ++k) stepFluid(f, {}, g, 1e-4, k * 1e-4, (k + 1) * 1e-4);
       return f.x;
     };
     CHECK(run(1) == run(2));

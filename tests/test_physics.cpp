@@ -15,7 +15,6 @@
 using namespace reel;
 
 namespace {
-Coupling none;  // no rigid bodies: nothing is handed on
 }  // namespace
 using namespace reel::test;
 
@@ -236,7 +235,7 @@ TEST_CASE("contacts: resting on a plane, restitution, Coulomb friction on an inc
     System s(d, g);
     for (int i = 0; i < 2000; ++i) {
       s.step(IntegratorKind::SymplecticEuler, 1e-3);
-      resolveContacts(cs, 0.05, 1e-3, s.model.fixed.data(), s.state.x, s.state.v, s.model.mass, none);
+      resolveContacts(cs, 0.05, 1e-3, s.model.fixed.data(), s.state.x, s.state.v);
     }
     CHECK(s.state.x[0].y() == doctest::Approx(0.05));
     CHECK(s.state.v[0].norm() < 0.02);
@@ -252,7 +251,7 @@ TEST_CASE("contacts: resting on a plane, restitution, Coulomb friction on an inc
     bool bounced = false;
     for (int i = 0; i < 10000; ++i) {
       s.step(IntegratorKind::SymplecticEuler, 1e-4);
-      resolveContacts(cs, 0.0, 1e-4, s.model.fixed.data(), s.state.x, s.state.v, s.model.mass, none);
+      resolveContacts(cs, 0.0, 1e-4, s.model.fixed.data(), s.state.x, s.state.v);
       if (s.state.v[0].y() > 0) bounced = true;
       if (bounced && prev_vy > 0 && s.state.v[0].y() <= 0) peak = s.state.x[0].y();
       prev_vy = s.state.v[0].y();
@@ -271,7 +270,7 @@ TEST_CASE("contacts: resting on a plane, restitution, Coulomb friction on an inc
       System s(d, g);
       for (int i = 0; i < 1000; ++i) {
         s.step(IntegratorKind::SymplecticEuler, 1e-3);
-        resolveContacts(cs, 0.0, 1e-3, s.model.fixed.data(), s.state.x, s.state.v, s.model.mass, none);
+        resolveContacts(cs, 0.0, 1e-3, s.model.fixed.data(), s.state.x, s.state.v);
       }
       const double slid = s.state.x[0].norm();
       if (deg < 26.0) {
@@ -302,8 +301,7 @@ TEST_CASE("contacts: resting on a plane, restitution, Coulomb friction on an inc
       std::vector<Collider> cs{makeCollider(o)};
       std::vector<Vec3> x{Vec3(0.3, 0.2, 0.1)}, v{Vec3(-1, 0, 0)};
       const std::uint8_t fixed = 0;
-      const std::vector<double> one_kg{1.0};
-      resolveContacts(cs, 0.0, 0.0, &fixed, x, v, one_kg, none);  // h = 0: projection only
+      resolveContacts(cs, 0.0, 0.0, &fixed, x, v);  // h = 0: projection only
       double d;
       Vec3 n;
       REQUIRE(cs[0].distance(x[0], d, n));

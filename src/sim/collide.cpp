@@ -303,35 +303,19 @@ void contactNode(const Collider& c, const Surface& s, double reach, double d, co
 }
 
 void resolveContacts(const std::vector<Collider>& colliders, double radius, double h, const std::uint8_t* fixed,
-                     std::vector<Vec3>& x, std::vector<Vec3>& v, const std::vector<double>& mass, Coupling& coupling) {
-  if (colliders.empty()) return;
-  auto touch = [&](const Collider& c, std::size_t i) {
-    double d;
-    Vec3 n;
-    if (!c.distance(x[i], d, n)) return false;
-    const double reach = c.shape->thickness + radius;
-    if (d >= reach) return false;
-    contactNode(c, c.shape->surface, reach, d, n, h, x[i], v[i]);
-    return true;
-  };
+                     std::vector<Vec3>& x, std::vector<Vec3>& v) {
+  if (std::none_of(colliders.begin(), colliders.end(), [](const Collider& c) { return !c.shape->free_body; })) return;
   parallelFor(static_cast<std::ptrdiff_t>(x.size()), [&](std::ptrdiff_t i) {
     if (fixed[i]) return;
-    for (const Collider& c : colliders)
-      if (!c.shape->free_body) touch(c, static_cast<std::size_t>(i));
-  });
-  if (std::none_of(colliders.begin(), colliders.end(), [](const Collider& c) { return c.shape->free_body; })) return;
-  // Rigid bodies: node by node, each impulse handed back to the body, in a fixed order.
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    if (fixed[i]) continue;
-    for (std::size_t k = 0; k < colliders.size(); ++k) {
-      const Collider& c = colliders[k];
-      if (!c.shape->free_body) continue;
-      const Vec3 before = v[i];
-      if (!touch(c, i)) continue;
-      const Vec3 J = mass[i] * (v[i] - before);
-      coupling.handBack(k, x[i], c.pose.pos, J);
+    for (const Collider& c : colliders) {
+      if (c.shape->free_body) continue;
+      double d;
+      Vec3 n;
+      if (!c.distance(x[static_cast<std::size_t>(i)], d, n)) continue;
+      const double reach = c.shape->thickness + radius;
+      if (d < reach) contactNode(c, c.shape->surface, reach, d, n, h, x[static_cast<std::size_t>(i)], v[static_cast<std::size_t>(i)]);
     }
-  }
+  });
 }
 
 bool segmentBlocked(const std::vector<Collider>& colliders, const Vec3& a, const Vec3& b, double step) {

@@ -100,13 +100,11 @@ struct Collider {
 // collider's signed distance, at least `step` at a time): what a fish cannot see through.
 bool segmentBlocked(const std::vector<Collider>& colliders, const Vec3& a, const Vec3& b, double step);
 
-// The coupling stage: how bodies of different kinds act on each other within one step, equal and
-// opposite so momentum is conserved. The order is fixed: the scene's bodies step first, in scene
-// order; what their contacts do to a rigid body (a liquid's particles or a cloth's nodes pushed
-// off it) is gathered here, per collider, in that order; then the rigid bodies step and take it.
-//   liquid → rigid: the impulses the particles took from it, opposite (fluid contacts);
-//   nodes (cloth, ropes, nets, fish, kelp) → rigid: the same for nodes (resolveContacts).
-// Schools and fish steer around rigid bodies as around any moving object.
+// What the coupling stage hands the bodies moved by a system (rigid bodies, figures' links), per
+// collider: the contact layer's impulses on their convex parts (points and surfaces pushed off
+// them), a cloth's grips on what grips it, a figure's contacts on a rigid body. Gathered in a
+// fixed order, then taken by the rigid system and the figures in the same step: equal and
+// opposite, momentum kept.
 struct Coupling {
   std::vector<Vec3> impulse;  // per collider: linear impulse handed to it this step, N·s
   std::vector<Vec3> angular;  // per collider: angular impulse about its reference point, N·m·s
@@ -129,16 +127,15 @@ Collider makeCollider(const ObjectDesc& o, double reach = 0.1);
 // The triangles of a mesh already placed in the world (core's placeMesh), in a grid.
 std::shared_ptr<MeshShape> makeMeshShape(const TriMesh& placed, double reach);
 
-// Projects nodes that are closer than thickness + radius back onto the surface and applies
-// restitution and Coulomb friction to their velocity relative to the surface (a velocity-level
-// impulse per node):  v_n' = −e·v_n,  |v_t'| = max(0, |v_t| − μ(1 + e)|v_n|).
+// Projects nodes that are closer than thickness + radius to a scene object (static or keyed: a
+// free body's collider is a convex part of the contact layer, which meets points there) back
+// onto the surface and applies restitution and Coulomb friction to their velocity relative to the
+// surface (a velocity-level impulse per node):  v_n' = −e·v_n,  |v_t'| = max(0, |v_t| − μ(1 + e)|v_n|).
 // Friction also takes back the tangential distance the step moved at the old velocity
 // (x += h·(v_t' − v_t)), so static friction holds a node in place instead of letting it creep.
-// Fixed nodes are left alone. Rigid bodies' colliders come after the others, node by node in
-// index order, and each takes the opposite of the impulses its contacts gave the nodes (masses
-// `mass`, kg) through `coupling`.
+// Fixed nodes are left alone.
 void resolveContacts(const std::vector<Collider>& colliders, double radius, double h, const std::uint8_t* fixed,
-                     std::vector<Vec3>& x, std::vector<Vec3>& v, const std::vector<double>& mass, Coupling& coupling);
+                     std::vector<Vec3>& x, std::vector<Vec3>& v);
 
 // The response above for one node at signed distance d (< reach) along the outward normal n of
 // collider c, with surface s.

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/parallel.h"
+#include "sim/collide.h"
 #include "sim/contact_layer.h"
 
 namespace reel {
@@ -253,6 +254,65 @@ void ContactLayer::findEdgeEdge() {
       if (E[0] == F[0] || E[0] == F[1] || E[1] == F[0] || E[1] == F[1] || !meet(E[0], F[0])) return;
       cand.push_back(fu);
     });
+  });
+}
+
+// Point–convex: the parts moved by a system (rigid bodies, figures' links), each by its box over
+// the step (its shape at its pose, grown by its motion, its collider's thickness, the largest
+// point radius and adhesion range). A body's points are looked at only when its box meets some
+// part's it may touch (not its own, not a hooked body's); each of those points tries those parts'
+// boxes against its path. Held points (inverse mass 0) and points taken this step meet none.
+// Pairs in order of point, then part.
+void ContactLayer::findPointConvex(double h) {
+  pc_pairs_.clear();
+  pc_parts_.clear();
+  for (std::size_t c = 0; c < p_.convex.size(); ++c)
+    if (p_.convex[c].body != ContactProxies::kObject) pc_parts_.push_back(static_cast<std::uint32_t>(c));
+  const std::size_t np = p_.x.size(), nc = pc_parts_.size(), slots = p_.body.size();
+  if (nc == 0 || np == 0) return;
+  double grow = 0.0;
+  for (double r : p_.r) grow = std::max(grow, r);
+  for (const ContactProxies::Surfaces& s : p_.surfaces)
+    for (double r : s.range) grow = std::max(grow, r);
+  pc_lo_.resize(nc);
+  pc_hi_.resize(nc);
+  for (std::size_t k = 0; k < nc; ++k) {
+    const ContactProxies::Convex& C = p_.convex[pc_parts_[k]];
+    shapeBounds(*C.shape, C.pose, pc_lo_[k], pc_hi_[k]);
+    const double extent = 0.5 * (pc_hi_[k] - pc_lo_[k]).norm();
+    const Vec3 g = Vec3::Constant(grow + (*colliders_)[C.collider].shape->thickness + h * (C.v.norm() + C.w.norm() * extent));
+    pc_lo_[k] -= g;
+    pc_hi_[k] += g;
+    if (!pc_lo_[k].allFinite() || !pc_hi_[k].allFinite()) pc_lo_[k] = Vec3::Constant(1e300), pc_hi_[k] = Vec3::Constant(-1e300);
+  }
+  // Per body: its points' box over the step, and the parts that box meets.
+  slot_lo_.assign(slots, Vec3::Constant(1e300));
+  slot_hi_.assign(slots, Vec3::Constant(-1e300));
+  for (std::size_t i = 0; i < np; ++i) {
+    const std::uint32_t e = p_.slot[i];
+    slot_lo_[e] = slot_lo_[e].cwiseMin(p_.x[i]).cwiseMin(p_.x0[i]);
+    slot_hi_[e] = slot_hi_[e].cwiseMax(p_.x[i]).cwiseMax(p_.x0[i]);
+  }
+  auto overlap = [](const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
+    return (alo.array() <= bhi.array()).all() && (blo.array() <= ahi.array()).all();
+  };
+  std::vector<std::vector<std::uint32_t>> slot_parts(slots);
+  bool any = false;
+  for (std::size_t e = 0; e < slots; ++e)
+    for (std::size_t k = 0; k < nc; ++k) {
+      const std::size_t body = p_.convex[pc_parts_[k]].body;
+      if (body == p_.body[e] || skipped(p_.body[e], body)) continue;
+      if (overlap(pc_lo_[k], pc_hi_[k], slot_lo_[e] - Vec3::Constant(grow), slot_hi_[e] + Vec3::Constant(grow)))
+        slot_parts[e].push_back(static_cast<std::uint32_t>(k)), any = true;
+    }
+  if (!any) return;
+  gatherPairs(np, pc_pairs_, [&](std::uint32_t i, std::vector<std::uint32_t>& cand) {
+    const std::vector<std::uint32_t>& parts = slot_parts[p_.slot[i]];
+    if (parts.empty() || !(p_.w[i] > 0.0) || p_.gone[i]) return;
+    const Vec3 g = Vec3::Constant(p_.r[i]);
+    const Vec3 lo = p_.x[i].cwiseMin(p_.x0[i]) - g, hi = p_.x[i].cwiseMax(p_.x0[i]) + g;
+    for (std::uint32_t k : parts)
+      if (overlap(pc_lo_[k], pc_hi_[k], lo, hi)) cand.push_back(pc_parts_[k]);
   });
 }
 

@@ -329,4 +329,80 @@ bool ContactLayer::solveTriangleConvex(std::uint32_t t, std::uint32_t ci, double
   return any || lambda_pos > 0.0;
 }
 
+// Point–convex: a point (a sphere of its radius) against a part moved by a system, by the signed
+// distance of the part's collider at its pose now (sim/collide.h, the primitive every object
+// contact uses). The law is the one points meet the scene's objects by (contactNode): the part's
+// surface (or the one the scene gives the point's liquid species) with restitution e, Coulomb
+// friction μ bounded by μ times the normal impulse, friction taking back the step's tangential
+// drift at the old velocity (so static friction holds), and a liquid's adhesion as a pull towards
+// the surface within its range (the first pass only). Here it is solved with both sides' masses:
+// the point's inverse mass w and the part's 1/m + (r×n)·I⁻¹(r×n) at the contact. The point's
+// share of the overlap is closed at once, the part's becomes a separating speed (20% a step, at
+// most 0.5 m/s), as in triangle–convex. A point whose end lies clear of the part but whose path
+// over the step, sampled at its reach, entered it from outside is caught at the first place
+// inside. The part takes the opposite of every impulse (its collider's Coupling entry).
+bool ContactLayer::solvePointConvex(std::uint32_t i, std::uint32_t ci, double h, bool adhere) {
+  ContactProxies::Convex& C = p_.convex[ci];
+  const Collider& col = (*colliders_)[C.collider];
+  double range = 0.0;
+  const Surface& sf = p_.surfaceOf(i, C.collider, col.shape->surface, range);
+  if (!adhere) range = 0.0;
+  const double reach = col.shape->thickness + p_.r[i];
+  Vec3& x = p_.x[i];
+  Vec3& v = p_.v[i];
+  auto within = [&](const Vec3& q, double far, double& d, Vec3& n) {
+    return col.near(q, far) && col.distance(q, d, n) && d < far;
+  };
+  double d = 0.0;
+  Vec3 n;
+  if (!within(x, reach + range, d, n)) {
+    // Through the part this step? Its path from outside, at steps no longer than the reach.
+    const Vec3 path = x - p_.x0[i];
+    const double len = path.norm();
+    double d0 = 0.0;
+    Vec3 n0;
+    if (!(len > reach) || within(p_.x0[i], reach, d0, n0)) return false;
+    const int samples = std::min(16, static_cast<int>(std::ceil(len / reach)));
+    int hit = 0;
+    for (int k = 1; k < samples && !hit; ++k)
+      if (within(p_.x0[i] + (static_cast<double>(k) / samples) * path, reach, d, n)) hit = k;
+    if (!hit) return false;
+    x = p_.x0[i] + (static_cast<double>(hit) / samples) * path;
+  }
+  const double w = p_.w[i];
+  const Vec3 r = x - d * n - C.centre;  // the contact on the part's surface, from its centre
+  auto partMass = [&](const Vec3& dir) {
+    const Vec3 rd = r.cross(dir);
+    return C.inv_mass + rd.dot(C.inv_inertia * rd);
+  };
+  Vec3 J = Vec3::Zero();  // on the point, N·s
+  if (range > 0.0) J -= (h * sf.adhesion * std::clamp(1.0 - (d - reach) / range, 0.0, 1.0) / w) * n;
+  if (d < reach) {
+    const double depth = reach - d, Wn = partMass(n);
+    x += (w * depth / (w + Wn)) * n;
+    const Vec3 rel = v + w * J - (C.v + C.w.cross(r));
+    const double vn = rel.dot(n);
+    const double push = std::min(0.2 * depth * Wn / (w + Wn) / h, 0.5);  // m/s
+    const double target = std::max(push, vn < 0.0 ? -sf.restitution * vn : 0.0);
+    const double jn = vn < target ? (target - vn) / (w + Wn) : 0.0;
+    J += jn * n;
+    const Vec3 slide = rel - vn * n;
+    const double slide_len = slide.norm();
+    if (slide_len > 1e-12 && jn > 0.0) {
+      const Vec3 dir = slide / slide_len;
+      const double jt = std::min(slide_len / (w + partMass(dir)), sf.friction * jn);
+      J -= jt * dir;
+      x -= (h * w * jt) * dir;  // the step's tangential drift, redone at the new velocity
+    }
+  }
+  if (J.isZero(0.0) && !(d < reach)) return false;
+  v += w * J;
+  C.v -= C.inv_mass * J;
+  C.w -= C.inv_inertia * r.cross(J);
+  convex_J_[ci] -= J;
+  convex_L_[ci] -= r.cross(J);
+  touched_[p_.slot[i]] = 1;
+  return true;
+}
+
 }  // namespace reel

@@ -19,6 +19,8 @@ void ContactProxies::clear() {
   tri.clear();
   edge.clear();
   gone.clear();
+  material.clear();
+  surfaces.clear();
   convex.clear();
   body.clear();
   first.assign(1, 0);
@@ -27,9 +29,11 @@ void ContactProxies::clear() {
 
 std::uint32_t ContactProxies::add(const Body& b, std::size_t index, std::uint32_t base_piece) {
   body.push_back(index);
+  surfaces.emplace_back();
   ContactExport out(*this);
   out.base_piece_ = base_piece;
   b.exportContacts(out);
+  material.resize(x.size(), -1);
   first.push_back(static_cast<std::uint32_t>(x.size()));
   tri_first.push_back(static_cast<std::uint32_t>(tri.size()));
   return out.pieces_;
@@ -69,6 +73,34 @@ void ContactExport::edge(int a, int b) {
   REEL_CHECK(a >= 0 && b >= 0 && a != b && static_cast<std::uint32_t>(std::max(a, b)) < n,
              "contact edge over a point the body did not hand");
   p_.edge.push_back({f + static_cast<std::uint32_t>(a), f + static_cast<std::uint32_t>(b)});
+}
+
+void ContactExport::surfaces(std::span<const Surface> table, int materials, std::span<const double> range,
+                             std::span<const int> material) {
+  const std::uint32_t f = p_.first.back();
+  const std::size_t n = p_.x.size() - f;
+  REEL_CHECK(materials > 0 && range.size() == static_cast<std::size_t>(materials) &&
+                 table.size() % static_cast<std::size_t>(materials) == 0 && material.size() == n,
+             "contact surfaces: a table, ranges or materials of the wrong size");
+  REEL_CHECK(p_.material.size() == f, "contact surfaces handed twice by one body");
+  for (int m : material) {
+    REEL_CHECK(m >= -1 && m < materials, "contact surfaces: a point of no material");
+    p_.material.push_back(m);
+  }
+  p_.surfaces.back() = {table, materials, range};
+}
+
+const Surface& ContactProxies::surfaceOf(std::uint32_t i, std::size_t k, const Surface& own, double& range) const {
+  const std::int32_t m = material[i];
+  const Surfaces& s = surfaces[slot[i]];
+  const std::size_t row = k * static_cast<std::size_t>(s.materials) + static_cast<std::size_t>(m);
+  if (m < 0 || row >= s.table.size()) {
+    range = 0.0;
+    return own;
+  }
+  const Surface& sf = s.table[row];
+  range = sf.adhesion > 0.0 ? s.range[static_cast<std::size_t>(m)] : 0.0;
+  return sf;
 }
 
 void ContactExport::convex(const ConvexShape& shape, const Pose& pose, const Vec3& v, const Vec3& w, double inv_mass,

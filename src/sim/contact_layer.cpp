@@ -334,16 +334,18 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
     findEdgeEdge();
   }
   findTriangleConvex(h);
-  if (!points_near && tc_pairs_.empty()) return;
+  findPointConvex(h);
+  if (!points_near && tc_pairs_.empty() && pc_pairs_.empty()) return;
   convex_J_.assign(p_.convex.size(), Vec3::Zero());
   convex_L_.assign(p_.convex.size(), Vec3::Zero());
   for (int pass = 0; pass < 2; ++pass) {
-    std::size_t pt = 0, pp = 0, ee = 0, tc = 0;
+    std::size_t pt = 0, pp = 0, ee = 0, tc = 0, pc = 0;
+    for (const auto& q : pc_pairs_) pc += solvePointConvex(q[0], q[1], h, pass == 0);
     for (const auto& q : pt_pairs_) pt += solvePointTriangle(q[0], q[1], h);
     for (const auto& q : pp_pairs_) pp += solvePointPoint(q[0], q[1], h);
     for (const auto& q : ee_pairs_) ee += solveEdgeEdge(q[0], q[1], h);
     for (const auto& q : tc_pairs_) tc += solveTriangleConvex(q[0], q[1], h);
-    if (pass == 0) counts_ = {pt, pp, ee, tc, 0};
+    if (pass == 0) counts_ = {pt, pp, ee, tc, pc, 0};
   }
   // The hooks' laws, after the layer's own, a point's candidate triangles at a time, in id order.
   std::vector<std::uint8_t> started(hooks_.size(), 0);  // begun this step
@@ -364,6 +366,7 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
   total_.point_point += counts_.point_point;
   total_.edge_edge += counts_.edge_edge;
   total_.triangle_convex += counts_.triangle_convex;
+  total_.point_convex += counts_.point_convex;
   total_.hooked += counts_.hooked;
   // What the bodies' convex parts took, to their colliders' Coupling entries (angular about the
   // collider's pose.pos). The objects' is taken by what holds them.

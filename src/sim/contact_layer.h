@@ -3,6 +3,9 @@
 // radius), with the triangles of its surface over them; one broad phase runs over all of them,
 // and the narrow phase is keyed by the pair of proxy types, never by the pair of kinds:
 //   point–triangle: a node or particle against a sheet, a fish's skin, a lattice's skin;
+//   point–convex: a node or particle (a sphere of its radius) against a convex part moved by a
+//   system (a rigid body, a figure's link), with the part's surface law (restitution, friction,
+//   a liquid's adhesion, per species where the scene says so);
 //   point–point: two nodes or particles as spheres;
 //   edge–edge: two threads (a rope's segments, a net's threads, a kelp stalk) as capsules;
 //   triangle–convex: a sheet's, a fish's or a lattice's surface against a convex part (a rigid
@@ -26,6 +29,7 @@
 #include <span>
 #include <vector>
 
+#include "core/scene/material.h"
 #include "core/types.h"
 #include "sim/grid.h"
 #include "sim/rigid/contact.h"
@@ -53,6 +57,7 @@ struct ContactProxies {
   std::vector<std::array<std::uint32_t, 3>> tri;  // point ids, counter-clockwise from outside (triangles)
   std::vector<std::array<std::uint32_t, 2>> edge;  // point ids of a thread's ends (edges)
   std::vector<std::uint8_t> gone;         // taken by another body in the step (a drop soaked up), out of its contacts (points)
+  std::vector<std::int32_t> material;     // the row of its body's surface table it meets parts by; -1: the part's own (points)
   // A convex part of a body moved by a system (a rigid body, a figure's link): its shape at its
   // pose now, its velocity, how it answers an impulse, and the collider whose Coupling entry
   // takes what it is given. v and w change as the layer's contacts act on it.
@@ -74,6 +79,17 @@ struct ContactProxies {
   std::vector<std::size_t> body;
   std::vector<std::uint32_t> first;       // (slots + 1)
   std::vector<std::uint32_t> tri_first;   // its first triangle (slots + 1)
+  // Per slot: how its points meet convex parts when not by the part's own surface (a liquid's
+  // species): surfaces per (collider, material), `materials` wide, and each material's adhesion
+  // range, m. Empty: every point by the part's own surface.
+  struct Surfaces {
+    std::span<const Surface> table;
+    int materials = 0;
+    std::span<const double> range;
+  };
+  std::vector<Surfaces> surfaces;
+  // The surface point i meets collider k by, and its adhesion range (m; 0 without adhesion).
+  const Surface& surfaceOf(std::uint32_t i, std::size_t k, const Surface& own, double& range) const;
   void clear();
   // Appends body b's points and triangles (b is the World's body `index`; its pieces numbered
   // from `base_piece`) as the next slot; returns how many pieces it used.
@@ -93,6 +109,11 @@ class ContactExport {
   void triangle(int a, int b, int c);
   // A thread between two of its points (a capsule of the points' radius).
   void edge(int a, int b);
+  // How the points meet convex parts (after points()): `table[k · materials + m]` is the surface
+  // a point of material m meets collider k by, `range[m]` its adhesion range (m), `material` each
+  // point's row (-1: the collider's own surface). Without it: every point by the collider's own.
+  void surfaces(std::span<const Surface> table, int materials, std::span<const double> range,
+                std::span<const int> material);
   // A convex part (Body::exportConvex): `shape` in its frame, posed at `pose` (pose.p at the
   // centre of mass), moving at v (m/s) and w (rad/s), answering an impulse with inv_mass (1/kg)
   // and inv_inertia (world); the impulses it takes go to `collider`'s Coupling entry.
@@ -114,6 +135,7 @@ struct ContactCounts {
   std::size_t point_point = 0;
   std::size_t edge_edge = 0;
   std::size_t triangle_convex = 0;
+  std::size_t point_convex = 0;
   std::size_t hooked = 0;  // points a hook's law touched
 };
 
@@ -179,6 +201,8 @@ class ContactLayer {
   void gatherObjectParts(const std::vector<Collider>& colliders);
   void findTriangleConvex(double h);
   bool solveTriangleConvex(std::uint32_t t, std::uint32_t c, double h);
+  void findPointConvex(double h);
+  bool solvePointConvex(std::uint32_t i, std::uint32_t c, double h, bool adhere);
   template <class F>
   void gatherPairs(std::size_t n, std::vector<std::array<std::uint32_t, 2>>& pairs, F&& candidates);
   bool solveEdgeEdge(std::uint32_t e, std::uint32_t f, double h);
@@ -237,6 +261,9 @@ class ContactLayer {
   std::vector<std::vector<std::array<std::uint32_t, 2>>> chunk_pairs_;
   std::vector<std::array<std::uint32_t, 2>> pt_pairs_, pp_pairs_, ee_pairs_;  // (point, triangle), (point, point), (edge, edge)
   std::vector<std::array<std::uint32_t, 2>> tc_pairs_;  // (triangle, convex part)
+  std::vector<std::array<std::uint32_t, 2>> pc_pairs_;  // (point, convex part)
+  std::vector<std::uint32_t> pc_parts_;                 // the parts points meet (those moved by a system)
+  std::vector<Vec3> pc_lo_, pc_hi_;                     // their boxes over the step, grown by the reach
   std::vector<std::array<std::uint32_t, 3>> hk_pairs_;  // (point, triangle, hook): a hook's
   std::vector<std::uint32_t> hk_tris_;                  // (scratch)
   std::vector<Vec3> slot_lo_, slot_hi_;                 // per slot: its triangles' grown boxes together

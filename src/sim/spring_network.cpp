@@ -29,7 +29,7 @@ void SpringNetwork::integrate(StepContext& ctx) {
 
 void SpringNetwork::contacts(const StepContext& ctx) {
   profile::Scope stage(profile::Stage::Contacts);
-  resolveContacts(*ctx.colliders, radius, ctx.h, model.fixed.data(), state.x, state.v, model.mass, *ctx.coupling);
+  resolveContacts(*ctx.colliders, radius, ctx.h, model.fixed.data(), state.x, state.v);
 }
 
 std::string SpringNetwork::unstableMethod(const std::string& body, IntegratorKind integrator) const {

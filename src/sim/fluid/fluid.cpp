@@ -373,9 +373,9 @@ void addThermalForces(Fluid& fl, double h) {
   });
 }
 
-// Symplectic Euler over h, then adhesion and contacts; the impulses particles take from free
-// objects go, opposite, to the objects (through the coupling stage).
-void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, Coupling& coupling, double h) {
+// Symplectic Euler over h, then adhesion and contacts with the scene's objects (a free body's
+// collider is a convex part of the World's contact layer, which meets the particles there).
+void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, double h) {
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
   const auto S = static_cast<std::size_t>(fl.species_count);
   parallelFor(n, [&](std::ptrdiff_t ii) {
@@ -385,42 +385,30 @@ void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, Coupling&
   });
   if (colliders.empty()) return;
   profile::Scope stage(profile::Stage::Contacts);
-  // One particle against one collider: adhesion, then the contact; the impulse it took.
-  auto touch = [&](std::size_t i, std::size_t k) -> Vec3 {
+  parallelFor(n, [&](std::ptrdiff_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
     const auto si = static_cast<std::size_t>(fl.s[i]);
     const double range = fl.pairs[si * S + si].cutoff;
-    const Collider& c = colliders[k];
-    const Surface& sf = fl.surfaces[k * S + si];
-    const double reach = c.shape->thickness + fl.radius;
-    if (!c.near(fl.x[i], fl.radius + (sf.adhesion > 0 ? range : 0.0))) return Vec3::Zero();
-    double d;
-    Vec3 nrm;
-    if (!c.distance(fl.x[i], d, nrm)) return Vec3::Zero();
-    if (d >= reach + (sf.adhesion > 0 ? range : 0.0)) return Vec3::Zero();
-    const Vec3 v_before = fl.v[i];
-    // Adhesion: an acceleration towards the surface, full in contact, fading to 0 one cutoff away.
-    if (sf.adhesion > 0) fl.v[i] -= (h * sf.adhesion * std::clamp(1.0 - (d - reach) / range, 0.0, 1.0)) * nrm;
-    if (d < reach) contactNode(c, sf, reach, d, nrm, h, fl.x[i], fl.v[i]);
-    return fl.m[i] * (fl.v[i] - v_before);
-  };
-  parallelFor(n, [&](std::ptrdiff_t ii) {
-    for (std::size_t k = 0; k < colliders.size(); ++k)
-      if (fl.collider_object[k] < 0) touch(static_cast<std::size_t>(ii), k);
-  });
-  if (fl.object_count == 0) return;
-  // Rigid bodies: particle by particle, each taking the opposite of the impulses it gave.
-  for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i)
     for (std::size_t k = 0; k < colliders.size(); ++k) {
-      if (fl.collider_object[k] < 0) continue;
-      const Vec3 J = touch(i, k);
-      if (J.isZero()) continue;
-      coupling.handBack(k, fl.x[i], colliders[k].pose.pos, J);
+      const Collider& c = colliders[k];
+      if (c.shape->free_body) continue;
+      const Surface& sf = fl.surfaces[k * S + si];
+      const double reach = c.shape->thickness + fl.radius;
+      if (!c.near(fl.x[i], fl.radius + (sf.adhesion > 0 ? range : 0.0))) continue;
+      double d;
+      Vec3 nrm;
+      if (!c.distance(fl.x[i], d, nrm)) continue;
+      if (d >= reach + (sf.adhesion > 0 ? range : 0.0)) continue;
+      // Adhesion: an acceleration towards the surface, full in contact, fading to 0 one cutoff away.
+      if (sf.adhesion > 0) fl.v[i] -= (h * sf.adhesion * std::clamp(1.0 - (d - reach) / range, 0.0, 1.0)) * nrm;
+      if (d < reach) contactNode(c, sf, reach, d, nrm, h, fl.x[i], fl.v[i]);
     }
+  });
 }
 
 }  // namespace
 
-void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, Coupling& coupling, const Vec3& gravity, double h,
+void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, const Vec3& gravity, double h,
                double t0, double t1) {
   const bool added = emit(fl, t0, t1);
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
@@ -445,7 +433,7 @@ void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, Coupling& coup
       computeForces(fl, gravity);
     }
     if (fl.agitated) addThermalForces(fl, hk);
-    moveAndCollide(fl, colliders, coupling, hk);
+    moveAndCollide(fl, colliders, hk);
   }
 }
 

@@ -6,9 +6,10 @@
 // applied exactly so (no smoothing of the cut), plus a viscosity that damps the relative
 // velocity of neighbours. Neighbours come from a Verlet list (pairs closer than the cutoff plus
 // a skin) rebuilt through the shared hashed grid (sim/grid.h) when the two largest displacements
-// since the last build add up to the skin: never an O(N²) loop. Particles meet every object through the shared
-// collision primitives (sim/collide.h) with per-species surfaces (adhesion, friction,
-// restitution), and hand free objects the impulses they take from them (the coupling stage).
+// since the last build add up to the skin: never an O(N²) loop. Particles meet the scene's
+// objects through the shared collision primitives (sim/collide.h) with per-species surfaces
+// (adhesion, friction, restitution); rigid bodies and figures' links meet them in the World's
+// contact layer (point–convex), by the same per-species surfaces.
 #pragma once
 
 #include <cstdint>
@@ -85,8 +86,7 @@ struct FluidModel {
   double skin = 0.01;             // Verlet-list margin, m
   double ref_spacing = 0.01;      // m: how close neighbours come in a settled liquid (step splitting)
   std::vector<Surface> surfaces;  // colliders × species
-  std::vector<int> collider_object;  // collider → index of its free object among the free objects, or −1
-  int object_count = 0;              // free objects among the colliders
+  std::vector<double> adhesion_range;  // per species: how far a sticky surface pulls (its own cutoff), m
   std::uint64_t seed = 0;
   long long max_particles = 0;
   bool agitated = false;  // some pair has random forces
@@ -154,11 +154,11 @@ Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<
 StepBound fluidStableStep(const Fluid& fl);
 
 // One step h from t0 to t1 = t0 + h: emission, pair and viscous forces with gravity, symplectic
-// Euler, adhesion and contacts with the colliders (the impulses free objects take go to the
-// coupling stage, `coupling`). A step
+// Euler, adhesion and contacts with the scene's objects (not the free bodies': the contact layer
+// meets those). A step
 // in which some particle would move more than 5% of the spacing through its acceleration (or 40%
 // through its speed) is split into equal parts, each with fresh forces (up to 16).
-void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, Coupling& coupling, const Vec3& gravity, double h,
+void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, const Vec3& gravity, double h,
                double t0, double t1);
 
 // Rebuilds the neighbour list now (the step does it when needed).

@@ -16,13 +16,14 @@ StepLimit FluidBody::stepLimit(IntegratorKind) const {
 }
 
 void FluidBody::step(StepContext& ctx) {
-  stepFluid(fluid_, *ctx.colliders, *ctx.coupling, ctx.gravity, ctx.h, ctx.t0, ctx.t1);
+  stepFluid(fluid_, *ctx.colliders, ctx.gravity, ctx.h, ctx.t0, ctx.t1);
 }
 
 void FluidBody::exportContacts(ContactExport& out) const {
   inv_mass_.resize(fluid_.m.size());
   for (std::size_t i = 0; i < inv_mass_.size(); ++i) inv_mass_[i] = 1.0 / fluid_.m[i];
   out.points(fluid_.x, fluid_.v, inv_mass_, fluid_.radius);
+  out.surfaces(fluid_.surfaces, fluid_.species_count, fluid_.adhesion_range, fluid_.s);
 }
 
 void FluidBody::importContacts(std::span<const Vec3> x, std::span<const Vec3> v) {

@@ -209,12 +209,11 @@ Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<
   fl.surface_smoothing = d.surface_smoothing;
   fl.foam = d.foam;
   fl.shutter = d.shutter;
-  // Surfaces per collider and species; free objects by collider.
+  // Surfaces per collider and species.
   fl.surfaces.reserve(colliders.size() * S);
-  for (const Collider& o : colliders) {
+  for (const Collider& o : colliders)
     for (std::size_t k = 0; k < S; ++k) fl.surfaces.push_back(surfaceFor(o.shape->surface, o.shape->species_surface, fl.species_names[k]));
-    fl.collider_object.push_back(o.shape->free_body ? fl.object_count++ : -1);
-  }
+  for (std::size_t k = 0; k < S; ++k) fl.adhesion_range.push_back(fl.pairs[k * S + k].cutoff);
   addBlocks(fl, d, colliders, seed);
   for (const FluidParticlesDesc& p : d.particles)
     for (std::size_t i = 0; i < p.positions.size(); ++i) {
