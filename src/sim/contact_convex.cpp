@@ -338,9 +338,9 @@ bool ContactLayer::solveTriangleConvex(std::uint32_t t, std::uint32_t ci, double
 // the surface within its range (the first pass only). Here it is solved with both sides' masses:
 // the point's inverse mass w and the part's 1/m + (r×n)·I⁻¹(r×n) at the contact. The point's
 // share of the overlap is closed at once, the part's becomes a separating speed (20% a step, at
-// most 0.5 m/s), as in triangle–convex. A point whose end lies clear of the part but whose path
-// over the step, sampled at its reach, entered it from outside is caught at the first place
-// inside. The part takes the opposite of every impulse (its collider's Coupling entry).
+// most 0.5 m/s), as in triangle–convex. A point whose end lies clear of the part, beyond the
+// surface its path over the step (sampled at its reach) first came within reach of, crossed it:
+// it is caught at that place. The part takes the opposite of every impulse (its collider's Coupling entry).
 bool ContactLayer::solvePointConvex(std::uint32_t i, std::uint32_t ci, double h, bool adhere) {
   ContactProxies::Convex& C = p_.convex[ci];
   const Collider& col = (*colliders_)[C.collider];
@@ -355,20 +355,26 @@ bool ContactLayer::solvePointConvex(std::uint32_t i, std::uint32_t ci, double h,
   };
   double d = 0.0;
   Vec3 n;
-  if (!within(x, reach + range, d, n)) {
-    // Through the part this step? Its path from outside, at steps no longer than the reach.
-    const Vec3 path = x - p_.x0[i];
-    const double len = path.norm();
-    double d0 = 0.0;
-    Vec3 n0;
-    if (!(len > reach) || within(p_.x0[i], reach, d0, n0)) return false;
+  const bool at_end = within(x, reach + range, d, n);
+  // Through the part this step? The first place on its path (at steps no longer than the reach)
+  // within reach of the part with the end beyond that place's surface: a point that ends clear of
+  // the part, or within reach of its far side, crossed it and is caught there; one that slid off an
+  // edge or bounced away ends on the near side.
+  const Vec3 path = x - p_.x0[i];
+  const double len = path.norm();
+  bool crossed = false;
+  if (len > reach) {
     const int samples = std::min(16, static_cast<int>(std::ceil(len / reach)));
-    int hit = 0;
-    for (int k = 1; k < samples && !hit; ++k)
-      if (within(p_.x0[i] + (static_cast<double>(k) / samples) * path, reach, d, n)) hit = k;
-    if (!hit) return false;
-    x = p_.x0[i] + (static_cast<double>(hit) / samples) * path;
+    for (int k = 0; k < samples; ++k) {
+      const Vec3 q = p_.x0[i] + (static_cast<double>(k) / samples) * path;
+      double dq = 0.0;
+      Vec3 nq;
+      if (!within(q, reach, dq, nq) || !((x - (q - dq * nq)).dot(nq) < 0.0)) continue;
+      if (!at_end || !(n.dot(nq) > 0.0)) x = q, d = dq, n = nq, crossed = true;
+      break;
+    }
   }
+  if (!at_end && !crossed) return false;
   const double w = p_.w[i];
   const Vec3 r = x - d * n - C.centre;  // the contact on the part's surface, from its centre
   auto partMass = [&](const Vec3& dir) {

@@ -21,6 +21,7 @@ void ContactProxies::clear() {
   gone.clear();
   material.clear();
   surfaces.clear();
+  x0_given.clear();
   convex.clear();
   body.clear();
   first.assign(1, 0);
@@ -30,10 +31,12 @@ void ContactProxies::clear() {
 std::uint32_t ContactProxies::add(const Body& b, std::size_t index, std::uint32_t base_piece) {
   body.push_back(index);
   surfaces.emplace_back();
+  x0_given.push_back(0);
   ContactExport out(*this);
   out.base_piece_ = base_piece;
   b.exportContacts(out);
   material.resize(x.size(), -1);
+  x0.resize(x.size());
   first.push_back(static_cast<std::uint32_t>(x.size()));
   tri_first.push_back(static_cast<std::uint32_t>(tri.size()));
   return out.pieces_;
@@ -73,6 +76,14 @@ void ContactExport::edge(int a, int b) {
   REEL_CHECK(a >= 0 && b >= 0 && a != b && static_cast<std::uint32_t>(std::max(a, b)) < n,
              "contact edge over a point the body did not hand");
   p_.edge.push_back({f + static_cast<std::uint32_t>(a), f + static_cast<std::uint32_t>(b)});
+}
+
+void ContactExport::starts(std::span<const Vec3> x0) {
+  const std::uint32_t f = p_.first.back();
+  REEL_CHECK(x0.size() == p_.x.size() - f && !p_.x0_given.back(), "contact starts: not one per point, or handed twice");
+  p_.x0.resize(f);
+  p_.x0.insert(p_.x0.end(), x0.begin(), x0.end());
+  p_.x0_given.back() = 1;
 }
 
 void ContactExport::surfaces(std::span<const Surface> table, int materials, std::span<const double> range,

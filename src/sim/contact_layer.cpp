@@ -291,8 +291,8 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
   for (std::size_t k : exporters_) next_piece += p_.add(*bodies[k], k, next_piece);
   const std::size_t np = p_.x.size();
   p_.gone.assign(np, 0);
-  p_.x0.resize(np);
-  for (std::size_t i = 0; i < np; ++i) p_.x0[i] = p_.x[i] - h * p_.v[i];
+  for (std::size_t i = 0; i < np; ++i)
+    if (!p_.x0_given[p_.slot[i]]) p_.x0[i] = p_.x[i] - h * p_.v[i];
   touched_.assign(exporters_.size(), 0);
   // Pieces far from every piece they may touch sit out this step.
   const std::uint32_t pieces = next_piece;

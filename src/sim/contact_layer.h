@@ -49,7 +49,8 @@ inline constexpr double kContactFriction = 0.3;
 // bodies in scene order, so ids are stable for as long as the bodies keep their point counts.
 struct ContactProxies {
   std::vector<Vec3> x, v;                 // positions, m; velocities, m/s (points)
-  std::vector<Vec3> x0;                   // positions at the start of the step, x − h·v, m (points)
+  std::vector<Vec3> x0;                   // positions at the start of the step (the body's, or x − h·v), m (points)
+  std::vector<std::uint8_t> x0_given;     // its body handed where its points started (slots)
   std::vector<double> w;                  // inverse masses, 1/kg; 0 for a held point (points)
   std::vector<double> r;                  // contact radii, m (points)
   std::vector<std::uint32_t> piece;       // points of one piece never meet each other (points)
@@ -109,6 +110,10 @@ class ContactExport {
   void triangle(int a, int b, int c);
   // A thread between two of its points (a capsule of the points' radius).
   void edge(int a, int b);
+  // Where the points were at the start of the step (after points()), for a body whose step is not
+  // one straight move at its end velocity (a liquid that splits a violent step); without it the
+  // layer takes x − h·v.
+  void starts(std::span<const Vec3> x0);
   // How the points meet convex parts (after points()): `table[k · materials + m]` is the surface
   // a point of material m meets collider k by, `range[m]` its adhesion range (m), `material` each
   // point's row (-1: the collider's own surface). Without it: every point by the collider's own.

@@ -97,6 +97,7 @@ void sortParticles(Fluid& fl) {
     for (std::size_t k = 0; k < n; ++k) a[k] = copy[order[k]];
   };
   permute(fl.x);
+  if (fl.x_start.size() == n) permute(fl.x_start);
   permute(fl.v);
   permute(fl.s);
   permute(fl.m);
@@ -414,6 +415,7 @@ void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, const Vec3& gr
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
   if (n == 0) return;
   refreshNeighbours(fl, added);
+  fl.x_start = fl.x;
   computeForces(fl, gravity);
   // A violent moment (an impact, a splash squeezed against a wall) can push particles much closer
   // than the stable step assumes. Then the step is split so that no particle moves more than 5%

@@ -87,6 +87,7 @@ struct FluidModel {
   double ref_spacing = 0.01;      // m: how close neighbours come in a settled liquid (step splitting)
   std::vector<Surface> surfaces;  // colliders × species
   std::vector<double> adhesion_range;  // per species: how far a sticky surface pulls (its own cutoff), m
+  std::vector<Vec3> x_start;  // (scratch) where each particle was when the step's motion began: its path for the contact layer, m
   std::uint64_t seed = 0;
   long long max_particles = 0;
   bool agitated = false;  // some pair has random forces

@@ -23,6 +23,7 @@ void FluidBody::exportContacts(ContactExport& out) const {
   inv_mass_.resize(fluid_.m.size());
   for (std::size_t i = 0; i < inv_mass_.size(); ++i) inv_mass_[i] = 1.0 / fluid_.m[i];
   out.points(fluid_.x, fluid_.v, inv_mass_, fluid_.radius);
+  if (fluid_.x_start.size() == fluid_.x.size()) out.starts(fluid_.x_start);
   out.surfaces(fluid_.surfaces, fluid_.species_count, fluid_.adhesion_range, fluid_.s);
 }
 
