@@ -60,6 +60,10 @@ struct StepContext {
   // fleeing a predator school, a fish seeing fish and food) reads it here. Bodies earlier in scene
   // order have already taken this step.
   const SharedView* shown = nullptr;
+  // Per collider: its body has already stepped this step and met the others' parts itself (a
+  // figure stepping before another whose reach it shares): a later body leaves those contacts to
+  // it and takes what it handed back (Coupling). Null: none has.
+  const std::vector<std::uint8_t>* solved = nullptr;
 };
 
 
@@ -97,7 +101,8 @@ class Body {
   virtual bool coupled() const { return false; }
   // A coupled body whose step writes only its own state (its colliders and what it hands back wait
   // for publish): all of them step in parallel, each reading the others' colliders as they were
-  // after the last step (articulated figures).
+  // after the last step (articulated figures); when the reach of two may overlap, they step one
+  // after another in scene order instead, each publishing before the next steps (StepContext::solved).
   virtual bool stepsAlone() const { return false; }
   // A body that steps alone shows the others its new state here (poses its colliders, hands back
   // impulses), after every body of its run has stepped, in order: so each read the others' last

@@ -74,6 +74,7 @@ Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow>
   for (const BodyDesc& bd : scene.bodies) {
     first_object.push_back(w.colliders_.size());
     for (const ObjectDesc& o : bd.params->ownObjects()) addObject(o);
+    w.own_objects_.push_back({first_object.back(), w.colliders_.size()});
   }
   w.wind_ = Wind(scene.wind, scene.seed);
   w.water_ = Water(scene.water);
@@ -199,6 +200,58 @@ void World::gatherBodyPoints() {
   b.grid.build(b.x, b.x, b.reach + rmax);
 }
 
+// Whether two bodies that step alone may meet this step: the spheres around their own objects
+// (grown by 0.25 m, more than a figure's link moves in a step) overlap.
+bool World::aloneNear() const {
+  if (alone_.size() < 2) return false;
+  std::vector<Vec3> lo, hi;
+  for (std::size_t k : alone_) {
+    Vec3 a = Vec3::Constant(1e300), b = Vec3::Constant(-1e300);
+    for (std::size_t c = own_objects_[k][0]; c < own_objects_[k][1]; ++c) {
+      const Collider& col = colliders_[c];
+      const double r = col.shape->bound_radius + 0.25;
+      if (!(r < 1e300)) return true;
+      const Vec3 centre = col.fromAuthored(col.shape->bound_center);
+      a = a.cwiseMin(centre - Vec3::Constant(r));
+      b = b.cwiseMax(centre + Vec3::Constant(r));
+    }
+    lo.push_back(a);
+    hi.push_back(b);
+  }
+  for (std::size_t i = 0; i < lo.size(); ++i)
+    for (std::size_t j = i + 1; j < lo.size(); ++j)
+      if ((lo[i].array() <= hi[j].array()).all() && (lo[j].array() <= hi[i].array()).all()) return true;
+  return false;
+}
+
+// The coupled bodies that step alone (articulated figures: each reads the objects and the others'
+// last step, and writes only its own state). Apart, all together in parallel, each then
+// publishing its new state in order. When two may meet, one after another in scene order, each
+// publishing before the next steps: the first meets the later ones' links and hands them the
+// opposite (Coupling), which they take in the same step, leaving those contacts to it.
+Status World::stepAlone(StepContext& ctx) {
+  if (aloneNear()) {
+    solved_.assign(colliders_.size(), 0);
+    ctx.solved = &solved_;
+    for (std::size_t k : alone_) {
+      bodies_[k]->step(ctx);
+      bodies_[k]->publish(ctx);
+      for (std::size_t c = own_objects_[k][0]; c < own_objects_[k][1]; ++c) solved_[c] = 1;
+    }
+    ctx.solved = nullptr;
+  } else {
+    // (each is tens of microseconds of work: two are worth a parallel region)
+    const auto n = static_cast<std::ptrdiff_t>(alone_.size());
+    parallelBlocks(
+        n, 1, [&](std::ptrdiff_t i0, std::ptrdiff_t) { bodies_[alone_[static_cast<std::size_t>(i0)]]->step(ctx); },
+        n > 1 ? n * parallelMin() : 0);
+    for (std::size_t k : alone_) bodies_[k]->publish(ctx);
+  }
+  for (std::size_t k : alone_)
+    if (Status st = bodies_[k]->checkState(ctx); !st) return st;
+  return {};
+}
+
 Status World::advanceFrame() {
   const int steps = stepsPerFrame();
   const double per_step = 1.0 / (static_cast<double>(fps_) * steps);
@@ -245,21 +298,10 @@ Status World::advanceFrame() {
       for (std::size_t k : {hk.points, hk.surface})
         if (Status st = bodies_[k]->checkState(ctx); !st) return st;
     }
-    // The coupled bodies that step alone (articulated figures: each reads the objects and the
-    // others' last step, and writes only its own state) first, all together in parallel, each then
-    // publishing its new state in order; then the other coupled bodies, and the systems (the rigid
-    // bodies, which take what the figures handed them).
-    const std::vector<std::size_t>& alone = alone_;
-    if (!alone.empty()) {
-      // (each is tens of microseconds of work: two are worth a parallel region)
-      const auto n = static_cast<std::ptrdiff_t>(alone.size());
-      parallelBlocks(
-          n, 1, [&](std::ptrdiff_t i0, std::ptrdiff_t) { bodies_[alone[static_cast<std::size_t>(i0)]]->step(ctx); },
-          n > 1 ? n * parallelMin() : 0);
-      for (std::size_t k : alone) bodies_[k]->publish(ctx);
-      for (std::size_t k : alone)
-        if (Status st = bodies_[k]->checkState(ctx); !st) return st;
-    }
+    // The coupled bodies that step alone first (stepAlone: figures); then the other coupled
+    // bodies, and the systems (the rigid bodies, which take what the figures handed them).
+    if (!alone_.empty())
+      if (Status st = stepAlone(ctx); !st) return st;
     for (std::size_t k = 0; k < bodies_.size(); ++k) {
       Body* b = bodies_[k].get();
       if (!b->coupled() || b->stepsAlone() || in_system_[k]) continue;

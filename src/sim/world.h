@@ -11,6 +11,7 @@
 // kinds (app/body_kinds.cpp).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -126,6 +127,10 @@ class World {
   ContactProxies watch_proxies_;      // (scratch)
   void gatherBodyPoints();
   std::vector<std::size_t> alone_;  // the coupled bodies that step alone (figures), in scene order
+  std::vector<std::array<std::size_t, 2>> own_objects_;  // per body: its own objects' colliders [first, end)
+  std::vector<std::uint8_t> solved_;  // per collider: its figure stepped already this step (StepContext::solved)
+  bool aloneNear() const;  // whether the reach of two bodies that step alone may overlap this step
+  Status stepAlone(StepContext& ctx);
   struct System {
     std::unique_ptr<BodySystem> solver;
     std::vector<std::size_t> members;  // bodies, in scene order

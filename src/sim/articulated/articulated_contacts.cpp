@@ -109,6 +109,8 @@ void ArticulatedBody::constrain(StepContext& ctx, VecX& v) {
     if (margin < 0) continue;
     for (std::uint32_t pi : candidates) {
       const ObjectPart& part = parts_.parts[pi];
+      // A figure that stepped before this one met this link itself and handed it the opposite.
+      if (ctx.solved && (*ctx.solved)[part.collider]) continue;
       const Collider& c = colliders[part.collider];
       if (c.shape->bound_radius < 1e300) {  // the link's box against the part's collider's sphere first
         const Vec3 centre = c.fromAuthored(c.shape->bound_center);
