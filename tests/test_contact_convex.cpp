@@ -57,10 +57,11 @@ void runKeepingMomentum(World& w, int frames) {
 }
 
 // With a floor 1 m down under gravity; in zero gravity, nothing else.
-std::string scene(const std::string& bodies, const std::string& gravity = "[0, -9.78, 0]", double duration = 2) {
+std::string scene(const std::string& bodies, const std::string& gravity = "[0, -9.78, 0]", double duration = 2,
+                  const std::string& extra = "") {
   const bool floor = gravity != "[0, 0, 0]";
   return R"({"format": "reel/1", "duration": )" + std::to_string(duration) +
-         R"(, "fps": 30, "substeps": 40, "auto_substeps": true, "gravity": )" + gravity +
+         R"(, "fps": 30, "substeps": 40, "auto_substeps": true, "gravity": )" + gravity + extra +
          (floor ? R"(, "objects": [{"type": "plane", "name": "floor", "point": [0, -1, 0]}])" : "") +
          R"(, "bodies": [)" + bodies + "]}";
 }
@@ -139,7 +140,7 @@ TEST_CASE("convex parts: 1 and 2 threads give the same bits; a resumed run gives
   CHECK(a.contacts().total().triangle_convex > 0);
 }
 
-TEST_CASE("point–convex: a rigid box thrown at a rope, a sheet, a lattice or water in zero gravity, momentum kept") {
+TEST_CASE("point–convex: a rigid box thrown at a rope, a sheet, a lattice, water or fish in zero gravity, momentum kept") {
   // The box is larger than every mesh here: its faces meet the targets' points (nodes, particles).
   const std::string rope = R"({"type": "rope", "name": "target", "start": [-0.3, 0, 0.05], "end": [0.3, 0, -0.05],
       "segments": 24, "mass": 0.1, "stiffness": 2000, "damping": 0.2, "node_damping": 0, "node_radius": 0.01})";
@@ -152,9 +153,12 @@ TEST_CASE("point–convex: a rigid box thrown at a rope, a sheet, a lattice or w
       "blocks": [{"min": [-0.1, -0.05, -0.1], "max": [0.1, 0.0, 0.1], "spacing": 0.02}]})";
   const std::string box = R"({"type": "rigid", "name": "box", "shape": "box", "size": [0.3, 0.1, 0.3], "mass": 0.5,
       "position": [0.02, 0.2, 0.01], "rotation_deg": [5, 20, 3], "velocity": [0.3, -3, 0], "angular_velocity": [0, 2, 1]})";
-  for (const std::string& target : {rope, sheet, lattice, water}) {
+  const std::string fish = R"({"type": "fish", "name": "target", "behaviour": "none", "length": 1.0, "count": 2,
+      "start": {"min": [-0.05, -0.1, -0.05], "max": [0.05, 0.0, 0.05]}, "heading": [0, 0, 1]})";
+  for (const std::string& target : {rope, sheet, lattice, water, fish}) {
     CAPTURE(target);
-    World w = worldFromText(scene(target + "," + box, "[0, 0, 0]", 1));
+    // (no water around the fish: its drag would be an outside force)
+    World w = worldFromText(scene(target + "," + box, "[0, 0, 0]", 1, R"(, "water": {"density": 0})"));
     runKeepingMomentum(w, 8);
     CHECK(w.contacts().total().point_convex > 0);
     // The box was slowed (0.5 kg into 0.1–0.5 kg of target) and stayed above every point it met.
