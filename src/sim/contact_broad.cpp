@@ -257,7 +257,8 @@ void ContactLayer::findEdgeEdge() {
   });
 }
 
-// Point–convex: the parts moved by a system (rigid bodies, figures' links), each by its box over
+// Point–convex: the parts moved by a system (rigid bodies, figures' links; not a fixed or keyed
+// rigid entry, whose collider every body meets in its own step as an object), each by its box over
 // the step (its shape at its pose, grown by its motion, its collider's thickness, the largest
 // point radius and adhesion range). A body's points are looked at only when its box meets some
 // part's it may touch (not its own, not a hooked body's); each of those points tries those parts'
@@ -267,7 +268,8 @@ void ContactLayer::findPointConvex(double h) {
   pc_pairs_.clear();
   pc_parts_.clear();
   for (std::size_t c = 0; c < p_.convex.size(); ++c)
-    if (p_.convex[c].body != ContactProxies::kObject) pc_parts_.push_back(static_cast<std::uint32_t>(c));
+    if (p_.convex[c].body != ContactProxies::kObject && (*colliders_)[p_.convex[c].collider].shape->free_body)
+      pc_parts_.push_back(static_cast<std::uint32_t>(c));
   const std::size_t np = p_.x.size(), nc = pc_parts_.size(), slots = p_.body.size();
   if (nc == 0 || np == 0) return;
   double grow = 0.0;

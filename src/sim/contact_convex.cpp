@@ -356,7 +356,8 @@ bool ContactLayer::solvePointConvex(std::uint32_t i, std::uint32_t ci, double h,
   double d = 0.0;
   Vec3 n;
   const bool at_end = within(x, reach + range, d, n);
-  // Through the part this step? The first place on its path (at steps no longer than the reach)
+  // Through the part this step? The first place on its path (at steps no longer than the reach,
+  // at most 32 of them)
   // within reach of the part with the end beyond that place's surface: a point that ends clear of
   // the part, or within reach of its far side, crossed it and is caught there; one that slid off an
   // edge or bounced away ends on the near side.
@@ -364,7 +365,7 @@ bool ContactLayer::solvePointConvex(std::uint32_t i, std::uint32_t ci, double h,
   const double len = path.norm();
   bool crossed = false;
   if (len > reach) {
-    const int samples = std::min(16, static_cast<int>(std::ceil(len / reach)));
+    const int samples = static_cast<int>(std::min(32.0, std::ceil(len / reach)));
     for (int k = 0; k < samples; ++k) {
       const Vec3 q = p_.x0[i] + (static_cast<double>(k) / samples) * path;
       double dq = 0.0;
@@ -376,7 +377,9 @@ bool ContactLayer::solvePointConvex(std::uint32_t i, std::uint32_t ci, double h,
   }
   if (!at_end && !crossed) return false;
   const double w = p_.w[i];
-  const Vec3 r = x - d * n - C.centre;  // the contact on the part's surface, from its centre
+  // The impulses act along lines through the point (where it is once its share of the overlap is
+  // closed): the part takes them there, so angular momentum is kept too.
+  Vec3 r = x - C.centre;
   auto partMass = [&](const Vec3& dir) {
     const Vec3 rd = r.cross(dir);
     return C.inv_mass + rd.dot(C.inv_inertia * rd);
@@ -384,8 +387,10 @@ bool ContactLayer::solvePointConvex(std::uint32_t i, std::uint32_t ci, double h,
   Vec3 J = Vec3::Zero();  // on the point, N·s
   if (range > 0.0) J -= (h * sf.adhesion * std::clamp(1.0 - (d - reach) / range, 0.0, 1.0) / w) * n;
   if (d < reach) {
-    const double depth = reach - d, Wn = partMass(n);
-    x += (w * depth / (w + Wn)) * n;
+    const double depth = reach - d;
+    x += (w * depth / (w + partMass(n))) * n;
+    r = x - C.centre;
+    const double Wn = partMass(n);
     const Vec3 rel = v + w * J - (C.v + C.w.cross(r));
     const double vn = rel.dot(n);
     const double push = std::min(0.2 * depth * Wn / (w + Wn) / h, 0.5);  // m/s

@@ -17,7 +17,8 @@
 // Impulses are equal and opposite (a point's against the triangle's corners by the barycentric
 // weights of the contact), applied in the same step, pairs processed in id order: momentum is
 // kept to rounding and a run is bit-identical for any thread count. The layer keeps no state
-// between steps: where a point was at the start of the step is x − h·v.
+// between steps: where a point was at the start of the step is x − h·v, or where its body says
+// it was (ContactExport::starts).
 //
 // A kind that exports points and triangles (Body::exportContacts, Body::importContacts) needs no
 // contact code of its own: it touches every other kind that does.

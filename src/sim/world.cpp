@@ -200,8 +200,8 @@ void World::gatherBodyPoints() {
   b.grid.build(b.x, b.x, b.reach + rmax);
 }
 
-// Whether two bodies that step alone may meet this step: the spheres around their own objects
-// (grown by 0.25 m, more than a figure's link moves in a step) overlap.
+// Whether two bodies that step alone may meet this step: the spheres around their own objects,
+// grown by 0.25 m and by how far each moved over its last step, overlap.
 bool World::aloneNear() const {
   if (alone_.size() < 2) return false;
   std::vector<Vec3> lo, hi;
@@ -209,11 +209,12 @@ bool World::aloneNear() const {
     Vec3 a = Vec3::Constant(1e300), b = Vec3::Constant(-1e300);
     for (std::size_t c = own_objects_[k][0]; c < own_objects_[k][1]; ++c) {
       const Collider& col = colliders_[c];
-      const double r = col.shape->bound_radius + 0.25;
+      const Vec3 centre0 = col.fromAuthored(col.shape->bound_center);
+      const double moved = col.velocityAt(centre0).norm() * col.pose.dt + col.angularVelocity().norm() * col.pose.dt * col.shape->bound_radius;
+      const double r = col.shape->bound_radius + 0.25 + (std::isfinite(moved) ? moved : 1e300);
       if (!(r < 1e300)) return true;
-      const Vec3 centre = col.fromAuthored(col.shape->bound_center);
-      a = a.cwiseMin(centre - Vec3::Constant(r));
-      b = b.cwiseMax(centre + Vec3::Constant(r));
+      a = a.cwiseMin(centre0 - Vec3::Constant(r));
+      b = b.cwiseMax(centre0 + Vec3::Constant(r));
     }
     lo.push_back(a);
     hi.push_back(b);
