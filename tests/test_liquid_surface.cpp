@@ -21,15 +21,19 @@ using namespace reel::test;
 
 namespace {
 
-// A world of one liquid (the tests' water, 2 cm apart at rest) at the given particles, at rest and
-// without gravity, drawn as a surface with `kernels` ("anisotropic" or "isotropic").
-World liquidAt(const std::vector<Vec3>& p, const std::string& kernels, int smoothing = 2) {
-  std::string list;
+// A world of one liquid (the tests' water, 2 cm apart at rest) at the given particles, without
+// gravity, drawn as a surface with `kernels` ("anisotropic" or "isotropic"); at rest, or at the
+// velocities `v` (one per particle); `extra`: more keys of the liquid ("\"shutter\": 0, ").
+World liquidAt(const std::vector<Vec3>& p, const std::string& kernels, int smoothing = 2, const std::vector<Vec3>& v = {},
+               const std::string& extra = "") {
+  std::string list, vel;
   for (const Vec3& x : p) list += (list.empty() ? "" : ",") + vec(x);
+  for (const Vec3& u : v) vel += (vel.empty() ? "" : ",") + vec(u);
   return makeWorld(std::string(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 30, "gravity": [0, 0, 0],
     "bodies": [{"type": "fluid", "name": "f", "radius": 0.01, "draw": "surface", "surface_kernels": ")") + kernels +
-                   R"(", "surface_smoothing": )" + std::to_string(smoothing) + R"(, "species": [)" + kWater +
-                   R"(], "particles": [{"positions": [)" + list + "]}]}]}");
+                   R"(", "surface_smoothing": )" + std::to_string(smoothing) + ", " + extra + R"("species": [)" + kWater +
+                   R"(], "particles": [{"positions": [)" + list + "]" + (v.empty() ? "" : ", \"velocities\": [" + vel + "]") +
+                   "}]}]}");
 }
 
 // The liquid's drawn surface.
@@ -209,14 +213,9 @@ TEST_CASE("a fast droplet of spray is drawn as the streak it leaves over half a 
   std::vector<Vec3> p = roughPool(2);
   const Vec3 drop(0.1, 0.5, 0.1);
   p.push_back(drop);
-  std::string list, vel;
-  for (std::size_t k = 0; k < p.size(); ++k) {
-    list += (list.empty() ? "" : ",") + vec(p[k]);
-    vel += (vel.empty() ? "" : ",") + vec(k + 1 == p.size() ? Vec3(0, -3, 0) : Vec3::Zero());
-  }
-  const World w = makeWorld(std::string(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 30, "gravity": [0, 0, 0],
-    "bodies": [{"type": "fluid", "name": "f", "radius": 0.01, "draw": "surface", "species": [)") + kWater +
-                            R"(], "particles": [{"positions": [)" + list + "], \"velocities\": [" + vel + "]}]}]}");
+  std::vector<Vec3> v(p.size(), Vec3::Zero());
+  v.back() = Vec3(0, -3, 0);
+  const World w = liquidAt(p, "anisotropic", 2, v);
   DrawList out;
   w.draw(out);
   REQUIRE(out.tubes.size() == 1);
@@ -299,16 +298,8 @@ TEST_CASE("a falling string of drops is drawn as the streak an open shutter sees
       for (int a = 0; a < 6; ++a) p.push_back(c + 0.016 * Vec3(std::cos(1.0472 * a + layer), 0, std::sin(1.0472 * a + layer)));
     }
   auto surface = [&](double shutter) {
-    std::string list, vel;
-    for (const Vec3& x : p) {
-      list += (list.empty() ? "" : ",") + vec(x);
-      vel += (vel.empty() ? "" : ",") + vec(Vec3(0, -3.5, 0));
-    }
-    const World w = makeWorld(std::string(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 30, "gravity": [0, 0, 0],
-      "bodies": [{"type": "fluid", "name": "f", "radius": 0.01, "draw": "surface", "shutter": )") + std::to_string(shutter) +
-                              R"(, "species": [)" + kWater + R"(], "particles": [{"positions": [)" + list + "], \"velocities\": [" + vel +
-                              "]}]}]}");
-    return surfaceOf(w);
+    return surfaceOf(liquidAt(p, "anisotropic", 2, std::vector<Vec3>(p.size(), Vec3(0, -3.5, 0)),
+                              "\"shutter\": " + std::to_string(shutter) + ", "));
   };
   const TriMesh sharp = surface(0.0), swept = surface(0.5);
   double top = -1e9, bottom = 1e9;

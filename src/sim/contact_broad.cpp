@@ -298,7 +298,9 @@ void ContactLayer::findPointConvex(double h) {
   auto overlap = [](const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
     return (alo.array() <= bhi.array()).all() && (blo.array() <= ahi.array()).all();
   };
-  std::vector<std::vector<std::uint32_t>> slot_parts(slots);
+  std::vector<std::vector<std::uint32_t>>& slot_parts = pc_slot_parts_;
+  slot_parts.resize(slots);
+  for (auto& parts : slot_parts) parts.clear();
   bool any = false;
   for (std::size_t e = 0; e < slots; ++e)
     for (std::size_t k = 0; k < nc; ++k) {

@@ -270,6 +270,7 @@ class ContactLayer {
   std::vector<std::array<std::uint32_t, 2>> pc_pairs_;  // (point, convex part)
   std::vector<std::uint32_t> pc_parts_;                 // the parts points meet (those moved by a system)
   std::vector<Vec3> pc_lo_, pc_hi_;                     // their boxes over the step, grown by the reach
+  std::vector<std::vector<std::uint32_t>> pc_slot_parts_;  // per slot: the parts its points' box meets (scratch)
   std::vector<std::array<std::uint32_t, 3>> hk_pairs_;  // (point, triangle, hook): a hook's
   std::vector<std::uint32_t> hk_tris_;                  // (scratch)
   std::vector<Vec3> slot_lo_, slot_hi_;                 // per slot: its triangles' grown boxes together

@@ -389,7 +389,7 @@ void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, double h)
   parallelFor(n, [&](std::ptrdiff_t ii) {
     const auto i = static_cast<std::size_t>(ii);
     const auto si = static_cast<std::size_t>(fl.s[i]);
-    const double range = fl.pairs[si * S + si].cutoff;
+    const double range = fl.adhesion_range[si];
     for (std::size_t k = 0; k < colliders.size(); ++k) {
       const Collider& c = colliders[k];
       if (c.shape->free_body) continue;

@@ -131,7 +131,7 @@ void sweepKernels(std::vector<SurfaceKernel>& kernels, const std::vector<Vec3>& 
 
 namespace {
 
-// The surface of the particles `part` (whose kernels overlap no other particle's): their density
+// The surface of the particles `part` (whose ball kernels overlap no other group's): their density
 // splatted on a grid with their kernels W = (1 − q²)³, normalised by the density of a bulk at the
 // species' rest spacing, cut at `surface_iso`. Colours are the splatted particle colours, darkened
 // with the depth of liquid behind the surface (colour^(1 + 1.5·density one kernel radius inside):
@@ -226,9 +226,11 @@ constexpr std::size_t kSprayParticles = 12;
 // into another and a particle's neighbours within the kernel radius (which shape its anisotropic
 // kernel) are in its group; each group's surface is extracted on a grid over its own box. A splash
 // far from the pool costs a small grid of its own, not one spanning both. (An anisotropic kernel
-// reaches up to 2.5 radii along a stream: groups cut by the cells' rule may then overlap a little
-// where they face each other, two surfaces that meet instead of one; cells as large as that reach
-// would join a droplet half a metre above a pool to the pool, where its lone ball has no surface.)
+// reaches up to 2.5 radii along a stream, and one swept over the shutter up to 2 radii further
+// along its travel: groups cut by the cells' rule may then overlap a little where they face each
+// other, two surfaces that meet instead of one (a broken stream with gaps of 3 to 4 radii); cells
+// as large as that reach would join a droplet half a metre above a pool to the pool, where its
+// lone ball has no surface.)
 TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, std::vector<std::size_t>& spray, bool tint,
                       double exposure) {
   const double C = 2.0 * (fl.surface_kernel + 2.0 * fl.surface_cell);

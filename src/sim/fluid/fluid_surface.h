@@ -57,6 +57,6 @@ void sweepKernels(std::vector<SurfaceKernel>& kernels, const std::vector<Vec3>& 
 // small for a surface are added to `spray`. `tint`: colours darkened with the depth of liquid
 // behind (an opaque liquid).
 TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, std::vector<std::size_t>& spray, bool tint,
-                      double exposure = 0.0);
+                      double exposure);
 
 }  // namespace reel
