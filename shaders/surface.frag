@@ -17,6 +17,7 @@ in vec3 v_normal;
 in vec2 v_uv;
 in vec3 v_color;
 in float v_gloss;
+in float v_clarity;  // the share of u_transmission that passes here
 out vec4 o_color;
 
 uniform vec3 u_light_vec[8];       // direction the light travels, or its position
@@ -97,15 +98,15 @@ vec2 spiral(int i, int n, float turn) {
     float lo = 1.5 * u_shadow_texel, hi = 40.0 * u_shadow_texel;                   \
     float search = clamp(penumbra(u_shadow_soft[S], zr, 0.0), lo, hi);              \
     float sum = 0.0, count = 0.0;                                                    \
-    for (int i = 0; i < 8; ++i) {                                                    \
-      float d = texture(RAW, q.xy + spiral(i, 8, turn) * search).r;                 \
+    for (int i = 0; i < 6; ++i) {                                                    \
+      float d = texture(RAW, q.xy + spiral(i, 6, turn) * search).r;                 \
       if (d < zr) { sum += d; count += 1.0; }                                        \
     }                                                                                \
     float w = clamp(0.5 * penumbra(u_shadow_soft[S], zr, sum / max(count, 1.0)), lo, hi); \
     float lit = 0.0;                                                                 \
-    for (int i = 0; i < 12; ++i) lit += texture(MAP, vec3(q.xy + spiral(i, 12, turn) * w, zr)); \
+    for (int i = 0; i < 8; ++i) lit += texture(MAP, vec3(q.xy + spiral(i, 8, turn) * w, zr)); \
     bool inside = all(greaterThanEqual(q.xyz, vec3(0.0))) && all(lessThanEqual(q.xyz, vec3(1.0))); \
-    return inside && count > 0.0 ? lit / 12.0 : 1.0;                                 \
+    return inside && count > 0.0 ? lit / 8.0 : 1.0;                                  \
   }
 SHADOW_PCSS(u_shadow_map0, u_shadow_raw0, 0)
 SHADOW_PCSS(u_shadow_map1, u_shadow_raw1, 1)
@@ -228,7 +229,8 @@ void main() {
   g_kd *= max(vec3(1.0) - g_es, 0.0);
 #endif
 #ifdef TRANSMISSIVE
-  g_kd *= 1.0 - u_transmission;  // what shows through is not scattered back
+  float transmission = u_transmission * clamp(v_clarity, 0.0, 1.0);
+  g_kd *= 1.0 - transmission;  // what shows through is not scattered back
 #endif
 #ifdef SHEEN
   float lum = dot(albedo, vec3(0.2126, 0.7152, 0.0722));
@@ -264,7 +266,7 @@ void main() {
   if (linearDepth(texture(u_scene_depth, ruv).r) < zf) ruv = suv;  // in front of us there: no bend
   vec3 behind = srgbDecode(texture(u_scene_color, ruv).rgb);
   vec3 absorbed = pow(max(albedo, vec3(1e-3)), vec3(thick / u_absorption_depth));
-  vec3 through = u_transmission * (vec3(1.0) - g_es) * absorbed * behind;
+  vec3 through = transmission * (vec3(1.0) - g_es) * absorbed * behind;
   o_color = vec4(srgbEncode(display(c, u_exposure) + through), 1.0);
 #else
   o_color = vec4(finish(c, u_exposure), u_opacity);

@@ -4,6 +4,7 @@ out vec3 v_normal;
 out vec2 v_uv;
 out vec3 v_color;
 out float v_gloss;
+out float v_clarity;
 
 void main() {
   vec3 p, n;
@@ -13,5 +14,6 @@ void main() {
   v_uv = a_uv;
   v_color = vertexColor();
   v_gloss = a_gloss;
+  v_clarity = a_clarity;
   gl_Position = u_view_proj * vec4(p, 1.0);
 }

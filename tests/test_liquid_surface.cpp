@@ -14,6 +14,7 @@
 #include "core/isosurface.h"
 #include "core/union_find.h"
 #include "fluid_helpers.h"
+#include "render_helpers.h"
 #include "sim/fluid/fluid_surface.h"
 
 using namespace reel;
@@ -325,4 +326,60 @@ TEST_CASE("a kernel's sweep runs back along its particle's path and is at most a
   CHECK(k[0].q2(k[0].centre + 0.5 * k[0].travel) == doctest::Approx(0.0).epsilon(1e-12));
   CHECK(k[0].q2(k[0].centre + 1.2 * k[0].travel) > 0.0);
   CHECK(k[0].hi().y() >= k[0].centre.y() + 0.08);
+}
+
+TEST_CASE("each species its own clarity: clear water and opaque paint in one surface") {
+  // A pool 24 cm square and 6 cm deep, water (clear, the liquid's transmission 0.9) on the left
+  // half and paint (transmission 0) on the right, seen from above with no light against a grey
+  // background: all that shows is what passes through.
+  std::string water, paint;
+  for (int k = 0; k < 16; ++k)
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 16; ++i)
+        (i < 8 ? water : paint) += std::string((i < 8 ? water : paint).empty() ? "" : ",") + vec(0.016 * Vec3(i, j, k));
+  auto scene = [&](const std::string& paint_transmission) {
+    return std::string(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 30, "gravity": [0, 0, 0],
+      "render": {"width": 96, "height": 96, "samples": 1, "background": [0.6, 0.6, 0.6]},
+      "camera": {"position": [0.12, 0.9, 0.1201], "target": [0.12, 0, 0.12], "fov_deg": 20}, "lights": [],
+      "bodies": [{"type": "fluid", "name": "f", "radius": 0.01, "draw": "surface", "transmission": 0.9, "absorption_depth": 0.5,
+        "species": [{"name": "water", "mass": 0.008, "alpha": 212.6, "beta": 0.085, "cutoff": 0.02725, "color": [0.9, 0.9, 0.9]},
+                    {"name": "paint", "mass": 0.008, "alpha": 212.6, "beta": 0.085, "cutoff": 0.02725, "color": [0.9, 0.2, 0.1])") +
+           paint_transmission + R"(}],
+        "particles": [{"species": "water", "positions": [)" + water + R"(]}, {"species": "paint", "positions": [)" + paint + "]}]}]}";
+  };
+  const std::string two = scene(R"(, "transmission": 0)"), one = scene("");
+  World w = makeWorld(two);
+  const TriMesh m = surfaceOf(w);
+  DrawList list;
+  w.draw(list);
+  CHECK(list.meshes[0].material.transmission == doctest::Approx(0.9));  // the clearest species'
+  REQUIRE(m.clarity.size() == m.vertexCount());
+  int clear = 0, opaque = 0;
+  for (std::size_t v = 0; v < m.vertexCount(); ++v) {
+    const double x = vertex(m, v).x();
+    if (x < 0.06) {
+      CHECK(m.clarity[v] > 0.95f);
+      ++clear;
+    }
+    if (x > 0.18) {
+      CHECK(m.clarity[v] < 0.05f);
+      ++opaque;
+    }
+  }
+  CHECK(clear > 100);
+  CHECK(opaque > 100);
+  // One clarity for the whole liquid: none per vertex.
+  CHECK(surfaceOf(makeWorld(one)).clarity.empty());
+  // Drawn: the background shows through the water, not through the paint (unlit: black).
+  const Image img = renderScene(two);
+  const double to_px = 48.0 / (0.9 * std::tan(10.0 * kPi / 180.0));  // pixels per metre at the pool's depth
+  const int water_px = static_cast<int>(48 - 0.08 * to_px), paint_px = static_cast<int>(48 + 0.08 * to_px);
+  CAPTURE(int(img.pixel(water_px, 48)[1]));
+  CAPTURE(int(img.pixel(paint_px, 48)[1]));
+  CHECK(img.pixel(water_px, 48)[1] > 80);
+  CHECK(img.pixel(paint_px, 48)[1] < 8);
+  // Bad clarity refused with its path.
+  const std::string bad = badInputErrors(scene(R"(, "transmission": 1.5)"));
+  CAPTURE(bad);
+  CHECK(bad.find("/bodies/0/species/1/transmission") != std::string::npos);
 }

@@ -42,6 +42,8 @@ struct DrawMaterial {
   // none: the back looks like the front.
   std::optional<Vec3> back_color;
   bool checker = false;       // checkerboard of `color` and a darker shade, 0.5 m squares
+  // false: left out of the shadow maps (specks whose shadows no one sees: foam, spray's streaks).
+  bool casts_shadow = true;
 };
 
 inline double DrawMaterial::roughnessValue() const { return roughness ? *roughness : brdf::roughnessOfShininess(shininess); }

@@ -19,6 +19,9 @@ struct TriMesh {
   std::vector<float> uvs;        // uv per vertex (may be empty)
   std::vector<float> colors;     // linear rgb per vertex, multiplied into the albedo (may be empty)
   std::vector<float> gloss;      // per vertex 0..1: a wet sheen added to the material's highlight (may be empty)
+  // per vertex 0..1: the share of the material's transmission that passes here (a liquid's clear
+  // and opaque species in one surface); empty: all of it
+  std::vector<float> clarity;
   std::vector<std::uint32_t> indices;  // three per triangle, counter-clockwise seen from outside
   std::size_t vertexCount() const { return positions.size() / 3; }
   std::size_t triangleCount() const { return indices.size() / 3; }

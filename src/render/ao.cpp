@@ -17,7 +17,8 @@ Status AmbientOcclusion::init(const std::string& dir, int width, int height) {
   if (!df.ok()) return df.error();
   depth_fbo_ = std::move(df.value());
   for (int i = 0; i < 2; ++i) {
-    ao_[i] = gl::makeTargetTexture(*gl_, width, height, GL_R8, GL_RED, GL_UNSIGNED_BYTE, GL_NEAREST);
+    // The blurred result is read by the picture's pixels, twice as many a side: filtered.
+    ao_[i] = gl::makeTargetTexture(*gl_, width, height, GL_R8, GL_RED, GL_UNSIGNED_BYTE, i == 1 ? GL_LINEAR : GL_NEAREST);
     auto f = gl::makeTargetFramebuffer(*gl_, ao_[i].id(), 0, "occlusion");
     if (!f.ok()) return f.error();
     ao_fbo_[i] = std::move(f.value());

@@ -86,7 +86,7 @@ struct Renderer::Impl {
 
   // One geometry pass: the shadow program for every item (with_material false), or each item's
   // surface variant for the opaque or the transparent items.
-  // The items of a pass: all (shadows), the opaque ones, the see-through ones (transmission) or
+  // The items of a pass: all that cast shadows (shadow maps), the opaque ones, the see-through ones (transmission) or
   // the blended ones (opacity below 1).
   enum class Layer { All, Opaque, Transmissive, Transparent };
   struct Pass {
@@ -94,7 +94,7 @@ struct Renderer::Impl {
     Layer layer;
     bool wants(const DrawMaterial& m) const {
       switch (layer) {
-        case Layer::All: return true;
+        case Layer::All: return m.casts_shadow;
         case Layer::Opaque: return m.opacity >= 1.0 && m.transmission <= 0.0;
         case Layer::Transmissive: return m.opacity >= 1.0 && m.transmission > 0.0;
         case Layer::Transparent: return m.opacity < 1.0;

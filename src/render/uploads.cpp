@@ -20,6 +20,25 @@ void makeMeshObjects(const gl::GlApi& gl, GpuMesh& m) {
   gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, m.ebo.id());
 }
 
+// One float per vertex at `attribute` when `values` has one for each of the nv vertices, else
+// the attribute is left to its constant.
+void perVertexFloat(const gl::GlApi& gl, const gl::Buffer& vbo, std::size_t& capacity, GLuint attribute,
+                    const std::vector<float>& values, std::size_t nv) {
+  if (values.size() != nv || nv == 0) {
+    gl.DisableVertexAttribArray(attribute);
+    return;
+  }
+  gl.BindBuffer(GL_ARRAY_BUFFER, vbo.id());
+  const auto bytes = static_cast<GLsizeiptr>(nv * sizeof(float));
+  if (nv > capacity)
+    gl.BufferData(GL_ARRAY_BUFFER, bytes, values.data(), GL_DYNAMIC_DRAW);
+  else
+    gl.BufferSubData(GL_ARRAY_BUFFER, 0, bytes, values.data());
+  gl.EnableVertexAttribArray(attribute);
+  gl.VertexAttribPointer(attribute, 1, GL_FLOAT, GL_FALSE, 0, nullptr);
+  capacity = std::max(capacity, nv);
+}
+
 }  // namespace
 
 void upload(const gl::GlApi& gl, GpuMesh& m, const TriMesh& t) {
@@ -58,20 +77,10 @@ void upload(const gl::GlApi& gl, GpuMesh& m, const TriMesh& t) {
     gl.BufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, ibytes, t.indices.data());
   m.capacity_v = std::max(m.capacity_v, nv);
   if (coloured) m.capacity_c = std::max(m.capacity_c, nv);
-  // Attribute 11: per-vertex gloss when the mesh has it, else the constant 0 set per frame.
-  if (t.gloss.size() == nv) {
-    gl.BindBuffer(GL_ARRAY_BUFFER, m.vbo[4].id());
-    const auto bytes = static_cast<GLsizeiptr>(nv * sizeof(float));
-    if (nv > m.capacity_g)
-      gl.BufferData(GL_ARRAY_BUFFER, bytes, t.gloss.data(), GL_DYNAMIC_DRAW);
-    else
-      gl.BufferSubData(GL_ARRAY_BUFFER, 0, bytes, t.gloss.data());
-    gl.EnableVertexAttribArray(11);
-    gl.VertexAttribPointer(11, 1, GL_FLOAT, GL_FALSE, 0, nullptr);
-    m.capacity_g = std::max(m.capacity_g, nv);
-  } else {
-    gl.DisableVertexAttribArray(11);
-  }
+  // Attribute 11: per-vertex gloss, else the constant 0 set per frame; attribute 12: per-vertex
+  // clarity, else the constant 1.
+  perVertexFloat(gl, m.vbo[4], m.capacity_g, 11, t.gloss, nv);
+  perVertexFloat(gl, m.vbo[5], m.capacity_k, 12, t.clarity, nv);
   m.capacity_i = std::max(m.capacity_i, t.indices.size());
   m.count = static_cast<GLsizei>(t.indices.size());
 }

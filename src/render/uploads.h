@@ -18,10 +18,10 @@ namespace reel {
 // A triangle mesh on the GPU: attributes 0..2 (and 5 when coloured) and the indices, in one VAO.
 struct GpuMesh {
   gl::VertexArray vao;
-  std::array<gl::Buffer, 5> vbo;  // positions, normals, uvs, colours, gloss
+  std::array<gl::Buffer, 6> vbo;  // positions, normals, uvs, colours, gloss, clarity
   gl::Buffer ebo;
   GLsizei count = 0;  // indices
-  std::size_t capacity_v = 0, capacity_i = 0, capacity_c = 0, capacity_g = 0;  // vertices, indices, coloured, glossy
+  std::size_t capacity_v = 0, capacity_i = 0, capacity_c = 0, capacity_g = 0, capacity_k = 0;  // vertices, indices, coloured, glossy, clarity
 };
 
 // Copies `t` into `m`: makes the VAO and buffers on first use, grows them when `t` is larger,

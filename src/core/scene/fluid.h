@@ -30,6 +30,9 @@ struct SpeciesDesc {
   double viscosity = 0.0;   // γ, 1/s
   double agitation = 0.0;   // m/s: thermal speed per axis kept by random pair forces (DPD); 0 off
   Vec3 color{0.2, 0.4, 0.9};  // linear rgb
+  // 0..1: how much of what lies behind shows through it (drawn as a surface); none: the liquid's
+  // `transmission`. Clear water and opaque paint in one liquid.
+  std::optional<double> transmission;
 };
 
 // Pair parameters of two species (an `interactions` entry); unset ones are the mean of the two.

@@ -50,6 +50,7 @@ void readSpeciesEntry(Obj& so, FluidReading& r) {
   if (sp.agitation > 0 && sp.viscosity == 0)
     d.error(childPath(so.path(), "agitation"), "needs viscosity > 0 (the random kicks and the viscous drag balance at the thermal speed)");
   sp.color = so.vec3("color", sp.color, kNonNeg);
+  if (so.has("transmission")) sp.transmission = so.number("transmission", 0.0, kUnit);
   if (sp.alpha > 0 && sp.beta == 0)
     d.error(childPath(so.path(), "beta"), "must be > 0 when alpha > 0 (attraction without repulsion collapses the liquid)");
   r.names.push_back(sp.name);

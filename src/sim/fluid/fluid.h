@@ -80,6 +80,7 @@ struct FluidModel {
   std::vector<std::string> species_names;
   std::vector<double> species_mass;  // kg (species)
   std::vector<Vec3> species_color;   // linear rgb (species)
+  std::vector<double> species_transmission;  // 0..1 (species): how clear it is drawn
   std::vector<PairParams> pairs;  // species × species
   double radius = 0.01;           // contact radius, m
   double cutoff_max = 0.05;       // m

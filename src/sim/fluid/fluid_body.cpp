@@ -132,7 +132,9 @@ std::vector<std::string> FluidBody::notes(double h) const {
 }
 
 Result<std::unique_ptr<Body>> buildFluidBody(const BodyDesc& desc, const BuildContext& ctx) {
-  Fluid fl = buildFluid(desc.as<FluidDesc>(), desc.name, *ctx.colliders, ctx.seed);
+  const auto& d = desc.as<FluidDesc>();
+  Fluid fl = buildFluid(d, desc.name, *ctx.colliders, ctx.seed);
+  for (const SpeciesDesc& sp : d.species) fl.species_transmission.push_back(sp.transmission.value_or(desc.material.transmission));
   return std::unique_ptr<Body>(std::make_unique<FluidBody>(std::move(fl), desc.type, desc.material));
 }
 

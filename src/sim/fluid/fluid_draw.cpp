@@ -22,16 +22,18 @@ const PairParams& pairOf(const Fluid& fl, std::size_t i, std::size_t j) {
   return fl.pairs[static_cast<std::size_t>(fl.s[i]) * static_cast<std::size_t>(fl.species_count) + static_cast<std::size_t>(fl.s[j])];
 }
 
-// Each particle's colour: its species colour blended with its neighbours' (weights (1 − r/c)²
-// inside the pair cutoff), so where species mix their colours mix, and a pure region keeps its own.
-std::vector<Vec3> blendedColors(const Fluid& fl) {
+// Each particle's look: its species' value (colour, clarity) blended with its neighbours' (weights
+// (1 − r/c)² inside the pair cutoff), so where species mix their colours mix, and a pure region
+// keeps its own.
+template <class T>
+std::vector<T> blended(const Fluid& fl, const std::vector<T>& of_species) {
   const std::size_t n = fl.x.size();
-  std::vector<Vec3> c(n);
+  std::vector<T> c(n);
   const auto S = static_cast<std::size_t>(fl.species_count);
   const bool listed = fl.nbr_start.size() == n + 1;
   parallelFor(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t ii) {
     const auto i = static_cast<std::size_t>(ii);
-    Vec3 sum = fl.species_color[static_cast<std::size_t>(fl.s[i])];
+    T sum = of_species[static_cast<std::size_t>(fl.s[i])];
     double wsum = 1.0;
     if (S > 1 && listed)
       for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e) {
@@ -40,7 +42,7 @@ std::vector<Vec3> blendedColors(const Fluid& fl) {
         const double r = (fl.x[i] - fl.x[j]).norm();
         if (r >= p.cutoff) continue;
         const double w = (1.0 - r / p.cutoff) * (1.0 - r / p.cutoff);
-        sum += w * fl.species_color[static_cast<std::size_t>(fl.s[j])];
+        sum += w * of_species[static_cast<std::size_t>(fl.s[j])];
         wsum += w;
       }
     c[i] = sum / wsum;
@@ -86,6 +88,7 @@ void addFoam(const Fluid& fl, DrawList& out) {
     foam[k].material.color = Vec3(0.95, 0.96, 0.97);
     foam[k].material.specular = 0.3;
     foam[k].material.roughness = 0.6;
+    foam[k].material.casts_shadow = false;  // flecks on the water: their shadows are specks no one sees
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (amount[i] < 0.1f) continue;
@@ -127,15 +130,43 @@ void FluidBody::draw(DrawList& out) const {
     out.meshes.push_back(std::move(pipes));
   }
   if (fl.x.empty()) return;
+  // Each species its own clarity (`transmission`); the surface's material has the clearest one's
+  // and each vertex the share of it that passes there (clarity).
+  const auto S = static_cast<std::size_t>(fl.species_count);
+  std::vector<double> transmission = fl.species_transmission;  // (set by the body's builder; else the material's)
+  if (transmission.size() != S) transmission.assign(S, material.transmission);
+  const double clearest = *std::max_element(transmission.begin(), transmission.end());
   DrawMaterial dm = drawMaterial(material);
   dm.color = Vec3(1, 1, 1);  // the species colours carry the albedo
   dm.texture = nullptr;
-  const std::vector<Vec3> colors = blendedColors(fl);
-  // Spray: droplets of 0.6 of a particle's radius, smooth and glossy.
-  DrawSpheres drops;
-  drops.radius = static_cast<float>(0.6 * fl.radius);
-  drops.material = dm;
-  drops.material.roughness = std::min(dm.roughnessValue(), 0.1);
+  dm.transmission = clearest;
+  SurfacePaint paint;
+  paint.colors = blended(fl, fl.species_color);
+  paint.see_through = clearest > 0;
+  if (paint.see_through && std::any_of(transmission.begin(), transmission.end(), [&](double t) { return t != clearest; })) {
+    std::vector<double> share;
+    for (double t : transmission) share.push_back(t / clearest);
+    paint.clarity = blended(fl, share);
+  }
+  const std::vector<Vec3>& colors = paint.colors;
+  // Per species, with its own clarity: balls, spray's droplets (0.6 of a particle's radius, smooth
+  // and glossy) and their streaks.
+  std::vector<DrawSpheres> balls(S), drops(S);
+  std::vector<DrawTubes> streaks(S);
+  for (std::size_t k = 0; k < S; ++k) {
+    balls[k].radius = static_cast<float>(fl.radius);
+    balls[k].material = dm;
+    balls[k].material.transmission = transmission[k];
+    drops[k] = balls[k];
+    drops[k].radius = static_cast<float>(0.6 * fl.radius);
+    drops[k].material.roughness = std::min(dm.roughnessValue(), 0.1);
+    // Tubes carry no colour of their own: the species' colour; specks cast no shadow worth seeing.
+    streaks[k].radius = drops[k].radius;
+    streaks[k].material = drops[k].material;
+    streaks[k].material.color = fl.species_color[k];
+    streaks[k].material.casts_shadow = false;
+  }
+  auto species = [&](std::size_t i) { return static_cast<std::size_t>(fl.s[i]); };
   // Particle i's sphere at `at` (where it is, or where its streak began).
   auto add = [&](DrawSpheres& set, std::size_t i, const Vec3& at) {
     for (int a = 0; a < 3; ++a) {
@@ -145,27 +176,24 @@ void FluidBody::draw(DrawList& out) const {
   };
   // A droplet that moves more than its radius while the shutter is open (`shutter` of a frame; half
   // a frame is a film camera's 180° shutter) is drawn as the streak it leaves over that time: a
-  // tube from where it was to where it is, capped by droplets at both ends, in its species' colour
-  // (tubes carry no colour of their own).
+  // tube from where it was to where it is, capped by droplets at both ends.
   const double exposure = fl.shutter * out.frame_time;
-  std::vector<DrawTubes> streaks(static_cast<std::size_t>(fl.species_count));
-  for (std::size_t k = 0; k < streaks.size(); ++k) {
-    streaks[k].radius = drops.radius;
-    streaks[k].material = drops.material;
-    streaks[k].material.color = fl.species_color[k];
-  }
   auto addSpray = [&](std::size_t i) {
-    add(drops, i, fl.x[i]);
+    DrawSpheres& set = drops[species(i)];
+    add(set, i, fl.x[i]);
     const Vec3 tail = fl.x[i] - exposure * fl.v[i];
-    if (!((tail - fl.x[i]).norm() > drops.radius) || !tail.allFinite()) return;
-    DrawTubes& t = streaks[static_cast<std::size_t>(fl.s[i])];
+    if (!((tail - fl.x[i]).norm() > set.radius) || !tail.allFinite()) return;
+    DrawTubes& t = streaks[species(i)];
     for (int a = 0; a < 3; ++a) t.ends.push_back(static_cast<float>(tail[a]));
     for (int a = 0; a < 3; ++a) t.ends.push_back(static_cast<float>(fl.x[i][a]));
-    add(drops, i, tail);
+    add(set, i, tail);
   };
   auto finish = [&] {
+    for (DrawSpheres& set : balls)
+      if (!set.centers.empty()) out.spheres.push_back(std::move(set));
     addFoam(fl, out);
-    if (!drops.centers.empty()) out.spheres.push_back(std::move(drops));
+    for (DrawSpheres& set : drops)
+      if (!set.centers.empty()) out.spheres.push_back(std::move(set));
     for (DrawTubes& t : streaks)
       if (!t.ends.empty()) out.tubes.push_back(std::move(t));
   };
@@ -173,7 +201,7 @@ void FluidBody::draw(DrawList& out) const {
     profile::Scope stage(profile::Stage::Surface);
     DrawMesh mesh;
     std::vector<std::size_t> spray;
-    mesh.mesh = std::make_shared<const TriMesh>(liquidSurface(fl, colors, spray, material.transmission <= 0, exposure));
+    mesh.mesh = std::make_shared<const TriMesh>(liquidSurface(fl, paint, spray, exposure));
     mesh.per_frame = true;
     mesh.material = dm;
     if (mesh.mesh->triangleCount() > 0) out.meshes.push_back(std::move(mesh));
@@ -184,11 +212,6 @@ void FluidBody::draw(DrawList& out) const {
   }
   // Particles drawn as balls; those with fewer than two neighbours within their pair cutoff are
   // spray, drawn as droplets or streaks.
-  DrawSpheres sp;
-  sp.radius = static_cast<float>(fl.radius);
-  sp.material = dm;
-  sp.centers.reserve(3 * fl.x.size());
-  sp.colors.reserve(3 * fl.x.size());
   const bool listed = fl.nbr_start.size() == fl.x.size() + 1;
   for (std::size_t i = 0; i < fl.x.size(); ++i) {
     int near = 0;
@@ -198,11 +221,10 @@ void FluidBody::draw(DrawList& out) const {
         near += (fl.x[i] - fl.x[j]).norm() < pairOf(fl, i, j).cutoff ? 1 : 0;
       }
     if (!listed || near >= 2)
-      add(sp, i, fl.x[i]);
+      add(balls[species(i)], i, fl.x[i]);
     else
       addSpray(i);
   }
-  out.spheres.push_back(std::move(sp));
   finish();
 }
 

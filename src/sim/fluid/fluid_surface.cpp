@@ -133,12 +133,13 @@ namespace {
 
 // The surface of the particles `part` (whose ball kernels overlap no other group's): their density
 // splatted on a grid with their kernels W = (1 − q²)³, normalised by the density of a bulk at the
-// species' rest spacing, cut at `surface_iso`. Colours are the splatted particle colours, darkened
-// with the depth of liquid behind the surface (colour^(1 + 1.5·density one kernel radius inside):
-// Beer–Lambert-like) when `tint` (not for a see-through liquid, which the renderer absorbs along
-// its true depth).
-TriMesh pieceSurface(const Fluid& fl, const std::vector<Vec3>& colors, const std::vector<std::size_t>& part, bool tint,
-                     double exposure) {
+// species' rest spacing, cut at `surface_iso`. Colours (and clarity) are the splatted particles',
+// colours darkened with the depth of liquid behind the surface (colour^(1 + 1.5·o·density one
+// kernel radius inside): Beer–Lambert-like) by the vertex's opacity o: 1 for an opaque liquid,
+// 1 − clarity for a see-through one (whose clear parts the renderer absorbs along the true depth).
+TriMesh pieceSurface(const Fluid& fl, const SurfacePaint& paint, const std::vector<std::size_t>& part, double exposure) {
+  const std::vector<Vec3>& colors = paint.colors;
+  const bool clarity = paint.clarity.size() == colors.size();
   if (part.empty()) return {};
   const double R = fl.surface_kernel;
   double cell = fl.surface_cell;
@@ -165,6 +166,13 @@ TriMesh pieceSurface(const Fluid& fl, const std::vector<Vec3>& colors, const std
   f.cell = cell;
   f.value.assign(static_cast<std::size_t>(dd[0] * dd[1] * dd[2]), 0.0f);
   f.color.assign(3 * f.value.size(), 0.0f);
+  // Clarity's weighted sum (`clear`), when the particles differ in it (a vertex's clarity is its trilinear
+  // sample over f's: their weighted mean there).
+  GridField clear;
+  clear.dims = f.dims;
+  clear.origin = f.origin;
+  clear.cell = f.cell;
+  if (clarity) clear.value.assign(f.value.size(), 0.0f);
   // A settled liquid packs its nearest neighbours at about 0.8 of the lattice spacing.
   double spacing = 0.8 * bulkSpacing(fl.pairs[0]);
   if (!(spacing > 0)) spacing = 2.0 * fl.radius;
@@ -192,22 +200,30 @@ TriMesh pieceSurface(const Fluid& fl, const std::vector<Vec3>& colors, const std
             const std::size_t id = f.index(i, j, k);
             f.value[id] += static_cast<float>(w);
             for (int a = 0; a < 3; ++a) f.color[3 * id + static_cast<std::size_t>(a)] += static_cast<float>(w * c[a]);
+            if (clarity) clear.value[id] += static_cast<float>(w * paint.clarity[part[q]]);
           }
     }
   }, static_cast<std::ptrdiff_t>(part.size()) * 64);
   parallelFor(static_cast<std::ptrdiff_t>(f.value.size()), [&](std::ptrdiff_t i) {
     const auto id = static_cast<std::size_t>(i);
-    if (f.value[id] > 0)
-      for (int a = 0; a < 3; ++a) f.color[3 * id + static_cast<std::size_t>(a)] /= f.value[id];
+    if (!(f.value[id] > 0)) return;
+    for (int a = 0; a < 3; ++a) f.color[3 * id + static_cast<std::size_t>(a)] /= f.value[id];
   });
   TriMesh m = isosurface(f, fl.surface_iso);
   smoothSurface(m, fl.surface_smoothing);
-  if (!tint) return m;  // a see-through liquid: the renderer absorbs along the real depth
+  if (clarity) m.clarity.resize(m.vertexCount());
+  if (paint.see_through && !clarity) return m;  // all clear: the renderer absorbs along the real depth
   parallelFor(static_cast<std::ptrdiff_t>(m.vertexCount()), [&](std::ptrdiff_t vi) {
     const auto v = static_cast<std::size_t>(vi);
     const Vec3 p(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]);
     const Vec3 nv(m.normals[3 * v], m.normals[3 * v + 1], m.normals[3 * v + 2]);
-    const double depth = std::clamp(f.sample(p - R * nv), 0.0, 1.0);
+    double opacity = 1.0;
+    if (clarity) {
+      const double weight = f.sample(p);
+      m.clarity[v] = weight > 0 ? static_cast<float>(std::clamp(clear.sample(p) / weight, 0.0, 1.0)) : 1.0f;
+      if (paint.see_through) opacity = 1.0 - m.clarity[v];
+    }
+    const double depth = opacity * std::clamp(f.sample(p - R * nv), 0.0, 1.0);
     for (int a = 0; a < 3; ++a) {
       float& c = m.colors[3 * v + static_cast<std::size_t>(a)];
       c = static_cast<float>(std::pow(std::clamp(static_cast<double>(c), 1e-3, 1.0), 1.0 + 1.5 * depth));
@@ -231,8 +247,7 @@ constexpr std::size_t kSprayParticles = 12;
 // other, two surfaces that meet instead of one (a broken stream with gaps of 3 to 4 radii); cells
 // as large as that reach would join a droplet half a metre above a pool to the pool, where its
 // lone ball has no surface.)
-TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, std::vector<std::size_t>& spray, bool tint,
-                      double exposure) {
+TriMesh liquidSurface(const Fluid& fl, const SurfacePaint& paint, std::vector<std::size_t>& spray, double exposure) {
   const double C = 2.0 * (fl.surface_kernel + 2.0 * fl.surface_cell);
   std::vector<std::array<std::int64_t, 3>> key;  // each finite particle's cell
   std::vector<std::size_t> who;
@@ -268,11 +283,12 @@ TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, std::vec
       spray.insert(spray.end(), g.begin(), g.end());
       continue;
     }
-    const TriMesh m = pieceSurface(fl, colors, g, tint, exposure);
+    const TriMesh m = pieceSurface(fl, paint, g, exposure);
     const auto base = static_cast<std::uint32_t>(out.vertexCount());
     out.positions.insert(out.positions.end(), m.positions.begin(), m.positions.end());
     out.normals.insert(out.normals.end(), m.normals.begin(), m.normals.end());
     out.colors.insert(out.colors.end(), m.colors.begin(), m.colors.end());
+    out.clarity.insert(out.clarity.end(), m.clarity.begin(), m.clarity.end());
     for (std::uint32_t i : m.indices) out.indices.push_back(base + i);
   }
   return out;

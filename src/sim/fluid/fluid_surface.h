@@ -52,11 +52,20 @@ std::vector<SurfaceKernel> surfaceKernels(const std::vector<Vec3>& x, const std:
 void sweepKernels(std::vector<SurfaceKernel>& kernels, const std::vector<Vec3>& v, const std::vector<std::size_t>& part,
                   double exposure, double longest);
 
-// The liquid's surface (the particles' `colors` splatted with their kernels, swept over
-// `exposure` s, marching tetrahedra, Taubin smoothing), piece by piece; the particles of pieces too
-// small for a surface are added to `spray`. `tint`: colours darkened with the depth of liquid
-// behind (an opaque liquid).
-TriMesh liquidSurface(const Fluid& fl, const std::vector<Vec3>& colors, std::vector<std::size_t>& spray, bool tint,
-                      double exposure);
+// What the surface carries from each particle: its colour (linear rgb) and its clarity, the share
+// of the liquid's transmission that passes where it is (0..1; empty: all of it everywhere).
+// see_through: the liquid is drawn with transmission (the renderer absorbs along the true depth);
+// else, and where clarity is below 1, colours darken with the depth of liquid behind them.
+struct SurfacePaint {
+  std::vector<Vec3> colors;
+  std::vector<double> clarity;
+  bool see_through = false;
+};
+
+// The liquid's surface (the particles' paint splatted with their kernels, swept over `exposure`
+// s, marching tetrahedra, Taubin smoothing), piece by piece; the particles of pieces too small for
+// a surface are added to `spray`. The mesh's per-vertex colours and (when paint.clarity is given)
+// clarity are the splatted ones.
+TriMesh liquidSurface(const Fluid& fl, const SurfacePaint& paint, std::vector<std::size_t>& spray, double exposure);
 
 }  // namespace reel
