@@ -13,8 +13,10 @@
 
 #include "core/isosurface.h"
 #include "core/union_find.h"
+#include "contact_helpers.h"
 #include "fluid_helpers.h"
 #include "render_helpers.h"
+#include "sim/fluid/fluid_diffuse.h"
 #include "sim/fluid/fluid_surface.h"
 
 using namespace reel;
@@ -256,36 +258,72 @@ TEST_CASE("reel check says when a nozzle pours separate discs, and the rate that
   CHECK(notes(suggested).find("emitter 0") == std::string::npos);
 }
 
-TEST_CASE("foam: where a thrown blob churns into a pool it is drawn white; a pool at rest has none") {
-  // A pool at rest, and a blob thrown down into it at 3 m/s; under gravity, 30 frames a second.
-  auto world = [](double foam, bool thrown) {
+TEST_CASE("foam: a blob thrown into a pool seeds foam that lingers, drifts and dies out; a pool at rest has none") {
+  // A pool at rest, and a blob thrown down into it at 3 m/s; under gravity, 30 frames a second;
+  // diffuse particles live 0.3 s on average (0.15 to 0.45 s).
+  auto scene = [](double foam, bool thrown) {
     std::string blocks = R"({"min": [0, 0, 0], "max": [0.3, 0.06, 0.3], "spacing": 0.016})";
     if (thrown) blocks += R"(, {"min": [0.1, 0.15, 0.1], "max": [0.2, 0.22, 0.2], "spacing": 0.016, "velocity": [0, -3, 0]})";
-    return makeWorld(std::string(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 40,
+    return std::string(R"({"format": "reel/1", "duration": 2, "fps": 30, "substeps": 40,
       "objects": [{"type": "container", "center": [0.15, 0.1, 0.15], "size": [0.34, 0.2, 0.34], "wall": 0.02}],
-      "bodies": [{"type": "fluid", "name": "f", "radius": 0.008, "draw": "surface", "foam": )") + std::to_string(foam) +
-                     R"(, "species": [)" + kWater + R"(], "blocks": [)" + blocks + "]}]}");
+      "bodies": [{"type": "fluid", "name": "f", "radius": 0.008, "draw": "surface", "foam_life": 0.3, "foam": )") +
+           std::to_string(foam) + R"(, "species": [)" + kWater + R"(], "blocks": [)" + blocks + "]}]}";
   };
-  auto bubbles = [](const World& w) {
+  // The white flecks drawn (foam, bubbles, spray: white, casting no shadow).
+  auto flecks = [](const World& w) {
     DrawList out;
     w.draw(out);
     std::size_t n = 0;
     for (const DrawSpheres& s : out.spheres)
-      if (s.material.color.x() > 0.9 && s.material.roughness && *s.material.roughness > 0.5) n += s.centers.size() / 3;
+      if (s.material.color.x() > 0.9 && !s.material.casts_shadow) n += s.centers.size() / 3;
     return n;
   };
-  World still = world(1.0, false), thrown = world(1.0, true), plain = world(0.0, true);
+  World still = makeWorld(scene(1.0, false)), thrown = makeWorld(scene(1.0, true)), plain = makeWorld(scene(0.0, true));
   std::size_t at_rest = 0, churned = 0, none = 0;  // the most in any of the first 8 frames
   for (int f = 0; f < 8; ++f) {
     run(still, 1);
     run(thrown, 1);
     run(plain, 1);
-    at_rest = std::max(at_rest, bubbles(still)), churned = std::max(churned, bubbles(thrown)), none = std::max(none, bubbles(plain));
+    at_rest = std::max(at_rest, flecks(still)), churned = std::max(churned, flecks(thrown)), none = std::max(none, flecks(plain));
   }
-  MESSAGE("foam bubbles: pool at rest " << at_rest << ", blob thrown in " << churned << ", foam 0 " << none);
+  MESSAGE("foam flecks: pool at rest " << at_rest << ", blob thrown in " << churned << ", foam 0 " << none);
   CHECK(at_rest == 0);
-  CHECK(churned > 20);
+  CHECK(churned > 50);
   CHECK(none == 0);
+  CHECK(fluid(thrown).diffuse_x.size() == flecks(thrown));
+  // Carried from step to step: the foam of the landing is still there a tick after the churn
+  // ends, where the liquid has carried it, and none of it outlives its longest life once the pool
+  // is calm.
+  run(thrown, 1);
+  const Fluid& fl = fluid(thrown);
+  REQUIRE(!fl.diffuse_x.empty());
+  // Foam and bubbles ride the liquid: each within two cutoffs of a particle.
+  int riding = 0;
+  for (std::size_t d = 0; d < fl.diffuse_x.size(); ++d) {
+    if (fl.diffuse_kind[d] == static_cast<std::uint8_t>(DiffuseKind::Spray)) continue;
+    double nearest = 1e9;
+    for (const Vec3& x : fl.x) nearest = std::min(nearest, (x - fl.diffuse_x[d]).norm());
+    CHECK(nearest < 2 * fl.cutoff_max);
+    ++riding;
+  }
+  CHECK(riding > 20);
+  for (double l : fl.diffuse_life) {  // 0.5 to 1.5 times foam_life, aged since
+    CHECK(l > 0);
+    CHECK(l <= 0.45);
+  }
+  run(thrown, 45);  // 1.5 s more
+  MESSAGE("flecks 1.5 s later: " << flecks(thrown));
+  CHECK(flecks(thrown) < churned / 4);
+  // The same bits on 1 and 2 threads, and resumed from a snapshot (the diffuse particles are in the
+  // state and its hash).
+  sameBitsThreadsAndResume(scene(1.0, true), 8);
+  CHECK(runHash(scene(1.0, true), 1, 8) != runHash(scene(0.5, true), 1, 8));
+  // Bad keys named.
+  const std::string bad = badInputErrors(std::string(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "fluid", "name": "f",
+    "foam": 2, "foam_life": 0, "species": [{"name": "w"}], "blocks": [{"min": [0, 0, 0], "max": [0.1, 0.1, 0.1], "spacing": 0.02}]}]})"));
+  CAPTURE(bad);
+  CHECK(bad.find("/bodies/0/foam:") != std::string::npos);
+  CHECK(bad.find("/bodies/0/foam_life") != std::string::npos);
 }
 
 TEST_CASE("a falling string of drops is drawn as the streak an open shutter sees: one stream, not beads") {

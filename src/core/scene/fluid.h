@@ -93,7 +93,8 @@ struct FluidDesc final : BodyParams {
   double surface_iso = 0.5;     // density level of the surface, in particles per kernel volume
   bool surface_anisotropic = true;  // kernels stretched along each particle's neighbourhood (Yu & Turk 2013)
   int surface_smoothing = 2;        // passes of Taubin's smoothing over the extracted mesh
-  double foam = 0.0;                // 0..1: churned liquid drawn with white foam (0: none)
+  double foam = 0.0;                // 0..1: churned liquid seeds spray, foam and bubbles (0: none)
+  double foam_life = 2.0;           // s: their mean life
   double shutter = 0.5;             // of a frame: spray and surface drawn swept along their motion (0: sharp)
   // Particles the emitters release in all.
   long long emitted() const {

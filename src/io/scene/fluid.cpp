@@ -201,6 +201,7 @@ void readFluid(Obj& o, FluidDesc& fd, double duration) {
   fd.surface_anisotropic = o.choice("surface_kernels", "anisotropic", {"anisotropic", "isotropic"}) == "anisotropic";
   fd.surface_smoothing = o.integer("surface_smoothing", fd.surface_smoothing, 0, 20);
   fd.foam = o.number("foam", 0.0, Range::closed(0.0, 1.0));
+  fd.foam_life = o.number("foam_life", fd.foam_life, Range::closed(0.05, 60.0));
   fd.shutter = o.number("shutter", fd.shutter, Range::closed(0.0, 1.0));
   if (fd.surface_cell > 0 && fd.surface_kernel > 0 && fd.surface_kernel / fd.surface_cell > 16)
     d.error(childPath(p, "surface_kernel"), "must be at most 16 surface cells");

@@ -10,6 +10,7 @@
 #include "core/profile.h"
 #include "core/math.h"
 #include "core/random.h"
+#include "sim/fluid/fluid_diffuse.h"
 #include "sim/fluid/fluid_pair.h"
 
 namespace reel {
@@ -437,6 +438,7 @@ void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, const Vec3& gr
     if (fl.agitated) addThermalForces(fl, hk);
     moveAndCollide(fl, colliders, hk);
   }
+  stepDiffuse(fl, gravity, t1);
 }
 
 void removeParticles(Fluid& fl, const std::vector<std::uint8_t>& gone) {

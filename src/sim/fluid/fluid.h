@@ -97,6 +97,7 @@ struct FluidModel {
   bool surface_anisotropic = true;
   int surface_smoothing = 2;
   double foam = 0.0;
+  double foam_life = 2.0;  // s: a diffuse particle's mean life
   double shutter = 0.5;
   std::vector<FluidEmitter> emitters;
 };
@@ -119,6 +120,12 @@ struct FluidState {
   long long pair_tests = 0;   // list entries visited by the force loop (pair evaluations)
   long long split_steps = 0;  // extra parts of steps split at violent moments
   long long skipped = 0;      // emitter points skipped because liquid was there
+  // Diffuse particles (fluid_diffuse.h: spray, foam and bubbles, a drawing layer).
+  std::vector<Vec3> diffuse_x, diffuse_v;  // positions, m; velocities, m/s
+  std::vector<double> diffuse_life;        // s left
+  std::vector<std::uint8_t> diffuse_kind;  // DiffuseKind at their last update
+  double diffuse_time = 0.0;               // when they were last updated, s
+  long long diffuse_made = 0;              // how many were ever seeded (their random stream)
 };
 
 // Arrays reused from step to step; their contents do not outlive a step (the grid: a list build).

@@ -2,6 +2,7 @@
 
 #include "core/format.h"
 #include "sim/contact_layer.h"
+#include "sim/fluid/fluid_diffuse.h"
 
 namespace reel {
 
@@ -63,6 +64,7 @@ template <class State, class Archive>
 void FluidBody::fields(State& s, Archive& a) {
   a(s.x)(s.v)(s.s)(s.m)(s.id)(s.layers)(s.x_built)(s.nbr_start)(s.nbr);
   a(s.thermal_draws)(s.rebuilds)(s.pair_tests)(s.split_steps)(s.skipped);
+  a(s.diffuse_x)(s.diffuse_v)(s.diffuse_life)(s.diffuse_kind)(s.diffuse_time)(s.diffuse_made);
 }
 
 void FluidBody::snapshot(StateBlob& out) const {
@@ -80,6 +82,12 @@ bool FluidBody::restore(const StateBlob& in) {
       (!s.x_built.empty() && s.nbr_start.size() != s.x_built.size() + 1) ||
       (!s.nbr_start.empty() && s.nbr.size() != s.nbr_start.back()))
     return false;
+  const std::size_t d = s.diffuse_x.size();
+  if (s.diffuse_v.size() != d || s.diffuse_life.size() != d || s.diffuse_kind.size() != d || d > kMaxDiffuse ||
+      !allWithin(s.diffuse_x, kRunawayDistance) || !allWithin(s.diffuse_v, kRunawaySpeed) || !std::isfinite(s.diffuse_time))
+    return false;
+  for (std::uint8_t k : s.diffuse_kind)
+    if (k > static_cast<std::uint8_t>(DiffuseKind::Bubble)) return false;
   if (!allWithin(s.x, kRunawayDistance) || !allWithin(s.v, kRunawaySpeed) || !allWithin(s.x_built, kRunawayDistance))
     return false;
   // Species and ids in range, each id once; the list's rows in order and its entries in range.
@@ -102,6 +110,7 @@ void FluidBody::hash(Hasher& h) const {
   const Fluid& fl = byId();
   h.add(std::span<const Vec3>(fl.x_by_id));
   h.add(std::span<const Vec3>(fl.v_by_id));
+  h.add(std::span<const Vec3>(fl.diffuse_x));
 }
 
 std::vector<std::string> FluidBody::notes(double h) const {

@@ -208,6 +208,7 @@ Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<
   fl.surface_anisotropic = d.surface_anisotropic;
   fl.surface_smoothing = d.surface_smoothing;
   fl.foam = d.foam;
+  fl.foam_life = d.foam_life;
   fl.shutter = d.shutter;
   // Surfaces per collider and species.
   fl.surfaces.reserve(colliders.size() * S);

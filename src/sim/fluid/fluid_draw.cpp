@@ -1,5 +1,6 @@
 // What a liquid gives the renderer: its particles as spheres coloured by species (colours blended
-// over neighbours where species mix), or its surface as a mesh (fluid_surface.cpp).
+// over neighbours where species mix), or its surface as a mesh (fluid_surface.cpp); its spray, foam
+// and bubbles (fluid_diffuse.cpp).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -11,6 +12,7 @@
 #include "core/parallel.h"
 #include "sim/draw_material.h"
 #include "sim/fluid/fluid_body.h"
+#include "sim/fluid/fluid_diffuse.h"
 #include "sim/fluid/fluid_surface.h"
 
 namespace reel {
@@ -50,53 +52,37 @@ std::vector<T> blended(const Fluid& fl, const std::vector<T>& of_species) {
   return c;
 }
 
-// Foam where the liquid is churned, a drawing only (the dynamics do not change), after Ihmsen,
-// Akinci, Akinci & Teschner 2012, "Unified spray, foam and bubbles for particle-based fluids"
-// (The Visual Computer 28(6)), §4: a particle's trapped-air potential
-//   I_ta = Σ_j |v_ij| (1 − v̂_ij·x̂_ij) W(x_ij),   W(r) = 1 − r/cutoff,
-// large where neighbours rush past or into it (air folded in), not where they move along the
-// line between them, and its speed |v_i| are each clamped into 0..1 by
-// Φ(I) = (min(I, τ_max) − min(I, τ_min))/(τ_max − τ_min) and multiplied. Ihmsen et al. seed
-// diffuse particles at that rate and carry them on; here the amount is drawn at the particle
-// itself each frame, as a white bubble whose size grows with it in three steps (a set of spheres
-// each, as one set has one radius), so a splash turns white where it churns and clears as it
-// settles. The thresholds in reel's units: I_ta 1..5 m/s, speed 0.2..1.5 m/s (a splash's
-// churn stays white for a few tenths of a second as it slows).
-void addFoam(const Fluid& fl, DrawList& out) {
-  const std::size_t n = fl.x.size();
-  if (!(fl.foam > 0) || fl.nbr_start.size() != n + 1) return;
-  auto phi = [](double I, double lo, double hi) { return (std::min(I, hi) - std::min(I, lo)) / (hi - lo); };
-  std::vector<float> amount(n, 0.0f);
-  parallelFor(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    const double speed = phi(fl.v[i].norm(), 0.2, 1.5);
-    if (speed <= 0) return;
-    double ta = 0;
-    for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e) {
-      const auto j = static_cast<std::size_t>(fl.nbr[e]);
-      const double cutoff = pairOf(fl, i, j).cutoff;
-      const Vec3 xij = fl.x[i] - fl.x[j], vij = fl.v[i] - fl.v[j];
-      const double r = xij.norm(), u = vij.norm();
-      if (!(r < cutoff) || !(r > 0) || !(u > 0)) continue;
-      ta += u * (1.0 - vij.dot(xij) / (u * r)) * (1.0 - r / cutoff);
+// The diffuse particles (fluid_diffuse.h): foam as white flecks of 0.3 to 0.6 of a particle's
+// radius (each its own size by its serial place, shrinking over its last half second: foam thins
+// out rather than vanishing at once), bubbles inside the liquid as smaller glassy white beads, spray
+// as fine white droplets. None casts a shadow (specks whose shadows no one sees).
+void addDiffuse(const Fluid& fl, DrawList& out) {
+  const std::size_t m = fl.diffuse_x.size();
+  if (m == 0 || fl.diffuse_kind.size() != m || fl.diffuse_life.size() != m) return;
+  std::array<DrawSpheres, 5> sets;  // foam in three sizes, bubbles, spray
+  const std::array<double, 5> radius = {0.3, 0.45, 0.6, 0.2, 0.15};
+  for (std::size_t k = 0; k < sets.size(); ++k) {
+    sets[k].radius = static_cast<float>(radius[k] * fl.radius);
+    sets[k].material.color = Vec3(0.95, 0.96, 0.97);
+    sets[k].material.specular = k < 3 ? 0.3 : 0.6;
+    sets[k].material.roughness = k < 3 ? 0.6 : 0.15;
+    sets[k].material.casts_shadow = false;
+  }
+  for (std::size_t d = 0; d < m; ++d) {
+    std::size_t set = 0;
+    switch (static_cast<DiffuseKind>(fl.diffuse_kind[d])) {
+      case DiffuseKind::Foam: {
+        const double fade = std::clamp(fl.diffuse_life[d] / 0.5, 0.0, 1.0);  // 1 until its last half second
+        set = static_cast<std::size_t>(std::min(2.0, std::floor(fade * static_cast<double>(1 + d % 3))));
+        break;
+      }
+      case DiffuseKind::Bubble: set = 3; break;
+      case DiffuseKind::Spray: set = 4; break;
     }
-    amount[i] = static_cast<float>(fl.foam * speed * phi(ta, 1.0, 5.0));
-  });
-  std::array<DrawSpheres, 3> foam;
-  for (std::size_t k = 0; k < foam.size(); ++k) {
-    foam[k].radius = static_cast<float>((0.35 + 0.15 * static_cast<double>(k)) * fl.radius);
-    foam[k].material.color = Vec3(0.95, 0.96, 0.97);
-    foam[k].material.specular = 0.3;
-    foam[k].material.roughness = 0.6;
-    foam[k].material.casts_shadow = false;  // flecks on the water: their shadows are specks no one sees
+    for (int a = 0; a < 3; ++a) sets[set].centers.push_back(static_cast<float>(fl.diffuse_x[d][a]));
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (amount[i] < 0.1f) continue;
-    DrawSpheres& set = foam[std::min<std::size_t>(2, static_cast<std::size_t>(3.0f * amount[i]))];
-    for (int a = 0; a < 3; ++a) set.centers.push_back(static_cast<float>(fl.x[i][a]));
-  }
-  for (DrawSpheres& set : foam)
-    if (!set.centers.empty()) out.spheres.push_back(std::move(set));
+  for (DrawSpheres& s : sets)
+    if (!s.centers.empty()) out.spheres.push_back(std::move(s));
 }
 
 }  // namespace
@@ -191,7 +177,7 @@ void FluidBody::draw(DrawList& out) const {
   auto finish = [&] {
     for (DrawSpheres& set : balls)
       if (!set.centers.empty()) out.spheres.push_back(std::move(set));
-    addFoam(fl, out);
+    addDiffuse(fl, out);
     for (DrawSpheres& set : drops)
       if (!set.centers.empty()) out.spheres.push_back(std::move(set));
     for (DrawTubes& t : streaks)
