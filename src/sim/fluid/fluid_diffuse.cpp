@@ -18,7 +18,7 @@ double clampPotential(double I, double lo, double hi) { return (std::min(I, hi) 
 // Seeding (§4.2): a particle seeds Φ_k·Φ_ta·foam·kSeedRate diffuse particles a second, Φ_k from its
 // speed (0.2..1.5 m/s: reel's small-scale splashes; the paper's kinetic energy) and Φ_ta from its
 // trapped air (1..5 m/s). A churned particle at foam 1 seeds 100 a second.
-constexpr double kSeedRate = 400.0;
+constexpr double kSeedRate = 1200.0;
 // Bubbles (§4.3): buoyancy k_b (2: they rise at one g net of the liquid's weight) and drag k_d
 // (the share of the gap to the liquid's velocity closed each tick).
 constexpr double kBuoyancy = 2.0, kDrag = 0.5;
@@ -114,7 +114,7 @@ void stepDiffuse(Fluid& fl, const Vec3& gravity, double t1) {
   std::vector<double> rate(n, 0.0);
   parallelFor(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t ii) {
     const auto i = static_cast<std::size_t>(ii);
-    const double speed = clampPotential(fl.v[i].norm(), 0.8, 2.5);
+    const double speed = clampPotential(fl.v[i].norm(), 1.0, 3.0);
     if (speed > 0) rate[i] = fl.foam * kSeedRate * speed * clampPotential(trappedAir(fl, i), 5.0, 14.0);
   });
   constexpr std::uint64_t kStream = 0xD1FF05E;  // the diffuse particles' random stream

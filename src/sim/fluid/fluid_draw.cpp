@@ -52,7 +52,7 @@ std::vector<T> blended(const Fluid& fl, const std::vector<T>& of_species) {
   return c;
 }
 
-// The diffuse particles (fluid_diffuse.h): foam as white flecks of 0.3 to 0.6 of a particle's
+// The diffuse particles (fluid_diffuse.h): foam as white flecks of 0.15 to 0.3 of a particle's
 // radius (each its own size by its serial place, shrinking over its last half second: foam thins
 // out rather than vanishing at once), bubbles inside the liquid as smaller glassy white beads, spray
 // as fine white droplets. None casts a shadow (specks whose shadows no one sees).
@@ -60,7 +60,7 @@ void addDiffuse(const Fluid& fl, DrawList& out) {
   const std::size_t m = fl.diffuse_x.size();
   if (m == 0 || fl.diffuse_kind.size() != m || fl.diffuse_life.size() != m) return;
   std::array<DrawSpheres, 5> sets;  // foam in three sizes, bubbles, spray
-  const std::array<double, 5> radius = {0.3, 0.45, 0.6, 0.2, 0.15};
+  const std::array<double, 5> radius = {0.15, 0.22, 0.3, 0.12, 0.12};
   for (std::size_t k = 0; k < sets.size(); ++k) {
     sets[k].radius = static_cast<float>(radius[k] * fl.radius);
     sets[k].material.color = Vec3(0.95, 0.96, 0.97);
