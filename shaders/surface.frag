@@ -98,15 +98,15 @@ vec2 spiral(int i, int n, float turn) {
     float lo = 1.5 * u_shadow_texel, hi = 40.0 * u_shadow_texel;                   \
     float search = clamp(penumbra(u_shadow_soft[S], zr, 0.0), lo, hi);              \
     float sum = 0.0, count = 0.0;                                                    \
-    for (int i = 0; i < 6; ++i) {                                                    \
-      float d = texture(RAW, q.xy + spiral(i, 6, turn) * search).r;                 \
+    for (int i = 0; i < 8; ++i) {                                                    \
+      float d = texture(RAW, q.xy + spiral(i, 8, turn) * search).r;                 \
       if (d < zr) { sum += d; count += 1.0; }                                        \
     }                                                                                \
     float w = clamp(0.5 * penumbra(u_shadow_soft[S], zr, sum / max(count, 1.0)), lo, hi); \
     float lit = 0.0;                                                                 \
-    for (int i = 0; i < 8; ++i) lit += texture(MAP, vec3(q.xy + spiral(i, 8, turn) * w, zr)); \
+    for (int i = 0; i < 12; ++i) lit += texture(MAP, vec3(q.xy + spiral(i, 12, turn) * w, zr)); \
     bool inside = all(greaterThanEqual(q.xyz, vec3(0.0))) && all(lessThanEqual(q.xyz, vec3(1.0))); \
-    return inside && count > 0.0 ? lit / 8.0 : 1.0;                                  \
+    return inside && count > 0.0 ? lit / 12.0 : 1.0;                                 \
   }
 SHADOW_PCSS(u_shadow_map0, u_shadow_raw0, 0)
 SHADOW_PCSS(u_shadow_map1, u_shadow_raw1, 1)

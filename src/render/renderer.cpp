@@ -56,9 +56,10 @@ Status Renderer::Impl::init(const std::string& dir) {
   inst.buffer = gl::makeBuffer(*gl);
   inst_color.buffer = gl::makeBuffer(*gl);
   // Spheres a few pixels wide need few triangles: llvmpipe's cost is per triangle.
-  upload(*gl, sphere_lod[0], makeIcosphere(1.0, 1));
-  upload(*gl, sphere_lod[1], makeUvSphere(1.0, 14, 8));
-  upload(*gl, sphere_lod[2], makeUvSphere(1.0, 28, 16));
+  upload(*gl, sphere_lod[0], makeIcosphere(1.0, 0));
+  upload(*gl, sphere_lod[1], makeIcosphere(1.0, 1));
+  upload(*gl, sphere_lod[2], makeUvSphere(1.0, 14, 8));
+  upload(*gl, sphere_lod[3], makeUvSphere(1.0, 28, 16));
   upload(*gl, tube_proto, makeTube(6));
   if (Status st = initTargets(); !st) return st;
   if (Status st = initShadowMaps(); !st) return st;
@@ -161,12 +162,13 @@ Status Renderer::Impl::drawGeometry(const DrawList& list, Pass pass) {
 Status Renderer::Impl::drawSpheres(const DrawSpheres& s, Pass pass) {
   if (s.centers.empty() || !pass.wants(s.material)) return {};
   // Each sphere at the level of detail of its own on-screen radius (a set of thousands of
-  // particles drawn at the level of its nearest one cost seconds a frame): below 8 pixels the
-  // 80-triangle icosphere, below 20 pixels 224 triangles, else 896; in the shadow pass always the
-  // first (the shadow map's texels are coarser than that). Sets are split in order, so a frame's
-  // draw is the same run to run.
+  // particles drawn at the level of its nearest one cost seconds a frame): below 3 pixels the
+  // 20-triangle icosahedron (specks: foam, far particles), below 8 pixels the 80-triangle
+  // icosphere, below 20 pixels 224 triangles, else 896; in the shadow pass at most the icosphere
+  // (the shadow map's texels are coarser than that). Sets are split in order, so a frame's draw
+  // is the same run to run.
   const bool coloured = pass.with_material && s.colors.size() == s.centers.size();
-  for (int l = 0; l < 3; ++l) {
+  for (int l = 0; l < 4; ++l) {
     lod_centers[static_cast<std::size_t>(l)].clear();
     lod_colors[static_cast<std::size_t>(l)].clear();
   }
@@ -174,11 +176,11 @@ Status Renderer::Impl::drawSpheres(const DrawSpheres& s, Pass pass) {
   for (std::size_t i = 0; i + 2 < s.centers.size(); i += 3) {
     const double d = (Vec3(s.centers[i], s.centers[i + 1], s.centers[i + 2]) - eye).norm();
     const double px = px_at_1m / std::max(d, 1e-3);
-    const std::size_t l = !pass.with_material || px < 8 ? 0 : px < 20 ? 1 : 2;
+    const std::size_t l = px < 3 ? 0 : !pass.with_material || px < 8 ? 1 : px < 20 ? 2 : 3;
     lod_centers[l].insert(lod_centers[l].end(), &s.centers[i], &s.centers[i] + 3);
     if (coloured) lod_colors[l].insert(lod_colors[l].end(), &s.colors[i], &s.colors[i] + 3);
   }
-  for (std::size_t l = 0; l < 3; ++l)
+  for (std::size_t l = 0; l < 4; ++l)
     if (!lod_centers[l].empty())
       if (Status st = drawSphereSet(s, sphere_lod[l], lod_centers[l], coloured ? &lod_colors[l] : nullptr, pass); !st)
         return st;

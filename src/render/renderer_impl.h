@@ -41,10 +41,10 @@ struct Renderer::Impl {
   std::array<gl::Framebuffer, 2> shadow_fbo;
   gl::Sampler raw_depth;  // the shadow maps read as depths, nearest texel
   // Instancing prototypes and their per-draw data.
-  std::array<GpuMesh, 3> sphere_lod;  // coarse, medium, fine
+  std::array<GpuMesh, 4> sphere_lod;  // specks, coarse, medium, fine
   GpuMesh tube_proto;
   StreamBuffer inst, inst_color;  // centres or ends (attributes 3, 4); per-sphere colours (5)
-  std::array<std::vector<float>, 3> lod_centers, lod_colors;  // a set of spheres by level of detail
+  std::array<std::vector<float>, 4> lod_centers, lod_colors;  // a set of spheres by level of detail
   // The DrawList's meshes and textures.
   MeshCache meshes;
   TextureCache textures;

@@ -18,7 +18,7 @@ double clampPotential(double I, double lo, double hi) { return (std::min(I, hi) 
 // Seeding (§4.2): a particle seeds Φ_k·Φ_ta·foam·kSeedRate diffuse particles a second, Φ_k from its
 // speed (0.2..1.5 m/s: reel's small-scale splashes; the paper's kinetic energy) and Φ_ta from its
 // trapped air (1..5 m/s). A churned particle at foam 1 seeds 100 a second.
-constexpr double kSeedRate = 1200.0;
+constexpr double kSeedRate = 400.0;
 // Bubbles (§4.3): buoyancy k_b (2: they rise at one g net of the liquid's weight) and drag k_d
 // (the share of the gap to the liquid's velocity closed each tick).
 constexpr double kBuoyancy = 2.0, kDrag = 0.5;

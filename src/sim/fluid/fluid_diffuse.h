@@ -18,7 +18,7 @@ enum class DiffuseKind : std::uint8_t { Spray = 0, Foam = 1, Bubble = 2 };
 // first step that ends a tick or more after the last time it did).
 inline constexpr double kDiffuseTick = 1.0 / 120.0;
 // At most this many at once (seeding waits while there are).
-inline constexpr std::size_t kMaxDiffuse = 40000;
+inline constexpr std::size_t kMaxDiffuse = 20000;
 
 // The trapped-air potential of particle i, m/s (Ihmsen et al. §4.1):
 //   I_ta = Σ_j |v_ij| (1 − v̂_ij·x̂_ij) W(x_ij),   W(r) = 1 − r/cutoff,

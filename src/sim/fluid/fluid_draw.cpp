@@ -126,6 +126,10 @@ void FluidBody::draw(DrawList& out) const {
   dm.color = Vec3(1, 1, 1);  // the species colours carry the albedo
   dm.texture = nullptr;
   dm.transmission = clearest;
+  // A clear liquid lets the light through to what lies under it (a tub's floor under water is lit,
+  // not in the water's shadow; the caustics it would focus are not drawn): when every species is
+  // at least half clear, the liquid casts no shadow.
+  dm.casts_shadow = *std::min_element(transmission.begin(), transmission.end()) < 0.5;
   SurfacePaint paint;
   paint.colors = blended(fl, fl.species_color);
   paint.see_through = clearest > 0;
