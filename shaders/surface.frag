@@ -35,6 +35,7 @@ uniform vec3 u_back_color;  // DOUBLE_SIDED: the back's albedo
 uniform int u_plain_back;   // DOUBLE_SIDED: 1 when the back has its own colour
 uniform float u_f0;         // a dielectric's reflectance at normal incidence, 0.08·specular
 uniform float u_roughness;  // 0..1, α = roughness²
+uniform float u_checker_size;  // CHECKER: m
 uniform float u_metallic;   // 0..1
 uniform float u_sheen;      // SHEEN: 0..1
 uniform float u_wrap;       // WRAP: 0..1
@@ -204,9 +205,9 @@ void main() {
   if (!plain) albedo *= texture(u_texture, v_uv).rgb;
 #endif
 #ifdef CHECKER
-  // 0.5 m squares of 1 and 0.55 times the albedo, fading to their mean where a pixel covers
+  // Squares (u_checker_size m) of 1 and 0.55 times the albedo, fading to their mean where a pixel covers
   // several squares (no moiré towards the horizon).
-  vec2 cp = v_world.xz / 0.5;
+  vec2 cp = v_world.xz / u_checker_size;
   vec2 cell = floor(cp);
   float check = mod(cell.x + cell.y, 2.0) != 0.0 ? 0.55 : 1.0;
   float blur = clamp(max(fwidth(cp.x), fwidth(cp.y)) * 1.5 - 0.35, 0.0, 1.0);

@@ -41,7 +41,8 @@ struct DrawMaterial {
   // double_sided: the back's albedo (the side the normal points away from), plain (no texture);
   // none: the back looks like the front.
   std::optional<Vec3> back_color;
-  bool checker = false;       // checkerboard of `color` and a darker shade, 0.5 m squares
+  bool checker = false;       // checkerboard of `color` and a darker shade, squares checker_size m wide
+  double checker_size = 0.5;  // m
   // false: left out of the shadow maps (specks whose shadows no one sees: foam, spray's streaks).
   bool casts_shadow = true;
 };

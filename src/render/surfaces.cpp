@@ -106,6 +106,7 @@ Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures, bool i
   }
   gl_->Uniform1f(loc("u_opacity"), float(m.opacity));
   if (m.wrap > 0) gl_->Uniform1f(loc("u_wrap"), float(m.wrap));
+  if (m.checker) gl_->Uniform1f(loc("u_checker_size"), float(m.checker_size));
   if (m.double_sided) {
     const Vec3 back = m.back_color.value_or(m.color);
     gl_->Uniform3f(loc("u_back_color"), float(back.x()), float(back.y()), float(back.z()));

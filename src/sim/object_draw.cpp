@@ -54,6 +54,7 @@ DrawMesh objectMesh(const ObjectDesc& o) {
   d.mesh = std::make_shared<const TriMesh>(std::visit(ShapeMesh{}, o.shape));
   d.material = drawMaterial(o.material);
   d.material.checker = o.checker;
+  d.material.checker_size = o.checker_size;
   d.material.double_sided = o.kind() == ObjectKind::Plane;
   return d;
 }

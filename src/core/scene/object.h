@@ -67,6 +67,7 @@ struct ObjectDesc {
   std::string name, path;  // path: JSON path of the object, e.g. /objects/0
   ObjectShape shape;
   bool checker = false;    // drawn as a checkerboard
+  double checker_size = 0.5;  // m: its squares
   double thickness = 0.0;  // contact offset added to the surface, m
   Surface surface;
   // Per-species surfaces for liquids: species name → surface (keys not given keep `surface`'s).

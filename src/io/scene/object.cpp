@@ -36,7 +36,7 @@ MeshObjectShape readMeshShape(Obj& o) {
 namespace {
 
 // The keys of each shape.
-ObjectShape readShape(Obj& o, const std::string& type, bool& checker) {
+ObjectShape readShape(Obj& o, const std::string& type, bool& checker, double& checker_size) {
   Diagnostics& d = o.diag();
   const std::string& p = o.path();
   if (type == "plane") {
@@ -51,6 +51,7 @@ ObjectShape readShape(Obj& o, const std::string& type, bool& checker) {
       if (s.extent) d.error(childPath(p, "tile"), "applies to a plane without size (a sized plane shows its texture once)");
     }
     checker = o.boolean("checker", false);
+    checker_size = o.number("checker_size", checker_size, Range::closed(0.001, 100.0));
     return s;
   }
   if (type == "sphere") {
@@ -145,7 +146,7 @@ void readSurfaces(Obj& o, Surface& surface, SpeciesSurfaces& species_surface) {
 void readObject(Obj& o, ObjectDesc& ob, const std::string& type) {
   Diagnostics& d = o.diag();
   const std::string& p = o.path();
-  ob.shape = readShape(o, type, ob.checker);
+  ob.shape = readShape(o, type, ob.checker, ob.checker_size);
   ob.thickness = o.number("thickness", 0.0, Range::closed(0.0, 10.0));
   readMotion(o, ob);
   readSurfaces(o, ob.surface, ob.species_surface);
