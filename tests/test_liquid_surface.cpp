@@ -16,6 +16,7 @@
 #include "contact_helpers.h"
 #include "fluid_helpers.h"
 #include "render_helpers.h"
+#include "sim/fluid/fluid_body.h"
 #include "sim/fluid/fluid_diffuse.h"
 #include "sim/fluid/fluid_surface.h"
 
@@ -274,8 +275,8 @@ TEST_CASE("foam: a blob thrown into a pool seeds foam that lingers, drifts and d
     DrawList out;
     w.draw(out);
     std::size_t n = 0;
-    for (const DrawSpheres& s : out.spheres)
-      if (s.material.color.x() > 0.9 && !s.material.casts_shadow) n += s.centers.size() / 3;
+    for (const DrawSpheres& s : out.spheres)  // (droplets carry their species' colours per sphere)
+      if (s.material.color.x() > 0.9 && !s.material.casts_shadow && s.colors.empty()) n += s.centers.size() / 3;
     return n;
   };
   World still = makeWorld(scene(1.0, false)), thrown = makeWorld(scene(1.0, true)), plain = makeWorld(scene(0.0, true));
@@ -310,6 +311,24 @@ TEST_CASE("foam: a blob thrown into a pool seeds foam that lingers, drifts and d
   for (double l : fl.diffuse_life) {  // 0.5 to 1.5 times foam_life, aged since
     CHECK(l > 0);
     CHECK(l <= 0.45);
+  }
+  // A restored state with a speck out of its life, or a serial number never given, is refused.
+  {
+    FluidBody good(fluid(thrown), "fluid", Material{});
+    StateBlob blob;
+    good.snapshot(blob);
+    FluidBody target(fluid(thrown), "fluid", Material{});
+    CHECK(target.restore(blob));
+    for (int damage = 0; damage < 2; ++damage) {
+      Fluid bad_state = fluid(thrown);
+      REQUIRE(!bad_state.diffuse_life.empty());
+      if (damage == 0) bad_state.diffuse_life[0] = -1.0;
+      else bad_state.diffuse_id[0] = bad_state.diffuse_made;
+      FluidBody bad(std::move(bad_state), "fluid", Material{});
+      StateBlob b;
+      bad.snapshot(b);
+      CHECK(!target.restore(b));
+    }
   }
   run(thrown, 45);  // 1.5 s more
   MESSAGE("flecks 1.5 s later: " << flecks(thrown));

@@ -414,7 +414,10 @@ void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, const Vec3& gr
                double t0, double t1) {
   const bool added = emit(fl, t0, t1);
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
-  if (n == 0) return;
+  if (n == 0) {
+    stepDiffuse(fl, gravity, t1);  // the last specks fly on and die out
+    return;
+  }
   refreshNeighbours(fl, added);
   fl.x_start = fl.x;
   computeForces(fl, gravity);

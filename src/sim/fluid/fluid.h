@@ -86,6 +86,7 @@ struct FluidModel {
   double cutoff_max = 0.05;       // m
   double skin = 0.01;             // Verlet-list margin, m
   double ref_spacing = 0.01;      // m: how close neighbours come in a settled liquid (step splitting)
+  double packed_spacing = 0.02;   // m: a settled bulk's nearest neighbours, 0.8 of the bulk spacing (drawing)
   std::vector<Surface> surfaces;  // colliders × species
   std::vector<double> adhesion_range;  // per species: how far a sticky surface pulls (its own cutoff), m
   std::vector<Vec3> x_start;  // (scratch) where each particle was when the step's motion began: its path for the contact layer, m
@@ -124,7 +125,9 @@ struct FluidState {
   std::vector<Vec3> diffuse_x, diffuse_v;  // positions, m; velocities, m/s
   std::vector<double> diffuse_life;        // s left
   std::vector<std::uint8_t> diffuse_kind;  // DiffuseKind at their last update
+  std::vector<long long> diffuse_id;       // each one's serial number (its look)
   double diffuse_time = 0.0;               // when they were last updated, s
+  long long diffuse_ticks = 0;             // how many updates there were (the seeding draws' index)
   long long diffuse_made = 0;              // how many were ever seeded (their random stream)
 };
 

@@ -64,7 +64,7 @@ template <class State, class Archive>
 void FluidBody::fields(State& s, Archive& a) {
   a(s.x)(s.v)(s.s)(s.m)(s.id)(s.layers)(s.x_built)(s.nbr_start)(s.nbr);
   a(s.thermal_draws)(s.rebuilds)(s.pair_tests)(s.split_steps)(s.skipped);
-  a(s.diffuse_x)(s.diffuse_v)(s.diffuse_life)(s.diffuse_kind)(s.diffuse_time)(s.diffuse_made);
+  a(s.diffuse_x)(s.diffuse_v)(s.diffuse_life)(s.diffuse_kind)(s.diffuse_id)(s.diffuse_time)(s.diffuse_ticks)(s.diffuse_made);
 }
 
 void FluidBody::snapshot(StateBlob& out) const {
@@ -83,11 +83,14 @@ bool FluidBody::restore(const StateBlob& in) {
       (!s.nbr_start.empty() && s.nbr.size() != s.nbr_start.back()))
     return false;
   const std::size_t d = s.diffuse_x.size();
-  if (s.diffuse_v.size() != d || s.diffuse_life.size() != d || s.diffuse_kind.size() != d || d > kMaxDiffuse ||
-      !allWithin(s.diffuse_x, kRunawayDistance) || !allWithin(s.diffuse_v, kRunawaySpeed) || !std::isfinite(s.diffuse_time))
+  if (s.diffuse_v.size() != d || s.diffuse_life.size() != d || s.diffuse_kind.size() != d || s.diffuse_id.size() != d ||
+      d > kMaxDiffuse || !allWithin(s.diffuse_x, kRunawayDistance) || !allWithin(s.diffuse_v, kRunawaySpeed) ||
+      !(s.diffuse_time >= 0 && s.diffuse_time < 1e9) || s.diffuse_ticks < 0 || s.diffuse_made < 0)
     return false;
-  for (std::uint8_t k : s.diffuse_kind)
-    if (k > static_cast<std::uint8_t>(DiffuseKind::Bubble)) return false;
+  for (std::size_t k = 0; k < d; ++k)
+    if (s.diffuse_kind[k] > static_cast<std::uint8_t>(DiffuseKind::Bubble) || !(s.diffuse_life[k] > 0 && s.diffuse_life[k] < 1e9) ||
+        s.diffuse_id[k] < 0 || s.diffuse_id[k] >= s.diffuse_made)
+      return false;
   if (!allWithin(s.x, kRunawayDistance) || !allWithin(s.v, kRunawaySpeed) || !allWithin(s.x_built, kRunawayDistance))
     return false;
   // Species and ids in range, each id once; the list's rows in order and its entries in range.
@@ -111,6 +114,9 @@ void FluidBody::hash(Hasher& h) const {
   h.add(std::span<const Vec3>(fl.x_by_id));
   h.add(std::span<const Vec3>(fl.v_by_id));
   h.add(std::span<const Vec3>(fl.diffuse_x));
+  h.add(std::span<const Vec3>(fl.diffuse_v));
+  h.add(std::span<const double>(fl.diffuse_life));
+  h.add(std::span<const long long>(fl.diffuse_id));
 }
 
 std::vector<std::string> FluidBody::notes(double h) const {

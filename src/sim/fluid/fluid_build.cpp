@@ -198,6 +198,8 @@ Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<
   {
     const double d0 = bulkSpacing(fl.pairs[0]);
     fl.ref_spacing = d0 > 0 ? 0.65 * d0 : 2.0 * d.radius;
+    // A settled liquid packs its nearest neighbours at about 0.8 of the lattice spacing.
+    fl.packed_spacing = d0 > 0 ? 0.8 * d0 : 2.0 * d.radius;
   }
   fl.radius = d.radius;
   fl.max_particles = d.max_particles;

@@ -16,8 +16,9 @@ namespace {
 double clampPotential(double I, double lo, double hi) { return (std::min(I, hi) - std::min(I, lo)) / (hi - lo); }
 
 // Seeding (§4.2): a particle seeds Φ_k·Φ_ta·foam·kSeedRate diffuse particles a second, Φ_k from its
-// speed (0.2..1.5 m/s: reel's small-scale splashes; the paper's kinetic energy) and Φ_ta from its
-// trapped air (1..5 m/s). A churned particle at foam 1 seeds 100 a second.
+// speed (1..3 m/s: a ball landing in reel's small-scale scenes, not a block settling; the paper's
+// kinetic energy) and Φ_ta from its trapped air (5..14 m/s). A churned particle at foam 1 seeds
+// 400 a second.
 constexpr double kSeedRate = 400.0;
 // Bubbles (§4.3): buoyancy k_b (2: they rise at one g net of the liquid's weight) and drag k_d
 // (the share of the gap to the liquid's velocity closed each tick).
@@ -47,14 +48,14 @@ void stepDiffuse(Fluid& fl, const Vec3& gravity, double t1) {
   const double dt = t1 - fl.diffuse_time;
   if (!(dt >= kDiffuseTick * (1.0 - 1e-9))) return;
   fl.diffuse_time = t1;
+  ++fl.diffuse_ticks;
   const std::size_t n = fl.x.size();
   const bool listed = fl.nbr_start.size() == n + 1 && fl.x_built.size() == n;
   // 1. Each diffuse particle: the liquid around it (kernel W = 1 − r/c over the particles within
   // the cutoff c, found through the liquid's grid, built at x_built within half a skin of x), its
   // kind, and its motion.
   const double c = fl.cutoff_max;
-  double spacing = 0.8 * bulkSpacing(fl.pairs[0]);  // a settled liquid's nearest neighbours
-  if (!(spacing > 0)) spacing = 2.0 * fl.radius;
+  const double spacing = fl.packed_spacing;
   const double bulk = kPi * c * c * c / (3.0 * spacing * spacing * spacing);  // ∫W dV / spacing³
   const std::size_t m = fl.diffuse_x.size();
   fl.diffuse_kind.resize(m);
@@ -93,21 +94,25 @@ void stepDiffuse(Fluid& fl, const Vec3& gravity, double t1) {
     x += dt * v;
     fl.diffuse_kind[k] = static_cast<std::uint8_t>(kind);
   });
-  // Those at the end of their life, or gone astray, leave (the rest keep their order).
+  // Those at the end of their life, or gone astray (as a restored state is checked), leave; the
+  // rest keep their order.
   std::size_t kept = 0;
   for (std::size_t k = 0; k < m; ++k) {
-    if (!(fl.diffuse_life[k] > 0) || !fl.diffuse_x[k].allFinite() || !(fl.diffuse_x[k].cwiseAbs().maxCoeff() < kRunawayDistance))
+    if (!(fl.diffuse_life[k] > 0) || !(fl.diffuse_x[k].squaredNorm() <= kRunawayDistance * kRunawayDistance) ||
+        !(fl.diffuse_v[k].squaredNorm() <= kRunawaySpeed * kRunawaySpeed))
       continue;
     fl.diffuse_x[kept] = fl.diffuse_x[k];
     fl.diffuse_v[kept] = fl.diffuse_v[k];
     fl.diffuse_life[kept] = fl.diffuse_life[k];
     fl.diffuse_kind[kept] = fl.diffuse_kind[k];
+    fl.diffuse_id[kept] = fl.diffuse_id[k];
     ++kept;
   }
   fl.diffuse_x.resize(kept);
   fl.diffuse_v.resize(kept);
   fl.diffuse_life.resize(kept);
   fl.diffuse_kind.resize(kept);
+  fl.diffuse_id.resize(kept);
   if (!listed || n == 0) return;
   // 2. Seeding: each particle's rate from its speed and trapped air (in parallel, each its own),
   // then the new ones in slot order, each drawing its random numbers by its serial number.
@@ -117,15 +122,15 @@ void stepDiffuse(Fluid& fl, const Vec3& gravity, double t1) {
     const double speed = clampPotential(fl.v[i].norm(), 1.0, 3.0);
     if (speed > 0) rate[i] = fl.foam * kSeedRate * speed * clampPotential(trappedAir(fl, i), 5.0, 14.0);
   });
-  constexpr std::uint64_t kStream = 0xD1FF05E;  // the diffuse particles' random stream
+  // Random streams: each new particle's numbers by its serial number; each liquid particle's
+  // whether-to-seed draw by its id, indexed by the tick.
+  constexpr std::uint64_t kStream = 0xD1FF05E, kSeedStream = 0x5EED0000000ull;
   auto draw = [&](std::uint64_t slot) { return uniformAt(fl.seed, kStream, 8 * static_cast<std::uint64_t>(fl.diffuse_made) + slot); };
   for (std::size_t i = 0; i < n && fl.diffuse_x.size() < kMaxDiffuse; ++i) {
     if (!(rate[i] > 0)) continue;
-    // The expected count this tick, its fraction seeded with that probability (by the particle's
-    // own draw at this tick: its id and the tick's time).
+    // The expected count this tick, its fraction seeded with that probability.
     const double expected = rate[i] * dt;
-    const double u = uniformAt(fl.seed, kStream ^ static_cast<std::uint64_t>(fl.id[i]),
-                               static_cast<std::uint64_t>(std::llround(t1 / kDiffuseTick)));
+    const double u = uniformAt(fl.seed, kSeedStream + static_cast<std::uint64_t>(fl.id[i]), static_cast<std::uint64_t>(fl.diffuse_ticks));
     const auto count = static_cast<int>(std::floor(expected) + (u < expected - std::floor(expected) ? 1 : 0));
     // Uniformly in a cylinder about the particle's path this tick: radius its own, as long as
     // its travel (§4.2), moving with it and a little outwards.
@@ -140,6 +145,7 @@ void stepDiffuse(Fluid& fl, const Vec3& gravity, double t1) {
       fl.diffuse_v.push_back(vi + 0.2 * speed * (r / fl.radius) * out);
       fl.diffuse_life.push_back(fl.foam_life * (0.5 + draw(3)));
       fl.diffuse_kind.push_back(static_cast<std::uint8_t>(DiffuseKind::Foam));
+      fl.diffuse_id.push_back(fl.diffuse_made);
       ++fl.diffuse_made;
     }
   }

@@ -58,7 +58,7 @@ std::vector<T> blended(const Fluid& fl, const std::vector<T>& of_species) {
 // as fine white droplets. None casts a shadow (specks whose shadows no one sees).
 void addDiffuse(const Fluid& fl, DrawList& out) {
   const std::size_t m = fl.diffuse_x.size();
-  if (m == 0 || fl.diffuse_kind.size() != m || fl.diffuse_life.size() != m) return;
+  if (m == 0 || fl.diffuse_kind.size() != m || fl.diffuse_life.size() != m || fl.diffuse_id.size() != m) return;
   std::array<DrawSpheres, 5> sets;  // foam in three sizes, bubbles, spray
   const std::array<double, 5> radius = {0.15, 0.22, 0.3, 0.12, 0.12};
   for (std::size_t k = 0; k < sets.size(); ++k) {
@@ -73,7 +73,7 @@ void addDiffuse(const Fluid& fl, DrawList& out) {
     switch (static_cast<DiffuseKind>(fl.diffuse_kind[d])) {
       case DiffuseKind::Foam: {
         const double fade = std::clamp(fl.diffuse_life[d] / 0.5, 0.0, 1.0);  // 1 until its last half second
-        set = static_cast<std::size_t>(std::min(2.0, std::floor(fade * static_cast<double>(1 + d % 3))));
+        set = static_cast<std::size_t>(std::min(2.0, std::floor(fade * static_cast<double>(1 + fl.diffuse_id[d] % 3))));
         break;
       }
       case DiffuseKind::Bubble: set = 3; break;
@@ -150,6 +150,7 @@ void FluidBody::draw(DrawList& out) const {
     drops[k] = balls[k];
     drops[k].radius = static_cast<float>(0.6 * fl.radius);
     drops[k].material.roughness = std::min(dm.roughnessValue(), 0.1);
+    drops[k].material.casts_shadow = false;
     // Tubes carry no colour of their own: the species' colour; specks cast no shadow worth seeing.
     streaks[k].radius = drops[k].radius;
     streaks[k].material = drops[k].material;

@@ -173,9 +173,7 @@ TriMesh pieceSurface(const Fluid& fl, const SurfacePaint& paint, const std::vect
   clear.origin = f.origin;
   clear.cell = f.cell;
   if (clarity) clear.value.assign(f.value.size(), 0.0f);
-  // A settled liquid packs its nearest neighbours at about 0.8 of the lattice spacing.
-  double spacing = 0.8 * bulkSpacing(fl.pairs[0]);
-  if (!(spacing > 0)) spacing = 2.0 * fl.radius;
+  const double spacing = fl.packed_spacing;
   const double bulk = 0.6383 * R * R * R / (spacing * spacing * spacing);  // ∫W dV / spacing³
   // Splatted in slabs of grid layers, one per task, each task scanning every kernel and writing
   // its own layers only: every node still sums its particles in their order, so the field is the
@@ -220,7 +218,7 @@ TriMesh pieceSurface(const Fluid& fl, const SurfacePaint& paint, const std::vect
     double opacity = 1.0;
     if (clarity) {
       const double weight = f.sample(p);
-      m.clarity[v] = weight > 0 ? static_cast<float>(std::clamp(clear.sample(p) / weight, 0.0, 1.0)) : 1.0f;
+      m.clarity[v] = weight > 0 ? static_cast<float>(std::clamp(clear.sample(p) / weight, 0.0, 1.0)) : 0.0f;
       if (paint.see_through) opacity = 1.0 - m.clarity[v];
     }
     const double depth = opacity * std::clamp(f.sample(p - R * nv), 0.0, 1.0);
