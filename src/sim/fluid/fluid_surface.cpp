@@ -144,7 +144,7 @@ TriMesh pieceSurface(const Fluid& fl, const SurfacePaint& paint, const std::vect
   const double R = fl.surface_kernel;
   double cell = fl.surface_cell;
   std::vector<SurfaceKernel> kernels = surfaceKernels(fl.x, part, R, fl.surface_anisotropic);
-  sweepKernels(kernels, fl.v, part, exposure, 2.0 * R);  // (a pour at 5 m/s sweeps 8 cm in half a frame at 30 fps)
+  sweepKernels(kernels, fl.v, part, exposure, 4.0 * R);  // (a pour at 5 m/s sweeps 8 cm of 16 in half a frame at 30 fps)
   Vec3 lo = kernels[0].lo(), hi = kernels[0].hi();
   for (const SurfaceKernel& k : kernels) {
     lo = lo.cwiseMin(k.lo());
@@ -240,9 +240,9 @@ constexpr std::size_t kSprayParticles = 12;
 // into another and a particle's neighbours within the kernel radius (which shape its anisotropic
 // kernel) are in its group; each group's surface is extracted on a grid over its own box. A splash
 // far from the pool costs a small grid of its own, not one spanning both. (An anisotropic kernel
-// reaches up to 2.5 radii along a stream, and one swept over the shutter up to 2 radii further
+// reaches up to 2.5 radii along a stream, and one swept over the shutter up to 4 radii further
 // along its travel: groups cut by the cells' rule may then overlap a little where they face each
-// other, two surfaces that meet instead of one (a broken stream with gaps of 3 to 4 radii); cells
+// other, two surfaces that meet instead of one (a broken stream with gaps of 3 to 6 radii); cells
 // as large as that reach would join a droplet half a metre above a pool to the pool, where its
 // lone ball has no surface.)
 TriMesh liquidSurface(const Fluid& fl, const SurfacePaint& paint, std::vector<std::size_t>& spray, double exposure) {
