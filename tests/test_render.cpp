@@ -152,30 +152,6 @@ TEST_CASE("renders are byte-identical run to run, and OSMesa equals EGL") {
   CHECK(d.over > 100);
 }
 
-TEST_CASE("a plane's checker_size sets the width of its squares; a bad one is named") {
-  // Seen from 2 m straight above with a 60° lens, 2.3 m of floor across: the middle row crosses
-  // about 4.6 squares of 0.5 m and 9.2 of 0.25 m.
-  auto crossings = [](const std::string& size) {
-    const Image img = renderScene(R"({"format": "reel/1", "duration": 0.1,
-      "render": {"width": 96, "height": 96, "samples": 1, "background": [0, 0, 0]},
-      "camera": {"position": [0.01, 2, 0.001], "target": [0.01, 0, 0], "fov_deg": 60},
-      "lights": [{"type": "ambient", "intensity": 1}],
-      "objects": [{"type": "plane", "checker": true)" + size + "}]}");
-    int n = 0;
-    for (int x = 1; x < img.width; ++x) n += std::abs(int(img.pixel(x, 48)[1]) - int(img.pixel(x - 1, 48)[1])) > 20;
-    return n;
-  };
-  const int wide = crossings(""), narrow = crossings(R"(, "checker_size": 0.25)");
-  CAPTURE(wide);
-  CAPTURE(narrow);
-  CHECK(wide >= 3);
-  CHECK(wide <= 6);
-  CHECK(narrow >= 2 * wide - 1);
-  CHECK(narrow <= 2 * wide + 2);
-  const std::string bad = badInputErrors(R"({"format": "reel/1", "duration": 1, "objects": [{"type": "plane", "checker": true, "checker_size": 0}]})");
-  CHECK(bad.find("/objects/0/checker_size") != std::string::npos);
-}
-
 TEST_CASE("PNG files round-trip with their text chunks") {
   Image img(7, 5);  // odd size
   for (std::size_t i = 0; i < img.rgb.size(); ++i) img.rgb[i] = static_cast<std::uint8_t>(i * 37);
