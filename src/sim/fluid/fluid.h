@@ -151,6 +151,10 @@ struct FluidScratch {
 
 struct Fluid : FluidModel, FluidState, FluidScratch {
   std::size_t size() const { return x.size(); }
+  // The pair parameters of particles i and j (their species' entry of the table).
+  const PairParams& pairOf(std::size_t i, std::size_t j) const {
+    return pairs[static_cast<std::size_t>(s[i]) * static_cast<std::size_t>(species_count) + static_cast<std::size_t>(s[j])];
+  }
 };
 
 // Builds the particles (blocks, explicit particles), emitters, pair table and surfaces. Block

@@ -31,10 +31,9 @@ constexpr double kSprayBelow = 0.1, kBubbleAbove = 0.75;
 
 double trappedAir(const Fluid& fl, std::size_t i) {
   double ta = 0;
-  const auto S = static_cast<std::size_t>(fl.species_count);
   for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e) {
     const auto j = static_cast<std::size_t>(fl.nbr[e]);
-    const double cutoff = fl.pairs[static_cast<std::size_t>(fl.s[i]) * S + static_cast<std::size_t>(fl.s[j])].cutoff;
+    const double cutoff = fl.pairOf(i, j).cutoff;
     const Vec3 xij = fl.x[i] - fl.x[j], vij = fl.v[i] - fl.v[j];
     const double r = xij.norm(), u = vij.norm();
     if (!(r < cutoff) || !(r > 0) || !(u > 0)) continue;
@@ -58,7 +57,6 @@ void stepDiffuse(Fluid& fl, const Vec3& gravity, double t1) {
   const double spacing = fl.packed_spacing;
   const double bulk = kPi * c * c * c / (3.0 * spacing * spacing * spacing);  // ∫W dV / spacing³
   const std::size_t m = fl.diffuse_x.size();
-  fl.diffuse_kind.resize(m);
   parallelFor(static_cast<std::ptrdiff_t>(m), [&](std::ptrdiff_t kk) {
     const auto k = static_cast<std::size_t>(kk);
     Vec3& x = fl.diffuse_x[k];
@@ -96,23 +94,21 @@ void stepDiffuse(Fluid& fl, const Vec3& gravity, double t1) {
   });
   // Those at the end of their life, or gone astray (as a restored state is checked), leave; the
   // rest keep their order.
-  std::size_t kept = 0;
-  for (std::size_t k = 0; k < m; ++k) {
-    if (!(fl.diffuse_life[k] > 0) || !(fl.diffuse_x[k].squaredNorm() <= kRunawayDistance * kRunawayDistance) ||
-        !(fl.diffuse_v[k].squaredNorm() <= kRunawaySpeed * kRunawaySpeed))
-      continue;
-    fl.diffuse_x[kept] = fl.diffuse_x[k];
-    fl.diffuse_v[kept] = fl.diffuse_v[k];
-    fl.diffuse_life[kept] = fl.diffuse_life[k];
-    fl.diffuse_kind[kept] = fl.diffuse_kind[k];
-    fl.diffuse_id[kept] = fl.diffuse_id[k];
-    ++kept;
-  }
-  fl.diffuse_x.resize(kept);
-  fl.diffuse_v.resize(kept);
-  fl.diffuse_life.resize(kept);
-  fl.diffuse_kind.resize(kept);
-  fl.diffuse_id.resize(kept);
+  std::vector<std::uint8_t> keep(m);
+  for (std::size_t k = 0; k < m; ++k)
+    keep[k] = fl.diffuse_life[k] > 0 && fl.diffuse_x[k].squaredNorm() <= kRunawayDistance * kRunawayDistance &&
+              fl.diffuse_v[k].squaredNorm() <= kRunawaySpeed * kRunawaySpeed;
+  auto compact = [&](auto& a) {
+    std::size_t w = 0;
+    for (std::size_t k = 0; k < m; ++k)
+      if (keep[k]) a[w++] = a[k];
+    a.resize(w);
+  };
+  compact(fl.diffuse_x);
+  compact(fl.diffuse_v);
+  compact(fl.diffuse_life);
+  compact(fl.diffuse_kind);
+  compact(fl.diffuse_id);
   if (!listed || n == 0) return;
   // 2. Seeding: each particle's rate from its speed and trapped air (in parallel, each its own),
   // then the new ones in slot order, each drawing its random numbers by its serial number.

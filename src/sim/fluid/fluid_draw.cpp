@@ -19,11 +19,6 @@ namespace reel {
 
 namespace {
 
-// The force parameters between particles i and j (their species' pair).
-const PairParams& pairOf(const Fluid& fl, std::size_t i, std::size_t j) {
-  return fl.pairs[static_cast<std::size_t>(fl.s[i]) * static_cast<std::size_t>(fl.species_count) + static_cast<std::size_t>(fl.s[j])];
-}
-
 // Each particle's look: its species' value (colour, clarity) blended with its neighbours' (weights
 // (1 − r/c)² inside the pair cutoff), so where species mix their colours mix, and a pure region
 // keeps its own.
@@ -40,7 +35,7 @@ std::vector<T> blended(const Fluid& fl, const std::vector<T>& of_species) {
     if (S > 1 && listed)
       for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e) {
         const auto j = static_cast<std::size_t>(fl.nbr[e]);
-        const PairParams& p = pairOf(fl, i, j);
+        const PairParams& p = fl.pairOf(i, j);
         const double r = (fl.x[i] - fl.x[j]).norm();
         if (r >= p.cutoff) continue;
         const double w = (1.0 - r / p.cutoff) * (1.0 - r / p.cutoff);
@@ -209,7 +204,7 @@ void FluidBody::draw(DrawList& out) const {
     if (listed)
       for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1] && near < 2; ++e) {
         const auto j = static_cast<std::size_t>(fl.nbr[e]);
-        near += (fl.x[i] - fl.x[j]).norm() < pairOf(fl, i, j).cutoff ? 1 : 0;
+        near += (fl.x[i] - fl.x[j]).norm() < fl.pairOf(i, j).cutoff ? 1 : 0;
       }
     if (!listed || near >= 2)
       add(balls[species(i)], i, fl.x[i]);
