@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
-"""Writes scenes/face.json: the muscle-driven face (docs/face.md).
+"""Writes scenes/face.json: the muscle-driven face (docs/face.md), a three-quarter close-up.
 
-  0-2 s      the head, turned away, turns to the camera; the eyes lead it;
-  2-12.8 s   the six universal expressions, one after another, with blinks: happiness, surprise,
-             sadness, anger, disgust, fear;
-  12.8-15 s  a cut to a three-quarter view in layers mode: the lattice, the skull and the muscles
-             (yellow relaxed, red contracted) as the face smiles again.
+  0-2 s        the head, turned away, turns to the camera; the eyes lead it;
+  2-11.6 s     the six universal expressions, one after another, the head moving a little, the
+               eyes looking about between them, with blinks: happiness, surprise, sadness,
+               anger, disgust, fear;
+  11.6-15.2 s  a spoken line's mouth shapes (visemes), the head nodding with it;
+  15.2-18 s    a cut to the other side in layers mode: the lattice, the skull and the muscles
+               (yellow relaxed, red contracted) as the face smiles again.
 Run from the repository root: python3 scripts/make_face_scene.py
 """
 import json
@@ -15,54 +17,86 @@ from make_rigid_scenes import write_scene
 FPS = 30
 HALF = 0.5 / FPS  # a cut: the camera's keys held to half a frame either side
 EXPRESSIONS = ["happiness", "surprise", "sadness", "anger", "disgust", "fear"]
-START, EACH = 2.0, 1.8  # s: the first expression's start, and each one's length
+START, EACH = 2.0, 1.6  # s: the first expression's start, and each one's length
+SPEECH = START + EACH * len(EXPRESSIONS)  # 11.6 s
+# "Oh, hello. Well, who'd have thought?" as visemes (time after SPEECH, s).
+LINE = [(0.0, "rest"), (0.15, "oh"), (0.42, "rest"), (0.62, "th"), (0.78, "ee"), (0.92, "th"), (1.06, "oh"),
+        (1.35, "rest"), (1.6, "oo"), (1.78, "ee"), (1.92, "th"), (2.12, "oo"), (2.3, "th"), (2.5, "fv"),
+        (2.64, "aa"), (2.82, "th"), (3.0, "aa"), (3.2, "th"), (3.4, "rest")]
+CUT = SPEECH + 3.6  # 15.2 s
+END = CUT + 2.8
 
 
 def activations():
     keys = [{"time": 0.0, "preset": "happiness", "amount": 0.0}]
     for i, name in enumerate(EXPRESSIONS):
         t0 = START + EACH * i
-        keys.append({"time": round(t0 + 0.55, 3), "preset": name, "amount": 1.0})
-        keys.append({"time": round(t0 + 1.25, 3), "preset": name, "amount": 1.0})
+        keys.append({"time": round(t0 + 0.45, 3), "preset": name, "amount": 1.0})
+        keys.append({"time": round(t0 + 1.15, 3), "preset": name, "amount": 1.0})
         keys.append({"time": round(t0 + EACH, 3), "preset": name, "amount": 0.0})
-    t = START + EACH * len(EXPRESSIONS)
-    keys.append({"time": round(t + 0.7, 3), "preset": "happiness", "amount": 1.0})
+    # A faint smile while speaking, then the smile of the layers view.
+    keys.append({"time": round(SPEECH + 0.3, 3), "preset": "happiness", "amount": 0.25})
+    keys.append({"time": round(CUT - 0.2, 3), "preset": "happiness", "amount": 0.3})
+    keys.append({"time": round(CUT + 0.9, 3), "preset": "happiness", "amount": 1.0})
     return keys
 
 
+def head_keys():
+    # Turned away, then toward the camera; small turns and nods while it emotes and speaks.
+    keys = [(0.0, [6, -58, 0]), (0.3, [6, -58, 0]), (1.8, [0, 12, 0])]
+    sway = [[-2, 16, 1], [3, 9, -2], [-1, 15, 2], [2, 10, 0], [-2, 14, -1], [1, 11, 1]]
+    for i, rot in enumerate(sway):
+        keys.append((START + EACH * i + 0.8, rot))
+    keys += [(SPEECH + 0.5, [3, 14, 0]), (SPEECH + 1.3, [-2, 10, -2]), (SPEECH + 2.2, [4, 15, 1]),
+             (SPEECH + 3.2, [0, 12, 0]), (CUT, [0, 12, 0]), (END, [-3, 20, 0])]
+    return [{"time": round(t, 3), "rotation_deg": r} for t, r in keys]
+
+
+def gaze_keys(camera):
+    # The eyes lead the turn, hold the camera, glance away between expressions and while speaking.
+    keys = [(0.0, [-0.3, 0.0, 0.3]), (0.8, camera)]
+    for i in range(len(EXPRESSIONS)):
+        t0 = START + EACH * i
+        keys += [(t0 + 1.2, camera), (t0 + 1.35, [0.15 * (-1) ** i, 0.05 - 0.08 * (i % 3 == 1), 0.4]), (t0 + 1.55, camera)]
+    keys += [(SPEECH + 1.3, camera), (SPEECH + 1.45, [-0.12, 0.08, 0.4]), (SPEECH + 2.0, [-0.12, 0.08, 0.4]),
+             (SPEECH + 2.15, camera), (END, camera)]
+    return [{"time": round(t, 3), "target": p} for t, p in keys]
+
+
 def main():
-    front = ([0.0, 0.0, 0.5], [0.0, -0.002, 0.0])
-    three_quarter = ([0.31, 0.03, 0.37], [0.0, 0.0, 0.0])
-    cut = START + EACH * len(EXPRESSIONS)
+    close = ([0.17, 0.01, 0.5], [0.0, -0.03, 0.0])
+    close_end = ([0.14, 0.005, 0.47], [0.0, -0.03, 0.0])
+    layers = ([-0.3, 0.04, 0.36], [0.0, -0.005, 0.0])
     scene = {
-        "format": "reel/1", "name": "face", "duration": 15.0, "fps": FPS, "substeps": 2,
+        "format": "reel/1", "name": "face", "duration": round(END, 3), "fps": FPS, "substeps": 2,
         "integrator": "implicit_euler", "implicit": {"cg_tolerance": 1e-3},
         "render": {"width": 1280, "height": 720, "samples": 4,
-                   "background": {"top": [0.16, 0.19, 0.24], "bottom": [0.05, 0.055, 0.07]}},
-        "camera": {"position": front[0], "target": front[1], "fov_deg": 30,
-                   "keys": [{"time": 0, "position": front[0], "target": front[1]},
-                            {"time": round(cut - HALF, 4), "position": front[0], "target": front[1]},
-                            {"time": round(cut + HALF, 4), "position": three_quarter[0], "target": three_quarter[1]},
-                            {"time": 15.0, "position": [0.34, 0.04, 0.32], "target": three_quarter[1]}]},
-        "lights": [{"type": "directional", "direction": [-0.5, -0.45, -1.0], "color": [1.0, 0.95, 0.88],
-                    "intensity": 1.25, "shadows": True},
-                   {"type": "directional", "direction": [0.8, -0.1, -0.6], "color": [0.6, 0.7, 0.9], "intensity": 0.35},
-                   {"type": "ambient", "color": [0.55, 0.58, 0.65], "intensity": 0.45}],
+                   "background": {"top": [0.13, 0.15, 0.19], "bottom": [0.035, 0.04, 0.05]}},
+        "camera": {"position": close[0], "target": close[1], "fov_deg": 30,
+                   "keys": [{"time": 0, "position": close[0], "target": close[1]},
+                            {"time": round(CUT - HALF, 4), "position": close_end[0], "target": close_end[1]},
+                            {"time": round(CUT + HALF, 4), "position": layers[0], "target": layers[1]},
+                            {"time": round(END, 3), "position": [-0.27, 0.05, 0.33], "target": layers[1]}]},
+        # Short lighting: the key from the far side of the face, a cool fill from the camera's
+        # side, and a rim from behind that lifts the head off the background.
+        "lights": [{"type": "directional", "direction": [0.55, -0.45, -0.75], "color": [1.0, 0.93, 0.84],
+                    "intensity": 1.5, "shadows": True},
+                   {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.6, 0.7, 0.9], "intensity": 0.35},
+                   {"type": "directional", "direction": [-0.3, -0.5, 0.9], "color": [0.9, 0.9, 1.0], "intensity": 0.9},
+                   {"type": "ambient", "color": [0.55, 0.58, 0.65], "intensity": 0.35}],
         "bodies": [{
             "type": "face", "name": "face",
-            "keys": [{"time": 0.0, "rotation_deg": [4, 62, 0]}, {"time": 0.3, "rotation_deg": [4, 62, 0]},
-                     {"time": 1.9, "rotation_deg": [0, 0, 0]}, {"time": cut, "rotation_deg": [0, 0, 0]},
-                     {"time": 15.0, "rotation_deg": [-3, 8, 0]}],
-            "gaze": [{"time": 0.0, "target": [0.25, 0.0, 0.4]}, {"time": 0.9, "target": front[0]},
-                     {"time": 15.0, "target": front[0]}],
-            "blinks": [1.15, 4.7, 8.4, 11.2, 14.2],
+            "keys": head_keys(),
+            "gaze": gaze_keys(close[0]),
+            "blinks": [1.0, 3.3, 6.1, 8.9, 11.9, 13.9, 16.4],
             "activations": activations(),
-            "draw": [{"time": 0, "mode": "skin"}, {"time": cut, "mode": "layers"}],
+            "visemes": [{"time": round(SPEECH + t, 3), "viseme": v} for t, v in LINE],
+            "draw": [{"time": 0, "mode": "skin"}, {"time": round(CUT, 3), "mode": "layers"}],
         }],
     }
-    header = ("// The muscle-driven face (Terzopoulos & Waters 1990; Lee, Terzopoulos & Waters 1995): the head turns\n"
-              "// to the camera, runs through Ekman's six expressions with blinks, then shows its layers and muscles.\n"
-              "// Made by scripts/make_face_scene.py. Docs: docs/face.md\n")
+    header = ("// The muscle-driven face (Terzopoulos & Waters 1990; Lee, Terzopoulos & Waters 1995) in a three-quarter\n"
+              "// close-up: the head turns to the camera, runs through Ekman's six expressions, says a line, then shows\n"
+              "// its layers and muscles. Made by scripts/make_face_scene.py. Docs: docs/face.md\n")
     write_scene("scenes/face.json", header, scene)
 
 

@@ -70,6 +70,22 @@ struct FaceDrawKey {
   bool layers = false;
 };
 
+// reel's head's looks: sex 0 (female) .. 1 (male): brow ridge, jaw, chin, nose, lips; age (years,
+// 18..90): the folds beside the nose and under the eyes, the skin, greying hair; build 0 (lean) ..
+// 1 (heavy): cheeks, jaw, neck.
+struct FaceLook {
+  double sex = 0.5, age = 35.0, build = 0.5;
+};
+
+// A mouth shape of speech (a viseme) at one time: the lips and jaw reach it at `time` and blend
+// linearly to the next key; "rest" is none.
+struct FaceVisemeKey {
+  double time = 0.0;  // s
+  std::string viseme;
+  double amount = 1.0;
+  std::string path;
+};
+
 struct FaceDesc final : BodyParams {
   // The surface: reel's own head (no `mesh`), or a user's closed mesh with its `skull` mesh or an
   // `inset` distance (m) to the bone.
@@ -96,6 +112,8 @@ struct FaceDesc final : BodyParams {
   std::vector<FaceMuscleDesc> muscles;
   std::vector<FaceActivationKey> activations;
   std::vector<double> blinks;      // s, times at which a blink starts (0.25 s each)
+  std::vector<FaceVisemeKey> visemes;  // speech: mouth shapes over time, on top of the activations
+  FaceLook look;                   // reel's head
   std::vector<FaceGazeKey> gaze;   // none: the eyes look straight ahead
   std::vector<FaceDrawKey> draw;   // none: skin
   Vec3 iris_color{0.12, 0.22, 0.35};  // linear rgb
@@ -111,27 +129,50 @@ struct FaceDesc final : BodyParams {
 // The controls activations may name besides muscles: the jaw's opening and the eyelids.
 inline constexpr std::array<const char*, 3> kFaceControls = {"jaw_open", "blink", "eyelid_raise"};
 // reel's head's muscles: these in pairs (`_left`, `_right`; left is +x) ...
-inline constexpr std::array<const char*, 8> kFacePairedMuscles = {
+inline constexpr std::array<const char*, 9> kFacePairedMuscles = {
     "zygomatic_major", "zygomatic_minor", "levator_labii", "depressor_anguli_oris",
-    "frontalis_inner", "frontalis_outer", "corrugator", "orbicularis_oculi"};
+    "frontalis_inner", "frontalis_outer", "corrugator", "orbicularis_oculi", "risorius"};
 // ... and these on the midline.
 inline constexpr std::array<const char*, 2> kFaceMidlineMuscles = {"orbicularis_oris", "mentalis"};
 
 // An expression preset: controls (paired muscles by their name without side) and their amounts
-// at full expression. Ekman's six universal expressions, by the muscles FACS gives for them
-// (Ekman & Friesen 1978), and a blink.
+// at full expression. Ekman's six universal expressions, by the action units FACS gives for them
+// (Ekman & Friesen 1978; Ekman, Friesen & Hager 2002), each unit by the muscle that makes it:
+// AU1 frontalis inner, AU2 frontalis outer, AU4 corrugator, AU5 eyelid raise, AU6 and AU7
+// orbicularis oculi, AU9 and AU10 levator labii, AU12 zygomatic major, AU15 depressor anguli oris,
+// AU17 mentalis, AU20 risorius, AU23 and AU24 orbicularis oris, AU26 jaw open. And a blink.
 struct FacePreset {
   const char* name;
   std::array<std::pair<const char*, double>, 7> controls;  // unused slots: nullptr
 };
 inline constexpr std::array<FacePreset, 7> kFacePresets = {{
-    {"happiness", {{{"zygomatic_major", 1.0}, {"zygomatic_minor", 0.4}, {"orbicularis_oculi", 0.35}, {"jaw_open", 0.12}}}},
-    {"sadness", {{{"frontalis_inner", 0.9}, {"corrugator", 0.45}, {"depressor_anguli_oris", 1.0}, {"mentalis", 0.6}}}},
-    {"surprise", {{{"frontalis_inner", 1.0}, {"frontalis_outer", 1.0}, {"jaw_open", 0.75}, {"eyelid_raise", 1.0}}}},
-    {"anger", {{{"corrugator", 1.0}, {"orbicularis_oris", 0.8}, {"orbicularis_oculi", 0.4}, {"levator_labii", 0.3}, {"mentalis", 0.4}}}},
-    {"disgust", {{{"levator_labii", 1.0}, {"corrugator", 0.5}, {"depressor_anguli_oris", 0.4}, {"orbicularis_oculi", 0.35}, {"mentalis", 0.6}}}},
-    {"fear", {{{"frontalis_inner", 1.0}, {"frontalis_outer", 0.5}, {"corrugator", 0.5}, {"eyelid_raise", 1.0}, {"depressor_anguli_oris", 0.6}, {"jaw_open", 0.3}}}},
+    // AU6 + AU12 (+ AU25/26)
+    {"happiness", {{{"zygomatic_major", 1.0}, {"zygomatic_minor", 0.35}, {"orbicularis_oculi", 0.55}, {"jaw_open", 0.2}, {"risorius", 0.2}}}},
+    // AU1 + AU4 + AU15 (+ AU17)
+    {"sadness", {{{"frontalis_inner", 1.0}, {"corrugator", 0.6}, {"depressor_anguli_oris", 1.0}, {"mentalis", 0.5}, {"orbicularis_oculi", 0.15}}}},
+    // AU1 + AU2 + AU5 + AU26
+    {"surprise", {{{"frontalis_inner", 1.0}, {"frontalis_outer", 1.0}, {"jaw_open", 0.8}, {"eyelid_raise", 1.0}}}},
+    // AU4 + AU5 + AU7 + AU23 (+ AU17)
+    {"anger", {{{"corrugator", 1.0}, {"eyelid_raise", 0.45}, {"orbicularis_oculi", 0.5}, {"orbicularis_oris", 0.9}, {"mentalis", 0.5}, {"levator_labii", 0.2}}}},
+    // AU9 + AU10 + AU15 (+ AU17)
+    {"disgust", {{{"levator_labii", 1.0}, {"corrugator", 0.45}, {"depressor_anguli_oris", 0.5}, {"orbicularis_oculi", 0.45}, {"mentalis", 0.5}}}},
+    // AU1 + AU2 + AU4 + AU5 + AU20 + AU26
+    {"fear", {{{"frontalis_inner", 1.0}, {"frontalis_outer", 0.6}, {"corrugator", 0.6}, {"eyelid_raise", 1.0}, {"risorius", 1.0}, {"jaw_open", 0.35}}}},
     {"blink", {{{"blink", 1.0}}}},
+}};
+
+// Visemes: the mouth's shapes of speech (the lips and the jaw), after the viseme classes of
+// MPEG-4 facial animation (ISO/IEC 14496-2, 1999): "aa" (father), "ee" (see), "oo" (you, w),
+// "oh" (go), "mbp" (lips closed and pressed), "fv" (lower lip to the upper teeth), "th" (the,
+// l, n: tongue-tip sounds, jaw a little open); "rest" is none.
+inline constexpr std::array<FacePreset, 7> kFaceVisemes = {{
+    {"aa", {{{"jaw_open", 0.65}, {"zygomatic_minor", 0.15}}}},
+    {"ee", {{{"risorius", 0.8}, {"zygomatic_major", 0.3}, {"jaw_open", 0.18}}}},
+    {"oo", {{{"orbicularis_oris", 1.0}, {"jaw_open", 0.18}}}},
+    {"oh", {{{"orbicularis_oris", 0.65}, {"jaw_open", 0.45}}}},
+    {"mbp", {{{"mentalis", 0.6}, {"orbicularis_oris", 0.35}}}},
+    {"fv", {{{"mentalis", 0.8}, {"levator_labii", 0.3}, {"jaw_open", 0.06}}}},
+    {"th", {{{"jaw_open", 0.3}, {"risorius", 0.2}}}},
 }};
 
 }  // namespace reel

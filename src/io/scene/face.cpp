@@ -183,6 +183,24 @@ void readFace(Obj& o, FaceDesc& f) {
     }
   }
   if (auto c = o.vec3("iris_color", Range::closed(0.0, 1.0))) f.iris_color = *c;
+  f.look.sex = o.number("sex", f.look.sex, Range::closed(0.0, 1.0));
+  f.look.age = o.number("age", f.look.age, Range::closed(18.0, 90.0));
+  f.look.build = o.number("build", f.look.build, Range::closed(0.0, 1.0));
+  readList(o, "visemes", [&](Obj& vo) {
+    FaceVisemeKey v;
+    v.path = vo.path();
+    v.time = vo.number("time", kTimes, true).value_or(0.0);
+    v.viseme = vo.string("viseme", true).value_or("rest");
+    v.amount = vo.number("amount", 1.0, kUnit);
+    std::vector<std::string> names{"rest"};
+    for (const FacePreset& fp : kFaceVisemes) names.emplace_back(fp.name);
+    if (std::find(names.begin(), names.end(), v.viseme) == names.end()) {
+      const std::string near = nearest(v.viseme, names);
+      d.error(childPath(vo.path(), "viseme"), "unknown viseme \"" + v.viseme + "\"" + (near.empty() ? "" : " (did you mean \"" + near + "\"?)"));
+    }
+    if (!f.visemes.empty() && v.time <= f.visemes.back().time) d.error(childPath(vo.path(), "time"), "keyframe times must increase");
+    f.visemes.push_back(std::move(v));
+  });
 }
 
 }  // namespace

@@ -216,7 +216,7 @@ Status FaceBody::setup(const BodyDesc& desc, const BuildContext& ctx) {
     if (!s) return s.error();
     surface_ = std::move(s.value());
   } else {
-    surface_ = makeHead(desc_.height, desc_.resolution, thickness);
+    surface_ = makeHead(desc_.height, desc_.resolution, thickness, desc_.look);
   }
   MassSpringDesc ms = buildTissue(surface_, desc_, tissue_);
   MassSpringDesc scaled = ms;

@@ -79,6 +79,7 @@ class FaceBody final : public SpringNetworkBody {
   std::vector<double> act_;  // contractions now (controls)
   std::vector<Vec3> ext_;    // muscle and tissue forces, N (nodes)
   std::vector<double> contact_w_;  // 1/kg (nodes) as the contact layer sees them, found at the end of each step
+  mutable std::shared_ptr<const Image> skin_texture_;  // reel's head's skin, made when first drawn
   double t_ = 0.0;           // time of the last pose, s
   Mat3 R_ = Mat3::Identity();
   double jaw_ = 0.0;

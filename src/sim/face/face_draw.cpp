@@ -13,7 +13,8 @@ namespace reel {
 namespace {
 
 // Skin is lit with wrap lighting: light scattered beneath it softens the terminator.
-constexpr double kSkinWrap = 0.35;
+constexpr double kSkinWrap = 0.5;
+
 
 // A unit eye looking along +z: white, an iris and a pupil by the angle from +z.
 std::shared_ptr<const TriMesh> eyeMesh(const Vec3& iris) {
@@ -59,16 +60,42 @@ void FaceBody::drawSkin(DrawList& out) const {
   const auto& x = net_.state.x;
   const auto& tris = surface_.tris;
   auto mesh = smoothMesh(x, 0, n, tris);
-  for (std::size_t k = 0; k < n; ++k)
-    for (int c = 0; c < 3; ++c) mesh->colors.push_back(static_cast<float>(surface_.color[k][c]));
   DrawMesh skin;
-  skin.mesh = std::move(mesh);
-  skin.per_frame = true;
   skin.material = drawMaterial(material_);
   skin.material.wrap = kSkinWrap;
+  if (surface_.generated) {
+    // reel's head: its skin's texture, made once when first drawn.
+    if (!skin_texture_) skin_texture_ = skinTexture(surface_);
+    skin.material.texture = skin_texture_;
+    for (std::size_t k = 0; k < n; ++k) mesh->uvs[2 * k] = surface_.uv[k][0], mesh->uvs[2 * k + 1] = surface_.uv[k][1];
+  } else {
+    for (std::size_t k = 0; k < n; ++k)
+      for (int c = 0; c < 3; ++c) mesh->colors.push_back(static_cast<float>(surface_.color[k][c]));
+  }
+  skin.mesh = std::move(mesh);
+  skin.per_frame = true;
   out.meshes.push_back(std::move(skin));
   if (!surface_.generated) return;
   auto world = [&](const Vec3& q) { return Vec3(desc_.position + R_ * q); };
+  // The ears turn with the skull; the shoulders a third as far (a person turning the head).
+  if (surface_.ears) {
+    auto ears = std::make_shared<TriMesh>(*surface_.ears);
+    ears->transform(R_, desc_.position);
+    DrawMaterial ear = skin.material;
+    ear.texture.reset();
+    ear.double_sided = true;
+    out.meshes.push_back({std::move(ears), true, ear});
+  }
+  if (surface_.bust) {
+    auto bust = std::make_shared<TriMesh>(*surface_.bust);
+    const Mat3 turn = Eigen::Quaterniond::Identity().slerp(1.0 / 3.0, Eigen::Quaterniond(R_)).toRotationMatrix();
+    bust->transform(turn, desc_.position);
+    DrawMaterial wool = plain(Vec3(0.07, 0.1, 0.12), 0.2);
+    wool.roughness = 0.85;
+    wool.sheen = 0.6;
+    wool.double_sided = true;
+    out.meshes.push_back({std::move(bust), true, wool});
+  }
   // The mouth's inside, seen through the parted lips: the skull's surface around the mouth (it
   // turns with the jaw), drawn dark.
   {
@@ -131,38 +158,59 @@ void FaceBody::drawSkin(DrawList& out) const {
     const int i = activations_.index(name);
     return i < 0 ? 0.0 : act_[static_cast<std::size_t>(i)];
   };
+  // The lids' colours: the skin's tone, a shade darker, and the lash line at their edges.
+  const Vec3 lid_tone = 0.93 * Vec3(0.57, 0.36, 0.28), lash_tone(0.025, 0.018, 0.014);
   auto lids = std::make_shared<TriMesh>();
+  auto vertex = [&](const Vec3& p, const Vec3& n, const Vec3& color) {
+    lids->addVertex(world(p), R_ * n);
+    for (int k = 0; k < 3; ++k) lids->colors.push_back(static_cast<float>(color[k]));
+  };
+  auto quads = [&](std::uint32_t base, int rows, int cols) {
+    for (int j = 0; j < rows; ++j)
+      for (int i = 0; i < cols; ++i) {
+        const std::uint32_t a = base + static_cast<std::uint32_t>(j * (cols + 1) + i), b = a + 1, cc = a + cols + 1, d = cc + 1;
+        lids->indices.insert(lids->indices.end(), {a, b, d, a, d, cc});
+      }
+  };
   for (int e = 0; e < 2; ++e) {
     const double squeeze = control(e == 0 ? "orbicularis_oculi_left" : "orbicularis_oculi_right");
     const double closure = std::clamp(std::max(control("blink"), 0.45 * squeeze), 0.0, 1.0);
-    const double open = (30.0 + 14.0 * control("eyelid_raise")) * kPi / 180.0, shut = -40.0 * kPi / 180.0;
+    const double open = (9.0 + 22.0 * control("eyelid_raise")) * kPi / 180.0, shut = -40.0 * kPi / 180.0;
     const double edge = open + closure * (shut - open);
     const Vec3 c = surface_.eye[static_cast<std::size_t>(e)];
     const double r = 1.07 * surface_.eye_radius;
     constexpr int kA = 18, kE = 10;
-    // The upper lid from its edge to the top; the lower lid from the bottom to 24° below the
-    // centre (higher as the orbicularis oculi squeezes).
-    const double low_edge = (-24.0 + 10.0 * squeeze) * kPi / 180.0;
-    for (auto [from, to] : {std::pair{edge, 0.5 * kPi}, std::pair{-0.5 * kPi, low_edge}}) {
-    const auto base = static_cast<std::uint32_t>(lids->vertexCount());
-    for (int j = 0; j <= kE; ++j) {
-      const double el = from + (to - from) * j / kE;
-      for (int i = 0; i <= kA; ++i) {
-        const double az = (-80.0 + 160.0 * i / kA) * kPi / 180.0;
-        const Vec3 d(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
-        lids->addVertex(world(c + r * d), R_ * d);
+    // The upper lid from its edge to the top; the lower lid from its edge, 23° below the centre
+    // (higher as the orbicularis oculi squeezes), to the bottom.
+    const double low_edge = (-23.0 + 16.0 * squeeze) * kPi / 180.0;
+    auto at = [&](double el, double az) { return Vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az)); };
+    auto azimuth = [&](int i) { return (-80.0 + 160.0 * i / kA) * kPi / 180.0; };
+    for (int lower = 0; lower < 2; ++lower) {
+      const double from = lower ? low_edge : edge, to = lower ? -0.5 * kPi : 0.5 * kPi;
+      auto base = static_cast<std::uint32_t>(lids->vertexCount());
+      for (int j = 0; j <= kE; ++j) {
+        const double el = from + (to - from) * j / kE;
+        const double line = j == 0 ? (lower ? 0.35 : 0.85) : 0.0;
+        for (int i = 0; i <= kA; ++i) vertex(c + r * at(el, azimuth(i)), at(el, azimuth(i)), lid_tone + line * (lash_tone - lid_tone));
       }
-    }
-    for (int j = 0; j < kE; ++j)
-      for (int i = 0; i < kA; ++i) {
-        const std::uint32_t a = base + static_cast<std::uint32_t>(j * (kA + 1) + i), b = a + 1, cc = a + kA + 1, d = cc + 1;
-        lids->indices.insert(lids->indices.end(), {a, b, d, a, d, cc});
-      }
+      quads(base, kE, kA);
+      // The lashes: a fringe curving out and away from the eye from the lid's edge, longest
+      // at the middle: a dark line seen from the front (2.6 mm above, 0.8 mm below).
+      base = static_cast<std::uint32_t>(lids->vertexCount());
+      const double length = (lower ? 0.0008 : 0.0026) * surface_.scale;
+      const Vec3 away(0, lower ? -1 : 1, 0);
+      for (int j = 0; j <= 2; ++j)
+        for (int i = 0; i <= kA; ++i) {
+          const double az = azimuth(i), fall = std::max(0.0, 1.0 - std::pow(std::abs(az) / 1.3, 4.0));
+          const Vec3 d = at(from, az), dir = (0.75 * d + 0.65 * away).normalized();
+          const double l = 0.5 * j * length * fall;
+          vertex(c + r * d + l * dir + (0.3 * l * j) * away, dir.cross(Vec3(std::cos(az), 0, -std::sin(az))), lash_tone);
+        }
+      quads(base, 2, kA);
     }
   }
   DrawMaterial lid = drawMaterial(material_);
   lid.wrap = kSkinWrap;
-  lid.color = lid.color.cwiseProduct(0.95 * Vec3(0.62, 0.36, 0.27));  // the skin's tone, a shade darker
   lid.double_sided = true;
   out.meshes.push_back({std::move(lids), true, lid});
 }

@@ -7,21 +7,20 @@
 #include <utility>
 
 #include "core/math.h"
+#include "sim/face/head_shape.h"
 #include "sim/geometry.h"
 
 namespace reel {
 namespace {
+
+// The skin texture's padding: the share of its width beyond the midline, of its height at each end.
+constexpr double kSkinPadU = 0.15, kSkinPadV = 0.02;
 
 double sq(double x) { return x * x; }
 
 double smoothstep(double e0, double e1, double x) {
   const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
   return t * t * (3 - 2 * t);
-}
-
-double gauss(double x, double y, double x0, double y0, double sx, double sy) {
-  const double u = (x - x0) / sx, v = (y - y0) / sy;
-  return std::exp(-0.5 * (u * u + v * v));
 }
 
 // n + 1 angles from a0 to a1 whose spacing follows 1 / density: equal steps of the density's
@@ -52,109 +51,66 @@ double bump(double a, double c, double w) {
   return d >= 1 ? 0.0 : 0.5 * (1 + std::cos(kPi * d));
 }
 
-// The head at height 0.24 m before its features: an ellipsoid narrowing toward the jaw, joined
-// smoothly to a neck (a capped elliptic cylinder). Negative inside.
-double baseShape(const Vec3& p) {
-  const double x = p.x(), y = p.y(), z = p.z();
-  const double narrow = 1.0 - 0.16 * smoothstep(0.0, -0.1, y) - 0.03 * smoothstep(0.04, 0.11, y);
-  const double az = z > 0 ? 0.094 : 0.102;
-  const double head = std::sqrt(sq(x / (0.074 * narrow)) + sq(y / 0.112) + sq(z / az)) - 1.0;
-  const double cyl = std::sqrt(sq(x / 0.044) + sq((z + 0.018) / 0.048)) - 1.0;
-  const double neck = std::max({cyl, (y + 0.03) / 0.05, (-y - 0.24) / 0.05});  // capped at y = −0.03 and −0.24
-  // Smooth minimum: the union with a fillet under the jaw.
-  const double k = 0.08;
-  const double h = std::clamp(0.5 + 0.5 * (neck - head) / k, 0.0, 1.0);
-  return neck * (1 - h) + head * h - k * h * (1 - h);
-}
+Vec3 direction(double th, double ph) { return Vec3(std::sin(th) * std::sin(ph), std::cos(th), std::sin(th) * std::cos(ph)); }
 
-// Where the ray from the centre along unit d leaves the base shape, m (bisection).
-double baseRadius(const Vec3& d) {
-  double lo = 1e-3, hi = 0.6;
-  for (int it = 0; it < 48; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (baseShape(mid * d) < 0 ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
-}
-
-constexpr double kMouthY = -0.058, kMouthHalf = 0.022, kEyeX = 0.032, kEyeY = 0.012;
-
-// The features as displacements along the ray, m, from the base point p (height 0.24), its
-// direction d and the mouth's height ym: the skull's (brow ridge, eye sockets, cheekbones, chin,
-// ears) and the soft tissue's (nose, lips and the grooves between them), which only the skin has.
-struct Features {
-  double bone = 0.0, soft = 0.0;
-};
-
-Features features(const Vec3& p, const Vec3& d, double ym) {
-  const double X = p.x(), Y = p.y();
-  const double front = smoothstep(0.15, 0.7, d.z());
-  Features f;
-  for (double s : {-1.0, 1.0}) {
-    f.bone += 0.007 * gauss(X, Y, s * 0.03, 0.033, 0.022, 0.008);      // brow ridge
-    f.bone -= 0.017 * gauss(X, Y, s * kEyeX, kEyeY, 0.015, 0.009);    // eye socket
-    f.bone += 0.006 * gauss(X, Y, s * 0.046, -0.008, 0.015, 0.012);   // cheekbone
-    f.soft += 0.006 * gauss(X, Y, s * 0.012, -0.029, 0.006, 0.006);   // nostril wing
-  }
-  // Nose: the bridge down from the brows to the tip.
-  const double along = smoothstep(0.026, 0.0, Y) * smoothstep(-0.042, -0.022, Y);
-  f.soft += (0.004 + 0.012 * smoothstep(0.02, -0.02, Y)) * std::exp(-0.5 * sq(X / 0.0075)) * along;
-  f.soft += 0.008 * gauss(X, Y, 0, -0.023, 0.009, 0.008);
-  // Lips, the parting between them, the dip below; the chin.
-  f.soft += 0.0065 * gauss(X, Y, 0, ym + 0.0065, 0.018, 0.0048);
-  f.soft += 0.0065 * gauss(X, Y, 0, ym - 0.0075, 0.016, 0.0052);
-  f.soft -= 0.0025 * gauss(X, Y, 0, ym, 0.024, 0.0016);
-  f.soft -= 0.003 * gauss(X, Y, 0, ym - 0.019, 0.016, 0.004);
-  f.bone += 0.009 * gauss(X, Y, 0, -0.098, 0.02, 0.013);
-  f.bone += 0.011 * gauss(X, Y, 0, ym + 0.004, 0.028, 0.022);  // the teeth's arch under the lips
-  f.bone *= front;
-  f.soft *= front;
-  // Ears, on the sides.
-  const double side = std::pow(std::abs(d.x()), 6.0);
-  f.bone += 0.013 * side * std::exp(-0.5 * sq((Y - 0.004) / 0.02)) * std::exp(-0.5 * sq((p.z() + 0.01) / 0.02));
-  return f;
+// The value of `a` (sampled at integer indices) at fractional index f.
+double atIndex(const std::vector<double>& a, double f) {
+  const double c = std::clamp(f, 0.0, static_cast<double>(a.size() - 1));
+  const auto i = std::min(static_cast<std::size_t>(c), a.size() - 2);
+  return a[i] + (c - static_cast<double>(i)) * (a[i + 1] - a[i]);
 }
 
 }  // namespace
 
-FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickness) {
+FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickness, const FaceLook& look) {
+  using head::baseRadius;
+  using head::features;
   const int C = resolution[0] + resolution[0] % 2;  // even: the midline is a column, the face symmetric
   const int R = resolution[1];
   const double s = height / 0.24;
   FaceSurface out;
   out.generated = true;
   out.scale = s;
+  out.look = look;
   // Rows (polar angle from the crown) and columns (azimuth from the front), denser on the face.
-  const std::vector<double> theta = warped(R, 0.0, kPi, [](double a) {
-    return 1.0 + 2.2 * bump(a, 1.72, 0.95) - 0.6 * smoothstep(2.6, 2.9, a);
+  out.theta = warped(R, 0.0, kPi, [](double a) {
+    return 1.0 + 2.4 * bump(a, 1.8, 0.95) - 0.6 * smoothstep(2.65, 2.95, a);
   });
-  const std::vector<double> phi = warped(C, -kPi, kPi, [](double a) { return 1.0 + 2.2 * bump(a, 0.0, 1.45); });
-  auto dir = [](double th, double ph) { return Vec3(std::sin(th) * std::sin(ph), std::cos(th), std::sin(th) * std::cos(ph)); };
+  out.phi = warped(C, -kPi, kPi, [](double a) { return 1.0 + 2.2 * bump(a, 0.0, 1.45); });
+  const std::vector<double>&theta = out.theta, &phi = out.phi;
+  auto dir = [&](int j, int i) { return direction(theta[static_cast<std::size_t>(j)], phi[static_cast<std::size_t>(i)]); };
   // The mouth's row: the ring whose front is nearest the mouth's height.
+  auto frontY = [&](int j) { return baseRadius(dir(j, C / 2), look) * dir(j, C / 2).y(); };
   int jm = 1;
-  for (int j = 1; j < R; ++j) {
-    const double y = baseRadius(dir(theta[static_cast<std::size_t>(j)], 0.0)) * std::cos(theta[static_cast<std::size_t>(j)]);
-    const double yb = baseRadius(dir(theta[static_cast<std::size_t>(jm)], 0.0)) * std::cos(theta[static_cast<std::size_t>(jm)]);
-    if (std::abs(y - kMouthY) < std::abs(yb - kMouthY)) jm = j;
-  }
-  const double ym = baseRadius(dir(theta[static_cast<std::size_t>(jm)], 0.0)) * std::cos(theta[static_cast<std::size_t>(jm)]);
-  const Vec3 skin_tone(0.62, 0.36, 0.27);
+  for (int j = 1; j < R; ++j)
+    if (std::abs(frontY(j) - head::kMouthY) < std::abs(frontY(jm) - head::kMouthY)) jm = j;
+  const double ym = frontY(jm);
+  out.parting_y = ym;
   std::vector<Vec3> base;  // base points, for colours and weights
-  auto add = [&](const Vec3& d) {
-    const double rb = baseRadius(d);
+  auto add = [&](const Vec3& d, float u, float v) {
+    const double rb = baseRadius(d, look);
     const Vec3 p = rb * d;
-    const Features f = features(p, d, ym);
+    const head::Features f = features(p, d, ym, look);
     // The skin takes every feature; the skull its own, the tissue's thickness below (thicker
     // under the nose and lips, which are soft tissue only; never above the skin).
     const double r = rb + f.bone + f.soft;
     out.skin.push_back(s * r * d);
     out.bone.push_back(s * (std::min(rb + f.bone, r) - thickness / s) * d);
+    out.uv.push_back({u, v});
     base.push_back(p);
   };
-  add(Vec3(0, 1, 0));
+  // Texture coordinates: u from the midline (0) to the back (1), the same on both sides, so the
+  // texture has no seam; v from the crown (0) to the neck (1), both along the grid's indices.
+  // The texture's edges are padded (u: the far side of the midline, mirrored; v: the crown's and
+  // the neck's rows held), so its filtering, which wraps around, never mixes the back of the head
+  // into the midline.
+  auto tex = [](double a, double pad) { return static_cast<float>(pad + (1 - 2 * pad) * a); };
+  auto texU = [&](double a) { return static_cast<float>(kSkinPadU + (1 - kSkinPadU) * a); };
+  auto uOf = [&](int i) { return texU(static_cast<double>(std::abs(i - C / 2)) / (C / 2)); };
+  add(Vec3(0, 1, 0), texU(0), tex(0, kSkinPadV));
   for (int j = 1; j < R; ++j)
-    for (int i = 0; i < C; ++i) add(dir(theta[static_cast<std::size_t>(j)], phi[static_cast<std::size_t>(i)]));
-  add(Vec3(0, -1, 0));
+    for (int i = 0; i < C; ++i) add(dir(j, i), uOf(i), tex(static_cast<double>(j) / R, kSkinPadV));
+  add(Vec3(0, -1, 0), texU(0), tex(1, kSkinPadV));
   const auto bottom = static_cast<std::uint32_t>(out.skin.size() - 1);
   auto ring = [&](int j, int i) { return static_cast<std::uint32_t>(1 + (j - 1) * C + ((i % C) + C) % C); };
   // The lips' parting: the mouth row's vertices between the corners get a copy for the lower lip.
@@ -162,11 +118,12 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
   out.lower_lip = out.skin.size();
   for (int i = 0; i < C; ++i) {
     const Vec3& p = base[ring(jm, i)];
-    if (p.z() > 0 && std::abs(p.x()) < kMouthHalf) {
+    if (p.z() > 0 && std::abs(p.x()) < head::kMouthHalf) {
       // The corners (the first column outside on each side) stay shared.
       lower[ring(jm, i)] = static_cast<std::uint32_t>(out.skin.size());
       out.skin.push_back(out.skin[ring(jm, i)]);
       out.bone.push_back(out.bone[ring(jm, i)]);
+      out.uv.push_back(out.uv[ring(jm, i)]);
       base.push_back(p);
     }
   }
@@ -191,7 +148,8 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
       }
     }
   for (int i = 0; i < C; ++i) tri(bottom, ring(R - 1, i + 1), ring(R - 1, i));
-  // Colours: skin, lips, brows, hair; the jaw's share of each bone point.
+  // Colours (drawn as the skin's texture; these stand for it in a plain draw) and the jaw's share
+  // of each bone point.
   const std::size_t n = out.skin.size();
   out.color.resize(n);
   out.jaw.resize(n);
@@ -199,41 +157,67 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
     const Vec3& p = base[k];
     const Vec3 d = p.normalized();
     const double X = p.x(), Y = p.y();
-    const double front = smoothstep(0.15, 0.7, d.z());
-    const double lips = front * std::max(gauss(X, Y, 0, ym + 0.005, 0.019, 0.005), gauss(X, Y, 0, ym - 0.007, 0.017, 0.006));
-    double brows = 0.0;
-    for (double sx : {-1.0, 1.0}) brows = std::max(brows, front * gauss(X, Y, sx * 0.03, 0.037, 0.014, 0.0035));
-    const double hairline = 0.072 * smoothstep(-0.3, 0.5, d.z()) + (-0.03) * (1 - smoothstep(-0.3, 0.5, d.z()));
-    const double ears = std::pow(std::abs(d.x()), 6.0) * std::exp(-0.5 * sq((Y - 0.004) / 0.03));
-    const double hair = smoothstep(hairline - 0.012, hairline + 0.012, Y) * (1 - ears);
-    Vec3 c = skin_tone + 0.05 * front * gauss(std::abs(X), Y, 0.045, -0.02, 0.015, 0.012) * Vec3(1, -0.2, -0.2);
-    c = (1 - 0.85 * lips) * c + 0.85 * lips * Vec3(0.5, 0.15, 0.13);
-    c = (1 - 0.8 * brows) * c + 0.8 * brows * Vec3(0.08, 0.05, 0.035);
-    c = (1 - hair) * c + hair * Vec3(0.05, 0.035, 0.025);
-    out.color[k] = c;
+    out.color[k] = head::skinColor(p, d, ym, look);
     // The jaw: everything below the parting at the front, fading to the sides and into the throat.
     const bool lower_lip = k >= bottom + 1;
     double w = std::clamp((ym + 0.012 - Y) / 0.024, 0.0, 1.0);
-    if (std::abs(Y - ym) < 1e-12 && std::abs(X) < kMouthHalf && p.z() > 0) w = lower_lip ? 1.0 : 0.0;
+    if (std::abs(Y - ym) < 1e-12 && std::abs(X) < head::kMouthHalf && p.z() > 0) w = lower_lip ? 1.0 : 0.0;
     w *= smoothstep(-0.05, 0.35, d.z());
-    w *= 1 - smoothstep(-0.105, -0.14, Y);
+    w *= 1 - smoothstep(-0.115, -0.15, Y);
     out.jaw[k] = w;
   }
-  // Eyes: in the sockets, their fronts 7.5 mm out of the skin at the socket's deepest.
-  out.eye_radius = 0.012 * s;
+  // Eyes: in the sockets, their fronts 2.5 mm behind where the face would be without them.
+  out.eye_radius = head::kEyeRadius * s;
   for (int e = 0; e < 2; ++e) {
-    const double x = (e == 0 ? 1 : -1) * kEyeX;
-    const double z = 0.094 * std::sqrt(std::max(0.0, 1 - sq(x / 0.074) - sq(kEyeY / 0.112)));
-    const Vec3 d = Vec3(x, kEyeY, z).normalized();
-    const double rb = baseRadius(d);
-    const Features f = features(rb * d, d, ym);
-    const Vec3 skin = s * (rb + f.bone + f.soft) * d;
-    out.eye[static_cast<std::size_t>(e)] = skin - Vec3(0, 0, out.eye_radius - 0.0075 * s);
+    const double x = (e == 0 ? 1 : -1) * head::kEyeX;
+    Vec3 d = Vec3(x, head::kEyeY, 0.09).normalized();
+    for (int it = 0; it < 4; ++it) {
+      const Vec3 p = baseRadius(d, look) * d;
+      d = Vec3(x, head::kEyeY, p.z()).normalized();
+    }
+    const double z = baseRadius(d, look) * d.z();
+    out.eye[static_cast<std::size_t>(e)] = s * Vec3(x, head::kEyeY, z - 0.0025 - head::kEyeRadius);
   }
   out.mouth = out.skin[ring(jm, C / 2)];  // the midline: column C/2 faces +z
-  out.mouth_width = 2 * kMouthHalf * s;
-  out.jaw_hinge = s * Vec3(0, -0.008, -0.018);
+  out.mouth_width = 2 * head::kMouthHalf * s;
+  out.jaw_hinge = s * Vec3(0, -0.02, -0.015);
+  out.ears = makeEars(s, head::skinColor(Vec3(0.07, -0.012, -0.02), Vec3(1, 0, 0), ym, look));
+  out.bust = makeBust(s, look);
   return out;
+}
+
+std::shared_ptr<const Image> skinTexture(const FaceSurface& s) {
+  const int size = kSkinTexels;
+  auto img = std::make_shared<Image>(size, size);
+  if (!s.generated || s.theta.size() < 2 || s.phi.size() < 3) return img;
+  const int C = static_cast<int>(s.phi.size()) - 1, R = static_cast<int>(s.theta.size()) - 1;
+  // The base radius on a coarse grid over (u, v), interpolated between (it is smooth).
+  constexpr int kCoarse = 96;
+  std::vector<double> radius(static_cast<std::size_t>((kCoarse + 1) * (kCoarse + 1)));
+  auto dirAt = [&](double u, double v) {
+    return direction(atIndex(s.theta, v * R), atIndex(s.phi, 0.5 * C + u * 0.5 * C));
+  };
+  for (int j = 0; j <= kCoarse; ++j)
+    for (int i = 0; i <= kCoarse; ++i)
+      radius[static_cast<std::size_t>(j * (kCoarse + 1) + i)] =
+          head::baseRadius(dirAt(static_cast<double>(i) / kCoarse, static_cast<double>(j) / kCoarse), s.look);
+#pragma omp parallel for schedule(static)
+  for (int y = 0; y < size; ++y) {
+    const double v = std::clamp(((y + 0.5) / size - kSkinPadV) / (1 - 2 * kSkinPadV), 0.0, 1.0);
+    for (int x = 0; x < size; ++x) {
+      const double u = std::min(std::abs(((x + 0.5) / size - kSkinPadU) / (1 - kSkinPadU)), 1.0);
+      const double fu = u * kCoarse, fv = v * kCoarse;
+      const int i = std::min(static_cast<int>(fu), kCoarse - 1), j = std::min(static_cast<int>(fv), kCoarse - 1);
+      const double a = fu - i, b = fv - j;
+      auto R0 = [&](int jj, int ii) { return radius[static_cast<std::size_t>(jj * (kCoarse + 1) + ii)]; };
+      const double rb = (1 - b) * ((1 - a) * R0(j, i) + a * R0(j, i + 1)) + b * ((1 - a) * R0(j + 1, i) + a * R0(j + 1, i + 1));
+      const Vec3 d = dirAt(u, v);
+      const Vec3 c = head::skinColor(rb * d, d, s.parting_y, s.look);
+      std::uint8_t* px = img->pixel(x, y);
+      for (int k = 0; k < 3; ++k) px[k] = linearToSrgb8(c[k]);
+    }
+  }
+  return img;
 }
 
 Result<FaceSurface> userHead(const TriMesh& mesh, const TriMesh* skull, double inset, const std::string& path) {

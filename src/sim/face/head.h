@@ -5,10 +5,12 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/error.h"
+#include "core/image.h"
 #include "core/scene/face.h"
 #include "core/types.h"
 
@@ -29,13 +31,33 @@ struct FaceSurface {
   Vec3 jaw_hinge{0, 0, 0};   // a point on the jaw's axis (along x)
   double scale = 1.0;        // height / 0.24
   std::size_t lower_lip = 0; // the lower lip's copies of the parting's vertices start here (0: none)
+  // reel's head: texture coordinates per vertex (u from the midline to the back, the same on
+  // both sides; v from the crown to the neck), the grid's angles and the parting's height (at
+  // 0.24 m) that the skin's texture is made from, and its looks.
+  std::vector<std::array<float, 2>> uv;
+  std::vector<double> theta, phi;
+  double parting_y = 0.0;
+  FaceLook look;
+  // reel's head: what is drawn but not simulated, in the head's frame: the ears (per-vertex
+  // colours; they turn with the skull) and the shoulders in a sweater (they turn a third as far).
+  std::shared_ptr<const TriMesh> ears, bust;
   std::size_t size() const { return skin.size(); }
 };
 
 // reel's head of `height` (chin to crown) at `resolution` (columns around, rows from crown to
 // neck), its skull `thickness` below the skin: brow, eye sockets, nose, cheekbones, lips parted by
 // a slit the jaw opens, chin, ears, neck.
-FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickness);
+FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickness, const FaceLook& look = {});
+
+// reel's head's skin as a texture over its uv, kSkinTexels a side (about 0.2 mm apart on the
+// face): skin, lips, brows, hair, pores (an empty image for a user's mesh).
+inline constexpr int kSkinTexels = 1024;
+std::shared_ptr<const Image> skinTexture(const FaceSurface& s);
+
+// The ears and the shoulders of reel's head at scale (height / 0.24), in the head's frame
+// (head_parts.cpp).
+std::shared_ptr<const TriMesh> makeEars(double scale, const Vec3& skin);
+std::shared_ptr<const TriMesh> makeBust(double scale, const FaceLook& look);
 
 // A user's closed mesh over its skull mesh (closest points) or an inset along the normals;
 // BadInput naming `path` when the mesh is open or a layer would cross the skull.

@@ -46,13 +46,14 @@ std::vector<FaceMuscleDesc> defaultMuscles(const FaceSurface& s) {
     double ax, ay, ix, iy, strength;
   };
   const Linear linear[] = {
-      {"zygomatic_major", 0.060, 0.004, corner + 0.001, ym, 9.0},
-      {"zygomatic_minor", 0.046, 0.006, 0.013, ym + 0.007, 2.0},
-      {"levator_labii", 0.019, 0.004, 0.009, ym + 0.008, 3.0},
-      {"depressor_anguli_oris", 0.040, ym - 0.040, corner, ym - 0.002, 4.0},
-      {"frontalis_inner", 0.015, 0.100, 0.015, 0.037, 3.0},
-      {"frontalis_outer", 0.046, 0.094, 0.046, 0.035, 3.0},
-      {"corrugator", 0.006, 0.026, 0.030, 0.040, 2.5},
+      {"zygomatic_major", 0.060, -0.012, corner + 0.001, ym, 10.5},
+      {"zygomatic_minor", 0.046, -0.008, 0.013, ym + 0.007, 2.5},
+      {"levator_labii", 0.017, -0.006, 0.009, ym + 0.008, 4.5},
+      {"depressor_anguli_oris", 0.040, ym - 0.040, corner, ym - 0.002, 6.0},
+      {"frontalis_inner", 0.015, 0.088, 0.015, 0.025, 5.0},
+      {"frontalis_outer", 0.046, 0.082, 0.046, 0.023, 4.5},
+      {"corrugator", 0.006, 0.014, 0.030, 0.028, 3.5},
+      {"risorius", 0.064, ym - 0.006, corner, ym - 0.001, 6.0},
   };
   for (const Linear& l : linear)
     for (double side : {1.0, -1.0}) {
@@ -82,7 +83,7 @@ std::vector<FaceMuscleDesc> defaultMuscles(const FaceSurface& s) {
   FaceMuscleDesc mentalis;
   mentalis.name = "mentalis";
   mentalis.attachment = bone(0.0, ym - 0.022);
-  mentalis.insertion = tissue(0.0, ym - 0.042);
+  mentalis.insertion = tissue(0.0, ym - 0.036);
   mentalis.angle_deg = 45;
   mentalis.strength = 4.0 * k * k;
   out.push_back(mentalis);
@@ -181,6 +182,13 @@ void FaceActivations::at(double t, std::vector<double>& out) const {
     for (std::size_t c = 0; c < controls.size(); ++c)
       out[c] = ks.s == 0.0 ? values[ks.i][c] : (1 - ks.s) * values[ks.i][c] + ks.s * values[ks.i + 1][c];
   }
+  if (!speech_times.empty()) {
+    const KeySpan ks = keySpan(speech_times, t, [](double x) { return x; });
+    for (std::size_t c = 0; c < controls.size(); ++c) {
+      const double v = ks.s == 0.0 ? speech[ks.i][c] : (1 - ks.s) * speech[ks.i][c] + ks.s * speech[ks.i + 1][c];
+      out[c] = std::min(1.0, out[c] + v);
+    }
+  }
   const int b = index("blink");
   for (double start : blinks) out[static_cast<std::size_t>(b)] = std::max(out[static_cast<std::size_t>(b)], blinkClosure(t - start));
 }
@@ -225,6 +233,17 @@ Result<FaceActivations> makeActivations(const FaceDesc& desc, const std::vector<
         return bad(key.path + "/muscles/" + control, "unknown muscle or control '" + control + "'");
     A.times.push_back(key.time);
     A.values.push_back(std::move(v));
+  }
+  for (const FaceVisemeKey& key : desc.visemes) {
+    std::vector<double> v(A.controls.size(), 0.0);
+    const auto* p = std::find_if(kFaceVisemes.begin(), kFaceVisemes.end(), [&](const FacePreset& f) { return key.viseme == f.name; });
+    if (p != kFaceVisemes.end())
+      for (const auto& [control, value] : p->controls)
+        if (control && !apply(v, control, key.amount * value, "both"))
+          return bad(key.path, "viseme '" + key.viseme + "' moves '" + control + "', which this face does not have" +
+                                   (desc.default_muscles ? "" : " (its default muscles are off)"));
+    A.speech_times.push_back(key.time);
+    A.speech.push_back(std::move(v));
   }
   return A;
 }

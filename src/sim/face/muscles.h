@@ -47,6 +47,9 @@ struct FaceActivations {
   std::vector<double> times;               // s (keys)
   std::vector<std::vector<double>> values;  // per key, per control
   std::vector<double> blinks;              // s
+  // Speech: the visemes' keys, each control's contraction per key, added to the activations.
+  std::vector<double> speech_times;
+  std::vector<std::vector<double>> speech;
   // The contractions at time t: linear between keys, held outside, blinks on top.
   void at(double t, std::vector<double>& out) const;
   int index(const std::string& control) const;

@@ -1,0 +1,260 @@
+#include "sim/face/head_shape.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <initializer_list>
+#include <vector>
+
+#include "core/math.h"
+
+namespace reel::head {
+namespace {
+
+double sq(double x) { return x * x; }
+
+double smoothstep(double e0, double e1, double x) {
+  const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
+  return t * t * (3 - 2 * t);
+}
+
+double gauss(double x, double y, double x0, double y0, double sx, double sy) {
+  const double u = (x - x0) / sx, v = (y - y0) / sy;
+  return std::exp(-0.5 * (u * u + v * v));
+}
+
+// A smooth curve through points (a, value), a increasing: monotone cubic Hermite interpolation
+// (Fritsch & Carlson 1980), so it never overshoots between its points; held flat outside them.
+class Curve {
+ public:
+  Curve(std::initializer_list<std::array<double, 2>> pts) : p_(pts), m_(p_.size(), 0.0) {
+    const std::size_t n = p_.size();
+    std::vector<double> d(n - 1);
+    for (std::size_t i = 0; i + 1 < n; ++i) d[i] = (p_[i + 1][1] - p_[i][1]) / (p_[i + 1][0] - p_[i][0]);
+    m_[0] = d[0];
+    m_[n - 1] = d[n - 2];
+    for (std::size_t i = 1; i + 1 < n; ++i) m_[i] = d[i - 1] * d[i] <= 0 ? 0.0 : 0.5 * (d[i - 1] + d[i]);
+    for (std::size_t i = 0; i + 1 < n; ++i) {
+      if (d[i] == 0) {
+        m_[i] = m_[i + 1] = 0;
+        continue;
+      }
+      const double a = m_[i] / d[i], b = m_[i + 1] / d[i], r = a * a + b * b;
+      if (r > 9) m_[i] *= 3 / std::sqrt(r), m_[i + 1] *= 3 / std::sqrt(r);
+    }
+  }
+  double operator()(double a) const {
+    if (a <= p_.front()[0]) return p_.front()[1];
+    if (a >= p_.back()[0]) return p_.back()[1];
+    std::size_t i = 0;
+    while (a > p_[i + 1][0]) ++i;
+    const double h = p_[i + 1][0] - p_[i][0], t = (a - p_[i][0]) / h, t2 = t * t, t3 = t2 * t;
+    return (2 * t3 - 3 * t2 + 1) * p_[i][1] + (t3 - 2 * t2 + t) * h * m_[i] + (-2 * t3 + 3 * t2) * p_[i + 1][1] +
+           (t3 - t2) * h * m_[i + 1];
+  }
+
+ private:
+  std::vector<std::array<double, 2>> p_;
+  std::vector<double> m_;
+};
+
+// The sections' profiles against height y: half-width, the front's and the back's depth from the
+// centre (the face's midline before its features). Below the chin they close; above y = 0.03 the
+// crown is a dome.
+const Curve kWidth{{-0.124, 0.0},  {-0.118, 0.016}, {-0.112, 0.028}, {-0.1, 0.042}, {-0.085, 0.054},
+                   {-0.07, 0.06},  {-0.05, 0.066},  {-0.02, 0.071},  {0.0, 0.0735}, {0.03, 0.075}};
+const Curve kFront{{-0.124, 0.0},  {-0.119, 0.04},  {-0.114, 0.066}, {-0.108, 0.08}, {-0.1, 0.086},
+                   {-0.088, 0.087}, {-0.07, 0.09},  {-0.046, 0.092}, {0.005, 0.092}, {0.018, 0.095},
+                   {0.03, 0.095}};
+const Curve kBack{{-0.124, 0.0},  {-0.118, 0.006}, {-0.105, 0.014}, {-0.09, 0.03}, {-0.07, 0.055},
+                  {-0.05, 0.075}, {-0.03, 0.088},  {0.0, 0.098},    {0.03, 0.102}};
+constexpr double kDomeFrom = 0.03, kDomeHeight = 0.088;
+
+// The nose along the midline: how far it stands out (m) and its half-width (the Gaussian's σ)
+// against height, from the root between the eyes to the tip and under it to the upper lip.
+const Curve kNose{{-0.05, 0.0},     {-0.047, 0.002},  {-0.0445, 0.0095}, {-0.041, 0.0185}, {-0.037, 0.0215},
+                  {-0.033, 0.021},  {-0.026, 0.0175}, {-0.01, 0.011},    {0.006, 0.0045},  {0.014, 0.0}};
+const Curve kNoseWidth{{-0.05, 0.007}, {-0.038, 0.0085}, {-0.03, 0.0075}, {-0.01, 0.006}, {0.014, 0.0055}};
+
+// The hairline's height against the angle around the vertical from the front (rad): a soft peak
+// at the middle, receding at the temples, down to the sideburns, over the ears, to the nape.
+const Curve kHairline{{0.0, 0.07},    {0.3, 0.071},  {0.55, 0.077},  {0.8, 0.066},  {1.0, 0.05},
+                      {1.15, 0.036},  {1.26, -0.012}, {1.34, -0.004}, {1.42, 0.03},  {1.72, 0.034},
+                      {1.95, 0.018},  {2.3, -0.035}, {2.7, -0.062},  {3.1416, -0.066}};
+
+// Value noise on the integer lattice (smooth, 0..1), by a hash of the cell's corners.
+double lattice(std::int64_t x, std::int64_t y, std::int64_t z) {
+  std::uint64_t h = static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4Full ^
+                    static_cast<std::uint64_t>(z) * 0x165667B19E3779F9ull;
+  h ^= h >> 31;
+  h *= 0xD6E8FEB86659FD93ull;
+  h ^= h >> 29;
+  return static_cast<double>(h >> 11) / static_cast<double>(1ull << 53);
+}
+double noise(const Vec3& p) {
+  const Vec3 f(std::floor(p.x()), std::floor(p.y()), std::floor(p.z()));
+  Vec3 t = p - f;
+  t = t.cwiseProduct(t).cwiseProduct(Vec3(3, 3, 3) - 2 * t);
+  const auto X = static_cast<std::int64_t>(f.x()), Y = static_cast<std::int64_t>(f.y()), Z = static_cast<std::int64_t>(f.z());
+  double v = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    const int i = c & 1, j = (c >> 1) & 1, k = (c >> 2) & 1;
+    v += (i ? t.x() : 1 - t.x()) * (j ? t.y() : 1 - t.y()) * (k ? t.z() : 1 - t.z()) * lattice(X + i, Y + j, Z + k);
+  }
+  return v;
+}
+
+// The lips' vermilion: its upper border (with Cupid's bow) and lower border at x, against the
+// parting's height ym; the corners at |x| = 0.026.
+double vermilionTop(double x, double ym) {
+  const double a = std::abs(x);
+  return ym + 0.0078 + 0.0013 * std::exp(-0.5 * sq((a - 0.0052) / 0.0028)) - 0.0007 * std::exp(-0.5 * sq(a / 0.0018)) -
+         0.0078 * std::pow(std::min(a / 0.026, 1.0), 2.2);
+}
+double vermilionBottom(double x, double ym) { return ym - 0.0095 + 0.0093 * std::pow(std::min(std::abs(x) / 0.026, 1.0), 1.8); }
+
+// The distance from (x, y) to the segment a–b in the plane.
+double segmentDistance(double x, double y, double ax, double ay, double bx, double by) {
+  const double vx = bx - ax, vy = by - ay;
+  const double t = std::clamp(((x - ax) * vx + (y - ay) * vy) / (vx * vx + vy * vy), 0.0, 1.0);
+  return std::hypot(x - ax - t * vx, y - ay - t * vy);
+}
+
+}  // namespace
+
+double baseShape(const Vec3& p, const FaceLook& look) {
+  const double x = p.x(), y = p.y(), z = p.z();
+  const double yc = std::min(y, kDomeFrom);
+  // A heavier build and a man's jaw are wider below the cheekbones.
+  const double jaw = 1.0 + (0.03 * (look.build - 0.5) + 0.03 * (look.sex - 0.5)) * smoothstep(-0.03, -0.08, y);
+  const double a = std::max(kWidth(yc) * jaw, 1e-4);
+  const double depth = std::max(z > 0 ? kFront(yc) : kBack(yc), 1e-4);
+  const double dome = y > kDomeFrom ? std::sqrt(std::max(0.0, 1.0 - sq((y - kDomeFrom) / kDomeHeight))) : 1.0;
+  // Sections: a superellipse, squarer at the front (a face is broad across the cheeks).
+  const double n = z > 0 ? 2.4 : 2.0;
+  const double q = std::pow(std::pow(std::abs(x) / a, n) + std::pow(std::abs(z) / depth, n), 1.0 / n);
+  const double head = (q - dome) * 0.085;
+  // The neck: an elliptic cylinder, thicker with the build, from under the skull to the shoulders.
+  const double nx = 0.046 + 0.008 * look.build, nz = 0.047 + 0.006 * look.build;
+  const double cyl = (std::sqrt(sq(x / nx) + sq((z + 0.016) / nz)) - 1.0) * 0.055;
+  const double neck = std::max({cyl, y + 0.04, -y - 0.25});
+  // Smooth minimum: the union with a fillet where the jaw meets the neck.
+  const double k = 0.024;
+  const double h = std::clamp(0.5 + 0.5 * (neck - head) / k, 0.0, 1.0);
+  return neck * (1 - h) + head * h - k * h * (1 - h);
+}
+
+double baseRadius(const Vec3& d, const FaceLook& look) {
+  double lo = 1e-3, hi = 0.6;
+  for (int it = 0; it < 44; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (baseShape(mid * d, look) < 0 ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+double hairCover(const Vec3& p, const Vec3& d, double soft) {
+  const double around = std::abs(std::atan2(d.x(), d.z()));
+  return smoothstep(-soft, soft, p.y() - kHairline(around));
+}
+
+Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
+  const double X = p.x(), Y = p.y();
+  const double front = smoothstep(0.15, 0.6, d.z());
+  const double male = std::clamp(look.sex, 0.0, 1.0), heavy = std::clamp(look.build, 0.0, 1.0);
+  const double aged = std::clamp((look.age - 20.0) / 50.0, 0.0, 1.4);
+  Features f;
+  for (double s : {-1.0, 1.0}) {
+    f.bone += (0.0015 + 0.004 * male) * gauss(X, Y, s * 0.028, 0.02, 0.018, 0.006);  // brow ridge
+    // The eye's socket, shallower toward the temple (the eye shows less from the side).
+    const double outer = s * (X - s * kEyeX) > 0 ? 0.0105 : 0.0125;
+    f.bone -= 0.0135 * gauss(X, Y, s * kEyeX, kEyeY + 0.0005, outer, 0.0085);
+    f.bone += 0.004 * gauss(X, Y, s * 0.05, -0.016, 0.014, 0.009);                     // cheekbone
+    f.soft += 0.0085 * gauss(X, Y, s * 0.0145, -0.04, 0.0055, 0.0055);                 // the nose's wing
+    f.soft -= 0.0018 * gauss(X, Y, s * 0.0065, -0.0445, 0.003, 0.0015);                // nostril
+    f.soft += 0.0008 * gauss(X, Y, s * 0.0045, -0.054, 0.0016, 0.005);                 // philtrum's ridge
+    // The fold from the nose's wing to beside the mouth's corner (deeper with age), and the
+    // cheek's fat beside it (fuller with the build).
+    const double fold = segmentDistance(X, Y, s * 0.0195, -0.041, s * 0.031, -0.073);
+    f.soft -= (0.0004 + 0.0012 * aged) * std::exp(-0.5 * sq(fold / 0.0022));
+    f.soft += (0.001 + 0.0022 * heavy) * gauss(X, Y, s * 0.036, -0.046, 0.01, 0.011);
+    f.soft -= 0.0016 * (1 - heavy) * gauss(X, Y, s * 0.053, -0.058, 0.01, 0.012);     // under the cheekbone
+    f.soft += 0.001 * (0.4 + aged) * gauss(X, Y, s * kEyeX, -0.0135, 0.009, 0.0028);  // below the lower lid
+  }
+  f.bone += (0.0005 + 0.0025 * male) * gauss(X, Y, 0, 0.02, 0.01, 0.006);  // glabella
+  f.bone += (0.003 + 0.002 * male) * gauss(X, Y, 0, -0.104, 0.012, 0.007);  // chin
+  f.bone += 0.004 * gauss(X, Y, 0, ym, 0.028, 0.014);                        // the teeth's arch under the lips
+  // Nose: the ridge from the root to the tip and under it, the tip's lobule.
+  const double nose = 0.92 + 0.16 * male;
+  f.soft += nose * kNose(Y) * std::exp(-0.5 * sq(X / kNoseWidth(Y)));
+  f.soft += 0.0018 * gauss(X, Y, 0, -0.0365, 0.0055, 0.0045);
+  // Lips: the upper lip's skin slopes out from under the nose to the vermilion; the vermilion
+  // of each lip rolls out (fuller for a woman); the parting and the fold under the lower lip.
+  const double full = 1.08 - 0.16 * male;
+  f.soft += 0.004 * smoothstep(-0.047, -0.06, Y) * smoothstep(ym - 0.002, ym + 0.003, Y) * std::exp(-0.5 * sq(X / 0.02));
+  const double wu = std::pow(std::max(0.0, 1 - sq(X / 0.028)), 0.7), wl = std::pow(std::max(0.0, 1 - sq(X / 0.026)), 0.7);
+  f.soft += full * 0.0045 * wu * std::exp(-0.5 * sq((Y - (ym + 0.0045)) / 0.0038));
+  f.soft += full * 0.0065 * wl * std::exp(-0.5 * sq((Y - (ym - 0.0055)) / 0.0048));
+  f.soft -= 0.0018 * gauss(X, Y, 0, ym, 0.026, 0.0013);
+  f.soft -= 0.0022 * gauss(X, Y, 0, ym - 0.0165, 0.015, 0.004);
+  f.bone *= front;
+  f.soft *= front;
+  // Hair stands off the scalp.
+  f.soft += 0.004 * hairCover(p, d, 0.012);
+  return f;
+}
+
+Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
+  const double X = p.x(), Y = p.y(), ax = std::abs(X);
+  const bool front = d.z() > 0.2;
+  const double male = std::clamp(look.sex, 0.0, 1.0);
+  const double aged = std::clamp((look.age - 20.0) / 50.0, 0.0, 1.4);
+  Vec3 c(0.57, 0.36, 0.28);
+  // Mottling (a few mm) and pores (under a millimetre), from value noise over the surface.
+  const double mottle = noise(p * 320.0), pore = noise(p * 2400.0 + Vec3(7.1, 3.3, 1.7));
+  c *= 1.0 + 0.08 * (mottle - 0.5) - 0.07 * smoothstep(0.68, 0.9, pore);
+  // Blood under thin skin: cheeks, the nose's tip, the chin; shadow under the eyes.
+  const double flush = 0.55 * gauss(ax, Y, 0.045, -0.028, 0.016, 0.013) + 0.45 * gauss(X, Y, 0, -0.036, 0.01, 0.008) +
+                       0.2 * gauss(X, Y, 0, -0.1, 0.015, 0.01);
+  c = c + 0.22 * flush * (Vec3(0.6, 0.27, 0.24) - c);
+  c = c.cwiseProduct(Vec3::Ones() - (0.1 + 0.08 * aged) * gauss(ax, Y, kEyeX, -0.0125, 0.012, 0.004) * Vec3(0.7, 1.0, 0.8));
+  // A man's shaved beard: a faint grey-blue over the chin, jaw and upper lip.
+  if (male > 0.5) {
+    const double beard = smoothstep(-0.048, -0.058, Y) * smoothstep(0.3, 0.6, d.z()) * (1 - 0.8 * smoothstep(-0.13, -0.15, Y));
+    c = c + 0.35 * (male - 0.5) * beard * (Vec3(0.3, 0.27, 0.27) - c);
+  }
+  if (front) {
+    // The vermilion, with a sharp border.
+    const double lips = smoothstep(-0.0004, 0.0004, vermilionTop(X, ym) - Y) * smoothstep(-0.0004, 0.0004, Y - vermilionBottom(X, ym)) *
+                        smoothstep(0.0275, 0.0255, ax);
+    const Vec3 lip = Y < ym ? Vec3(0.47, 0.17, 0.15) : Vec3(0.42, 0.14, 0.13);
+    c = c + lips * (1.0 - 0.15 * male) * (lip * (0.95 + 0.1 * mottle) - c);
+    // Nostrils, under the nose.
+    const double nostril = smoothstep(0.6, 0.9, gauss(ax, Y, 0.0065, -0.0446, 0.0028, 0.0013));
+    c = c + 0.8 * nostril * (Vec3(0.16, 0.07, 0.06) - c);
+    // Brows: arched bands of hairs, thick inside, thinning to their tails.
+    const double t = (ax - 0.012) / 0.042;
+    if (t > -0.1 && t < 1.1) {
+      const double mid = 0.0195 + 0.0065 * t * (1.6 - t), half = 0.0042 * (1 - 0.55 * std::clamp(t, 0.0, 1.0));
+      const double band = smoothstep(half + 0.0007, half - 0.0005, std::abs(Y - mid)) * smoothstep(-0.1, 0.05, t) * smoothstep(1.1, 0.9, t);
+      // Hairs: streaks along the brow (upward at its head, sideways along it).
+      const double slant = t < 0.25 ? 0.3 : 1.0;  // hairs upright at the brow's head, lying along it after
+      const double hairs = noise(Vec3((ax - slant * 0.6 * Y) * 4000.0, (Y + slant * 0.25 * ax) * 1200.0, 3.0));
+      const double density = band * std::clamp(0.62 + 0.45 * hairs, 0.0, 1.0);
+      c = c + 0.92 * density * (Vec3(0.045, 0.03, 0.022) - c);
+    }
+  }
+  // Hair: strands running down from the crown, greying with age.
+  const double hair = hairCover(p, d, 0.0018 + 0.0012 * noise(p * 1500.0));
+  if (hair > 0) {
+    const double around = std::atan2(d.x(), d.z()), down = std::acos(std::clamp(d.y(), -1.0, 1.0));
+    const double strand = noise(Vec3(around * 160.0, down * 14.0, 0.5));
+    Vec3 h = Vec3(0.05, 0.033, 0.022) * (0.6 + 0.8 * strand);
+    h = h + std::clamp(aged - 0.6, 0.0, 1.0) * (Vec3(0.35, 0.34, 0.33) * (0.7 + 0.5 * strand) - h);
+    c = c + hair * (h - c);
+  }
+  return c.cwiseMax(Vec3::Zero()).cwiseMin(Vec3::Ones());
+}
+
+}  // namespace reel::head

@@ -1,0 +1,40 @@
+// reel's procedural head, its anatomy (internal to the face kind): the head as a shape of
+// horizontal sections whose half-width, front and back follow measured profiles, a neck joined to
+// it, the features of the skull and of the soft tissue as displacements, and the skin's colours.
+// Everything is at a height of 0.24 m (chin to crown) in the head's own frame (origin at its
+// centre, +y up, +z out of the face, +x its left), in metres. Proportions are adult averages
+// (Farkas 1994, "Anthropometry of the head and face"): the eyes at half the head's height, 63 mm
+// apart; the nose's base a third of the way from the brows to the chin, the lips' parting a third
+// of the way from the nose's base to the chin; mouth 50 mm wide, nose 35 mm.
+#pragma once
+
+#include "core/scene/face.h"
+#include "core/types.h"
+
+namespace reel::head {
+
+// Landmarks at height 0.24 m.
+inline constexpr double kEyeX = 0.032, kEyeY = 0.0, kEyeRadius = 0.012;
+inline constexpr double kMouthY = -0.070, kMouthHalf = 0.025;
+
+// The head without its features, negative inside; and where the ray from the centre along unit d
+// leaves it, m.
+double baseShape(const Vec3& p, const FaceLook& look);
+double baseRadius(const Vec3& d, const FaceLook& look);
+
+// The features as displacements along the ray at the base point p (direction d) with the lips'
+// parting at height ym: the skull's (brow ridge, eye sockets, cheekbones, chin), which the skin
+// over them takes too, and the soft tissue's (nose, lips, folds, cheeks, hair), the skin's alone.
+struct Features {
+  double bone = 0.0, soft = 0.0;
+};
+Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look);
+
+// The skin's albedo (linear rgb) at the base point p, direction d: skin with its redness, pores
+// and mottling, the lips' vermilion, brows, hair, nostrils.
+Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look);
+
+// How much hair covers the point (0..1), with a soft edge `soft` m wide.
+double hairCover(const Vec3& p, const Vec3& d, double soft);
+
+}  // namespace reel::head
