@@ -41,6 +41,16 @@ class FaceBody final : public SpringNetworkBody {
   // The head's rotation and the jaw's opening angle (rad) at the last pose.
   const Mat3& rotation() const { return R_; }
   double jawAngle() const { return jaw_; }
+  // An eye of reel's head now (0: left, +x; 1: right): its centre and axes in the world (the
+  // gaze's right, up and ahead), its radius, and its lids: a shell of `lid_radius` about the
+  // centre spanning ±`lid_azimuth` around the head's forward axis, the upper lid above the
+  // elevation `upper` and the lower below `lower` (rad, in the head's frame; a shut eye has
+  // upper < lower).
+  struct Eye {
+    Vec3 center{0, 0, 0}, right{1, 0, 0}, up{0, 1, 0}, ahead{0, 0, 1};
+    double radius = 0.0, lid_radius = 0.0, lid_azimuth = 0.0, upper = 0.0, lower = 0.0;
+  };
+  Eye eye(int e) const;
   // The height of each moving node above its skull point (m; negative: through the skull).
   double lowestAboveSkull() const;
   // Mouth opening: the distance between the lips at the midline, m (0 without a mouth).

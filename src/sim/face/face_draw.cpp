@@ -24,9 +24,12 @@ std::shared_ptr<const TriMesh> eyeMesh(const Vec3& iris) {
   m->colors.resize(m->positions.size());
   for (std::size_t v = 0; v < m->vertexCount(); ++v) {
     const double z = m->positions[3 * v + 2];
-    Vec3 c(0.7, 0.68, 0.64);
-    if (z > std::cos(0.2)) c = Vec3(0.015, 0.015, 0.015);
-    else if (z > std::cos(0.5)) c = iris * (0.7 + 0.6 * (std::acos(z) - 0.2) / 0.3);
+    // The sclera: off-white, greying toward the back (less lit, veined) and darkening into a
+    // limbal ring at the iris's edge.
+    const double from = std::acos(std::clamp(z, -1.0, 1.0));
+    Vec3 c = Vec3(0.66, 0.62, 0.58) * (0.75 + 0.25 * std::clamp(z + 0.3, 0.0, 1.0));
+    if (from < 0.2) c = Vec3(0.015, 0.015, 0.015);
+    else if (from < 0.5) c = iris * (0.7 + 0.6 * (from - 0.2) / 0.3) * (from > 0.44 ? 0.55 : 1.0);
     for (int k = 0; k < 3; ++k) m->colors[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(c[k]);
   }
   return m;
@@ -74,6 +77,7 @@ void FaceBody::drawSkin(DrawList& out) const {
   }
   skin.mesh = std::move(mesh);
   skin.per_frame = true;
+  const std::shared_ptr<const TriMesh> skin_mesh = skin.mesh;
   out.meshes.push_back(std::move(skin));
   if (!surface_.generated) return;
   auto world = [&](const Vec3& q) { return Vec3(desc_.position + R_ * q); };
@@ -96,70 +100,68 @@ void FaceBody::drawSkin(DrawList& out) const {
     wool.double_sided = true;
     out.meshes.push_back({std::move(bust), true, wool});
   }
-  // The mouth's inside, seen through the parted lips: the skull's surface around the mouth (it
-  // turns with the jaw), drawn dark.
+  // The mouth's inside, seen through the parted lips: the skin's inner side, drawn dark red, so
+  // whatever one sees past the lips is the mouth's cavity; and the teeth, the upper row on the
+  // skull, the lower on the jaw.
   {
-    auto inside = std::make_shared<TriMesh>();
-    const std::size_t first = n;  // bone nodes follow the tissue's two layers: 2n + k
-    // Between the lips: within an ellipse around the parting, as wide as the mouth.
-    const double half = 0.5 * surface_.mouth_width, tall = 0.3 * surface_.mouth_width;
-    std::vector<std::int64_t> index(n, -1);
-    for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
-      bool near = true;
-      for (int c = 0; c < 3; ++c) {
-        const Vec3 d = surface_.skin[tris[t + static_cast<std::size_t>(c)]] - surface_.mouth;
-        near = near && d.z() > -half && (d.x() / half) * (d.x() / half) + (d.y() / tall) * (d.y() / tall) < 1.0;
-      }
-      if (!near) continue;
-      for (int c = 0; c < 3; ++c) {
-        const std::uint32_t k = tris[t + static_cast<std::size_t>(c)];
-        if (index[k] < 0) {
-          index[k] = static_cast<std::int64_t>(inside->vertexCount());
-          inside->addVertex(x[2 * first + k], -(boneRotation(k) * tissue_.out[k]));
+    auto inside = std::make_shared<TriMesh>(*skin_mesh);
+    // 1.5 mm in, so it never shows through the skin.
+    for (std::size_t i = 0; i < inside->positions.size(); ++i) inside->positions[i] -= static_cast<float>(0.0015 * surface_.scale) * inside->normals[i];
+    for (float& v : inside->normals) v = -v;
+    for (std::size_t t = 0; t + 2 < inside->indices.size(); t += 3) std::swap(inside->indices[t + 1], inside->indices[t + 2]);
+    inside->uvs.clear();
+    DrawMaterial dark = plain(Vec3(0.16, 0.03, 0.03), 0.1);
+    dark.casts_shadow = false;
+    out.meshes.push_back({std::move(inside), true, dark});
+    const double k = surface_.scale, ym = surface_.mouth.y();
+    const double front = surface_.mouth.z() - 0.0085 * k, arch = 0.022 * k;
+    auto teeth = std::make_shared<TriMesh>();
+    constexpr int kAround = 24;
+    for (int row = 0; row < 2; ++row) {
+      const double sign = row == 0 ? 1.0 : -1.0;  // upper, lower
+      const Mat3 turn = row == 0 ? R_ : Mat3(R_ * Eigen::AngleAxisd(jaw_, Vec3::UnitX()).toRotationMatrix());
+      const Vec3& hinge = surface_.jaw_hinge;
+      const auto base = static_cast<std::uint32_t>(teeth->vertexCount());
+      for (int i = 0; i <= kAround; ++i) {
+        const double a = (-75.0 + 150.0 * i / kAround) * kPi / 180.0;
+        const Vec3 normal(std::sin(a), 0, std::cos(a));
+        // Ivory, darker toward the back of the mouth and at the gaps between the teeth.
+        const double gap = 0.85 + 0.15 * std::abs(std::cos(a * 9.0));
+        for (int j = 0; j < 3; ++j) {
+          const double y = ym + sign * (0.0008 + 0.0035 * j) * k;
+          const Vec3 q(arch * std::sin(a), y, front - arch * (1 - std::cos(a)));
+          teeth->addVertex(desc_.position + turn * (q - hinge) + R_ * hinge, turn * normal);
+          const Vec3 c = j == 2 ? Vec3(0.45, 0.18, 0.17) : (gap * (1.0 - 0.5 * std::abs(a) / 1.3)) * Vec3(0.78, 0.74, 0.66);
+          for (int m = 0; m < 3; ++m) teeth->colors.push_back(static_cast<float>(c[m]));
         }
-        inside->indices.push_back(static_cast<std::uint32_t>(index[k]));
       }
+      for (int i = 0; i < kAround; ++i)
+        for (int j = 0; j < 2; ++j) {
+          const std::uint32_t v = base + static_cast<std::uint32_t>(i * 3 + j), r = v + 3;
+          if (row == 0) teeth->indices.insert(teeth->indices.end(), {v, r, r + 1, v, r + 1, v + 1});
+          else teeth->indices.insert(teeth->indices.end(), {v, r + 1, r, v, v + 1, r + 1});
+        }
     }
-    DrawMaterial dark = plain(Vec3(0.14, 0.02, 0.02), 0.05);
-    dark.double_sided = true;
-    if (!inside->indices.empty()) out.meshes.push_back({std::move(inside), true, dark});
+    DrawMaterial enamel = plain(Vec3(1, 1, 1), 0.4);
+    enamel.shininess = 60;
+    enamel.casts_shadow = false;
+    out.meshes.push_back({std::move(teeth), true, enamel});
   }
-  // Eyes, turned toward the gaze target (at most 35° from straight ahead).
+  // Eyes, turned toward the gaze target.
   static const std::shared_ptr<const TriMesh> kEye = eyeMesh(Vec3(0.12, 0.22, 0.35));
   DrawInstances eyes;
   eyes.mesh = desc_.iris_color == Vec3(0.12, 0.22, 0.35) ? kEye : eyeMesh(desc_.iris_color);
   eyes.material = plain(Vec3(1, 1, 1), 0.6);
   eyes.material.shininess = 80;
-  const Vec3 ahead = R_ * Vec3::UnitZ(), up = R_ * Vec3::UnitY();
   for (int e = 0; e < 2; ++e) {
-    const Vec3 c = world(surface_.eye[static_cast<std::size_t>(e)]);
-    Vec3 look = ahead;
-    if (!desc_.gaze.empty()) {
-      const Vec3 target = keyedLinear(desc_.gaze, t_, [](const FaceGazeKey& k) { return k.time; },
-                                      [](const FaceGazeKey& k) { return k.target; });
-      look = unitOr(target - c, ahead);
-      const double angle = std::acos(std::clamp(look.dot(ahead), -1.0, 1.0)), most = 35.0 * kPi / 180.0;
-      if (angle > most) {
-        const Vec3 side = unitOr(look - look.dot(ahead) * ahead, up);
-        look = std::cos(most) * ahead + std::sin(most) * side;
-      }
-    }
-    const Vec3 X = unitOr(up.cross(look), R_ * Vec3::UnitX()), Y = look.cross(X);
-    const double r = surface_.eye_radius;
-    for (const Vec3& axis : {X, Y, look})
-      for (int k = 0; k < 3; ++k) eyes.transforms.push_back(static_cast<float>(r * axis[k]));
-    for (int k = 0; k < 3; ++k) eyes.transforms.push_back(static_cast<float>(c[k]));
+    const Eye ey = eye(e);
+    for (const Vec3& axis : {ey.right, ey.up, ey.ahead})
+      for (int k = 0; k < 3; ++k) eyes.transforms.push_back(static_cast<float>(ey.radius * axis[k]));
+    for (int k = 0; k < 3; ++k) eyes.transforms.push_back(static_cast<float>(ey.center[k]));
   }
   out.instances.push_back(std::move(eyes));
-  // Upper eyelids: shells just outside the eyes, down to the lid's edge. Open, the edge is at
-  // 30° above the eye's centre (higher with eyelid_raise); a blink or the orbicularis oculi
-  // brings it down.
-  auto control = [&](const std::string& name) {
-    const int i = activations_.index(name);
-    return i < 0 ? 0.0 : act_[static_cast<std::size_t>(i)];
-  };
   // The lids' colours: the skin's tone, a shade darker, and the lash line at their edges.
-  const Vec3 lid_tone = 0.93 * Vec3(0.57, 0.36, 0.28), lash_tone(0.025, 0.018, 0.014);
+  const Vec3 lid_tone = 0.93 * Vec3(0.57, 0.36, 0.28), lash_tone(0.04, 0.03, 0.024);
   auto lids = std::make_shared<TriMesh>();
   auto vertex = [&](const Vec3& p, const Vec3& n, const Vec3& color) {
     lids->addVertex(world(p), R_ * n);
@@ -173,18 +175,12 @@ void FaceBody::drawSkin(DrawList& out) const {
       }
   };
   for (int e = 0; e < 2; ++e) {
-    const double squeeze = control(e == 0 ? "orbicularis_oculi_left" : "orbicularis_oculi_right");
-    const double closure = std::clamp(std::max(control("blink"), 0.45 * squeeze), 0.0, 1.0);
-    const double open = (9.0 + 22.0 * control("eyelid_raise")) * kPi / 180.0, shut = -40.0 * kPi / 180.0;
-    const double edge = open + closure * (shut - open);
+    const Eye ey = eye(e);
+    const double edge = ey.upper, low_edge = ey.lower, r = ey.lid_radius, span = ey.lid_azimuth;
     const Vec3 c = surface_.eye[static_cast<std::size_t>(e)];
-    const double r = 1.07 * surface_.eye_radius;
     constexpr int kA = 18, kE = 10;
-    // The upper lid from its edge to the top; the lower lid from its edge, 23° below the centre
-    // (higher as the orbicularis oculi squeezes), to the bottom.
-    const double low_edge = (-23.0 + 16.0 * squeeze) * kPi / 180.0;
     auto at = [&](double el, double az) { return Vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az)); };
-    auto azimuth = [&](int i) { return (-80.0 + 160.0 * i / kA) * kPi / 180.0; };
+    auto azimuth = [&](int i) { return span * (2.0 * i / kA - 1.0); };
     for (int lower = 0; lower < 2; ++lower) {
       const double from = lower ? low_edge : edge, to = lower ? -0.5 * kPi : 0.5 * kPi;
       auto base = static_cast<std::uint32_t>(lids->vertexCount());
@@ -195,9 +191,9 @@ void FaceBody::drawSkin(DrawList& out) const {
       }
       quads(base, kE, kA);
       // The lashes: a fringe curving out and away from the eye from the lid's edge, longest
-      // at the middle: a dark line seen from the front (2.6 mm above, 0.8 mm below).
+      // at the middle: a dark line seen from the front (1.8 mm above, 0.7 mm below).
       base = static_cast<std::uint32_t>(lids->vertexCount());
-      const double length = (lower ? 0.0008 : 0.0026) * surface_.scale;
+      const double length = (lower ? 0.0007 : 0.0018) * surface_.scale;
       const Vec3 away(0, lower ? -1 : 1, 0);
       for (int j = 0; j <= 2; ++j)
         for (int i = 0; i <= kA; ++i) {
@@ -213,6 +209,43 @@ void FaceBody::drawSkin(DrawList& out) const {
   lid.wrap = kSkinWrap;
   lid.double_sided = true;
   out.meshes.push_back({std::move(lids), true, lid});
+}
+
+FaceBody::Eye FaceBody::eye(int e) const {
+  Eye out;
+  const Vec3 ahead = R_ * Vec3::UnitZ(), up = R_ * Vec3::UnitY();
+  out.center = desc_.position + R_ * surface_.eye[static_cast<std::size_t>(e)];
+  out.radius = surface_.eye_radius;
+  // The gaze: toward its target, at most 35° from straight ahead.
+  Vec3 look = ahead;
+  if (!desc_.gaze.empty()) {
+    const Vec3 target = keyedLinear(desc_.gaze, t_, [](const FaceGazeKey& k) { return k.time; },
+                                    [](const FaceGazeKey& k) { return k.target; });
+    look = unitOr(target - out.center, ahead);
+    const double angle = std::acos(std::clamp(look.dot(ahead), -1.0, 1.0)), most = 35.0 * kPi / 180.0;
+    if (angle > most) {
+      const Vec3 side = unitOr(look - look.dot(ahead) * ahead, up);
+      look = std::cos(most) * ahead + std::sin(most) * side;
+    }
+  }
+  out.ahead = look;
+  out.right = unitOr(up.cross(look), R_ * Vec3::UnitX());
+  out.up = look.cross(out.right);
+  // The lids: open, the upper lid's edge 9° above the centre (31° with eyelid_raise), the lower
+  // lid's 23° below (higher as the orbicularis oculi squeezes); a blink, or the orbicularis
+  // oculi in part, brings the upper lid down to 40° below.
+  auto control = [&](const std::string& name) {
+    const int i = activations_.index(name);
+    return i < 0 ? 0.0 : act_[static_cast<std::size_t>(i)];
+  };
+  const double squeeze = control(e == 0 ? "orbicularis_oculi_left" : "orbicularis_oculi_right");
+  const double closure = std::clamp(std::max(control("blink"), 0.45 * squeeze), 0.0, 1.0);
+  const double open = (9.0 + 22.0 * control("eyelid_raise")) * kPi / 180.0, shut = -40.0 * kPi / 180.0;
+  out.upper = open + closure * (shut - open);
+  out.lower = (-23.0 + 16.0 * squeeze) * kPi / 180.0;
+  out.lid_radius = 1.07 * surface_.eye_radius;
+  out.lid_azimuth = 80.0 * kPi / 180.0;
+  return out;
 }
 
 void FaceBody::drawLayers(DrawList& out) const {

@@ -69,13 +69,13 @@ const Curve kFront{{-0.124, 0.0},  {-0.119, 0.04},  {-0.114, 0.066}, {-0.108, 0.
                    {0.03, 0.095}};
 const Curve kBack{{-0.124, 0.0},  {-0.118, 0.006}, {-0.105, 0.014}, {-0.09, 0.03}, {-0.07, 0.055},
                   {-0.05, 0.075}, {-0.03, 0.088},  {0.0, 0.098},    {0.03, 0.102}};
-constexpr double kDomeFrom = 0.03, kDomeHeight = 0.088;
+constexpr double kDomeFrom = 0.03, kDomeHeight = 0.083;
 
 // The nose along the midline: how far it stands out (m) and its half-width (the Gaussian's σ)
 // against height, from the root between the eyes to the tip and under it to the upper lip.
 const Curve kNose{{-0.05, 0.0},     {-0.047, 0.002},  {-0.0445, 0.0095}, {-0.041, 0.0185}, {-0.037, 0.0215},
                   {-0.033, 0.021},  {-0.026, 0.0175}, {-0.01, 0.011},    {0.006, 0.0045},  {0.014, 0.0}};
-const Curve kNoseWidth{{-0.05, 0.007}, {-0.038, 0.0085}, {-0.03, 0.0075}, {-0.01, 0.006}, {0.014, 0.0055}};
+const Curve kNoseWidth{{-0.05, 0.0075}, {-0.038, 0.0095}, {-0.03, 0.0082}, {-0.01, 0.0065}, {0.014, 0.0058}};
 
 // The hairline's height against the angle around the vertical from the front (rad): a soft peak
 // at the middle, receding at the temples, down to the sideburns, over the ears, to the nape.
@@ -171,7 +171,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     const double outer = s * (X - s * kEyeX) > 0 ? 0.0105 : 0.0125;
     f.bone -= 0.0135 * gauss(X, Y, s * kEyeX, kEyeY + 0.0005, outer, 0.0085);
     f.bone += 0.004 * gauss(X, Y, s * 0.05, -0.016, 0.014, 0.009);                     // cheekbone
-    f.soft += 0.0085 * gauss(X, Y, s * 0.0145, -0.04, 0.0055, 0.0055);                 // the nose's wing
+    f.soft += 0.0095 * gauss(X, Y, s * 0.015, -0.0405, 0.006, 0.0055);                 // the nose's wing
     f.soft -= 0.0018 * gauss(X, Y, s * 0.0065, -0.0445, 0.003, 0.0015);                // nostril
     f.soft += 0.0008 * gauss(X, Y, s * 0.0045, -0.054, 0.0016, 0.005);                 // philtrum's ridge
     // The fold from the nose's wing to beside the mouth's corner (deeper with age), and the
@@ -183,7 +183,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     f.soft += 0.001 * (0.4 + aged) * gauss(X, Y, s * kEyeX, -0.0135, 0.009, 0.0028);  // below the lower lid
   }
   f.bone += (0.0005 + 0.0025 * male) * gauss(X, Y, 0, 0.02, 0.01, 0.006);  // glabella
-  f.bone += (0.003 + 0.002 * male) * gauss(X, Y, 0, -0.104, 0.012, 0.007);  // chin
+  f.bone += (0.0055 + 0.002 * male) * gauss(X, Y, 0, -0.103, 0.013, 0.0075);  // chin
   f.bone += 0.004 * gauss(X, Y, 0, ym, 0.028, 0.014);                        // the teeth's arch under the lips
   // Nose: the ridge from the root to the tip and under it, the tip's lobule.
   const double nose = 0.92 + 0.16 * male;
@@ -213,7 +213,9 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   Vec3 c(0.57, 0.36, 0.28);
   // Mottling (a few mm) and pores (under a millimetre), from value noise over the surface.
   const double mottle = noise(p * 320.0), pore = noise(p * 2400.0 + Vec3(7.1, 3.3, 1.7));
-  c *= 1.0 + 0.08 * (mottle - 0.5) - 0.07 * smoothstep(0.68, 0.9, pore);
+  // (None on the neck, whose few rows of the mesh would stretch them into streaks.)
+  const double detail = smoothstep(-0.14, -0.115, Y);
+  c *= 1.0 + detail * (0.08 * (mottle - 0.5) - 0.07 * smoothstep(0.68, 0.9, pore));
   // Blood under thin skin: cheeks, the nose's tip, the chin; shadow under the eyes.
   const double flush = 0.55 * gauss(ax, Y, 0.045, -0.028, 0.016, 0.013) + 0.45 * gauss(X, Y, 0, -0.036, 0.01, 0.008) +
                        0.2 * gauss(X, Y, 0, -0.1, 0.015, 0.01);
@@ -232,7 +234,7 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
     c = c + lips * (1.0 - 0.15 * male) * (lip * (0.95 + 0.1 * mottle) - c);
     // Nostrils, under the nose.
     const double nostril = smoothstep(0.6, 0.9, gauss(ax, Y, 0.0065, -0.0446, 0.0028, 0.0013));
-    c = c + 0.8 * nostril * (Vec3(0.16, 0.07, 0.06) - c);
+    c = c + 0.6 * nostril * (Vec3(0.2, 0.09, 0.08) - c);
     // Brows: arched bands of hairs, thick inside, thinning to their tails.
     const double t = (ax - 0.012) / 0.042;
     if (t > -0.1 && t < 1.1) {

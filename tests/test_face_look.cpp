@@ -1,0 +1,188 @@
+// reel's head as a viewer sees it: the eyes never poke through the skin or past the lids, the
+// profile keeps its measured order (nose, lips, chin: no snout), the hairline is smooth, visemes
+// shape the mouth, the looks change the head, and bad input.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "helpers.h"
+#include "sim/face/face_body.h"
+#include "sim/world.h"
+
+using namespace reel;
+using namespace reel::test;
+
+namespace {
+
+const FaceBody& face(const World& w) { return *w.first<FaceBody>(); }
+
+std::string scene(const std::string& extra, double duration = 1.0, const std::string& resolution = "[64, 40]") {
+  return R"({"format": "reel/1", "duration": )" + std::to_string(duration) +
+         R"(, "fps": 30, "substeps": 2, "integrator": "implicit_euler", "implicit": {"cg_tolerance": 1e-3},
+    "bodies": [{"type": "face", "name": "f", "resolution": )" + resolution + extra + "}]}";
+}
+
+// How many times the closed skin winds around q (1 inside, 0 outside): the sum of the solid
+// angles its triangles make at q (Van Oosterom & Strackee 1983) over 4π.
+double winding(const FaceBody& f, const Vec3& q) {
+  const auto& x = f.network().state.x;
+  const auto& tris = f.surface().tris;
+  double sum = 0.0;
+  for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
+    const Vec3 a = x[tris[t]] - q, b = x[tris[t + 1]] - q, c = x[tris[t + 2]] - q;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    sum += 2.0 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la);
+  }
+  return sum / (4.0 * kPi);
+}
+
+// Points of the eyeballs that lie outside the skin where no lid covers them and the lids' opening
+// does not show them (with `shut`, any point outside the skin that no lid covers).
+int pokingOut(const FaceBody& f, bool shut) {
+  int bad = 0;
+  for (int e = 0; e < 2; ++e) {
+    const FaceBody::Eye eye = f.eye(e);
+    for (int i = 1; i < 24; ++i)
+      for (int j = 0; j < 48; ++j) {
+        const double th = kPi * i / 24, ph = 2 * kPi * j / 48;
+        const Vec3 d = std::sin(th) * std::cos(ph) * eye.right + std::sin(th) * std::sin(ph) * eye.up + std::cos(th) * eye.ahead;
+        const Vec3 q = eye.center + eye.radius * d;
+        if (winding(f, q) > 0.5) continue;  // under the skin
+        const Vec3 h = f.rotation().transpose() * d;  // in the head's frame
+        const double el = std::asin(std::clamp(h.y(), -1.0, 1.0)), az = std::atan2(h.x(), h.z());
+        const bool within = std::abs(az) <= eye.lid_azimuth;
+        const bool lidded = within && (el >= eye.upper || el <= eye.lower);
+        const bool opening = within && el > eye.lower && el < eye.upper;
+        if (!lidded && (shut || !opening)) ++bad;
+      }
+  }
+  return bad;
+}
+
+}  // namespace
+
+TEST_CASE("face: the eyes stay behind the skin and the lids, looking anywhere, wide open and shut") {
+  // The head turned; the eyes look far left, up, right and down, wide open (surprise), then blink.
+  World w = worldFromText(scene(R"(, "rotation_deg": [5, 30, 0], "blinks": [1.2],
+      "gaze": [{"time": 0, "target": [2, 0, 0.3]}, {"time": 0.3, "target": [0, 2, 0.3]}, {"time": 0.6, "target": [-2, 0, 0.3]},
+               {"time": 0.9, "target": [0, -2, 0.3]}],
+      "activations": [{"time": 0, "preset": "surprise", "amount": 0}, {"time": 0.5, "preset": "surprise"}])",
+                                  1.5));
+  const FaceBody& f = face(w);
+  int open_bad = 0;
+  for (int k = 0; k < 4; ++k) {
+    open_bad += pokingOut(f, false);
+    run(w, 9);
+  }
+  MESSAGE("eyeball samples poking out, eyes open: " << open_bad);
+  CHECK(open_bad == 0);
+  run(w, 3);  // 1.3 s: shut, 0.1 s into the blink at 1.2 s
+  REQUIRE(f.eye(0).upper < f.eye(0).lower);
+  const int shut_bad = pokingOut(f, true);
+  MESSAGE("eyeball samples showing, eyes shut: " << shut_bad);
+  CHECK(shut_bad == 0);
+}
+
+TEST_CASE("face: the profile keeps its measured order: nose ahead of the lips, the lips just ahead of the chin") {
+  World w = worldFromText(scene(""));
+  const FaceSurface& s = face(w).surface();
+  // The most forward skin near the midline in a band of heights (head frame, unturned).
+  auto front = [&](double y0, double y1) {
+    double z = -1.0;
+    for (std::size_t k = 0; k < s.size(); ++k)
+      if (std::abs(s.skin[k].x()) < 0.004 && s.skin[k].y() > y0 && s.skin[k].y() < y1) z = std::max(z, s.skin[k].z());
+    return z;
+  };
+  double top = -1, bottom = 1;
+  for (const Vec3& p : s.skin)
+    if (p.z() > 0.03) top = std::max(top, p.y()), bottom = std::min(bottom, p.y());
+  const double ym = s.mouth.y();
+  const double nose = front(-0.045, -0.025), lips = front(ym - 0.012, ym + 0.012), chin = front(-0.112, -0.095);
+  MESSAGE("nose " << nose << ", lips " << lips << ", chin " << chin << " m forward; eyes at " << s.eye[0].y() << " m, crown "
+                  << top << ", chin " << bottom);
+  CHECK(nose - lips > 0.01);   // the nose stands 1–2.5 cm ahead of the lips (Farkas 1994)
+  CHECK(nose - lips < 0.025);
+  CHECK(lips - chin > 0.0);    // the lips a little ahead of the chin: no snout
+  CHECK(lips - chin < 0.012);
+  // The eyes near the middle of the head's height.
+  CHECK(std::abs(s.eye[0].y() - 0.5 * (top + bottom)) < 0.015);
+}
+
+TEST_CASE("face: the hairline is smooth in the skin's texture (no steps of the mesh)") {
+  World w = worldFromText(scene("", 1.0, "[32, 24]"));
+  const auto img = skinTexture(face(w).surface());
+  REQUIRE(img->width == kSkinTexels);
+  // Down each column over the face's front third, the first texel of skin below the hair.
+  std::vector<int> edge;
+  for (int x = img->width / 6; x < img->width / 3; ++x) {
+    int y = 0;
+    while (y < img->height && img->pixel(x, y)[0] < 110) ++y;  // hair is dark
+    edge.push_back(y);
+  }
+  int jump = 0;
+  for (std::size_t i = 1; i < edge.size(); ++i) jump = std::max(jump, std::abs(edge[i] - edge[i - 1]));
+  MESSAGE("the hairline moves at most " << jump << " texels between neighbouring columns (of " << img->height << ")");
+  CHECK(edge.front() > 0);
+  CHECK(edge.front() < img->height / 2);
+  CHECK(jump <= 6);  // a mesh row is 43 texels at this resolution: per-vertex colours would step by rows
+}
+
+TEST_CASE("face: visemes purse and open the mouth on top of the activations") {
+  World w = worldFromText(scene(R"(, "visemes": [{"time": 0, "viseme": "rest"}, {"time": 0.4, "viseme": "oo"},
+      {"time": 0.8, "viseme": "aa"}, {"time": 1.2, "viseme": "rest"}],
+      "activations": [{"time": 0, "muscles": {"jaw_open": 0.1}}])",
+                                1.3, "[48, 32]"));
+  const FaceBody& f = face(w);
+  const FaceSurface& s = f.surface();
+  auto nearest = [&](const Vec3& p) {
+    std::size_t best = 0;
+    for (std::size_t k = 0; k < s.size(); ++k)
+      if ((s.skin[k] - p).squaredNorm() < (s.skin[best] - p).squaredNorm()) best = k;
+    return best;
+  };
+  const std::size_t left = nearest(s.mouth + Vec3(0.5 * s.mouth_width, 0, -0.003)), right = nearest(s.mouth - Vec3(0.5 * s.mouth_width, 0, 0.003));
+  const auto& x = f.network().state.x;
+  const double width0 = (x[left] - x[right]).norm(), open0 = f.mouthOpening();
+  run(w, 12);  // 0.4 s: "oo"
+  const int jaw = f.activations().index("jaw_open"), oris = f.activations().index("orbicularis_oris");
+  CHECK(f.contractions()[static_cast<std::size_t>(oris)] == doctest::Approx(1.0));
+  CHECK(f.contractions()[static_cast<std::size_t>(jaw)] == doctest::Approx(0.1 + 0.18));  // added to the activations
+  const double width_oo = (x[left] - x[right]).norm();
+  run(w, 12);  // 0.8 s: "aa"
+  const double open_aa = f.mouthOpening();
+  MESSAGE("mouth width at rest " << width0 << " m, at oo " << width_oo << "; opening at rest " << open0 << ", at aa " << open_aa);
+  CHECK(width_oo < width0 - 0.003);  // pursed: the corners drawn in
+  CHECK(open_aa > open0 + 0.008);    // open
+}
+
+TEST_CASE("face: the looks change the head: a man's jaw and brow, a heavier neck") {
+  auto head = [](const std::string& looks) {
+    World w = worldFromText(scene(looks, 1.0, "[48, 32]"));
+    const FaceSurface& s = face(w).surface();
+    double jaw = 0, brow = 0, neck = 0;
+    for (const Vec3& p : s.skin) {
+      if (std::abs(p.y() + 0.085) < 0.006 && p.z() > 0) jaw = std::max(jaw, std::abs(p.x()));
+      if (std::abs(p.y() - 0.02) < 0.004 && std::abs(p.x() - 0.03) < 0.006) brow = std::max(brow, p.z());
+      if (std::abs(p.y() + 0.17) < 0.01) neck = std::max(neck, std::abs(p.x()));
+    }
+    return std::array<double, 3>{jaw, brow, neck};
+  };
+  const auto woman = head(R"(, "sex": 0)"), man = head(R"(, "sex": 1)"), heavy = head(R"(, "build": 1)"), lean = head(R"(, "build": 0)");
+  MESSAGE("jaw half-width " << woman[0] << " / " << man[0] << " m, brow " << woman[1] << " / " << man[1] << " m, neck "
+                            << lean[2] << " / " << heavy[2] << " m");
+  CHECK(man[0] > woman[0] + 0.001);
+  CHECK(man[1] > woman[1] + 0.002);
+  CHECK(heavy[2] > lean[2] + 0.005);
+}
+
+TEST_CASE("face: bad visemes and looks are refused with their JSON path") {
+  checkHas(badInputError(scene(R"(, "visemes": [{"time": 0, "viseme": "rest"}, {"time": 0.5, "viseme": "ooh"}])")),
+           "/bodies/0/visemes/1/viseme: unknown viseme \"ooh\" (did you mean \"oo\"?)");
+  checkHas(badInputError(scene(R"(, "visemes": [{"time": 0.5, "viseme": "aa"}, {"time": 0.2, "viseme": "oo"}])")),
+           "/bodies/0/visemes/1/time");
+  checkHas(badInputError(scene(R"(, "visemes": [{"time": 0.5}])")), "/bodies/0/visemes/0/viseme");
+  checkHas(badInputError(scene(R"(, "sex": 1.5)")), "/bodies/0/sex");
+  checkHas(badInputError(scene(R"(, "age": 5)")), "/bodies/0/age");
+  checkHas(badInputError(scene(R"(, "build": -1)")), "/bodies/0/build");
+}
