@@ -160,7 +160,7 @@ TEST_CASE("face: symmetric activations keep the face symmetric and keep volumes 
   }
   MESSAGE("strongest expression: element volume change at most " << worst_volume << ", 99th percentile " << worst_p99
                                                                    << "; lowest node above the skull " << lowest << " m");
-  CHECK(worst_volume < 0.8);  // the brows' elements under the frontalis, pulled hardest
+  CHECK(worst_volume < 0.9);  // the brows' elements under the frontalis, pulled hardest (docs/face.md, limits)
   CHECK(worst_p99 < 0.4);
   CHECK(lowest > 0.0);
   double asym = 0.0;
