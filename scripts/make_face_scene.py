@@ -70,7 +70,7 @@ def main():
     scene = {
         "format": "reel/1", "name": "face", "duration": round(END, 3), "fps": FPS, "substeps": 2,
         "integrator": "implicit_euler", "implicit": {"cg_tolerance": 1e-3},
-        "render": {"width": 1280, "height": 720, "samples": 4,
+        "render": {"width": 1280, "height": 720, "samples": 4, "ao": {"radius": 0.025, "strength": 1.2},
                    "background": {"top": [0.13, 0.15, 0.19], "bottom": [0.035, 0.04, 0.05]}},
         "camera": {"position": close[0], "target": close[1], "fov_deg": 30,
                    "keys": [{"time": 0, "position": close[0], "target": close[1]},
@@ -81,9 +81,9 @@ def main():
         # side, and a rim from behind that lifts the head off the background.
         "lights": [{"type": "directional", "direction": [0.55, -0.45, -0.75], "color": [1.0, 0.93, 0.84],
                     "intensity": 1.5, "shadows": True},
-                   {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.6, 0.7, 0.9], "intensity": 0.35},
+                   {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.8, 0.82, 0.9], "intensity": 0.4},
                    {"type": "directional", "direction": [-0.3, -0.5, 0.9], "color": [0.9, 0.9, 1.0], "intensity": 0.9},
-                   {"type": "ambient", "color": [0.55, 0.58, 0.65], "intensity": 0.35}],
+                   {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.35}],
         "bodies": [{
             "type": "face", "name": "face",
             "keys": head_keys(),

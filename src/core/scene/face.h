@@ -114,6 +114,7 @@ struct FaceDesc final : BodyParams {
   std::vector<double> blinks;      // s, times at which a blink starts (0.25 s each)
   std::vector<FaceVisemeKey> visemes;  // speech: mouth shapes over time, on top of the activations
   FaceLook look;                   // reel's head
+  bool shoulders = true;           // reel's head: draw its shoulders in a sweater
   std::vector<FaceGazeKey> gaze;   // none: the eyes look straight ahead
   std::vector<FaceDrawKey> draw;   // none: skin
   Vec3 iris_color{0.12, 0.22, 0.35};  // linear rgb
@@ -147,7 +148,7 @@ struct FacePreset {
 };
 inline constexpr std::array<FacePreset, 7> kFacePresets = {{
     // AU6 + AU12 (+ AU25/26)
-    {"happiness", {{{"zygomatic_major", 1.0}, {"zygomatic_minor", 0.35}, {"orbicularis_oculi", 0.55}, {"jaw_open", 0.2}, {"risorius", 0.2}}}},
+    {"happiness", {{{"zygomatic_major", 1.0}, {"zygomatic_minor", 0.2}, {"orbicularis_oculi", 0.55}, {"jaw_open", 0.2}, {"risorius", 0.2}}}},
     // AU1 + AU4 + AU15 (+ AU17)
     {"sadness", {{{"frontalis_inner", 1.0}, {"corrugator", 0.6}, {"depressor_anguli_oris", 1.0}, {"mentalis", 0.5}, {"orbicularis_oculi", 0.15}}}},
     // AU1 + AU2 + AU5 + AU26

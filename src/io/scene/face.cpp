@@ -186,6 +186,7 @@ void readFace(Obj& o, FaceDesc& f) {
   f.look.sex = o.number("sex", f.look.sex, Range::closed(0.0, 1.0));
   f.look.age = o.number("age", f.look.age, Range::closed(18.0, 90.0));
   f.look.build = o.number("build", f.look.build, Range::closed(0.0, 1.0));
+  f.shoulders = o.boolean("shoulders", f.shoulders);
   readList(o, "visemes", [&](Obj& vo) {
     FaceVisemeKey v;
     v.path = vo.path();

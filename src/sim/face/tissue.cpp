@@ -127,6 +127,24 @@ MassSpringDesc buildTissue(const FaceSurface& s, const FaceDesc& desc, FaceTissu
       }
     }
   }
+  // Skin resists bending, which a membrane does not: flexion springs across each edge of the
+  // epidermis, between the two vertices opposite it (Provot 1995), at a fifth of the membrane's
+  // stiffness over the two triangles. Without them a fold the brows press into the skin can snap through and stay when
+  // the muscles let go.
+  {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<int, double>> opposite;  // edge → (vertex, area)
+    for (std::size_t t = 0; t + 2 < s.tris.size(); t += 3) {
+      const std::uint32_t v[3] = {s.tris[t], s.tris[t + 1], s.tris[t + 2]};
+      const double area = 0.5 * (s.skin[v[1]] - s.skin[v[0]]).cross(s.skin[v[2]] - s.skin[v[0]]).norm();
+      for (int e = 0; e < 3; ++e) {
+        const std::pair<std::uint32_t, std::uint32_t> key = std::minmax(v[e], v[(e + 1) % 3]);
+        const int c = static_cast<int>(v[(e + 2) % 3]);
+        auto [it, fresh] = opposite.emplace(key, std::pair{c, area});
+        if (!fresh && it->second.first != c)
+          add(it->second.first, c, 0.2 * desc.epidermis.modulus * desc.epidermis.thickness * 0.5 * (area + it->second.second) / len2(it->second.first, c));
+      }
+    }
+  }
   MassSpringDesc ms;
   ms.nodes.resize(3 * n);
   for (std::size_t i = 0; i < 3 * n; ++i) {
