@@ -77,9 +77,10 @@ def main():
                             {"time": round(CUT - HALF, 4), "position": close_end[0], "target": close_end[1]},
                             {"time": round(CUT + HALF, 4), "position": layers[0], "target": layers[1]},
                             {"time": round(END, 3), "position": [-0.27, 0.05, 0.33], "target": layers[1]}]},
-        # Short lighting: the key from the far side of the face, a cool fill from the camera's
-        # side, and a rim from behind that lifts the head off the background.
-        "lights": [{"type": "directional", "direction": [0.55, -0.45, -0.75], "color": [1.0, 0.93, 0.84],
+        # Loop lighting: the key high and to the far side of the face (the nose's shadow falls
+        # down toward the mouth's corner), a cool fill from the camera's side, and a rim from
+        # behind that lifts the head off the background.
+        "lights": [{"type": "directional", "direction": [0.35, -0.55, -0.76], "color": [1.0, 0.93, 0.84],
                     "intensity": 1.5, "shadows": True},
                    {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.8, 0.82, 0.9], "intensity": 0.4},
                    {"type": "directional", "direction": [-0.3, -0.5, 0.9], "color": [0.9, 0.9, 1.0], "intensity": 0.9},

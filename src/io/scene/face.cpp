@@ -210,7 +210,7 @@ std::shared_ptr<const BodyParams> readFaceBody(Obj& o, BodyDesc& body, const Sce
   auto f = std::make_shared<FaceDesc>();
   // Skin's colours are per vertex: the material multiplies them.
   body.material.color = Vec3(1, 1, 1);
-  body.material.specular = 0.25;
+  body.material.specular = 0.2;
   body.material.shininess = 24.0;
   readFace(o, *f);
   return f;

@@ -202,7 +202,7 @@ void FaceBody::drawSkin(DrawList& out) const {
       auto base = static_cast<std::uint32_t>(lids->vertexCount());
       for (int j = 0; j <= kE; ++j) {
         const double el = from + (to - from) * j / kE;
-        const double line = j == 0 ? (lower ? 0.35 : 0.85) : 0.0;
+        const double line = j == 0 ? (lower ? 0.25 : 0.55) : 0.0;
         for (int i = 0; i <= kA; ++i) vertex(c + r * at(el, azimuth(i)), at(el, azimuth(i)), lid_tone + line * (lash_tone - lid_tone));
       }
       quads(base, kE, kA);
@@ -247,7 +247,8 @@ FaceBody::Eye FaceBody::eye(int e) const {
   out.ahead = look;
   out.right = unitOr(up.cross(look), R_ * Vec3::UnitX());
   out.up = look.cross(out.right);
-  // The lids: open, the upper lid's edge 9° above the centre (31° with eyelid_raise), the lower
+  // The lids: open, the upper lid's edge 17° above the centre, just over the iris's top (34° with
+  // eyelid_raise), the lower
   // lid's 23° below (higher as the orbicularis oculi squeezes); a blink, or the orbicularis
   // oculi in part, brings the upper lid down to 40° below.
   auto control = [&](const std::string& name) {
@@ -256,7 +257,7 @@ FaceBody::Eye FaceBody::eye(int e) const {
   };
   const double squeeze = control(e == 0 ? "orbicularis_oculi_left" : "orbicularis_oculi_right");
   const double closure = std::clamp(std::max(control("blink"), 0.45 * squeeze), 0.0, 1.0);
-  const double open = (9.0 + 22.0 * control("eyelid_raise")) * kPi / 180.0, shut = -40.0 * kPi / 180.0;
+  const double open = (17.0 + 17.0 * control("eyelid_raise")) * kPi / 180.0, shut = -40.0 * kPi / 180.0;
   out.upper = open + closure * (shut - open);
   out.lower = (-23.0 + 16.0 * squeeze) * kPi / 180.0;
   out.lid_radius = 1.07 * surface_.eye_radius;

@@ -60,6 +60,24 @@ double atIndex(const std::vector<double>& a, double f) {
   return a[i] + (c - static_cast<double>(i)) * (a[i + 1] - a[i]);
 }
 
+// The polar angle at azimuth ph whose base point lies as high as the midline's does at th0: the
+// face's rows made level. (A ring of one polar angle rises toward the face's sides, where the
+// head narrows: it would curve the lips' parting into a smile and tilt the eyes' rows.) Full over
+// the face's front and its rows, fading out toward the sides, the crown and the neck.
+double levelled(double th0, double ph, const FaceLook& look) {
+  const double w = smoothstep(0.9, 1.2, th0) * smoothstep(2.5, 2.3, th0) * smoothstep(1.35, 0.8, std::abs(ph));
+  if (w <= 0.0) return th0;
+  const double target = head::baseRadius(direction(th0, 0.0), look) * std::cos(th0);
+  auto height = [&](double th) { return head::baseRadius(direction(th, ph), look) * std::cos(th) - target; };
+  // Secant steps from th0 (the height falls as the angle grows).
+  double a = th0, b = th0 - 0.02, ga = height(a), gb = height(b);
+  for (int it = 0; it < 6 && std::abs(gb - ga) > 1e-12; ++it) {
+    const double c = std::clamp(b - gb * (b - a) / (gb - ga), th0 - 0.4, th0 + 0.4);
+    a = b, ga = gb, b = c, gb = height(b);
+  }
+  return th0 + w * (b - th0);
+}
+
 }  // namespace
 
 FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickness, const FaceLook& look) {
@@ -79,7 +97,10 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
   });
   out.phi = warped(C, -kPi, kPi, [](double a) { return 1.0 + 2.2 * bump(a, 0.0, 1.45); });
   const std::vector<double>&theta = out.theta, &phi = out.phi;
-  auto dir = [&](int j, int i) { return direction(theta[static_cast<std::size_t>(j)], phi[static_cast<std::size_t>(i)]); };
+  auto dir = [&](int j, int i) {
+    const double ph = phi[static_cast<std::size_t>(i)];
+    return direction(levelled(theta[static_cast<std::size_t>(j)], ph, look), ph);
+  };
   // The mouth's row: the ring whose front is nearest the mouth's height.
   auto frontY = [&](int j) { return baseRadius(dir(j, C / 2), look) * dir(j, C / 2).y(); };
   int jm = 1;
@@ -93,10 +114,16 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
     const Vec3 p = rb * d;
     const head::Features f = features(p, d, ym, look);
     // The skin takes every feature; the skull its own, the tissue's thickness below (thicker
-    // under the nose and lips, which are soft tissue only; never above the skin).
-    const double r = rb + f.bone + f.soft;
-    out.skin.push_back(s * r * d);
-    out.bone.push_back(s * (std::min(rb + f.bone, r) - thickness / s) * d);
+    // under the nose and lips, which are soft tissue only; never above the skin). Over the face
+    // they stand out level (a nose or lips pushed out along the ray would sink), so its rows
+    // stay level and the lips' parting straight.
+    // (From the eyes down to the chin: not under the jaw or over the brow, where the surface
+    // turns down or up and level columns of tissue would lean over.)
+    const double front = smoothstep(0.15, 0.6, d.z()) * smoothstep(-0.8, -0.62, d.y()) * smoothstep(0.15, 0.0, d.y());
+    const Vec3 level = Vec3(d.x(), 0.0, d.z()).normalized();
+    const Vec3 e = front > 0 ? Vec3((d + front * (level - d)).normalized()) : d;
+    out.skin.push_back(s * (p + (f.bone + f.soft) * e));
+    out.bone.push_back(s * (p + std::min(f.bone, f.bone + f.soft) * e) - thickness * e);
     out.uv.push_back({u, v});
     base.push_back(p);
   };
@@ -192,16 +219,18 @@ std::shared_ptr<const Image> skinTexture(const FaceSurface& s) {
   auto img = std::make_shared<Image>(size, size);
   if (!s.generated || s.theta.size() < 2 || s.phi.size() < 3) return img;
   const int C = static_cast<int>(s.phi.size()) - 1, R = static_cast<int>(s.theta.size()) - 1;
-  // The base radius on a coarse grid over (u, v), interpolated between (it is smooth).
+  // The levelled polar angle and the base radius on a coarse grid over (u, v), interpolated
+  // between (both are smooth).
   constexpr int kCoarse = 96;
-  std::vector<double> radius(static_cast<std::size_t>((kCoarse + 1) * (kCoarse + 1)));
-  auto dirAt = [&](double u, double v) {
-    return direction(atIndex(s.theta, v * R), atIndex(s.phi, 0.5 * C + u * 0.5 * C));
-  };
+  std::vector<double> radius(static_cast<std::size_t>((kCoarse + 1) * (kCoarse + 1))), polar(radius.size());
+  auto azimuth = [&](double u) { return atIndex(s.phi, 0.5 * C + u * 0.5 * C); };
   for (int j = 0; j <= kCoarse; ++j)
-    for (int i = 0; i <= kCoarse; ++i)
-      radius[static_cast<std::size_t>(j * (kCoarse + 1) + i)] =
-          head::baseRadius(dirAt(static_cast<double>(i) / kCoarse, static_cast<double>(j) / kCoarse), s.look);
+    for (int i = 0; i <= kCoarse; ++i) {
+      const std::size_t k = static_cast<std::size_t>(j * (kCoarse + 1) + i);
+      const double ph = azimuth(static_cast<double>(i) / kCoarse);
+      polar[k] = levelled(atIndex(s.theta, static_cast<double>(j) / kCoarse * R), ph, s.look);
+      radius[k] = head::baseRadius(direction(polar[k], ph), s.look);
+    }
 #pragma omp parallel for schedule(static)
   for (int y = 0; y < size; ++y) {
     const double v = std::clamp(((y + 0.5) / size - kSkinPadV) / (1 - 2 * kSkinPadV), 0.0, 1.0);
@@ -210,9 +239,12 @@ std::shared_ptr<const Image> skinTexture(const FaceSurface& s) {
       const double fu = u * kCoarse, fv = v * kCoarse;
       const int i = std::min(static_cast<int>(fu), kCoarse - 1), j = std::min(static_cast<int>(fv), kCoarse - 1);
       const double a = fu - i, b = fv - j;
-      auto R0 = [&](int jj, int ii) { return radius[static_cast<std::size_t>(jj * (kCoarse + 1) + ii)]; };
-      const double rb = (1 - b) * ((1 - a) * R0(j, i) + a * R0(j, i + 1)) + b * ((1 - a) * R0(j + 1, i) + a * R0(j + 1, i + 1));
-      const Vec3 d = dirAt(u, v);
+      auto lerp = [&](const std::vector<double>& g) {
+        auto G = [&](int jj, int ii) { return g[static_cast<std::size_t>(jj * (kCoarse + 1) + ii)]; };
+        return (1 - b) * ((1 - a) * G(j, i) + a * G(j, i + 1)) + b * ((1 - a) * G(j + 1, i) + a * G(j + 1, i + 1));
+      };
+      const double rb = lerp(radius);
+      const Vec3 d = direction(lerp(polar), azimuth(u));
       const Vec3 c = head::skinColor(rb * d, d, s.parting_y, s.look);
       std::uint8_t* px = img->pixel(x, y);
       for (int k = 0; k < 3; ++k) px[k] = linearToSrgb8(c[k]);

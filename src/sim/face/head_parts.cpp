@@ -87,7 +87,9 @@ std::shared_ptr<const TriMesh> makeBust(double scale, const FaceLook& look) {
   };
   const double broad = 1.0 + 0.08 * (look.sex - 0.5) + 0.1 * (look.build - 0.5);
   const double neck = 0.052 + 0.008 * look.build;
-  const Section sections[] = {{-0.135, neck + 0.011, neck + 0.014}, {-0.16, neck + 0.015, neck + 0.018},
+  // The collar's rim turns in to the neck, so no gap shows between them.
+  const Section sections[] = {{-0.142, neck + 0.002, neck + 0.004}, {-0.134, neck + 0.009, neck + 0.012},
+                              {-0.16, neck + 0.015, neck + 0.018},
                               {-0.185, 0.1 * broad, 0.08},         {-0.215, 0.16 * broad, 0.1},
                               {-0.25, 0.195 * broad, 0.11},        {-0.285, 0.21 * broad, 0.118},
                               {-0.34, 0.205 * broad, 0.122},       {-0.5, 0.19 * broad, 0.12}};

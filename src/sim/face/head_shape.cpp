@@ -179,7 +179,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     const double fold = segmentDistance(X, Y, s * 0.0195, -0.041, s * 0.031, -0.073);
     f.soft -= (0.0004 + 0.0012 * aged) * std::exp(-0.5 * sq(fold / 0.0022));
     f.soft += (0.001 + 0.0022 * heavy) * gauss(X, Y, s * 0.036, -0.046, 0.01, 0.011);
-    f.soft -= 0.0016 * (1 - heavy) * gauss(X, Y, s * 0.053, -0.058, 0.01, 0.012);     // under the cheekbone
+    f.soft -= 0.0009 * (1 - heavy) * gauss(X, Y, s * 0.052, -0.056, 0.014, 0.016);    // under the cheekbone
     f.soft += 0.001 * (0.4 + aged) * gauss(X, Y, s * kEyeX, -0.0135, 0.009, 0.0028);  // below the lower lid
   }
   f.bone += (0.0005 + 0.0025 * male) * gauss(X, Y, 0, 0.02, 0.01, 0.006);  // glabella

@@ -46,13 +46,13 @@ std::vector<FaceMuscleDesc> defaultMuscles(const FaceSurface& s) {
     double ax, ay, ix, iy, strength;
   };
   const Linear linear[] = {
-      {"zygomatic_major", 0.060, -0.012, corner + 0.001, ym, 10.5},
+      {"zygomatic_major", 0.060, -0.012, corner + 0.001, ym, 13.0},
       {"zygomatic_minor", 0.046, -0.008, 0.013, ym + 0.007, 2.5},
       {"levator_labii", 0.017, -0.006, 0.009, ym + 0.008, 4.5},
-      {"depressor_anguli_oris", 0.040, ym - 0.040, corner, ym - 0.002, 6.0},
+      {"depressor_anguli_oris", 0.040, ym - 0.040, corner + 0.002, ym + 0.0005, 11.0},
       {"frontalis_inner", 0.015, 0.088, 0.015, 0.025, 5.0},
       {"frontalis_outer", 0.046, 0.082, 0.046, 0.023, 4.5},
-      {"corrugator", 0.006, 0.014, 0.030, 0.028, 3.5},
+      {"corrugator", 0.012, 0.006, 0.030, 0.028, 4.5},
       {"risorius", 0.064, ym - 0.006, corner, ym - 0.001, 6.0},
   };
   for (const Linear& l : linear)
