@@ -66,7 +66,7 @@ def gaze_keys(camera):
 def main():
     close = ([0.17, 0.01, 0.5], [0.0, -0.03, 0.0])
     close_end = ([0.14, 0.005, 0.47], [0.0, -0.03, 0.0])
-    layers = ([-0.3, 0.04, 0.36], [0.0, -0.005, 0.0])
+    layers = ([-0.36, 0.05, 0.45], [0.0, -0.01, 0.0])
     scene = {
         "format": "reel/1", "name": "face", "duration": round(END, 3), "fps": FPS, "substeps": 2,
         "integrator": "implicit_euler", "implicit": {"cg_tolerance": 1e-3},
@@ -76,15 +76,15 @@ def main():
                    "keys": [{"time": 0, "position": close[0], "target": close[1]},
                             {"time": round(CUT - HALF, 4), "position": close_end[0], "target": close_end[1]},
                             {"time": round(CUT + HALF, 4), "position": layers[0], "target": layers[1]},
-                            {"time": round(END, 3), "position": [-0.27, 0.05, 0.33], "target": layers[1]}]},
+                            {"time": round(END, 3), "position": [-0.32, 0.05, 0.4], "target": layers[1]}]},
         # Loop lighting: the key high and to the far side of the face (the nose's shadow falls
         # down toward the mouth's corner), a cool fill from the camera's side, and a rim from
         # behind that lifts the head off the background.
         "lights": [{"type": "directional", "direction": [0.35, -0.55, -0.76], "color": [1.0, 0.93, 0.84],
-                    "intensity": 1.5, "shadows": True},
-                   {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.8, 0.82, 0.9], "intensity": 0.4},
+                    "intensity": 1.8, "shadows": True},
+                   {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.8, 0.82, 0.9], "intensity": 0.25},
                    {"type": "directional", "direction": [-0.3, -0.5, 0.9], "color": [0.9, 0.9, 1.0], "intensity": 0.9},
-                   {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.35}],
+                   {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.25}],
         "bodies": [{
             "type": "face", "name": "face",
             "keys": head_keys(),

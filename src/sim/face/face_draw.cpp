@@ -67,7 +67,7 @@ void FaceBody::drawSkin(DrawList& out) const {
   skin.material = drawMaterial(material_);
   skin.material.wrap = kSkinWrap;
   // Wrinkles: where the skin's area has shrunk (the brows drawn together, the cheeks pushed up
-  // against the eyes) its folds shade it darker, from 4% to 25% of area lost (a wrinkle map
+  // against the eyes) its folds shade it darker, from 6% to 30% of area lost (a wrinkle map
   // driven by the tissue's strain; the folds themselves are the tissue's own).
   std::vector<double> now(n, 0.0), rest(n, 0.0);
   for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
@@ -78,8 +78,8 @@ void FaceBody::drawSkin(DrawList& out) const {
   }
   auto crease = [&](std::size_t k) {
     const double lost = rest[k] > 0 ? 1.0 - now[k] / rest[k] : 0.0;
-    const double t = std::clamp((lost - 0.04) / 0.21, 0.0, 1.0);
-    return 1.0 - 0.45 * t * t * (3 - 2 * t);
+    const double t = std::clamp((lost - 0.06) / 0.24, 0.0, 1.0);
+    return 1.0 - 0.35 * t * t * (3 - 2 * t);
   };
   if (surface_.generated) {
     // reel's head: its skin's texture, made once when first drawn.
@@ -131,6 +131,7 @@ void FaceBody::drawSkin(DrawList& out) const {
     out.meshes.push_back({std::move(inside), true, dark});
     const double k = surface_.scale, ym = surface_.mouth.y();
     const double front = surface_.mouth.z() - 0.0085 * k, arch = 0.022 * k;
+    const double open = mouthOpening() / k, lit = 0.15 + 0.85 * std::clamp((open - 0.002) / 0.006, 0.0, 1.0);
     auto teeth = std::make_shared<TriMesh>();
     constexpr int kAround = 24;
     for (int row = 0; row < 2; ++row) {
@@ -147,7 +148,8 @@ void FaceBody::drawSkin(DrawList& out) const {
           const double y = ym + sign * (0.0008 + 0.0035 * j) * k;
           const Vec3 q(arch * std::sin(a), y, front - arch * (1 - std::cos(a)));
           teeth->addVertex(desc_.position + turn * (q - hinge) + R_ * hinge, turn * normal);
-          const Vec3 c = j == 2 ? Vec3(0.45, 0.18, 0.17) : (gap * (1.0 - 0.5 * std::abs(a) / 1.3)) * Vec3(0.78, 0.74, 0.66);
+          // (Dimmer as the lips close: little light reaches into a closed mouth.)
+          const Vec3 c = lit * (j == 2 ? Vec3(0.45, 0.18, 0.17) : (gap * (1.0 - 0.5 * std::abs(a) / 1.3)) * Vec3(0.78, 0.74, 0.66));
           for (int m = 0; m < 3; ++m) teeth->colors.push_back(static_cast<float>(c[m]));
         }
       }
@@ -307,15 +309,23 @@ void FaceBody::drawLayers(DrawList& out) const {
     } else {
       Vec3 u, v;
       sphincterAxes(mu.desc.normal.normalized(), u, v);
+      // Its ring lies in the tissue: each point on the fascia node its nodes hold nearest to it
+      // across the muscle's plane (the ring follows the face's curve and its contraction).
       const double shrink = 1.0 - 0.25 * a;
-      for (int i = 0; i < 24; ++i) {
-        auto at = [&](int j) {
-          const double ang = 2 * kPi * j / 24;
-          return Vec3(desc_.position + R_ * (mu.desc.center + shrink * 0.6 *
-                                                                (mu.desc.radii[0] * std::cos(ang) * u + mu.desc.radii[1] * std::sin(ang) * v)));
-        };
-        pushTube(t, at(i), at(i + 1));
-      }
+      auto at = [&](int j) {
+        const double ang = 2 * kPi * j / 24;
+        const Vec3 q = mu.desc.center + shrink * 0.6 * (mu.desc.radii[0] * std::cos(ang) * u + mu.desc.radii[1] * std::sin(ang) * v);
+        const Vec3 axis = mu.desc.normal.normalized();
+        std::size_t best = 0;
+        double bd = 1e300;
+        for (int k : mu.nodes) {
+          const Vec3 r = surface_.skin[static_cast<std::size_t>(k)] - q;
+          const double across = (r - r.dot(axis) * axis).squaredNorm();
+          if (across < bd) bd = across, best = static_cast<std::size_t>(k);
+        }
+        return mu.nodes.empty() ? Vec3(desc_.position + R_ * q) : Vec3(x[n + best]);
+      };
+      for (int i = 0; i < 24; ++i) pushTube(t, at(i), at(i + 1));
     }
     out.tubes.push_back(std::move(t));
   }

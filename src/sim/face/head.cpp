@@ -123,7 +123,7 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
     const Vec3 level = Vec3(d.x(), 0.0, d.z()).normalized();
     const Vec3 e = front > 0 ? Vec3((d + front * (level - d)).normalized()) : d;
     out.skin.push_back(s * (p + (f.bone + f.soft) * e));
-    out.bone.push_back(s * (p + std::min(f.bone, f.bone + f.soft) * e) - thickness * e);
+    out.bone.push_back(s * (p + std::min(f.bone, f.bone + f.soft) * e) - thickness * d);
     out.uv.push_back({u, v});
     base.push_back(p);
   };

@@ -168,8 +168,8 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   for (double s : {-1.0, 1.0}) {
     f.bone += (0.0015 + 0.004 * male) * gauss(X, Y, s * 0.028, 0.02, 0.018, 0.006);  // brow ridge
     // The eye's socket, shallower toward the temple (the eye shows less from the side).
-    const double outer = s * (X - s * kEyeX) > 0 ? 0.0105 : 0.0125;
-    f.bone -= 0.0135 * gauss(X, Y, s * kEyeX, kEyeY + 0.0005, outer, 0.0085);
+    const double outer = s * (X - s * kEyeX) > 0 ? 0.0095 : 0.011;
+    f.bone -= 0.0105 * gauss(X, Y, s * kEyeX, kEyeY + 0.0005, outer, 0.0065);
     f.bone += 0.004 * gauss(X, Y, s * 0.05, -0.016, 0.014, 0.009);                     // cheekbone
     f.soft += 0.0095 * gauss(X, Y, s * 0.015, -0.0405, 0.006, 0.0055);                 // the nose's wing
     f.soft -= 0.0018 * gauss(X, Y, s * 0.0065, -0.0445, 0.003, 0.0015);                // nostril
@@ -183,7 +183,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     f.soft += 0.001 * (0.4 + aged) * gauss(X, Y, s * kEyeX, -0.0135, 0.009, 0.0028);  // below the lower lid
   }
   f.bone += (0.0005 + 0.0025 * male) * gauss(X, Y, 0, 0.02, 0.01, 0.006);  // glabella
-  f.bone += (0.0055 + 0.002 * male) * gauss(X, Y, 0, -0.103, 0.013, 0.0075);  // chin
+  f.bone += (0.0065 + 0.002 * male) * gauss(X, Y, 0, -0.103, 0.013, 0.0075);  // chin
   f.bone += 0.004 * gauss(X, Y, 0, ym, 0.028, 0.014);                        // the teeth's arch under the lips
   // Nose: the ridge from the root to the tip and under it, the tip's lobule.
   const double nose = 0.92 + 0.16 * male;

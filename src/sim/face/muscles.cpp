@@ -46,7 +46,7 @@ std::vector<FaceMuscleDesc> defaultMuscles(const FaceSurface& s) {
     double ax, ay, ix, iy, strength;
   };
   const Linear linear[] = {
-      {"zygomatic_major", 0.060, -0.012, corner + 0.001, ym, 13.0},
+      {"zygomatic_major", 0.060, -0.012, corner + 0.001, ym, 10.0},
       {"zygomatic_minor", 0.046, -0.008, 0.013, ym + 0.007, 2.5},
       {"levator_labii", 0.017, -0.006, 0.009, ym + 0.008, 4.5},
       {"depressor_anguli_oris", 0.040, ym - 0.040, corner + 0.002, ym + 0.0005, 11.0},
@@ -62,6 +62,9 @@ std::vector<FaceMuscleDesc> defaultMuscles(const FaceSurface& s) {
       d.attachment = bone(side * l.ax, l.ay);
       d.insertion = tissue(side * l.ix, l.iy);
       d.strength = 1.6 * l.strength * k * k;
+      // The smile's muscle takes the mouth's corner, not the upper lip (which it would bunch
+      // into a crease under the nose).
+      if (std::string(l.name) == "zygomatic_major") d.angle_deg = 18.0;
       out.push_back(d);
     }
   for (int e = 0; e < 2; ++e) {
