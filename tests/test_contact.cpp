@@ -393,23 +393,26 @@ TEST_CASE("contact layer: a face's skin meets a rope and water") {
     const std::string name = w.bodies()[1]->name();
     const std::vector<Vec3> rest = f.network().state.x;
     double skin = 1e300, skull = 1e300, dent = 0.0;
-    Vec3 deepest = Vec3::Zero();
+    Vec3 deepest = Vec3::Zero(), deep_skin = Vec3::Zero();
     for (int frame = 0; frame < 6; ++frame) {
       run(w, 1);
       for (const Vec3& p : viewOf(w, name).positions) {
         if (p.y() < -0.1) continue;  // splashed down past the chin (the nearest vertex's normal misleads at the neck's cut)
-        skin = std::min(skin, outside(f, p, 0));
+        // (Over the face's middle; beside the cheeks and round the jaw's sides, where the rope's
+        // ends wrap, the dented skin's nearest normal leans and misleads: there the skull alone
+        // is measured.)
+        if (p.z() > 0.03 && std::abs(p.x()) < 0.04 && outside(f, p, 0) < skin) skin = outside(f, p, 0), deep_skin = p;
         if (outside(f, p, 2) < skull) skull = outside(f, p, 2), deepest = p;
       }
       // The skin took the push: how far back (−z) an epidermis node was driven.
       for (std::size_t k = 0; k < f.surface().size(); ++k)
         dent = std::max(dent, rest[k].z() - f.network().state.x[k].z());
     }
-    MESSAGE("deepest: " << -skin << " m under the skin, " << skull << " m over the skull (at " << deepest.transpose()
-                         << "); skin dented " << dent << " m");
+    MESSAGE("deepest: " << -skin << " m under the skin (at " << deep_skin.transpose() << "), " << skull
+                         << " m over the skull (at " << deepest.transpose() << "); skin dented " << dent << " m");
     CHECK(w.contacts().total().point_triangle > 0);
     CHECK(skull > 0.0);         // nothing reaches the skull
-    CHECK(skin > -0.016);       // the skin dents no deeper than its tissue (up to 12 mm over the cheeks; measured along the dented skin)
+    CHECK(skin > -0.012);       // the skin dents no deeper than its tissue
     CHECK(dent > 0.002);
     // Stopped by the face, not flying on at 3 m/s.
     const BodyView v = viewOf(w, name);
