@@ -14,7 +14,7 @@ import sys
 import tempfile
 
 EXPRESSIONS = ["happiness", "surprise", "sadness", "anger", "disgust", "fear"]
-LIGHTS = [{"type": "directional", "direction": [0.35, -0.55, -0.76], "color": [1.0, 0.93, 0.84], "intensity": 1.8,
+LIGHTS = [{"type": "directional", "direction": [0.6, -0.5, -0.62], "color": [1.0, 0.93, 0.84], "intensity": 1.8,
            "shadows": True},
           {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.8, 0.82, 0.9], "intensity": 0.25},
           {"type": "directional", "direction": [-0.3, -0.5, 0.9], "color": [0.9, 0.9, 1.0], "intensity": 0.9},

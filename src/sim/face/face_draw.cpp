@@ -179,7 +179,7 @@ void FaceBody::drawSkin(DrawList& out) const {
   }
   out.instances.push_back(std::move(eyes));
   // The lids' colours: the skin's tone, a shade darker, and the lash line at their edges.
-  const Vec3 lid_tone = 0.93 * Vec3(0.57, 0.36, 0.28), lash_tone(0.04, 0.03, 0.024);
+  const Vec3 lid_tone = 0.93 * Vec3(0.57, 0.36, 0.28), lash_tone(0.07, 0.05, 0.04);
   auto lids = std::make_shared<TriMesh>();
   auto vertex = [&](const Vec3& p, const Vec3& n, const Vec3& color) {
     lids->addVertex(world(p), R_ * n);
@@ -209,9 +209,9 @@ void FaceBody::drawSkin(DrawList& out) const {
       }
       quads(base, kE, kA);
       // The lashes: a fringe curving out and away from the eye from the lid's edge, longest
-      // at the middle: a dark line seen from the front (1.8 mm above, 0.7 mm below).
+      // at the middle: a dark line seen from the front (1.4 mm above, 0.6 mm below).
       base = static_cast<std::uint32_t>(lids->vertexCount());
-      const double length = (lower ? 0.0007 : 0.0018) * surface_.scale;
+      const double length = (lower ? 0.0006 : 0.0014) * surface_.scale;
       const Vec3 away(0, lower ? -1 : 1, 0);
       for (int j = 0; j <= 2; ++j)
         for (int i = 0; i <= kA; ++i) {
@@ -249,8 +249,8 @@ FaceBody::Eye FaceBody::eye(int e) const {
   out.ahead = look;
   out.right = unitOr(up.cross(look), R_ * Vec3::UnitX());
   out.up = look.cross(out.right);
-  // The lids: open, the upper lid's edge 17° above the centre, just over the iris's top (34° with
-  // eyelid_raise), the lower
+  // The lids: open, the upper lid's edge 17° above the centre, just over the iris's top (28° with
+  // eyelid_raise: white shows above it), the lower
   // lid's 23° below (higher as the orbicularis oculi squeezes); a blink, or the orbicularis
   // oculi in part, brings the upper lid down to 40° below.
   auto control = [&](const std::string& name) {
@@ -259,7 +259,7 @@ FaceBody::Eye FaceBody::eye(int e) const {
   };
   const double squeeze = control(e == 0 ? "orbicularis_oculi_left" : "orbicularis_oculi_right");
   const double closure = std::clamp(std::max(control("blink"), 0.45 * squeeze), 0.0, 1.0);
-  const double open = (17.0 + 17.0 * control("eyelid_raise")) * kPi / 180.0, shut = -40.0 * kPi / 180.0;
+  const double open = (17.0 + 11.0 * control("eyelid_raise")) * kPi / 180.0, shut = -40.0 * kPi / 180.0;
   out.upper = open + closure * (shut - open);
   out.lower = (-23.0 + 16.0 * squeeze) * kPi / 180.0;
   out.lid_radius = 1.07 * surface_.eye_radius;

@@ -39,7 +39,7 @@ void ringTriangles(TriMesh& m, std::uint32_t first, int rings, int segments, boo
 
 }  // namespace
 
-// One ear at height 0.24 m: 62 mm tall, 30 mm wide, its root in the skull in front of the jaw's
+// One ear at height 0.24 m: 62 mm tall, 30 mm wide, its root in the skull behind the jaw's
 // hinge, its back edge 13 mm off the head.
 void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
   constexpr int kRings = 14, kSegments = 48;
@@ -59,7 +59,7 @@ void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
       double h = 0.0045 * std::exp(-sq((r - 0.9) / 0.075)) * (sa > -0.6 ? 1.0 : 0.3);
       h += 0.0028 * std::exp(-sq((r - 0.58) / 0.09)) * upper;
       h -= 0.006 * std::exp(-sq(u / 0.007) - sq((v + 0.002) / 0.009));
-      const double stand = 0.32 * (u + 0.0115) - 0.0035;
+      const double stand = 0.55 * (u + 0.0115) - 0.0035;
       const Vec3 p = origin + u * back + v * up + (h + stand) * out;
       m.addVertex(scale * p, out);
       const double shade = std::clamp(1.0 + 40.0 * std::min(h, 0.0), 0.55, 1.0);
