@@ -270,6 +270,16 @@ TEST_CASE("face: a user's mesh with an inset and a muscle of the scene") {
     for (std::size_t t = 0; t < ball.triangleCount(); ++t)
       obj << "f " << ball.indices[3 * t] + 1 << " " << ball.indices[3 * t + 1] + 1 << " " << ball.indices[3 * t + 2] + 1 << "\n";
   }
+  // The looks shape reel's own head: a user's mesh has none.
+  {
+    auto r = app::parseScene(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "face", "name": "f", "mesh": "ball.obj",
+        "inset": 0.008, "sex": 1, "shoulders": false}]})", (dir / "looks.json").string());
+    REQUIRE(!r.ok());
+    std::string all;
+    for (const std::string& l : r.error().messages) all += l + "\n";
+    checkHas(all, "/bodies/0/sex: shapes reel's own head");
+    checkHas(all, "/bodies/0/shoulders");
+  }
   // A muscle from the skull above the front to the tissue below it: it pulls the front up.
   const Vec3 att = 0.092 * Vec3(0, 0.5, 1).normalized(), ins = 0.096 * Vec3(0, -0.3, 1).normalized();
   auto num = [](const Vec3& p) { return "[" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ", " + std::to_string(p.z()) + "]"; };

@@ -185,6 +185,7 @@ TEST_CASE("face: bad visemes and looks are refused with their JSON path") {
   checkHas(badInputError(scene(R"(, "sex": 1.5)")), "/bodies/0/sex");
   checkHas(badInputError(scene(R"(, "age": 5)")), "/bodies/0/age");
   checkHas(badInputError(scene(R"(, "build": -1)")), "/bodies/0/build");
+
 }
 
 TEST_CASE("face: after surprise, sadness and anger the face comes back to rest (no fold stays)") {

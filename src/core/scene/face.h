@@ -119,11 +119,12 @@ struct FaceDesc final : BodyParams {
   std::vector<FaceDrawKey> draw;   // none: skin
   Vec3 iris_color{0.12, 0.22, 0.35};  // linear rgb
 
-  // Three nodes per surface vertex (epidermis, fascia, bone), about twenty springs.
+  // Three nodes per surface vertex (epidermis, fascia, bone), about twenty-three springs (with the
+  // skin's flexion springs).
   std::pair<long long, long long> nodesAndSprings() const override {
     const long long v = mesh ? static_cast<long long>(mesh->vertexCount())
                              : static_cast<long long>(resolution[0] + 1) * (resolution[1] - 1) + 2 + resolution[0] / 2;
-    return {3 * v, 20 * v};
+    return {3 * v, 23 * v};
   }
 };
 
@@ -147,7 +148,7 @@ struct FacePreset {
   std::array<std::pair<const char*, double>, 7> controls;  // unused slots: nullptr
 };
 inline constexpr std::array<FacePreset, 7> kFacePresets = {{
-    // AU6 + AU12 (+ AU25/26)
+    // AU6 + AU12 (+ AU20, AU25/26)
     {"happiness", {{{"zygomatic_major", 1.0}, {"orbicularis_oculi", 0.3}, {"jaw_open", 0.25}, {"risorius", 0.25}}}},
     // AU1 + AU4 + AU15 (+ AU17)
     {"sadness", {{{"frontalis_inner", 1.0}, {"corrugator", 0.6}, {"depressor_anguli_oris", 1.0}, {"mentalis", 0.2}, {"orbicularis_oculi", 0.15}}}},

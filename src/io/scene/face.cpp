@@ -183,6 +183,9 @@ void readFace(Obj& o, FaceDesc& f) {
     }
   }
   if (auto c = o.vec3("iris_color", Range::closed(0.0, 1.0))) f.iris_color = *c;
+  // reel's head's looks and shoulders: refused on a user's mesh, which has neither.
+  for (const char* key : {"sex", "age", "build", "shoulders"})
+    if (f.mesh && o.has(key)) d.error(childPath(p, key), "shapes reel's own head; a face with a `mesh` has none");
   f.look.sex = o.number("sex", f.look.sex, Range::closed(0.0, 1.0));
   f.look.age = o.number("age", f.look.age, Range::closed(18.0, 90.0));
   f.look.build = o.number("build", f.look.build, Range::closed(0.0, 1.0));
@@ -193,10 +196,10 @@ void readFace(Obj& o, FaceDesc& f) {
     v.time = vo.number("time", kTimes, true).value_or(0.0);
     v.viseme = vo.string("viseme", true).value_or("rest");
     v.amount = vo.number("amount", 1.0, kUnit);
-    std::vector<std::string> names{"rest"};
-    for (const FacePreset& fp : kFaceVisemes) names.emplace_back(fp.name);
-    if (std::find(names.begin(), names.end(), v.viseme) == names.end()) {
-      const std::string near = nearest(v.viseme, names);
+    std::vector<std::string> visemes{"rest"};
+    for (const FacePreset& fp : kFaceVisemes) visemes.emplace_back(fp.name);
+    if (std::find(visemes.begin(), visemes.end(), v.viseme) == visemes.end()) {
+      const std::string near = nearest(v.viseme, visemes);
       d.error(childPath(vo.path(), "viseme"), "unknown viseme \"" + v.viseme + "\"" + (near.empty() ? "" : " (did you mean \"" + near + "\"?)"));
     }
     if (!f.visemes.empty() && v.time <= f.visemes.back().time) d.error(childPath(vo.path(), "time"), "keyframe times must increase");

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -89,7 +90,9 @@ class FaceBody final : public SpringNetworkBody {
   std::vector<double> act_;  // contractions now (controls)
   std::vector<Vec3> ext_;    // muscle and tissue forces, N (nodes)
   std::vector<double> contact_w_;  // 1/kg (nodes) as the contact layer sees them, found at the end of each step
-  mutable std::shared_ptr<const Image> skin_texture_;  // reel's head's skin, made when first drawn
+  // reel's head's skin, made once when first drawn (drawing is const; the flag makes it once).
+  mutable std::once_flag skin_once_;
+  mutable std::shared_ptr<const Image> skin_texture_;
   double t_ = 0.0;           // time of the last pose, s
   Mat3 R_ = Mat3::Identity();
   double jaw_ = 0.0;

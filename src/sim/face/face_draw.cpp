@@ -66,8 +66,9 @@ void FaceBody::drawSkin(DrawList& out) const {
   DrawMesh skin;
   skin.material = drawMaterial(material_);
   skin.material.wrap = kSkinWrap;
-  // Wrinkles: where the skin's area has shrunk (the brows drawn together, the cheeks pushed up
-  // against the eyes) its folds shade it darker, from 6% to 30% of area lost (a wrinkle map
+  // Wrinkles, a wrinkle map weighted by the tissue's strain (after Oat 2007, "Animated wrinkle
+  // maps", SIGGRAPH course; here the strain itself is the map): where the skin's area has shrunk
+  // (the brows drawn together, the cheeks pushed up against the eyes) its folds shade it darker, from 6% to 30% of area lost (a wrinkle map
   // driven by the tissue's strain; the folds themselves are the tissue's own).
   std::vector<double> now(n, 0.0), rest(n, 0.0);
   for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
@@ -83,7 +84,7 @@ void FaceBody::drawSkin(DrawList& out) const {
   };
   if (surface_.generated) {
     // reel's head: its skin's texture, made once when first drawn.
-    if (!skin_texture_) skin_texture_ = skinTexture(surface_);
+    std::call_once(skin_once_, [&] { skin_texture_ = skinTexture(surface_); });
     skin.material.texture = skin_texture_;
     for (std::size_t k = 0; k < n; ++k) mesh->uvs[2 * k] = surface_.uv[k][0], mesh->uvs[2 * k + 1] = surface_.uv[k][1];
   }
@@ -181,8 +182,8 @@ void FaceBody::drawSkin(DrawList& out) const {
   // The lids' colours: the skin's tone, a shade darker, and the lash line at their edges.
   const Vec3 lid_tone = 0.93 * Vec3(0.57, 0.36, 0.28), lash_tone(0.07, 0.05, 0.04);
   auto lids = std::make_shared<TriMesh>();
-  auto vertex = [&](const Vec3& p, const Vec3& n, const Vec3& color) {
-    lids->addVertex(world(p), R_ * n);
+  auto vertex = [&](const Vec3& p, const Vec3& normal, const Vec3& color) {
+    lids->addVertex(world(p), R_ * normal);
     for (int k = 0; k < 3; ++k) lids->colors.push_back(static_cast<float>(color[k]));
   };
   auto quads = [&](std::uint32_t base, int rows, int cols) {
@@ -320,8 +321,8 @@ void FaceBody::drawLayers(DrawList& out) const {
         double bd = 1e300;
         for (int k : mu.nodes) {
           const Vec3 r = surface_.skin[static_cast<std::size_t>(k)] - q;
-          const double across = (r - r.dot(axis) * axis).squaredNorm();
-          if (across < bd) bd = across, best = static_cast<std::size_t>(k);
+          const double off = (r - r.dot(axis) * axis).squaredNorm();
+          if (off < bd) bd = off, best = static_cast<std::size_t>(k);
         }
         return mu.nodes.empty() ? Vec3(desc_.position + R_ * q) : Vec3(x[n + best]);
       };

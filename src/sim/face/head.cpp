@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/math.h"
+#include "core/parallel.h"
 #include "sim/face/head_shape.h"
 #include "sim/geometry.h"
 
@@ -14,7 +15,7 @@ namespace reel {
 namespace {
 
 // The skin texture's padding: the share of its width beyond the midline, of its height at each end.
-constexpr double kSkinPadU = 0.15, kSkinPadV = 0.02;
+constexpr double kSkinPadU = 0.08, kSkinPadV = 0.02;
 
 double sq(double x) { return x * x; }
 
@@ -129,11 +130,11 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
   };
   // Texture coordinates: u from the midline (0) to the back (1), the same on both sides, so the
   // texture has no seam; v from the crown (0) to the neck (1), both along the grid's indices.
-  // The texture's edges are padded (u: the far side of the midline, mirrored; v: the crown's and
-  // the neck's rows held), so its filtering, which wraps around, never mixes the back of the head
-  // into the midline.
+  // The texture's edges are padded (u: past the midline and past the back, mirrored; v: the
+  // crown's and the neck's rows held), so its filtering, which wraps around, never mixes the back
+  // of the head into the midline.
   auto tex = [](double a, double pad) { return static_cast<float>(pad + (1 - 2 * pad) * a); };
-  auto texU = [&](double a) { return static_cast<float>(kSkinPadU + (1 - kSkinPadU) * a); };
+  auto texU = [&](double a) { return tex(a, kSkinPadU); };
   auto uOf = [&](int i) { return texU(static_cast<double>(std::abs(i - C / 2)) / (C / 2)); };
   add(Vec3(0, 1, 0), texU(0), tex(0, kSkinPadV));
   for (int j = 1; j < R; ++j)
@@ -189,7 +190,10 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
     // The jaw: everything below the parting at the front, fading to the sides and into the throat.
     const bool lower_lip = k >= bottom + 1;
     double w = std::clamp((ym + 0.012 - Y) / 0.024, 0.0, 1.0);
-    if (std::abs(Y - ym) < 1e-12 && std::abs(X) < head::kMouthHalf && p.z() > 0) w = lower_lip ? 1.0 : 0.0;
+    // The parting's own row (by index): its upper lip stays with the skull, its lower copy goes
+    // with the jaw.
+    const bool parting = lower_lip || (k >= ring(jm, 0) && k < ring(jm, 0) + static_cast<std::size_t>(C));
+    if (parting && std::abs(X) < head::kMouthHalf && p.z() > 0) w = lower_lip ? 1.0 : 0.0;
     w *= smoothstep(-0.05, 0.35, d.z());
     w *= 1 - smoothstep(-0.115, -0.15, Y);
     out.jaw[k] = w;
@@ -231,11 +235,13 @@ std::shared_ptr<const Image> skinTexture(const FaceSurface& s) {
       polar[k] = levelled(atIndex(s.theta, static_cast<double>(j) / kCoarse * R), ph, s.look);
       radius[k] = head::baseRadius(direction(polar[k], ph), s.look);
     }
-#pragma omp parallel for schedule(static)
-  for (int y = 0; y < size; ++y) {
+  // Each texel on its own: the same bits at any number of threads.
+  parallelFor(size, [&](std::ptrdiff_t row) {
+    const int y = static_cast<int>(row);
     const double v = std::clamp(((y + 0.5) / size - kSkinPadV) / (1 - 2 * kSkinPadV), 0.0, 1.0);
     for (int x = 0; x < size; ++x) {
-      const double u = std::min(std::abs(((x + 0.5) / size - kSkinPadU) / (1 - kSkinPadU)), 1.0);
+      const double t = ((x + 0.5) / size - kSkinPadU) / (1 - 2 * kSkinPadU);
+      const double u = std::clamp(t < 0 ? -t : t > 1 ? 2 - t : t, 0.0, 1.0);  // mirrored past both ends
       const double fu = u * kCoarse, fv = v * kCoarse;
       const int i = std::min(static_cast<int>(fu), kCoarse - 1), j = std::min(static_cast<int>(fv), kCoarse - 1);
       const double a = fu - i, b = fv - j;
@@ -249,7 +255,7 @@ std::shared_ptr<const Image> skinTexture(const FaceSurface& s) {
       std::uint8_t* px = img->pixel(x, y);
       for (int k = 0; k < 3; ++k) px[k] = linearToSrgb8(c[k]);
     }
-  }
+  });
   return img;
 }
 

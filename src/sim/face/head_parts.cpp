@@ -1,6 +1,7 @@
 // reel's head's drawn parts that are not tissue: the ears (rim, antihelix, bowl and lobe, as a
 // relief over an ear-shaped outline standing off the skull) and the shoulders in a sweater that
-// the neck enters. They are drawn, not simulated: the ears turn with the skull, the shoulders stay.
+// the neck enters. They are drawn, not simulated: the ears turn with the skull, the shoulders a
+// third as far (face_draw.cpp).
 #include <algorithm>
 #include <cmath>
 
@@ -37,8 +38,6 @@ void ringTriangles(TriMesh& m, std::uint32_t first, int rings, int segments, boo
     }
 }
 
-}  // namespace
-
 // One ear at height 0.24 m: 62 mm tall, 30 mm wide, its root in the skull behind the jaw's
 // hinge, its back edge 13 mm off the head.
 void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
@@ -70,6 +69,8 @@ void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
   ringTriangles(m, first, kRings, kSegments, side < 0);
   // The centre: its first ring collapses to a point; nothing else to close.
 }
+
+}  // namespace
 
 std::shared_ptr<const TriMesh> makeEars(double scale, const Vec3& skin) {
   auto m = std::make_shared<TriMesh>();
