@@ -182,13 +182,21 @@ vec3 irradiance(vec3 n) {  // Ramamoorthi & Hanrahan 2001: irradiance / π from 
 #endif
 
 #define DIRECTIONAL(I) shade(n, view, -normalize(u_light_vec[I]), u_light_radiance[I])
+#ifdef WRAP
+// Skin: light wrapped past the terminator is what scattered under it, which the head's shadow of
+// itself there does not stop; the shadow map counts only where the surface faces the light (a
+// nose's shadow on the cheek stays), else its edge draws a seam along the terminator.
+#define LIT(s, L) mix(1.0, (s), smoothstep(-0.05, 0.3, dot(n, (L))))
+#else
+#define LIT(s, L) (s)
+#endif
 #define DIRECTIONAL_SHADOW(I, S) \
-  (shadow##S(v_world, n, -normalize(u_light_vec[I])) * DIRECTIONAL(I))
+  (LIT(shadow##S(v_world, n, -normalize(u_light_vec[I])), -normalize(u_light_vec[I])) * DIRECTIONAL(I))
 #define POINT_RADIANCE(I) (u_light_radiance[I] / max(dot(u_light_vec[I] - v_world, u_light_vec[I] - v_world), 1e-8))
 #define POINT(I) shade(n, view, normalize(u_light_vec[I] - v_world), POINT_RADIANCE(I))
-#define POINT_SHADOW(I, S) (shadow##S(v_world, n, normalize(u_light_vec[I] - v_world)) * POINT(I))
-#define DIRECTIONAL_SHADOW_SOFT(I, S) (shadowSoft##S(v_world, n, -normalize(u_light_vec[I])) * DIRECTIONAL(I))
-#define POINT_SHADOW_SOFT(I, S) (shadowSoft##S(v_world, n, normalize(u_light_vec[I] - v_world)) * POINT(I))
+#define POINT_SHADOW(I, S) (LIT(shadow##S(v_world, n, normalize(u_light_vec[I] - v_world)), normalize(u_light_vec[I] - v_world)) * POINT(I))
+#define DIRECTIONAL_SHADOW_SOFT(I, S) (LIT(shadowSoft##S(v_world, n, -normalize(u_light_vec[I])), -normalize(u_light_vec[I])) * DIRECTIONAL(I))
+#define POINT_SHADOW_SOFT(I, S) (LIT(shadowSoft##S(v_world, n, normalize(u_light_vec[I] - v_world)), normalize(u_light_vec[I] - v_world)) * POINT(I))
 #define AMBIENT(I) ((g_kd + g_es) * u_light_radiance[I] * g_ao)
 
 void main() {
