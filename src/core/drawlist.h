@@ -34,8 +34,9 @@ struct DrawMaterial {
   // absorbed along the depth of the body: light keeps albedo^(depth / absorption_depth) of itself.
   double transmission = 0.0, absorption_depth = 0.1;  // —, m
   double roughnessValue() const;
-  // Wrap lighting, 0..1 (a cheap stand-in for light scattered under skin): the diffuse term
-  // (n·l + w)/(1 + w) reaches past the terminator; 0 is Lambert.
+  // Wrap lighting, 0..1 (a cheap stand-in for light scattered under skin): each colour's diffuse
+  // term (n·l + w_c)/(1 + w_c), w_c = w, 0.55 w, 0.4 w for red, green, blue, reaches past the
+  // terminator, and shadows count only where the surface faces the light; 0 is Lambert.
   double wrap = 0.0;
   bool double_sided = false;  // sheets: lit from both sides
   // double_sided: the back's albedo (the side the normal points away from), plain (no texture);
