@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "face_scene.h"
 #include "helpers.h"
 #include "sim/face/face_body.h"
 #include "sim/world.h"
@@ -21,9 +22,7 @@ const FaceBody& face(const World& w) { return *w.first<FaceBody>(); }
 
 // A face at a test resolution; `extra` adds keys to it.
 std::string faceScene(const std::string& extra, double duration = 1.0, const std::string& resolution = "[48, 32]") {
-  return R"({"format": "reel/1", "duration": )" + std::to_string(duration) +
-         R"(, "fps": 30, "substeps": 2, "integrator": "implicit_euler", "implicit": {"cg_tolerance": 1e-5},
-    "bodies": [{"type": "face", "name": "f", "resolution": )" + resolution + extra + "}]}";
+  return faceSceneText(extra, duration, resolution, "1e-5");
 }
 
 // The head-frame position of skin vertex k now (the head is at the origin, unturned).

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "face_scene.h"
 #include "helpers.h"
 #include "sim/face/face_body.h"
 #include "sim/world.h"
@@ -18,9 +19,7 @@ namespace {
 const FaceBody& face(const World& w) { return *w.first<FaceBody>(); }
 
 std::string scene(const std::string& extra, double duration = 1.0, const std::string& resolution = "[64, 40]") {
-  return R"({"format": "reel/1", "duration": )" + std::to_string(duration) +
-         R"(, "fps": 30, "substeps": 2, "integrator": "implicit_euler", "implicit": {"cg_tolerance": 1e-3},
-    "bodies": [{"type": "face", "name": "f", "resolution": )" + resolution + extra + "}]}";
+  return faceSceneText(extra, duration, resolution, "1e-3");
 }
 
 // How many times the closed skin winds around q (1 inside, 0 outside): the sum of the solid
