@@ -11,7 +11,7 @@ namespace reel::test {
 inline const std::string kHead = R"({"format": "reel/1", "fps": 30, "seed": 11, )";
 
 inline const std::map<std::string, std::string> kScenes = {
-    {"mass_spring", kHead + R"("duration": 1, "substeps": 50, "integrator": "implicit_euler",
+    {"mass_spring", kHead + R"("duration": 1, "substeps": 50, "integrator": "bdf2",
       "objects": [{"type": "plane", "point": [0, -1, 0]}],
       "bodies": [{"type": "mass_spring", "name": "m",
         "nodes": [{"position": [0, 0, 0], "mass": 1, "fixed": true}, {"position": [0.5, 0, 0], "mass": 1},

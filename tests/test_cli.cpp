@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/image_compare.h"
+#include "core/scene.h"
 #include "helpers.h"
 #include "sim/springs/springs_body.h"
 #include "io/png.h"
@@ -162,10 +163,11 @@ TEST_CASE("bench prints one JSON line per integrator") {
     CHECK(j["name"] == "springs");
     CHECK(j["nodes"] == 65536);
     CHECK(j["spring_updates_per_s"].get<double>() > 0);
+    CHECK(j["integrator"] == std::string(kIntegratorNames[static_cast<std::size_t>(lines)]));
     ++lines;
     pos = end + 1;
   }
-  CHECK(lines == 5);
+  CHECK(lines == 6);  // symplectic_euler, explicit_euler, verlet, rk4, implicit_euler, bdf2
 }
 
 TEST_CASE("render: PNG frames numbered from 1 and a video from one simulation") {

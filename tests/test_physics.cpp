@@ -135,7 +135,7 @@ TEST_CASE("implicit Euler's linear system matches the assembled Baraff-Witkin ma
   const double h = 0.01;
   std::vector<Vec3> rhs(n), p(n), out(n);
   std::vector<Mat3> pinv(n);
-  sys.dyn.linearize(sys.state.x.data(), sys.state.v.data(), h, rhs.data(), pinv.data());
+  sys.dyn.linearize(sys.state.x.data(), sys.state.v.data(), sys.state.v.data(), h, rhs.data(), pinv.data());
   for (auto& q : p) q = Vec3(rnd(), rnd(), rnd());
   sys.dyn.applySystem(p.data(), out.data());
   // The reference, spring by spring in double precision (helpers.h), and
@@ -222,6 +222,45 @@ TEST_CASE("implicit Euler stays stable at 50x the explicit step bound") {
   // Nearly at rest: what still moves is a small part of the energy released by the fall.
   CHECK(kineticEnergy(im.model, im.state) < 0.02 * (e0 - totalEnergy(im.model, im.state)));
   CHECK(im.state.x[0] == d.nodes[0].position);  // pins never move
+}
+
+TEST_CASE("BDF2 is second order and implicit Euler first on the oscillator; BDF2 also stays calm at 50x the explicit bound") {
+  // m u'' = −k u − c u' from u0 = 0.1 over 1 s, against the closed form, at h and h/2.
+  const double m = 1.0, k = 400.0, c = 2.0, u0 = 0.1, T = 1.0;
+  auto error = [&](IntegratorKind kind, int steps) {
+    System s(oscillator(m, k, c, u0), Vec3::Zero());
+    const double h = T / steps;
+    for (int i = 0; i < steps; ++i) s.step(kind, h);
+    return std::abs((s.state.x[1].x() - 1.0) - oscillatorExact(k / m, c / m, u0, T));
+  };
+  const double ie1 = error(IntegratorKind::ImplicitEuler, 2000), ie2 = error(IntegratorKind::ImplicitEuler, 4000);
+  const double b1 = error(IntegratorKind::Bdf2, 2000), b2 = error(IntegratorKind::Bdf2, 4000);
+  CAPTURE(ie1);
+  CAPTURE(ie2);
+  CAPTURE(b1);
+  CAPTURE(b2);
+  CHECK(ie1 / ie2 == doctest::Approx(2.0).epsilon(0.15));
+  CHECK(b1 / b2 == doctest::Approx(4.0).epsilon(0.15));
+  CHECK(b1 < 0.05 * ie1);
+
+  // A stiff net stepped at 50x the symplectic bound hangs calmly below its pins.
+  NetDesc net;
+  net.resolution = {16, 16};
+  net.mass = 0.5;
+  net.structural = {2000.0, 0.5};
+  net.shear = {500.0, 0.2};
+  net.pinned = {0, 15};
+  const MassSpringDesc d = buildNet(net);
+  System b(d, Vec3(0, -9.78, 0));
+  const double h = 50.0 * stableStep(b.model, IntegratorKind::SymplecticEuler).h_max;
+  const double e0 = totalEnergy(b.model, b.state);
+  for (int i = 0; i < 400; ++i) {
+    b.step(IntegratorKind::Bdf2, h);
+    REQUIRE(b.state.x[100].allFinite());
+  }
+  for (const Vec3& p : b.state.x) CHECK(p.norm() < 5.0);
+  CHECK(kineticEnergy(b.model, b.state) < 0.02 * (e0 - totalEnergy(b.model, b.state)));
+  CHECK(b.state.x[0] == d.nodes[0].position);
 }
 
 TEST_CASE("contacts: resting on a plane, restitution, Coulomb friction on an incline") {

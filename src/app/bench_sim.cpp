@@ -96,7 +96,7 @@ void benchSprings(double seconds) {
         {"spring_updates_per_s", evals / elapsed},
         {"spring_steps_per_s", static_cast<double>(model.springs.size()) * steps / elapsed},
     };
-    if (kind == IntegratorKind::ImplicitEuler)
+    if (implicitIntegrator(kind))
       j["cg_iterations_per_step"] = cg_iterations / steps;
     std::printf("%s\n", j.dump().c_str());
     std::fflush(stdout);

@@ -22,9 +22,11 @@
 namespace reel {
 
 // Integrators by name (SPlisHSPlasH-style registration by name).
-enum class IntegratorKind { SymplecticEuler, ExplicitEuler, Verlet, Rk4, ImplicitEuler };
-inline constexpr std::array<std::string_view, 5> kIntegratorNames = {
-    "symplectic_euler", "explicit_euler", "verlet", "rk4", "implicit_euler"};
+enum class IntegratorKind { SymplecticEuler, ExplicitEuler, Verlet, Rk4, ImplicitEuler, Bdf2 };
+inline constexpr std::array<std::string_view, 6> kIntegratorNames = {
+    "symplectic_euler", "explicit_euler", "verlet", "rk4", "implicit_euler", "bdf2"};
+// The integrators that solve a linear system each step and have no stability bound on the step.
+inline bool implicitIntegrator(IntegratorKind k) { return k == IntegratorKind::ImplicitEuler || k == IntegratorKind::Bdf2; }
 inline std::string_view integratorName(IntegratorKind k) { return kIntegratorNames[static_cast<int>(k)]; }
 inline std::optional<IntegratorKind> integratorFromName(std::string_view s) {
   for (std::size_t i = 0; i < kIntegratorNames.size(); ++i)
@@ -130,7 +132,7 @@ struct ImplicitSettings {
   bool tolerance_given = false;  // the scene set cg_tolerance: every kind uses it
 };
 
-// Steps a frame by default: 10, or this many with implicit_euler.
+// Steps a frame by default: 10, or this many with implicit_euler or bdf2.
 inline constexpr int kImplicitSubsteps = 5;
 
 struct SceneDesc {

@@ -376,9 +376,9 @@ void readSceneKeys(Obj& o, SceneDesc& s) {
   std::vector<std::string> integrators(kIntegratorNames.begin(), kIntegratorNames.end());
   s.integrator = *integratorFromName(o.choice("integrator", "symplectic_euler", integrators));
   s.auto_substeps = o.boolean("auto_substeps", false);
-  // Implicit Euler needs no small step for stability: by default it takes Blender's default
-  // quality, 5 steps a frame.
-  if (!substeps_given && s.integrator == IntegratorKind::ImplicitEuler) s.substeps = kImplicitSubsteps;
+  // Implicit Euler and BDF2 need no small step for stability: by default they take Blender's
+  // default quality, 5 steps a frame.
+  if (!substeps_given && implicitIntegrator(s.integrator)) s.substeps = kImplicitSubsteps;
   if (const Json* im = o.raw("implicit")) {
     Obj io(*im, "/implicit", d);
     s.implicit.tolerance_given = io.has("cg_tolerance");

@@ -106,25 +106,17 @@ double dot(const std::vector<Vec3>& p, const std::vector<Vec3>& q) {
   return deterministicSum(static_cast<Index>(p.size()), [&](Index i) { return p[i].dot(q[i]); });
 }
 
-// Linearised backward Euler (Baraff & Witkin 1998, "Large Steps in Cloth Simulation", eq. 6):
-// one Newton step, (M − h ∂f/∂v − h² ∂f/∂x) Δv = h (f₀ + h ∂f/∂x v₀), solved by conjugate
-// gradients with a block-Jacobi preconditioner (each node's 3×3 diagonal block inverted: the
-// springs' uuᵀ terms make that block far from diagonal). Fixed nodes are filtered out (their Δv
-// is 0: the filter S of section 5.3 with every direction constrained). Each iteration is one
+// The implicit integrators' linear system A Δv = rhs (after dyn.linearize() filled ws.rhs and
+// ws.pinv, and prepareImplicit() ws.fixed), solved for ws.dv by conjugate gradients with a
+// block-Jacobi preconditioner (each node's 3×3 diagonal block inverted: the springs' uuᵀ terms
+// make that block far from diagonal). Fixed nodes are filtered out (their Δv is 0: the filter S
+// of Baraff & Witkin's section 5.3 with every direction constrained). Each iteration is one
 // product with A and three passes over the nodes, two of which also return the dot products
 // (each a deterministic chunked sum).
-void implicitEuler(OdeSystem& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
-                   IntegratorWorkspace& ws, const ImplicitSettings& set, StepStats* stats) {
-  REEL_CHECK(dyn.linearizable(), "implicit_euler needs a linearizable system");
-  const std::size_t n = x.size();
-  const Index ni = static_cast<Index>(n);
-  for (auto* w : {&ws.rhs, &ws.r, &ws.z, &ws.p, &ws.q, &ws.dv}) resize(*w, n);
-  ws.pinv.resize(n);  // linearize fills every block
-  ws.fixed.resize(n);
-  for (std::size_t i = 0; i < n; ++i) ws.fixed[i] = dyn.fixed(i) ? 1 : 0;
+void solveLinearized(OdeSystem& dyn, IntegratorWorkspace& ws, const ImplicitSettings& set, StepStats* stats) {
+  const Index ni = static_cast<Index>(ws.rhs.size());
   const std::uint8_t* fixed = ws.fixed.data();
   auto& dvel = ws.dv;
-  dyn.linearize(x.data(), v.data(), h, ws.rhs.data(), ws.pinv.data());
   // Warm start: the previous step's Δv (the workspace keeps it; zero on the first step), which
   // smooth motion changes little. r = S·(rhs − A·Δv), z = P⁻¹ r, p = z.
   const double bnorm = std::sqrt(deterministicSum(ni, [&](Index i) {
@@ -170,15 +162,67 @@ void implicitEuler(OdeSystem& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, d
       parallelFor(ni, [&](Index i) { ws.p[i] = ws.z[i] + beta * ws.p[i]; });
     }
   }
-  // v += Δv, x += h·v_new
-  parallelFor(ni, [&](Index i) {
-    v[i] += dvel[i];
-    x[i] += h * v[i];
-  });
   if (stats) {
     stats->cg_iterations = it;
     stats->cg_relative_residual = rel;
   }
+}
+
+// Sizes the solver's arrays and reads the fixed nodes.
+void prepareImplicit(OdeSystem& dyn, std::size_t n, IntegratorWorkspace& ws) {
+  REEL_CHECK(dyn.linearizable(), "implicit integrators need a linearizable system");
+  for (auto* w : {&ws.rhs, &ws.r, &ws.z, &ws.p, &ws.q, &ws.dv}) resize(*w, n);
+  ws.pinv.resize(n);  // linearize fills every block
+  ws.fixed.resize(n);
+  for (std::size_t i = 0; i < n; ++i) ws.fixed[i] = dyn.fixed(i) ? 1 : 0;
+}
+
+// Linearised backward Euler (Baraff & Witkin 1998, "Large Steps in Cloth Simulation", eq. 6):
+// one Newton step, (M − h ∂f/∂v − h² ∂f/∂x) Δv = h (f₀ + h ∂f/∂x v₀), then x += h (v₀ + Δv).
+void implicitEuler(OdeSystem& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
+                   IntegratorWorkspace& ws, const ImplicitSettings& set, StepStats* stats) {
+  const Index ni = static_cast<Index>(x.size());
+  prepareImplicit(dyn, x.size(), ws);
+  dyn.linearize(x.data(), v.data(), v.data(), h, ws.rhs.data(), ws.pinv.data());
+  solveLinearized(dyn, ws, set, stats);
+  parallelFor(ni, [&](Index i) {
+    v[i] += ws.dv[i];
+    x[i] += h * v[i];
+  });
+}
+
+// The second-order backward differentiation formula (BDF2; Hairer & Wanner, "Solving Ordinary
+// Differential Equations II", §V.1), as Choi & Ko (2002) and Hauth & Etzmuss (2001) use it for
+// cloth: x₊ = (4x − x₋)/3 + h' v₊ and v₊ = (4v − v₋)/3 + h' a(x₊, v₊) with h' = 2h/3, linearised
+// at (x, v) as implicit Euler is. With Δv = v₊ − v it is implicit Euler's system at step h':
+//   (M − h' ∂f/∂v − h'² ∂f/∂x) Δv = h' (f₀ + h' ∂f/∂x w) + M (v − v₋)/3,  w = v + (x − x₋)/(2h).
+// Second order and L-stable: stiff modes are damped as by implicit Euler, slow ones are not
+// (implicit Euler's error in a swimming fish's speed is first order in h; see docs/fish.md).
+// Without a history of the same step and size, the step is implicit Euler's.
+void bdf2(OdeSystem& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h, IntegratorWorkspace& ws,
+          const ImplicitSettings& set, StepStats* stats) {
+  const std::size_t n = x.size();
+  const Index ni = static_cast<Index>(n);
+  if (ws.x_prev.size() != n || ws.v_prev.size() != n || ws.h_prev != h) {
+    ws.x_prev = x, ws.v_prev = v, ws.h_prev = h;
+    implicitEuler(dyn, x, v, h, ws, set, stats);
+    return;
+  }
+  prepareImplicit(dyn, n, ws);
+  resize(ws.w, n);
+  const double hb = 2.0 * h / 3.0;
+  parallelFor(ni, [&](Index i) { ws.w[i] = v[i] + (x[i] - ws.x_prev[i]) / (2.0 * h); });
+  dyn.linearize(x.data(), v.data(), ws.w.data(), hb, ws.rhs.data(), ws.pinv.data());
+  parallelFor(ni, [&](Index i) {
+    if (!ws.fixed[i]) ws.rhs[i] += (dyn.mass(static_cast<std::size_t>(i)) / 3.0) * (v[i] - ws.v_prev[i]);
+  });
+  solveLinearized(dyn, ws, set, stats);
+  parallelFor(ni, [&](Index i) {
+    const Vec3 x0 = x[i], v0 = v[i];
+    v[i] = v0 + ws.dv[i];
+    x[i] = (4.0 * x0 - ws.x_prev[i]) / 3.0 + hb * v[i];
+    ws.x_prev[i] = x0, ws.v_prev[i] = v0;
+  });
 }
 
 }  // namespace
@@ -193,6 +237,7 @@ void integrate(IntegratorKind kind, OdeSystem& dyn, std::vector<Vec3>& x, std::v
     case IntegratorKind::Verlet: return verlet(dyn, x, v, h, ws);
     case IntegratorKind::Rk4: return rk4(dyn, x, v, h, ws);
     case IntegratorKind::ImplicitEuler: return implicitEuler(dyn, x, v, h, ws, implicit, stats);
+    case IntegratorKind::Bdf2: return bdf2(dyn, x, v, h, ws, implicit, stats);
   }
   REEL_CHECK(false, "unknown integrator");
 }

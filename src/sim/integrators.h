@@ -21,14 +21,15 @@ class OdeSystem {
   // a = M⁻¹ f(x, v); zero for fixed nodes.
   virtual void acceleration(const Vec3* x, const Vec3* v, Vec3* a) = 0;
 
-  // --- for implicit Euler (Baraff & Witkin 1998) -------------------------------------------
-  // The step solves A Δv = rhs with A = M − h ∂f/∂v − h² ∂f/∂x and rhs = h (f + h ∂f/∂x v),
-  // both linearised at (x, v).
+  // --- for implicit Euler (Baraff & Witkin 1998) and BDF2 -----------------------------------
+  // The step solves A Δv = rhs with A = M − h ∂f/∂v − h² ∂f/∂x and rhs = h (f + h ∂f/∂x w),
+  // both linearised at (x, v); implicit Euler takes w = v, BDF2 its own w and h.
   virtual bool linearizable() const { return false; }
   // Linearise at (x, v) for step h: fills rhs and, for the preconditioner, the inverse of each
   // node's 3×3 diagonal block of A (block Jacobi).
-  virtual void linearize(const Vec3* /*x*/, const Vec3* /*v*/, double /*h*/, Vec3* /*rhs*/,
+  virtual void linearize(const Vec3* /*x*/, const Vec3* /*v*/, const Vec3* /*w*/, double /*h*/, Vec3* /*rhs*/,
                          Mat3* /*block_inverse*/) {}
+  virtual double mass(std::size_t /*i*/) const { return 1.0; }
   // out = A p, with A from the last linearize().
   virtual void applySystem(const Vec3* /*p*/, Vec3* /*out*/) {}
 };
@@ -39,6 +40,11 @@ struct IntegratorWorkspace {
   std::vector<Vec3> rhs, r, z, p, q;         // conjugate gradients
   std::vector<Mat3> pinv;                    // block-Jacobi preconditioner
   std::vector<std::uint8_t> fixed;           // the system's fixed nodes, read once per step
+  // BDF2's history: the state one step back and that step's length (empty or 0: none yet, or
+  // the node count or the step changed; the next step is then implicit Euler's).
+  std::vector<Vec3> x_prev, v_prev, w;
+  double h_prev = 0.0;
+  void forgetHistory() { x_prev.clear(), v_prev.clear(), h_prev = 0.0; }
 };
 
 struct StepStats {

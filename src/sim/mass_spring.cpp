@@ -99,22 +99,29 @@ void MassSpringSystem::acceleration(const Vec3* x, const Vec3* v, Vec3* a) {
     Vec3 f = -m_.drag[i] * v[i];
     gather(fs_, static_cast<std::size_t>(i), f);
     if (external_) f += external_[i];
+    if (node_drag_) f += node_flow_[i] - node_drag_[i] * v[i];
     a[i] = g + m_.inv_mass[i] * f;
   });
 }
 
-void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, double h, Vec3* rhs,
+void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, double h, Vec3* rhs,
                                    Mat3* block_inverse) {
   const Springs& sp = m_.springs;
   const Index ns = static_cast<Index>(sp.size());
   fs_.resize(sp.size());
   B_.resize(sp.size());
-  // Per spring: w = s + h·K·(v_b − v_a) (end a's share of f₀ + h ∂f/∂x v₀), and B = h²K + hD.
+  // Per spring: end a's share of the force at the step's end as the system is linearised,
+  // f₀ + h K w (Baraff & Witkin), or with predict_ for a compressed spring the force at the
+  // predicted positions x + h w (setPredictor); and B = h²K + hD.
   parallelFor(ns, [&](Index s) {
     const int ia = sp.a[s], ib = sp.b[s];
     const double k = sp.stiffness[s], d = sp.damping[s];
     const SpringJacobians J = springJacobians(x[ia], x[ib], sp.rest[s]);
-    fs_[s] = springForce(x[ia], x[ib], v[ia], v[ib], k, d, sp.rest[s]) + h * J.K(k, v[ib] - v[ia]);
+    fs_[s] = springForce(x[ia], x[ib], v[ia], v[ib], k, d, sp.rest[s]) + h * J.K(k, w[ib] - w[ia]);
+    if (predict_ && J.t == 0) {
+      const Vec3 xa = x[ia] + h * w[ia], xb = x[ib] + h * w[ib];
+      fs_[s] = springForce(xa, xb, v[ia], v[ib], k, d, sp.rest[s]);
+    }
     // B = h²K + hD = c1·I + c2·û ûᵀ.
     const double c1 = h * h * k * J.t, c2 = h * h * k * (1.0 - J.t) + h * d;
     const Vec3& u = J.u;
@@ -127,6 +134,7 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, double h, Vec3* r
   const Vec3 g = m_.gravity;
   const auto& inc = m_.incidence;
   const std::size_t nodes = m_.nodes();
+  h_ = h;
   group_start_.resize(nodes + 1);
   group_start_[0] = 0;
   for (std::size_t i = 0; i < nodes; ++i) group_start_[i + 1] = group_start_[i] + (inc.start[i + 1] - inc.start[i] + 3) / 4;
@@ -136,9 +144,11 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, double h, Vec3* r
     Vec3 f = m_.mass[i] * g - m_.drag[i] * v[i];
     gather(fs_, static_cast<std::size_t>(i), f);
     if (external_) f += external_[i];
+    if (node_drag_) f += node_flow_[i] - node_drag_[i] * v[i];
     rhs[i] = h * f;
     own_[i] = m_.mass[i] + h * m_.drag[i];
     Mat3 d = Mat3::Identity() * own_[i];
+    if (node_drag_) d += h * node_drag_[i];
     for (int gi = group_start_[i]; gi < group_start_[i + 1]; ++gi) {
       Group4& G = groups_[static_cast<std::size_t>(gi)];
       for (int k = 0; k < 4; ++k) {
@@ -214,6 +224,8 @@ void applyGroups(const MassSpringSystem::Group4* groups, const int* group_start,
 void MassSpringSystem::applySystem(const Vec3* p, Vec3* out) {
   parallelBlocks(static_cast<Index>(m_.nodes()), 256, [&](Index i0, Index i1) {
     applyGroups(groups_.data(), group_start_.data(), own_.data(), p, out, i0, i1);
+    if (node_drag_)
+      for (Index i = i0; i < i1; ++i) out[i] += h_ * (node_drag_[i] * p[i]);
   });
   spring_products_ += m_.springs.size();
 }

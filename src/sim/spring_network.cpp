@@ -21,7 +21,7 @@ void SpringNetwork::integrate(StepContext& ctx) {
   ImplicitSettings set = *ctx.implicit;
   if (!set.tolerance_given) set.cg_tolerance = tolerance;
   reel::integrate(ctx.integrator, *system, state.x, state.v, ctx.h, workspace, set, &s.last);
-  if (ctx.integrator == IntegratorKind::ImplicitEuler && s.last.cg_relative_residual > set.cg_tolerance) {
+  if (implicitIntegrator(ctx.integrator) && s.last.cg_relative_residual > set.cg_tolerance) {
     ++s.unconverged;
     s.worst_residual = std::max(s.worst_residual, s.last.cg_relative_residual);
   }
@@ -48,12 +48,18 @@ void SpringNetwork::snapshot(StateWriter& w) const {
   w.put(state.x);
   w.put(state.v);
   w.put(workspace.dv);
+  w.put(workspace.x_prev);
+  w.put(workspace.v_prev);
+  w.put(workspace.h_prev);
 }
 
 void SpringNetwork::restore(StateReader& r) {
   r.get(state.x);
   r.get(state.v);
   r.get(workspace.dv);
+  r.get(workspace.x_prev);
+  r.get(workspace.v_prev);
+  r.get(workspace.h_prev);
 }
 
 Status SpringNetworkBody::checkState(const StepContext& ctx) const {

@@ -23,14 +23,15 @@ double oscillatorBound(IntegratorKind kind, double w2, double beta) {
       const double lam = disc < 0 ? std::sqrt(w2) : beta / 2.0 + std::sqrt(disc);
       return 2.78 / lam;
     }
-    case IntegratorKind::ImplicitEuler: return inf;
+    case IntegratorKind::ImplicitEuler:
+    case IntegratorKind::Bdf2: return inf;
   }
   return inf;
 }
 
 StepBound stableStep(const MassSpringModel& m, IntegratorKind kind) {
   StepBound out;
-  if (kind == IntegratorKind::ImplicitEuler) return out;
+  if (implicitIntegrator(kind)) return out;
   const std::size_t n = m.nodes();
   std::vector<double> ksum(n, 0.0), csum(n, 0.0);
   const Springs& s = m.springs;

@@ -155,6 +155,7 @@ void FaceBody::settle(const ImplicitSettings& implicit) {
   }
   for (Vec3& v : net_.state.v) v.setZero();
   net_.workspace.dv.assign(net_.state.v.size(), Vec3::Zero());
+  net_.workspace.forgetHistory();
 }
 
 double FaceBody::lowestAboveSkull() const {

@@ -46,12 +46,13 @@ FishTemplate makeFishTemplate(double L, double density) {
   t.total_mass = total;
 
   // Stiffness: the cross struts keep the body's section and are the stiffest, the muscles the
-  // softest (thesis §4.1, footnote to Table 4.1). The scale is set so that the muscles bend the
-  // body against the water's push enough to swim (a 0.5 m fish: about 0.75 lengths a second at
-  // 3 beats a second), and scales as mass × frequency² ∝ length. Damping ≈ 0.2 of critical for a
-  // mean node.
+  // softest (thesis §4.1, footnote to Table 4.1). Muscle force grows with the section (∝ L²) and
+  // a spring's stiffness is force over stretch, so it scales as L: the body's own frequencies fall
+  // as 1/L, as the largest tail beat of real fish does. The scale lets the body follow its muscles
+  // against the water's push up to about 4 beats a second at 0.5 m and 3 at 1 m (a 1 m fish at
+  // 4 beats a second still makes 0.6 lengths a beat). Damping ≈ 0.2 of critical for a mean node.
   const double mean_mass = total / kFishNodes;
-  const double k_muscle = 11200.0 * L, k_other = 1.1 * k_muscle, k_cross = 1.4 * k_muscle;
+  const double k_muscle = 22400.0 * L, k_other = 1.1 * k_muscle, k_cross = 1.4 * k_muscle;
   auto add = [&](int a, int b, double k) {
     const double rest = (t.x[static_cast<std::size_t>(b)] - t.x[static_cast<std::size_t>(a)]).norm();
     t.springs.add(a, b, k, 0.4 * std::sqrt(k * mean_mass), rest);
@@ -88,33 +89,53 @@ FishTemplate makeFishTemplate(double L, double density) {
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) {
       const int a = ring(r, c), b = ring(r, (c + 1) % 4), a2 = ring(r + 1, c), b2 = ring(r + 1, (c + 1) % 4);
-      tri(a, b, b2);
-      tri(a, b2, a2);
+      // Each quad split along one diagonal; the flanks' diagonals mirror each other (upper
+      // front to lower back on both), so the body has no handedness: split the same way round
+      // the ring, a fish with its left fin opened turned right.
+      if (c == 3) {
+        tri(a, b, a2);
+        tri(b, b2, a2);
+      } else {
+        tri(a, b, b2);
+        tri(a, b2, a2);
+      }
     }
   // Around the tail: top and bottom wedges, the two flanks of the fin.
   tri(ring(4, 0), ring(4, 1), 21);
   tri(ring(4, 2), ring(4, 3), 22);
   tri(ring(4, 3), ring(4, 0), 21);
   tri(ring(4, 3), 21, 22);
-  tri(ring(4, 1), ring(4, 2), 22);
-  tri(ring(4, 1), 22, 21);
+  tri(ring(4, 1), ring(4, 2), 21);  // the right flank split as the left's mirror
+  tri(ring(4, 2), 22, 21);
   return t;
 }
 
 void motorControl(const MotorCommand& cmd, double forward_speed, double length, double h, FishMotor& m) {
   // The swim-MC (thesis §4.4.1): speed roughly proportional to the tail beat's amplitude and
-  // frequency (Webb 1989). A beat moves this fish about a quarter of its length at full
-  // amplitude; an integral term takes the rest of the way to the speed asked for.
-  // (Measured on this model: 0.22–0.26 lengths per beat from 1 to 3 beats a second; above about
-  // 3 beats a second at 0.5 m the body no longer follows the muscles.)
-  constexpr double kStride = 0.25, kMaxBeat = 2.1;  // lengths per beat; beats per second at 1 m
+  // frequency (Webb 1989). A beat at full amplitude moves this fish about 0.7 of its length, and
+  // about 0.7 √amplitude at less (measured on this model: 0.39, 0.60, 0.76 lengths a beat at
+  // amplitude 0.4, 0.7, 1); an integral term takes the rest of the way to the speed asked for.
+  // The feed-forward takes a shorter stride than a beat makes, so a change of speed starts with a
+  // strong beat and the integral term trims it: fed the measured stride, a school's fish answered
+  // their neighbours too slowly and the school spread.
+  constexpr double kStride = 0.7, kFeedStride = 0.4, kMaxBeat = 2.1;  // lengths per beat; beats per second at 1 m
   const double max_frequency = kMaxBeat / std::sqrt(std::max(length, 1e-3));
   if (cmd.speed >= 0) {
     const double target = cmd.speed;
     m.speed_error = std::clamp(m.speed_error + h * (target - forward_speed), -length, length);
-    m.amplitude = target > 0 ? std::clamp(0.4 + 0.6 * target / (length * max_frequency * kStride), 0.4, 1.0) : 0.0;
-    const double feed = target / (kStride * length * std::max(m.amplitude, 0.4));
+    // Amplitude from 0.4 at rest to full at a third of the top speed; frequency then carries
+    // the rest (as fish cruise: Bainbridge 1958). (Cruising at two-thirds amplitude, schools of
+    // these fish kept less order.)
+    m.amplitude = target > 0 ? std::clamp(0.4 + 0.6 * target / (length * max_frequency * kStride / 3), 0.4, 1.0) : 0.0;
+    const double feed = target / (kFeedStride * length * std::sqrt(std::max(m.amplitude, 0.4)));
     m.frequency = target > 0 ? std::clamp(feed + 2.0 * m.speed_error / length, 0.0, max_frequency) : 0.0;
+  }
+  // Faster than asked by a quarter or more, both pectoral fins open as brakes, fully at half
+  // again the speed asked (a streamlined body glides far).
+  double brake = 0.0;
+  if (cmd.speed >= 0) {
+    const double excess = forward_speed - cmd.speed;
+    brake = (kPi / 3) * std::clamp(4.0 * excess / std::max(cmd.speed, 0.2 * length) - 1.0, 0.0, 1.0);
   } else {
     m.frequency = cmd.frequency;
     m.amplitude = cmd.amplitude;
@@ -125,6 +146,7 @@ void motorControl(const MotorCommand& cmd, double forward_speed, double length, 
   m.bend += rate * (std::clamp(cmd.bend, -1.0, 1.0) - m.bend);
   m.pitch += rate * (cmd.pitch - m.pitch);
   m.yaw += rate * (std::clamp(cmd.yaw, -kPi / 3, kPi / 3) - m.yaw);
+  m.brake += rate * (brake - m.brake);
   m.phase = std::fmod(m.phase + 2 * kPi * m.frequency * h, 2 * kPi);
 
   // Contractions: middle and rear segments swim (the rear lags by π/2), front and middle turn.

@@ -55,6 +55,7 @@ struct FishMotor {
   double bend = 0.0;       // turn: −1 (full right) .. 1 (full left)
   double pitch = 0.0;      // pectoral fins, rad: + rises
   double yaw = 0.0;        // pectoral fins, rad: the left fin opens (> 0, yaws left) or the right (< 0)
+  double brake = 0.0;      // pectoral fins, rad: both opened, when the fish is faster than asked
   std::array<double, kFishMuscles> contraction{};  // 0..1 each
   std::array<double, 3> heading{0, 0, 1};  // the course: the forward axis smoothed over a beat, unit
   std::array<double, 3> turn_from{0, 0, 0};  // a turn by angle: the level course at the last step (0: not begun)

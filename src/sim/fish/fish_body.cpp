@@ -22,6 +22,18 @@ constexpr double kMeal = 0.35;  // hunger a particle of food takes away
 // this area in lengths².
 constexpr double kFinArea = 0.04;
 
+// Streamlining: the forward part of the normal of a face that looks ahead is scaled by this. A
+// streamlined body's flow stays attached and its pressure recovers behind the widest girth, so
+// its pressure drag is a small part of what its front faces would feel as plates (Hoerner 1965,
+// "Fluid-Dynamic Drag", ch. 6); eq. (3) per face leaves the recovery out, and with it a fish
+// swam 0.42–0.47 lengths a beat. Faces looking 30° or less off ahead take the whole scaling
+// (their drag along the axis 0.35² of the plate's), faces across the flow none, smoothly
+// between, and every face keeps its push across the flow. A fish's steady stride is then
+// 0.71–0.78 lengths a beat from 1 to 4 beats a second (0.3 m; a 1 m fish 0.68–0.75 up to 3),
+// inside the 0.6–0.8 that fish keep (Bainbridge 1958; Videler 1993, "Fish Swimming", ch. 8).
+// docs/fish.md has the plot.
+constexpr double kFrontDrag = 0.35;
+
 }  // namespace
 
 FishBody::FishBody(std::string name, const FishDesc& desc, const Material& material, std::uint64_t seed, int hook,
@@ -123,12 +135,13 @@ void FishBody::decide(StepContext& ctx, int self) {
 }
 
 // The paper's fins also keep the fish upright: a couple on the flanks against roll, as a
-// damped rotational spring of about 1 Hz (in water only: the fins push on it).
+// critically damped rotational spring of 2 Hz (in water only: the fins push on it). (At 1 Hz a
+// fish braking with one fin at full speed rolled onto its side within 4 s.)
 void FishBody::rollBalance() {
   const auto& x = net_.state.x;
   const auto& v = net_.state.v;
   external_.assign(x.size(), Vec3::Zero());
-  const double arm = 0.06 * desc_.length, inertia = tmpl_.total_mass * arm * arm, w = 2 * kPi;
+  const double arm = 0.06 * desc_.length, inertia = tmpl_.total_mass * arm * arm, w = 4 * kPi;
   for (std::size_t i = 0; i < count(); ++i) {
     const FishFrame& f = frames_[i];  // of this state, from the motor pass
     const std::size_t o = kFishNodes * i;
@@ -145,21 +158,24 @@ void FishBody::rollBalance() {
 // Tu & Terzopoulos 1994, eq. (3): each surface triangle moving into the water feels
 // f = −ρ A (n·v) n (A its area, n its outward normal, v its velocity relative to the water),
 // a third on each corner; the pectoral fins are plates that feel it on either side, their normal
-// pitched from the body's up. Taken implicitly per node after the springs' step: node i with
-// D_i = Σ ρ (A/3) n nᵀ solves (m I + h D_i) v' = m v + h D_i u, so the stiff drag of a light node
-// cannot overshoot; positions take the change of velocity too.
-void FishBody::waterForces(const StepContext& ctx) {
-  const double rho = ctx.water ? ctx.water->density() : 0.0;
-  if (!(rho > 0)) return;
-  auto& x = net_.state.x;
-  auto& v = net_.state.v;
-  const double h = ctx.h, L = desc_.length;
+// pitched from the body's up. Node i gathers D_i = Σ ρ (A/3) n nᵀ and feels D_i (u − v): a linear
+// drag the step's solve takes with the springs (MassSpringSystem::setNodeDrag). Which triangles
+// face the flow is read at the start of the step. In the solve, the stiff drag of a light tail
+// node can neither overshoot nor be split from the springs that drive it.
+void FishBody::waterDrag(const StepContext& ctx) {
+  const double rho = ctx.water->density();
+  const auto& x = net_.state.x;
+  const auto& v = net_.state.v;
+  const double L = desc_.length;
+  drag_.resize(x.size());
+  flow_.resize(x.size());
   const std::vector<Collider>& cs = *ctx.colliders;
   parallelFor(static_cast<Index>(count()), [&](Index fi) {
     const std::size_t o = kFishNodes * static_cast<std::size_t>(fi);
-    std::array<Mat3, kFishNodes> D;
-    std::array<Vec3, kFishNodes> Du;
-    for (int k = 0; k < kFishNodes; ++k) D[static_cast<std::size_t>(k)].setZero(), Du[static_cast<std::size_t>(k)].setZero();
+    Mat3* D = &drag_[o];
+    Vec3* Du = &flow_[o];
+    for (int k = 0; k < kFishNodes; ++k) D[k].setZero(), Du[k].setZero();
+    const FishFrame f = fishFrame(&x[o], &v[o]);
     for (const auto& t : tmpl_.surface) {
       const Vec3 &a = x[o + t[0]], &b = x[o + t[1]], &c = x[o + t[2]];
       const Vec3 cr = (b - a).cross(c - a);
@@ -170,30 +186,25 @@ void FishBody::waterForces(const StepContext& ctx) {
       const Vec3 u = ctx.water->at(centroid, ctx.t1, cs);
       const Vec3 rel = (v[o + t[0]] + v[o + t[1]] + v[o + t[2]]) / 3.0 - u;
       if (n.dot(rel) <= 0) continue;  // leaving the water behind it: no push
-      const Mat3 Dt = (rho * 0.5 * len / 3.0) * (n * n.transpose());
-      for (int k : t) D[static_cast<std::size_t>(k)] += Dt, Du[static_cast<std::size_t>(k)] += Dt * u;
+      // Streamlined: the forward part of a face's normal shrunk (the drag along the body's axis
+      // on a face that looks ahead), its push across the flow kept.
+      const double ahead = std::clamp(2.0 * n.dot(f.forward), 0.0, 1.0);  // 0 on the flanks, 1 facing 30° or less off ahead
+      const Vec3 ns = n - (1.0 - kFrontDrag) * (ahead * ahead * (3.0 - 2.0 * ahead)) * n.dot(f.forward) * f.forward;
+      const Mat3 Dt = (rho * 0.5 * len / 3.0) * (ns * ns.transpose());
+      for (int k : t) D[k] += Dt, Du[k] += Dt * u;
     }
-    const FishFrame f = fishFrame(&x[o], &v[o]);
     // Each fin's normal: the body's up pitched by the fin angle; a yawing fin (the left for a
     // positive yaw) also opens toward the flow, a brake on its side.
     const double p = motor_[fi].pitch, yaw = motor_[fi].yaw;
     const Vec3 pitched = std::cos(p) * f.up - std::sin(p) * f.forward;
     for (int side = 0; side < 2; ++side) {
-      const double open = side == 0 ? std::max(yaw, 0.0) : std::max(-yaw, 0.0);
+      const double open = std::min((side == 0 ? std::max(yaw, 0.0) : std::max(-yaw, 0.0)) + motor_[fi].brake, kPi / 2);
       const Vec3 nf = unitOr(std::cos(open) * pitched - std::sin(open) * f.forward, pitched);
       const Mat3 Df = (rho * kFinArea * L * L / 2) * (nf * nf.transpose());
       for (int k : side == 0 ? std::array<int, 2>{5, 8} : std::array<int, 2>{6, 7}) {
         const Vec3 u = ctx.water->at(x[o + static_cast<std::size_t>(k)], ctx.t1, cs);
-        D[static_cast<std::size_t>(k)] += Df, Du[static_cast<std::size_t>(k)] += Df * u;
+        D[k] += Df, Du[k] += Df * u;
       }
-    }
-    for (int k = 0; k < kFishNodes; ++k) {
-      const std::size_t i = o + static_cast<std::size_t>(k);
-      const double m = tmpl_.mass[static_cast<std::size_t>(k)];
-      const Mat3 A = m * Mat3::Identity() + h * D[static_cast<std::size_t>(k)];
-      const Vec3 vn = A.ldlt().solve(m * v[i] + h * Du[static_cast<std::size_t>(k)]);
-      x[i] += h * (vn - v[i]);
-      v[i] = vn;
     }
   });
 }
@@ -247,12 +258,14 @@ void FishBody::step(StepContext& ctx) {
   const bool water = ctx.water && ctx.water->density() > 0;
   if (water) {
     rollBalance();
+    waterDrag(ctx);
     net_.system->setExternalForces(external_.data());
+    net_.system->setNodeDrag(drag_.data(), flow_.data());
   } else {
     net_.system->setExternalForces(nullptr);
+    net_.system->setNodeDrag(nullptr, nullptr);
   }
   net_.integrate(ctx);
-  waterForces(ctx);
   net_.contacts(ctx);
   // Caught fish hang from the hook by the mouth.
   if (hook_ >= 0) {
@@ -354,7 +367,7 @@ bool FishBody::restoreMore(StateReader& r) {
     if (!(m.hunger >= 0 && m.hunger <= 1 && m.libido >= 0 && m.libido <= 1 && m.fear >= 0 && m.fear <= 1) ||
         m.intention < 0 || m.intention >= static_cast<int>(kIntentionNames.size()) || m.previous < 0 ||
         m.previous >= static_cast<int>(kIntentionNames.size()) || !finite({m.since, m.courting}) || !unit(m.wander) ||
-        !finite({mo.phase, mo.frequency, mo.amplitude, mo.speed_error, mo.bend, mo.pitch, mo.yaw, mo.turned, mo.turn_from[0],
+        !finite({mo.phase, mo.frequency, mo.amplitude, mo.speed_error, mo.bend, mo.pitch, mo.yaw, mo.brake, mo.turned, mo.turn_from[0],
                  mo.turn_from[2]}) ||
         !unit(mo.heading) || (mo.turn_done != 0 && mo.turn_done != 1) || !finite({c.speed, c.frequency, c.amplitude, c.bend, c.pitch, c.yaw}))
       return false;
@@ -437,6 +450,7 @@ Result<std::unique_ptr<Body>> buildFishBody(const BodyDesc& desc, const BuildCon
     SpringNetwork& net = body->network();
     net.build(ms, Vec3::Zero(), ctx.scene->integrator, d.contactRadius(0));
     net.tolerance = 1e-4;  // a fish's thrust comes from small differences of its body wave
+    net.system->setPredictor(true);  // its speed the same at any step (MassSpringSystem::setPredictor)
     if (std::string e = net.unstableMethod(desc.name, ctx.scene->integrator); !e.empty())
       return Error(ErrorKind::BadInput, ctx.scene->file + ": " + e);
     return std::unique_ptr<Body>(std::move(body));

@@ -57,7 +57,7 @@ class FishBody final : public SpringNetworkBody {
   MotorCommand driveCommand(double t, FishMotor& m) const;
   void addPatterns(double t, FishMotor& m) const;
   void rollBalance();  // from frames_
-  void waterForces(const StepContext& ctx);
+  void waterDrag(const StepContext& ctx);
   void publishSightings(int self);
 
   FishDesc desc_;
@@ -84,6 +84,8 @@ class FishBody final : public SpringNetworkBody {
   std::vector<FishSighting> sightings_;
   std::vector<FishFrame> frames_;  // each fish's frame at the start of the step
   std::vector<Vec3> external_;  // roll balance, N per node
+  std::vector<Mat3> drag_;      // the water's drag at each node, kg/s (waterDrag)
+  std::vector<Vec3> flow_;      // drag_ × the water's flow there, N
   std::vector<FishSighting> everyone_;
   BoxGrid grid_;
   std::vector<Collider> obstacles_;
