@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "app/sim_cache.h"
+#include "core/camera.h"
 #include "core/scene_view.h"
 #include "helpers.h"
 #include "sim/world.h"
@@ -35,6 +36,25 @@ DrawCamera cameraOf(const World& w, const SceneDesc& s) {
 double fallen(double t) { return 0.5 * 9.8 * t * t; }
 
 }  // namespace
+
+TEST_CASE("camera keys: two keys 0.001 s apart are a cut, and the shot before it does not swing toward the next") {
+  CameraDesc c;
+  auto key = [](double t, const Vec3& p) {
+    CameraKey k;
+    k.time = t, k.position = p, k.target = p + Vec3(0, 0, -1);
+    return k;
+  };
+  // A dolly along x at 1 m/s, then a cut to a camera 100 m away.
+  c.keys = {key(0, Vec3(0, 1, 5)), key(1, Vec3(1, 1, 5)), key(2, Vec3(2, 1, 5)), key(2.001, Vec3(100, 1, 50)), key(3, Vec3(100, 1, 51))};
+  for (double t : {1.25, 1.5, 1.75}) {
+    CAPTURE(t);
+    const DrawCamera d = cameraAt(c, t);
+    CHECK(std::abs(d.position.x() - t) < 0.1);  // on the dolly, easing into its last key (through the cut: 6 m off)
+    CHECK(std::abs(d.position.z() - 5.0) < 1e-12);  // not pulled toward the next shot's z = 50
+  }
+  // After the cut, the next shot's path is its own.
+  CHECK(std::abs(cameraAt(c, 2.5).position.x() - 100.0) < 1e-12);
+}
 
 TEST_CASE("camera rig: a critically damped trail, exact at any step, trailing a steady body by its lag") {
   const double lag = 0.5, w = 2.0 / lag;

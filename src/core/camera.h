@@ -31,7 +31,11 @@ inline DrawCamera cameraAt(const CameraDesc& c, double t) {
     out.fov_deg = k[i].fov_deg;
     return out;
   }
-  const std::size_t i0 = i == 0 ? 0 : i - 1, i3 = std::min(i + 2, k.size() - 1);
+  // Two keys closer than kCameraCut make a cut: the path on either side does not reach across it
+  // for its tangent (a shot's last second had swung toward the next shot's camera).
+  constexpr double kCameraCut = 0.01;  // s
+  const std::size_t i0 = i == 0 || k[i].time - k[i - 1].time < kCameraCut ? i : i - 1;
+  const std::size_t i3 = i + 2 >= k.size() || k[i + 2].time - k[i + 1].time < kCameraCut ? i + 1 : i + 2;
   // Uniform Catmull–Rom: p(s) = ½[2p1 + (p2 − p0)s + (2p0 − 5p1 + 4p2 − p3)s² + (3p1 − p0 − 3p2 + p3)s³].
   auto cr = [s = s](const auto& p0, const auto& p1, const auto& p2, const auto& p3) {
     return 0.5 * (2.0 * p1 + (p2 - p0) * s + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * (s * s) +
