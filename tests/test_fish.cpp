@@ -150,10 +150,9 @@ TEST_CASE("a fish swims as far at any step and with any integrator (within 5% ov
 }
 
 TEST_CASE("a fish's steady stride is 0.6-0.8 of its length a beat, as real fish keep (Videler 1993)") {
-  // From 2 s (speed reached) to 5 s: a 0.3 m fish from 1 to 4 beats a second, a 1 m fish from 1
-  // to 3 (its body follows its muscles to about 3).
-  for (const auto& [length, top] : {std::pair{0.3, 4.0}, std::pair{1.0, 3.0}})
-    for (double hz = 1.0; hz <= top; hz += 1.0) {
+  // From 2 s (speed reached) to 5 s, fish of 0.3 and 1 m from 1 to 4 beats a second.
+  for (double length : {0.3, 1.0})
+    for (double hz = 1.0; hz <= 4.0; hz += 1.0) {
       CAPTURE(length);
       CAPTURE(hz);
       const double stride = swum(length, hz, 10, "implicit_euler", 2, 5) / (length * hz * 3.0);

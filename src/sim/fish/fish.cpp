@@ -49,8 +49,7 @@ FishTemplate makeFishTemplate(double L, double density) {
   // softest (thesis §4.1, footnote to Table 4.1). Muscle force grows with the section (∝ L²) and
   // a spring's stiffness is force over stretch, so it scales as L: the body's own frequencies fall
   // as 1/L, as the largest tail beat of real fish does. The scale lets the body follow its muscles
-  // against the water's push up to about 4 beats a second at 0.5 m and 3 at 1 m (a 1 m fish at
-  // 4 beats a second still makes 0.6 lengths a beat). Damping ≈ 0.2 of critical for a mean node.
+  // against the water's push to 4 beats a second and more at 0.3–1 m. Damping ≈ 0.2 of critical for a mean node.
   const double mean_mass = total / kFishNodes;
   const double k_muscle = 22400.0 * L, k_other = 1.1 * k_muscle, k_cross = 1.4 * k_muscle;
   auto add = [&](int a, int b, double k) {
@@ -113,7 +112,7 @@ FishTemplate makeFishTemplate(double L, double density) {
 void motorControl(const MotorCommand& cmd, double forward_speed, double length, double h, FishMotor& m) {
   // The swim-MC (thesis §4.4.1): speed roughly proportional to the tail beat's amplitude and
   // frequency (Webb 1989). A beat at full amplitude moves this fish about 0.7 of its length, and
-  // about 0.7 √amplitude at less (measured on this model: 0.39, 0.60, 0.76 lengths a beat at
+  // about 0.7 √amplitude at less (measured on this model: 0.36, 0.54, 0.68 lengths a beat at
   // amplitude 0.4, 0.7, 1); an integral term takes the rest of the way to the speed asked for.
   // The feed-forward takes a shorter stride than a beat makes, so a change of speed starts with a
   // strong beat and the integral term trims it: fed the measured stride, a school's fish answered

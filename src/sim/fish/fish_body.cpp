@@ -29,8 +29,8 @@ constexpr double kFinArea = 0.04;
 // swam 0.42–0.47 lengths a beat. Faces looking 30° or less off ahead take the whole scaling
 // (their drag along the axis 0.35² of the plate's), faces across the flow none, smoothly
 // between, and every face keeps its push across the flow. A fish's steady stride is then
-// 0.71–0.78 lengths a beat from 1 to 4 beats a second (0.3 m; a 1 m fish 0.68–0.75 up to 3),
-// inside the 0.6–0.8 that fish keep (Bainbridge 1958; Videler 1993, "Fish Swimming", ch. 8).
+// 0.64–0.70 lengths a beat from 0.5 to 4 beats a second (0.3 m and 1 m), inside the 0.6–0.8
+// that fish keep (Bainbridge 1958; Videler 1993, "Fish Swimming", ch. 8).
 // docs/fish.md has the plot.
 constexpr double kFrontDrag = 0.35;
 
