@@ -15,6 +15,18 @@
 using namespace reel;
 
 namespace {
+
+// A stiff 16 x 16 net pinned at two corners, for the implicit integrators at long steps.
+MassSpringDesc stiffNet() {
+  NetDesc net;
+  net.resolution = {16, 16};
+  net.mass = 0.5;
+  net.structural = {2000.0, 0.5};
+  net.shear = {500.0, 0.2};
+  net.pinned = {0, 15};
+  return buildNet(net);
+}
+
 }  // namespace
 using namespace reel::test;
 
@@ -191,13 +203,7 @@ TEST_CASE("implicit Euler's linear system matches the assembled Baraff-Witkin ma
 }
 
 TEST_CASE("implicit Euler stays stable at 50x the explicit step bound") {
-  NetDesc net;
-  net.resolution = {16, 16};
-  net.mass = 0.5;
-  net.structural = {2000.0, 0.5};
-  net.shear = {500.0, 0.2};
-  net.pinned = {0, 15};
-  const MassSpringDesc d = buildNet(net);
+  const MassSpringDesc d = stiffNet();
   System probe(d, Vec3(0, -9.78, 0));
   const double hb = stableStep(probe.model, IntegratorKind::SymplecticEuler).h_max;
   REQUIRE(hb > 0);
@@ -244,13 +250,7 @@ TEST_CASE("BDF2 is second order and implicit Euler first on the oscillator; BDF2
   CHECK(b1 < 0.05 * ie1);
 
   // A stiff net stepped at 50x the symplectic bound hangs calmly below its pins.
-  NetDesc net;
-  net.resolution = {16, 16};
-  net.mass = 0.5;
-  net.structural = {2000.0, 0.5};
-  net.shear = {500.0, 0.2};
-  net.pinned = {0, 15};
-  const MassSpringDesc d = buildNet(net);
+  const MassSpringDesc d = stiffNet();
   System b(d, Vec3(0, -9.78, 0));
   const double h = 50.0 * stableStep(b.model, IntegratorKind::SymplecticEuler).h_max;
   const double e0 = totalEnergy(b.model, b.state);
