@@ -248,6 +248,14 @@ TEST_CASE("BDF2 is second order and implicit Euler first on the oscillator; BDF2
   CHECK(ie1 / ie2 == doctest::Approx(2.0).epsilon(0.15));
   CHECK(b1 / b2 == doctest::Approx(4.0).epsilon(0.15));
   CHECK(b1 < 0.05 * ie1);
+  // A fixed node a body poses each step (as the face's bone nodes), at rest: the step leaves it there.
+  System posed(oscillator(m, k, c, u0), Vec3::Zero());
+  for (int i = 0; i < 20; ++i) {
+    const Vec3 pose(0.01 * i, 0, 0);
+    posed.state.x[0] = pose, posed.state.v[0].setZero();
+    posed.step(IntegratorKind::Bdf2, 0.01);
+    CHECK(posed.state.x[0] == pose);
+  }
 
   // A stiff net stepped at 50x the symplectic bound hangs calmly below its pins.
   const MassSpringDesc d = stiffNet();

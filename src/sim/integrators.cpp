@@ -211,7 +211,8 @@ void bdf2(OdeSystem& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h, 
   prepareImplicit(dyn, n, ws);
   resize(ws.w, n);
   const double hb = 2.0 * h / 3.0;
-  parallelFor(ni, [&](Index i) { ws.w[i] = v[i] + (x[i] - ws.x_prev[i]) / (2.0 * h); });
+  // (A fixed node keeps implicit Euler's rules: w = v, x += h v; a body may pose it each step.)
+  parallelFor(ni, [&](Index i) { ws.w[i] = ws.fixed[i] ? v[i] : Vec3(v[i] + (x[i] - ws.x_prev[i]) / (2.0 * h)); });
   dyn.linearize(x.data(), v.data(), ws.w.data(), hb, ws.rhs.data(), ws.pinv.data());
   parallelFor(ni, [&](Index i) {
     if (!ws.fixed[i]) ws.rhs[i] += (dyn.mass(static_cast<std::size_t>(i)) / 3.0) * (v[i] - ws.v_prev[i]);
@@ -220,7 +221,7 @@ void bdf2(OdeSystem& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h, 
   parallelFor(ni, [&](Index i) {
     const Vec3 x0 = x[i], v0 = v[i];
     v[i] = v0 + ws.dv[i];
-    x[i] = (4.0 * x0 - ws.x_prev[i]) / 3.0 + hb * v[i];
+    x[i] = ws.fixed[i] ? Vec3(x0 + h * v0) : Vec3((4.0 * x0 - ws.x_prev[i]) / 3.0 + hb * v[i]);
     ws.x_prev[i] = x0, ws.v_prev[i] = v0;
   });
 }

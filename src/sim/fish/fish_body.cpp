@@ -26,7 +26,7 @@ constexpr double kFinArea = 0.04;
 // streamlined body's flow stays attached and its pressure recovers behind the widest girth, so
 // its pressure drag is a small part of what its front faces would feel as plates (Hoerner 1965,
 // "Fluid-Dynamic Drag", ch. 6); eq. (3) per face leaves the recovery out, and with it a fish
-// swam 0.42–0.47 lengths a beat. Faces looking 30° or less off ahead take the whole scaling
+// swam 0.42–0.47 lengths a beat. Faces looking 60° or less off ahead take the whole scaling
 // (their drag along the axis 0.35² of the plate's), faces across the flow none, smoothly
 // between, and every face keeps its push across the flow. A fish's steady stride is then
 // 0.64–0.70 lengths a beat from 0.5 to 4 beats a second (0.3 m and 1 m), inside the 0.6–0.8
@@ -155,12 +155,14 @@ void FishBody::rollBalance() {
   }
 }
 
-// Tu & Terzopoulos 1994, eq. (3): each surface triangle moving into the water feels
+// Tu & Terzopoulos 1994, eq. (3): each surface face moving into the water feels
 // f = −ρ A (n·v) n (A its area, n its outward normal, v its velocity relative to the water),
-// a third on each corner; the pectoral fins are plates that feel it on either side, their normal
-// pitched from the body's up. Node i gathers D_i = Σ ρ (A/3) n nᵀ and feels D_i (u − v): a linear
-// drag the step's solve takes with the springs (MassSpringSystem::setNodeDrag). Which triangles
-// face the flow is read at the start of the step. In the solve, the stiff drag of a light tail
+// shared equally by its corners (24 faces: the nose's 4 triangles, 16 body quads, the tail's 2
+// wedges and 2 flanks; n streamlined for faces that look ahead, kFrontDrag); the pectoral fins
+// are plates that feel it on either side, their normal pitched from the body's up. Node i
+// gathers D_i = Σ ρ (A/corners) n nᵀ and feels D_i (u − v): a linear drag the step's solve takes
+// with the springs (MassSpringSystem::setNodeDrag). Which faces lead is read at the start of the
+// step. In the solve, the stiff drag of a light tail
 // node can neither overshoot nor be split from the springs that drive it.
 void FishBody::waterDrag(const StepContext& ctx) {
   const double rho = ctx.water->density();
@@ -192,7 +194,7 @@ void FishBody::waterDrag(const StepContext& ctx) {
       if (n.dot(vel - u) <= 0) return;  // leaving the water behind it: no push
       // Streamlined: the forward part of a face's normal shrunk (the drag along the body's axis
       // on a face that looks ahead), its push across the flow kept.
-      const double ahead = std::clamp(2.0 * n.dot(f.forward), 0.0, 1.0);  // 0 on the flanks, 1 facing 30° or less off ahead
+      const double ahead = std::clamp(2.0 * n.dot(f.forward), 0.0, 1.0);  // 0 on the flanks, 1 facing 60° or less off ahead
       const Vec3 ns = n - (1.0 - kFrontDrag) * (ahead * ahead * (3.0 - 2.0 * ahead)) * n.dot(f.forward) * f.forward;
       const Mat3 Dt = (rho * 0.5 * len / count) * (ns * ns.transpose());
       for (int k = 0; k < count; ++k) D[nodes[k]] += Dt, Du[nodes[k]] += Dt * u;
@@ -202,6 +204,7 @@ void FishBody::waterDrag(const StepContext& ctx) {
       const auto& t = tmpl_.surface[k];
       // makeFishTemplate's order: 4 nose triangles, 16 body quads (32), the top and bottom
       // wedges, the left flank's pair, the right's.
+      static_assert(kFishTriangles == 42, "the faces' order below is makeFishTemplate's");
       const bool quad = (k >= 4 && k < 36 && k % 2 == 0) || k == 38 || k == 40;
       if (!quad) {
         addFace(t.data(), 3, area2(t));
