@@ -1,6 +1,7 @@
 #include "sim/spring_network.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/profile.h"
 #include "sim/contact_layer.h"
@@ -92,8 +93,12 @@ bool SpringNetworkBody::restore(const StateBlob& in) {
   StateReader r(in);
   net_.restore(r);
   const std::size_t n = net_.model.nodes();
+  const IntegratorWorkspace& ws = net_.workspace;  // BDF2's step before: none, or one of n nodes
+  const bool history = (ws.x_prev.empty() || ws.x_prev.size() == n) && ws.v_prev.size() == ws.x_prev.size() &&
+                       allWithin(ws.x_prev, kRunawayDistance) && allWithin(ws.v_prev, kRunawaySpeed) &&
+                       std::isfinite(ws.h_prev) && ws.h_prev >= 0.0;
   return restoreMore(r) && r.done() && net_.state.x.size() == n && net_.state.v.size() == n &&
-         allWithin(net_.state.x, kRunawayDistance) && allWithin(net_.state.v, kRunawaySpeed);
+         allWithin(net_.state.x, kRunawayDistance) && allWithin(net_.state.v, kRunawaySpeed) && history;
 }
 
 void SpringNetworkBody::exportContacts(ContactExport& out) const {
