@@ -198,7 +198,7 @@ TEST_CASE("the pectoral fins: pitched they raise or lower a swimming fish, one o
   CAPTURE(straight);
   CAPTURE(left);
   CAPTURE(right);
-  // The left fin brakes: a left turn (about 9° a second, 40° either way here; weak beside the body's bend).
+  // The left fin brakes: a left turn (about 11° a second, some 50° either way here; weak beside the body's bend).
   CHECK(left > straight + 3);
   CHECK(right < straight - 3);
 }

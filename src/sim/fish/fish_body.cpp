@@ -219,14 +219,17 @@ void FishBody::waterDrag(const StepContext& ctx) {
       addFace(face.data(), 4, area2(t) + area2(t2));
       k += 2;
     }
-    // Each fin's normal: the body's up pitched by the fin angle; a yawing fin (the left for a
-    // positive yaw) also opens toward the flow, a brake on its side.
+    // Each fin: a plate whose normal is the body's up pitched by the fin angle; opened toward the
+    // flow (the left for a positive yaw, both as brakes) by an angle a, it is taken as that plate
+    // with cos²a of its push and a plate facing ahead with sin²a: a brake on its side that does
+    // not lift it. (A single plate turned from the pitched normal toward the flow lifts as it
+    // brakes: a braking fish climbed, and one braking on one side rolled.)
     const double p = motor_[fi].pitch, yaw = motor_[fi].yaw;
     const Vec3 pitched = std::cos(p) * f.up - std::sin(p) * f.forward;
     for (int side = 0; side < 2; ++side) {
       const double open = std::min((side == 0 ? std::max(yaw, 0.0) : std::max(-yaw, 0.0)) + motor_[fi].brake, kPi / 2);
-      const Vec3 nf = unitOr(std::cos(open) * pitched - std::sin(open) * f.forward, pitched);
-      const Mat3 Df = (rho * kFinArea * L * L / 2) * (nf * nf.transpose());
+      const double c = std::cos(open), sn = std::sin(open);
+      const Mat3 Df = (rho * kFinArea * L * L / 2) * (c * c * (pitched * pitched.transpose()) + sn * sn * (f.forward * f.forward.transpose()));
       for (int k : side == 0 ? std::array<int, 2>{5, 8} : std::array<int, 2>{6, 7}) {
         const Vec3 u = ctx.water->at(x[o + static_cast<std::size_t>(k)], ctx.t1, cs);
         D[k] += Df, Du[k] += Df * u;
