@@ -15,6 +15,8 @@ import json
 import math
 import sys
 
+from svg_axes import axes
+
 A, G, CUTOFF = 0.1, 9.78, 0.0082
 
 
@@ -73,18 +75,7 @@ def main():
     W, H, L, B, TMAX, ZMAX = 520, 360, 50, 40, 10.0, 14.0
     def px(t, z):
         return L + (W - L - 15) * t / TMAX, H - B - (H - B - 15) * z / ZMAX
-    out = ['<svg xmlns="http://www.w3.org/2000/svg" width="%d" height="%d" font-family="sans-serif" font-size="12">' % (W, H),
-           '<rect width="100%" height="100%" fill="white"/>']
-    for t in range(0, 11):
-        x, _ = px(t, 1)
-        out.append('<line x1="%.1f" y1="15" x2="%.1f" y2="%d" stroke="#ddd"/>' % (x, x, H - B))
-        out.append('<text x="%.1f" y="%d" text-anchor="middle">%d</text>' % (x, H - B + 16, t))
-    for z in range(0, 15, 2):
-        _, y = px(0, z)
-        out.append('<line x1="%d" y1="%.1f" x2="%d" y2="%.1f" stroke="#ddd"/>' % (L, y, W - 15, y))
-        out.append('<text x="%d" y="%.1f" text-anchor="end">%d</text>' % (L - 6, y + 4, z))
-    out.append('<text x="%d" y="%d" text-anchor="middle">T = t·√(2g/a)</text>' % ((W + L) // 2, H - 6))
-    out.append('<text x="14" y="%d" transform="rotate(-90 14 %d)" text-anchor="middle">Z = z/a</text>' % (H // 2, H // 2))
+    out = axes(W, H, L, B, px, range(0, 11), range(0, 15, 2), "T = t·√(2g/a)", "Z = z/a")
     path = " ".join("%s%.1f,%.1f" % ("M" if k == 0 else "L", *px(t, z)) for k, (t, z) in enumerate(sim) if t <= TMAX)
     out.append('<path d="%s" fill="none" stroke="#1f5fbf" stroke-width="2"/>' % path)
     marks = {1.125: ("#c0392b", "circle"), 2.25: ("#e67e22", "square")}

@@ -15,6 +15,8 @@ import subprocess
 import sys
 import tempfile
 
+from svg_axes import axes
+
 LENGTHS = (0.3, 1.0)
 FREQS = (0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0)
 
@@ -52,18 +54,7 @@ def main():
     W, H, L0, B = 560, 380, 50, 40
     FMAX, UMAX = 4.0, 3.5
     px = lambda f, u: (L0 + f / FMAX * (W - L0 - 15), H - B - u / UMAX * (H - B - 15))
-    out = ['<svg xmlns="http://www.w3.org/2000/svg" width="%d" height="%d" font-family="sans-serif" font-size="12">' % (W, H),
-           '<rect width="100%" height="100%" fill="white"/>']
-    for f in range(0, 5):
-        x, _ = px(f, 0)
-        out.append('<line x1="%.1f" y1="15" x2="%.1f" y2="%d" stroke="#ddd"/>' % (x, x, H - B))
-        out.append('<text x="%.1f" y="%d" text-anchor="middle">%d</text>' % (x, H - B + 16, f))
-    for u in range(0, 4):
-        _, y = px(0, u)
-        out.append('<line x1="%d" y1="%.1f" x2="%d" y2="%.1f" stroke="#ddd"/>' % (L0, y, W - 15, y))
-        out.append('<text x="%d" y="%.1f" text-anchor="end">%d</text>' % (L0 - 6, y + 4, u))
-    out.append('<text x="%d" y="%d" text-anchor="middle">tail beats per second</text>' % ((W + L0) // 2, H - 6))
-    out.append('<text x="14" y="%d" transform="rotate(-90 14 %d)" text-anchor="middle">speed, lengths per second</text>' % (H // 2, H // 2))
+    out = axes(W, H, L0, B, px, range(0, 5), range(0, 4), "tail beats per second", "speed, lengths per second")
     # Videler's band of strides, 0.6-0.8 lengths a beat.
     band = [px(0, 0), px(FMAX, 0.8 * FMAX), px(FMAX, 0.6 * FMAX)]
     out.append('<polygon points="%s" fill="#2e8b57" fill-opacity="0.15"/>' % " ".join("%.1f,%.1f" % p for p in band))

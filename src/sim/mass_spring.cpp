@@ -117,11 +117,9 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, do
     const int ia = sp.a[s], ib = sp.b[s];
     const double k = sp.stiffness[s], d = sp.damping[s];
     const SpringJacobians J = springJacobians(x[ia], x[ib], sp.rest[s]);
-    fs_[s] = springForce(x[ia], x[ib], v[ia], v[ib], k, d, sp.rest[s]) + h * J.K(k, w[ib] - w[ia]);
-    if (predict_ && J.t == 0) {
-      const Vec3 xa = x[ia] + h * w[ia], xb = x[ib] + h * w[ib];
-      fs_[s] = springForce(xa, xb, v[ia], v[ib], k, d, sp.rest[s]);
-    }
+    fs_[s] = predict_ && J.t == 0
+                 ? springForce(x[ia] + h * w[ia], x[ib] + h * w[ib], v[ia], v[ib], k, d, sp.rest[s])
+                 : springForce(x[ia], x[ib], v[ia], v[ib], k, d, sp.rest[s]) + h * J.K(k, w[ib] - w[ia]);
     // B = h²K + hD = c1·I + c2·û ûᵀ.
     const double c1 = h * h * k * J.t, c2 = h * h * k * (1.0 - J.t) + h * d;
     const Vec3& u = J.u;

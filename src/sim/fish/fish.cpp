@@ -84,13 +84,17 @@ FishTemplate makeFishTemplate(double L, double density) {
   int k = 0;
   // (Listed as built, then reversed: the rings run clockwise seen from ahead.)
   auto tri = [&](int a, int b, int c) { t.surface[static_cast<std::size_t>(k++)] = {a, c, b}; };
-  for (int c = 0; c < 4; ++c) tri(0, ring(0, (c + 1) % 4), ring(0, c));
+  int nf = 0;
+  auto face = [&](int a, int b, int c, int d) { t.faces[static_cast<std::size_t>(nf++)] = {a, b, c, d}; };
+  for (int c = 0; c < 4; ++c) {
+    tri(0, ring(0, (c + 1) % 4), ring(0, c));
+    face(0, ring(0, c), ring(0, (c + 1) % 4), -1);
+  }
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) {
       const int a = ring(r, c), b = ring(r, (c + 1) % 4), a2 = ring(r + 1, c), b2 = ring(r + 1, (c + 1) % 4);
-      // Each quad split along one diagonal; the flanks' diagonals mirror each other (upper
-      // front to lower back on both), so the body has no handedness: split the same way round
-      // the ring, a fish with its left fin opened turned right.
+      // Each quad split along one diagonal for drawing and contacts; the flanks' diagonals
+      // mirror each other (upper front to lower back on both).
       if (c == 3) {
         tri(a, b, a2);
         tri(b, b2, a2);
@@ -98,14 +102,19 @@ FishTemplate makeFishTemplate(double L, double density) {
         tri(a, b, b2);
         tri(a, b2, a2);
       }
+      face(a, a2, b2, b);
     }
   // Around the tail: top and bottom wedges, the two flanks of the fin.
   tri(ring(4, 0), ring(4, 1), 21);
+  face(ring(4, 0), 21, ring(4, 1), -1);
   tri(ring(4, 2), ring(4, 3), 22);
+  face(ring(4, 2), 22, ring(4, 3), -1);
   tri(ring(4, 3), ring(4, 0), 21);
   tri(ring(4, 3), 21, 22);
+  face(ring(4, 3), 22, 21, ring(4, 0));
   tri(ring(4, 1), ring(4, 2), 21);  // the right flank split as the left's mirror
   tri(ring(4, 2), 22, 21);
+  face(ring(4, 1), 21, 22, ring(4, 2));
   return t;
 }
 

@@ -24,7 +24,7 @@
 
 namespace reel {
 
-inline constexpr int kFishNodes = 23, kFishSprings = 91, kFishTriangles = 42;
+inline constexpr int kFishNodes = 23, kFishSprings = 91, kFishTriangles = 42, kFishFaces = 24;
 
 // One fish of length `length` at rest, in its own frame: nose at the origin, heading +z (the tail
 // toward −z), up +y, left +x.
@@ -36,6 +36,11 @@ struct FishTemplate {
   Springs springs;                                  // 91 units
   std::array<int, kFishMuscles> muscle;             // the muscles' unit indices (core/scene/fish.h order)
   std::array<std::array<int, 3>, kFishTriangles> surface;  // counter-clockwise from outside
+  // The same surface as the water pushes it: the nose's 4 triangles, 16 quads along the body, the
+  // tail's top and bottom wedges and its two flanks (quads), each counter-clockwise from outside;
+  // a triangle's fourth corner is −1. A quad's area vector, ½ (p₂ − p₀) × (p₃ − p₁), does not depend
+  // on the diagonal that splits it into `surface`'s triangles.
+  std::array<std::array<int, 4>, kFishFaces> faces;
 };
 
 // Masses from a neutrally buoyant body of the water's density (1000 kg/m³ without water);

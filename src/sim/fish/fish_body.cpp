@@ -177,47 +177,25 @@ void FishBody::waterDrag(const StepContext& ctx) {
     Mat3* D = &drag_[o];
     Vec3* Du = &flow_[o];
     for (int k = 0; k < kFishNodes; ++k) D[k].setZero(), Du[k].setZero();
-    const FishFrame f = fishFrame(&x[o], &v[o]);
-    // The faces: the nose's four triangles, then the body's quads and the tail's two flanks as
-    // their triangles' pairs, each quad taken whole (its area vector, the sum of its two
-    // triangles', does not depend on the diagonal that splits it, so the body has no handedness
-    // whichever way it is triangulated), then the tail's top and bottom wedges.
-    std::array<int, 4> face{};
-    auto addFace = [&](const int* nodes, int count, const Vec3& area2) {
-      const double len = area2.norm();  // twice the area
-      if (!(len > 1e-300)) return;
+    const FishFrame& f = frames_[static_cast<std::size_t>(fi)];  // of this state, from the motor pass
+    for (const auto& fc : tmpl_.faces) {
+      const int count = fc[3] < 0 ? 3 : 4;
+      const auto at = [&](int c) -> const Vec3& { return x[o + static_cast<std::size_t>(fc[static_cast<std::size_t>(c)])]; };
+      const Vec3 area2 = (at(2) - at(0)).cross(at(count == 4 ? 3 : 0) - at(1));  // twice the area vector
+      const double len = area2.norm();
+      if (!(len > 1e-300)) continue;
       const Vec3 n = area2 / len;
       Vec3 centroid = Vec3::Zero(), vel = Vec3::Zero();
-      for (int k = 0; k < count; ++k) centroid += x[o + static_cast<std::size_t>(nodes[k])], vel += v[o + static_cast<std::size_t>(nodes[k])];
+      for (int c = 0; c < count; ++c) centroid += at(c), vel += v[o + static_cast<std::size_t>(fc[static_cast<std::size_t>(c)])];
       centroid /= count, vel /= count;
       const Vec3 u = ctx.water->at(centroid, ctx.t1, cs);
-      if (n.dot(vel - u) <= 0) return;  // leaving the water behind it: no push
+      if (n.dot(vel - u) <= 0) continue;  // leaving the water behind it: no push
       // Streamlined: the forward part of a face's normal shrunk (the drag along the body's axis
       // on a face that looks ahead), its push across the flow kept.
       const double ahead = std::clamp(2.0 * n.dot(f.forward), 0.0, 1.0);  // 0 on the flanks, 1 facing 60° or less off ahead
       const Vec3 ns = n - (1.0 - kFrontDrag) * (ahead * ahead * (3.0 - 2.0 * ahead)) * n.dot(f.forward) * f.forward;
       const Mat3 Dt = (rho * 0.5 * len / count) * (ns * ns.transpose());
-      for (int k = 0; k < count; ++k) D[nodes[k]] += Dt, Du[nodes[k]] += Dt * u;
-    };
-    auto area2 = [&](const std::array<int, 3>& t) { return Vec3((x[o + t[1]] - x[o + t[0]]).cross(x[o + t[2]] - x[o + t[0]])); };
-    for (std::size_t k = 0; k < tmpl_.surface.size();) {
-      const auto& t = tmpl_.surface[k];
-      // makeFishTemplate's order: 4 nose triangles, 16 body quads (32), the top and bottom
-      // wedges, the left flank's pair, the right's.
-      static_assert(kFishTriangles == 42, "the faces' order below is makeFishTemplate's");
-      const bool quad = (k >= 4 && k < 36 && k % 2 == 0) || k == 38 || k == 40;
-      if (!quad) {
-        addFace(t.data(), 3, area2(t));
-        ++k;
-        continue;
-      }
-      const auto& t2 = tmpl_.surface[k + 1];
-      int m = 0;
-      for (int q : t) face[static_cast<std::size_t>(m++)] = q;
-      for (int q : t2)
-        if (std::find(face.begin(), face.begin() + 3, q) == face.begin() + 3) face[3] = q;
-      addFace(face.data(), 4, area2(t) + area2(t2));
-      k += 2;
+      for (int c = 0; c < count; ++c) D[fc[static_cast<std::size_t>(c)]] += Dt, Du[fc[static_cast<std::size_t>(c)]] += Dt * u;
     }
     // Each fin: a plate whose normal is the body's up pitched by the fin angle; opened toward the
     // flow (the left for a positive yaw, both as brakes) by an angle a, it is taken as that plate
