@@ -166,18 +166,10 @@ void FaceBody::drawSkin(DrawList& out) const {
     enamel.casts_shadow = false;
     out.meshes.push_back({std::move(teeth), true, enamel});
     // The tongue: a flattened ellipsoid on the mouth's floor behind the lower teeth, with the jaw.
-    auto tongue = std::make_shared<TriMesh>(makeUvSphere(1.0, 24, 12));
     const Mat3 down = R_ * Eigen::AngleAxisd(jaw_, Vec3::UnitX()).toRotationMatrix();
     const Vec3 centre(0.0, ym - 0.007 * k, front - 0.02 * k);
-    const Vec3 size = k * Vec3(0.019, 0.0055, 0.022);
-    for (std::size_t v = 0; v < tongue->vertexCount(); ++v) {
-      const Vec3 q(tongue->positions[3 * v], tongue->positions[3 * v + 1], tongue->positions[3 * v + 2]);
-      const Vec3 nq(tongue->normals[3 * v], tongue->normals[3 * v + 1], tongue->normals[3 * v + 2]);
-      const Vec3 p = desc_.position + down * (centre + q.cwiseProduct(size) - surface_.jaw_hinge) + R_ * surface_.jaw_hinge;
-      const Vec3 nn = (down * nq.cwiseQuotient(size)).normalized();
-      for (int c = 0; c < 3; ++c) tongue->positions[3 * v + static_cast<std::size_t>(c)] = static_cast<float>(p[c]),
-                                   tongue->normals[3 * v + static_cast<std::size_t>(c)] = static_cast<float>(nn[c]);
-    }
+    auto tongue = std::make_shared<TriMesh>(placeMesh(makeUvSphere(1.0, 24, 12), k * Vec3(0.019, 0.0055, 0.022), down,
+                                                      desc_.position + down * (centre - surface_.jaw_hinge) + R_ * surface_.jaw_hinge));
     DrawMaterial wet = plain(lit * Vec3(0.5, 0.16, 0.16), 0.3);
     wet.shininess = 40;
     wet.casts_shadow = false;
