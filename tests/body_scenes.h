@@ -47,6 +47,16 @@ inline const std::map<std::string, std::string> kScenes = {
         "blocks": [{"min": [-0.18, 0.02, -0.13], "max": [0.0, 0.12, 0.13], "spacing": 0.02, "jitter": 0.1}],
         "emitters": [{"species": "oil", "position": [0.1, 0.3, 0], "direction": [0, -1, 0], "speed": 1, "radius": 0.03,
                       "rate": 400}]}]})"},
+    // The dfsph liquid model: two densities, a nozzle, a free ball.
+    {"fluid_dfsph", kHead + R"("duration": 0.4, "substeps": 12,
+      "objects": [{"type": "container", "center": [0, 0.1, 0], "size": [0.4, 0.2, 0.3], "wall": 0.02},
+                  {"type": "sphere", "name": "ball", "center": [0.05, 0.25, 0], "radius": 0.04, "dynamic": true, "mass": 0.1}],
+      "bodies": [{"type": "fluid", "name": "f", "model": "dfsph",
+        "species": [{"name": "water", "mass": 0.008, "density": 1000, "viscosity": 1},
+                    {"name": "oil", "mass": 0.0064, "density": 800, "viscosity": 1}],
+        "blocks": [{"min": [-0.18, 0.02, -0.13], "max": [0.0, 0.14, 0.13], "spacing": 0.02, "jitter": 0.1}],
+        "emitters": [{"species": "oil", "position": [0.1, 0.3, 0], "direction": [0, -1, 0], "speed": 1, "radius": 0.03,
+                      "rate": 400}]}]})"},
     // Cloth and liquid exchanging momentum; the sheet soaks some up and drips (its wetness resumes).
     {"cloth+fluid", kHead + R"("duration": 0.8, "substeps": 24, "integrator": "implicit_euler",
       "bodies": [{"type": "cloth", "name": "c", "position": [0, 0, 0], "size": [0.4, 0.4], "resolution": [8, 8], "mass": 0.05,

@@ -108,49 +108,17 @@ TEST_CASE("an emitter is drawn as a pipe whose mouth is its disc, unless \"nozzl
   CHECK(none.meshes.empty());
 }
 
-TEST_CASE("dam break: the surge front against Martin & Moyce (1952), n² = 2") {
-  // scenes/dam_break.json: a 10 cm × 20 cm column in a narrow tank; T = t·√(2g/a), Z = z/a
-  // (the front measured from the back wall).
-  auto scene = app::loadScene(REEL_SOURCE_DIR "/scenes/dam_break.json");
-  REQUIRE(scene.ok());
-  auto made = app::makeWorld(scene.value());
-  REQUIRE(made.ok());
-  World& w = made.value();
-  const double a = 0.1;
-  std::map<double, double> sim;  // T → Z
-  for (int f = 0; f < scene.value().frameCount(); ++f) {
-    REQUIRE(w.advanceFrame().ok());
-    const Fluid& fl = fluid(w);
-    double front = 0;
-    for (std::size_t i = 0; i < fl.size(); ++i) {
-      int near = 0;
-      for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e)
-        near += (fl.x[i] - fl.x[static_cast<std::size_t>(fl.nbr[e])]).norm() < fl.cutoff_max;
-      if (near >= 2) front = std::max(front, fl.x[i].x());
-    }
-    sim[w.time() * std::sqrt(2 * 9.78 / a)] = front / a;
-  }
-  // The measurements (a = 2.25 in), and the simulation interpolated at their times.
-  std::ifstream in(REEL_SOURCE_DIR "/../shared/data/martin_moyce_1952.csv");
-  std::vector<std::pair<double, double>> data;
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    double inch, T, Z;
-    if (std::sscanf(line.c_str(), "%lf,%lf,%lf", &inch, &T, &Z) == 3 && inch == 2.25) data.emplace_back(T, Z);
-  }
-  if (data.empty()) {
-    // The shared data folder is outside the repository: the figures of Martin & Moyce's Fig. 3.
-    data = {{0.832, 1.217}, {1.219, 1.474}, {1.997, 2.292}, {2.547, 2.995}, {3.345, 4.134}, {4.034, 4.944}};
-  }
+TEST_CASE("dam break in the pair model: the surge front against Martin & Moyce (1952), n² = 2") {
+  // tests/scenes/dam_break_pairs.json: a 10 cm × 20 cm column in a narrow frictionless tank.
+  const std::map<double, double> sim = damBreakFront(REEL_SOURCE_DIR "/tests/scenes/dam_break_pairs.json");
   double prev = 0.0;
   for (const auto& [T, Z] : sim) {
     CHECK(Z >= prev - 0.05);  // the front advances
     prev = Z;
   }
-  for (const auto& [T, Z] : data) {
+  for (const auto& [T, Z] : martinMoyce(2.25)) {
     if (T > sim.rbegin()->first || T < 1.5) continue;
-    auto hi = sim.lower_bound(T), lo = std::prev(hi);
-    const double z = lo->second + (hi->second - lo->second) * (T - lo->first) / (hi->first - lo->first);
+    const double z = frontAt(sim, T);
     CAPTURE_BINDING(T);
     CAPTURE_BINDING(Z);
     CAPTURE(z);

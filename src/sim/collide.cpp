@@ -166,6 +166,13 @@ bool Collider::distance(const Vec3& p, double& d, Vec3& n) const {
   return true;
 }
 
+int Collider::partDistances(const Vec3& p, double* d, Vec3* n) const {
+  if (!moving()) return shape->partDistances(p, d, n);
+  const int k = shape->partDistances(toAuthored(p), d, n);
+  for (int i = 0; i < k; ++i) n[i] = pose.rot * n[i];
+  return k;
+}
+
 namespace {
 
 // Signed distance from q to the box of half extents `half` centred at the origin (axis-aligned),
@@ -186,6 +193,18 @@ void boxDistance(const Vec3& q, const Vec3& half, double& d, Vec3& n) {
 }
 
 }  // namespace
+
+int ColliderShape::partDistances(const Vec3& p, double* d, Vec3* n) const {
+  if (kind != ObjectKind::Container) return distance(p, d[0], n[0]) ? 1 : 0;
+  const Vec3 q = R.transpose() * (p - p0);
+  int k = 0;
+  for (const auto& [centre, size] : containerBoxes(2 * half, wall)) {
+    boxDistance(q - centre, size / 2, d[k], n[k]);
+    n[k] = R * n[k];
+    ++k;
+  }
+  return k;
+}
 
 // One case per shape, each short; kept in one switch (past 80 lines) so that every shape's
 // distance and normal read side by side.

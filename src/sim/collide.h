@@ -57,6 +57,11 @@ struct ColliderShape {
   // more than its thickness plus 5% of its smaller half-size below it, or farther than a mesh's
   // reach.
   bool distance(const Vec3& p, double& d, Vec3& n) const;
+  // The same for each convex part the surface is made of (a container's floor and four walls; one
+  // part for any other shape), each measured alone: what a point in a corner sees of both walls.
+  // Returns how many of d[] and n[] are set (at most kMaxParts).
+  static constexpr int kMaxParts = 5;
+  int partDistances(const Vec3& p, double* d, Vec3* n) const;
 };
 
 // Where a collider is and how it moves: the pose now and one step ago (surface velocities), and a
@@ -87,6 +92,8 @@ struct Collider {
   // Signed distance from p to the surface (negative inside) and the outward normal (see
   // ColliderShape::distance).
   bool distance(const Vec3& p, double& d, Vec3& n) const;
+  // Per convex part (ColliderShape::partDistances), normals in the world.
+  int partDistances(const Vec3& p, double* d, Vec3* n) const;
   // The authored point of the material point now at p, and back (the current pose).
   Vec3 toAuthored(const Vec3& p) const { return pose.rot.transpose() * (p - pose.pos) + shape->pivot; }
   Vec3 fromAuthored(const Vec3& a) const { return pose.rot * (a - shape->pivot) + pose.pos; }

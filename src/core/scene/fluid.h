@@ -33,6 +33,7 @@ struct SpeciesDesc {
   // 0..1: how much of what lies behind shows through it (drawn as a surface); none: the liquid's
   // `transmission`. Clear water and opaque paint in one liquid.
   std::optional<double> transmission;
+  double density = 1000.0;  // kg/m³: rest density (the dfsph model; its particles' volume is mass/density)
 };
 
 // Pair parameters of two species (an `interactions` entry); unset ones are the mean of the two.
@@ -79,7 +80,12 @@ struct EmitterDesc {
 
 enum class FluidDraw { Spheres, Surface };
 
+// How the particles push each other: the seed's pair force (Terzopoulos, Platt & Fleischer 1989),
+// or divergence-free SPH (Bender & Koschier 2015), an incompressible liquid of a rest density.
+enum class LiquidModel { Pairs, Dfsph };
+
 struct FluidDesc final : BodyParams {
+  LiquidModel model = LiquidModel::Pairs;
   std::vector<SpeciesDesc> species;
   std::vector<InteractionDesc> interactions;
   std::vector<FluidBlockDesc> blocks;
@@ -101,6 +107,13 @@ struct FluidDesc final : BodyParams {
     long long n = 0;
     for (const EmitterDesc& e : emitters) n += e.layers() * e.perLayer();
     return n;
+  }
+  // The dfsph model's particle spacing: the cube root of the largest species' volume mass/density, m
+  // (its kernel reaches twice that).
+  double sphSpacing() const {
+    double v = 0.0;
+    for (const SpeciesDesc& s : species) v = std::max(v, s.mass / s.density);
+    return std::cbrt(v);
   }
   double contactRadius(double) const override { return radius; }
   double adhesionRange() const override {

@@ -49,6 +49,15 @@ void readSpeciesEntry(Obj& so, FluidReading& r) {
   sp.agitation = so.number("agitation", sp.agitation, Range::closed(0.0, 100.0));
   if (sp.agitation > 0 && sp.viscosity == 0)
     d.error(childPath(so.path(), "agitation"), "needs viscosity > 0 (the random kicks and the viscous drag balance at the thermal speed)");
+  if (r.fd.model == LiquidModel::Dfsph) {
+    // Pressure keeps the particles apart: no pair force, and the kernel sets the reach.
+    for (const char* key : {"alpha", "beta", "a", "b", "epsilon", "cutoff"})
+      if (so.has(key))
+        d.error(childPath(so.path(), key), "the dfsph model has no pair force (its particles' spacing is (mass/density)^(1/3), its reach twice that): leave it out, or use \"model\": \"pairs\"");
+    sp.density = so.number("density", sp.density, Range{1e-3, 1e5, true, true});
+  } else if (so.has("density")) {
+    d.error(childPath(so.path(), "density"), "only the dfsph model has a rest density (the pair model's is set by its forces): add \"model\": \"dfsph\" to the liquid");
+  }
   sp.color = so.vec3("color", sp.color, kNonNeg);
   if (so.has("transmission")) sp.transmission = so.number("transmission", 0.0, kUnit);
   if (sp.alpha > 0 && sp.beta == 0)
@@ -91,6 +100,9 @@ void readInteractionEntry(Obj& io, FluidReading& r) {
   in.epsilon = opt("epsilon", kNonNeg);
   in.cutoff = opt("cutoff", Range{0.0, 10.0, true, false});
   in.viscosity = opt("viscosity", kNonNeg);
+  if (r.fd.model == LiquidModel::Dfsph)
+    for (const char* key : {"alpha", "beta", "a", "b", "epsilon", "cutoff"})
+      if (io.has(key)) d.error(childPath(io.path(), key), "the dfsph model has no pair force: only \"viscosity\" may be set between species");
   r.fd.interactions.push_back(in);
 }
 
@@ -113,6 +125,14 @@ void readBlockEntry(Obj& bo, FluidReading& r) {
     if (r.total > static_cast<double>(defaultMaxParticles()) * 4)  // far beyond any limit: stop counting
       r.total = static_cast<double>(defaultMaxParticles()) * 4;
   }
+  // A dfsph block packed closer than its particles' spacing starts compressed: its pressure would
+  // blow it apart.
+  const double rest = r.fd.model == LiquidModel::Dfsph && b.species < static_cast<int>(r.fd.species.size())
+                          ? std::cbrt(r.fd.species[static_cast<std::size_t>(b.species)].mass / r.fd.species[static_cast<std::size_t>(b.species)].density)
+                          : 0.0;
+  if (b.spacing < 0.95 * rest)
+    d.error(childPath(bo.path(), "spacing"), "packs the dfsph species closer than its spacing (mass/density)^(1/3) = " +
+                                                 std::to_string(rest) + " m: the block would start compressed");
   r.min_spacing = r.min_spacing > 0 ? std::min(r.min_spacing, b.spacing) : b.spacing;
   r.fd.blocks.push_back(b);
 }
@@ -180,7 +200,13 @@ void readFluid(Obj& o, FluidDesc& fd, double duration) {
   Diagnostics& d = o.diag();
   const std::string& p = o.path();
   FluidReading r{fd, {}, 0.0, 0.0, duration};
+  fd.model = o.choice("model", "pairs", {"pairs", "dfsph"}) == "dfsph" ? LiquidModel::Dfsph : LiquidModel::Pairs;
   readList(o, "species", [&](Obj& e) { readSpeciesEntry(e, r); }, true);
+  if (fd.model == LiquidModel::Dfsph && !fd.species.empty()) {
+    // The viscosity (and adhesion to objects) reach as far as the kernel.
+    const double support = 2.0 * fd.sphSpacing();
+    for (SpeciesDesc& sp : fd.species) sp.cutoff = support;
+  }
   if (o.ok() && o.raw("species") && fd.species.empty()) d.error(childPath(p, "species"), "needs at least one species");
   readList(o, "interactions", [&](Obj& e) { readInteractionEntry(e, r); });
   const long long limit = o.integer("max_particles", 1ll, 50'000'000ll).value_or(0);

@@ -10,6 +10,7 @@
 #include "core/profile.h"
 #include "core/math.h"
 #include "core/random.h"
+#include "sim/fluid/fluid_dfsph.h"
 #include "sim/fluid/fluid_diffuse.h"
 #include "sim/fluid/fluid_pair.h"
 
@@ -397,13 +398,19 @@ void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, double h)
       const Surface& sf = fl.surfaces[k * S + si];
       const double reach = c.shape->thickness + fl.radius;
       if (!c.near(fl.x[i], fl.radius + (sf.adhesion > 0 ? range : 0.0))) continue;
-      double d;
-      Vec3 nrm;
-      if (!c.distance(fl.x[i], d, nrm)) continue;
-      if (d >= reach + (sf.adhesion > 0 ? range : 0.0)) continue;
-      // Adhesion: an acceleration towards the surface, full in contact, fading to 0 one cutoff away.
-      if (sf.adhesion > 0) fl.v[i] -= (h * sf.adhesion * std::clamp(1.0 - (d - reach) / range, 0.0, 1.0)) * nrm;
-      if (d < reach) contactNode(c, sf, reach, d, nrm, h, fl.x[i], fl.v[i]);
+      // Each part of the object (a container's floor and walls) on its own: a particle pressed into
+      // a corner is kept out of both walls in the same step.
+      double dk[ColliderShape::kMaxParts];
+      Vec3 nk[ColliderShape::kMaxParts];
+      const int parts = c.partDistances(fl.x[i], dk, nk);
+      for (int k = 0; k < parts; ++k) {
+        const double d = dk[k];
+        const Vec3& nrm = nk[k];
+        if (d >= reach + (sf.adhesion > 0 ? range : 0.0)) continue;
+        // Adhesion: an acceleration towards the surface, full in contact, fading to 0 one cutoff away.
+        if (sf.adhesion > 0) fl.v[i] -= (h * sf.adhesion * std::clamp(1.0 - (d - reach) / range, 0.0, 1.0)) * nrm;
+        if (d < reach) contactNode(c, sf, reach, d, nrm, h, fl.x[i], fl.v[i]);
+      }
     }
   });
 }
@@ -420,6 +427,8 @@ void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, const Vec3& gr
   }
   refreshNeighbours(fl, added);
   fl.x_start = fl.x;
+  const bool sph = fl.model == LiquidModel::Dfsph;
+  if (sph) dfsphBegin(fl, colliders, h);
   computeForces(fl, gravity);
   // A violent moment (an impact, a splash squeezed against a wall) can push particles much closer
   // than the stable step assumes. Then the step is split so that no particle moves more than 5%
@@ -436,9 +445,11 @@ void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, const Vec3& gr
   for (int part = 0; part < k; ++part) {
     if (part > 0) {
       refreshNeighbours(fl, false);
+      if (sph) dfsphBegin(fl, colliders, hk);
       computeForces(fl, gravity);
     }
     if (fl.agitated) addThermalForces(fl, hk);
+    if (sph) dfsphPressure(fl, hk);
     moveAndCollide(fl, colliders, hk);
   }
   stepDiffuse(fl, gravity, t1);

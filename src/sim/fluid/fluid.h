@@ -101,6 +101,14 @@ struct FluidModel {
   double foam_life = 2.0;  // s: a diffuse particle's mean life
   double shutter = 0.5;
   std::vector<FluidEmitter> emitters;
+  // The dfsph model (fluid_dfsph.h): its kernel's support (twice the particles' spacing), each
+  // species' rest volume mass/density, and the volume of a flat wall inside the kernel, tabled
+  // over its distance (wall_volume[k]: at k/kWallTable of the support; wall_area: minus its slope).
+  LiquidModel model = LiquidModel::Pairs;
+  double kernel_support = 0.0;            // m
+  std::vector<double> species_volume;     // m³ (species)
+  std::vector<double> wall_volume, wall_area;  // 1, 1/m (kWallTable + 1 samples)
+  double wall_offset = 0.0;               // m: walls are taken this much farther (fluid_dfsph.cpp)
 };
 
 // What changes: the particles (in slots that re-sorting permutes; `id` follows each particle),
@@ -144,6 +152,14 @@ struct FluidScratch {
   };
   std::vector<Packed> packed;
   BoxGrid grid;  // built with the list, at x_built
+  // The dfsph model's pressure solve (fluid_dfsph.cpp), per particle: relative density, factor α,
+  // pressure, the walls' volume gradient and flux, working velocity; per list entry V_j ∇W_ij.
+  struct Sph {
+    std::vector<double> density, factor, pressure, wall_flux;
+    std::vector<Vec3> wall_grad, u;
+    std::vector<Vec3> grad;
+    long long iterations = 0;  // pressure iterations so far (statistics)
+  } sph;
   // The state in order of creation (dumps and hashes), filled by fluidById.
   std::vector<Vec3> x_by_id, v_by_id;
   std::vector<int> s_by_id;

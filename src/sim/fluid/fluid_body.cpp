@@ -1,5 +1,7 @@
 #include "sim/fluid/fluid_body.h"
 
+#include <cmath>
+
 #include "core/format.h"
 #include "sim/contact_layer.h"
 #include "sim/fluid/fluid_diffuse.h"
@@ -125,7 +127,15 @@ std::vector<std::string> FluidBody::notes(double h) const {
   std::vector<std::string> out;
   out.push_back("fluid '" + name() + "': " + std::to_string(fl.size()) + " particles at the start, stable step " +
                 num(bound_.h_max, 3) + " s (this scene steps " + num(h, 3) + " s)");
-  for (int k = 0; k < fl.species_count; ++k) {
+  if (fl.model == LiquidModel::Dfsph) {
+    out.push_back("  divergence-free SPH: particles " + num(0.5 * fl.kernel_support, 4) + " m apart at rest, kernel reach " +
+                  num(fl.kernel_support, 4) + " m");
+    for (int k = 0; k < fl.species_count; ++k)
+      out.push_back("  species '" + fl.species_names[static_cast<std::size_t>(k)] + "': rest density " +
+                    num(fl.species_mass[static_cast<std::size_t>(k)] / fl.species_volume[static_cast<std::size_t>(k)], 4) +
+                    " kg/m³, spacing " + num(std::cbrt(fl.species_volume[static_cast<std::size_t>(k)]), 4) + " m");
+  }
+  for (int k = 0; k < fl.species_count && fl.model == LiquidModel::Pairs; ++k) {
     const PairParams& p = fl.pairs[static_cast<std::size_t>(k * fl.species_count + k)];
     out.push_back("  species '" + fl.species_names[static_cast<std::size_t>(k)] + "': rest distance " +
                   num(restDistance(p), 4) + " m, bulk spacing " + num(bulkSpacing(p), 4) + " m, cutoff " +

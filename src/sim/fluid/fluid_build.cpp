@@ -6,6 +6,7 @@
 #include "core/math.h"
 #include "core/random.h"
 #include "sim/fluid/fluid.h"
+#include "sim/fluid/fluid_dfsph.h"
 #include "sim/fluid/fluid_pair.h"
 
 namespace reel {
@@ -192,10 +193,29 @@ Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<
       fl.agitated = fl.agitated || p.sigma > 0;
       fl.pairs[i * S + j] = p;
     }
+  if (d.model == LiquidModel::Dfsph) {
+    // No pair force: pressure keeps the particles apart; the viscosity acts over the kernel's reach.
+    std::vector<double> density;
+    for (const SpeciesDesc& sp : d.species) density.push_back(sp.density);
+    setupDfsph(fl, density);
+    const double H = fl.kernel_support;
+    for (PairParams& p : fl.pairs) {
+      PairParams q = makePair(0.0, 0.0, 2.0, 4.0, 0.0, H, p.viscosity);
+      q.mass_product = p.mass_product;
+      q.visc_mu = p.visc_mu;
+      q.inv_cutoff = 1.0 / H;
+      q.seed_form = true;
+      q.sigma = p.sigma;
+      p = q;
+    }
+  }
   fl.cutoff_max = 0.0;
   for (const PairParams& p : fl.pairs) fl.cutoff_max = std::max(fl.cutoff_max, p.cutoff);
   fl.skin = 0.3 * fl.cutoff_max;
-  {
+  if (d.model == LiquidModel::Dfsph) {
+    // The particles' spacing: what the step's splitting and the drawing take as their distance.
+    fl.ref_spacing = fl.packed_spacing = 0.5 * fl.kernel_support;
+  } else {
     const double d0 = bulkSpacing(fl.pairs[0]);
     fl.ref_spacing = d0 > 0 ? 0.65 * d0 : 2.0 * d.radius;
     // A settled liquid packs its nearest neighbours at about 0.8 of the lattice spacing.
