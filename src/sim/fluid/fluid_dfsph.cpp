@@ -10,7 +10,8 @@
 // A particle's own pressure p_i changes its density by −h² p_i/α_i with
 //   α_i = 1 / (V_i [ |Σ_j V_j ∇W_ij + ∇Φ_i|²/m_i + Σ_j |V_j ∇W_ij|²/m_j ]),
 // so the Jacobi iteration sets p_i = α_i e_i/h² from the error e_i left: the density solve the
-// predicted compression e_i = ρ̂_i + h Dρ̂_i/Dt − 1, the divergence solve e_i = h Dρ̂_i/Dt. Only
+// predicted compression e_i = ρ̂_i + h Dρ̂_i/Dt − 1 (the compression it starts with taken out over
+// at least H/kSoundSpeed), the divergence solve e_i = h Dρ̂_i/Dt. Only
 // compression is corrected (e clamped at 0: a free surface may open), and the divergence only where
 // a particle's neighbourhood is at least kDenseEnough full (after Bender & Koschier's neighbour
 // count), until the mean error is below kDensityTolerance (kDivergenceTolerance) of rest.
@@ -30,6 +31,11 @@ constexpr double kDensityTolerance = 1e-3;     // mean compression left by the d
 constexpr double kDivergenceTolerance = 1e-3;  // mean compression a step at the divergence left would make
 constexpr double kDenseEnough = 0.8;           // of rest density: the divergence is solved there
 constexpr int kMaxIterations = 100;
+// A compression the step starts with (particles pressed together by a contact, a nozzle, a fast
+// collision) is taken out no faster than over the time the kernel's reach takes at this speed, m/s
+// (a speed of sound, as weakly compressible SPH takes ten times the flow's): with a very short step
+// the density solve would otherwise pull an overlap apart at overlap/h, tens of m/s.
+constexpr double kSoundSpeed = 20.0;
 
 // Jacobi iterations on the working velocities sph.u: error(i) the compression particle i would
 // reach (its pressure is set from it), then every velocity moved by the pressures. Stops at the
@@ -213,7 +219,11 @@ void dfsphPressure(Fluid& fl, double h) {
     const auto i = static_cast<std::size_t>(ii);
     S.u[i] = fl.v[i] + (h / fl.m[i]) * fl.f[i];
   });
-  jacobi(fl, h, kDensityTolerance, 2, [&](std::size_t i) { return S.density[i] + h * densityRate(fl, i) - 1.0; });
+  const double share = std::min(1.0, h * kSoundSpeed / fl.kernel_support);
+  jacobi(fl, h, kDensityTolerance, 2, [&](std::size_t i) {
+    const double start = S.density[i] - 1.0;
+    return (start > 0 ? share * start : start) + h * densityRate(fl, i);
+  });
   parallelFor(n, [&](std::ptrdiff_t ii) {
     const auto i = static_cast<std::size_t>(ii);
     fl.f[i] = (fl.m[i] / h) * (S.u[i] - fl.v[i]);
