@@ -212,17 +212,12 @@ bool ColliderShape::distance(const Vec3& p, double& d, Vec3& n) const {
   switch (kind) {
     case ObjectKind::Container: {
       // The union of the floor and four walls: the nearest of the five boxes.
-      const Vec3 q = R.transpose() * (p - p0);
+      double dk[kMaxParts];
+      Vec3 nk[kMaxParts];
+      const int parts = partDistances(p, dk, nk);
       d = std::numeric_limits<double>::infinity();
-      for (const auto& [centre, size] : containerBoxes(2 * half, wall)) {
-        double dk;
-        Vec3 nk;
-        boxDistance(q - centre, size / 2, dk, nk);
-        if (dk < d) {
-          d = dk;
-          n = R * nk;
-        }
-      }
+      for (int k = 0; k < parts; ++k)
+        if (dk[k] < d) d = dk[k], n = nk[k];
       return true;
     }
     case ObjectKind::Plane: {

@@ -115,7 +115,8 @@ struct FluidDesc final : BodyParams {
     for (const SpeciesDesc& s : species) v = std::max(v, s.mass / s.density);
     return std::cbrt(v);
   }
-  double contactRadius(double) const override { return radius; }
+  // Colliders find its points this far: contact, and in dfsph the walls' share of the kernel.
+  double contactRadius(double) const override { return model == LiquidModel::Dfsph ? std::max(radius, 2.0 * sphSpacing()) : radius; }
   double adhesionRange() const override {
     double r = 0.0;
     for (const SpeciesDesc& s : species) r = std::max(r, s.cutoff);

@@ -28,6 +28,7 @@ struct FluidReading {
   double total = 0.0;              // particles from blocks, lists and emitters
   double min_spacing = 0.0;        // m, the finest block
   double duration = 0.0;           // s, the scene's (emitters stop by then)
+  double sph_spacing = 0.0;        // m, the dfsph model's particle spacing (0: the pair model)
 };
 
 void readSpeciesEntry(Obj& so, FluidReading& r) {
@@ -177,7 +178,10 @@ void readEmitterEntry(Obj& eo, FluidReading& r) {
   e.rate = eo.number("rate", kPos, true).value_or(e.rate);
   e.start = eo.number("start", 0.0, kNonNeg);
   e.stop = std::min(eo.number("stop", r.duration, kNonNeg), r.duration);
-  e.spacing = eo.number("spacing", 2.0 * r.fd.radius, Range{0.0, 100.0, true, false});
+  e.spacing = eo.number("spacing", r.sph_spacing > 0 ? r.sph_spacing : 2.0 * r.fd.radius, Range{0.0, 100.0, true, false});
+  if (e.spacing < 0.95 * r.sph_spacing)
+    d.error(childPath(eo.path(), "spacing"), "packs the dfsph liquid closer than its spacing (mass/density)^(1/3) = " +
+                                                 std::to_string(r.sph_spacing) + " m: its layers would leave compressed");
   e.nozzle = eo.boolean("nozzle", e.nozzle);
   if (e.stop <= e.start) {
     d.error(childPath(eo.path(), "stop"), "must be after start (and start before the scene ends)");
@@ -205,15 +209,29 @@ void readFluid(Obj& o, FluidDesc& fd, double duration) {
   if (fd.model == LiquidModel::Dfsph && !fd.species.empty()) {
     // The viscosity (and adhesion to objects) reach as far as the kernel.
     const double support = 2.0 * fd.sphSpacing();
-    for (SpeciesDesc& sp : fd.species) sp.cutoff = support;
+    for (std::size_t k = 0; k < fd.species.size(); ++k) {
+      SpeciesDesc& sp = fd.species[k];
+      sp.cutoff = support;
+      // One kernel serves every species: a much finer one would have hundreds of neighbours.
+      if (std::cbrt(sp.mass / sp.density) < 0.5 * fd.sphSpacing())
+        d.error(childPath(childPath(p, "species"), k), "is spaced " + std::to_string(std::cbrt(sp.mass / sp.density)) +
+                                                         " m, under half the coarsest species' " + std::to_string(fd.sphSpacing()) +
+                                                         " m: dfsph species share one kernel (give them like spacings)");
+    }
   }
   if (o.ok() && o.raw("species") && fd.species.empty()) d.error(childPath(p, "species"), "needs at least one species");
   readList(o, "interactions", [&](Obj& e) { readInteractionEntry(e, r); });
   const long long limit = o.integer("max_particles", 1ll, 50'000'000ll).value_or(0);
-  fd.max_particles = limit > 0 ? limit : defaultMaxParticles();
+  // (dfsph keeps a vector per neighbour-list entry besides: about 2.5 KiB a particle)
+  fd.max_particles = limit > 0 ? limit : defaultMaxParticles() * (fd.model == LiquidModel::Dfsph ? 2 : 5) / 5;
   readList(o, "blocks", [&](Obj& e) { readBlockEntry(e, r); });
   readList(o, "particles", [&](Obj& e) { readParticlesEntry(e, r); });
-  fd.radius = o.number("radius", r.min_spacing > 0 ? 0.5 * r.min_spacing : fd.radius, Range{0.0, 10.0, true, false});
+  // dfsph: just under half its spacing, so a block's outer layer clears the walls it fills to.
+  const double sph_spacing = fd.model == LiquidModel::Dfsph && !fd.species.empty() ? fd.sphSpacing() : 0.0;
+  fd.radius = o.number("radius", sph_spacing > 0 ? 0.48 * std::min(sph_spacing, r.min_spacing > 0 ? r.min_spacing : sph_spacing)
+                                                 : (r.min_spacing > 0 ? 0.5 * r.min_spacing : fd.radius),
+                       Range{0.0, 10.0, true, false});
+  r.sph_spacing = sph_spacing;
   readList(o, "emitters", [&](Obj& e) { readEmitterEntry(e, r); });
   if (r.total > static_cast<double>(fd.max_particles))
     d.error(p, "would hold " + (r.total >= static_cast<double>(defaultMaxParticles()) * 4 ? std::string("far more") : std::to_string(static_cast<long long>(r.total))) +

@@ -399,16 +399,20 @@ void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, double h)
       const double reach = c.shape->thickness + fl.radius;
       if (!c.near(fl.x[i], fl.radius + (sf.adhesion > 0 ? range : 0.0))) continue;
       // Each part of the object (a container's floor and walls) on its own: a particle pressed into
-      // a corner is kept out of both walls in the same step.
+      // a corner is kept out of both walls in the same step. A part's distance follows the moves
+      // the parts before it made; adhesion pulls toward the nearest part only.
       double dk[ColliderShape::kMaxParts];
       Vec3 nk[ColliderShape::kMaxParts];
       const int parts = c.partDistances(fl.x[i], dk, nk);
+      int nearest = 0;
+      for (int k = 1; k < parts; ++k) nearest = dk[k] < dk[nearest] ? k : nearest;
+      const Vec3 x0 = fl.x[i];
       for (int k = 0; k < parts; ++k) {
-        const double d = dk[k];
+        const double d = dk[k] + (fl.x[i] - x0).dot(nk[k]);
         const Vec3& nrm = nk[k];
         if (d >= reach + (sf.adhesion > 0 ? range : 0.0)) continue;
         // Adhesion: an acceleration towards the surface, full in contact, fading to 0 one cutoff away.
-        if (sf.adhesion > 0) fl.v[i] -= (h * sf.adhesion * std::clamp(1.0 - (d - reach) / range, 0.0, 1.0)) * nrm;
+        if (sf.adhesion > 0 && k == nearest) fl.v[i] -= (h * sf.adhesion * std::clamp(1.0 - (d - reach) / range, 0.0, 1.0)) * nrm;
         if (d < reach) contactNode(c, sf, reach, d, nrm, h, fl.x[i], fl.v[i]);
       }
     }

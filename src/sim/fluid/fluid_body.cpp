@@ -15,7 +15,7 @@ StepLimit FluidBody::stepLimit(IntegratorKind) const {
   return {bound_,
           "of fluid '" + name() + "' (species '" + fluid_.species_names[pair / S] + "' with '" +
               fluid_.species_names[pair % S] + "'",
-          "softer alpha and beta (docs/fluids.md)"};
+          fluid_.model == LiquidModel::Dfsph ? "a lower viscosity (docs/fluids.md)" : "softer alpha and beta (docs/fluids.md)"};
 }
 
 void FluidBody::step(StepContext& ctx) {
