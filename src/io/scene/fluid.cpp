@@ -222,8 +222,8 @@ void readFluid(Obj& o, FluidDesc& fd, double duration) {
   if (o.ok() && o.raw("species") && fd.species.empty()) d.error(childPath(p, "species"), "needs at least one species");
   readList(o, "interactions", [&](Obj& e) { readInteractionEntry(e, r); });
   const long long limit = o.integer("max_particles", 1ll, 50'000'000ll).value_or(0);
-  // (dfsph keeps a vector per neighbour-list entry besides: about 2.5 KiB a particle)
-  fd.max_particles = limit > 0 ? limit : defaultMaxParticles() * (fd.model == LiquidModel::Dfsph ? 2 : 5) / 5;
+  // (dfsph keeps its neighbours inside the kernel's reach with a vector each besides: about 2 KiB a particle)
+  fd.max_particles = limit > 0 ? limit : defaultMaxParticles() / (fd.model == LiquidModel::Dfsph ? 2 : 1);
   readList(o, "blocks", [&](Obj& e) { readBlockEntry(e, r); });
   readList(o, "particles", [&](Obj& e) { readParticlesEntry(e, r); });
   // dfsph: just under half its spacing, so a block's outer layer clears the walls it fills to.

@@ -153,10 +153,14 @@ struct FluidScratch {
   std::vector<Packed> packed;
   BoxGrid grid;  // built with the list, at x_built
   // The dfsph model's pressure solve (fluid_dfsph.cpp), per particle: relative density, factor α,
-  // pressure, the walls' volume gradient and flux, working velocity; per list entry V_j ∇W_ij.
+  // pressure, the walls' volume gradient and flux, working velocity; the neighbours inside the
+  // kernel's reach (the Verlet list without its skin: the solver's iterations read only these)
+  // with V_j ∇W_ij for each.
   struct Sph {
     std::vector<double> density, factor, pressure, wall_flux;
     std::vector<Vec3> wall_grad, u;
+    std::vector<std::uint32_t> start;  // particle i's entries: [start[i], start[i + 1])
+    std::vector<std::int32_t> nbr;
     std::vector<Vec3> grad;
     long long iterations = 0;  // pressure iterations so far (statistics)
   } sph;

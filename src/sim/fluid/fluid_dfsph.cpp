@@ -58,8 +58,8 @@ void jacobi(Fluid& fl, double h, double tolerance, int least, Error&& error) {
       const auto i = static_cast<std::size_t>(ii);
       const double pi = S.pressure[i];
       Vec3 acc = pi * S.wall_grad[i];
-      for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e)
-        acc += (pi + S.pressure[static_cast<std::size_t>(fl.nbr[e])]) * S.grad[e];
+      for (std::uint32_t e = S.start[i]; e < S.start[i + 1]; ++e)
+        acc += (pi + S.pressure[static_cast<std::size_t>(S.nbr[e])]) * S.grad[e];
       S.u[i] -= (h * fl.species_volume[static_cast<std::size_t>(fl.s[i])] / fl.m[i]) * acc;
     });
   }
@@ -69,8 +69,8 @@ void jacobi(Fluid& fl, double h, double tolerance, int least, Error&& error) {
 double densityRate(const Fluid& fl, std::size_t i) {
   const auto& S = fl.sph;
   double d = S.wall_grad[i].dot(S.u[i]) - S.wall_flux[i];
-  for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e)
-    d += S.grad[e].dot(S.u[i] - S.u[static_cast<std::size_t>(fl.nbr[e])]);
+  for (std::uint32_t e = S.start[i]; e < S.start[i + 1]; ++e)
+    d += S.grad[e].dot(S.u[i] - S.u[static_cast<std::size_t>(S.nbr[e])]);
   return d;
 }
 
@@ -157,8 +157,21 @@ void dfsphBegin(Fluid& fl, const std::vector<Collider>& colliders, double h) {
   S.wall_flux.resize(n);
   S.wall_grad.resize(n);
   S.u.resize(n);
-  S.grad.resize(fl.nbr.size());
   const double H = fl.kernel_support, H2 = H * H, w0 = cubicKernel(0.0, H);
+  // The solver's list: each particle's Verlet entries inside the reach, in the list's order.
+  S.start.assign(n + 1, 0);
+  parallelFor(sn, [&](std::ptrdiff_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    std::uint32_t count = 0;
+    for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e) {
+      const double r2 = (fl.x[i] - fl.x[static_cast<std::size_t>(fl.nbr[e])]).squaredNorm();
+      count += r2 < H2 && r2 > 0.0;
+    }
+    S.start[i + 1] = count;
+  });
+  for (std::size_t i = 0; i < n; ++i) S.start[i + 1] += S.start[i];
+  S.nbr.resize(S.start[n]);
+  S.grad.resize(S.start[n]);
   parallelFor(sn, [&](std::ptrdiff_t ii) {
     const auto i = static_cast<std::size_t>(ii);
     const Vec3& xi = fl.x[i];
@@ -185,18 +198,17 @@ void dfsphBegin(Fluid& fl, const std::vector<Collider>& colliders, double h) {
     const double Vi = fl.species_volume[static_cast<std::size_t>(fl.s[i])];
     double rho = Vi * w0 + phi, s2 = 0.0;
     Vec3 sum = wall;
+    std::uint32_t out = S.start[i];
     for (std::uint32_t e = fl.nbr_start[i]; e < fl.nbr_start[i + 1]; ++e) {
       const auto j = static_cast<std::size_t>(fl.nbr[e]);
       const Vec3 d = xi - fl.x[j];
       const double r2 = d.squaredNorm();
-      if (!(r2 < H2) || r2 == 0.0) {
-        S.grad[e] = Vec3::Zero();
-        continue;
-      }
+      if (!(r2 < H2) || r2 == 0.0) continue;
       const double r = std::sqrt(r2), Vj = fl.species_volume[static_cast<std::size_t>(fl.s[j])];
       rho += Vj * cubicKernel(r, H);
       const Vec3 g = (Vj * cubicKernelSlope(r, H) / r) * d;
-      S.grad[e] = g;
+      S.nbr[out] = fl.nbr[e];
+      S.grad[out++] = g;
       sum += g;
       s2 += g.squaredNorm() / fl.m[j];
     }
