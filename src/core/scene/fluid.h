@@ -34,6 +34,8 @@ struct SpeciesDesc {
   // `transmission`. Clear water and opaque paint in one liquid.
   std::optional<double> transmission;
   double density = 1000.0;  // kg/m³: rest density (the dfsph model; its particles' volume is mass/density)
+  // The dfsph model's spacing of these particles at rest, (mass/density)^(1/3), m.
+  double spacing() const { return std::cbrt(mass / density); }
 };
 
 // Pair parameters of two species (an `interactions` entry); unset ones are the mean of the two.
@@ -112,8 +114,8 @@ struct FluidDesc final : BodyParams {
   // (its kernel reaches twice that).
   double sphSpacing() const {
     double v = 0.0;
-    for (const SpeciesDesc& s : species) v = std::max(v, s.mass / s.density);
-    return std::cbrt(v);
+    for (const SpeciesDesc& s : species) v = std::max(v, s.spacing());
+    return v;
   }
   // Colliders find its points this far: contact, and in dfsph the walls' share of the kernel.
   double contactRadius(double) const override { return model == LiquidModel::Dfsph ? std::max(radius, 2.0 * sphSpacing()) : radius; }

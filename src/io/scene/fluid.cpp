@@ -129,7 +129,7 @@ void readBlockEntry(Obj& bo, FluidReading& r) {
   // A dfsph block packed closer than its particles' spacing starts compressed: its pressure would
   // blow it apart.
   const double rest = r.fd.model == LiquidModel::Dfsph && b.species < static_cast<int>(r.fd.species.size())
-                          ? std::cbrt(r.fd.species[static_cast<std::size_t>(b.species)].mass / r.fd.species[static_cast<std::size_t>(b.species)].density)
+                          ? r.fd.species[static_cast<std::size_t>(b.species)].spacing()
                           : 0.0;
   if (b.spacing < 0.95 * rest)
     d.error(childPath(bo.path(), "spacing"), "packs the dfsph species closer than its spacing (mass/density)^(1/3) = " +
@@ -213,8 +213,8 @@ void readFluid(Obj& o, FluidDesc& fd, double duration) {
       SpeciesDesc& sp = fd.species[k];
       sp.cutoff = support;
       // One kernel serves every species: a much finer one would have hundreds of neighbours.
-      if (std::cbrt(sp.mass / sp.density) < 0.5 * fd.sphSpacing())
-        d.error(childPath(childPath(p, "species"), k), "is spaced " + std::to_string(std::cbrt(sp.mass / sp.density)) +
+      if (sp.spacing() < 0.5 * fd.sphSpacing())
+        d.error(childPath(childPath(p, "species"), k), "is spaced " + std::to_string(sp.spacing()) +
                                                          " m, under half the coarsest species' " + std::to_string(fd.sphSpacing()) +
                                                          " m: dfsph species share one kernel (give them like spacings)");
     }

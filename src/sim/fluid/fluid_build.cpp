@@ -117,17 +117,23 @@ PairParams pairOf(const FluidDesc& d, std::size_t i, std::size_t j) {
   auto mean = [](double x, double y) { return 0.5 * (x + y); };
   double alpha = mean(A.alpha, B.alpha), beta = mean(A.beta, B.beta), a = mean(A.a, B.a), b = mean(A.b, B.b);
   double eps = mean(A.epsilon, B.epsilon), cut = mean(A.cutoff, B.cutoff), visc = mean(A.viscosity, B.viscosity);
+  if (d.model == LiquidModel::Dfsph) {
+    // No pair force: pressure keeps the particles apart; the viscosity acts over the kernel's reach.
+    alpha = beta = eps = 0.0, a = 2.0, b = 4.0;
+    cut = 2.0 * d.sphSpacing();
+  }
   for (const InteractionDesc& in : d.interactions) {
     if (!((in.s == static_cast<int>(i) && in.t == static_cast<int>(j)) ||
           (in.s == static_cast<int>(j) && in.t == static_cast<int>(i))))
       continue;
+    visc = in.viscosity.value_or(visc);
+    if (d.model == LiquidModel::Dfsph) continue;  // (the reader refuses the rest there)
     alpha = in.alpha.value_or(alpha);
     beta = in.beta.value_or(beta);
     a = in.a.value_or(a);
     b = in.b.value_or(b);
     eps = in.epsilon.value_or(eps);
     cut = in.cutoff.value_or(cut);
-    visc = in.viscosity.value_or(visc);
   }
   PairParams p = makePair(alpha, beta, a, b, eps, cut, visc);
   const double mi = A.mass, mj = B.mass;
@@ -194,20 +200,9 @@ Fluid buildFluid(const FluidDesc& d, const std::string& name, const std::vector<
       fl.pairs[i * S + j] = p;
     }
   if (d.model == LiquidModel::Dfsph) {
-    // No pair force: pressure keeps the particles apart; the viscosity acts over the kernel's reach.
     std::vector<double> density;
     for (const SpeciesDesc& sp : d.species) density.push_back(sp.density);
     setupDfsph(fl, density);
-    const double H = fl.kernel_support;
-    for (PairParams& p : fl.pairs) {
-      PairParams q = makePair(0.0, 0.0, 2.0, 4.0, 0.0, H, p.viscosity);
-      q.mass_product = p.mass_product;
-      q.visc_mu = p.visc_mu;
-      q.inv_cutoff = 1.0 / H;
-      q.seed_form = true;
-      q.sigma = p.sigma;
-      p = q;
-    }
   }
   fl.cutoff_max = 0.0;
   for (const PairParams& p : fl.pairs) fl.cutoff_max = std::max(fl.cutoff_max, p.cutoff);
