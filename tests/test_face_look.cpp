@@ -94,8 +94,11 @@ TEST_CASE("face: the profile keeps its measured order: nose ahead of the lips, t
     return z;
   };
   double top = -1, bottom = 1;
-  for (const Vec3& p : s.skin)
-    if (p.z() > 0.03) top = std::max(top, p.y()), bottom = std::min(bottom, p.y());
+  // (The chin: the lowest point well forward, not the throat below it.)
+  for (const Vec3& p : s.skin) {
+    if (p.z() > 0.03) top = std::max(top, p.y());
+    if (p.z() > 0.05) bottom = std::min(bottom, p.y());
+  }
   const double ym = s.mouth.y();
   const double nose = front(-0.045, -0.025), lips = front(ym - 0.012, ym + 0.012), chin = front(-0.112, -0.095);
   MESSAGE("nose " << nose << ", lips " << lips << ", chin " << chin << " m forward; eyes at " << s.eye[0].y() << " m, crown "

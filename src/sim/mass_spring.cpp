@@ -89,6 +89,10 @@ void MassSpringSystem::acceleration(const Vec3* x, const Vec3* v, Vec3* a) {
     fs_[s] = springForce(x[ia], x[ib], v[ia], v[ib], sp.stiffness[s], sp.damping[s], sp.rest[s]);
   });
   spring_evals_ += sp.size();
+  if (term_) {
+    term_f_.assign(m_.nodes(), Vec3::Zero());
+    term_->addForces(x, term_f_.data());
+  }
   // Per node: gravity as an acceleration (exactly g, never m·g/m), drag and the springs' forces.
   const Vec3 g = m_.gravity;
   parallelFor(static_cast<Index>(m_.nodes()), [&](Index i) {
@@ -99,6 +103,7 @@ void MassSpringSystem::acceleration(const Vec3* x, const Vec3* v, Vec3* a) {
     Vec3 f = -m_.drag[i] * v[i];
     gather(fs_, static_cast<std::size_t>(i), f);
     if (external_) f += external_[i];
+    if (term_) f += term_f_[i];
     if (node_drag_) f += node_flow_[i] - node_drag_[i] * v[i];
     a[i] = g + m_.inv_mass[i] * f;
   });
@@ -138,15 +143,25 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, do
   for (std::size_t i = 0; i < nodes; ++i) group_start_[i + 1] = group_start_[i] + (inc.start[i + 1] - inc.start[i] + 3) / 4;
   groups_.resize(static_cast<std::size_t>(group_start_[nodes]));
   own_.resize(nodes);
+  // The force term: its force at the step's end as linearised, f₀ − h H w, and h² H's blocks.
+  if (term_) {
+    term_f_.assign(nodes, Vec3::Zero());
+    term_d_.assign(nodes, Mat3::Zero());
+    term_->linearize(x, term_d_.data());
+    term_->addForces(x, term_f_.data());
+    term_->addProduct(w, -h, term_f_.data());
+  }
   parallelFor(static_cast<Index>(nodes), [&](Index i) {
     Vec3 f = m_.mass[i] * g - m_.drag[i] * v[i];
     gather(fs_, static_cast<std::size_t>(i), f);
     if (external_) f += external_[i];
     if (node_drag_) f += node_flow_[i] - node_drag_[i] * v[i];
+    if (term_) f += term_f_[i];
     rhs[i] = h * f;
     own_[i] = m_.mass[i] + h * m_.drag[i];
     Mat3 d = Mat3::Identity() * own_[i];
     if (node_drag_) d += h * node_drag_[i];
+    if (term_) d += (h * h) * term_d_[i];
     for (int gi = group_start_[i]; gi < group_start_[i + 1]; ++gi) {
       Group4& G = groups_[static_cast<std::size_t>(gi)];
       for (int k = 0; k < 4; ++k) {
@@ -225,6 +240,7 @@ void MassSpringSystem::applySystem(const Vec3* p, Vec3* out) {
     if (node_drag_)
       for (Index i = i0; i < i1; ++i) out[i] += h_ * (node_drag_[i] * p[i]);
   });
+  if (term_) term_->addProduct(p, h_ * h_, out);
   spring_products_ += m_.springs.size();
 }
 

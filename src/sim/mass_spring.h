@@ -64,6 +64,20 @@ struct MassSpringState {
 void buildMassSpring(const MassSpringDesc& desc, const Vec3& gravity, MassSpringModel& model,
                      MassSpringState& state);
 
+// A force term beyond the springs and drags (a tissue's resistance to a change of volume), which
+// the implicit integrators take inside their solve by a stiffness H ≈ −∂f/∂x, symmetric positive
+// semi-definite (a Gauss–Newton stiffness serves). Forces on fixed nodes are ignored.
+class ForceTerm {
+ public:
+  virtual ~ForceTerm() = default;
+  // Adds the term's force at x to f, N per node.
+  virtual void addForces(const Vec3* x, Vec3* f) = 0;
+  // Linearises at x (what products need); adds each node's diagonal block of H to diag.
+  virtual void linearize(const Vec3* x, Mat3* diag) = 0;
+  // out += s·H p, H from the last linearize().
+  virtual void addProduct(const Vec3* p, double s, Vec3* out) = 0;
+};
+
 // The model as an OdeSystem (x'' = a(x, v)) for the integrators: accelerations, and the linearised system of
 // implicit Euler. Holds scratch arrays, so one instance per body and thread of control.
 class MassSpringSystem final : public OdeSystem {
@@ -95,6 +109,9 @@ class MassSpringSystem final : public OdeSystem {
   // inside their solve (A gains h D_i), so a stiff drag on a light node is neither split from the springs
   // nor limited by the step. nullptr for none; the arrays must outlive the steps that use them.
   void setNodeDrag(const Mat3* D, const Vec3* Du) { node_drag_ = D, node_flow_ = Du; }
+  // A force term of its own (ForceTerm), taken in every evaluation and inside the implicit
+  // solve; nullptr for none. It must outlive the steps that use it.
+  void setForceTerm(ForceTerm* t) { term_ = t; }
   // The implicit integrators' right-hand side takes a spring's force at the step's end as Baraff
   // & Witkin linearise it, f₀ + h K v. For a compressed spring K drops the transverse term (it
   // would be negative), so the extrapolation misses how the push of a compressed spring turns as
@@ -127,6 +144,9 @@ class MassSpringSystem final : public OdeSystem {
   const Vec3* external_ = nullptr;
   const Mat3* node_drag_ = nullptr;
   const Vec3* node_flow_ = nullptr;
+  ForceTerm* term_ = nullptr;
+  std::vector<Vec3> term_f_;   // the term's force at the linearisation, and (implicit) − h H w
+  std::vector<Mat3> term_d_;   // its diagonal blocks
   double h_ = 0.0;  // the step of the last linearize()
   bool predict_ = false;
   std::uint64_t spring_evals_ = 0;

@@ -103,7 +103,7 @@ struct FaceDesc final : BodyParams {
   FaceLayerDesc muscle{0.005, 3.0e3};     // muscle layer, down to the skull
   double biphasic_strain = 0.15;   // past this strain the skin's springs stiffen
   double biphasic_ratio = 5.0;     // by this factor
-  double volume_modulus = 1.0e5;   // Pa, resistance of each tissue element to a change of volume
+  double volume_modulus = 2.0e5;   // Pa, resistance of each tissue element to a change of volume
   double density = 1000.0;         // kg/m³
   double damping = 8.0;            // 1/s, each node's drag over its mass
   double spring_damping = 0.002;   // s, a spring's damping over its stiffness
@@ -123,7 +123,7 @@ struct FaceDesc final : BodyParams {
   // skin's flexion springs).
   std::pair<long long, long long> nodesAndSprings() const override {
     const long long v = mesh ? static_cast<long long>(mesh->vertexCount())
-                             : static_cast<long long>(resolution[0] + 1) * (resolution[1] - 1) + 2 + resolution[0] / 2;
+                             : static_cast<long long>(resolution[0] + 1) * (resolution[1] + 3) + 2 + resolution[0] / 2;  // the neck's 4 rings too
     return {3 * v, 23 * v};
   }
 };

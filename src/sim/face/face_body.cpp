@@ -8,6 +8,7 @@
 #include "core/math.h"
 #include "core/parallel.h"
 #include "sim/contact_layer.h"
+#include "sim/stability.h"
 
 namespace reel {
 
@@ -23,14 +24,19 @@ Mat3 aboutX(double a) { return Eigen::AngleAxisd(a, Vec3::UnitX()).toRotationMat
 
 Mat3 FaceBody::boneRotation(std::size_t k) const { return R_ * aboutX(surface_.jaw[k] * jaw_); }
 
-Vec3 FaceBody::boneToWorld(std::size_t k, const Vec3& q) const {
+// The mandible opens by turning about the condyles and, as it opens, gliding forward onto the
+// articular eminences (about 15 mm over a wide opening; Posselt 1952's envelope of motion): the
+// chin goes down more than back, and the floor of the mouth is not crushed against the throat.
+Vec3 FaceBody::jawMoved(double share, const Vec3& q) const {
   const Vec3& hinge = surface_.jaw_hinge;
-  return desc_.position + R_ * (hinge + aboutX(surface_.jaw[k] * jaw_) * (q - hinge));
+  const double a = share * jaw_;
+  return hinge + aboutX(a) * (q - hinge) + Vec3(0, 0, kJawGlide * surface_.scale * a);
 }
 
+Vec3 FaceBody::boneToWorld(std::size_t k, const Vec3& q) const { return desc_.position + R_ * jawMoved(surface_.jaw[k], q); }
+
 Vec3 FaceBody::attachmentWorld(std::size_t m) const {
-  const Vec3& hinge = surface_.jaw_hinge;
-  return desc_.position + R_ * (hinge + aboutX(muscles_[m].jaw * jaw_) * (muscles_[m].desc.attachment - hinge));
+  return desc_.position + R_ * jawMoved(muscles_[m].jaw, muscles_[m].desc.attachment);
 }
 
 void FaceBody::pose(double t) {
@@ -226,10 +232,17 @@ Status FaceBody::setup(const BodyDesc& desc, const BuildContext& ctx) {
   const Mat3 R = rotationFromEulerDeg(desc_.keys.empty() ? desc_.rotation_deg : desc_.keys.front().rotation_deg);
   for (NodeDesc& nd : scaled.nodes) nd.position = desc_.position + R * nd.position;
   net_.build(scaled, gravity, ctx.scene->integrator, 0.002);
+  net_.system->setForceTerm(&volume_);
   // An explicit method's bound: with every spring in its stiff phase.
   for (double& k : net_.model.springs.stiffness) k *= desc_.biphasic_ratio;
   net_.bound = stableStep(net_.model, ctx.scene->integrator);
   net_.model.springs.stiffness = tissue_.stiffness;
+  // ... and the volume term's stiffness on top of the springs' (both bounds by Gershgorin).
+  if (net_.bound.h_max > 0 && std::isfinite(net_.bound.h_max)) {
+    const double w2 = net_.bound.omega * net_.bound.omega + volumeFrequency2(tissue_, net_.model, net_.state.x);
+    net_.bound.omega = std::sqrt(w2);
+    net_.bound.h_max = oscillatorBound(ctx.scene->integrator, w2, net_.bound.beta);
+  }
   if (std::string e = net_.unstableMethod(desc.name, ctx.scene->integrator); !e.empty())
     return Error(ErrorKind::BadInput, file + ": " + e);
   // Muscles: reel's head's own, then the scene's.

@@ -52,6 +52,8 @@ class FaceBody final : public SpringNetworkBody {
     double radius = 0.0, lid_radius = 0.0, lid_azimuth = 0.0, upper = 0.0, lower = 0.0;
   };
   Eye eye(int e) const;
+  // The head-frame point q moved by the jaw now, taking `share` (0..1) of its motion.
+  Vec3 jawMoved(double share, const Vec3& q) const;
   // The height of each moving node above its skull point (m; negative: through the skull).
   double lowestAboveSkull() const;
   // Mouth opening: the distance between the lips at the midline, m (0 without a mouth).
@@ -85,6 +87,7 @@ class FaceBody final : public SpringNetworkBody {
   Material material_;
   FaceSurface surface_;
   FaceTissue tissue_;
+  TissueVolume volume_{tissue_};
   std::vector<FaceMuscle> muscles_;
   FaceActivations activations_;
   std::vector<double> act_;  // contractions now (controls)
@@ -103,5 +106,7 @@ Result<std::unique_ptr<Body>> buildFaceBody(const BodyDesc& desc, const BuildCon
 
 // The largest jaw opening, at jaw_open = 1, rad.
 inline constexpr double kJawMaxRad = 0.3;
+// How far the jaw glides forward as it opens, m per rad at a head 0.24 m high.
+inline constexpr double kJawGlide = 0.05;
 
 }  // namespace reel

@@ -138,7 +138,6 @@ void FaceBody::drawSkin(DrawList& out) const {
     for (int row = 0; row < 2; ++row) {
       const double sign = row == 0 ? 1.0 : -1.0;  // upper, lower
       const Mat3 turn = row == 0 ? R_ : Mat3(R_ * Eigen::AngleAxisd(jaw_, Vec3::UnitX()).toRotationMatrix());
-      const Vec3& hinge = surface_.jaw_hinge;
       const auto base = static_cast<std::uint32_t>(teeth->vertexCount());
       for (int i = 0; i <= kAround; ++i) {
         const double a = (-75.0 + 150.0 * i / kAround) * kPi / 180.0;
@@ -148,7 +147,7 @@ void FaceBody::drawSkin(DrawList& out) const {
         for (int j = 0; j < 3; ++j) {
           const double y = ym + sign * (0.0008 + 0.0035 * j) * k;
           const Vec3 q(arch * std::sin(a), y, front - arch * (1 - std::cos(a)));
-          teeth->addVertex(desc_.position + turn * (q - hinge) + R_ * hinge, turn * normal);
+          teeth->addVertex(desc_.position + R_ * jawMoved(row == 0 ? 0.0 : 1.0, q), turn * normal);
           // (Dimmer as the lips close: little light reaches into a closed mouth.)
           const Vec3 c = lit * (j == 2 ? Vec3(0.45, 0.18, 0.17) : (gap * (1.0 - 0.5 * std::abs(a) / 1.3)) * Vec3(0.78, 0.74, 0.66));
           for (int m = 0; m < 3; ++m) teeth->colors.push_back(static_cast<float>(c[m]));
@@ -169,7 +168,7 @@ void FaceBody::drawSkin(DrawList& out) const {
     const Mat3 down = R_ * Eigen::AngleAxisd(jaw_, Vec3::UnitX()).toRotationMatrix();
     const Vec3 centre(0.0, ym - 0.007 * k, front - 0.02 * k);
     auto tongue = std::make_shared<TriMesh>(placeMesh(makeUvSphere(1.0, 24, 12), k * Vec3(0.019, 0.0055, 0.022), down,
-                                                      desc_.position + down * (centre - surface_.jaw_hinge) + R_ * surface_.jaw_hinge));
+                                                      desc_.position + R_ * jawMoved(1.0, centre)));
     DrawMaterial wet = plain(lit * Vec3(0.5, 0.16, 0.16), 0.3);
     wet.shininess = 40;
     wet.casts_shadow = false;

@@ -14,6 +14,9 @@
 namespace reel {
 namespace {
 
+// Rings of the neck below the rays' last.
+constexpr int kNeckRings = 4;
+
 // The skin texture's padding: the share of its width beyond the midline, of its height at each end.
 constexpr double kSkinPadU = 0.08, kSkinPadV = 0.02;
 
@@ -110,9 +113,8 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
   const double ym = frontY(jm);
   out.parting_y = ym;
   std::vector<Vec3> base;  // base points, for colours and weights
-  auto add = [&](const Vec3& d, float u, float v) {
-    const double rb = baseRadius(d, look);
-    const Vec3 p = rb * d;
+  // A vertex at base point p (its direction from the centre d).
+  auto addAt = [&](const Vec3& p, const Vec3& d, float u, float v) {
     const head::Features f = features(p, d, ym, look);
     // The skin takes every feature; the skull its own, the tissue's thickness below (thicker
     // under the nose and lips, which are soft tissue only; never above the skin). Over the face
@@ -124,10 +126,14 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
     const Vec3 level = Vec3(d.x(), 0.0, d.z()).normalized();
     const Vec3 e = front > 0 ? Vec3((d + front * (level - d)).normalized()) : d;
     out.skin.push_back(s * (p + (f.bone + f.soft) * e));
-    out.bone.push_back(s * (p + std::min(f.bone, f.bone + f.soft) * e) - thickness * d);
+    // The tissue's thickness is measured along the head's normal (a column along the ray from
+    // the centre leans over where the surface meets the ray at a slant, under the chin by 45°:
+    // a muscle's pull along the skin then drives the fascia into the bone).
+    out.bone.push_back(s * (p + std::min(f.bone, f.bone + f.soft) * e) - thickness * head::baseNormal(p, look));
     out.uv.push_back({u, v});
     base.push_back(p);
   };
+  auto add = [&](const Vec3& d, float u, float v) { addAt(baseRadius(d, look) * d, d, u, v); };
   // Texture coordinates: u from the midline (0) to the back (1), the same on both sides, so the
   // texture has no seam; v from the crown (0) to the neck (1), both along the grid's indices.
   // The texture's edges are padded (u: past the midline and past the back, mirrored; v: the
@@ -139,7 +145,24 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
   add(Vec3(0, 1, 0), texU(0), tex(0, kSkinPadV));
   for (int j = 1; j < R; ++j)
     for (int i = 0; i < C; ++i) add(dir(j, i), uOf(i), tex(static_cast<double>(j) / R, kSkinPadV));
-  add(Vec3(0, -1, 0), texU(0), tex(1, kSkinPadV));
+  // The neck: the last ring of rays runs under the chin at the front and down the nape at the
+  // back; below it, kNeckRings rings of horizontal rays from the neck's axis, closer together
+  // near the top, down to where the neck is cut (inside the shoulders), and a cap at its end.
+  // (Rays from the head's centre meet the neck edge-on: they left it one fan of triangles from
+  // the chin to the cut.) Their texture is the last ring's to the bottom's.
+  for (int r = 1; r <= kNeckRings; ++r) {
+    const double t = static_cast<double>(r) / kNeckRings;
+    for (int i = 0; i < C; ++i) {
+      const Vec3& top = base[static_cast<std::size_t>(1 + (R - 2) * C + i)];
+      const double y = top.y() + (head::kNeckCut + 0.02 - top.y()) * t * t;
+      // (Straight down from the last ring: the azimuth about the neck's axis, not the centre's.)
+      const Vec3 axis(0.0, y, head::kNeckAxisZ), out_dir = Vec3(top.x(), 0.0, top.z() - head::kNeckAxisZ).normalized();
+      const Vec3 p = axis + head::baseDistance(axis, out_dir, look) * out_dir;
+      addAt(p, p.normalized(), uOf(i), tex((R - 1 + t) / R, kSkinPadV));
+    }
+  }
+  addAt(Vec3(0.0, head::kNeckCut, head::kNeckAxisZ), Vec3(0, -1, 0), texU(0), tex(1, kSkinPadV));
+  const int rings = R + kNeckRings;  // rows of the grid, the poles' included
   const auto bottom = static_cast<std::uint32_t>(out.skin.size() - 1);
   auto ring = [&](int j, int i) { return static_cast<std::uint32_t>(1 + (j - 1) * C + ((i % C) + C) % C); };
   // The lips' parting: the mouth row's vertices between the corners get a copy for the lower lip.
@@ -163,7 +186,7 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
   auto tri = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) { out.tris.insert(out.tris.end(), {a, b, c}); };
   // Counter-clockwise from outside: columns run toward +x at the front, rows downward.
   for (int i = 0; i < C; ++i) tri(0, ring(1, i), ring(1, i + 1));
-  for (int j = 1; j + 1 < R; ++j)
+  for (int j = 1; j + 1 < rings; ++j)
     for (int i = 0; i < C; ++i) {
       std::uint32_t a = ring(j, i), b = ring(j, i + 1), c = ring(j + 1, i), d = ring(j + 1, i + 1);
       if (j == jm) a = low(a), b = low(b);  // the band below the parting takes the lower lip
@@ -176,7 +199,7 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
         tri(b, c, d);
       }
     }
-  for (int i = 0; i < C; ++i) tri(bottom, ring(R - 1, i + 1), ring(R - 1, i));
+  for (int i = 0; i < C; ++i) tri(bottom, ring(rings - 1, i + 1), ring(rings - 1, i));
   // Colours (drawn as the skin's texture; these stand for it in a plain draw) and the jaw's share
   // of each bone point.
   const std::size_t n = out.skin.size();
@@ -187,15 +210,24 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
     const Vec3 d = p.normalized();
     const double X = p.x(), Y = p.y();
     out.color[k] = head::skinColor(p, d, ym, look);
-    // The jaw: everything below the parting at the front, fading to the sides and into the throat.
+    // The jaw (the mandible): everything below the parting at the front, fading into the cheeks
+    // over 12 mm below the parting's level and toward the jaw's angles at the sides; under the
+    // chin, from the mandible's lower border across the floor of the mouth to none where the
+    // throat begins (an ellipse in plan through the chin and the jaw's angles), so the bone under
+    // the floor of the mouth bends with the jaw over the whole span and the throat stays.
     const bool lower_lip = k >= bottom + 1;
-    double w = std::clamp((ym + 0.012 - Y) / 0.024, 0.0, 1.0);
+    double w = smoothstep(ym, ym - 0.012, Y);
     // The parting's own row (by index): its upper lip stays with the skull, its lower copy goes
     // with the jaw.
     const bool parting = lower_lip || (k >= ring(jm, 0) && k < ring(jm, 0) + static_cast<std::size_t>(C));
     if (parting && std::abs(X) < head::kMouthHalf && p.z() > 0) w = lower_lip ? 1.0 : 0.0;
+    // The corners of the mouth (where the parting ends) go half as far as the lower lip, fading
+    // along the parting's line into the cheek: the stretch of an opening mouth is shared by the
+    // triangles above and below them.
+    else if (parting && p.z() > 0) w = 0.5 * (1 - smoothstep(head::kMouthHalf, head::kMouthHalf + 0.015, std::abs(X)));
     w *= smoothstep(-0.05, 0.35, d.z());
-    w *= 1 - smoothstep(-0.115, -0.15, Y);
+    const double plan = std::hypot(X / 0.055, (p.z() + 0.01) / 0.095);  // 1 on the mandible's border
+    w *= std::max(smoothstep(-0.125, -0.1, Y), smoothstep(0.45, 0.95, plan) * (1 - smoothstep(-0.12, -0.135, Y)));
     out.jaw[k] = w;
   }
   // Eyes: in the sockets, their fronts 2.5 mm behind where the face would be without them.

@@ -70,6 +70,7 @@ const Curve kFront{{-0.124, 0.0},  {-0.119, 0.04},  {-0.114, 0.066}, {-0.108, 0.
 const Curve kBack{{-0.124, 0.0},  {-0.118, 0.006}, {-0.105, 0.014}, {-0.09, 0.03}, {-0.07, 0.055},
                   {-0.05, 0.075}, {-0.03, 0.088},  {0.0, 0.098},    {0.03, 0.102}};
 constexpr double kDomeFrom = 0.03, kDomeHeight = 0.083;
+constexpr double kHeadBottom = -0.124;  // where the sections close
 
 // The nose along the midline: how far it stands out (m) and its half-width (the Gaussian's σ)
 // against height, from the root between the eyes to the tip and under it to the upper lip.
@@ -134,24 +135,39 @@ double baseShape(const Vec3& p, const FaceLook& look) {
   // Sections: a superellipse, squarer at the front (a face is broad across the cheeks).
   const double n = z > 0 ? 2.4 : 2.0;
   const double q = std::pow(std::pow(std::abs(x) / a, n) + std::pow(std::abs(z) / depth, n), 1.0 / n);
-  const double head = (q - dome) * 0.085;
+  // (Below its closing section the head is outside everywhere, its axis too, where the
+  // superellipse of zero size would leave q = 0.)
+  const double head = std::max((q - dome) * 0.085, kHeadBottom - y);
   // The neck: an elliptic cylinder, thicker with the build, from under the skull to the shoulders.
   const double nx = 0.046 + 0.008 * look.build, nz = 0.047 + 0.006 * look.build;
-  const double cyl = (std::sqrt(sq(x / nx) + sq((z + 0.016) / nz)) - 1.0) * 0.055;
-  const double neck = std::max({cyl, y + 0.04, -y - 0.25});
+  const double cyl = (std::sqrt(sq(x / nx) + sq((z - kNeckAxisZ) / nz)) - 1.0) * 0.055;
+  const double neck = std::max({cyl, y + 0.04, kNeckCut - y});
   // Smooth minimum: the union with a fillet where the jaw meets the neck.
   const double k = 0.024;
   const double h = std::clamp(0.5 + 0.5 * (neck - head) / k, 0.0, 1.0);
   return neck * (1 - h) + head * h - k * h * (1 - h);
 }
 
-double baseRadius(const Vec3& d, const FaceLook& look) {
+double baseDistance(const Vec3& o, const Vec3& d, const FaceLook& look) {
   double lo = 1e-3, hi = 0.6;
   for (int it = 0; it < 44; ++it) {
     const double mid = 0.5 * (lo + hi);
-    (baseShape(mid * d, look) < 0 ? lo : hi) = mid;
+    (baseShape(o + mid * d, look) < 0 ? lo : hi) = mid;
   }
   return 0.5 * (lo + hi);
+}
+
+double baseRadius(const Vec3& d, const FaceLook& look) { return baseDistance(Vec3::Zero(), d, look); }
+
+Vec3 baseNormal(const Vec3& p, const FaceLook& look) {
+  constexpr double e = 1e-4;  // m: central differences
+  Vec3 g;
+  for (int c = 0; c < 3; ++c) {
+    Vec3 a = p, b = p;
+    a[c] += e, b[c] -= e;
+    g[c] = baseShape(a, look) - baseShape(b, look);
+  }
+  return g.normalized();
 }
 
 double hairCover(const Vec3& p, const Vec3& d, double soft) {

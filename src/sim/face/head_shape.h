@@ -17,10 +17,16 @@ namespace reel::head {
 inline constexpr double kEyeX = 0.032, kEyeY = 0.0, kEyeRadius = 0.012;
 inline constexpr double kMouthY = -0.070, kMouthHalf = 0.025;
 
-// The head without its features, negative inside; and where the ray from the centre along unit d
-// leaves it, m.
+// The neck: its axis (vertical, at this z) and where it is cut (inside the shoulders).
+inline constexpr double kNeckAxisZ = -0.016, kNeckCut = -0.32;
+
+// The head without its features, negative inside; where the ray from the centre along unit d
+// leaves it, m; and where the ray from o (inside) along d does.
 double baseShape(const Vec3& p, const FaceLook& look);
 double baseRadius(const Vec3& d, const FaceLook& look);
+double baseDistance(const Vec3& o, const Vec3& d, const FaceLook& look);
+// The head's outward normal at a point of its base surface (the shape's gradient, unit).
+Vec3 baseNormal(const Vec3& p, const FaceLook& look);
 
 // The features as displacements along the ray at the base point p (direction d) with the lips'
 // parting at height ym: the skull's (brow ridge, eye sockets, cheekbones, chin), which the skin

@@ -1,5 +1,6 @@
 #include "sim/face/tissue.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <utility>
@@ -167,11 +168,13 @@ MassSpringDesc buildTissue(const FaceSurface& s, const FaceDesc& desc, FaceTissu
     for (int c : P) ++T.corner_start[static_cast<std::size_t>(c) + 1];
   for (std::size_t i = 0; i < 3 * n; ++i) T.corner_start[i + 1] += T.corner_start[i];
   T.corners.assign(6 * T.prisms.size(), 0);
-  std::vector<int> fill(T.corner_start.begin(), T.corner_start.end() - 1);
-  for (std::size_t e = 0; e < T.prisms.size(); ++e)
-    for (int c = 0; c < 6; ++c)
-      T.corners[static_cast<std::size_t>(fill[static_cast<std::size_t>(T.prisms[e][static_cast<std::size_t>(c)])]++)] =
-          static_cast<int>(6 * e) + c;
+  {
+    std::vector<int> fill(T.corner_start.begin(), T.corner_start.end() - 1);
+    for (std::size_t e = 0; e < T.prisms.size(); ++e)
+      for (int c = 0; c < 6; ++c)
+        T.corners[static_cast<std::size_t>(fill[static_cast<std::size_t>(T.prisms[e][static_cast<std::size_t>(c)])]++)] =
+            static_cast<int>(6 * e) + c;
+  }
   return ms;
 }
 
@@ -194,14 +197,16 @@ void phaseSprings(const FaceTissue& T, MassSpringModel& m, const std::vector<Vec
 // The volume term of Lee, Terzopoulos & Waters 1995 (eq. 4), as a compliant constraint
 // C = V − V₀ with compliance 1/(κ V₀) (Macklin, Müller & Chentanez 2016, "XPBD"): stable at any
 // step, and as stiff as κ when the step resolves it. Each element's correction is found alone
-// (Jacobi) and each node takes the mean of its elements' corrections.
+// (Jacobi) and each node takes the mean of its elements' corrections. After the implicit solve,
+// which holds the volumes itself (TissueVolume), these passes take up what its linearisation
+// left.
 void preserveVolumes(FaceTissue& T, const MassSpringModel& m, std::vector<Vec3>& x, std::vector<Vec3>& v, double h) {
   if (T.volume_modulus <= 0) return;
   for (int pass = 0; pass < kVolumePasses; ++pass) volumePass(T, m, x, v, h);
 }
 
 static void volumePass(FaceTissue& T, const MassSpringModel& m, std::vector<Vec3>& x, std::vector<Vec3>& v, double h) {
-  T.corner_move.resize(6 * T.prisms.size());
+  T.corner_vec.resize(6 * T.prisms.size());
   parallelFor(static_cast<Index>(T.prisms.size()), [&](Index e) {
     const auto& P = T.prisms[static_cast<std::size_t>(e)];
     std::array<Vec3, 6> p;
@@ -213,18 +218,98 @@ static void volumePass(FaceTissue& T, const MassSpringModel& m, std::vector<Vec3
     for (int c = 0; c < 6; ++c) denom += m.inv_mass[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])] * grad[static_cast<std::size_t>(c)].squaredNorm();
     const double lambda = -(V - V0) / denom;
     for (int c = 0; c < 6; ++c)
-      T.corner_move[static_cast<std::size_t>(6 * e + c)] =
+      T.corner_vec[static_cast<std::size_t>(6 * e + c)] =
           (lambda * m.inv_mass[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])]) * grad[static_cast<std::size_t>(c)];
   });
   parallelFor(static_cast<Index>(m.nodes()), [&](Index i) {
     const int first = T.corner_start[static_cast<std::size_t>(i)], last = T.corner_start[static_cast<std::size_t>(i) + 1];
     if (m.fixed[static_cast<std::size_t>(i)] || first == last) return;
     Vec3 move = Vec3::Zero();
-    for (int q = first; q < last; ++q) move += T.corner_move[static_cast<std::size_t>(T.corners[static_cast<std::size_t>(q)])];
+    for (int q = first; q < last; ++q) move += T.corner_vec[static_cast<std::size_t>(T.corners[static_cast<std::size_t>(q)])];
     move *= kRelaxation / static_cast<double>(last - first);
     x[static_cast<std::size_t>(i)] += move;
     v[static_cast<std::size_t>(i)] += move / h;
   });
+}
+
+// Each node's share: Σ over its corners of a[element]·g[corner] (corners in prism order, so the
+// same bits at any thread count).
+static void gatherScaled(const FaceTissue& T, const std::vector<double>& a, const std::vector<Vec3>& g, Vec3* out) {
+  parallelFor(static_cast<Index>(T.corner_start.size() - 1), [&](Index i) {
+    const int first = T.corner_start[static_cast<std::size_t>(i)], last = T.corner_start[static_cast<std::size_t>(i) + 1];
+    if (first == last) return;
+    Vec3 sum = Vec3::Zero();
+    for (int q = first; q < last; ++q) {
+      const auto k = static_cast<std::size_t>(T.corners[static_cast<std::size_t>(q)]);
+      sum += a[k / 6] * g[k];
+    }
+    out[i] += sum;
+  });
+}
+
+void TissueVolume::addForces(const Vec3* x, Vec3* f) {
+  FaceTissue& T = t_;
+  T.corner_vec.resize(6 * T.prisms.size());
+  T.scalar.resize(T.prisms.size());
+  parallelFor(static_cast<Index>(T.prisms.size()), [&](Index e) {
+    const auto& P = T.prisms[static_cast<std::size_t>(e)];
+    std::array<Vec3, 6> p, g;
+    for (int c = 0; c < 6; ++c) p[static_cast<std::size_t>(c)] = x[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])];
+    const double V = prismVolumeGrad(p, &g), V0 = T.rest_volume[static_cast<std::size_t>(e)];
+    T.scalar[static_cast<std::size_t>(e)] = -T.volume_modulus / V0 * (V - V0);
+    for (int c = 0; c < 6; ++c) T.corner_vec[static_cast<std::size_t>(6 * e + c)] = g[static_cast<std::size_t>(c)];
+  });
+  gatherScaled(T, T.scalar, T.corner_vec, f);
+}
+
+void TissueVolume::linearize(const Vec3* x, Mat3* diag) {
+  FaceTissue& T = t_;
+  T.grad.resize(6 * T.prisms.size());
+  parallelFor(static_cast<Index>(T.prisms.size()), [&](Index e) {
+    const auto& P = T.prisms[static_cast<std::size_t>(e)];
+    std::array<Vec3, 6> p, g;
+    for (int c = 0; c < 6; ++c) p[static_cast<std::size_t>(c)] = x[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])];
+    prismVolumeGrad(p, &g);
+    for (int c = 0; c < 6; ++c) T.grad[static_cast<std::size_t>(6 * e + c)] = g[static_cast<std::size_t>(c)];
+  });
+  parallelFor(static_cast<Index>(T.corner_start.size() - 1), [&](Index i) {
+    const int first = T.corner_start[static_cast<std::size_t>(i)], last = T.corner_start[static_cast<std::size_t>(i) + 1];
+    for (int q = first; q < last; ++q) {
+      const auto k = static_cast<std::size_t>(T.corners[static_cast<std::size_t>(q)]);
+      const Vec3& g = T.grad[k];
+      diag[i] += (T.volume_modulus / T.rest_volume[k / 6]) * (g * g.transpose());
+    }
+  });
+}
+
+void TissueVolume::addProduct(const Vec3* p, double s, Vec3* out) {
+  FaceTissue& T = t_;
+  T.scalar.resize(T.prisms.size());
+  parallelFor(static_cast<Index>(T.prisms.size()), [&](Index e) {
+    const auto& P = T.prisms[static_cast<std::size_t>(e)];
+    const auto base = static_cast<std::size_t>(6 * e);
+    double dot = 0.0;
+    for (int c = 0; c < 6; ++c) dot += T.grad[base + static_cast<std::size_t>(c)].dot(p[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])]);
+    T.scalar[static_cast<std::size_t>(e)] = s * T.volume_modulus / T.rest_volume[static_cast<std::size_t>(e)] * dot;
+  });
+  gatherScaled(T, T.scalar, T.grad, out);
+}
+
+double volumeFrequency2(const FaceTissue& T, const MassSpringModel& m, const std::vector<Vec3>& x) {
+  std::vector<double> row(m.nodes(), 0.0);
+  for (std::size_t e = 0; e < T.prisms.size(); ++e) {
+    std::array<Vec3, 6> p, g;
+    for (int c = 0; c < 6; ++c) p[static_cast<std::size_t>(c)] = x[static_cast<std::size_t>(T.prisms[e][static_cast<std::size_t>(c)])];
+    prismVolumeGrad(p, &g);
+    double sum = 0.0;
+    for (const Vec3& gc : g) sum += gc.norm();
+    for (int c = 0; c < 6; ++c)
+      row[static_cast<std::size_t>(T.prisms[e][static_cast<std::size_t>(c)])] += T.volume_modulus / T.rest_volume[e] * g[static_cast<std::size_t>(c)].norm() * sum;
+  }
+  double w2 = 0.0;
+  for (std::size_t i = 0; i < row.size(); ++i)
+    if (!m.fixed[i]) w2 = std::max(w2, row[i] * m.inv_mass[i]);
+  return w2;
 }
 
 double worstVolumeChange(const FaceTissue& T, const std::vector<Vec3>& x) {

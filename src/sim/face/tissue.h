@@ -33,8 +33,25 @@ struct FaceTissue {
   // least height above its bone point its fascia and epidermis nodes keep, m.
   std::vector<Vec3> out;
   std::vector<double> floor_fascia, floor_skin;
-  // Scratch: per prism corner.
-  std::vector<Vec3> corner_move;
+  // Scratch: per element, a scalar of the last product; per corner, the volume gradient at the
+  // last linearisation and a vector to gather.
+  std::vector<double> scalar;
+  std::vector<Vec3> grad, corner_vec;
+};
+
+// The elements' resistance to a change of volume as an energy (Lee, Terzopoulos & Waters 1995,
+// eq. 4, with k = κ/V₀): E = Σ κ/(2V₀)·(V − V₀)², its force −κ/V₀·(V − V₀)·∇V, taken inside the
+// implicit solve by its Gauss–Newton stiffness κ/V₀·∇V ∇Vᵀ, so the muscles' pull and the tissue's
+// volume are balanced in one solve rather than by projections after it.
+class TissueVolume final : public ForceTerm {
+ public:
+  explicit TissueVolume(FaceTissue& t) : t_(t) {}
+  void addForces(const Vec3* x, Vec3* f) override;
+  void linearize(const Vec3* x, Mat3* diag) override;
+  void addProduct(const Vec3* p, double s, Vec3* out) override;
+
+ private:
+  FaceTissue& t_;
 };
 
 // Nodes and springs of the tissue over `surface` (bone nodes fixed), and the tissue's own terms.
@@ -50,6 +67,10 @@ void phaseSprings(const FaceTissue& tissue, MassSpringModel& model, const std::v
 // Moves the nodes toward each element's rest volume (Jacobi passes of compliant constraints),
 // and their velocities with them; step h.
 void preserveVolumes(FaceTissue& tissue, const MassSpringModel& model, std::vector<Vec3>& x, std::vector<Vec3>& v, double h);
+
+// The highest angular frequency² (rad²/s²) the volume term gives a free node at the positions x
+// (the Gershgorin bound of M⁻¹H, as the springs' step bound takes it).
+double volumeFrequency2(const FaceTissue& tissue, const MassSpringModel& model, const std::vector<Vec3>& x);
 
 // The largest relative change of volume of any element, for checks and statistics.
 double worstVolumeChange(const FaceTissue& tissue, const std::vector<Vec3>& x);
