@@ -114,3 +114,38 @@ TEST_CASE("energy drift of the undamped oscillator over 100 periods") {
   const double ie = finalEnergy(IntegratorKind::ImplicitEuler, dev);
   CHECK(ie < 0.01 * e0);
 }
+
+namespace {
+
+// A force term pulling node 1 toward an anchor, f = −k (x − a), stiffness H = k I on node 1 only.
+struct AnchorTerm final : ForceTerm {
+  Vec3 anchor{0, 0, 0};
+  double k = 0.0;
+  void addForces(const Vec3* x, Vec3* f) override { f[1] += -k * (x[1] - anchor); }
+  void linearize(const Vec3*, Mat3* diag) override { diag[1] += k * Mat3::Identity(); }
+  void addProduct(const Vec3* p, double s, Vec3* out) override { out[1] += s * k * p[1]; }
+};
+
+}  // namespace
+
+TEST_CASE("a force term of the mass-spring system: explicit force and implicit Euler's exact linear step") {
+  // Node 0 fixed, node 1 free (m = 2), no springs, no gravity; the term anchors node 1 at the
+  // origin with k = 1e4. Implicit Euler from x = d, v = 0 over h solves (m + h²k) Δv = −h k d: the
+  // displacement becomes d·m/(m + h²k) (here 2/102 of it), stable however stiff.
+  MassSpringDesc d;
+  d.nodes.push_back({Vec3(5, 0, 0), Vec3::Zero(), 1.0, 0.0, true});
+  d.nodes.push_back({Vec3(0.3, -0.1, 0.2), Vec3::Zero(), 2.0, 0.0, false});
+  AnchorTerm term;
+  term.k = 1e4;
+  System s(d, Vec3::Zero());
+  s.dyn.setForceTerm(&term);
+  std::vector<Vec3> a(2);
+  s.dyn.acceleration(s.state.x.data(), s.state.v.data(), a.data());
+  CHECK((a[1] - (-1e4 / 2.0) * Vec3(0.3, -0.1, 0.2)).norm() < 1e-9);
+  CHECK(a[0].norm() == 0.0);
+  const double h = 0.1;
+  s.step(IntegratorKind::ImplicitEuler, h);
+  const double factor = 2.0 / (2.0 + h * h * 1e4);
+  CHECK((s.state.x[1] - factor * Vec3(0.3, -0.1, 0.2)).norm() < 1e-9);
+  CHECK((s.state.x[0] - Vec3(5, 0, 0)).norm() == 0.0);
+}

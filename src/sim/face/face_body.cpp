@@ -150,6 +150,9 @@ void FaceBody::settle(const ImplicitSettings& implicit) {
   constexpr double kSettleStep = 0.1;  // s: implicit Euler's large steps, close to a static solve
   // Under gravity from rest, damped by implicit Euler's large steps, then still: a face at rest
   // starts at rest.
+  // (Without the volume term in the solve: at rest it pushes nothing, and its stiffness would
+  // only slow the tight solves of these large steps; the projections keep the volumes.)
+  net_.system->setForceTerm(nullptr);
   StepStats stats;
   for (int s = 0; s < 60; ++s) {
     net_.system->setExternalForces(nullptr);
@@ -159,6 +162,7 @@ void FaceBody::settle(const ImplicitSettings& implicit) {
     preserveVolumes(tissue_, net_.model, net_.state.x, net_.state.v, kSettleStep);
     keepAboveSkull();
   }
+  net_.system->setForceTerm(&volume_);
   for (Vec3& v : net_.state.v) v.setZero();
   net_.workspace.dv.assign(net_.state.v.size(), Vec3::Zero());
   net_.workspace.forgetHistory();
