@@ -57,6 +57,10 @@ void FaceBody::pose(double t) {
   for (std::size_t k = 0; k < n; ++k) {
     x[2 * n + k] = boneToWorld(k, surface_.bone[k]);
     v[2 * n + k].setZero();  // fixed nodes carry no velocity (the integrators' rule)
+    if (surface_.held.empty() || !surface_.held[k]) continue;
+    x[k] = boneToWorld(k, surface_.skin[k]);
+    x[n + k] = boneToWorld(k, surface_.skin[k] + fascia_share_ * (surface_.bone[k] - surface_.skin[k]));
+    v[k].setZero(), v[n + k].setZero();
   }
 }
 
@@ -150,9 +154,6 @@ void FaceBody::settle(const ImplicitSettings& implicit) {
   constexpr double kSettleStep = 0.1;  // s: implicit Euler's large steps, close to a static solve
   // Under gravity from rest, damped by implicit Euler's large steps, then still: a face at rest
   // starts at rest.
-  // (Without the volume term in the solve: at rest it pushes nothing, and its stiffness would
-  // only slow the tight solves of these large steps; the projections keep the volumes.)
-  net_.system->setForceTerm(nullptr);
   StepStats stats;
   for (int s = 0; s < 60; ++s) {
     net_.system->setExternalForces(nullptr);
@@ -162,7 +163,6 @@ void FaceBody::settle(const ImplicitSettings& implicit) {
     preserveVolumes(tissue_, net_.model, net_.state.x, net_.state.v, kSettleStep);
     keepAboveSkull();
   }
-  net_.system->setForceTerm(&volume_);
   for (Vec3& v : net_.state.v) v.setZero();
   net_.workspace.dv.assign(net_.state.v.size(), Vec3::Zero());
   net_.workspace.forgetHistory();
@@ -230,6 +230,7 @@ Status FaceBody::setup(const BodyDesc& desc, const BuildContext& ctx) {
     surface_ = makeHead(desc_.height, desc_.resolution, thickness, desc_.look);
   }
   MassSpringDesc ms = buildTissue(surface_, desc_, tissue_);
+  fascia_share_ = desc_.dermis.thickness / (desc_.dermis.thickness + desc_.muscle.thickness);
   MassSpringDesc scaled = ms;
   const Vec3 gravity = desc_.gravity_scale * ctx.scene->gravity;
   // Place the head: nodes in the world.

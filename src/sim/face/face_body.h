@@ -99,6 +99,7 @@ class FaceBody final : public SpringNetworkBody {
   double t_ = 0.0;           // time of the last pose, s
   Mat3 R_ = Mat3::Identity();
   double jaw_ = 0.0;
+  double fascia_share_ = 0.5;  // the fascia's share of the way from the skin to the bone
   std::size_t upper_lip_ = 0, lower_lip_ = 0;  // midline vertices of the lips' parting
 };
 

@@ -101,9 +101,20 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
   });
   out.phi = warped(C, -kPi, kPi, [](double a) { return 1.0 + 2.2 * bump(a, 0.0, 1.45); });
   const std::vector<double>&theta = out.theta, &phi = out.phi;
+  // Each ring's levelled polar angle per column, kept in order down each column: at least a
+  // third of the unlevelled spacing after the ring above (where the surface turns under the jaw,
+  // levelling two rings could land them on one point, and their triangles would have no area).
+  std::vector<double> polar(static_cast<std::size_t>((R + 1) * C));
+  for (int i = 0; i < C; ++i)
+    for (int j = 1; j < R; ++j) {
+      const auto at = static_cast<std::size_t>(j * C + i);
+      polar[at] = levelled(theta[static_cast<std::size_t>(j)], phi[static_cast<std::size_t>(i)], look);
+      if (j > 1)
+        polar[at] = std::max(polar[at], polar[at - static_cast<std::size_t>(C)] +
+                                            (theta[static_cast<std::size_t>(j)] - theta[static_cast<std::size_t>(j) - 1]) / 3);
+    }
   auto dir = [&](int j, int i) {
-    const double ph = phi[static_cast<std::size_t>(i)];
-    return direction(levelled(theta[static_cast<std::size_t>(j)], ph, look), ph);
+    return direction(polar[static_cast<std::size_t>(j * C + i)], phi[static_cast<std::size_t>(i)]);
   };
   // The mouth's row: the ring whose front is nearest the mouth's height.
   auto frontY = [&](int j) { return baseRadius(dir(j, C / 2), look) * dir(j, C / 2).y(); };
@@ -205,6 +216,9 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
   const std::size_t n = out.skin.size();
   out.color.resize(n);
   out.jaw.resize(n);
+  // The neck's cut end (its last ring and the cap) goes on into the body: held.
+  out.held.assign(n, 0);
+  for (std::size_t k = static_cast<std::size_t>(ring(rings - 1, 0)); k <= bottom; ++k) out.held[k] = 1;
   for (std::size_t k = 0; k < n; ++k) {
     const Vec3& p = base[k];
     const Vec3 d = p.normalized();

@@ -152,7 +152,7 @@ MassSpringDesc buildTissue(const FaceSurface& s, const FaceDesc& desc, FaceTissu
     NodeDesc& nd = ms.nodes[i];
     nd.position = x[i];
     nd.mass = mass[i] > 0 ? mass[i] : 1e-9;
-    nd.fixed = i >= 2 * n;
+    nd.fixed = i >= 2 * n || (!s.held.empty() && s.held[i % n]);
     nd.damping = desc.damping * nd.mass;
   }
   for (const auto& [ends, k] : springs) {
