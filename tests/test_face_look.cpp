@@ -166,7 +166,7 @@ TEST_CASE("face: the looks change the head: a man's jaw and brow, a heavier neck
     for (const Vec3& p : s.skin) {
       if (p.y() > -0.1 && p.y() < -0.065 && p.z() > -0.01) jaw = std::max(jaw, std::abs(p.x()));
       if (std::abs(p.y() - 0.02) < 0.004 && std::abs(p.x() - 0.03) < 0.006) brow = std::max(brow, p.z());
-      if (std::abs(p.y() + 0.17) < 0.01) neck = std::max(neck, std::abs(p.x()));
+      if (p.y() < -0.14 && p.y() > -0.25) neck = std::max(neck, std::abs(p.x()));  // below the jaw, above the cut
     }
     return std::array<double, 3>{jaw, brow, neck};
   };

@@ -132,7 +132,7 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, do
                   c2 * u.x() * u.z(), c2 * u.y() * u.z()}};
   });
   spring_evals_ += sp.size();
-  // Per node: rhs = h (m g − γ v + Σ w); the springs' blocks copied in the node's entry order;
+  // Per node: rhs = h (m g − γ v + Σ w + the force term's f − h H w); the springs' blocks copied in the node's entry order;
   // the diagonal block (m + hγ) I + Σ B, inverted for the preconditioner.
   const Vec3 g = m_.gravity;
   const auto& inc = m_.incidence;

@@ -14,8 +14,9 @@
 namespace reel {
 namespace {
 
-// Rings of the neck below the rays' last.
+// Rings of the neck below the rays' last, and the polar angle of that last ring (rad).
 constexpr int kNeckRings = 4;
+constexpr double kRayEnd = 2.875;
 
 // The skin texture's padding: the share of its width beyond the midline, of its height at each end.
 constexpr double kSkinPadU = 0.08, kSkinPadV = 0.02;
@@ -95,10 +96,15 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
   out.scale = s;
   out.look = look;
   // Rows (polar angle from the crown) and columns (azimuth from the front), denser on the face.
-  out.theta = warped(R, 0.0, kPi, [](double a) {
+  // The rays' rows end at kRayEnd, where they meet the neck under the chin at the front and
+  // 0.24 m down at the back; the neck's own rings go on below (at any row count: rows nearer
+  // straight down would land on the neck's cut and fold the rings below them). theta[R] is the
+  // bottom's angle, for the texture.
+  out.theta = warped(R - 1, 0.0, kRayEnd, [](double a) {
     // (The neck under the jaw, seen at grazing rays from the centre, takes rows of its own.)
     return 1.0 + 2.4 * bump(a, 1.8, 0.95) + 1.2 * bump(a, 2.72, 0.16) - 0.6 * smoothstep(2.85, 3.0, a);
   });
+  out.theta.push_back(kPi);
   out.phi = warped(C, -kPi, kPi, [](double a) { return 1.0 + 2.2 * bump(a, 0.0, 1.45); });
   const std::vector<double>&theta = out.theta, &phi = out.phi;
   // Each ring's levelled polar angle per column, kept in order down each column: at least a
