@@ -1,6 +1,7 @@
 // What the liquid tests share: a world from scene text, running it, its liquid, the tests' water.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -88,6 +89,16 @@ inline std::vector<std::pair<double, double>> martinMoyce(double inch) {
 inline double frontAt(const std::map<double, double>& sim, double T) {
   auto hi = sim.lower_bound(T), lo = std::prev(hi);
   return lo->second + (hi->second - lo->second) * (T - lo->first) / (hi->first - lo->first);
+}
+
+// The mean x of species 0's particles and of the others', m.
+inline std::array<double, 2> meanXBySpecies(const Fluid& f) {
+  std::array<double, 2> sum{0, 0}, count{0, 0};
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    const std::size_t k = f.s[i] == 0 ? 0 : 1;
+    sum[k] += f.x[i].x(), count[k] += 1;
+  }
+  return {sum[0] / count[0], sum[1] / count[1]};
 }
 
 inline std::string vec(const Vec3& p) {

@@ -113,7 +113,9 @@ TEST_CASE("face: the volume term's force is minus its energy's gradient and its 
     }
   // The product: s·κ/V₀·∇V (∇V·p), against the gradient by differences.
   std::vector<Mat3> diag(6, Mat3::Zero());
-  term.linearize(x.data(), diag.data());
+  std::vector<Vec3> f_lin(6, Vec3::Zero());
+  term.linearize(x.data(), f_lin.data(), diag.data());
+  for (std::size_t i = 0; i < 6; ++i) CHECK((f_lin[i] - f[i]).norm() <= 1e-12 * f[i].norm());  // the same force
   const std::vector<Vec3> p = {Vec3(1, 2, 3), Vec3(-1, 0, 2), Vec3(0.5, 0.5, -1), Vec3(2, -1, 0), Vec3(0, 1, 1), Vec3(-2, 1, 0.5)};
   std::vector<Vec3> grad(6);
   double gp = 0.0;

@@ -291,14 +291,7 @@ TEST_CASE("per-species surfaces: the same ramp is slippery for one liquid and st
       "blocks": [{"species": "water", "min": [-0.1, 0.1, -0.2], "max": [0.0, 0.16, -0.05], "spacing": 0.02},
                  {"species": "honey", "min": [-0.1, 0.1, 0.05], "max": [0.0, 0.16, 0.2], "spacing": 0.02}]}]})");
   run(w, 30);
-  double water = 0, honey = 0;
-  int nw = 0, nh = 0;
-  for (std::size_t i = 0; i < fluid(w).size(); ++i) {
-    (fluid(w).s[i] == 0 ? water : honey) += fluid(w).x[i].x();
-    (fluid(w).s[i] == 0 ? nw : nh) += 1;
-  }
-  water /= nw;
-  honey /= nh;
+  const auto [water, honey] = meanXBySpecies(fluid(w));
   CHECK(water > 0.6);          // slid down the slope (+x is downhill)
   CHECK(honey < 0.0);          // stayed about where it landed
 }

@@ -122,7 +122,10 @@ struct AnchorTerm final : ForceTerm {
   Vec3 anchor{0, 0, 0};
   double k = 0.0;
   void addForces(const Vec3* x, Vec3* f) override { f[1] += -k * (x[1] - anchor); }
-  void linearize(const Vec3*, Mat3* diag) override { diag[1] += k * Mat3::Identity(); }
+  void linearize(const Vec3* x, Vec3* f, Mat3* diag) override {
+    addForces(x, f);
+    diag[1] += k * Mat3::Identity();
+  }
   void addProduct(const Vec3* p, double s, Vec3* out) override { out[1] += s * k * p[1]; }
 };
 

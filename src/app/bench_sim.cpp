@@ -32,11 +32,17 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// The World of a benchmark's scene, advanced `frames` frames; `wall`: the time the frames took, s.
-Result<World> runFrames(const std::string& text, const char* file, int frames, double& wall) {
+// The World of a benchmark's scene; `frames`, when given, gets the scene's frame count.
+Result<World> benchWorld(const std::string& text, const char* file, int* frames = nullptr) {
   auto scene = parseScene(text, file);
   if (!scene.ok()) return scene.error();
-  auto world = World::create(scene.value(), bodyBuilders(), interactions());
+  if (frames) *frames = scene.value().frameCount();
+  return makeWorld(scene.value());
+}
+
+// The World of a benchmark's scene, advanced `frames` frames; `wall`: the time the frames took, s.
+Result<World> runFrames(const std::string& text, const char* file, int frames, double& wall) {
+  auto world = benchWorld(text, file);
   if (!world.ok()) return world.error();
   const auto t0 = Clock::now();
   for (int k = 0; k < frames; ++k)
@@ -132,12 +138,11 @@ int benchCloth(double simulated_64) {
                       "stiffness": 1000, "damping": 0.5, "shear_stiffness": 200, "shear_damping": 0.1,
                       "bend_stiffness": 0.5, "bend_damping": 0.005, "node_damping": )" + nlohmann::json(node_damping).dump() + R"(,
                       "thickness": 0.004, "self_collision": )" + (self ? "true" : "false") + "}]}";
-        auto scene = parseScene(text, "bench_cloth.json");
-        if (!scene.ok()) return report(scene.error());
-        auto world = makeWorld(scene.value());
+        int scene_frames = 0;
+        auto world = benchWorld(text, "bench_cloth.json", &scene_frames);
         if (!world.ok()) return report(world.error());
         World& w = world.value();
-        const int frames = scene.value().frameCount();
+        const int frames = scene_frames;
         const auto t0 = Clock::now();
         double cg = 0;
         for (int k = 0; k < frames; ++k) {
@@ -183,13 +188,12 @@ int benchDamBreak(double simulated) {
     "bodies": [{"type": "fluid", "name": "water", "model": "dfsph", "radius": 0.0024,
       "species": [{"name": "water", "mass": 0.000125, "density": 1000, "viscosity": 1}],
       "blocks": [{"min": [0, 0, -0.03], "max": [0.1, 0.2, 0.03], "spacing": 0.005}]}]})";
-  auto scene = parseScene(text, "bench_dam_break.json");
-  if (!scene.ok()) return report(scene.error());
-  auto world = makeWorld(scene.value());
+  int scene_frames = 0;
+  auto world = benchWorld(text, "bench_dam_break.json", &scene_frames);
   if (!world.ok()) return report(world.error());
   World& w = world.value();
   const Fluid& fl = w.first<FluidBody>()->fluid();
-  const int frames = scene.value().frameCount() - 1;
+  const int frames = scene_frames - 1;
   const auto t0 = Clock::now();
   for (int k = 0; k < frames; ++k)
     if (Status st = w.advanceFrame(); !st) return report(st.error());
@@ -226,13 +230,12 @@ int benchFluid(double simulated) {
         "species": [{"name": "gas", "mass": 0.008, "alpha": 0, "beta": 0.01, "cutoff": 0.046, "viscosity": 10}],
         "blocks": [{"min": [)" + num(-side / 2) + R"(, 0, )" + num(-side / 2) + R"(], "max": [)" + num(side / 2) + ", " +
                              num(side) + ", " + num(side / 2) + R"(], "spacing": 0.02, "jitter": 0.3}]}]})";
-    auto scene = parseScene(text, "bench_fluid.json");
-    if (!scene.ok()) return report(scene.error());
-    auto world = makeWorld(scene.value());
+    int scene_frames = 0;
+    auto world = benchWorld(text, "bench_fluid.json", &scene_frames);
     if (!world.ok()) return report(world.error());
     World& w = world.value();
     // The first half settles the block (untimed); the second half is measured.
-    const int frames = scene.value().frameCount() / 2, settle = scene.value().frameCount() - frames;
+    const int frames = scene_frames / 2, settle = scene_frames - frames;
     for (int k = 0; k < settle; ++k)
       if (Status st = w.advanceFrame(); !st) return report(st.error());
     const Fluid& fl = w.first<FluidBody>()->fluid();
@@ -278,9 +281,7 @@ int benchSchool(double seconds) {
                              num((steps + 1) / 10.0) + R"(, "bodies": [{"type": "school", "name": "s", "count": )" +
                              std::to_string(n) + R"(, "start": {"min": [0, 0, 0], "max": [)" + num(side) + ", " + num(side) + ", " +
                              num(side) + R"(]}, "zones": {"repulsion": 1, "orientation": 2, "attraction": 3}}]})";
-    auto scene = parseScene(text, "bench_school.json");
-    if (!scene.ok()) return report(scene.error());
-    auto world = makeWorld(scene.value());
+    auto world = benchWorld(text, "bench_school.json");
     if (!world.ok()) return report(world.error());
     World& w = world.value();
     const School& sc = w.first<SchoolBody>()->school();
@@ -477,9 +478,7 @@ int benchFace() {
                     "activations": [{"time": 0, "preset": "surprise", "amount": 0}, {"time": 0.6, "preset": "surprise"},
                                     {"time": 1.4, "preset": "happiness"}]}]})";
     const int frames = 60;
-    auto scene = parseScene(text, "bench_face.json");
-    if (!scene.ok()) return report(scene.error());
-    auto world = makeWorld(scene.value());
+    auto world = benchWorld(text, "bench_face.json");
     if (!world.ok()) return report(world.error());
     World& w = world.value();
     const FaceBody& face = *w.first<FaceBody>();

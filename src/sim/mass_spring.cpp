@@ -147,8 +147,7 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, do
   if (term_) {
     term_f_.assign(nodes, Vec3::Zero());
     term_d_.assign(nodes, Mat3::Zero());
-    term_->linearize(x, term_d_.data());
-    term_->addForces(x, term_f_.data());
+    term_->linearize(x, term_f_.data(), term_d_.data());
     term_->addProduct(w, -h, term_f_.data());
   }
   parallelFor(static_cast<Index>(nodes), [&](Index i) {

@@ -72,8 +72,9 @@ class ForceTerm {
   virtual ~ForceTerm() = default;
   // Adds the term's force at x to f, N per node.
   virtual void addForces(const Vec3* x, Vec3* f) = 0;
-  // Linearises at x (what products need); adds each node's diagonal block of H to diag.
-  virtual void linearize(const Vec3* x, Mat3* diag) = 0;
+  // Linearises at x (what products need): adds the term's force at x to f, as addForces does,
+  // and each node's diagonal block of H to diag.
+  virtual void linearize(const Vec3* x, Vec3* f, Mat3* diag) = 0;
   // out += s·H p, H from the last linearize().
   virtual void addProduct(const Vec3* p, double s, Vec3* out) = 0;
 };

@@ -247,31 +247,30 @@ static void gatherScaled(const FaceTissue& T, const std::vector<double>& a, cons
   });
 }
 
-void TissueVolume::addForces(const Vec3* x, Vec3* f) {
-  FaceTissue& T = t_;
-  T.corner_vec.resize(6 * T.prisms.size());
+// Each element's volume gradient at x into g (per corner) and its force's coefficient
+// −κ/V₀·(V − V₀) into T.scalar.
+static void volumeGradients(FaceTissue& T, const Vec3* x, std::vector<Vec3>& g) {
+  g.resize(6 * T.prisms.size());
   T.scalar.resize(T.prisms.size());
   parallelFor(static_cast<Index>(T.prisms.size()), [&](Index e) {
     const auto& P = T.prisms[static_cast<std::size_t>(e)];
-    std::array<Vec3, 6> p, g;
+    std::array<Vec3, 6> p, ge;
     for (int c = 0; c < 6; ++c) p[static_cast<std::size_t>(c)] = x[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])];
-    const double V = prismVolumeGrad(p, &g), V0 = T.rest_volume[static_cast<std::size_t>(e)];
+    const double V = prismVolumeGrad(p, &ge), V0 = T.rest_volume[static_cast<std::size_t>(e)];
     T.scalar[static_cast<std::size_t>(e)] = -T.volume_modulus / V0 * (V - V0);
-    for (int c = 0; c < 6; ++c) T.corner_vec[static_cast<std::size_t>(6 * e + c)] = g[static_cast<std::size_t>(c)];
+    for (int c = 0; c < 6; ++c) g[static_cast<std::size_t>(6 * e + c)] = ge[static_cast<std::size_t>(c)];
   });
-  gatherScaled(T, T.scalar, T.corner_vec, f);
 }
 
-void TissueVolume::linearize(const Vec3* x, Mat3* diag) {
+void TissueVolume::addForces(const Vec3* x, Vec3* f) {
+  volumeGradients(t_, x, t_.corner_vec);
+  gatherScaled(t_, t_.scalar, t_.corner_vec, f);
+}
+
+void TissueVolume::linearize(const Vec3* x, Vec3* f, Mat3* diag) {
   FaceTissue& T = t_;
-  T.grad.resize(6 * T.prisms.size());
-  parallelFor(static_cast<Index>(T.prisms.size()), [&](Index e) {
-    const auto& P = T.prisms[static_cast<std::size_t>(e)];
-    std::array<Vec3, 6> p, g;
-    for (int c = 0; c < 6; ++c) p[static_cast<std::size_t>(c)] = x[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])];
-    prismVolumeGrad(p, &g);
-    for (int c = 0; c < 6; ++c) T.grad[static_cast<std::size_t>(6 * e + c)] = g[static_cast<std::size_t>(c)];
-  });
+  volumeGradients(T, x, T.grad);
+  gatherScaled(T, T.scalar, T.grad, f);
   parallelFor(static_cast<Index>(T.corner_start.size() - 1), [&](Index i) {
     const int first = T.corner_start[static_cast<std::size_t>(i)], last = T.corner_start[static_cast<std::size_t>(i) + 1];
     for (int q = first; q < last; ++q) {

@@ -47,7 +47,7 @@ class TissueVolume final : public ForceTerm {
  public:
   explicit TissueVolume(FaceTissue& t) : t_(t) {}
   void addForces(const Vec3* x, Vec3* f) override;
-  void linearize(const Vec3* x, Mat3* diag) override;
+  void linearize(const Vec3* x, Vec3* f, Mat3* diag) override;
   void addProduct(const Vec3* p, double s, Vec3* out) override;
 
  private:
