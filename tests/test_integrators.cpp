@@ -127,6 +127,11 @@ struct AnchorTerm final : ForceTerm {
     diag[1] += k * Mat3::Identity();
   }
   void addProduct(const Vec3* p, double s, Vec3* out) override { out[1] += s * k * p[1]; }
+  void prepareProduct(const Vec3* p, double s) override { p1 = s * k * p[1]; }
+  void addProductTo(std::ptrdiff_t i0, std::ptrdiff_t i1, Vec3* out) const override {
+    if (i0 <= 1 && 1 < i1) out[1] += p1;
+  }
+  Vec3 p1 = Vec3::Zero();
 };
 
 }  // namespace

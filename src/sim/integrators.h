@@ -30,7 +30,8 @@ class OdeSystem {
   virtual void linearize(const Vec3* /*x*/, const Vec3* /*v*/, const Vec3* /*w*/, double /*h*/, Vec3* /*rhs*/,
                          Mat3* /*block_inverse*/) {}
   virtual double mass(std::size_t /*i*/) const { return 1.0; }
-  // out = A p, with A from the last linearize().
+  // out = A p on the free nodes, with A from the last linearize(); out is 0 at fixed nodes (their
+  // rows are never used: Δv is 0 there), and their preconditioner blocks need not be A's.
   virtual void applySystem(const Vec3* /*p*/, Vec3* /*out*/) {}
 };
 

@@ -1,5 +1,6 @@
 #include "sim/mass_spring.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -140,7 +141,26 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, do
   h_ = h;
   group_start_.resize(nodes + 1);
   group_start_[0] = 0;
-  for (std::size_t i = 0; i < nodes; ++i) group_start_[i + 1] = group_start_[i] + (inc.start[i + 1] - inc.start[i] + 3) / 4;
+  // A fixed node's row is never used (its Δv is 0): it gets no groups, and the products skip it.
+  for (std::size_t i = 0; i < nodes; ++i)
+    group_start_[i + 1] = group_start_[i] + (m_.fixed[i] ? 0 : (inc.start[i + 1] - inc.start[i] + 3) / 4);
+  free_end_.resize(nodes);
+  for (std::size_t i = nodes; i-- > 0;)
+    free_end_[i] = m_.fixed[i] ? static_cast<Index>(i) : (i + 1 < nodes && !m_.fixed[i + 1] ? free_end_[i + 1] : static_cast<Index>(i + 1));
+  // The products' pieces: runs of nodes of about equal work (a node and its groups), so that the
+  // threads' shares stay even where the fixed nodes gather (the face's skull is its last third).
+  {
+    const double total = static_cast<double>(group_start_[nodes] + static_cast<int>(nodes));
+    const auto pieces = static_cast<std::size_t>(std::clamp<double>(total / 512.0, 1.0, 256.0));
+    piece_start_.assign(1, 0);
+    std::size_t i = 0;
+    for (std::size_t k = 1; k < pieces; ++k) {
+      const double cut = total * static_cast<double>(k) / static_cast<double>(pieces);
+      while (i < nodes && static_cast<double>(group_start_[i] + static_cast<int>(i)) < cut) ++i;
+      if (static_cast<Index>(i) > piece_start_.back()) piece_start_.push_back(static_cast<Index>(i));
+    }
+    if (piece_start_.back() < static_cast<Index>(nodes)) piece_start_.push_back(static_cast<Index>(nodes));
+  }
   groups_.resize(static_cast<std::size_t>(group_start_[nodes]));
   own_.resize(nodes);
   // The force term: its force at the step's end as linearised, f₀ − h H w, and h² H's blocks.
@@ -158,6 +178,10 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, do
     if (term_) f += term_f_[i];
     rhs[i] = h * f;
     own_[i] = m_.mass[i] + h * m_.drag[i];
+    if (m_.fixed[i]) {
+      block_inverse[i] = Mat3::Identity() / own_[i];
+      return;
+    }
     Mat3 d = Mat3::Identity() * own_[i];
     if (node_drag_) d += h * node_drag_[i];
     if (term_) d += (h * h) * term_d_[i];
@@ -234,12 +258,25 @@ void applyGroups(const MassSpringSystem::Group4* groups, const int* group_start,
 }  // namespace
 
 void MassSpringSystem::applySystem(const Vec3* p, Vec3* out) {
-  parallelBlocks(static_cast<Index>(m_.nodes()), 256, [&](Index i0, Index i1) {
-    applyGroups(groups_.data(), group_start_.data(), own_.data(), p, out, i0, i1);
-    if (node_drag_)
-      for (Index i = i0; i < i1; ++i) out[i] += h_ * (node_drag_[i] * p[i]);
-  });
-  if (term_) term_->addProduct(p, h_ * h_, out);
+  // The force term's share, h² H p, gathered in the same pass over the nodes as the springs'.
+  if (term_) term_->prepareProduct(p, h_ * h_);
+  const Index pieces = static_cast<Index>(piece_start_.size()) - 1;
+  parallelBlocks(pieces, 1, [&](Index c0, Index c1) {
+    const Index b0 = piece_start_[c0], b1 = piece_start_[c1];
+    // Runs of free nodes; a fixed node's row is 0.
+    for (Index i0 = b0; i0 < b1;) {
+      if (m_.fixed[i0]) {
+        out[i0++].setZero();
+        continue;
+      }
+      const Index i1 = std::min(free_end_[i0], b1);
+      applyGroups(groups_.data(), group_start_.data(), own_.data(), p, out, i0, i1);
+      if (node_drag_)
+        for (Index i = i0; i < i1; ++i) out[i] += h_ * (node_drag_[i] * p[i]);
+      if (term_) term_->addProductTo(i0, i1, out);
+      i0 = i1;
+    }
+  }, static_cast<Index>(m_.nodes()));
   spring_products_ += m_.springs.size();
 }
 

@@ -77,6 +77,11 @@ class ForceTerm {
   virtual void linearize(const Vec3* x, Vec3* f, Mat3* diag) = 0;
   // out += s·H p, H from the last linearize().
   virtual void addProduct(const Vec3* p, double s, Vec3* out) = 0;
+  // The same product in two halves, so that a system can take the second inside its own pass
+  // over the nodes: prepareProduct(p, s) once, then addProductTo(i0, i1, out) adds s·H p to
+  // out's nodes [i0, i1) (any ranges that cover the nodes, in any order).
+  virtual void prepareProduct(const Vec3* p, double s) = 0;
+  virtual void addProductTo(std::ptrdiff_t i0, std::ptrdiff_t i1, Vec3* out) const = 0;
 };
 
 // The model as an OdeSystem (x'' = a(x, v)) for the integrators: accelerations, and the linearised system of
@@ -142,6 +147,8 @@ class MassSpringSystem final : public OdeSystem {
   std::vector<Group4> groups_;     // node by node
   std::vector<int> group_start_;   // (nodes + 1)
   std::vector<double> own_;        // m + hγ per node
+  std::vector<std::ptrdiff_t> free_end_;     // for a free node, where its run of free nodes ends
+  std::vector<std::ptrdiff_t> piece_start_;  // the products' pieces of about equal work (pieces + 1)
   const Vec3* external_ = nullptr;
   const Mat3* node_drag_ = nullptr;
   const Vec3* node_flow_ = nullptr;

@@ -63,6 +63,22 @@ constexpr int kVolumePasses = 3;
 constexpr double kRelaxation = 1.8;
 static void volumePass(FaceTissue& T, const MassSpringModel& m, std::vector<Vec3>& x, std::vector<Vec3>& v, double h);
 
+void indexCorners(FaceTissue& T, std::size_t nodes) {
+  T.corner_start.assign(nodes + 1, 0);
+  for (const auto& P : T.prisms)
+    for (int c : P) ++T.corner_start[static_cast<std::size_t>(c) + 1];
+  for (std::size_t i = 0; i < nodes; ++i) T.corner_start[i + 1] += T.corner_start[i];
+  T.corners.assign(6 * T.prisms.size(), 0);
+  T.corner_prism.assign(6 * T.prisms.size(), 0);
+  std::vector<int> fill(T.corner_start.begin(), T.corner_start.end() - 1);
+  for (std::size_t e = 0; e < T.prisms.size(); ++e)
+    for (int c = 0; c < 6; ++c) {
+      const auto q = static_cast<std::size_t>(fill[static_cast<std::size_t>(T.prisms[e][static_cast<std::size_t>(c)])]++);
+      T.corners[q] = static_cast<int>(6 * e) + c;
+      T.corner_prism[q] = static_cast<int>(e);
+    }
+}
+
 MassSpringDesc buildTissue(const FaceSurface& s, const FaceDesc& desc, FaceTissue& T) {
   const std::size_t n = s.size();
   T = FaceTissue{};
@@ -162,19 +178,7 @@ MassSpringDesc buildTissue(const FaceSurface& s, const FaceDesc& desc, FaceTissu
     T.stiffness.push_back(k);
     T.rest.push_back(std::sqrt(len2(ends.first, ends.second)));
   }
-  // The volume forces' incidence: each node's corners in prism order.
-  T.corner_start.assign(3 * n + 1, 0);
-  for (const auto& P : T.prisms)
-    for (int c : P) ++T.corner_start[static_cast<std::size_t>(c) + 1];
-  for (std::size_t i = 0; i < 3 * n; ++i) T.corner_start[i + 1] += T.corner_start[i];
-  T.corners.assign(6 * T.prisms.size(), 0);
-  {
-    std::vector<int> fill(T.corner_start.begin(), T.corner_start.end() - 1);
-    for (std::size_t e = 0; e < T.prisms.size(); ++e)
-      for (int c = 0; c < 6; ++c)
-        T.corners[static_cast<std::size_t>(fill[static_cast<std::size_t>(T.prisms[e][static_cast<std::size_t>(c)])]++)] =
-            static_cast<int>(6 * e) + c;
-  }
+  indexCorners(T, 3 * n);
   return ms;
 }
 
@@ -271,27 +275,46 @@ void TissueVolume::linearize(const Vec3* x, Vec3* f, Mat3* diag) {
   FaceTissue& T = t_;
   volumeGradients(T, x, T.grad);
   gatherScaled(T, T.scalar, T.grad, f);
+  T.node_grad.resize(T.corners.size());
   parallelFor(static_cast<Index>(T.corner_start.size() - 1), [&](Index i) {
     const int first = T.corner_start[static_cast<std::size_t>(i)], last = T.corner_start[static_cast<std::size_t>(i) + 1];
     for (int q = first; q < last; ++q) {
       const auto k = static_cast<std::size_t>(T.corners[static_cast<std::size_t>(q)]);
       const Vec3& g = T.grad[k];
       diag[i] += (T.volume_modulus / T.rest_volume[k / 6]) * (g * g.transpose());
+      T.node_grad[static_cast<std::size_t>(q)] = g;
     }
   });
 }
 
 void TissueVolume::addProduct(const Vec3* p, double s, Vec3* out) {
+  prepareProduct(p, s);
+  parallelBlocks(static_cast<Index>(t_.corner_start.size() - 1), 256, [&](Index i0, Index i1) { addProductTo(i0, i1, out); });
+}
+
+// Per element: s·κ/V₀·(∇V · p), ∇V at the last linearisation.
+void TissueVolume::prepareProduct(const Vec3* p, double s) {
   FaceTissue& T = t_;
   T.scalar.resize(T.prisms.size());
   parallelFor(static_cast<Index>(T.prisms.size()), [&](Index e) {
     const auto& P = T.prisms[static_cast<std::size_t>(e)];
-    const auto base = static_cast<std::size_t>(6 * e);
+    const Vec3* g = T.grad.data() + 6 * e;
     double dot = 0.0;
-    for (int c = 0; c < 6; ++c) dot += T.grad[base + static_cast<std::size_t>(c)].dot(p[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])]);
+    for (int c = 0; c < 6; ++c) dot += g[c].dot(p[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])]);
     T.scalar[static_cast<std::size_t>(e)] = s * T.volume_modulus / T.rest_volume[static_cast<std::size_t>(e)] * dot;
   });
-  gatherScaled(T, T.scalar, T.grad, out);
+}
+
+// Per node: Σ over its corners, in prism order, of the element's scalar times the corner's ∇V.
+void TissueVolume::addProductTo(Index i0, Index i1, Vec3* out) const {
+  const FaceTissue& T = t_;
+  for (Index i = i0; i < i1; ++i) {
+    const int first = T.corner_start[static_cast<std::size_t>(i)], last = T.corner_start[static_cast<std::size_t>(i) + 1];
+    Vec3 sum = Vec3::Zero();
+    for (int q = first; q < last; ++q)
+      sum += T.scalar[static_cast<std::size_t>(T.corner_prism[static_cast<std::size_t>(q)])] * T.node_grad[static_cast<std::size_t>(q)];
+    out[i] += sum;
+  }
 }
 
 double volumeFrequency2(const FaceTissue& T, const MassSpringModel& m, const std::vector<Vec3>& x) {
