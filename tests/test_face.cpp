@@ -58,7 +58,8 @@ TEST_CASE("face: a prism's volume and biphasic springs by their phases") {
   }
   CHECK(prismVolume(mirrored) == doctest::Approx(prismVolume(p)).epsilon(1e-14));
   // Biphasic: one spring of stiffness c = 10, rest 1, ε_c = 0.1, β = 4. Its force at length L is
-  // c(L − 1) within the strain, c·0.1 + 4c(L − 1.1) beyond (and the mirror in compression).
+  // c(L − 1) within the strain, c·0.1 + 4c(L − 1.1) beyond (and the mirror in compression),
+  // outside the band ε_c ± ε_c/3 where the stiffness turns.
   FaceTissue T;
   T.biphasic_strain = 0.1, T.biphasic_ratio = 4.0;
   T.stiffness = {10.0};
@@ -74,6 +75,27 @@ TEST_CASE("face: a prism's volume and biphasic springs by their phases") {
     CAPTURE(L);
     CHECK(f == doctest::Approx(want).epsilon(1e-12));
   }
+  // Through the band the force is continuous and the spring's stiffness is its slope (the
+  // tangent the implicit solve takes), rising from c to βc; in compression the mirror.
+  auto force = [&](double L) {
+    std::vector<Vec3> x = {Vec3::Zero(), Vec3(L, 0, 0)};
+    phaseSprings(T, m, x);
+    return std::pair{m.springs.stiffness[0] * (L - m.springs.rest[0]), m.springs.stiffness[0]};
+  };
+  double last_k = 0.0;
+  for (double e = 0.05; e <= 0.15; e += 0.0025) {
+    CAPTURE(e);
+    const auto [f, k] = force(1 + e);
+    const double slope = (force(1 + e + 1e-7).first - force(1 + e - 1e-7).first) / 2e-7;
+    CHECK(k == doctest::Approx(slope).epsilon(1e-5));
+    CHECK(k >= last_k);
+    CHECK(k >= 10.0 - 1e-12);
+    CHECK(k <= 40.0 + 1e-12);
+    CHECK(force(1 - e).first == doctest::Approx(-f).epsilon(1e-12));
+    last_k = k;
+  }
+  CHECK(force(1.05).second == doctest::Approx(10.0));
+  CHECK(force(1.15).second == doctest::Approx(40.0));
 }
 
 // The volumes of the tissue's elements now, m³.

@@ -183,18 +183,31 @@ MassSpringDesc buildTissue(const FaceSurface& s, const FaceDesc& desc, FaceTissu
 }
 
 // Lee, Terzopoulos & Waters 1995, eq. 3: a biphasic spring has stiffness c up to the strain ε_c
-// and βc beyond. Past ε_c in tension its force c·ε_c·l + βc·(e − ε_c·l) is that of a spring of
-// stiffness βc and rest length l·(1 + ε_c − ε_c/β); in compression, l·(1 − ε_c + ε_c/β).
+// and βc beyond: past ε_c in tension its force is c·ε_c·l + βc·(e − ε_c·l) (in compression the
+// mirror). Here the stiffness goes from c to βc over a band of strain ±δ around ε_c (δ = ε_c/3),
+// as tissue's stress–strain curve turns (Fung 1993), rather than at a step: the force is the
+// paper's outside the band and within (β − 1)c·l·δ/4 of it inside. A step in stiffness made the
+// springs near ε_c change phase from one step to the next and back, which the implicit solve's
+// warm start could not follow (the face's CG took 9% more iterations). Each step a spring
+// takes its tangent stiffness K at its strain now and the rest length that gives the curve's
+// force there, K·(L − rest) = F(L), so the implicit integrator sees the phase it is in.
 void phaseSprings(const FaceTissue& T, MassSpringModel& m, const std::vector<Vec3>& x) {
   Springs& sp = m.springs;
-  const double eps = T.biphasic_strain, beta = T.biphasic_ratio;
+  const double eps = T.biphasic_strain, beta = T.biphasic_ratio, delta = eps / 3.0;
   parallelFor(static_cast<Index>(sp.size()), [&](Index s) {
     const auto k = static_cast<std::size_t>(s);
-    const double l = T.rest[k];
-    const double strain = ((x[static_cast<std::size_t>(sp.b[k])] - x[static_cast<std::size_t>(sp.a[k])]).norm() - l) / l;
-    if (strain > eps) sp.stiffness[k] = beta * T.stiffness[k], sp.rest[k] = l * (1 + eps - eps / beta);
-    else if (strain < -eps) sp.stiffness[k] = beta * T.stiffness[k], sp.rest[k] = l * (1 - eps + eps / beta);
-    else sp.stiffness[k] = T.stiffness[k], sp.rest[k] = l;
+    const double l = T.rest[k], c = T.stiffness[k];
+    const double len = (x[static_cast<std::size_t>(sp.b[k])] - x[static_cast<std::size_t>(sp.a[k])]).norm();
+    const double strain = (len - l) / l, e = std::abs(strain);
+    double stiff = c, extra = 0.0;  // tangent stiffness, N/m, and the force beyond c·(L − l), N (for |strain|)
+    if (e >= eps + delta || (delta <= 0.0 && e > eps)) {
+      stiff = beta * c, extra = (beta - 1) * c * l * (e - eps);
+    } else if (e > eps - delta) {
+      const double u = e - (eps - delta);  // into the band
+      stiff = c + (beta - 1) * c * u / (2 * delta), extra = (beta - 1) * c * l * u * u / (4 * delta);
+    }
+    sp.stiffness[k] = stiff;
+    sp.rest[k] = len - (c * (len - l) + std::copysign(extra, strain)) / stiff;
   });
 }
 
