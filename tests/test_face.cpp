@@ -157,6 +157,19 @@ TEST_CASE("face: the volume term's force is minus its energy's gradient and its 
   term.addProductTo(4, 6, halves.data());
   term.addProductTo(0, 4, halves.data());
   for (std::size_t i = 0; i < 6; ++i) CHECK(halves[i] == out[i]);
+  // A pair's block of H (what the preconditioner inverts with the pair), against products with
+  // unit vectors: H_ab's column j is (H e_bj) at a.
+  for (int a : {0, 4})
+    for (int b : {3, 1}) {
+      Mat3 block = Mat3::Zero();
+      term.addPairBlock(a, b, 2.0, block);
+      for (int j = 0; j < 3; ++j) {
+        std::vector<Vec3> e(6, Vec3::Zero()), col(6, Vec3::Zero());
+        e[static_cast<std::size_t>(b)][j] = 1.0;
+        term.addProduct(e.data(), 2.0, col.data());
+        CHECK((block.col(j) - col[static_cast<std::size_t>(a)]).norm() <= 1e-12 * (1.0 + col[static_cast<std::size_t>(a)].norm()));
+      }
+    }
   for (std::size_t i = 0; i < 6; ++i) {
     CHECK((out[i] - 0.5 * T.volume_modulus / T.rest_volume[0] * gp * grad[i]).norm() < 1e-6 * out[i].norm() + 1e-12);
     CHECK((diag[i] - T.volume_modulus / T.rest_volume[0] * grad[i] * grad[i].transpose()).norm() < 1e-6 * diag[i].norm());

@@ -109,7 +109,7 @@ double dot(const std::vector<Vec3>& p, const std::vector<Vec3>& q) {
 // The implicit integrators' linear system A Δv = rhs (after dyn.linearize() filled ws.rhs and
 // ws.pinv, and prepareImplicit() ws.fixed), solved for ws.dv by conjugate gradients with a
 // block-Jacobi preconditioner (each node's 3×3 diagonal block inverted: the springs' uuᵀ terms
-// make that block far from diagonal). Fixed nodes are filtered out (their Δv is 0: the filter S
+// make that block far from diagonal; or a pair of nodes' 6×6 block, where the system names pairs). Fixed nodes are filtered out (their Δv is 0: the filter S
 // of Baraff & Witkin's section 5.3 with every direction constrained). Each iteration is one
 // product with A and three passes over the nodes, two of which also return the dot products
 // (each a deterministic chunked sum).
@@ -125,10 +125,27 @@ void solveLinearized(OdeSystem& dyn, IntegratorWorkspace& ws, const ImplicitSett
   }));
   if (!(bnorm > 0.0)) parallelFor(ni, [&](Index i) { dvel[i].setZero(); });  // nothing to solve: Δv = 0
   dyn.applySystem(dvel.data(), ws.q.data());
+  // z_i = P⁻¹ r: node i's block, or its rows of its pair's (which read the partner's r, so a
+  // system with pairs updates r and z in two passes).
+  const OdeSystem::PreconditionerPairs pairs = dyn.preconditionerPairs();
+  auto precondition = [&](Index i) -> Vec3 {
+    const int j = pairs.partner ? pairs.partner[i] : -1;
+    if (j < 0) return ws.pinv[i] * ws.r[i];
+    Eigen::Matrix<double, 6, 1> rr;
+    rr << ws.r[i], ws.r[static_cast<std::size_t>(j)];
+    return pairs.rows[i] * rr;
+  };
+  if (pairs.partner)
+    parallelFor(ni, [&](Index i) {
+      ws.r[i] = ws.rhs[i] - ws.q[i];
+      if (fixed[i]) ws.r[i].setZero();
+    });
   double rz = deterministicSum(ni, [&](Index i) {
-    ws.r[i] = ws.rhs[i] - ws.q[i];
-    if (fixed[i]) ws.r[i].setZero();
-    ws.z[i] = ws.pinv[i] * ws.r[i];
+    if (!pairs.partner) {
+      ws.r[i] = ws.rhs[i] - ws.q[i];
+      if (fixed[i]) ws.r[i].setZero();
+    }
+    ws.z[i] = precondition(i);
     ws.p[i] = ws.z[i];
     return ws.r[i].dot(ws.z[i]);
   });
@@ -146,12 +163,25 @@ void solveLinearized(OdeSystem& dyn, IntegratorWorkspace& ws, const ImplicitSett
         break;
       }
       const double alpha = rz / pq;
-      const std::array<double, 2> sums = deterministicSums<2>(ni, [&](Index i) {
-        dvel[i] += alpha * ws.p[i];
-        ws.r[i] -= alpha * ws.q[i];
-        ws.z[i] = ws.pinv[i] * ws.r[i];
-        return std::array<double, 2>{ws.r[i].squaredNorm(), ws.r[i].dot(ws.z[i])};
-      });
+      std::array<double, 2> sums;
+      if (!pairs.partner) {
+        sums = deterministicSums<2>(ni, [&](Index i) {
+          dvel[i] += alpha * ws.p[i];
+          ws.r[i] -= alpha * ws.q[i];
+          ws.z[i] = ws.pinv[i] * ws.r[i];
+          return std::array<double, 2>{ws.r[i].squaredNorm(), ws.r[i].dot(ws.z[i])};
+        });
+      } else {
+        sums[0] = deterministicSum(ni, [&](Index i) {
+          dvel[i] += alpha * ws.p[i];
+          ws.r[i] -= alpha * ws.q[i];
+          return ws.r[i].squaredNorm();
+        });
+        sums[1] = deterministicSum(ni, [&](Index i) {
+          ws.z[i] = precondition(i);
+          return ws.r[i].dot(ws.z[i]);
+        });
+      }
       rel = std::sqrt(sums[0]) / bnorm;
       if (rel <= set.cg_tolerance) {
         ++it;

@@ -33,6 +33,16 @@ class OdeSystem {
   // out = A p on the free nodes, with A from the last linearize(); out is 0 at fixed nodes (their
   // rows are never used: Δv is 0 there), and their preconditioner blocks need not be A's.
   virtual void applySystem(const Vec3* /*p*/, Vec3* /*out*/) {}
+  // Optional, valid after linearize(): nodes the preconditioner takes in pairs, inverting a pair's
+  // 6×6 block of A together where the two are coupled far more strongly to each other than to the
+  // rest (a face's skin node and the fascia node under it, across a few millimetres of tissue).
+  // partner[i] is i's partner (−1: none, then block_inverse[i] serves) and rows[i] the three rows
+  // of the pair block's inverse that give z_i from (r_i, r_partner).
+  struct PreconditionerPairs {
+    const int* partner = nullptr;
+    const Eigen::Matrix<double, 3, 6>* rows = nullptr;
+  };
+  virtual PreconditionerPairs preconditionerPairs() const { return {}; }
 };
 
 // Scratch arrays reused across steps (resized on demand).

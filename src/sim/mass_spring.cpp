@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include <Eigen/Cholesky>
+
 #include "core/error.h"
 #include "core/lanes.h"
 #include "core/parallel.h"
@@ -163,6 +165,7 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, do
   }
   groups_.resize(static_cast<std::size_t>(group_start_[nodes]));
   own_.resize(nodes);
+  if (!pairs_.empty()) diag_.resize(nodes);
   // The force term: its force at the step's end as linearised, f₀ − h H w, and h² H's blocks.
   if (term_) {
     term_f_.assign(nodes, Vec3::Zero());
@@ -202,6 +205,7 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, do
       }
     }
     d(1, 0) = d(0, 1), d(2, 0) = d(0, 2), d(2, 1) = d(1, 2);
+    if (!pairs_.empty()) diag_[i] = d;
     // Its inverse by cofactors. A block of a positive definite A is positive definite; a
     // degenerate one (never expected) falls back to its diagonal.
     Mat3 inv;
@@ -221,6 +225,49 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, do
       block_inverse[i] = Mat3(d.diagonal().cwiseInverse().asDiagonal());
     }
   });
+  // The pairs' 6×6 blocks, [A_aa A_ab; A_ba A_bb] with A_ab = −Σ B over the springs between a and
+  // b plus h² H_ab of the force term, inverted by Cholesky (a block of a positive definite A is
+  // positive definite; should rounding say otherwise, the two keep their own blocks).
+  if (pairs_.empty()) return;
+  partner_.assign(nodes, -1);
+  pair_rows_.resize(nodes);
+  parallelFor(static_cast<Index>(pairs_.size()), [&](Index k) {
+    const auto [a, b] = pairs_[static_cast<std::size_t>(k)];
+    Mat3 c = Mat3::Zero();
+    for (int e = inc.start[static_cast<std::size_t>(a)]; e < inc.start[static_cast<std::size_t>(a) + 1]; ++e) {
+      if (inc.other[static_cast<std::size_t>(e)] != b) continue;
+      const Sym3& B = B_[static_cast<std::size_t>(inc.entries[static_cast<std::size_t>(e)] >> 1)];
+      c -= Mat3{{B.m[0], B.m[3], B.m[4]}, {B.m[3], B.m[1], B.m[5]}, {B.m[4], B.m[5], B.m[2]}};
+    }
+    if (term_) term_->addPairBlock(a, b, h * h, c);
+    Eigen::Matrix<double, 6, 6> P;
+    P << diag_[static_cast<std::size_t>(a)], c, c.transpose(), diag_[static_cast<std::size_t>(b)];
+    const Eigen::LLT<Eigen::Matrix<double, 6, 6>> llt(P);
+    if (llt.info() != Eigen::Success) return;
+    const Eigen::Matrix<double, 6, 6> inv = llt.solve(Eigen::Matrix<double, 6, 6>::Identity());
+    if (!inv.allFinite()) return;
+    pair_rows_[static_cast<std::size_t>(a)] = inv.topRows<3>();
+    pair_rows_[static_cast<std::size_t>(b)] << inv.block<3, 3>(3, 3), inv.block<3, 3>(3, 0);  // (r_b, r_a)
+    partner_[static_cast<std::size_t>(a)] = b;
+    partner_[static_cast<std::size_t>(b)] = a;
+  });
+}
+
+void MassSpringSystem::setPreconditionerPairs(std::vector<std::array<int, 2>> pairs) {
+  std::vector<std::uint8_t> seen(m_.nodes(), 0);
+  for (const auto& [a, b] : pairs) {
+    REEL_CHECK(a >= 0 && b >= 0 && static_cast<std::size_t>(a) < m_.nodes() && static_cast<std::size_t>(b) < m_.nodes() && a != b,
+               "preconditioner pair out of range");
+    REEL_CHECK(!m_.fixed[static_cast<std::size_t>(a)] && !m_.fixed[static_cast<std::size_t>(b)], "a preconditioner pair of a fixed node");
+    REEL_CHECK(!seen[static_cast<std::size_t>(a)]++ && !seen[static_cast<std::size_t>(b)]++, "a node in two preconditioner pairs");
+  }
+  pairs_ = std::move(pairs);
+  partner_.clear();
+}
+
+OdeSystem::PreconditionerPairs MassSpringSystem::preconditionerPairs() const {
+  if (pairs_.empty() || partner_.size() != m_.nodes()) return {};
+  return {partner_.data(), pair_rows_.data()};
 }
 
 namespace {

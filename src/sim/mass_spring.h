@@ -3,6 +3,7 @@
 // (MuJoCo's mjModel/mjData): every integrator reads the model and advances the state.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -82,6 +83,9 @@ class ForceTerm {
   // out's nodes [i0, i1) (any ranges that cover the nodes, in any order).
   virtual void prepareProduct(const Vec3* p, double s) = 0;
   virtual void addProductTo(std::ptrdiff_t i0, std::ptrdiff_t i1, Vec3* out) const = 0;
+  // out += s·H_ab, the block of H from the last linearize() that couples node a's force to node
+  // b's displacement (for a preconditioner that inverts a and b together); none by default.
+  virtual void addPairBlock(int /*a*/, int /*b*/, double /*s*/, Mat3& /*out*/) const {}
 };
 
 // The model as an OdeSystem (x'' = a(x, v)) for the integrators: accelerations, and the linearised system of
@@ -129,6 +133,10 @@ class MassSpringSystem final : public OdeSystem {
   // too it let fast light nodes run away, and sheets and the face, stepped far beyond the
   // explicit bound, keep the plain extrapolation.
   void setPredictor(bool on) { predict_ = on; }
+  // Pairs of free nodes {a, b}, each node in one pair at most, whose 6×6 block of A the
+  // preconditioner inverts together (OdeSystem::preconditionerPairs); empty for none.
+  void setPreconditionerPairs(std::vector<std::array<int, 2>> pairs);
+  PreconditionerPairs preconditionerPairs() const override;
   // Spring force evaluations done so far (for benchmarks).
   std::uint64_t springEvaluations() const { return spring_evals_; }
   // Products with a spring's 3×3 block in implicit Euler's conjugate-gradient solve.
@@ -149,6 +157,10 @@ class MassSpringSystem final : public OdeSystem {
   std::vector<double> own_;        // m + hγ per node
   std::vector<std::ptrdiff_t> free_end_;     // for a free node, where its run of free nodes ends
   std::vector<std::ptrdiff_t> piece_start_;  // the products' pieces of about equal work (pieces + 1)
+  std::vector<std::array<int, 2>> pairs_;    // the preconditioner's pairs
+  std::vector<int> partner_;                 // per node, its pair's other node (−1: none) after linearize()
+  std::vector<Eigen::Matrix<double, 3, 6>> pair_rows_;  // per paired node, its rows of the pair block's inverse
+  std::vector<Mat3> diag_;                   // per paired node, its diagonal block of A
   const Vec3* external_ = nullptr;
   const Mat3* node_drag_ = nullptr;
   const Vec3* node_flow_ = nullptr;

@@ -238,6 +238,16 @@ Status FaceBody::setup(const BodyDesc& desc, const BuildContext& ctx) {
   for (NodeDesc& nd : scaled.nodes) nd.position = desc_.position + R * nd.position;
   net_.build(scaled, gravity, ctx.scene->integrator, 0.002);
   net_.system->setForceTerm(&volume_);
+  // Each vertex's skin and fascia nodes, a few millimetres of tissue apart, preconditioned
+  // together (their springs and shared elements couple them far more than their neighbours do):
+  // the conjugate gradients take fewer iterations.
+  {
+    const std::size_t n = surface_.size();
+    std::vector<std::array<int, 2>> pairs;
+    for (std::size_t k = 0; k < n; ++k)
+      if (!net_.model.fixed[k] && !net_.model.fixed[n + k]) pairs.push_back({static_cast<int>(k), static_cast<int>(n + k)});
+    net_.system->setPreconditionerPairs(std::move(pairs));
+  }
   // An explicit method's bound: with every spring in its stiff phase.
   for (double& k : net_.model.springs.stiffness) k *= desc_.biphasic_ratio;
   net_.bound = stableStep(net_.model, ctx.scene->integrator);

@@ -330,6 +330,17 @@ void TissueVolume::addProductTo(Index i0, Index i1, Vec3* out) const {
   }
 }
 
+// Σ over the elements that hold both a and b of s·κ/V₀·∇_a V ∇_b Vᵀ.
+void TissueVolume::addPairBlock(int a, int b, double s, Mat3& out) const {
+  const FaceTissue& T = t_;
+  for (int q = T.corner_start[static_cast<std::size_t>(a)]; q < T.corner_start[static_cast<std::size_t>(a) + 1]; ++q) {
+    const auto e = static_cast<std::size_t>(T.corner_prism[static_cast<std::size_t>(q)]);
+    const auto ka = static_cast<std::size_t>(T.corners[static_cast<std::size_t>(q)]);
+    for (std::size_t c = 0; c < 6; ++c)
+      if (T.prisms[e][c] == b) out += (s * T.volume_modulus / T.rest_volume[e]) * (T.grad[ka] * T.grad[6 * e + c].transpose());
+  }
+}
+
 double volumeFrequency2(const FaceTissue& T, const MassSpringModel& m, const std::vector<Vec3>& x) {
   std::vector<double> row(m.nodes(), 0.0);
   for (std::size_t e = 0; e < T.prisms.size(); ++e) {

@@ -53,6 +53,7 @@ class TissueVolume final : public ForceTerm {
   void addProduct(const Vec3* p, double s, Vec3* out) override;
   void prepareProduct(const Vec3* p, double s) override;
   void addProductTo(std::ptrdiff_t i0, std::ptrdiff_t i1, Vec3* out) const override;
+  void addPairBlock(int a, int b, double s, Mat3& out) const override;
 
  private:
   FaceTissue& t_;
