@@ -96,6 +96,17 @@ TEST_CASE("face: a prism's volume and biphasic springs by their phases") {
   }
   CHECK(force(1.05).second == doctest::Approx(10.0));
   CHECK(force(1.15).second == doctest::Approx(40.0));
+  // No jump at the band's edges (strain 0.1 ∓ 0.1/3), and inside it within (β − 1)c·l·δ/4 of the
+  // paper's piecewise force.
+  for (double edge : {0.1 - 0.1 / 3, 0.1 + 0.1 / 3}) {
+    CAPTURE(edge);
+    CHECK(std::abs(force(1 + edge + 1e-9).first - force(1 + edge - 1e-9).first) < 1e-6);
+  }
+  for (double e = 0.07; e < 0.133; e += 0.005) {
+    CAPTURE(e);
+    const double paper = e <= 0.1 ? 10 * e : 10 * 0.1 + 40 * (e - 0.1);
+    CHECK(std::abs(force(1 + e).first - paper) <= 3 * 10 * (0.1 / 3) / 4 + 1e-12);
+  }
 }
 
 // The volumes of the tissue's elements now, m³.
@@ -151,7 +162,8 @@ TEST_CASE("face: the volume term's force is minus its energy's gradient and its 
   std::vector<Vec3> out(6, Vec3::Zero());
   term.addProduct(p.data(), 0.5, out.data());
   // The same product in halves (as the mass-spring system takes it, inside its pass over the
-  // nodes), the nodes in two ranges taken in reverse order: the same bits.
+  // nodes), the nodes in two ranges taken in reverse order: the same bits, and the stiffness's
+  // product below.
   std::vector<Vec3> halves(6, Vec3::Zero());
   term.prepareProduct(p.data(), 0.5);
   term.addProductTo(4, 6, halves.data());

@@ -111,8 +111,8 @@ double dot(const std::vector<Vec3>& p, const std::vector<Vec3>& q) {
 // block-Jacobi preconditioner (each node's 3×3 diagonal block inverted: the springs' uuᵀ terms
 // make that block far from diagonal; or a pair of nodes' 6×6 block, where the system names pairs). Fixed nodes are filtered out (their Δv is 0: the filter S
 // of Baraff & Witkin's section 5.3 with every direction constrained). Each iteration is one
-// product with A and three passes over the nodes, two of which also return the dot products
-// (each a deterministic chunked sum).
+// product with A and three passes over the nodes (four with pairs), which also return the dot
+// products (each a deterministic chunked sum).
 void solveLinearized(OdeSystem& dyn, IntegratorWorkspace& ws, const ImplicitSettings& set, StepStats* stats) {
   const Index ni = static_cast<Index>(ws.rhs.size());
   const std::uint8_t* fixed = ws.fixed.data();

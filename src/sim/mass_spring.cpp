@@ -165,6 +165,12 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, do
   }
   groups_.resize(static_cast<std::size_t>(group_start_[nodes]));
   own_.resize(nodes);
+  // Products with a spring's block per product with A: one per end at a free node, halved (a
+  // spring between two free nodes counts once, as it did when every row was taken).
+  products_per_apply_ = 0;
+  for (std::size_t i = 0; i < nodes; ++i)
+    if (!m_.fixed[i]) products_per_apply_ += static_cast<std::uint64_t>(inc.start[i + 1] - inc.start[i]);
+  products_per_apply_ /= 2;
   if (!pairs_.empty()) diag_.resize(nodes);
   // The force term: its force at the step's end as linearised, f₀ − h H w, and h² H's blocks.
   if (term_) {
@@ -233,6 +239,7 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, do
   pair_rows_.resize(nodes);
   parallelFor(static_cast<Index>(pairs_.size()), [&](Index k) {
     const auto [a, b] = pairs_[static_cast<std::size_t>(k)];
+    if (m_.fixed[static_cast<std::size_t>(a)] || m_.fixed[static_cast<std::size_t>(b)]) return;  // (fixed since the pairs were set)
     Mat3 c = Mat3::Zero();
     for (int e = inc.start[static_cast<std::size_t>(a)]; e < inc.start[static_cast<std::size_t>(a) + 1]; ++e) {
       if (inc.other[static_cast<std::size_t>(e)] != b) continue;
@@ -324,7 +331,7 @@ void MassSpringSystem::applySystem(const Vec3* p, Vec3* out) {
       i0 = i1;
     }
   }, static_cast<Index>(m_.nodes()));
-  spring_products_ += m_.springs.size();
+  spring_products_ += products_per_apply_;
 }
 
 double kineticEnergy(const MassSpringModel& m, const MassSpringState& s) {

@@ -171,6 +171,7 @@ class MassSpringSystem final : public OdeSystem {
   bool predict_ = false;
   std::uint64_t spring_evals_ = 0;
   std::uint64_t spring_products_ = 0;
+  std::uint64_t products_per_apply_ = 0;  // spring blocks one product with A takes (free rows)
 };
 
 // Total energy (kinetic + spring potential − m g·x), J; used by tests and benches.
