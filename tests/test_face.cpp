@@ -340,6 +340,33 @@ TEST_CASE("face: the jaw turns the mandible alone and glides as it opens; the ne
   CHECK(lowest == doctest::Approx(-0.32).epsilon(1e-3));
 }
 
+TEST_CASE("face: activations and visemes are eased between their keys (no kink at a key)") {
+  World w = worldFromText(faceScene(R"(, "activations": [{"time": 0, "muscles": {"zygomatic_major_left": 0}}, {"time": 1, "muscles": {"zygomatic_major_left": 0.8}}],
+      "visemes": [{"time": 0, "viseme": "rest"}, {"time": 2, "viseme": "oo"}, {"time": 4, "viseme": "rest"}])", 4.0, "[32, 24]"));
+  const FaceActivations& A = face(w).activations();
+  REQUIRE(A.index("zygomatic_major_left") >= 0);
+  REQUIRE(A.index("orbicularis_oris") >= 0);
+  const auto zyg = static_cast<std::size_t>(A.index("zygomatic_major_left")), oris = static_cast<std::size_t>(A.index("orbicularis_oris"));
+  std::vector<double> out;
+  auto zygAt = [&](double t) {
+    A.at(t, out);
+    return out[zyg];
+  };
+  // smoothstep: 3s² − 2s³ of the key fraction s.
+  for (double s : {0.0, 0.1, 0.25, 0.5, 0.75, 1.0}) CHECK(zygAt(s) == doctest::Approx(0.8 * (3 * s * s - 2 * s * s * s)).epsilon(1e-12));
+  CHECK(zygAt(1.5) == doctest::Approx(0.8));  // held after the last key
+  // Its rate starts and ends at 0 (a linear ramp's would be 0.8/s from the first instant).
+  CHECK((zygAt(1e-3) - zygAt(0)) / 1e-3 < 0.01);
+  CHECK((zygAt(1) - zygAt(1 - 1e-3)) / 1e-3 < 0.01);
+  // The visemes likewise: a quarter of the way from rest to "oo" the lips' sphincter is at
+  // 0.15625 of its "oo" contraction (a linear blend: a quarter).
+  A.at(0.5, out);
+  const double quarter = out[oris];
+  A.at(2.0, out);
+  CHECK(out[oris] > 0.5);
+  CHECK(quarter == doctest::Approx(0.15625 * out[oris]).epsilon(1e-12));
+}
+
 TEST_CASE("face: the jaw opens the mouth and blinks close the eyes and the dump lists the muscles") {
   World w = worldFromText(faceScene(R"(, "blinks": [0.1], "activations": [{"time": 0, "muscles": {"jaw_open": 0}}, {"time": 0.5, "muscles": {"jaw_open": 1}}])"));
   const FaceBody& f = face(w);

@@ -16,8 +16,6 @@ using Index = std::ptrdiff_t;
 
 namespace {
 
-double ease(double s) { return s * s * (3 - 2 * s); }
-
 Mat3 aboutX(double a) { return Eigen::AngleAxisd(a, Vec3::UnitX()).toRotationMatrix(); }
 
 }  // namespace
@@ -47,7 +45,7 @@ void FaceBody::pose(double t) {
   if (!desc_.keys.empty()) {
     const KeySpan k = keySpan(desc_.keys, t, [](const FacePoseKey& key) { return key.time; });
     deg = k.s == 0.0 ? desc_.keys[k.i].rotation_deg
-                     : Vec3((1 - ease(k.s)) * desc_.keys[k.i].rotation_deg + ease(k.s) * desc_.keys[k.i + 1].rotation_deg);
+                     : Vec3((1 - easeKey(k.s)) * desc_.keys[k.i].rotation_deg + easeKey(k.s) * desc_.keys[k.i + 1].rotation_deg);
   }
   R_ = rotationFromEulerDeg(deg);
   jaw_ = act_[static_cast<std::size_t>(activations_.index("jaw_open"))] * kJawMaxRad;

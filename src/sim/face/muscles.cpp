@@ -165,6 +165,8 @@ Vec3 musclePull(const FaceMuscle& m, const Vec3& p, const Vec3& attachment, cons
   return unitOr(-(d.dot(axis_u) * axis_u + d.dot(axis_v) * axis_v), Vec3::Zero());
 }
 
+double easeKey(double s) { return smooth(0.0, 1.0, s); }
+
 double blinkClosure(double t) {
   if (t <= 0 || t >= 0.25) return 0.0;
   if (t < 0.08) return smooth(0.0, 0.08, t);
@@ -181,14 +183,18 @@ int FaceActivations::index(const std::string& control) const {
 void FaceActivations::at(double t, std::vector<double>& out) const {
   out.assign(controls.size(), 0.0);
   if (!times.empty()) {
+    // Eased between keys: a muscle takes up and lets go of its pull smoothly (a linear ramp's
+    // kinks jolted the tissue at each key, and the implicit solve's warm start with it).
     const KeySpan ks = keySpan(times, t, [](double x) { return x; });
+    const double s = easeKey(ks.s);
     for (std::size_t c = 0; c < controls.size(); ++c)
-      out[c] = ks.s == 0.0 ? values[ks.i][c] : (1 - ks.s) * values[ks.i][c] + ks.s * values[ks.i + 1][c];
+      out[c] = s == 0.0 ? values[ks.i][c] : (1 - s) * values[ks.i][c] + s * values[ks.i + 1][c];
   }
   if (!speech_times.empty()) {
     const KeySpan ks = keySpan(speech_times, t, [](double x) { return x; });
+    const double s = easeKey(ks.s);
     for (std::size_t c = 0; c < controls.size(); ++c) {
-      const double v = ks.s == 0.0 ? speech[ks.i][c] : (1 - ks.s) * speech[ks.i][c] + ks.s * speech[ks.i + 1][c];
+      const double v = s == 0.0 ? speech[ks.i][c] : (1 - s) * speech[ks.i][c] + s * speech[ks.i + 1][c];
       out[c] = std::min(1.0, out[c] + v);
     }
   }

@@ -57,6 +57,10 @@ struct FaceActivations {
 Result<FaceActivations> makeActivations(const FaceDesc& desc, const std::vector<FaceMuscle>& muscles,
                                         const std::string& file);
 
+// A key fraction s in [0, 1] eased in and out (smoothstep, 3s² − 2s³): a face's keys (its
+// activations, visemes and the head's turns) start and stop without a kink.
+double easeKey(double s);
+
 // How closed a blink started at 0 is at time t after (0 open, 1 closed): 0.08 s closing, 0.04 s
 // closed, 0.13 s opening.
 double blinkClosure(double t);
