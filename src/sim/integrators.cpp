@@ -109,8 +109,9 @@ double dot(const std::vector<Vec3>& p, const std::vector<Vec3>& q) {
 // The implicit integrators' linear system A Δv = rhs (after dyn.linearize() filled ws.rhs and
 // ws.pinv, and prepareImplicit() ws.fixed), solved for ws.dv by conjugate gradients with a
 // block-Jacobi preconditioner (each node's 3×3 diagonal block inverted: the springs' uuᵀ terms
-// make that block far from diagonal; or a pair of nodes' 6×6 block, where the system names pairs). Fixed nodes are filtered out (their Δv is 0: the filter S
-// of Baraff & Witkin's section 5.3 with every direction constrained). Each iteration is one
+// make that block far from diagonal; or a pair of nodes' 6×6 block, where the system names
+// pairs). Fixed nodes are filtered out (their Δv is 0: the filter S of Baraff & Witkin's section
+// 5.3 with every direction constrained). Each iteration is one
 // product with A and three passes over the nodes (four with pairs), which also return the dot
 // products (each a deterministic chunked sum).
 void solveLinearized(OdeSystem& dyn, IntegratorWorkspace& ws, const ImplicitSettings& set, StepStats* stats) {
@@ -135,16 +136,10 @@ void solveLinearized(OdeSystem& dyn, IntegratorWorkspace& ws, const ImplicitSett
     rr << ws.r[i], ws.r[static_cast<std::size_t>(j)];
     return pairs.rows[i] * rr;
   };
-  if (pairs.partner)
-    parallelFor(ni, [&](Index i) {
-      ws.r[i] = ws.rhs[i] - ws.q[i];
-      if (fixed[i]) ws.r[i].setZero();
-    });
+  auto residual = [&](Index i) { ws.r[i] = fixed[i] ? Vec3::Zero() : Vec3(ws.rhs[i] - ws.q[i]); };
+  if (pairs.partner) parallelFor(ni, residual);
   double rz = deterministicSum(ni, [&](Index i) {
-    if (!pairs.partner) {
-      ws.r[i] = ws.rhs[i] - ws.q[i];
-      if (fixed[i]) ws.r[i].setZero();
-    }
+    if (!pairs.partner) residual(i);
     ws.z[i] = precondition(i);
     ws.p[i] = ws.z[i];
     return ws.r[i].dot(ws.z[i]);

@@ -287,7 +287,6 @@ void TissueVolume::addForces(const Vec3* x, Vec3* f) {
 void TissueVolume::linearize(const Vec3* x, Vec3* f, Mat3* diag) {
   FaceTissue& T = t_;
   volumeGradients(T, x, T.grad);
-  gatherScaled(T, T.scalar, T.grad, f);
   T.node_grad.resize(T.corners.size());
   parallelFor(static_cast<Index>(T.corner_start.size() - 1), [&](Index i) {
     const int first = T.corner_start[static_cast<std::size_t>(i)], last = T.corner_start[static_cast<std::size_t>(i) + 1];
@@ -298,6 +297,8 @@ void TissueVolume::linearize(const Vec3* x, Vec3* f, Mat3* diag) {
       T.node_grad[static_cast<std::size_t>(q)] = g;
     }
   });
+  // The force: T.scalar holds each element's −κ/V₀·(V − V₀), gathered as a product's is.
+  parallelBlocks(static_cast<Index>(T.corner_start.size() - 1), 256, [&](Index i0, Index i1) { addProductTo(i0, i1, f); });
 }
 
 void TissueVolume::addProduct(const Vec3* p, double s, Vec3* out) {
