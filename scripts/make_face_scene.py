@@ -28,7 +28,9 @@ END = CUT + 2.8
 
 
 def activations():
-    keys = [{"time": 0.0, "preset": "happiness", "amount": 0.0}]
+    # At rest while the head turns to the camera (keys are eased between: without the key at
+    # START the first smile would creep in over the whole turn).
+    keys = [{"time": 0.0, "preset": "happiness", "amount": 0.0}, {"time": START, "preset": "happiness", "amount": 0.0}]
     for i, name in enumerate(EXPRESSIONS):
         t0 = START + EACH * i
         keys.append({"time": round(t0 + 0.45, 3), "preset": name, "amount": 1.0})

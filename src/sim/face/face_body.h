@@ -54,6 +54,9 @@ class FaceBody final : public SpringNetworkBody {
   Eye eye(int e) const;
   // The head-frame point q moved by the jaw now, taking `share` (0..1) of its motion.
   Vec3 jawMoved(double share, const Vec3& q) const;
+  // The skin as drawn: reel's head finer than it is simulated (SkinDetail, with its texture
+  // coordinates), a user's mesh as it is.
+  std::shared_ptr<TriMesh> skinMesh() const;
   // The height of each moving node above its skull point (m; negative: through the skull).
   double lowestAboveSkull() const;
   // Mouth opening: the distance between the lips at the midline, m (0 without a mouth).
@@ -96,6 +99,8 @@ class FaceBody final : public SpringNetworkBody {
   // reel's head's skin, made once when first drawn (drawing is const; the flag makes it once).
   mutable std::once_flag skin_once_;
   mutable std::shared_ptr<const Image> skin_texture_;
+  mutable std::once_flag detail_once_;
+  mutable SkinDetail detail_;
   double t_ = 0.0;           // time of the last pose, s
   Mat3 R_ = Mat3::Identity();
   double jaw_ = 0.0;

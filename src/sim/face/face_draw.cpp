@@ -14,6 +14,11 @@ namespace {
 
 // Skin is lit with wrap lighting: light scattered beneath it softens the terminator.
 constexpr double kSkinWrap = 0.5;
+// How finely reel's head is drawn: each quad of the simulated skin split 4 x 4 (about 1 mm on the
+// face at the default resolution).
+constexpr int kSkinDetailLevel = 4;
+// Passes that relax the tissue's ripples out of the skin drawn (SkinDetail::place).
+constexpr int kSkinSmoothing = 2;
 
 
 // A unit eye looking along +z: white, an iris and a pupil by the angle from +z.
@@ -58,11 +63,26 @@ void FaceBody::draw(DrawList& out) const {
   else drawSkin(out);
 }
 
+std::shared_ptr<TriMesh> FaceBody::skinMesh() const {
+  const std::size_t n = surface_.size();
+  const auto& x = net_.state.x;
+  if (!surface_.generated) return smoothMesh(x, 0, n, surface_.tris);
+  // reel's head is drawn finer than it is simulated (SkinDetail), made once when first drawn.
+  std::call_once(detail_once_, [&] { detail_ = makeSkinDetail(surface_, kSkinDetailLevel); });
+  std::vector<Vec3> p, posed(n);
+  for (std::size_t k = 0; k < n; ++k) posed[k] = boneToWorld(k, surface_.skin[k]);
+  detail_.place(surface_.skin, posed, std::span<const Vec3>(x.data(), n), surface_.tris, kSkinSmoothing, p);
+  auto mesh = smoothMesh(p, 0, p.size(), detail_.tris);
+  for (std::size_t k = 0; k < p.size(); ++k) mesh->uvs[2 * k] = detail_.points[k].uv[0], mesh->uvs[2 * k + 1] = detail_.points[k].uv[1];
+  return mesh;
+}
+
 void FaceBody::drawSkin(DrawList& out) const {
   const std::size_t n = surface_.size();
   const auto& x = net_.state.x;
   const auto& tris = surface_.tris;
-  auto mesh = smoothMesh(x, 0, n, tris);
+  std::shared_ptr<TriMesh> mesh = skinMesh();
+  const bool fine = surface_.generated;
   DrawMesh skin;
   skin.material = drawMaterial(material_);
   skin.material.wrap = kSkinWrap;
@@ -86,10 +106,12 @@ void FaceBody::drawSkin(DrawList& out) const {
     // reel's head: its skin's texture, made once when first drawn.
     std::call_once(skin_once_, [&] { skin_texture_ = skinTexture(surface_); });
     skin.material.texture = skin_texture_;
-    for (std::size_t k = 0; k < n; ++k) mesh->uvs[2 * k] = surface_.uv[k][0], mesh->uvs[2 * k + 1] = surface_.uv[k][1];
   }
-  for (std::size_t k = 0; k < n; ++k) {
-    const Vec3 c = (surface_.generated ? Vec3::Ones() : surface_.color[k]) * crease(k);
+  std::vector<double> shade(n);
+  for (std::size_t k = 0; k < n; ++k) shade[k] = crease(k);
+  for (std::size_t k = 0; k < mesh->vertexCount(); ++k) {
+    const Vec3 c = fine ? Vec3(Vec3::Ones() * detail_.blend(detail_.points[k], shade))
+                        : Vec3((surface_.generated ? Vec3::Ones() : surface_.color[k]) * shade[k]);
     for (int i = 0; i < 3; ++i) mesh->colors.push_back(static_cast<float>(c[i]));
   }
   skin.mesh = std::move(mesh);
@@ -123,7 +145,8 @@ void FaceBody::drawSkin(DrawList& out) const {
   {
     auto inside = std::make_shared<TriMesh>(*skin_mesh);
     // 1.5 mm in, so it never shows through the skin.
-    for (std::size_t i = 0; i < inside->positions.size(); ++i) inside->positions[i] -= static_cast<float>(0.0015 * surface_.scale) * inside->normals[i];
+    const double depth = 0.0015 * surface_.scale;
+    for (std::size_t i = 0; i < inside->positions.size(); ++i) inside->positions[i] -= static_cast<float>(depth) * inside->normals[i];
     for (float& v : inside->normals) v = -v;
     for (std::size_t t = 0; t + 2 < inside->indices.size(); t += 3) std::swap(inside->indices[t + 1], inside->indices[t + 2]);
     inside->uvs.clear();

@@ -14,6 +14,9 @@
 namespace reel {
 namespace {
 
+using head::atIndex;
+using head::direction;
+
 // Rings of the neck below the rays' last, and the polar angle of that last ring (rad).
 constexpr int kNeckRings = 4;
 constexpr double kRayEnd = 2.875;
@@ -54,15 +57,6 @@ std::vector<double> warped(int n, double a0, double a1, const std::function<doub
 double bump(double a, double c, double w) {
   const double d = std::abs(a - c) / w;
   return d >= 1 ? 0.0 : 0.5 * (1 + std::cos(kPi * d));
-}
-
-Vec3 direction(double th, double ph) { return Vec3(std::sin(th) * std::sin(ph), std::cos(th), std::sin(th) * std::cos(ph)); }
-
-// The value of `a` (sampled at integer indices) at fractional index f.
-double atIndex(const std::vector<double>& a, double f) {
-  const double c = std::clamp(f, 0.0, static_cast<double>(a.size() - 1));
-  const auto i = std::min(static_cast<std::size_t>(c), a.size() - 2);
-  return a[i] + (c - static_cast<double>(i)) * (a[i + 1] - a[i]);
 }
 
 // The polar angle at azimuth ph whose base point lies as high as the midline's does at th0: the
@@ -135,13 +129,9 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
     const head::Features f = features(p, d, ym, look);
     // The skin takes every feature; the skull its own, the tissue's thickness below (thicker
     // under the nose and lips, which are soft tissue only; never above the skin). Over the face
-    // they stand out level (a nose or lips pushed out along the ray would sink), so its rows
-    // stay level and the lips' parting straight.
-    // (From the eyes down to the chin: not under the jaw or over the brow, where the surface
-    // turns down or up and level columns of tissue would lean over.)
-    const double front = smoothstep(0.15, 0.6, d.z()) * smoothstep(-0.8, -0.62, d.y()) * smoothstep(0.15, 0.0, d.y());
-    const Vec3 level = Vec3(d.x(), 0.0, d.z()).normalized();
-    const Vec3 e = front > 0 ? Vec3((d + front * (level - d)).normalized()) : d;
+    // they stand out level (head::featureDirection), so its rows stay level and the lips'
+    // parting straight.
+    const Vec3 e = head::featureDirection(d);
     out.skin.push_back(s * (p + (f.bone + f.soft) * e));
     // The tissue's thickness is measured along the head's normal (a column along the ray from
     // the centre leans over where the surface meets the ray at a slant, under the chin by 45°:
@@ -262,6 +252,13 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
     const double z = baseRadius(d, look) * d.z();
     out.eye[static_cast<std::size_t>(e)] = s * Vec3(x, head::kEyeY, z - 0.0025 - head::kEyeRadius);
   }
+  out.columns = C;
+  out.rays = R;
+  out.rows = rings;
+  out.parting_row = jm;
+  out.polar = std::move(polar);
+  out.lower_copy.resize(n);
+  for (std::size_t k = 0; k < n; ++k) out.lower_copy[k] = low(static_cast<std::uint32_t>(k));
   out.mouth = out.skin[ring(jm, C / 2)];  // the midline: column C/2 faces +z
   out.mouth_width = 2 * head::kMouthHalf * s;
   out.jaw_hinge = s * Vec3(0, -0.02, -0.015);

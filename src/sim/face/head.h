@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,13 @@ struct FaceSurface {
   std::vector<std::array<float, 2>> uv;
   std::vector<double> theta, phi;
   double parting_y = 0.0;
+  // reel's head: its grid, for drawing it finer (makeSkinDetail): columns around, the rows of
+  // rays (rings 1..rays-1 below the crown's vertex), all rows (the neck's rings below the rays',
+  // then the bottom's vertex), the parting's row, each ring's polar angle per column (row-major,
+  // C a row), and the vertex each vertex's lower-lip copy is (itself where it has none).
+  int columns = 0, rays = 0, rows = 0, parting_row = 0;
+  std::vector<double> polar;
+  std::vector<std::uint32_t> lower_copy;
   FaceLook look;
   // reel's head: what is drawn but not simulated, in the head's frame: the ears (per-vertex
   // colours; they turn with the skull) and the shoulders in a sweater (they turn a third as far).
@@ -54,6 +62,32 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
 // face): skin, lips, brows, hair, pores (an empty image for a user's mesh).
 inline constexpr int kSkinTexels = 1024;
 std::shared_ptr<const Image> skinTexture(const FaceSurface& s);
+
+// reel's head drawn finer than it is simulated: each quad of its grid split level x level, each
+// fine point the bilinear blend of its quad's four corners plus an offset, the head's own shape
+// there less that blend: what the simulated mesh is too coarse to hold (the nose's wings and
+// nostrils, the lips' border, the fold under the lower lip) rides on the tissue's motion.
+struct SkinDetail {
+  struct Point {
+    std::array<std::uint32_t, 4> from{};  // the corners (vertices of the simulated skin)
+    std::array<double, 4> w{};            // their weights (sum 1)
+    Vec3 offset{0, 0, 0};                 // in the head's rest frame, m
+    std::array<float, 2> uv{};
+  };
+  std::vector<Point> points;
+  std::vector<std::uint32_t> tris;  // counter-clockwise from outside
+  // The fine points for the simulated skin now (`now`; `rest` in the head's frame, `posed` the
+  // rest carried by the skull as it is posed now, triangles `coarse_tris`): each offset turned by
+  // its corners' rotations from rest (a frame of the normal and an edge at each corner) and
+  // blended as the corners are. The corners first lose the ripples a grid step or two long that
+  // the tissue makes where a muscle bunches it (the mesh buckling between its nodes): `smoothing`
+  // passes relax each corner's displacement from `posed` halfway toward its neighbours' mean.
+  void place(std::span<const Vec3> rest, std::span<const Vec3> posed, std::span<const Vec3> now,
+             const std::vector<std::uint32_t>& coarse_tris, int smoothing, std::vector<Vec3>& out) const;
+  // A per-vertex value of the simulated skin at the fine points.
+  double blend(const Point& p, std::span<const double> value) const;
+};
+SkinDetail makeSkinDetail(const FaceSurface& s, int level);
 
 // The ears and the shoulders of reel's head at scale (height / 0.24), in the head's frame
 // (head_parts.cpp).

@@ -212,13 +212,20 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   const double wu = std::pow(std::max(0.0, 1 - sq(X / 0.028)), 0.7), wl = std::pow(std::max(0.0, 1 - sq(X / 0.026)), 0.7);
   f.soft += full * 0.0045 * wu * std::exp(-0.5 * sq((Y - (ym + 0.0045)) / 0.0038));
   f.soft += full * 0.0065 * wl * std::exp(-0.5 * sq((Y - (ym - 0.0055)) / 0.0048));
-  f.soft -= 0.0018 * gauss(X, Y, 0, ym, 0.026, 0.0013);
+  f.soft -= 0.0018 * gauss(X, Y, 0, ym, 0.026, 0.0013) * smoothstep(0.03, 0.022, std::abs(X));  // the parting, the mouth's width
   f.soft -= 0.0022 * gauss(X, Y, 0, ym - 0.0165, 0.015, 0.004);
   f.bone *= front;
   f.soft *= front;
   // Hair stands off the scalp.
   f.soft += 0.004 * hairCover(p, d, 0.012);
   return f;
+}
+
+Vec3 featureDirection(const Vec3& d) {
+  const double front = smoothstep(0.15, 0.6, d.z()) * smoothstep(-0.8, -0.62, d.y()) * smoothstep(0.15, 0.0, d.y());
+  if (front <= 0) return d;
+  const Vec3 level = Vec3(d.x(), 0.0, d.z()).normalized();
+  return (d + front * (level - d)).normalized();
 }
 
 Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {

@@ -8,10 +8,24 @@
 // of the way from the nose's base to the chin; mouth 50 mm wide, nose 35 mm.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 #include "core/scene/face.h"
 #include "core/types.h"
 
 namespace reel::head {
+
+// The unit direction at polar angle th from the crown (+y) and azimuth ph from the front (+z).
+inline Vec3 direction(double th, double ph) { return Vec3(std::sin(th) * std::sin(ph), std::cos(th), std::sin(th) * std::cos(ph)); }
+
+// The value of `a` (sampled at integer indices) at fractional index f.
+inline double atIndex(const std::vector<double>& a, double f) {
+  const double c = std::clamp(f, 0.0, static_cast<double>(a.size() - 1));
+  const auto i = std::min(static_cast<std::size_t>(c), a.size() - 2);
+  return a[i] + (c - static_cast<double>(i)) * (a[i + 1] - a[i]);
+}
 
 // Landmarks at height 0.24 m.
 inline constexpr double kEyeX = 0.032, kEyeY = 0.0, kEyeRadius = 0.012;
@@ -35,6 +49,16 @@ struct Features {
   double bone = 0.0, soft = 0.0;
 };
 Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look);
+// The direction the features stand out along at a base point whose ray is d: the ray, but made
+// level over the face from the eyes to the chin (a nose or lips pushed out along a ray that
+// points down would sink, and the face's rows would not stay level). Not under the jaw or over
+// the brow, where the surface turns down or up and level columns of tissue would lean over.
+Vec3 featureDirection(const Vec3& d);
+// The skin at base point p (ray d) with every feature, m at height 0.24 m.
+inline Vec3 skinPoint(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
+  const Features f = features(p, d, ym, look);
+  return p + (f.bone + f.soft) * featureDirection(d);
+}
 
 // The skin's albedo (linear rgb) at the base point p, direction d: skin with its redness, pores
 // and mottling, the lips' vermilion, brows, hair, nostrils.

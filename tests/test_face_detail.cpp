@@ -1,0 +1,126 @@
+// reel's head drawn finer than it is simulated (SkinDetail): the fine skin holds the head's own
+// shape where the simulated mesh is too coarse (the nose's tip, the lips), keeps the skin's
+// topology (closed but for the lips' parting), and follows the tissue: carried rigidly with the
+// head, a uniform move kept, the tissue's grid-long ripples smoothed out.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <map>
+#include <utility>
+
+#include "core/math.h"
+#include "sim/face/head.h"
+#include "sim/face/head_shape.h"
+
+using namespace reel;
+
+namespace {
+
+constexpr int kLevel = 4;
+
+// The undirected edges used by one triangle only, and whether any directed edge is used twice.
+std::pair<int, bool> openEdges(const std::vector<std::uint32_t>& tris) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  for (std::size_t t = 0; t + 2 < tris.size(); t += 3)
+    for (int e = 0; e < 3; ++e) ++directed[{tris[t + static_cast<std::size_t>(e)], tris[t + static_cast<std::size_t>((e + 1) % 3)]}];
+  int open = 0;
+  bool twice = false;
+  for (const auto& [e, count] : directed) {
+    twice = twice || count > 1;
+    if (!directed.count({e.second, e.first})) ++open;
+  }
+  return {open, twice};
+}
+
+std::vector<Vec3> placed(const SkinDetail& d, const FaceSurface& s, const std::vector<Vec3>& posed, const std::vector<Vec3>& now,
+                         int smoothing = 2) {
+  std::vector<Vec3> out;
+  d.place(s.skin, posed, now, s.tris, smoothing, out);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("face: the skin drawn finer holds the head's shape where the simulated mesh is too coarse") {
+  const FaceSurface s = makeHead(0.24, {64, 40}, 0.008);
+  const SkinDetail d = makeSkinDetail(s, kLevel);
+  REQUIRE(!d.points.empty());
+  // The skin's topology: no triangle turned over against its neighbour, closed but for the lips'
+  // parting, whose every edge is split in kLevel.
+  const auto [coarse_open, coarse_twice] = openEdges(s.tris);
+  const auto [fine_open, fine_twice] = openEdges(d.tris);
+  MESSAGE("edges open at the parting: " << coarse_open << " simulated, " << fine_open << " drawn; "
+                                        << d.points.size() << " points drawn for " << s.size());
+  REQUIRE(coarse_open > 0);
+  CHECK(!coarse_twice);
+  CHECK(!fine_twice);
+  CHECK(fine_open == kLevel * coarse_open);
+  // At rest, the nose's tip: the most forward point of the head's shape along the midline (its
+  // exact surface, sampled every 0.006°), of the skin drawn, and of the simulated skin.
+  const std::vector<Vec3> fine = placed(d, s, s.skin, s.skin);
+  double exact = 0, drawn = 0, simulated = 0;
+  for (double th = 1.3; th < 2.1; th += 1e-4) {
+    const Vec3 dir = head::direction(th, 0.0);
+    exact = std::max(exact, s.scale * head::skinPoint(head::baseRadius(dir, s.look) * dir, dir, s.parting_y, s.look).z());
+  }
+  for (const Vec3& p : fine)
+    if (std::abs(p.x()) < 1e-6) drawn = std::max(drawn, p.z());
+  for (const Vec3& p : s.skin)
+    if (std::abs(p.x()) < 1e-6) simulated = std::max(simulated, p.z());
+  MESSAGE("the nose's tip: " << exact << " m forward, drawn " << drawn << ", simulated " << simulated);
+  CHECK(std::abs(drawn - exact) < 2e-5);
+  CHECK(exact - simulated > 5 * std::abs(drawn - exact));
+  // Over the face, how far the simulated mesh (its triangles' blend) passes from the head's shape:
+  // the detail it cannot hold (the nose's wings, nostrils, the lips' border).
+  double missed = 0;
+  for (std::size_t k = 0; k < fine.size(); ++k)
+    if (fine[k].z() > 0.05) missed = std::max(missed, d.points[k].offset.norm());
+  MESSAGE("the simulated mesh misses the face's shape by up to " << missed * 1e3 << " mm");
+  CHECK(missed > 1e-3);
+  // The simulated skin's own vertices are among the fine points, where they are.
+  int found = 0;
+  for (const Vec3& p : s.skin)
+    for (const Vec3& q : fine)
+      if ((p - q).norm() < 1e-9) {
+        ++found;
+        break;
+      }
+  CHECK(found == static_cast<int>(s.size()));
+}
+
+TEST_CASE("face: the skin drawn follows the tissue: rigidly with the head, a uniform move kept, ripples smoothed") {
+  const FaceSurface s = makeHead(0.24, {48, 32}, 0.008);
+  const SkinDetail d = makeSkinDetail(s, kLevel);
+  const std::vector<Vec3> rest = placed(d, s, s.skin, s.skin);
+  const Mat3 R = rotationFromEulerDeg(Vec3(20, -35, 10));
+  const Vec3 t(0.3, -0.1, 2.0), shift(0.002, -0.001, 0.003);
+  std::vector<Vec3> posed(s.size()), moved(s.size());
+  for (std::size_t k = 0; k < s.size(); ++k) posed[k] = R * s.skin[k] + t, moved[k] = posed[k] + shift;
+  // Carried with the head: each fine point where the head's motion takes it.
+  const std::vector<Vec3> turned = placed(d, s, posed, posed);
+  double rigid = 0, uniform = 0;
+  const std::vector<Vec3> shifted = placed(d, s, posed, moved);
+  for (std::size_t k = 0; k < rest.size(); ++k) {
+    rigid = std::max(rigid, (turned[k] - (R * rest[k] + t)).norm());
+    uniform = std::max(uniform, (shifted[k] - (R * rest[k] + t + shift)).norm());
+  }
+  MESSAGE("largest miss, turned with the head: " << rigid << " m; moved 3.7 mm with it: " << uniform << " m");
+  CHECK(rigid < 1e-9);
+  CHECK(uniform < 1e-9);
+  // A ripple one column long (every other column 0.5 mm out, the rest 0.5 mm in, over the face):
+  // drawn at a ninth of it or less after two passes, and as it is without them.
+  std::vector<Vec3> rippled = posed;
+  for (std::size_t k = 1; k + 1 < s.size(); ++k) {
+    const int column = static_cast<int>((k - 1) % static_cast<std::size_t>(s.columns));
+    if (s.skin[k].z() > 0.03) rippled[k] += (column % 2 ? 5e-4 : -5e-4) * (R * s.skin[k].normalized());
+  }
+  auto rms = [&](const std::vector<Vec3>& a) {
+    double sum = 0;
+    for (std::size_t k = 0; k < a.size(); ++k) sum += (a[k] - turned[k]).squaredNorm();
+    return std::sqrt(sum / static_cast<double>(a.size()));
+  };
+  const double raw = rms(placed(d, s, posed, rippled, 0)), smooth = rms(placed(d, s, posed, rippled, 2));
+  MESSAGE("the ripple drawn: " << raw << " m rms as simulated, " << smooth << " m smoothed");
+  CHECK(raw > 1e-4);
+  CHECK(smooth < raw / 5);
+}
