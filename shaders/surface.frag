@@ -186,7 +186,10 @@ vec3 irradiance(vec3 n) {  // Ramamoorthi & Hanrahan 2001: irradiance / π from 
 // Skin: light wrapped past the terminator is what scattered under it, which the head's shadow of
 // itself there does not stop; the shadow map counts only where the surface faces the light (a
 // nose's shadow on the cheek stays), else its edge draws a seam along the terminator.
-#define LIT(s, L) mix(1.0, (s), smoothstep(-0.05, 0.3, dot(n, (L))))
+// A shadow's edge on skin is warm: red light, scattered farthest under it, reaches furthest into
+// the shadow, blue least (the penumbra reddens, as in d'Eon & Luebke's renders, 2007): each
+// colour takes the shadow's fraction to a power below 1 in the order of the profile's widths.
+#define LIT(s, L) mix(vec3(1.0), pow(vec3(s), vec3(0.6, 0.85, 1.0)), smoothstep(-0.05, 0.3, dot(n, (L))))
 #else
 #define LIT(s, L) (s)
 #endif

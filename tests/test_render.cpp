@@ -606,3 +606,47 @@ TEST_CASE("wrap lighting: the diffuse term (n·l + w)/(1 + w) per colour (w, 0.5
     }
   }
 }
+
+TEST_CASE("wrap lighting: a shadow's penumbra on skin reddens (red reaches furthest into it), a plain surface's stays grey") {
+  // A grey floor lit from above by a sun of some size, a box held over it: across the shadow's soft
+  // edge, red keeps more of its light than blue on skin, and the same on a plain surface.
+  const int W = 160, H = 96;
+  DirectRenderer dr(W, H, 1);
+  auto draw = [&](double wrap) {
+    DrawList list = ambientList(Vec3(0, 3, 0.01), Vec3(0, 0, 0));
+    list.lights[0].intensity = 0.0;
+    LightDesc sun;
+    sun.direction = Vec3(0, -1, 0);
+    sun.shadows = true;
+    sun.size = 6.0;  // degrees: a wide penumbra
+    list.lights.push_back(sun);
+    DrawMesh floor{std::make_shared<const TriMesh>(makeQuad(6, 6)), false, DrawMaterial{}};
+    floor.material.color = Vec3(0.5, 0.5, 0.5);
+    floor.material.wrap = wrap;
+    list.meshes.push_back(floor);
+    DrawInstances above;
+    above.mesh = std::make_shared<const TriMesh>(makeBox(Vec3(1, 0.1, 1)));
+    addCopy(above, Mat3::Identity(), 1.0, Vec3(-1.0, 2.0, 0));
+    list.instances.push_back(above);
+    return dr.draw(list);
+  };
+  for (const double wrap : {0.5, 0.0}) {
+    CAPTURE(wrap);
+    const Image img = draw(wrap);
+    // Along the row through the middle: the lit floor's values at the right edge, the umbra's
+    // under the box; the largest lead of red's share of its light over blue's in between.
+    const int y = H / 2;
+    const std::uint8_t* lit = img.pixel(W - 4, y);
+    int penumbra = 0;
+    double lead = 0.0;
+    for (int x = 0; x < W; ++x) {
+      const std::uint8_t* p = img.pixel(x, y);
+      const double r = p[0] / double(lit[0]), b = p[2] / double(lit[2]);
+      if (b > 0.1 && b < 0.9) ++penumbra, lead = std::max(lead, r - b);
+    }
+    MESSAGE("penumbra " << penumbra << " px, red's share ahead of blue's by up to " << lead);
+    REQUIRE(penumbra >= 3);
+    if (wrap > 0) CHECK(lead > 0.1);
+    else CHECK(lead < 0.03);
+  }
+}

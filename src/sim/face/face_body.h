@@ -101,6 +101,7 @@ class FaceBody final : public SpringNetworkBody {
   mutable std::shared_ptr<const Image> skin_texture_;
   mutable std::once_flag detail_once_;
   mutable SkinDetail detail_;
+  mutable std::vector<Vec3> detail_rest_;  // its points at rest, in the head's frame
   double t_ = 0.0;           // time of the last pose, s
   Mat3 R_ = Mat3::Identity();
   double jaw_ = 0.0;

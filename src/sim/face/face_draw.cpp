@@ -8,6 +8,7 @@
 #include "core/math.h"
 #include "sim/draw_material.h"
 #include "sim/face/face_body.h"
+#include "sim/face/head_shape.h"
 
 namespace reel {
 namespace {
@@ -18,7 +19,7 @@ constexpr double kSkinWrap = 0.5;
 // face at the default resolution).
 constexpr int kSkinDetailLevel = 4;
 // Passes that relax the tissue's ripples out of the skin drawn (SkinDetail::place).
-constexpr int kSkinSmoothing = 2;
+constexpr int kSkinSmoothing = 4;
 
 
 // A unit eye looking along +z: white, an iris and a pupil by the angle from +z.
@@ -32,7 +33,7 @@ std::shared_ptr<const TriMesh> eyeMesh(const Vec3& iris) {
     // The sclera: off-white, greying toward the back (less lit, veined) and darkening into a
     // limbal ring at the iris's edge.
     const double from = std::acos(std::clamp(z, -1.0, 1.0));
-    Vec3 c = Vec3(0.66, 0.62, 0.58) * (0.75 + 0.25 * std::clamp(z + 0.3, 0.0, 1.0));
+    Vec3 c = Vec3(0.56, 0.52, 0.49) * (0.75 + 0.25 * std::clamp(z + 0.3, 0.0, 1.0));
     if (from < 0.2) c = Vec3(0.015, 0.015, 0.015);
     else if (from < 0.5) c = iris * (0.7 + 0.6 * (from - 0.2) / 0.3) * (from > 0.44 ? 0.55 : 1.0);
     for (int k = 0; k < 3; ++k) m->colors[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(c[k]);
@@ -68,7 +69,10 @@ std::shared_ptr<TriMesh> FaceBody::skinMesh() const {
   const auto& x = net_.state.x;
   if (!surface_.generated) return smoothMesh(x, 0, n, surface_.tris);
   // reel's head is drawn finer than it is simulated (SkinDetail), made once when first drawn.
-  std::call_once(detail_once_, [&] { detail_ = makeSkinDetail(surface_, kSkinDetailLevel); });
+  std::call_once(detail_once_, [&] {
+    detail_ = makeSkinDetail(surface_, kSkinDetailLevel);
+    detail_.place(surface_.skin, surface_.skin, surface_.skin, surface_.tris, 0, detail_rest_);
+  });
   std::vector<Vec3> p, posed(n);
   for (std::size_t k = 0; k < n; ++k) posed[k] = boneToWorld(k, surface_.skin[k]);
   detail_.place(surface_.skin, posed, std::span<const Vec3>(x.data(), n), surface_.tris, kSkinSmoothing, p);
@@ -78,40 +82,36 @@ std::shared_ptr<TriMesh> FaceBody::skinMesh() const {
 }
 
 void FaceBody::drawSkin(DrawList& out) const {
-  const std::size_t n = surface_.size();
-  const auto& x = net_.state.x;
-  const auto& tris = surface_.tris;
   std::shared_ptr<TriMesh> mesh = skinMesh();
   const bool fine = surface_.generated;
   DrawMesh skin;
   skin.material = drawMaterial(material_);
   skin.material.wrap = kSkinWrap;
   // Wrinkles, a wrinkle map weighted by the tissue's strain (after Oat 2007, "Animated wrinkle
-  // maps", SIGGRAPH course; here the strain itself is the map): where the skin's area has shrunk
-  // (the brows drawn together, the cheeks pushed up against the eyes) its folds shade it darker, from 6% to 30% of area lost (a wrinkle map
-  // driven by the tissue's strain; the folds themselves are the tissue's own).
-  std::vector<double> now(n, 0.0), rest(n, 0.0);
-  for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
-    const std::uint32_t a = tris[t], b = tris[t + 1], c = tris[t + 2];
-    const double an = (x[b] - x[a]).cross(x[c] - x[a]).norm();
-    const double ar = (surface_.skin[b] - surface_.skin[a]).cross(surface_.skin[c] - surface_.skin[a]).norm();
+  // maps", SIGGRAPH course; here the strain itself is the map): where the skin drawn has shrunk in
+  // area (the brows drawn together, the cheeks pushed up against the eyes) its folds shade it
+  // darker, from 6% to 30% of area lost; the folds themselves are the tissue's own.
+  const std::size_t nv = mesh->vertexCount();
+  const std::vector<Vec3>& rest_points = fine ? detail_rest_ : surface_.skin;
+  auto P = [&](std::uint32_t k) {
+    return Vec3(mesh->positions[3 * k], mesh->positions[3 * k + 1], mesh->positions[3 * k + 2]);
+  };
+  std::vector<double> now(nv, 0.0), rest(nv, 0.0);
+  for (std::size_t t = 0; t + 2 < mesh->indices.size(); t += 3) {
+    const std::uint32_t a = mesh->indices[t], b = mesh->indices[t + 1], c = mesh->indices[t + 2];
+    const double an = (P(b) - P(a)).cross(P(c) - P(a)).norm();
+    const double ar = (rest_points[b] - rest_points[a]).cross(rest_points[c] - rest_points[a]).norm();
     for (std::uint32_t v : {a, b, c}) now[v] += an, rest[v] += ar;
   }
-  auto crease = [&](std::size_t k) {
-    const double lost = rest[k] > 0 ? 1.0 - now[k] / rest[k] : 0.0;
-    const double t = std::clamp((lost - 0.06) / 0.24, 0.0, 1.0);
-    return 1.0 - 0.35 * t * t * (3 - 2 * t);
-  };
   if (surface_.generated) {
     // reel's head: its skin's texture, made once when first drawn.
     std::call_once(skin_once_, [&] { skin_texture_ = skinTexture(surface_); });
     skin.material.texture = skin_texture_;
   }
-  std::vector<double> shade(n);
-  for (std::size_t k = 0; k < n; ++k) shade[k] = crease(k);
-  for (std::size_t k = 0; k < mesh->vertexCount(); ++k) {
-    const Vec3 c = fine ? Vec3(Vec3::Ones() * detail_.blend(detail_.points[k], shade))
-                        : Vec3((surface_.generated ? Vec3::Ones() : surface_.color[k]) * shade[k]);
+  for (std::size_t k = 0; k < nv; ++k) {
+    const double lost = rest[k] > 0 ? 1.0 - now[k] / rest[k] : 0.0;
+    const double crease = 1.0 - 0.35 * head::smoothstep(0.06, 0.3, lost);
+    const Vec3 c = (surface_.generated ? Vec3::Ones() : surface_.color[k]) * crease;
     for (int i = 0; i < 3; ++i) mesh->colors.push_back(static_cast<float>(c[i]));
   }
   skin.mesh = std::move(mesh);
@@ -197,19 +197,33 @@ void FaceBody::drawSkin(DrawList& out) const {
     wet.casts_shadow = false;
     out.meshes.push_back({std::move(tongue), true, wet});
   }
-  // Eyes, turned toward the gaze target.
+  // Eyes, turned toward the gaze target, each shaded by its lids: the lids, their lashes and the
+  // brow above keep light from the eyeball near their edges and in the eye's corners (a white
+  // sclera lit evenly right up to the lids reads as a ball pasted on the face).
   static const std::shared_ptr<const TriMesh> kEye = eyeMesh(Vec3(0.12, 0.22, 0.35));
-  DrawInstances eyes;
-  eyes.mesh = desc_.iris_color == Vec3(0.12, 0.22, 0.35) ? kEye : eyeMesh(desc_.iris_color);
-  eyes.material = plain(Vec3(1, 1, 1), 0.6);
-  eyes.material.shininess = 80;
+  const std::shared_ptr<const TriMesh> eye_mesh = desc_.iris_color == Vec3(0.12, 0.22, 0.35) ? kEye : eyeMesh(desc_.iris_color);
+  DrawMaterial wet_eye = plain(Vec3(1, 1, 1), 0.6);
+  wet_eye.shininess = 80;
   for (int e = 0; e < 2; ++e) {
     const Eye ey = eye(e);
-    for (const Vec3& axis : {ey.right, ey.up, ey.ahead})
-      for (int k = 0; k < 3; ++k) eyes.transforms.push_back(static_cast<float>(ey.radius * axis[k]));
-    for (int k = 0; k < 3; ++k) eyes.transforms.push_back(static_cast<float>(ey.center[k]));
+    Mat3 B;
+    B << ey.right, ey.up, ey.ahead;
+    auto ball = std::make_shared<TriMesh>(*eye_mesh);
+    for (std::size_t v = 0; v < ball->vertexCount(); ++v) {
+      const Vec3 q(ball->positions[3 * v], ball->positions[3 * v + 1], ball->positions[3 * v + 2]);
+      const Vec3 d = B * q, h = R_.transpose() * d;  // the direction from the eye's centre, world and head
+      const double el = std::asin(std::clamp(h.y(), -1.0, 1.0)), az = std::abs(std::atan2(h.x(), h.z()));
+      using head::smoothstep;
+      const double shade = (0.4 + 0.6 * smoothstep(0.0, 0.5, ey.upper - el)) * (0.75 + 0.25 * smoothstep(0.0, 0.3, el - ey.lower)) *
+                           (0.7 + 0.3 * smoothstep(ey.lid_azimuth, ey.lid_azimuth - 0.6, az));
+      for (int k = 0; k < 3; ++k) {
+        ball->positions[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(ey.center[k] + ey.radius * d[k]);
+        ball->normals[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(d[k]);
+        ball->colors[3 * v + static_cast<std::size_t>(k)] *= static_cast<float>(shade);
+      }
+    }
+    out.meshes.push_back({std::move(ball), true, wet_eye});
   }
-  out.instances.push_back(std::move(eyes));
   // The lids' colours: the skin's tone, a shade darker, and the lash line at their edges.
   const Vec3 lid_tone = 0.93 * Vec3(0.57, 0.36, 0.28), lash_tone(0.07, 0.05, 0.04);
   auto lids = std::make_shared<TriMesh>();

@@ -16,6 +16,7 @@ namespace {
 
 using head::atIndex;
 using head::direction;
+using head::smoothstep;
 
 // Rings of the neck below the rays' last, and the polar angle of that last ring (rad).
 constexpr int kNeckRings = 4;
@@ -26,10 +27,6 @@ constexpr double kSkinPadU = 0.08, kSkinPadV = 0.02;
 
 double sq(double x) { return x * x; }
 
-double smoothstep(double e0, double e1, double x) {
-  const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
-  return t * t * (3 - 2 * t);
-}
 
 // n + 1 angles from a0 to a1 whose spacing follows 1 / density: equal steps of the density's
 // integral (so a region of density 3 gets three times the samples).

@@ -161,13 +161,13 @@ void SkinDetail::place(std::span<const Vec3> rest, std::span<const Vec3> posed, 
   out.resize(points.size());
   for (std::size_t k = 0; k < points.size(); ++k) {
     const Point& p = points[k];
-    Vec3 x = Vec3::Zero();
+    Vec3 q = Vec3::Zero();
     for (int c = 0; c < 4; ++c) {
       const std::uint32_t v = p.from[static_cast<std::size_t>(c)];
       const double w = p.w[static_cast<std::size_t>(c)];
-      if (w != 0) x += w * (now[v] + f1[v] * (f0[v].transpose() * p.offset));
+      if (w != 0) q += w * (now[v] + f1[v] * (f0[v].transpose() * p.offset));
     }
-    out[k] = x;
+    out[k] = q;
   }
 }
 

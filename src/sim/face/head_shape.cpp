@@ -14,10 +14,6 @@ namespace {
 
 double sq(double x) { return x * x; }
 
-double smoothstep(double e0, double e1, double x) {
-  const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
-  return t * t * (3 - 2 * t);
-}
 
 double gauss(double x, double y, double x0, double y0, double sx, double sy) {
   const double u = (x - x0) / sx, v = (y - y0) / sy;
