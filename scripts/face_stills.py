@@ -15,7 +15,7 @@ import tempfile
 
 EXPRESSIONS = ["happiness", "surprise", "sadness", "anger", "disgust", "fear"]
 LIGHTS = [{"type": "directional", "direction": [0.6, -0.5, -0.62], "color": [1.0, 0.93, 0.84], "intensity": 2.2,
-           "shadows": True, "angle_deg": 3},
+           "shadows": True, "angle_deg": 20},
           {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.8, 0.82, 0.9], "intensity": 0.15},
           {"type": "directional", "direction": [-0.3, -0.5, 0.9], "color": [0.9, 0.9, 1.0], "intensity": 1.0},
           {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.12}]

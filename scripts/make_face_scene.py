@@ -83,7 +83,7 @@ def main():
         # down toward the mouth's corner), a cool fill from the camera's side, and a rim from
         # behind that lifts the head off the background.
         "lights": [{"type": "directional", "direction": [0.6, -0.5, -0.62], "color": [1.0, 0.93, 0.84],
-                    "intensity": 2.2, "shadows": True, "angle_deg": 3},
+                    "intensity": 2.2, "shadows": True, "angle_deg": 20},
                    {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.8, 0.82, 0.9], "intensity": 0.15},
                    {"type": "directional", "direction": [-0.3, -0.5, 0.9], "color": [0.9, 0.9, 1.0], "intensity": 1.0},
                    {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.12}],

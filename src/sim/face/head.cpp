@@ -208,6 +208,7 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
   // of each bone point.
   const std::size_t n = out.skin.size();
   out.color.resize(n);
+  out.gloss.resize(n);
   out.jaw.resize(n);
   // The neck's cut end (its last ring and the cap) goes on into the body: held.
   out.held.assign(n, 0);
@@ -217,6 +218,7 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
     const Vec3 d = p.normalized();
     const double X = p.x(), Y = p.y();
     out.color[k] = head::skinColor(p, d, ym, look);
+    out.gloss[k] = head::skinGloss(p, d, ym);
     // The jaw (the mandible): everything below the parting at the front, fading into the cheeks
     // over 12 mm below the parting's level and toward the jaw's angles at the sides; under the
     // chin, from the mandible's lower border across the floor of the mouth to none where the

@@ -224,6 +224,17 @@ Vec3 featureDirection(const Vec3& d) {
   return (d + front * (level - d)).normalized();
 }
 
+double skinGloss(const Vec3& p, const Vec3& d, double ym) {
+  const double X = p.x(), Y = p.y(), ax = std::abs(X);
+  const double front = smoothstep(0.2, 0.5, d.z());
+  const double tzone = std::max({gauss(X, Y, 0, 0.035, 0.03, 0.02), gauss(X, Y, 0, -0.03, 0.008, 0.02), gauss(X, Y, 0, -0.1, 0.012, 0.008)});
+  const double lips = front * smoothstep(0.0004, -0.0004, Y - vermilionTop(X, ym)) * smoothstep(-0.0004, 0.0004, Y - vermilionBottom(X, ym)) *
+                      smoothstep(0.0275, 0.0255, ax);
+  const double brows = front * gauss(ax, Y, 0.034, 0.022, 0.02, 0.005);
+  const double g = 0.15 + 0.15 * front * tzone + 0.3 * lips;
+  return std::clamp(g * (1.0 - hairCover(p, d, 0.004)) * (1.0 - 0.8 * brows), 0.0, 1.0);
+}
+
 Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   const double X = p.x(), Y = p.y(), ax = std::abs(X);
   const bool front = d.z() > 0.2;

@@ -70,6 +70,11 @@ inline Vec3 skinPoint(const Vec3& p, const Vec3& d, double ym, const FaceLook& l
 // and mottling, the lips' vermilion, brows, hair, nostrils.
 Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look);
 
+// The skin's sheen at the base point p (0..1, the drawn skin's per-vertex gloss): the skin's own,
+// more over the forehead, the nose and the chin (the oily T-zone) and on the moist lips, none on
+// the hair (rough and dull) or the brows.
+double skinGloss(const Vec3& p, const Vec3& d, double ym);
+
 // How much hair covers the point (0..1), with a soft edge `soft` m wide.
 double hairCover(const Vec3& p, const Vec3& d, double soft);
 
