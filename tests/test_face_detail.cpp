@@ -16,7 +16,7 @@ using namespace reel;
 
 namespace {
 
-constexpr int kLevel = 4;
+constexpr int kLevel = 3;
 
 // The undirected edges used by one triangle only, and whether any directed edge is used twice.
 std::pair<int, bool> openEdges(const std::vector<std::uint32_t>& tris) {
@@ -68,8 +68,10 @@ TEST_CASE("face: the skin drawn finer holds the head's shape where the simulated
   for (const Vec3& p : s.skin)
     if (std::abs(p.x()) < 1e-6) simulated = std::max(simulated, p.z());
   MESSAGE("the nose's tip: " << exact << " m forward, drawn " << drawn << ", simulated " << simulated);
-  CHECK(std::abs(drawn - exact) < 2e-5);
-  CHECK(exact - simulated > 5 * std::abs(drawn - exact));
+  // (The fine points lie on the exact surface: none beyond its tip; the tip itself within half
+  // the simulated mesh's miss.)
+  CHECK(drawn <= exact + 1e-9);
+  CHECK(exact - drawn < 0.5 * (exact - simulated));
   // Over the face, how far the simulated mesh (its triangles' blend) passes from the head's shape:
   // the detail it cannot hold (the nose's wings, nostrils, the lips' border).
   double missed = 0;
@@ -123,4 +125,20 @@ TEST_CASE("face: the skin drawn follows the tissue: rigidly with the head, a uni
   MESSAGE("the ripple drawn: " << raw << " m rms as simulated, " << smooth << " m smoothed");
   CHECK(raw > 1e-4);
   CHECK(smooth < raw / 5);
+}
+
+TEST_CASE("face: the skin's sheen: none on the hair, the lips glossiest, the nose more than the cheek") {
+  const double ym = -0.07;
+  auto at = [&](double x, double y) {
+    // The base point of the default head straight out from its centre toward (x, y, front).
+    const Vec3 d = Vec3(x, y, 0.09).normalized();
+    return head::skinGloss(head::baseRadius(d, FaceLook{}) * d, d, ym);
+  };
+  const double crown = head::skinGloss(Vec3(0, 0.11, 0), Vec3(0, 1, 0), ym);
+  const double lips = at(0.0, ym - 0.005), nose = at(0.0, -0.03), cheek = at(0.045, -0.03);
+  MESSAGE("gloss: crown " << crown << ", lips " << lips << ", nose " << nose << ", cheek " << cheek);
+  CHECK(crown == 0.0);
+  CHECK(lips > nose);
+  CHECK(nose > cheek + 0.05);
+  CHECK(cheek > 0.1);
 }

@@ -96,6 +96,29 @@ TEST_CASE("face: the eyes stay behind the skin and the lids, looking anywhere, w
   MESSAGE("eyeball samples poking out, eyes open: " << open_bad << " (the skin drawn: " << open_drawn << ")");
   CHECK(open_bad == 0);
   CHECK(open_drawn == 0);
+  // The mouth's inside (the skin's inner side, drawn dark red) stays under the skin drawn: the
+  // middles of its triangles in the face's front half all lie inside it.
+  {
+    DrawList list;
+    f.draw(list);
+    const Skin skin = drawn(f);
+    int checked = 0, outside = 0;
+    for (const DrawMesh& m : list.meshes) {
+      if (!(m.material.color - Vec3(0.16, 0.03, 0.03)).isZero(1e-9)) continue;
+      // (Its triangles' middles: its corners lie on the exact shape, the middles cut across.)
+      const auto& ix = m.mesh->indices;
+      auto at = [&](std::size_t k) { return Vec3(m.mesh->positions[3 * ix[k]], m.mesh->positions[3 * ix[k] + 1], m.mesh->positions[3 * ix[k] + 2]); };
+      for (std::size_t t = 0; t + 2 < ix.size(); t += 3) {
+        const Vec3 p = (at(t) + at(t + 1) + at(t + 2)) / 3;
+        if ((f.rotation().transpose() * p).z() < 0.0) continue;  // the front half
+        ++checked;
+        if (winding(skin, p) < 0.5) ++outside;
+      }
+    }
+    MESSAGE("the mouth's inside: " << outside << " of " << checked << " points outside the skin drawn");
+    CHECK(checked > 100);
+    CHECK(outside == 0);
+  }
   run(w, 3);  // 1.3 s: shut, 0.1 s into the blink at 1.2 s
   REQUIRE(f.eye(0).upper < f.eye(0).lower);
   const int shut_bad = pokingOut(f, simulated(f), true), shut_drawn = pokingOut(f, drawn(f), true, 3);

@@ -55,8 +55,9 @@ class FaceBody final : public SpringNetworkBody {
   // The head-frame point q moved by the jaw now, taking `share` (0..1) of its motion.
   Vec3 jawMoved(double share, const Vec3& q) const;
   // The skin as drawn: reel's head finer than it is simulated (SkinDetail, with its texture
-  // coordinates), a user's mesh as it is.
-  std::shared_ptr<TriMesh> skinMesh() const;
+  // coordinates; `relaxed`, when given, receives the simulated skin's points the fine skin was
+  // placed over), a user's mesh as it is.
+  std::shared_ptr<TriMesh> skinMesh(std::vector<Vec3>* relaxed = nullptr) const;
   // The height of each moving node above its skull point (m; negative: through the skull).
   double lowestAboveSkull() const;
   // Mouth opening: the distance between the lips at the midline, m (0 without a mouth).

@@ -77,14 +77,20 @@ struct SkinDetail {
   };
   std::vector<Point> points;
   std::vector<std::uint32_t> tris;  // counter-clockwise from outside
+  // Per vertex of the simulated skin: how far the fine skin around it dips below its rest
+  // surface (m, along its normal; 0 where it does not): a surface inset from the simulated skin by
+  // more than this stays under the skin drawn.
+  std::vector<double> dip;
   // The fine points for the simulated skin now (`now`; `rest` in the head's frame, `posed` the
   // rest carried by the skull as it is posed now, triangles `coarse_tris`): each offset turned by
   // its corners' rotations from rest (a frame of the normal and an edge at each corner) and
   // blended as the corners are. The corners first lose the ripples a grid step or two long that
   // the tissue makes where a muscle bunches it (the mesh buckling between its nodes): `smoothing`
   // passes relax each corner's displacement from `posed` halfway toward its neighbours' mean.
+  // `relaxed`, when given, receives the simulated skin's points after those passes.
   void place(std::span<const Vec3> rest, std::span<const Vec3> posed, std::span<const Vec3> now,
-             const std::vector<std::uint32_t>& coarse_tris, int smoothing, std::vector<Vec3>& out) const;
+             const std::vector<std::uint32_t>& coarse_tris, int smoothing, std::vector<Vec3>& out,
+             std::vector<Vec3>* relaxed = nullptr) const;
   // A per-vertex value of the simulated skin at the fine points.
   double blend(const Point& p, std::span<const double> value) const;
 };

@@ -10,6 +10,31 @@
 
 namespace reel {
 
+namespace {
+
+// Each vertex's normal (area-weighted) and the frame of it and its first edge.
+std::vector<Mat3> frames(std::span<const Vec3> x, const std::vector<std::uint32_t>& tris) {
+  std::vector<Vec3> normal(x.size(), Vec3::Zero()), edge(x.size(), Vec3::Zero());
+  for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
+    const std::uint32_t a = tris[t], b = tris[t + 1], c = tris[t + 2];
+    const Vec3 an = (x[b] - x[a]).cross(x[c] - x[a]);
+    normal[a] += an, normal[b] += an, normal[c] += an;
+    for (auto [v, w] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}})
+      if (edge[v].isZero()) edge[v] = x[w] - x[v];
+  }
+  std::vector<Mat3> out(x.size());
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    const Vec3 n = unitOr(normal[k], Vec3::UnitY());
+    const Vec3 t = unitOr(edge[k] - edge[k].dot(n) * n, perpendicular(n));
+    out[k].col(0) = t;
+    out[k].col(1) = n.cross(t);
+    out[k].col(2) = n;
+  }
+  return out;
+}
+
+}  // namespace
+
 SkinDetail makeSkinDetail(const FaceSurface& s, int level) {
   SkinDetail out;
   const int C = s.columns, R = s.rays, rows = s.rows, m = std::max(level, 1);
@@ -107,36 +132,22 @@ SkinDetail makeSkinDetail(const FaceSurface& s, int level) {
       else if (I < W / 2) tri(a, d, b), tri(a, c, d);
       else tri(a, c, b), tri(b, c, d);
     }
+  // How far the fine skin dips below each simulated vertex's rest surface.
+  const std::vector<Mat3> f = frames(s.skin, s.tris);
+  out.dip.assign(s.size(), 0.0);
+  for (const SkinDetail::Point& p : out.points)
+    for (int c = 0; c < 4; ++c)
+      if (p.w[static_cast<std::size_t>(c)] > 0) {
+        const std::uint32_t v = p.from[static_cast<std::size_t>(c)];
+        out.dip[v] = std::max(out.dip[v], -p.offset.dot(f[v].col(2)));
+      }
   return out;
 }
 
-namespace {
-
-// Each vertex's normal (area-weighted) and the frame of it and its first edge.
-std::vector<Mat3> frames(std::span<const Vec3> x, const std::vector<std::uint32_t>& tris) {
-  std::vector<Vec3> normal(x.size(), Vec3::Zero()), edge(x.size(), Vec3::Zero());
-  for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
-    const std::uint32_t a = tris[t], b = tris[t + 1], c = tris[t + 2];
-    const Vec3 an = (x[b] - x[a]).cross(x[c] - x[a]);
-    normal[a] += an, normal[b] += an, normal[c] += an;
-    for (auto [v, w] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}})
-      if (edge[v].isZero()) edge[v] = x[w] - x[v];
-  }
-  std::vector<Mat3> out(x.size());
-  for (std::size_t k = 0; k < x.size(); ++k) {
-    const Vec3 n = unitOr(normal[k], Vec3::UnitY());
-    const Vec3 t = unitOr(edge[k] - edge[k].dot(n) * n, perpendicular(n));
-    out[k].col(0) = t;
-    out[k].col(1) = n.cross(t);
-    out[k].col(2) = n;
-  }
-  return out;
-}
-
-}  // namespace
 
 void SkinDetail::place(std::span<const Vec3> rest, std::span<const Vec3> posed, std::span<const Vec3> x,
-                       const std::vector<std::uint32_t>& coarse_tris, int smoothing, std::vector<Vec3>& out) const {
+                       const std::vector<std::uint32_t>& coarse_tris, int smoothing, std::vector<Vec3>& out,
+                       std::vector<Vec3>* relaxed) const {
   // Displacements from the posed rest, relaxed over the triangles' edges (each edge once per triangle
   // side: a neighbour's weight is how many triangles the two share).
   const std::size_t n = x.size();
@@ -157,6 +168,7 @@ void SkinDetail::place(std::span<const Vec3> rest, std::span<const Vec3> posed, 
   }
   if (smoothing > 0)
     for (std::size_t k = 0; k < n; ++k) now[k] = posed[k] + u[k];
+  if (relaxed) *relaxed = now;
   const std::vector<Mat3> f0 = frames(rest, coarse_tris), f1 = frames(now, coarse_tris);
   out.resize(points.size());
   for (std::size_t k = 0; k < points.size(); ++k) {
