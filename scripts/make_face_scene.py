@@ -80,12 +80,13 @@ def main():
                             {"time": round(CUT + HALF, 4), "position": layers[0], "target": layers[1]},
                             {"time": round(END, 3), "position": [-0.32, 0.05, 0.4], "target": layers[1]}]},
         # Loop lighting: the key high and to the far side of the face (the nose's shadow falls
-        # down toward the mouth's corner), a cool fill from the camera's side, and a rim from
-        # behind that lifts the head off the background.
+        # down toward the mouth's corner; a soft-box, so its edge is soft), a faint cool fill from
+        # the camera's side, and a rim from straight behind that lifts the head's outline off the
+        # background (from the side it lit a band down the cheek).
         "lights": [{"type": "directional", "direction": [0.6, -0.5, -0.62], "color": [1.0, 0.93, 0.84],
                     "intensity": 2.2, "shadows": True, "angle_deg": 20},
                    {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.8, 0.82, 0.9], "intensity": 0.15},
-                   {"type": "directional", "direction": [-0.3, -0.5, 0.9], "color": [0.9, 0.9, 1.0], "intensity": 1.0},
+                   {"type": "directional", "direction": [-0.1, -0.3, 1.0], "color": [0.9, 0.9, 1.0], "intensity": 0.5},
                    {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.12}],
         "bodies": [{
             "type": "face", "name": "face",

@@ -147,9 +147,10 @@ vec3 shade(vec3 n, vec3 view, vec3 l, vec3 radiance) {
 #ifdef WRAP
   // Wrap lighting (Green 2004, "Real-time approximations to subsurface scattering", GPU Gems):
   // the diffuse term reaches past the terminator, as light scattered under skin does, each colour
-  // as far as it travels in skin: red farthest, then green, then blue (the widths of d'Eon &
-  // Luebke's 2007 diffusion profile of skin), so the terminator turns warm as it does on a face.
-  vec3 w = u_wrap * vec3(1.0, 0.55, 0.4);
+  // as far as it travels in skin: red farthest, then green, then blue (in the order of the widths
+  // of d'Eon & Luebke's 2007 diffusion profile of skin, tempered: at their ratios, 1 : 0.55 : 0.4,
+  // a light grazing the cheek drew a red band down it), so the terminator turns warm as on a face.
+  vec3 w = u_wrap * vec3(1.0, 0.75, 0.6);
   vec3 c = g_kd * max((vec3(dot(n, l)) + w) / (1.0 + w), 0.0);
 #else
   vec3 c = g_kd * ndl;

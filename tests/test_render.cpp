@@ -580,7 +580,7 @@ TEST_CASE("per-vertex gloss adds a wet sheen where it is 1 and changes nothing w
   CHECK(int(wet.pixel(cx, cy)[0]) > int(dry.pixel(cx, cy)[0]) + 60);
 }
 
-TEST_CASE("wrap lighting: the diffuse term (n·l + w)/(1 + w) per colour (w, 0.55 w, 0.4 w), lit past the terminator; w = 0 is Lambert") {
+TEST_CASE("wrap lighting: the diffuse term (n·l + w)/(1 + w) per colour (w, 0.75 w, 0.6 w), lit past the terminator; w = 0 is Lambert") {
   const int W = 64, H = 48;
   DirectRenderer dr(W, H, 1);
   const double rho = 0.6;
@@ -597,7 +597,7 @@ TEST_CASE("wrap lighting: the diffuse term (n·l + w)/(1 + w) per colour (w, 0.5
     list.meshes = {d};
     const Image img = dr.draw(list);
     const std::uint8_t* p = img.pixel(W / 2, H / 2);
-    const double share[3] = {1.0, 0.55, 0.4};  // red travels farthest under skin
+    const double share[3] = {1.0, 0.75, 0.6};  // red travels farthest under skin
     for (int c = 0; c < 3; ++c) {
       const double w = wrap * share[c];
       const double lin = rho * std::max(0.0, (std::cos(t) + w) / (1.0 + w));
