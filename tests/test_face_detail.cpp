@@ -10,9 +10,14 @@
 
 #include "core/math.h"
 #include "sim/face/head.h"
+#include "face_scene.h"
+#include "helpers.h"
+#include "sim/face/face_body.h"
 #include "sim/face/head_shape.h"
+#include "sim/world.h"
 
 using namespace reel;
+using namespace reel::test;
 
 namespace {
 
@@ -141,4 +146,38 @@ TEST_CASE("face: the skin's sheen: none on the hair, the lips glossiest, the nos
   CHECK(lips > nose);
   CHECK(nose > cheek + 0.05);
   CHECK(cheek > 0.1);
+}
+
+TEST_CASE("face: wrinkles fold in as their muscles pull: the forehead in surprise, between the brows in anger, crow's feet in a smile") {
+  // The deepest fold of the skin drawn in a region of the head's rest frame (x, y in m, at 0.24 m).
+  struct Region {
+    const char* name;
+    double x0, x1, y0, y1;
+  };
+  const Region forehead{"forehead", -0.04, 0.04, 0.035, 0.065}, glabella{"glabella", -0.008, 0.008, 0.008, 0.03},
+      crows{"crow's feet", 0.05, 0.065, -0.01, 0.012};
+  auto deepest = [](const std::string& preset, const Region& r) {
+    World w = worldFromText(test::faceSceneText(R"(, "activations": [{"time": 0, "preset": ")" + preset +
+                                                    R"(", "amount": 0}, {"time": 0.4, "preset": ")" + preset + R"("}])",
+                                                0.6, "[48, 32]", "1e-3"));
+    run(w, 18);
+    const FaceBody& f = *w.first<FaceBody>();
+    std::vector<double> lost;
+    const auto mesh = f.skinMesh(nullptr, &lost);
+    const std::vector<double> depth = f.wrinkleDepth(lost);
+    double most = 0;
+    for (std::size_t k = 0; k < mesh->vertexCount(); ++k) {
+      const Vec3 p = f.rotation().transpose() * Vec3(mesh->positions[3 * k], mesh->positions[3 * k + 1], mesh->positions[3 * k + 2]);
+      if (p.z() > 0.03 && p.x() > r.x0 && p.x() < r.x1 && p.y() > r.y0 && p.y() < r.y1) most = std::max(most, depth[k]);
+    }
+    MESSAGE(preset << ": the " << std::string(r.name) << "'s deepest fold " << most);
+    return most;
+  };
+  CHECK(deepest("surprise", forehead) > 0.7);
+  CHECK(deepest("anger", glabella) > 0.7);
+  CHECK(deepest("happiness", crows) > 0.2);
+  // None where no muscle pulls and the skin has not shrunk: the forehead in a smile, between the
+  // brows in surprise.
+  CHECK(deepest("happiness", forehead) < 0.05);
+  CHECK(deepest("surprise", glabella) < 0.1);
 }

@@ -11,6 +11,7 @@
 
 #include "core/scene/face.h"
 #include "sim/face/head.h"
+#include "sim/face/head_shape.h"
 #include "sim/face/muscles.h"
 #include "sim/face/tissue.h"
 #include "sim/spring_network.h"
@@ -55,9 +56,14 @@ class FaceBody final : public SpringNetworkBody {
   // The head-frame point q moved by the jaw now, taking `share` (0..1) of its motion.
   Vec3 jawMoved(double share, const Vec3& q) const;
   // The skin as drawn: reel's head finer than it is simulated (SkinDetail, with its texture
-  // coordinates; `relaxed`, when given, receives the simulated skin's points the fine skin was
-  // placed over), a user's mesh as it is.
-  std::shared_ptr<TriMesh> skinMesh(std::vector<Vec3>* relaxed = nullptr) const;
+  // coordinates, its wrinkle lines folded in where it has shrunk; `relaxed`, when given,
+  // receives the simulated skin's points the fine skin was placed over), a user's mesh as it is.
+  // `lost`, when given, receives each drawn vertex's share of area lost from rest.
+  std::shared_ptr<TriMesh> skinMesh(std::vector<Vec3>* relaxed = nullptr, std::vector<double>* lost = nullptr) const;
+  // How deep each vertex of the skin drawn (skinMesh) folds into its wrinkle lines now (0..1):
+  // each region's as the muscle that makes it pulls, or as far as the skin there has shrunk
+  // (`lost`, skinMesh's); reel's head only.
+  std::vector<double> wrinkleDepth(const std::vector<double>& lost) const;
   // The height of each moving node above its skull point (m; negative: through the skull).
   double lowestAboveSkull() const;
   // Mouth opening: the distance between the lips at the midline, m (0 without a mouth).
@@ -103,6 +109,7 @@ class FaceBody final : public SpringNetworkBody {
   mutable std::once_flag detail_once_;
   mutable SkinDetail detail_;
   mutable std::vector<Vec3> detail_rest_;  // its points at rest, in the head's frame
+  mutable std::vector<head::Wrinkles> detail_lines_;  // their wrinkle lines (head::wrinkleLines)
   double t_ = 0.0;           // time of the last pose, s
   Mat3 R_ = Mat3::Identity();
   double jaw_ = 0.0;

@@ -2,7 +2,10 @@
 // eyes that look at the gaze target, eyelids that blink, and the mouth's inside; or, in
 // layers mode, the classic figure: the lattice's layers, the skull, and the muscles coloured from
 // yellow (relaxed) to red (fully contracted).
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <string>
 
 #include "core/keys.h"
 #include "core/math.h"
@@ -64,46 +67,90 @@ void FaceBody::draw(DrawList& out) const {
   else drawSkin(out);
 }
 
-std::shared_ptr<TriMesh> FaceBody::skinMesh(std::vector<Vec3>* relaxed) const {
+namespace {
+
+// Each vertex's share of area lost from rest (the mean over its triangles, area-weighted).
+std::vector<double> areaLost(std::span<const Vec3> now, std::span<const Vec3> rest, const std::vector<std::uint32_t>& tris) {
+  std::vector<double> a(now.size(), 0.0), r(now.size(), 0.0);
+  for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
+    const std::uint32_t i = tris[t], j = tris[t + 1], k = tris[t + 2];
+    const double an = (now[j] - now[i]).cross(now[k] - now[i]).norm(), ar = (rest[j] - rest[i]).cross(rest[k] - rest[i]).norm();
+    for (std::uint32_t v : {i, j, k}) a[v] += an, r[v] += ar;
+  }
+  for (std::size_t v = 0; v < a.size(); ++v) a[v] = r[v] > 0 ? 1.0 - a[v] / r[v] : 0.0;
+  return a;
+}
+
+}  // namespace
+
+std::shared_ptr<TriMesh> FaceBody::skinMesh(std::vector<Vec3>* relaxed, std::vector<double>* lost) const {
   const std::size_t n = surface_.size();
   const auto& x = net_.state.x;
-  if (!surface_.generated) return smoothMesh(x, 0, n, surface_.tris);
-  // reel's head is drawn finer than it is simulated (SkinDetail), made once when first drawn.
+  if (!surface_.generated) {
+    if (lost) *lost = areaLost(std::span<const Vec3>(x.data(), n), surface_.skin, surface_.tris);
+    return smoothMesh(x, 0, n, surface_.tris);
+  }
+  // reel's head is drawn finer than it is simulated (SkinDetail), made once when first drawn,
+  // with its wrinkle lines at rest.
   std::call_once(detail_once_, [&] {
     detail_ = makeSkinDetail(surface_, kSkinDetailLevel);
     detail_.place(surface_.skin, surface_.skin, surface_.skin, surface_.tris, 0, detail_rest_);
+    detail_lines_.resize(detail_rest_.size());
+    for (std::size_t k = 0; k < detail_rest_.size(); ++k) detail_lines_[k] = head::wrinkleLines(detail_rest_[k] / surface_.scale);
   });
   std::vector<Vec3> p, posed(n);
   for (std::size_t k = 0; k < n; ++k) posed[k] = boneToWorld(k, surface_.skin[k]);
   detail_.place(surface_.skin, posed, std::span<const Vec3>(x.data(), n), surface_.tris, kSkinSmoothing, p, relaxed);
+  // Wrinkles: its wrinkle lines fold in, up to 0.5 mm deep (wrinkleDepth).
+  std::vector<double> shrunk = areaLost(p, detail_rest_, detail_.tris);
+  {
+    const auto flat = smoothMesh(p, 0, p.size(), detail_.tris);
+    const std::vector<double> lines = wrinkleDepth(shrunk);
+    const double depth = 0.0005 * surface_.scale;
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      const double fold = depth * lines[k];
+      if (fold > 0) p[k] -= fold * Vec3(flat->normals[3 * k], flat->normals[3 * k + 1], flat->normals[3 * k + 2]);
+    }
+  }
   auto mesh = smoothMesh(p, 0, p.size(), detail_.tris);
   for (std::size_t k = 0; k < p.size(); ++k) mesh->uvs[2 * k] = detail_.points[k].uv[0], mesh->uvs[2 * k + 1] = detail_.points[k].uv[1];
+  if (lost) *lost = std::move(shrunk);
   return mesh;
+}
+
+std::vector<double> FaceBody::wrinkleDepth(const std::vector<double>& lost) const {
+  auto control = [&](const std::string& name) {
+    const int i = activations_.index(name);
+    return i < 0 ? 0.0 : std::clamp(act_[static_cast<std::size_t>(i)], 0.0, 1.0);
+  };
+  // Each region's muscles, the left side's (+x) and the right's.
+  std::array<head::Wrinkles, 2> pull;
+  for (int side = 0; side < 2; ++side) {
+    const std::string s = side == 0 ? "_left" : "_right";
+    pull[static_cast<std::size_t>(side)] = {std::max(control("frontalis_inner" + s), control("frontalis_outer" + s)),
+                                            std::max(control("corrugator_left"), control("corrugator_right")),
+                                            std::max(control("orbicularis_oculi" + s), control("zygomatic_major" + s)),
+                                            std::max(control("zygomatic_major" + s), control("levator_labii" + s))};
+  }
+  std::vector<double> out(detail_lines_.size(), 0.0);
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const head::Wrinkles& w = detail_lines_[k];
+    const head::Wrinkles& a = pull[detail_rest_[k].x() >= 0 ? 0 : 1];
+    out[k] = std::max({w.forehead * a.forehead, w.glabella * a.glabella, w.crows * a.crows, w.fold * a.fold,
+                       w.most() * head::smoothstep(0.02, 0.15, lost[k])});
+  }
+  return out;
 }
 
 void FaceBody::drawSkin(DrawList& out) const {
   std::vector<Vec3> relaxed;
-  std::shared_ptr<TriMesh> mesh = skinMesh(&relaxed);
+  std::vector<double> lost;
+  std::shared_ptr<TriMesh> mesh = skinMesh(&relaxed, &lost);
   const bool fine = surface_.generated;
   DrawMesh skin;
   skin.material = drawMaterial(material_);
   skin.material.wrap = kSkinWrap;
-  // Wrinkles, a wrinkle map weighted by the tissue's strain (after Oat 2007, "Animated wrinkle
-  // maps", SIGGRAPH course; here the strain itself is the map): where the skin drawn has shrunk in
-  // area (the brows drawn together, the cheeks pushed up against the eyes) its folds shade it
-  // darker, from 6% to 30% of area lost; the folds themselves are the tissue's own.
   const std::size_t nv = mesh->vertexCount();
-  const std::vector<Vec3>& rest_points = fine ? detail_rest_ : surface_.skin;
-  auto P = [&](std::uint32_t k) {
-    return Vec3(mesh->positions[3 * k], mesh->positions[3 * k + 1], mesh->positions[3 * k + 2]);
-  };
-  std::vector<double> now(nv, 0.0), rest(nv, 0.0);
-  for (std::size_t t = 0; t + 2 < mesh->indices.size(); t += 3) {
-    const std::uint32_t a = mesh->indices[t], b = mesh->indices[t + 1], c = mesh->indices[t + 2];
-    const double an = (P(b) - P(a)).cross(P(c) - P(a)).norm();
-    const double ar = (rest_points[b] - rest_points[a]).cross(rest_points[c] - rest_points[a]).norm();
-    for (std::uint32_t v : {a, b, c}) now[v] += an, rest[v] += ar;
-  }
   if (surface_.generated) {
     // reel's head: its skin's texture, made once when first drawn.
     std::call_once(skin_once_, [&] { skin_texture_ = skinTexture(surface_); });
@@ -116,9 +163,13 @@ void FaceBody::drawSkin(DrawList& out) const {
     mesh->gloss.resize(nv);
     for (std::size_t k = 0; k < nv; ++k) mesh->gloss[k] = static_cast<float>(detail_.blend(detail_.points[k], surface_.gloss));
   }
+  // Wrinkles, a wrinkle map weighted by the tissue's strain (after Oat 2007, "Animated wrinkle
+  // maps", SIGGRAPH course): where the skin drawn has shrunk in area (the brows drawn together,
+  // the cheeks pushed up against the eyes) it shades darker, by up to 35% at 30% of area lost, and
+  // its wrinkle lines (head::wrinkleLines) darker still, as they fold in (skinMesh).
+  const std::vector<double> lines = fine ? wrinkleDepth(lost) : std::vector<double>(nv, 0.0);
   for (std::size_t k = 0; k < nv; ++k) {
-    const double lost = rest[k] > 0 ? 1.0 - now[k] / rest[k] : 0.0;
-    const double crease = 1.0 - 0.35 * head::smoothstep(0.06, 0.3, lost);
+    const double crease = (1.0 - 0.35 * head::smoothstep(0.06, 0.3, lost[k])) * (1.0 - 0.3 * lines[k]);
     const Vec3 c = (surface_.generated ? Vec3::Ones() : surface_.color[k]) * crease;
     for (int i = 0; i < 3; ++i) mesh->colors.push_back(static_cast<float>(c[i]));
   }

@@ -224,6 +224,22 @@ Vec3 featureDirection(const Vec3& d) {
   return (d + front * (level - d)).normalized();
 }
 
+Wrinkles wrinkleLines(const Vec3& p) {
+  const double X = p.x(), Y = p.y(), ax = std::abs(X);
+  if (p.z() < 0.02) return {};
+  // The forehead: four or five furrows 7.5 mm apart, wavering across it.
+  const double forehead = smoothstep(0.03, 0.037, Y) * smoothstep(0.072, 0.062, Y) * smoothstep(0.052, 0.038, ax);
+  const double furrows = std::pow(0.5 + 0.5 * std::cos(2 * kPi * (Y - 0.0335) / 0.0075 + 0.9 * std::sin(X * 45.0)), 6.0);
+  // Between the brows: two short vertical lines.
+  const double glabella = std::exp(-0.5 * sq((ax - 0.0045) / 0.0009)) * smoothstep(0.006, 0.012, Y) * smoothstep(0.032, 0.025, Y);
+  // Crow's feet: three or four lines fanning out from the outer corner of each eye.
+  const double cx = ax - 0.047, r = std::hypot(cx, Y - 0.001), fan = std::atan2(Y - 0.001, cx);
+  const double crows = cx > -0.002 ? std::pow(0.5 + 0.5 * std::cos(fan * 9.0), 8.0) * smoothstep(0.003, 0.007, r) * smoothstep(0.021, 0.013, r) : 0.0;
+  // The nasolabial fold, from the nose's wing to beside the mouth's corner.
+  const double fold = std::exp(-0.5 * sq(segmentDistance(ax, Y, 0.0195, -0.041, 0.031, -0.073) / 0.0012));
+  return {forehead * furrows, glabella, crows, fold};
+}
+
 double skinGloss(const Vec3& p, const Vec3& d, double ym) {
   const double X = p.x(), Y = p.y(), ax = std::abs(X);
   const double front = smoothstep(0.2, 0.5, d.z());

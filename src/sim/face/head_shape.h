@@ -75,6 +75,18 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look);
 // the hair (rough and dull) or the brows.
 double skinGloss(const Vec3& p, const Vec3& d, double ym);
 
+// Where the skin folds into lines when it is squeezed (0..1 at the rest point p): the forehead's
+// horizontal furrows (the frontalis raising the brows), the two vertical lines between the brows
+// (the corrugator), crow's feet fanning from each eye's outer corner (the orbicularis oculi, a
+// smile's raised cheeks) and the nasolabial fold. A wrinkle map (Oat 2007, "Animated wrinkle
+// maps"): the drawn skin shows each as the muscle that makes it pulls, or where its area has
+// shrunk.
+struct Wrinkles {
+  double forehead = 0, glabella = 0, crows = 0, fold = 0;
+  double most() const { return std::max({forehead, glabella, crows, fold}); }
+};
+Wrinkles wrinkleLines(const Vec3& p);
+
 // How much hair covers the point (0..1), with a soft edge `soft` m wide.
 double hairCover(const Vec3& p, const Vec3& d, double soft);
 
