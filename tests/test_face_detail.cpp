@@ -115,7 +115,7 @@ TEST_CASE("face: the skin drawn follows the tissue: rigidly with the head, a uni
   CHECK(rigid < 1e-9);
   CHECK(uniform < 1e-9);
   // A ripple one column long (every other column 0.5 mm out, the rest 0.5 mm in, over the face):
-  // drawn at a ninth of it or less after two passes, and as it is without them.
+  // drawn at under a fifth of it (rms) after two passes, and as it is without them.
   std::vector<Vec3> rippled = posed;
   for (std::size_t k = 1; k + 1 < s.size(); ++k) {
     const int column = static_cast<int>((k - 1) % static_cast<std::size_t>(s.columns));
@@ -175,7 +175,7 @@ TEST_CASE("face: wrinkles fold in as their muscles pull: the forehead in surpris
   };
   CHECK(deepest("surprise", forehead) > 0.7);
   CHECK(deepest("anger", glabella) > 0.7);
-  CHECK(deepest("happiness", crows) > 0.2);
+  CHECK(deepest("happiness", crows) > 0.7);
   // None where no muscle pulls and the skin has not shrunk: the forehead in a smile, between the
   // brows in surprise.
   CHECK(deepest("happiness", forehead) < 0.05);

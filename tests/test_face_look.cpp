@@ -85,7 +85,7 @@ TEST_CASE("face: the eyes stay behind the skin and the lids, looking anywhere, w
       "activations": [{"time": 0, "preset": "surprise", "amount": 0}, {"time": 0.5, "preset": "surprise"}])",
                                   1.5));
   const FaceBody& f = face(w);
-  // The simulated skin, and the finer skin drawn (SkinDetail: every third sample, it is 16 times
+  // The simulated skin, and the finer skin drawn (SkinDetail: every third sample, it is 9 times
   // the triangles).
   int open_bad = 0, open_drawn = 0;
   for (int k = 0; k < 4; ++k) {

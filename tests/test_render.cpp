@@ -249,52 +249,6 @@ TEST_CASE("videos: BT.709 throughout, so saturated colours come back (a BT.601 m
 
 namespace {
 
-// Draws hand-made draw lists at a small size with a renderer of its own.
-struct DirectRenderer {
-  std::unique_ptr<gl::Context> ctx;
-  std::unique_ptr<Renderer> r;
-  DirectRenderer(int w, int h, int samples) {
-    auto c = gl::createContext(gl::Backend::OSMesa);
-    REQUIRE_MESSAGE(c.ok(), (c.ok() ? "" : c.error().headline()));
-    ctx = std::move(c.value());
-    RenderSettings rs;
-    rs.width = w;
-    rs.height = h;
-    rs.samples = samples;
-    rs.shadow_map_size = 512;
-    auto made = Renderer::create(*ctx, rs, findShaderDir());
-    REQUIRE_MESSAGE(made.ok(), (made.ok() ? "" : made.error().headline()));
-    r = std::move(made.value());
-  }
-  Image draw(const DrawList& list) {
-    Image img;
-    REQUIRE(r->draw(list, img).ok());
-    return img;
-  }
-};
-
-// A list with one ambient light of intensity 1 on a black background, seen from `eye`.
-DrawList ambientList(const Vec3& eye, const Vec3& target, const Vec3& up = Vec3::UnitY()) {
-  DrawList list;
-  list.camera.position = eye;
-  list.camera.target = target;
-  list.camera.up = up;
-  list.camera.fov_deg = 40;
-  list.background_top = list.background_bottom = Vec3::Zero();
-  LightDesc amb;
-  amb.kind = LightKind::Ambient;
-  amb.intensity = 1.0;
-  list.lights = {amb};
-  return list;
-}
-
-// The 12 floats of a copy placed by rotation R (its columns the local axes), scale and origin.
-void addCopy(DrawInstances& d, const Mat3& R, double scale, const Vec3& origin) {
-  for (int a = 0; a < 3; ++a)
-    for (int k = 0; k < 3; ++k) d.transforms.push_back(static_cast<float>(scale * R(k, a)));
-  for (int k = 0; k < 3; ++k) d.transforms.push_back(static_cast<float>(origin[k]));
-}
-
 // The pixel where world point p appears (column, row from the top).
 std::pair<int, int> pixelOf(const DrawList& list, int W, int H, const Vec3& p) {
   const DrawCamera& c = list.camera;
@@ -536,26 +490,6 @@ TEST_CASE("the ground patterns: pale warm sand, warm wood, neutral concrete; var
   CHECK(makePattern("no such pattern", 16).width == 0);
 }
 
-namespace {
-
-// A black background, a camera at `eye` looking at the origin, and one sun of intensity 1 shining
-// along `direction`.
-DrawList sunlit(const Vec3& eye, const Vec3& direction) {
-  DrawList list;
-  list.camera.position = eye;
-  list.camera.target = Vec3::Zero();
-  list.camera.fov_deg = 40;
-  list.background_top = list.background_bottom = Vec3::Zero();
-  LightDesc sun;
-  sun.kind = LightKind::Directional;
-  sun.direction = direction;
-  sun.intensity = 1.0;
-  list.lights = {sun};
-  return list;
-}
-
-}  // namespace
-
 TEST_CASE("per-vertex gloss adds a wet sheen where it is 1 and changes nothing where it is 0") {
   const int W = 64, H = 48;
   DirectRenderer dr(W, H, 1);
@@ -578,75 +512,4 @@ TEST_CASE("per-vertex gloss adds a wet sheen where it is 1 and changes nothing w
   CHECK(zero.rgb == dry.rgb);
   const auto [cx, cy] = pixelOf(list, W, H, Vec3::Zero());
   CHECK(int(wet.pixel(cx, cy)[0]) > int(dry.pixel(cx, cy)[0]) + 60);
-}
-
-TEST_CASE("wrap lighting: the diffuse term (n·l + w)/(1 + w) per colour (w, 0.75 w, 0.6 w), lit past the terminator; w = 0 is Lambert") {
-  const int W = 64, H = 48;
-  DirectRenderer dr(W, H, 1);
-  const double rho = 0.6;
-  for (const auto& row : {std::pair{60.0, 0.5}, std::pair{100.0, 0.5}, std::pair{100.0, 0.0}, std::pair{30.0, 0.2}}) {
-    const double theta = row.first, wrap = row.second;
-    CAPTURE(theta);
-    CAPTURE(wrap);
-    const double t = theta * kPi / 180.0;
-    DrawList list = sunlit(Vec3(0, 3, 0.001), Vec3(std::sin(t), -std::cos(t), 0));
-    DrawMesh d;
-    d.mesh = std::make_shared<const TriMesh>(makeQuad(4, 4));
-    d.material.color = Vec3(rho, rho, rho);
-    d.material.wrap = wrap;
-    list.meshes = {d};
-    const Image img = dr.draw(list);
-    const std::uint8_t* p = img.pixel(W / 2, H / 2);
-    const double share[3] = {1.0, 0.75, 0.6};  // red travels farthest under skin
-    for (int c = 0; c < 3; ++c) {
-      const double w = wrap * share[c];
-      const double lin = rho * std::max(0.0, (std::cos(t) + w) / (1.0 + w));
-      const int want = static_cast<int>(std::lround(255.0 * srgb(lin)));
-      CHECK(std::abs(int(p[c]) - want) <= 1);
-    }
-  }
-}
-
-TEST_CASE("wrap lighting: a shadow's penumbra on skin reddens (red reaches furthest into it), a plain surface's stays grey") {
-  // A grey floor lit from above by a sun of some size, a box held over it: across the shadow's soft
-  // edge, red keeps more of its light than blue on skin, and the same on a plain surface.
-  const int W = 160, H = 96;
-  DirectRenderer dr(W, H, 1);
-  auto draw = [&](double wrap) {
-    DrawList list = ambientList(Vec3(0, 3, 0.01), Vec3(0, 0, 0));
-    list.lights[0].intensity = 0.0;
-    LightDesc sun;
-    sun.direction = Vec3(0, -1, 0);
-    sun.shadows = true;
-    sun.size = 6.0;  // degrees: a wide penumbra
-    list.lights.push_back(sun);
-    DrawMesh floor{std::make_shared<const TriMesh>(makeQuad(6, 6)), false, DrawMaterial{}};
-    floor.material.color = Vec3(0.5, 0.5, 0.5);
-    floor.material.wrap = wrap;
-    list.meshes.push_back(floor);
-    DrawInstances above;
-    above.mesh = std::make_shared<const TriMesh>(makeBox(Vec3(1, 0.1, 1)));
-    addCopy(above, Mat3::Identity(), 1.0, Vec3(-1.0, 2.0, 0));
-    list.instances.push_back(above);
-    return dr.draw(list);
-  };
-  for (const double wrap : {0.5, 0.0}) {
-    CAPTURE(wrap);
-    const Image img = draw(wrap);
-    // Along the row through the middle: the lit floor's values at the right edge, the umbra's
-    // under the box; the largest lead of red's share of its light over blue's in between.
-    const int y = H / 2;
-    const std::uint8_t* lit = img.pixel(W - 4, y);
-    int penumbra = 0;
-    double lead = 0.0;
-    for (int x = 0; x < W; ++x) {
-      const std::uint8_t* p = img.pixel(x, y);
-      const double r = p[0] / double(lit[0]), b = p[2] / double(lit[2]);
-      if (b > 0.1 && b < 0.9) ++penumbra, lead = std::max(lead, r - b);
-    }
-    MESSAGE("penumbra " << penumbra << " px, red's share ahead of blue's by up to " << lead);
-    REQUIRE(penumbra >= 3);
-    if (wrap > 0) CHECK(lead > 0.1);
-    else CHECK(lead < 0.03);
-  }
 }

@@ -31,6 +31,12 @@ inline Mat3 rotationFromUp(const Vec3& n) {
   return Eigen::Quaterniond::FromTwoVectors(Vec3::UnitY(), n.normalized()).toRotationMatrix();
 }
 
+// 0 below e0, 1 above e1 (or the reverse when e1 < e0), a cubic between with no kink at either end.
+inline double smoothstep(double e0, double e1, double x) {
+  const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
+  return t * t * (3 - 2 * t);
+}
+
 // A unit vector perpendicular to unit d, fixed for each d.
 inline Vec3 perpendicular(const Vec3& d) {
   const Vec3 a = std::abs(d.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);

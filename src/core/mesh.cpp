@@ -321,14 +321,18 @@ TriMesh makeFishMesh(int detail) {
   return m;
 }
 
-std::shared_ptr<TriMesh> smoothMesh(std::span<const Vec3> points, std::size_t first, std::size_t n,
-                                    const std::vector<std::uint32_t>& tris) {
-  auto P = [&](std::uint32_t k) -> const Vec3& { return points[first + k]; };
-  std::vector<Vec3> normal(n, Vec3::Zero());
+std::vector<Vec3> areaNormals(std::span<const Vec3> points, const std::vector<std::uint32_t>& tris) {
+  std::vector<Vec3> normal(points.size(), Vec3::Zero());
   for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
-    const Vec3 an = (P(tris[t + 1]) - P(tris[t])).cross(P(tris[t + 2]) - P(tris[t]));
+    const Vec3 an = (points[tris[t + 1]] - points[tris[t]]).cross(points[tris[t + 2]] - points[tris[t]]);
     for (int c = 0; c < 3; ++c) normal[tris[t + static_cast<std::size_t>(c)]] += an;
   }
+  return normal;
+}
+
+std::shared_ptr<TriMesh> smoothMesh(std::span<const Vec3> points, std::size_t first, std::size_t n,
+                                    const std::vector<std::uint32_t>& tris) {
+  const std::vector<Vec3> normal = areaNormals(points.subspan(first, n), tris);
   auto mesh = std::make_shared<TriMesh>();
   for (std::size_t k = 0; k < n; ++k) mesh->addVertex(points[first + k], unitOr(normal[k], Vec3::UnitY()));
   mesh->indices = tris;

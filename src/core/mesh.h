@@ -34,6 +34,10 @@ struct TriMesh {
 // scale and R, renormalised, so they stay perpendicular to the surface.
 TriMesh placeMesh(const TriMesh& m, const Vec3& scale, const Mat3& R, const Vec3& position);
 
+// Each point's normal: the sum of its triangles' area vectors (twice their areas along their
+// normals; not unit, zero where no triangle touches the point), over `points` with `tris`.
+std::vector<Vec3> areaNormals(std::span<const Vec3> points, const std::vector<std::uint32_t>& tris);
+
 // A surface through points[first + k] (k < n) with the triangles `tris` (indices from `first`),
 // its normals the area-weighted means of its triangles' (a face's skin, a jelly's).
 std::shared_ptr<TriMesh> smoothMesh(std::span<const Vec3> points, std::size_t first, std::size_t n,

@@ -214,7 +214,8 @@ std::shared_ptr<const BodyParams> readFaceBody(Obj& o, BodyDesc& body, const Sce
   // Skin's colours are per vertex: the material multiplies them.
   body.material.color = Vec3(1, 1, 1);
   body.material.specular = 0.2;
-  body.material.shininess = 24.0;
+  // Rough (dull where hair covers reel's head; its skin's per-vertex gloss smooths the rest).
+  body.material.roughness = 0.7;
   readFace(o, *f);
   return f;
 }

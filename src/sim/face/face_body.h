@@ -56,13 +56,15 @@ class FaceBody final : public SpringNetworkBody {
   // The head-frame point q moved by the jaw now, taking `share` (0..1) of its motion.
   Vec3 jawMoved(double share, const Vec3& q) const;
   // The skin as drawn: reel's head finer than it is simulated (SkinDetail, with its texture
-  // coordinates, its wrinkle lines folded in where it has shrunk; `relaxed`, when given,
+  // coordinates, its wrinkle lines folded in as wrinkleDepth says; `relaxed`, when given,
   // receives the simulated skin's points the fine skin was placed over), a user's mesh as it is.
   // `lost`, when given, receives each drawn vertex's share of area lost from rest.
-  std::shared_ptr<TriMesh> skinMesh(std::vector<Vec3>* relaxed = nullptr, std::vector<double>* lost = nullptr) const;
+  // `lines`, when given, receives their wrinkleDepth.
+  std::shared_ptr<TriMesh> skinMesh(std::vector<Vec3>* relaxed = nullptr, std::vector<double>* lost = nullptr,
+                                    std::vector<double>* lines = nullptr) const;
   // How deep each vertex of the skin drawn (skinMesh) folds into its wrinkle lines now (0..1):
   // each region's as the muscle that makes it pulls, or as far as the skin there has shrunk
-  // (`lost`, skinMesh's); reel's head only.
+  // (`lost`, skinMesh's, one per vertex drawn); reel's head only (empty for a user's mesh).
   std::vector<double> wrinkleDepth(const std::vector<double>& lost) const;
   // The height of each moving node above its skull point (m; negative: through the skull).
   double lowestAboveSkull() const;
@@ -91,6 +93,8 @@ class FaceBody final : public SpringNetworkBody {
   // Each node's inverse mass as the contact layer sees it (a skin node resting on the skull: 0).
   void contactMasses();
   void drawSkin(DrawList& out) const;
+  // reel's head's finer skin (with its points at rest and their wrinkle lines), made once.
+  const SkinDetail& detail() const;
   void drawLayers(DrawList& out) const;
 
   FaceDesc desc_;

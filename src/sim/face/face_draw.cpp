@@ -83,42 +83,52 @@ std::vector<double> areaLost(std::span<const Vec3> now, std::span<const Vec3> re
 
 }  // namespace
 
-std::shared_ptr<TriMesh> FaceBody::skinMesh(std::vector<Vec3>* relaxed, std::vector<double>* lost) const {
-  const std::size_t n = surface_.size();
-  const auto& x = net_.state.x;
-  if (!surface_.generated) {
-    if (lost) *lost = areaLost(std::span<const Vec3>(x.data(), n), surface_.skin, surface_.tris);
-    return smoothMesh(x, 0, n, surface_.tris);
-  }
-  // reel's head is drawn finer than it is simulated (SkinDetail), made once when first drawn,
-  // with its wrinkle lines at rest.
+const SkinDetail& FaceBody::detail() const {
   std::call_once(detail_once_, [&] {
     detail_ = makeSkinDetail(surface_, kSkinDetailLevel);
     detail_.place(surface_.skin, surface_.skin, surface_.skin, surface_.tris, 0, detail_rest_);
     detail_lines_.resize(detail_rest_.size());
     for (std::size_t k = 0; k < detail_rest_.size(); ++k) detail_lines_[k] = head::wrinkleLines(detail_rest_[k] / surface_.scale);
   });
+  return detail_;
+}
+
+std::shared_ptr<TriMesh> FaceBody::skinMesh(std::vector<Vec3>* relaxed, std::vector<double>* lost, std::vector<double>* lines) const {
+  const std::size_t n = surface_.size();
+  const auto& x = net_.state.x;
+  if (!surface_.generated) {
+    if (lost) *lost = areaLost(std::span<const Vec3>(x.data(), n), surface_.skin, surface_.tris);
+    if (lines) lines->assign(n, 0.0);
+    return smoothMesh(x, 0, n, surface_.tris);
+  }
+  // reel's head is drawn finer than it is simulated (SkinDetail), made once when first drawn,
+  // with its wrinkle lines at rest.
+  const SkinDetail& d = detail();
   std::vector<Vec3> p, posed(n);
   for (std::size_t k = 0; k < n; ++k) posed[k] = boneToWorld(k, surface_.skin[k]);
-  detail_.place(surface_.skin, posed, std::span<const Vec3>(x.data(), n), surface_.tris, kSkinSmoothing, p, relaxed);
+  d.place(surface_.skin, posed, std::span<const Vec3>(x.data(), n), surface_.tris, kSkinSmoothing, p, relaxed);
   // Wrinkles: its wrinkle lines fold in, up to 0.5 mm deep (wrinkleDepth).
-  std::vector<double> shrunk = areaLost(p, detail_rest_, detail_.tris);
+  std::vector<double> shrunk = areaLost(p, detail_rest_, d.tris);
+  std::vector<double> folds = wrinkleDepth(shrunk);
   {
-    const auto flat = smoothMesh(p, 0, p.size(), detail_.tris);
-    const std::vector<double> lines = wrinkleDepth(shrunk);
+    const auto flat = smoothMesh(p, 0, p.size(), d.tris);
     const double depth = 0.0005 * surface_.scale;
     for (std::size_t k = 0; k < p.size(); ++k) {
-      const double fold = depth * lines[k];
+      const double fold = depth * folds[k];
       if (fold > 0) p[k] -= fold * Vec3(flat->normals[3 * k], flat->normals[3 * k + 1], flat->normals[3 * k + 2]);
     }
   }
-  auto mesh = smoothMesh(p, 0, p.size(), detail_.tris);
-  for (std::size_t k = 0; k < p.size(); ++k) mesh->uvs[2 * k] = detail_.points[k].uv[0], mesh->uvs[2 * k + 1] = detail_.points[k].uv[1];
+  auto mesh = smoothMesh(p, 0, p.size(), d.tris);
+  for (std::size_t k = 0; k < p.size(); ++k) mesh->uvs[2 * k] = d.points[k].uv[0], mesh->uvs[2 * k + 1] = d.points[k].uv[1];
   if (lost) *lost = std::move(shrunk);
+  if (lines) *lines = std::move(folds);
   return mesh;
 }
 
 std::vector<double> FaceBody::wrinkleDepth(const std::vector<double>& lost) const {
+  if (!surface_.generated) return {};
+  detail();
+  REEL_CHECK(lost.size() == detail_lines_.size(), "wrinkleDepth: one area lost per vertex of the skin drawn");
   auto control = [&](const std::string& name) {
     const int i = activations_.index(name);
     return i < 0 ? 0.0 : std::clamp(act_[static_cast<std::size_t>(i)], 0.0, 1.0);
@@ -137,15 +147,15 @@ std::vector<double> FaceBody::wrinkleDepth(const std::vector<double>& lost) cons
     const head::Wrinkles& w = detail_lines_[k];
     const head::Wrinkles& a = pull[detail_rest_[k].x() >= 0 ? 0 : 1];
     out[k] = std::max({w.forehead * a.forehead, w.glabella * a.glabella, w.crows * a.crows, w.fold * a.fold,
-                       w.most() * head::smoothstep(0.02, 0.15, lost[k])});
+                       w.most() * smoothstep(0.02, 0.15, lost[k])});
   }
   return out;
 }
 
 void FaceBody::drawSkin(DrawList& out) const {
   std::vector<Vec3> relaxed;
-  std::vector<double> lost;
-  std::shared_ptr<TriMesh> mesh = skinMesh(&relaxed, &lost);
+  std::vector<double> lost, lines;
+  std::shared_ptr<TriMesh> mesh = skinMesh(&relaxed, &lost, &lines);
   const bool fine = surface_.generated;
   DrawMesh skin;
   skin.material = drawMaterial(material_);
@@ -156,10 +166,10 @@ void FaceBody::drawSkin(DrawList& out) const {
     std::call_once(skin_once_, [&] { skin_texture_ = skinTexture(surface_); });
     skin.material.texture = skin_texture_;
   }
-  // reel's head: rough and dull where hair covers it, a sheen over the skin, more on the T-zone
-  // and the lips (per-vertex gloss smooths the surface and adds to its reflectance).
+  // reel's head: rough and dull where hair covers it (the material's roughness, 0.7 unless the
+  // scene says), a sheen over the skin, more on the T-zone and the lips (per-vertex gloss smooths
+  // the surface and adds to its reflectance).
   if (fine) {
-    skin.material.roughness = 0.7;
     mesh->gloss.resize(nv);
     for (std::size_t k = 0; k < nv; ++k) mesh->gloss[k] = static_cast<float>(detail_.blend(detail_.points[k], surface_.gloss));
   }
@@ -167,9 +177,8 @@ void FaceBody::drawSkin(DrawList& out) const {
   // maps", SIGGRAPH course): where the skin drawn has shrunk in area (the brows drawn together,
   // the cheeks pushed up against the eyes) it shades darker, by up to 35% at 30% of area lost, and
   // its wrinkle lines (head::wrinkleLines) darker still, as they fold in (skinMesh).
-  const std::vector<double> lines = fine ? wrinkleDepth(lost) : std::vector<double>(nv, 0.0);
   for (std::size_t k = 0; k < nv; ++k) {
-    const double crease = (1.0 - 0.35 * head::smoothstep(0.06, 0.3, lost[k])) * (1.0 - 0.3 * lines[k]);
+    const double crease = (1.0 - 0.35 * smoothstep(0.06, 0.3, lost[k])) * (1.0 - 0.3 * lines[k]);
     const Vec3 c = (surface_.generated ? Vec3::Ones() : surface_.color[k]) * crease;
     for (int i = 0; i < 3; ++i) mesh->colors.push_back(static_cast<float>(c[i]));
   }
@@ -201,7 +210,7 @@ void FaceBody::drawSkin(DrawList& out) const {
   // whatever one sees past the lips is the mouth's cavity; the teeth, the upper row on the
   // skull, the lower on the jaw; and the tongue.
   {
-    // (The simulated skin's triangles, not the sixteen times as many drawn: 1.5 mm in, and
+    // (The simulated skin's triangles, not the nine times as many drawn: 1.5 mm in, and
     // further where the skin drawn dips below them, so it never shows through the skin.)
     auto inside = smoothMesh(relaxed, 0, relaxed.size(), surface_.tris);
     for (std::size_t v = 0; v < inside->vertexCount(); ++v)
@@ -274,7 +283,6 @@ void FaceBody::drawSkin(DrawList& out) const {
       const Vec3 q(ball->positions[3 * v], ball->positions[3 * v + 1], ball->positions[3 * v + 2]);
       const Vec3 d = B * q, h = R_.transpose() * d;  // the direction from the eye's centre, world and head
       const double el = std::asin(std::clamp(h.y(), -1.0, 1.0)), az = std::abs(std::atan2(h.x(), h.z()));
-      using head::smoothstep;
       const double shade = (0.4 + 0.6 * smoothstep(0.0, 0.5, ey.upper - el)) * (0.75 + 0.25 * smoothstep(0.0, 0.3, el - ey.lower)) *
                            (0.7 + 0.3 * smoothstep(ey.lid_azimuth, ey.lid_azimuth - 0.6, az));
       for (int k = 0; k < 3; ++k) {

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/math.h"
+#include "core/mesh.h"
 #include "core/parallel.h"
 #include "sim/face/head_shape.h"
 #include "sim/geometry.h"
@@ -16,7 +17,6 @@ namespace {
 
 using head::atIndex;
 using head::direction;
-using head::smoothstep;
 
 // Rings of the neck below the rays' last, and the polar angle of that last ring (rad).
 constexpr int kNeckRings = 4;
@@ -341,12 +341,7 @@ Result<FaceSurface> userHead(const TriMesh& mesh, const TriMesh* skull, double i
       return Error(ErrorKind::BadInput, path + ": the face mesh must be closed (every edge shared by two triangles); edge " +
                                             std::to_string(e.first) + "–" + std::to_string(e.second) + " is not");
   const std::size_t n = out.skin.size();
-  std::vector<Vec3> normal(n, Vec3::Zero());
-  for (std::size_t t = 0; t + 2 < out.tris.size(); t += 3) {
-    const Vec3 &a = out.skin[out.tris[t]], &b = out.skin[out.tris[t + 1]], &c = out.skin[out.tris[t + 2]];
-    const Vec3 an = (b - a).cross(c - a);
-    for (int k = 0; k < 3; ++k) normal[out.tris[t + static_cast<std::size_t>(k)]] += an;
-  }
+  std::vector<Vec3> normal = areaNormals(out.skin, out.tris);
   for (Vec3& v : normal) v = unitOr(v, Vec3::UnitZ());
   out.bone.resize(n);
   for (std::size_t k = 0; k < n; ++k) {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/math.h"
+#include "core/mesh.h"
 #include "core/parallel.h"
 #include "sim/face/head.h"
 #include "sim/face/head_shape.h"
@@ -14,11 +15,10 @@ namespace {
 
 // Each vertex's normal (area-weighted) and the frame of it and its first edge.
 std::vector<Mat3> frames(std::span<const Vec3> x, const std::vector<std::uint32_t>& tris) {
-  std::vector<Vec3> normal(x.size(), Vec3::Zero()), edge(x.size(), Vec3::Zero());
+  const std::vector<Vec3> normal = areaNormals(x, tris);
+  std::vector<Vec3> edge(x.size(), Vec3::Zero());
   for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
     const std::uint32_t a = tris[t], b = tris[t + 1], c = tris[t + 2];
-    const Vec3 an = (x[b] - x[a]).cross(x[c] - x[a]);
-    normal[a] += an, normal[b] += an, normal[c] += an;
     for (auto [v, w] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}})
       if (edge[v].isZero()) edge[v] = x[w] - x[v];
   }

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/math.h"
+#include "core/mesh.h"
 #include "sim/face/head.h"
 
 namespace reel {
@@ -15,12 +16,9 @@ double sq(double x) { return x * x; }
 
 // Smooth normals of a mesh from its triangles' areas.
 void smoothNormals(TriMesh& m) {
-  std::vector<Vec3> n(m.vertexCount(), Vec3::Zero());
-  auto P = [&](std::uint32_t k) { return Vec3(m.positions[3 * k], m.positions[3 * k + 1], m.positions[3 * k + 2]); };
-  for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) {
-    const Vec3 an = (P(m.indices[t + 1]) - P(m.indices[t])).cross(P(m.indices[t + 2]) - P(m.indices[t]));
-    for (int c = 0; c < 3; ++c) n[m.indices[t + static_cast<std::size_t>(c)]] += an;
-  }
+  std::vector<Vec3> p(m.vertexCount());
+  for (std::size_t k = 0; k < p.size(); ++k) p[k] = Vec3(m.positions[3 * k], m.positions[3 * k + 1], m.positions[3 * k + 2]);
+  const std::vector<Vec3> n = areaNormals(p, m.indices);
   for (std::size_t k = 0; k < n.size(); ++k) {
     const Vec3 u = unitOr(n[k], Vec3::UnitY());
     for (int c = 0; c < 3; ++c) m.normals[3 * k + static_cast<std::size_t>(c)] = static_cast<float>(u[c]);

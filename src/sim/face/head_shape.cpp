@@ -111,6 +111,10 @@ double vermilionTop(double x, double ym) {
 }
 double vermilionBottom(double x, double ym) { return ym - 0.0095 + 0.0093 * std::pow(std::min(std::abs(x) / 0.026, 1.0), 1.8); }
 
+// The nasolabial fold, from beside the nose's wing to beside the mouth's corner (the left side's,
+// x > 0): its ends (x, y).
+constexpr double kFoldTop[2] = {0.0195, -0.041}, kFoldEnd[2] = {0.031, -0.073};
+
 // The distance from (x, y) to the segment a–b in the plane.
 double segmentDistance(double x, double y, double ax, double ay, double bx, double by) {
   const double vx = bx - ax, vy = by - ay;
@@ -188,7 +192,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     f.soft += 0.0008 * gauss(X, Y, s * 0.0045, -0.054, 0.0016, 0.005);                 // philtrum's ridge
     // The fold from the nose's wing to beside the mouth's corner (deeper with age), and the
     // cheek's fat beside it (fuller with the build).
-    const double fold = segmentDistance(X, Y, s * 0.0195, -0.041, s * 0.031, -0.073);
+    const double fold = segmentDistance(X, Y, s * kFoldTop[0], kFoldTop[1], s * kFoldEnd[0], kFoldEnd[1]);
     f.soft -= (0.0004 + 0.0012 * aged) * std::exp(-0.5 * sq(fold / 0.0022));
     f.soft += (0.001 + 0.0022 * heavy) * gauss(X, Y, s * 0.036, -0.046, 0.01, 0.011);
     f.soft -= 0.0009 * (1 - heavy) * gauss(X, Y, s * 0.052, -0.056, 0.014, 0.016);    // under the cheekbone
@@ -236,7 +240,7 @@ Wrinkles wrinkleLines(const Vec3& p) {
   const double cx = ax - 0.047, r = std::hypot(cx, Y - 0.001), fan = std::atan2(Y - 0.001, cx);
   const double crows = cx > -0.002 ? std::pow(0.5 + 0.5 * std::cos(fan * 9.0), 8.0) * smoothstep(0.003, 0.007, r) * smoothstep(0.021, 0.013, r) : 0.0;
   // The nasolabial fold, from the nose's wing to beside the mouth's corner.
-  const double fold = std::exp(-0.5 * sq(segmentDistance(ax, Y, 0.0195, -0.041, 0.031, -0.073) / 0.0012));
+  const double fold = std::exp(-0.5 * sq(segmentDistance(ax, Y, kFoldTop[0], kFoldTop[1], kFoldEnd[0], kFoldEnd[1]) / 0.0012));
   return {forehead * furrows, glabella, crows, fold};
 }
 

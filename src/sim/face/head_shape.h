@@ -12,16 +12,11 @@
 #include <cmath>
 #include <vector>
 
+#include "core/math.h"
 #include "core/scene/face.h"
 #include "core/types.h"
 
 namespace reel::head {
-
-// 0 below e0, 1 above e1 (or the reverse when e1 < e0), a cubic between with no kink at either end.
-inline double smoothstep(double e0, double e1, double x) {
-  const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
-  return t * t * (3 - 2 * t);
-}
 
 // The unit direction at polar angle th from the crown (+y) and azimuth ph from the front (+z).
 inline Vec3 direction(double th, double ph) { return Vec3(std::sin(th) * std::sin(ph), std::cos(th), std::sin(th) * std::cos(ph)); }

@@ -9,11 +9,6 @@
 namespace reel {
 namespace {
 
-double smooth(double e0, double e1, double x) {
-  const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
-  return t * t * (3 - 2 * t);
-}
-
 // The nearest of `points` to p: its index and distance.
 std::pair<std::size_t, double> nearestOf(const std::vector<Vec3>& points, const Vec3& p) {
   std::size_t best = 0;
@@ -165,13 +160,13 @@ Vec3 musclePull(const FaceMuscle& m, const Vec3& p, const Vec3& attachment, cons
   return unitOr(-(d.dot(axis_u) * axis_u + d.dot(axis_v) * axis_v), Vec3::Zero());
 }
 
-double easeKey(double s) { return smooth(0.0, 1.0, s); }
+double easeKey(double s) { return smoothstep(0.0, 1.0, s); }
 
 double blinkClosure(double t) {
   if (t <= 0 || t >= 0.25) return 0.0;
-  if (t < 0.08) return smooth(0.0, 0.08, t);
+  if (t < 0.08) return smoothstep(0.0, 0.08, t);
   if (t < 0.12) return 1.0;
-  return 1.0 - smooth(0.12, 0.25, t);
+  return 1.0 - smoothstep(0.12, 0.25, t);
 }
 
 int FaceActivations::index(const std::string& control) const {
