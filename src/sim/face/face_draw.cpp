@@ -111,11 +111,11 @@ std::shared_ptr<TriMesh> FaceBody::skinMesh(std::vector<Vec3>* relaxed, std::vec
   std::vector<double> shrunk = areaLost(p, detail_rest_, d.tris);
   std::vector<double> folds = wrinkleDepth(shrunk);
   {
-    const auto flat = smoothMesh(p, 0, p.size(), d.tris);
+    const std::vector<Vec3> normal = areaNormals(p, d.tris);
     const double depth = 0.0005 * surface_.scale;
     for (std::size_t k = 0; k < p.size(); ++k) {
       const double fold = depth * folds[k];
-      if (fold > 0) p[k] -= fold * Vec3(flat->normals[3 * k], flat->normals[3 * k + 1], flat->normals[3 * k + 2]);
+      if (fold > 0) p[k] -= fold * unitOr(normal[k], Vec3::UnitY());
     }
   }
   auto mesh = smoothMesh(p, 0, p.size(), d.tris);
