@@ -249,3 +249,31 @@ TEST_CASE("face: after surprise, sadness and anger the face comes back to rest (
   MESSAGE("1.6 s after the last expression, the skin is at most " << moved << " m from where it rested");
   CHECK(moved < 0.001);
 }
+
+TEST_CASE("face: the teeth and the tongue stay inside the skin drawn: at rest, smiling and with the jaw wide open") {
+  // (Each seen only through the lips' parting: a tooth's root or the gum through the chin reads
+  // as a sore.) Rest at 0 s, a smile at 0.6 s, surprise (the jaw at 0.8) at 1.2 s.
+  World w = worldFromText(scene(R"(, "rotation_deg": [0, 20, 0],
+      "activations": [{"time": 0, "preset": "happiness", "amount": 0}, {"time": 0.1, "preset": "happiness", "amount": 0},
+                      {"time": 0.5, "preset": "happiness"}, {"time": 0.7, "preset": "happiness"}, {"time": 1.1, "preset": "surprise"}])",
+                                  1.3));
+  const FaceBody& f = face(w);
+  for (const int frames : {0, 18, 18}) {
+    run(w, frames);
+    DrawList list;
+    f.draw(list);
+    const Skin skin = drawn(f);
+    int checked = 0, outside = 0;
+    for (const DrawMesh& m : list.meshes) {
+      // The teeth and the tongue: the meshes inside that cast no shadow, less the mouth's lining.
+      if (m.material.casts_shadow || (m.material.color - Vec3(0.16, 0.03, 0.03)).isZero(1e-9)) continue;
+      for (std::size_t v = 0; v < m.mesh->vertexCount(); v += 3) {
+        ++checked;
+        if (winding(skin, Vec3(m.mesh->positions[3 * v], m.mesh->positions[3 * v + 1], m.mesh->positions[3 * v + 2])) < 0.5) ++outside;
+      }
+    }
+    MESSAGE("at " << w.time() << " s: " << outside << " of " << checked << " points of the teeth and tongue outside the skin drawn");
+    CHECK(checked > 300);
+    CHECK(outside == 0);
+  }
+}

@@ -224,46 +224,35 @@ void FaceBody::drawSkin(DrawList& out) const {
     dark.casts_shadow = false;
     out.meshes.push_back({std::move(inside), true, dark});
     const double k = surface_.scale, ym = surface_.mouth.y();
-    const double front = surface_.mouth.z() - 0.0085 * k, arch = 0.022 * k;
+    const double front = surface_.mouth.z() - 0.0085 * k;
     const double open = mouthOpening() / k, lit = 0.15 + 0.85 * std::clamp((open - 0.002) / 0.006, 0.0, 1.0);
+    // (Dimmer as the lips close: little light reaches into a closed mouth.)
     auto teeth = std::make_shared<TriMesh>();
-    constexpr int kAround = 24;
     for (int row = 0; row < 2; ++row) {
-      const double sign = row == 0 ? 1.0 : -1.0;  // upper, lower
-      const Mat3 turn = row == 0 ? R_ : Mat3(R_ * Eigen::AngleAxisd(jaw_, Vec3::UnitX()).toRotationMatrix());
+      const double share = row == 0 ? 0.0 : 1.0;  // upper with the skull, lower with the jaw
+      const TriMesh& rest = *surface_.teeth[static_cast<std::size_t>(row)];
       const auto base = static_cast<std::uint32_t>(teeth->vertexCount());
-      for (int i = 0; i <= kAround; ++i) {
-        const double a = (-75.0 + 150.0 * i / kAround) * kPi / 180.0;
-        const Vec3 normal(std::sin(a), 0, std::cos(a));
-        // Ivory, darker toward the back of the mouth and at the gaps between the teeth.
-        const double gap = 0.85 + 0.15 * std::abs(std::cos(a * 9.0));
-        for (int j = 0; j < 3; ++j) {
-          const double y = ym + sign * (0.0008 + 0.0035 * j) * k;
-          const Vec3 q(arch * std::sin(a), y, front - arch * (1 - std::cos(a)));
-          teeth->addVertex(desc_.position + R_ * jawMoved(row == 0 ? 0.0 : 1.0, q), turn * normal);
-          // (Dimmer as the lips close: little light reaches into a closed mouth.)
-          const Vec3 c = lit * (j == 2 ? Vec3(0.45, 0.18, 0.17) : (gap * (1.0 - 0.5 * std::abs(a) / 1.3)) * Vec3(0.78, 0.74, 0.66));
-          for (int m = 0; m < 3; ++m) teeth->colors.push_back(static_cast<float>(c[m]));
-        }
+      const Mat3 turn = R_ * Eigen::AngleAxisd(share * jaw_, Vec3::UnitX()).toRotationMatrix();
+      for (std::size_t v = 0; v < rest.vertexCount(); ++v) {
+        const Vec3 q(rest.positions[3 * v], rest.positions[3 * v + 1], rest.positions[3 * v + 2]);
+        const Vec3 n(rest.normals[3 * v], rest.normals[3 * v + 1], rest.normals[3 * v + 2]);
+        teeth->addVertex(world(jawMoved(share, q)), turn * n);
+        for (int m = 0; m < 3; ++m) teeth->colors.push_back(static_cast<float>(lit * rest.colors[3 * v + static_cast<std::size_t>(m)]));
       }
-      for (int i = 0; i < kAround; ++i)
-        for (int j = 0; j < 2; ++j) {
-          const std::uint32_t v = base + static_cast<std::uint32_t>(i * 3 + j), r = v + 3;
-          if (row == 0) teeth->indices.insert(teeth->indices.end(), {v, r, r + 1, v, r + 1, v + 1});
-          else teeth->indices.insert(teeth->indices.end(), {v, r + 1, r, v, v + 1, r + 1});
-        }
+      for (std::uint32_t i : rest.indices) teeth->indices.push_back(base + i);
     }
-    DrawMaterial enamel = plain(Vec3(1, 1, 1), 0.4);
-    enamel.shininess = 60;
+    DrawMaterial enamel = plain(Vec3(1, 1, 1), 0.5);
+    enamel.roughness = 0.3;
     enamel.casts_shadow = false;
     out.meshes.push_back({std::move(teeth), true, enamel});
-    // The tongue: a flattened ellipsoid on the mouth's floor behind the lower teeth, with the jaw.
+    // The tongue: a flattened ellipsoid on the mouth's floor behind the lower teeth, its back
+    // 4 mm below their edges, with the jaw; wet, but with little to reflect inside a mouth.
     const Mat3 down = R_ * Eigen::AngleAxisd(jaw_, Vec3::UnitX()).toRotationMatrix();
-    const Vec3 centre(0.0, ym - 0.007 * k, front - 0.02 * k);
-    auto tongue = std::make_shared<TriMesh>(placeMesh(makeUvSphere(1.0, 24, 12), k * Vec3(0.019, 0.0055, 0.022), down,
+    const Vec3 centre(0.0, ym - 0.0095 * k, front - 0.027 * k);
+    auto tongue = std::make_shared<TriMesh>(placeMesh(makeUvSphere(1.0, 24, 12), k * Vec3(0.017, 0.0055, 0.022), down,
                                                       desc_.position + R_ * jawMoved(1.0, centre)));
-    DrawMaterial wet = plain(lit * Vec3(0.5, 0.16, 0.16), 0.3);
-    wet.shininess = 40;
+    DrawMaterial wet = plain(lit * Vec3(0.36, 0.1, 0.1), 0.01);
+    wet.roughness = 0.35;
     wet.casts_shadow = false;
     out.meshes.push_back({std::move(tongue), true, wet});
   }

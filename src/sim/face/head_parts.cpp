@@ -1,7 +1,7 @@
 // reel's head's drawn parts that are not tissue: the ears (rim, antihelix, bowl and lobe, as a
-// relief over an ear-shaped outline standing off the skull) and the shoulders in a sweater that
-// the neck enters. They are drawn, not simulated: the ears turn with the skull, the shoulders a
-// third as far (face_draw.cpp).
+// relief over an ear-shaped outline standing off the skull), the teeth, and the shoulders in a
+// sweater that the neck enters. They are drawn, not simulated: the ears and upper teeth turn with
+// the skull, the lower teeth with the jaw, the shoulders a third as far (face_draw.cpp).
 #include <algorithm>
 #include <cmath>
 
@@ -75,6 +75,57 @@ std::shared_ptr<const TriMesh> makeEars(double scale, const Vec3& skin) {
   addEar(*m, scale, 1.0, skin);
   addEar(*m, scale, -1.0, skin);
   smoothNormals(*m);
+  return m;
+}
+
+// The teeth: each row a band around a dental arch of radius 22 mm, its labial face `front` (z)
+// at the midline, from the incisal edge `edge` (y) away from the parting (upper up, lower down).
+// Teeth by their crowns' widths from the midline (permanent dentition, Ash & Nelson, "Wheeler's
+// dental anatomy", 2003: upper 8.5, 6.5, 7.5, 7, 6.5, 10 mm; lower 5, 5.5, 7, 7, 7, 11 mm) and
+// heights (upper incisor 10.5 mm, lower 9 mm, shorter toward the molars); each one's incisal
+// corners rounded, its gum line arched over it, its face turned a little to either side (each
+// crown shades round), darker at the gaps and toward the back of the mouth, then 2 mm of gum.
+std::shared_ptr<const TriMesh> makeTeeth(double scale, double front, double edge, bool upper) {
+  static constexpr double kUpper[] = {8.5, 6.5, 7.5, 7.0, 6.5, 10.0, 10.0}, kLower[] = {5.0, 5.5, 7.0, 7.0, 7.0, 11.0, 11.0};
+  const double* widths = upper ? kUpper : kLower;
+  const double arch = 0.022 * scale, sign = upper ? 1.0 : -1.0, mm = 0.001 * scale;
+  const double crown = (upper ? 10.5 : 9.0) * mm;
+  constexpr int kColumns = 120;  // across both sides: about 0.5 mm apart
+  constexpr double kReach = 1.3;   // rad either side of the midline
+  // Rows from the edge: the edge itself, 1 mm in, the middle of the crown, the gum line, the gum.
+  constexpr int kRows = 5;
+  auto m = std::make_shared<TriMesh>();
+  for (int i = 0; i <= kColumns; ++i) {
+    const double a = kReach * (2.0 * i / kColumns - 1.0);
+    // Which tooth, and where across it (0..1 from the side nearer the midline).
+    double along = std::abs(a) * arch / mm, u = 0.0;
+    int tooth = 0;
+    while (tooth < 6 && along > widths[tooth]) along -= widths[tooth++];
+    u = std::clamp(along / widths[tooth], 0.0, 1.0);
+    const double hump = std::sin(kPi * u);  // 0 at a tooth's sides, 1 mid-crown
+    const double height = crown * (1.0 - 0.07 * tooth);
+    const double round_off = 0.9 * mm * std::pow(1.0 - hump, 3.0);  // the incisal corners
+    const double gum = height - 1.6 * mm * (1.0 - hump);              // papillae between the crowns
+    const double turn = 0.9 * (u - 0.5) * std::copysign(1.0, a);
+    const Vec3 normal(std::sin(a + turn), 0, std::cos(a + turn));
+    const double gap = 0.55 + 0.45 * smoothstep(0.0, 0.2, std::min(u, 1.0 - u));
+    const double back = 1.0 - 0.6 * std::abs(a) / kReach;
+    const double rows[kRows] = {round_off, round_off + 1.0 * mm, 0.5 * (round_off + gum), gum, gum + 2.0 * mm};
+    for (int j = 0; j < kRows; ++j) {
+      const Vec3 q(arch * std::sin(a), edge + sign * rows[j], front - arch * (1 - std::cos(a)));
+      m->addVertex(q, normal);
+      // Enamel: greyer and translucent at the edge, ivory over the crown; then 2 mm of gum.
+      const Vec3 enamel = j == 0 ? Vec3(0.6, 0.6, 0.6) : j == 1 ? Vec3(0.72, 0.7, 0.65) : Vec3(0.8, 0.75, 0.64);
+      const Vec3 c = j >= 3 ? Vec3(back * Vec3(0.5, 0.2, 0.19)) : Vec3(gap * back * enamel);
+      for (int k = 0; k < 3; ++k) m->colors.push_back(static_cast<float>(c[k]));
+    }
+  }
+  for (int i = 0; i < kColumns; ++i)
+    for (int j = 0; j + 1 < kRows; ++j) {
+      const auto v = static_cast<std::uint32_t>(i * kRows + j), r = v + kRows;
+      if (upper) m->indices.insert(m->indices.end(), {v, r, r + 1, v, r + 1, v + 1});
+      else m->indices.insert(m->indices.end(), {v, r + 1, r, v, v + 1, r + 1});
+    }
   return m;
 }
 
