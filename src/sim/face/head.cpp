@@ -228,16 +228,16 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
     // 15 mm above the parting's level there): an opening jaw stretches the whole cheek, not a band
     // a node or two high that folds into a hard crease from the mouth's corner to the ear.
     const bool lower_lip = k >= bottom + 1;
-    const double beside = smoothstep(head::kMouthHalf, head::kMouthHalf + 0.025, std::abs(X));
+    const double beside = smoothstep(head::kMouthHalf - 0.004, head::kMouthHalf + 0.025, std::abs(X));
     double w = smoothstep(ym + 0.015 * beside, ym - 0.012 - 0.013 * beside, Y);
     // The parting's own row (by index): its upper lip stays with the skull, its lower copy goes
     // with the jaw.
     const bool parting = lower_lip || (k >= ring(jm, 0) && k < ring(jm, 0) + static_cast<std::size_t>(C));
     if (parting && std::abs(X) < head::kMouthHalf && p.z() > 0) w = lower_lip ? 1.0 : 0.0;
-    // The corners of the mouth (where the parting ends) go half as far as the lower lip, fading
-    // along the parting's line into the cheek: the stretch of an opening mouth is shared by the
-    // triangles above and below them.
-    else if (parting && p.z() > 0) w += (0.5 - w) * (1 - smoothstep(head::kMouthHalf, head::kMouthHalf + 0.015, std::abs(X)));
+    // The corners of the mouth (where the parting ends) go half as far as the lower lip: the
+    // stretch of an opening mouth is shared by the triangles above and below them. (Only near
+    // the corner: a parting row that goes further than the rows below it folds into a crease.)
+    else if (parting && p.z() > 0) w += (0.5 - w) * (1 - smoothstep(head::kMouthHalf, head::kMouthHalf + 0.01, std::abs(X)));
     w *= smoothstep(-0.05, 0.35, d.z());
     const double plan = std::hypot(X / 0.055, (p.z() + 0.01) / 0.095);  // 1 on the mandible's border
     w *= std::max(smoothstep(-0.125, -0.1, Y), smoothstep(0.45, 0.95, plan) * (1 - smoothstep(-0.12, -0.135, Y)));
