@@ -148,8 +148,9 @@ struct FacePreset {
   std::array<std::pair<const char*, double>, 7> controls;  // unused slots: nullptr
 };
 inline constexpr std::array<FacePreset, 7> kFacePresets = {{
-    // AU6 + AU12 (+ AU20, AU25/26)
-    {"happiness", {{{"zygomatic_major", 1.0}, {"orbicularis_oculi", 0.3}, {"jaw_open", 0.25}, {"risorius", 0.25}}}},
+    // AU6 + AU12 (+ AU13, AU20, AU25/26): the lips a little apart showing the upper teeth.
+    {"happiness",
+     {{{"zygomatic_major", 1.0}, {"orbicularis_oculi", 0.45}, {"jaw_open", 0.15}, {"risorius", 0.3}, {"zygomatic_minor", 0.4}}}},
     // AU1 + AU4 + AU15 (+ AU17)
     {"sadness", {{{"frontalis_inner", 1.0}, {"corrugator", 0.6}, {"depressor_anguli_oris", 1.0}, {"mentalis", 0.2}, {"orbicularis_oculi", 0.15}}}},
     // AU1 + AU2 + AU5 + AU26
