@@ -6,8 +6,9 @@
                eyes looking about between them, with blinks: happiness, surprise, sadness,
                anger, disgust, fear;
   11.6-15.2 s  a spoken line's mouth shapes (visemes), the head nodding with it;
-  15.2-18 s    a cut to the other side in layers mode: the lattice, the skull and the muscles
-               (yellow relaxed, red contracted) as the face smiles again.
+  15.2-18 s    the camera glides round to the other side as the head turns to it and the skin
+               dissolves into the layers: the lattice over the left half, the skull and the
+               muscles (yellow relaxed, red contracted) on the right, as the face smiles again.
 Run from the repository root: python3 scripts/make_face_scene.py
 """
 import json
@@ -15,7 +16,6 @@ import json
 from make_rigid_scenes import write_scene
 
 FPS = 30
-HALF = 0.5 / FPS  # a cut: the camera's keys held to half a frame either side
 EXPRESSIONS = ["happiness", "surprise", "sadness", "anger", "disgust", "fear"]
 START, EACH = 2.0, 1.6  # s: the first expression's start, and each one's length
 SPEECH = START + EACH * len(EXPRESSIONS)  # 11.6 s
@@ -23,7 +23,9 @@ SPEECH = START + EACH * len(EXPRESSIONS)  # 11.6 s
 LINE = [(0.0, "rest"), (0.15, "oh"), (0.42, "rest"), (0.62, "th"), (0.78, "ee"), (0.92, "th"), (1.06, "oh"),
         (1.35, "rest"), (1.6, "oo"), (1.78, "ee"), (1.92, "th"), (2.12, "oo"), (2.3, "th"), (2.5, "fv"),
         (2.64, "aa"), (2.82, "th"), (3.0, "aa"), (3.2, "th"), (3.4, "rest")]
-CUT = SPEECH + 3.6  # 15.2 s
+CUT = SPEECH + 3.6  # 15.2 s: the skin starts to fade from the layers
+FADE = 1.2  # s
+GLIDE_BEFORE, GLIDE_AFTER = 0.6, 1.2  # s: the camera's glide round to the layers' side, about CUT
 END = CUT + 2.8
 
 
@@ -50,7 +52,9 @@ def head_keys():
     for i, rot in enumerate(sway):
         keys.append((START + EACH * i + 0.8, rot))
     keys += [(SPEECH + 0.5, [3, 14, 0]), (SPEECH + 1.3, [-2, 10, -2]), (SPEECH + 2.2, [4, 15, 1]),
-             (SPEECH + 3.2, [0, 12, 0]), (CUT, [0, 12, 0]), (END, [-3, 20, 0])]
+             (CUT - GLIDE_BEFORE, [0, 12, 0]),
+             # As the camera glides round, the head turns to it: lattice on the left half, muscles on the right.
+             (CUT + GLIDE_AFTER, [2, -22, 0]), (END, [-2, -10, 0])]
     return [{"time": round(t, 3), "rotation_deg": r} for t, r in keys]
 
 
@@ -68,7 +72,7 @@ def gaze_keys(camera):
 def main():
     close = ([0.17, 0.01, 0.5], [0.0, -0.03, 0.0])
     close_end = ([0.14, 0.005, 0.47], [0.0, -0.03, 0.0])
-    layers = ([-0.36, 0.05, 0.45], [0.0, -0.01, 0.0])
+    layers = ([-0.27, 0.04, 0.52], [0.0, -0.02, 0.0])
     scene = {
         "format": "reel/1", "name": "face", "duration": round(END, 3), "fps": FPS, "substeps": 2,
         "integrator": "implicit_euler", "implicit": {"cg_tolerance": 1e-3},
@@ -76,16 +80,17 @@ def main():
                    "background": {"top": [0.13, 0.15, 0.19], "bottom": [0.035, 0.04, 0.05]}},
         "camera": {"position": close[0], "target": close[1], "fov_deg": 30,
                    "keys": [{"time": 0, "position": close[0], "target": close[1]},
-                            {"time": round(CUT - HALF, 4), "position": close_end[0], "target": close_end[1]},
-                            {"time": round(CUT + HALF, 4), "position": layers[0], "target": layers[1]},
-                            {"time": round(END, 3), "position": [-0.32, 0.05, 0.4], "target": layers[1]}]},
-        # Loop lighting: the key high and to the far side of the face (the nose's shadow falls
-        # down toward the mouth's corner; a soft-box, so its edge is soft), a faint cool fill from
-        # the camera's side, and a rim from straight behind that lifts the head's outline off the
-        # background (from the side it lit a band down the cheek).
-        "lights": [{"type": "directional", "direction": [0.6, -0.5, -0.62], "color": [1.0, 0.93, 0.84],
+                            {"time": round(CUT - GLIDE_BEFORE, 4), "position": close_end[0], "target": close_end[1]},
+                            {"time": round(CUT + GLIDE_AFTER, 4), "position": layers[0], "target": layers[1]},
+                            {"time": round(END, 3), "position": [-0.23, 0.035, 0.47], "target": layers[1]}]},
+        # Loop lighting: the key 20 degrees up and to the far side of the face (the nose's shadow
+        # falls short, toward the mouth's corner: higher, it lay on the upper lip as a dark smear
+        # viewers took for a moustache; a soft-box, so its edge is soft), a cool fill from the
+        # camera's side at a fifth of it, and a rim from straight behind that lifts the head's
+        # outline off the background (from the side it lit a band down the cheek).
+        "lights": [{"type": "directional", "direction": [0.6, -0.33, -0.62], "color": [1.0, 0.93, 0.84],
                     "intensity": 2.2, "shadows": True, "angle_deg": 20},
-                   {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.8, 0.82, 0.9], "intensity": 0.15},
+                   {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.8, 0.82, 0.9], "intensity": 0.4},
                    {"type": "directional", "direction": [-0.1, -0.3, 1.0], "color": [0.9, 0.9, 1.0], "intensity": 0.5},
                    {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.12}],
         "bodies": [{
@@ -95,7 +100,7 @@ def main():
             "blinks": [1.0, 3.3, 6.1, 8.9, 11.9, 13.9, 16.4],
             "activations": activations(),
             "visemes": [{"time": round(SPEECH + t, 3), "viseme": v} for t, v in LINE],
-            "draw": [{"time": 0, "mode": "skin"}, {"time": round(CUT, 3), "mode": "layers"}],
+            "draw": [{"time": 0, "mode": "skin"}, {"time": round(CUT, 3), "mode": "layers", "fade": FADE}],
         }],
     }
     header = ("// The muscle-driven face (Terzopoulos & Waters 1990; Lee, Terzopoulos & Waters 1995) in a three-quarter\n"

@@ -231,7 +231,44 @@ TEST_CASE("face: bad visemes and looks are refused with their JSON path") {
   checkHas(badInputError(scene(R"(, "sex": 1.5)")), "/bodies/0/sex");
   checkHas(badInputError(scene(R"(, "age": 5)")), "/bodies/0/age");
   checkHas(badInputError(scene(R"(, "build": -1)")), "/bodies/0/build");
+  checkHas(badInputError(scene(R"(, "draw": [{"time": 0}, {"time": 0.5, "mode": "layers", "fade": -1}])")), "/bodies/0/draw/1/fade");
+}
 
+TEST_CASE("face: a draw key's fade dissolves the skin into the layers, casting no shadow, then is gone") {
+  World w = worldFromText(scene(R"(, "draw": [{"time": 0, "mode": "skin"}, {"time": 0.1, "mode": "layers", "fade": 0.4}])"));
+  const FaceBody& f = face(w);
+  struct Seen {
+    int blended = 0, tubes = 0;
+    double lo = 1.0, hi = 0.0;
+    bool shadows = false;  // a blended mesh casts a shadow
+  };
+  auto look = [&] {
+    DrawList list;
+    f.draw(list);
+    Seen s;
+    s.tubes = static_cast<int>(list.tubes.size());
+    for (const DrawMesh& m : list.meshes)
+      if (m.material.opacity < 1.0) {
+        ++s.blended;
+        s.lo = std::min(s.lo, m.material.opacity), s.hi = std::max(s.hi, m.material.opacity);
+        s.shadows = s.shadows || m.material.casts_shadow;
+      }
+    return s;
+  };
+  const Seen skin = look();  // 0 s: the skin alone
+  CHECK(skin.blended == 0);
+  CHECK(skin.tubes == 0);
+  run(w, 9);  // 0.3 s: halfway through the fade (smoothstep(½) = ½)
+  const Seen half = look();
+  CHECK(half.blended >= 3);  // the skin, the ears, the eyes (not the mouth's inside)
+  CHECK(half.lo == doctest::Approx(0.5));
+  CHECK(half.hi == doctest::Approx(0.5));
+  CHECK_FALSE(half.shadows);
+  CHECK(half.tubes > 3);  // the layers' lattice and muscles
+  run(w, 6);  // 0.5 s: the fade is over
+  const Seen after = look();
+  CHECK(after.blended == 0);
+  CHECK(after.tubes == half.tubes);
 }
 
 TEST_CASE("face: after surprise, sadness and anger the face comes back to rest (no fold stays)") {

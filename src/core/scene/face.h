@@ -64,10 +64,12 @@ struct FaceGazeKey {
   Vec3 target{0, 0, 1};
 };
 
-// How the face is drawn from a time on: "skin" or "layers" (the lattice and the muscles).
+// How the face is drawn from a time on: "skin" or "layers" (cut away: the lattice over the left
+// half, the skull, eyes and muscles on the right).
 struct FaceDrawKey {
   double time = 0.0;
   bool layers = false;
+  double fade = 0.0;  // s: the mode before fades out over this one for so long after `time`
 };
 
 // reel's head's looks: sex 0 (female) .. 1 (male): brow ridge, jaw, chin, nose, lips; age (years,

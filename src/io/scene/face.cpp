@@ -177,6 +177,7 @@ void readFace(Obj& o, FaceDesc& f) {
         FaceDrawKey k;
         k.time = ko.number("time", kTimes, true).value_or(0.0);
         k.layers = ko.choice("mode", "skin", {"skin", "layers"}) == "layers";
+        k.fade = ko.number("fade", 0.0, Range{0.0, 10.0, true, true});
         if (!f.draw.empty() && k.time <= f.draw.back().time) d.error(childPath(ko.path(), "time"), "keyframe times must increase");
         f.draw.push_back(k);
       });

@@ -93,6 +93,7 @@ class FaceBody final : public SpringNetworkBody {
   // Each node's inverse mass as the contact layer sees it (a skin node resting on the skull: 0).
   void contactMasses();
   void drawSkin(DrawList& out) const;
+  void drawEyes(DrawList& out) const;
   // reel's head's finer skin (with its points at rest and their wrinkle lines), made once.
   const SkinDetail& detail() const;
   void drawLayers(DrawList& out) const;

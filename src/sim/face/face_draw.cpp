@@ -60,11 +60,31 @@ DrawMaterial plain(const Vec3& color, double specular = 0.1) {
 }  // namespace
 
 void FaceBody::draw(DrawList& out) const {
-  bool layers = false;
+  // The key in force, and the mode before it.
+  bool layers = false, before = false;
+  double since = 0.0, fade = 0.0;
   for (const FaceDrawKey& k : desc_.draw)
-    if (k.time <= t_ + 1e-9) layers = k.layers;
+    if (k.time <= t_ + 1e-9) before = layers, layers = k.layers, since = t_ - k.time, fade = k.fade;
   if (layers) drawLayers(out);
   else drawSkin(out);
+  if (before == layers || since >= fade) return;
+  // A dissolve: the mode before drawn over this one, fading out (blended, casting no shadow),
+  // less what lies inside the skin (the mouth's cavity, teeth and tongue: they cast no shadow).
+  DrawList old;
+  if (before) drawLayers(old);
+  else drawSkin(old);
+  const double opacity = 1.0 - smoothstep(0.0, 1.0, since / fade);
+  for (DrawMesh& m : old.meshes) {
+    if (!m.material.casts_shadow) continue;
+    m.material.opacity *= opacity;
+    m.material.casts_shadow = false;
+    out.meshes.push_back(std::move(m));
+  }
+  for (DrawTubes& t : old.tubes) {
+    t.material.opacity *= opacity;
+    t.material.casts_shadow = false;
+    out.tubes.push_back(std::move(t));
+  }
 }
 
 namespace {
@@ -150,6 +170,35 @@ std::vector<double> FaceBody::wrinkleDepth(const std::vector<double>& lost) cons
                        w.most() * smoothstep(0.02, 0.15, lost[k])});
   }
   return out;
+}
+
+// Eyes, turned toward the gaze target, each shaded by its lids: the lids, their lashes and the
+// brow above keep light from the eyeball near their edges and in the eye's corners (a white
+// sclera lit evenly right up to the lids reads as a ball pasted on the face).
+void FaceBody::drawEyes(DrawList& out) const {
+  static const std::shared_ptr<const TriMesh> kEye = eyeMesh(Vec3(0.12, 0.22, 0.35));
+  const std::shared_ptr<const TriMesh> eye_mesh = desc_.iris_color == Vec3(0.12, 0.22, 0.35) ? kEye : eyeMesh(desc_.iris_color);
+  DrawMaterial wet_eye = plain(Vec3(1, 1, 1), 0.6);
+  wet_eye.shininess = 80;
+  for (int e = 0; e < 2; ++e) {
+    const Eye ey = eye(e);
+    Mat3 B;
+    B << ey.right, ey.up, ey.ahead;
+    auto ball = std::make_shared<TriMesh>(*eye_mesh);
+    for (std::size_t v = 0; v < ball->vertexCount(); ++v) {
+      const Vec3 q(ball->positions[3 * v], ball->positions[3 * v + 1], ball->positions[3 * v + 2]);
+      const Vec3 d = B * q, h = R_.transpose() * d;  // the direction from the eye's centre, world and head
+      const double el = std::asin(std::clamp(h.y(), -1.0, 1.0)), az = std::abs(std::atan2(h.x(), h.z()));
+      const double shade = (0.4 + 0.6 * smoothstep(0.0, 0.5, ey.upper - el)) * (0.75 + 0.25 * smoothstep(0.0, 0.3, el - ey.lower)) *
+                           (0.7 + 0.3 * smoothstep(ey.lid_azimuth, ey.lid_azimuth - 0.6, az));
+      for (int k = 0; k < 3; ++k) {
+        ball->positions[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(ey.center[k] + ey.radius * d[k]);
+        ball->normals[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(d[k]);
+        ball->colors[3 * v + static_cast<std::size_t>(k)] *= static_cast<float>(shade);
+      }
+    }
+    out.meshes.push_back({std::move(ball), true, wet_eye});
+  }
 }
 
 void FaceBody::drawSkin(DrawList& out) const {
@@ -256,32 +305,7 @@ void FaceBody::drawSkin(DrawList& out) const {
     wet.casts_shadow = false;
     out.meshes.push_back({std::move(tongue), true, wet});
   }
-  // Eyes, turned toward the gaze target, each shaded by its lids: the lids, their lashes and the
-  // brow above keep light from the eyeball near their edges and in the eye's corners (a white
-  // sclera lit evenly right up to the lids reads as a ball pasted on the face).
-  static const std::shared_ptr<const TriMesh> kEye = eyeMesh(Vec3(0.12, 0.22, 0.35));
-  const std::shared_ptr<const TriMesh> eye_mesh = desc_.iris_color == Vec3(0.12, 0.22, 0.35) ? kEye : eyeMesh(desc_.iris_color);
-  DrawMaterial wet_eye = plain(Vec3(1, 1, 1), 0.6);
-  wet_eye.shininess = 80;
-  for (int e = 0; e < 2; ++e) {
-    const Eye ey = eye(e);
-    Mat3 B;
-    B << ey.right, ey.up, ey.ahead;
-    auto ball = std::make_shared<TriMesh>(*eye_mesh);
-    for (std::size_t v = 0; v < ball->vertexCount(); ++v) {
-      const Vec3 q(ball->positions[3 * v], ball->positions[3 * v + 1], ball->positions[3 * v + 2]);
-      const Vec3 d = B * q, h = R_.transpose() * d;  // the direction from the eye's centre, world and head
-      const double el = std::asin(std::clamp(h.y(), -1.0, 1.0)), az = std::abs(std::atan2(h.x(), h.z()));
-      const double shade = (0.4 + 0.6 * smoothstep(0.0, 0.5, ey.upper - el)) * (0.75 + 0.25 * smoothstep(0.0, 0.3, el - ey.lower)) *
-                           (0.7 + 0.3 * smoothstep(ey.lid_azimuth, ey.lid_azimuth - 0.6, az));
-      for (int k = 0; k < 3; ++k) {
-        ball->positions[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(ey.center[k] + ey.radius * d[k]);
-        ball->normals[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(d[k]);
-        ball->colors[3 * v + static_cast<std::size_t>(k)] *= static_cast<float>(shade);
-      }
-    }
-    out.meshes.push_back({std::move(ball), true, wet_eye});
-  }
+  drawEyes(out);
   // The lids' colours: the skin's tone, a shade darker, and the lash line at their edges.
   const Vec3 lid_tone = 0.93 * Vec3(0.57, 0.36, 0.28), lash_tone(0.07, 0.05, 0.04);
   auto lids = std::make_shared<TriMesh>();
@@ -380,8 +404,9 @@ void FaceBody::drawLayers(DrawList& out) const {
   const std::size_t n = surface_.size();
   const auto& x = net_.state.x;
   const double s = surface_.scale;
-  // Only the front of the head: the figure of the lattice under the face.
-  auto front = [&](std::size_t k) { return surface_.skin[k].z() > -0.01 * s; };
+  // The figure of the lattice under the face, cut away: only the front of the head, and only its
+  // left half (+x), so the muscles show on the skull over the right half.
+  auto front = [&](std::size_t k) { return surface_.skin[k].z() > -0.01 * s && surface_.skin[k].x() > -0.002 * s; };
   DrawTubes skin, fascia, across;
   skin.radius = static_cast<float>(0.0004 * s);
   fascia.radius = skin.radius;
@@ -400,15 +425,16 @@ void FaceBody::drawLayers(DrawList& out) const {
   out.tubes.push_back(std::move(skin));
   out.tubes.push_back(std::move(fascia));
   out.tubes.push_back(std::move(across));
-  // The skull: the bone surface.
+  // The skull: the bone surface, in bone's ivory, and the eyes in their sockets.
   auto bone = smoothMesh(x, 2 * n, n, surface_.tris);
-  out.meshes.push_back({std::move(bone), true, plain(Vec3(0.42, 0.42, 0.45), 0.2)});
+  out.meshes.push_back({std::move(bone), true, plain(Vec3(0.55, 0.5, 0.42), 0.2)});
+  if (surface_.generated) drawEyes(out);
   // Muscles: attachment to the centre of the nodes they pull (sphincters: their ellipse).
   for (std::size_t m = 0; m < muscles_.size(); ++m) {
     const FaceMuscle& mu = muscles_[m];
     const double a = std::clamp(act_[m], 0.0, 1.0);
     DrawTubes t;
-    t.radius = static_cast<float>(0.0016 * s);
+    t.radius = static_cast<float>(0.0022 * s);
     t.material = plain((1 - a) * Vec3(1.0, 0.85, 0.15) + a * Vec3(0.9, 0.08, 0.04), 0.3);
     if (!mu.desc.sphincter) {
       Vec3 mid = Vec3::Zero();
