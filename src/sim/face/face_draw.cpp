@@ -342,18 +342,24 @@ void FaceBody::drawSkin(DrawList& out) const {
       }
       quads(base, kE, kA);
       // The lashes: a fringe curving out and away from the eye from the lid's edge, longest
-      // at the middle: a dark line seen from the front (1.4 mm above, 0.6 mm below).
+      // at the middle and toward the outer corner, its tip cut into points 0.35 mm apart (each a
+      // clump of lashes), 4.5 mm above and 1.2 mm below (shorter than real lashes, 8-12 and 6-8
+      // mm: a solid fringe that long reads as a visor). At 1.4 mm they did not show at all.
       base = static_cast<std::uint32_t>(lids->vertexCount());
-      const double length = (lower ? 0.0006 : 0.0014) * surface_.scale;
+      const double length = (lower ? 0.0012 : 0.0045) * surface_.scale;
       const Vec3 away(0, lower ? -1 : 1, 0);
+      constexpr int kL = 90;
+      const double outer = e == 0 ? 1.0 : -1.0;  // the side the eye's outer corner lies (head +x for the left eye)
       for (int j = 0; j <= 2; ++j)
-        for (int i = 0; i <= kA; ++i) {
-          const double az = azimuth(i), fall = std::max(0.0, 1.0 - std::pow(std::abs(az) / 1.3, 4.0));
-          const Vec3 d = at(from, az), dir = (0.75 * d + 0.65 * away).normalized();
-          const double l = 0.5 * j * length * fall;
+        for (int i = 0; i <= kL; ++i) {
+          const double az = span * (2.0 * i / kL - 1.0), fall = std::max(0.0, 1.0 - std::pow(std::abs(az) / 1.3, 4.0));
+          const double sweep = 0.8 + 0.2 * std::clamp(outer * az / span, -1.0, 1.0);  // longer outward
+          const double point = j == 2 && i % 2 == 1 ? 0.7 : 1.0;
+          const Vec3 d = at(from, az), dir = (0.9 * d + 0.45 * away).normalized();
+          const double l = 0.5 * j * length * fall * sweep * point;
           vertex(c + r * d + l * dir + (0.3 * l * j) * away, dir.cross(Vec3(std::cos(az), 0, -std::sin(az))), lash_tone);
         }
-      quads(base, 2, kA);
+      quads(base, 2, kL);
     }
   }
   DrawMaterial lid = drawMaterial(material_);

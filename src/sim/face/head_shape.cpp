@@ -237,9 +237,10 @@ Wrinkles wrinkleLines(const Vec3& p) {
   // Between the brows: two short vertical lines.
   const double glabella = std::exp(-0.5 * sq((ax - 0.0045) / 0.0009)) * smoothstep(0.006, 0.012, Y) * smoothstep(0.032, 0.025, Y);
   // Crow's feet: three or four soft lines fanning out from the outer corner of each eye, fading
-  // in and out along their length (sharper, they read as scratches).
+  // in and out along their length, each as wide as the gaps between them (sharper, they read as
+  // scratches).
   const double cx = ax - 0.047, r = std::hypot(cx, Y - 0.001), fan = std::atan2(Y - 0.001, cx);
-  const double crows = cx > -0.002 ? std::pow(0.5 + 0.5 * std::cos(fan * 9.0), 3.0) * smoothstep(0.004, 0.009, r) *
+  const double crows = cx > -0.002 ? std::pow(0.5 + 0.5 * std::cos(fan * 9.0), 1.5) * smoothstep(0.004, 0.009, r) *
                                          smoothstep(0.02, 0.012, r) * smoothstep(1.3, 0.9, std::abs(fan))
                                    : 0.0;
   // The nasolabial fold, from the nose's wing to beside the mouth's corner.
