@@ -232,13 +232,20 @@ TEST_CASE("face: bad visemes and looks are refused with their JSON path") {
   checkHas(badInputError(scene(R"(, "age": 5)")), "/bodies/0/age");
   checkHas(badInputError(scene(R"(, "build": -1)")), "/bodies/0/build");
   checkHas(badInputError(scene(R"(, "draw": [{"time": 0}, {"time": 0.5, "mode": "layers", "fade": -1}])")), "/bodies/0/draw/1/fade");
+  checkHas(badInputError(scene(R"(, "draw": [{"time": 0}, {"time": 0.5, "mode": "layers", "fade": 10.5}])")), "/bodies/0/draw/1/fade");
+  checkHas(badInputError(scene(R"(, "draw": [{"time": 0}, {"time": 0.5, "mode": "skin", "fade": 1}])")),
+           "/bodies/0/draw/1/fade: fades from \"skin\" into the same mode");
+  checkHas(badInputError(scene(R"(, "draw": [{"time": 0, "mode": "layers", "fade": 0.5}, {"time": 0.3, "mode": "skin"}])")),
+           "/bodies/0/draw/0/fade: runs past the next draw key, at 0.3 s");
+  CHECK_NOTHROW(worldFromText(scene(R"(, "draw": [{"time": 0}, {"time": 0.5, "mode": "layers", "fade": 0}, {"time": 0.6, "mode": "skin", "fade": 10}])")));
 }
 
-TEST_CASE("face: a draw key's fade dissolves the skin into the layers, casting no shadow, then is gone") {
-  World w = worldFromText(scene(R"(, "draw": [{"time": 0, "mode": "skin"}, {"time": 0.1, "mode": "layers", "fade": 0.4}])"));
+TEST_CASE("face: a draw key's fade dissolves the skin into the layers and back, casting no shadow, then is gone") {
+  World w = worldFromText(scene(R"(, "draw": [{"time": 0, "mode": "skin"}, {"time": 0.1, "mode": "layers", "fade": 0.4},
+                                              {"time": 0.6, "mode": "skin", "fade": 0.2}])"));
   const FaceBody& f = face(w);
   struct Seen {
-    int blended = 0, tubes = 0;
+    int blended = 0, casting = 0, tubes = 0;
     double lo = 1.0, hi = 0.0;
     bool shadows = false;  // a blended mesh casts a shadow
   };
@@ -247,28 +254,42 @@ TEST_CASE("face: a draw key's fade dissolves the skin into the layers, casting n
     f.draw(list);
     Seen s;
     s.tubes = static_cast<int>(list.tubes.size());
-    for (const DrawMesh& m : list.meshes)
-      if (m.material.opacity < 1.0) {
-        ++s.blended;
-        s.lo = std::min(s.lo, m.material.opacity), s.hi = std::max(s.hi, m.material.opacity);
-        s.shadows = s.shadows || m.material.casts_shadow;
-      }
+    for (const DrawTubes& t : list.tubes) CHECK(t.material.opacity == 1.0);
+    for (const DrawMesh& m : list.meshes) {
+      if (m.material.casts_shadow) ++s.casting;
+      if (m.material.opacity >= 1.0) continue;
+      ++s.blended;
+      s.lo = std::min(s.lo, m.material.opacity), s.hi = std::max(s.hi, m.material.opacity);
+      s.shadows = s.shadows || m.material.casts_shadow;
+    }
     return s;
   };
   const Seen skin = look();  // 0 s: the skin alone
   CHECK(skin.blended == 0);
   CHECK(skin.tubes == 0);
-  run(w, 9);  // 0.3 s: halfway through the fade (smoothstep(½) = ½)
+  // (The skin's parts that cast shadows: the skin, ears, shoulders, eyes and lids; not the
+  // mouth's lining, the teeth or the tongue, inside it.)
+  CHECK(skin.casting >= 3);
+  run(w, 9);  // 0.3 s: halfway into the layers (smoothstep(½) = ½)
   const Seen half = look();
-  CHECK(half.blended >= 3);  // the skin, the ears, the eyes (not the mouth's inside)
+  CHECK(half.blended == skin.casting);  // the skin's parts but those inside it
   CHECK(half.lo == doctest::Approx(0.5));
   CHECK(half.hi == doctest::Approx(0.5));
   CHECK_FALSE(half.shadows);
-  CHECK(half.tubes > 3);  // the layers' lattice and muscles
+  CHECK(half.tubes > 3);  // the layers' lattice and muscles, solid
   run(w, 6);  // 0.5 s: the fade is over
+  const Seen layers = look();
+  CHECK(layers.blended == 0);
+  CHECK(layers.tubes == half.tubes);
+  run(w, 6);  // 0.7 s: halfway back to the skin, the skin fading in over the solid layers
+  const Seen back = look();
+  CHECK(back.blended == half.blended);
+  CHECK(back.lo == doctest::Approx(0.5));
+  CHECK(back.tubes == half.tubes);
+  run(w, 6);  // 0.9 s: the skin alone again
   const Seen after = look();
   CHECK(after.blended == 0);
-  CHECK(after.tubes == half.tubes);
+  CHECK(after.tubes == 0);
 }
 
 TEST_CASE("face: after surprise, sadness and anger the face comes back to rest (no fold stays)") {

@@ -4,6 +4,7 @@
 #include <memory>
 #include <set>
 
+#include "core/format.h"
 #include "core/scene/face.h"
 #include "io/scene/reader.h"
 #include "io/scene/readers.h"
@@ -173,12 +174,21 @@ void readFace(Obj& o, FaceDesc& f) {
       if (mode != "skin" && mode != "layers") d.error(childPath(p, "draw"), "expected \"skin\" or \"layers\", got \"" + mode + "\"");
       f.draw.push_back({0.0, mode == "layers"});
     } else {
+      std::string fade_before;  // the previous key's fade's path
       readList(o, "draw", [&](Obj& ko) {
         FaceDrawKey k;
         k.time = ko.number("time", kTimes, true).value_or(0.0);
         k.layers = ko.choice("mode", "skin", {"skin", "layers"}) == "layers";
-        k.fade = ko.number("fade", 0.0, Range{0.0, 10.0, true, true});
+        k.fade = ko.number("fade", 0.0, Range::closed(0.0, 10.0));
+        // A fade dissolves the mode before (skin before the first key) into this one: it needs a
+        // change of mode, and ends before the next key.
+        const bool before = !f.draw.empty() && f.draw.back().layers;
+        if (k.fade > 0 && k.layers == before)
+          d.error(childPath(ko.path(), "fade"), std::string("fades from \"") + (before ? "layers" : "skin") + "\" into the same mode");
         if (!f.draw.empty() && k.time <= f.draw.back().time) d.error(childPath(ko.path(), "time"), "keyframe times must increase");
+        else if (!f.draw.empty() && f.draw.back().fade > k.time - f.draw.back().time)
+          d.error(fade_before, "runs past the next draw key, at " + formatNumber(k.time, 6) + " s");
+        fade_before = childPath(ko.path(), "fade");
         f.draw.push_back(k);
       });
     }

@@ -65,25 +65,24 @@ void FaceBody::draw(DrawList& out) const {
   double since = 0.0, fade = 0.0;
   for (const FaceDrawKey& k : desc_.draw)
     if (k.time <= t_ + 1e-9) before = layers, layers = k.layers, since = t_ - k.time, fade = k.fade;
-  if (layers) drawLayers(out);
-  else drawSkin(out);
-  if (before == layers || since >= fade) return;
-  // A dissolve: the mode before drawn over this one, fading out (blended, casting no shadow),
-  // less what lies inside the skin (the mouth's cavity, teeth and tongue: they cast no shadow).
-  DrawList old;
-  if (before) drawLayers(old);
-  else drawSkin(old);
-  const double opacity = 1.0 - smoothstep(0.0, 1.0, since / fade);
-  for (DrawMesh& m : old.meshes) {
+  if (before == layers || since >= fade - 1e-9) {
+    if (layers) drawLayers(out);
+    else drawSkin(out);
+    return;
+  }
+  // A dissolve: the layers drawn solid and the skin over them, blended (the renderer draws the
+  // blended after the solid, depth-tested: the layers fading over a solid skin would hide
+  // behind it), fading out into the layers or in from them; the skin's share casts no shadow
+  // and leaves out what lies inside it (the mouth's cavity, teeth and tongue: they cast none).
+  drawLayers(out);
+  DrawList skin;
+  drawSkin(skin);
+  const double s = smoothstep(0.0, 1.0, since / fade), opacity = layers ? 1.0 - s : s;
+  for (DrawMesh& m : skin.meshes) {
     if (!m.material.casts_shadow) continue;
     m.material.opacity *= opacity;
     m.material.casts_shadow = false;
     out.meshes.push_back(std::move(m));
-  }
-  for (DrawTubes& t : old.tubes) {
-    t.material.opacity *= opacity;
-    t.material.casts_shadow = false;
-    out.tubes.push_back(std::move(t));
   }
 }
 
@@ -295,7 +294,7 @@ void FaceBody::drawSkin(DrawList& out) const {
     enamel.casts_shadow = false;
     out.meshes.push_back({std::move(teeth), true, enamel});
     // The tongue: a flattened ellipsoid on the mouth's floor behind the lower teeth, its back
-    // 4 mm below their edges, with the jaw; wet, but with little to reflect inside a mouth.
+    // 3 mm below their edges, with the jaw; wet, but with little to reflect inside a mouth.
     const Mat3 down = R_ * Eigen::AngleAxisd(jaw_, Vec3::UnitX()).toRotationMatrix();
     const Vec3 centre(0.0, ym - 0.0095 * k, front - 0.027 * k);
     auto tongue = std::make_shared<TriMesh>(placeMesh(makeUvSphere(1.0, 24, 12), k * Vec3(0.017, 0.0055, 0.022), down,
@@ -342,8 +341,8 @@ void FaceBody::drawSkin(DrawList& out) const {
       }
       quads(base, kE, kA);
       // The lashes: a fringe curving out and away from the eye from the lid's edge, longest
-      // at the middle and toward the outer corner, its tip cut into points 0.35 mm apart (each a
-      // clump of lashes), 4.5 mm above and 1.2 mm below (shorter than real lashes, 8-12 and 6-8
+      // at the middle and toward the outer corner, its tip cut into points (every other column,
+      // about 0.4 mm apart, shorter: each point a clump of lashes), 4.5 mm above and 1.2 mm below (shorter than real lashes, 8-12 and 6-8
       // mm: a solid fringe that long reads as a visor). At 1.4 mm they did not show at all.
       base = static_cast<std::uint32_t>(lids->vertexCount());
       const double length = (lower ? 0.0012 : 0.0045) * surface_.scale;

@@ -49,7 +49,8 @@ struct FaceSurface {
   std::vector<std::uint32_t> lower_copy;
   FaceLook look;
   // reel's head: what is drawn but not simulated, in the head's frame: the ears (per-vertex
-  // colours; they turn with the skull), the teeth and the shoulders in a sweater (they turn a third as far).
+  // colours; they turn with the skull), the teeth (the upper row with the skull, the lower with
+  // the jaw) and the shoulders in a sweater (they turn a third as far).
   std::shared_ptr<const TriMesh> ears, bust;
   std::array<std::shared_ptr<const TriMesh>, 2> teeth;  // upper (with the skull), lower (with the jaw)
   std::size_t size() const { return skin.size(); }
@@ -101,7 +102,7 @@ SkinDetail makeSkinDetail(const FaceSurface& s, int level);
 // (head_parts.cpp).
 std::shared_ptr<const TriMesh> makeEars(double scale, const Vec3& skin);
 std::shared_ptr<const TriMesh> makeBust(double scale, const FaceLook& look);
-// A row of teeth (per-vertex colours, unlit), the upper or the lower: its labial face `front` (z)
+// A row of teeth (per-vertex albedo), the upper or the lower: its labial face `front` (z)
 // at the midline, its incisal edge at height `edge`, in the head's frame at rest.
 std::shared_ptr<const TriMesh> makeTeeth(double scale, double front, double edge, bool upper);
 

@@ -92,8 +92,9 @@ std::shared_ptr<const TriMesh> makeTeeth(double scale, double front, double edge
   const double crown = (upper ? 10.5 : 9.0) * mm;
   constexpr int kColumns = 120;  // across both sides: about 0.5 mm apart
   constexpr double kReach = 1.3;   // rad either side of the midline
-  // Rows from the edge: the edge itself, 1 mm in, the middle of the crown, the gum line, the gum.
-  constexpr int kRows = 5;
+  // Rows from the edge: the edge itself, 1 mm in, the middle of the crown, the gum line twice
+  // (enamel, then gum: a sharp line), the gum.
+  constexpr int kRows = 6;
   auto m = std::make_shared<TriMesh>();
   for (int i = 0; i <= kColumns; ++i) {
     const double a = kReach * (2.0 * i / kColumns - 1.0);
@@ -106,17 +107,18 @@ std::shared_ptr<const TriMesh> makeTeeth(double scale, double front, double edge
     const double height = crown * (1.0 - 0.07 * tooth);
     const double round_off = 0.9 * mm * std::pow(1.0 - hump, 3.0);  // the incisal corners
     const double gum = height - 1.6 * mm * (1.0 - hump);              // papillae between the crowns
-    const double turn = 0.9 * (u - 0.5) * std::copysign(1.0, a);
+    // (At the midline, between the two central incisors, neither's turn.)
+    const double turn = i * 2 == kColumns ? 0.0 : 0.9 * (u - 0.5) * std::copysign(1.0, a);
     const Vec3 normal(std::sin(a + turn), 0, std::cos(a + turn));
     const double gap = 0.55 + 0.45 * smoothstep(0.0, 0.2, std::min(u, 1.0 - u));
     const double back = 1.0 - 0.6 * std::abs(a) / kReach;
-    const double rows[kRows] = {round_off, round_off + 1.0 * mm, 0.5 * (round_off + gum), gum, gum + 2.0 * mm};
+    const double rows[kRows] = {round_off, round_off + 1.0 * mm, 0.5 * (round_off + gum), gum, gum, gum + 2.0 * mm};
     for (int j = 0; j < kRows; ++j) {
       const Vec3 q(arch * std::sin(a), edge + sign * rows[j], front - arch * (1 - std::cos(a)));
       m->addVertex(q, normal);
       // Enamel: greyer and translucent at the edge, ivory over the crown; then 2 mm of gum.
       const Vec3 enamel = j == 0 ? Vec3(0.6, 0.6, 0.6) : j == 1 ? Vec3(0.72, 0.7, 0.65) : Vec3(0.8, 0.75, 0.64);
-      const Vec3 c = j >= 3 ? Vec3(back * Vec3(0.5, 0.2, 0.19)) : Vec3(gap * back * enamel);
+      const Vec3 c = j >= 4 ? Vec3(back * Vec3(0.5, 0.2, 0.19)) : Vec3(gap * back * enamel);
       for (int k = 0; k < 3; ++k) m->colors.push_back(static_cast<float>(c[k]));
     }
   }
