@@ -2,9 +2,10 @@
 """Writes scenes/face.json: the muscle-driven face (docs/face.md), a three-quarter close-up.
 
   0-2 s        the head, turned away, turns to the camera; the eyes lead it;
-  2-11.6 s     the six universal expressions, one after another, the head moving a little, the
-               eyes looking about between them, with blinks: happiness, surprise, sadness,
-               anger, disgust, fear;
+  2-11.6 s     the six universal expressions, one after another, each with its carriage of the
+               head and its gaze (sadness looks down, disgust and fear away), the eyes glancing
+               about between them, with blinks: happiness, surprise, sadness, anger, disgust,
+               fear;
   11.6-15.2 s  a spoken line's mouth shapes (visemes), the head nodding with it;
   15.2-18 s    the camera glides round to the other side as the head turns to it and the skin
                dissolves into the layers: the lattice over the left half, the skull and the
@@ -45,12 +46,21 @@ def activations():
     return keys
 
 
+# Each expression's carriage of the head (degrees: chin down, turn to the face's left, tilt) and
+# where its eyes go (None: the camera), so the head performs the feeling rather than holding
+# still: the smile tilts, surprise pulls back, sadness drops the head and the eyes, anger lowers
+# the chin and stares, disgust turns away, fear pulls back and looks aside.
+CARRIAGE = {"happiness": ([-3, 16, 6], None), "surprise": ([-7, 10, 0], None), "sadness": ([9, 16, -3], [0.05, -0.45, 0.3]),
+            "anger": ([5, 8, 0], None), "disgust": ([-3, 27, -5], [0.4, -0.05, 0.25]), "fear": ([-5, 22, 3], [-0.35, 0.1, 0.35])}
+
+
 def head_keys():
-    # Turned away, then toward the camera; small turns and nods while it emotes and speaks.
+    # Turned away, then toward the camera; each expression's carriage as it rises and holds,
+    # moving on into the next; nods while it speaks.
     keys = [(0.0, [6, -58, 0]), (0.3, [6, -58, 0]), (1.8, [0, 12, 0])]
-    sway = [[-2, 16, 1], [3, 9, -2], [-1, 15, 2], [2, 10, 0], [-2, 14, -1], [1, 11, 1]]
-    for i, rot in enumerate(sway):
-        keys.append((START + EACH * i + 0.8, rot))
+    for i, name in enumerate(EXPRESSIONS):
+        t0 = START + EACH * i
+        keys += [(t0 + 0.55, CARRIAGE[name][0]), (t0 + 1.15, CARRIAGE[name][0])]
     keys += [(SPEECH + 0.5, [3, 14, 0]), (SPEECH + 1.3, [-2, 10, -2]), (SPEECH + 2.2, [4, 15, 1]),
              (CUT - GLIDE_BEFORE, [0, 12, 0]),
              # As the camera glides round, the head turns to it: lattice on the left half, muscles on the right.
@@ -59,11 +69,14 @@ def head_keys():
 
 
 def gaze_keys(camera):
-    # The eyes lead the turn, hold the camera, glance away between expressions and while speaking.
+    # The eyes lead the turn, then go where each expression sends them (the camera unless it says)
+    # and glance away between expressions and while speaking.
     keys = [(0.0, [-0.3, 0.0, 0.3]), (0.8, camera)]
-    for i in range(len(EXPRESSIONS)):
+    for i, name in enumerate(EXPRESSIONS):
         t0 = START + EACH * i
-        keys += [(t0 + 1.2, camera), (t0 + 1.35, [0.15 * (-1) ** i, 0.05 - 0.08 * (i % 3 == 1), 0.4]), (t0 + 1.55, camera)]
+        look = CARRIAGE[name][1] or camera
+        keys += [(t0 + 0.35, look), (t0 + 1.2, look), (t0 + 1.35, [0.15 * (-1) ** i, 0.05 - 0.08 * (i % 3 == 1), 0.4]),
+                 (t0 + 1.55, camera)]
     keys += [(SPEECH + 1.3, camera), (SPEECH + 1.45, [-0.12, 0.08, 0.4]), (SPEECH + 2.0, [-0.12, 0.08, 0.4]),
              (SPEECH + 2.15, camera), (END, camera)]
     return [{"time": round(t, 3), "target": p} for t, p in keys]
@@ -86,11 +99,12 @@ def main():
         # Loop lighting: the key 20 degrees up and to the far side of the face (the nose's shadow
         # falls short, toward the mouth's corner: higher, it lay on the upper lip as a dark smear
         # viewers took for a moustache; a soft-box, so its edge is soft), a cool fill from the
-        # camera's side at a fifth of it, and a rim from straight behind that lifts the head's
-        # outline off the background (from the side it lit a band down the cheek).
+        # camera's side at an eighth of it (at a fifth, viewers found the face flat), and a rim from
+        # straight behind that lifts the head's outline off the background (from the side it lit a
+        # band down the cheek).
         "lights": [{"type": "directional", "direction": [0.6, -0.33, -0.62], "color": [1.0, 0.93, 0.84],
                     "intensity": 2.2, "shadows": True, "angle_deg": 20},
-                   {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.8, 0.82, 0.9], "intensity": 0.4},
+                   {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.8, 0.82, 0.9], "intensity": 0.28},
                    {"type": "directional", "direction": [-0.1, -0.3, 1.0], "color": [0.9, 0.9, 1.0], "intensity": 0.5},
                    {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.12}],
         "bodies": [{
