@@ -98,13 +98,13 @@ def main():
                             {"time": round(END, 3), "position": [-0.23, 0.035, 0.47], "target": layers[1]}]},
         # Loop lighting: the key 20 degrees up and to the far side of the face (the nose's shadow
         # falls short, toward the mouth's corner: higher, it lay on the upper lip as a dark smear
-        # viewers took for a moustache; a soft-box, so its edge is soft), a cool fill from the
+        # viewers took for a moustache; a soft-box, so its edge is soft), a warm fill from the
         # camera's side at an eighth of it (at a fifth, viewers found the face flat), and a rim from
         # straight behind that lifts the head's outline off the background (from the side it lit a
         # band down the cheek).
         "lights": [{"type": "directional", "direction": [0.6, -0.33, -0.62], "color": [1.0, 0.93, 0.84],
                     "intensity": 2.2, "shadows": True, "angle_deg": 20},
-                   {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.8, 0.82, 0.9], "intensity": 0.28},
+                   {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.95, 0.86, 0.8], "intensity": 0.28},
                    {"type": "directional", "direction": [-0.1, -0.3, 1.0], "color": [0.9, 0.9, 1.0], "intensity": 0.5},
                    {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.12}],
         "bodies": [{
