@@ -20,7 +20,9 @@ Mat3 aboutX(double a) { return Eigen::AngleAxisd(a, Vec3::UnitX()).toRotationMat
 
 }  // namespace
 
-Mat3 FaceBody::boneRotation(std::size_t k) const { return R_ * aboutX(surface_.jaw[k] * jaw_); }
+Mat3 FaceBody::jawRotation(double share) const { return R_ * aboutX(share * jaw_); }
+
+Mat3 FaceBody::boneRotation(std::size_t k) const { return jawRotation(surface_.jaw[k]); }
 
 // The mandible opens by turning about the condyles and, as it opens, gliding forward onto the
 // articular eminences (about 15 mm over a wide opening; Posselt 1952's envelope of motion): the

@@ -86,6 +86,8 @@ class FaceBody final : public SpringNetworkBody {
   // The skull's frame at bone vertex k: where the head frame's point q under it goes (world).
   Vec3 boneToWorld(std::size_t k, const Vec3& q) const;
   Mat3 boneRotation(std::size_t k) const;
+  // The head's turn now with `share` (0..1) of the jaw's: what jawMoved does to directions.
+  Mat3 jawRotation(double share) const;
   // Muscle m's attachment in the world (on the jaw, it moves with it).
   Vec3 attachmentWorld(std::size_t m) const;
   void muscleForces();

@@ -275,30 +275,22 @@ void FaceBody::drawSkin(DrawList& out) const {
     const double front = surface_.mouth.z() - 0.0085 * k;
     const double open = mouthOpening() / k, lit = 0.15 + 0.85 * std::clamp((open - 0.002) / 0.006, 0.0, 1.0);
     // (Dimmer as the lips close: little light reaches into a closed mouth.)
-    auto teeth = std::make_shared<TriMesh>();
-    for (int row = 0; row < 2; ++row) {
-      const double share = row == 0 ? 0.0 : 1.0;  // upper with the skull, lower with the jaw
-      const TriMesh& rest = *surface_.teeth[static_cast<std::size_t>(row)];
-      const auto base = static_cast<std::uint32_t>(teeth->vertexCount());
-      const Mat3 turn = R_ * Eigen::AngleAxisd(share * jaw_, Vec3::UnitX()).toRotationMatrix();
-      for (std::size_t v = 0; v < rest.vertexCount(); ++v) {
-        const Vec3 q(rest.positions[3 * v], rest.positions[3 * v + 1], rest.positions[3 * v + 2]);
-        const Vec3 n(rest.normals[3 * v], rest.normals[3 * v + 1], rest.normals[3 * v + 2]);
-        teeth->addVertex(world(jawMoved(share, q)), turn * n);
-        for (int m = 0; m < 3; ++m) teeth->colors.push_back(static_cast<float>(lit * rest.colors[3 * v + static_cast<std::size_t>(m)]));
-      }
-      for (std::uint32_t i : rest.indices) teeth->indices.push_back(base + i);
-    }
     DrawMaterial enamel = plain(Vec3(1, 1, 1), 0.5);
     enamel.roughness = 0.3;
     enamel.casts_shadow = false;
-    out.meshes.push_back({std::move(teeth), true, enamel});
+    for (int row = 0; row < 2; ++row) {
+      // The upper row with the skull, the lower with the jaw: jawMoved is a rigid motion.
+      const double share = row == 0 ? 0.0 : 1.0;
+      auto teeth = std::make_shared<TriMesh>(*surface_.teeth[static_cast<std::size_t>(row)]);
+      teeth->transform(jawRotation(share), world(jawMoved(share, Vec3::Zero())));
+      for (float& c : teeth->colors) c *= static_cast<float>(lit);
+      out.meshes.push_back({std::move(teeth), true, enamel});
+    }
     // The tongue: a flattened ellipsoid on the mouth's floor behind the lower teeth, its back
     // 3 mm below their edges, with the jaw; wet, but with little to reflect inside a mouth.
-    const Mat3 down = R_ * Eigen::AngleAxisd(jaw_, Vec3::UnitX()).toRotationMatrix();
     const Vec3 centre(0.0, ym - 0.0095 * k, front - 0.027 * k);
-    auto tongue = std::make_shared<TriMesh>(placeMesh(makeUvSphere(1.0, 24, 12), k * Vec3(0.017, 0.0055, 0.022), down,
-                                                      desc_.position + R_ * jawMoved(1.0, centre)));
+    auto tongue = std::make_shared<TriMesh>(
+        placeMesh(makeUvSphere(1.0, 24, 12), k * Vec3(0.017, 0.0055, 0.022), jawRotation(1.0), world(jawMoved(1.0, centre))));
     DrawMaterial wet = plain(lit * Vec3(0.36, 0.1, 0.1), 0.01);
     wet.roughness = 0.35;
     wet.casts_shadow = false;
@@ -342,8 +334,9 @@ void FaceBody::drawSkin(DrawList& out) const {
       quads(base, kE, kA);
       // The lashes: a fringe curving out and away from the eye from the lid's edge, longest
       // at the middle and toward the outer corner, its tip cut into points (every other column,
-      // about 0.4 mm apart, shorter: each point a clump of lashes), 4.5 mm above and 1.2 mm below (shorter than real lashes, 8-12 and 6-8
-      // mm: a solid fringe that long reads as a visor). At 1.4 mm they did not show at all.
+      // about 0.4 mm apart, shorter: each point a clump of lashes), 4.5 mm above and 1.2 mm
+      // below (shorter than real lashes, 8-12 and 6-8 mm: a solid fringe that long reads as a
+      // visor). At 1.4 mm they did not show at all.
       base = static_cast<std::uint32_t>(lids->vertexCount());
       const double length = (lower ? 0.0012 : 0.0045) * surface_.scale;
       const Vec3 away(0, lower ? -1 : 1, 0);
@@ -411,7 +404,7 @@ void FaceBody::drawLayers(DrawList& out) const {
   const double s = surface_.scale;
   // The figure of the lattice under the face, cut away: only the front of the head, and only its
   // left half (+x), so the muscles show on the skull over the right half.
-  auto front = [&](std::size_t k) { return surface_.skin[k].z() > -0.01 * s && surface_.skin[k].x() > -0.002 * s; };
+  auto shown = [&](std::size_t k) { return surface_.skin[k].z() > -0.01 * s && surface_.skin[k].x() > -0.002 * s; };
   DrawTubes skin, fascia, across;
   skin.radius = static_cast<float>(0.0004 * s);
   fascia.radius = skin.radius;
@@ -422,7 +415,7 @@ void FaceBody::drawLayers(DrawList& out) const {
   const Springs& sp = net_.model.springs;
   for (std::size_t q = 0; q < sp.size(); ++q) {
     const auto a = static_cast<std::size_t>(sp.a[q]), b = static_cast<std::size_t>(sp.b[q]);
-    if (!front(a % n) || !front(b % n)) continue;
+    if (!shown(a % n) || !shown(b % n)) continue;
     if (a < n && b < n) pushTube(skin, x[a], x[b]);
     else if (a >= n && b >= n && a < 2 * n && b < 2 * n) pushTube(fascia, x[a], x[b]);
     else if (b == a + n) pushTube(across, x[a], x[b]);
