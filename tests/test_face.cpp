@@ -340,6 +340,66 @@ TEST_CASE("face: the jaw turns the mandible alone and glides as it opens; the ne
   CHECK(lowest == doctest::Approx(-0.32).epsilon(1e-3));
 }
 
+TEST_CASE("face: the scalp and the back of the neck are held to the skull; the face moves as when all is free") {
+  // Surprise (the frontalis lifts the brows, the jaw opens) while the head turns, with the far
+  // tissue held (the default) and with none held.
+  const std::string keys = R"(, "keys": [{"time": 0, "rotation_deg": [0, 0, 0]}, {"time": 0.8, "rotation_deg": [10, -30, 0]}],
+      "activations": [{"time": 0, "preset": "surprise", "amount": 0}, {"time": 0.5, "preset": "surprise"}])";
+  World held = worldFromText(faceSceneText(keys, 1.0, "[64, 40]", "1e-3"));
+  World free = worldFromText(faceSceneText(keys + R"(, "held_beyond": 0)", 1.0, "[64, 40]", "1e-3"));
+  const FaceBody &fh = face(held), &ff = face(free);
+  const FaceSurface& s = fh.surface();
+  const std::size_t n = s.size();
+  // Which vertices are held: behind the temples, off the jaw, farther than held_beyond (3 cm)
+  // from every muscle's zone; with held_beyond 0 only the neck's cut end.
+  std::size_t count = 0, cut = 0;
+  double front = -1.0, jaw = 0.0, nearest = 1.0;  // of the held vertices: the foremost, the jaw's largest share, the nearest to a muscle
+  bool fixed = true;
+  for (std::size_t k = 0; k < n; ++k) cut += ff.surface().held[k];
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!s.held[k]) continue;
+    ++count;
+    if (ff.surface().held[k]) continue;  // the neck's cut end
+    front = std::max(front, s.skin[k].z()), jaw = std::max(jaw, s.jaw[k]);
+    for (const FaceMuscle& m : fh.muscles())
+      for (int j : m.nodes) nearest = std::min(nearest, (s.skin[static_cast<std::size_t>(j)] - s.skin[k]).norm());
+    fixed = fixed && fh.network().model.fixed[k] && fh.network().model.fixed[n + k];
+  }
+  MESSAGE(count << " of " << n << " vertices held (" << cut << " with held_beyond 0); foremost at z = " << front
+                << " m, nearest a muscle's zone " << nearest << " m");
+  CHECK(front < kHeldFront);
+  CHECK(jaw == 0.0);
+  CHECK(nearest > 0.03);
+  CHECK(fixed);
+  CHECK(count > cut + n / 4);  // the crown, the back of the head and of the neck
+  CHECK(cut < n / 20);
+  const auto brows = [&](const FaceBody& f) {  // the skin's mean height over the brows, head frame
+    double y = 0.0;
+    for (double x : {-0.03, -0.015, 0.015, 0.03}) {
+      const std::size_t k = vertexNear(f, Vec3(x, 0.035, 0.09));
+      y += (f.rotation().transpose() * (f.network().state.x[k] - f.network().state.x[2 * n + k])).y();
+    }
+    return y / 4;
+  };
+  const double b0 = brows(fh), b0_free = brows(ff);
+  run(held, 30);
+  run(free, 30);
+  // A held vertex's skin and fascia move with its bone, exactly as the skull turns.
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!s.held[k] || ff.surface().held[k]) continue;
+    const Vec3 bone = held.first<FaceBody>()->network().state.x[2 * n + k];
+    CHECK((fh.network().state.x[k] - bone - fh.rotation() * (s.skin[k] - s.bone[k])).norm() < 1e-12);
+  }
+  // The brows rise and the mouth opens as far as when nothing is held (within 15% and 5%).
+  const double lift = brows(fh) - b0, lift_free = brows(ff) - b0_free;
+  MESSAGE("brows lifted " << lift * 1e3 << " mm held, " << lift_free * 1e3 << " mm free; mouth " << fh.mouthOpening() * 1e3 << " / "
+                          << ff.mouthOpening() * 1e3 << " mm");
+  CHECK(lift_free > 0.003);
+  CHECK(lift > 0.85 * lift_free);
+  CHECK(fh.mouthOpening() == doctest::Approx(ff.mouthOpening()).epsilon(0.05));
+  CHECK(worstVolumeChange(fh.tissue(), fh.network().state.x) < 0.15);
+}
+
 TEST_CASE("face: activations and visemes are eased between their keys (no kink at a key)") {
   World w = worldFromText(faceScene(R"(, "activations": [{"time": 0, "muscles": {"zygomatic_major_left": 0}}, {"time": 1, "muscles": {"zygomatic_major_left": 0.8}}],
       "visemes": [{"time": 0, "viseme": "rest"}, {"time": 2, "viseme": "oo"}, {"time": 4, "viseme": "rest"}])", 4.0, "[32, 24]"));
@@ -412,6 +472,9 @@ TEST_CASE("face: bad input") {
   // Layers that would cross the skull; a mesh without its skull.
   checkHas(badInputError(faceScene(R"(, "dermis": {"thickness": 0.02}, "muscle": {"thickness": 0.02})")), "cross the skull");
   checkHas(badInputError(faceScene(R"(, "skull": "x.obj")")), "/bodies/0/skull");
+  // A held scalp's reach below 0 or past a metre.
+  checkHas(badInputError(faceScene(R"(, "held_beyond": -0.01)")), "/bodies/0/held_beyond");
+  checkHas(badInputError(faceScene(R"(, "held_beyond": 2)")), "/bodies/0/held_beyond");
   // Past the largest resolution a film can use.
   checkHas(badInputError(faceScene("", 1.0, "[130, 40]")), "/bodies/0/resolution");
 }
@@ -468,12 +531,13 @@ TEST_CASE("face: a user's mesh with an inset and a muscle of the scene") {
   // The looks shape reel's own head: a user's mesh has none.
   {
     auto r = app::parseScene(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "face", "name": "f", "mesh": "ball.obj",
-        "inset": 0.008, "sex": 1, "shoulders": false}]})", (dir / "looks.json").string());
+        "inset": 0.008, "sex": 1, "shoulders": false, "held_beyond": 0.02}]})", (dir / "looks.json").string());
     REQUIRE(!r.ok());
     std::string all;
     for (const std::string& l : r.error().messages) all += l + "\n";
     checkHas(all, "/bodies/0/sex: shapes reel's own head");
     checkHas(all, "/bodies/0/shoulders");
+    checkHas(all, "/bodies/0/held_beyond");
   }
   // A muscle from the skull above the front to the tissue below it: it pulls the front up.
   const Vec3 att = 0.092 * Vec3(0, 0.5, 1).normalized(), ins = 0.096 * Vec3(0, -0.3, 1).normalized();

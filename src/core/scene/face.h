@@ -110,6 +110,10 @@ struct FaceDesc final : BodyParams {
   double damping = 8.0;            // 1/s, each node's drag over its mass
   double spring_damping = 0.002;   // s, a spring's damping over its stiffness
   double gravity_scale = 1.0;
+  // m, reel's head: tissue behind the temples and farther than this from every muscle's zone and
+  // from the jaw is held to the skull (the scalp over the crown and the back of the head, the back
+  // of the neck); 0 holds none.
+  double held_beyond = 0.03;
   bool default_muscles = true;     // reel's head: its muscles (off: only `muscles`)
   std::vector<FaceMuscleDesc> muscles;
   std::vector<FaceActivationKey> activations;

@@ -194,13 +194,14 @@ void readFace(Obj& o, FaceDesc& f) {
     }
   }
   if (auto c = o.vec3("iris_color", Range::closed(0.0, 1.0))) f.iris_color = *c;
-  // reel's head's looks and shoulders: refused on a user's mesh, which has neither.
-  for (const char* key : {"sex", "age", "build", "shoulders"})
+  // reel's head's looks, shoulders and held scalp: refused on a user's mesh, which has none of them.
+  for (const char* key : {"sex", "age", "build", "shoulders", "held_beyond"})
     if (f.mesh && o.has(key)) d.error(childPath(p, key), "shapes reel's own head; a face with a `mesh` has none");
   f.look.sex = o.number("sex", f.look.sex, Range::closed(0.0, 1.0));
   f.look.age = o.number("age", f.look.age, Range::closed(18.0, 90.0));
   f.look.build = o.number("build", f.look.build, Range::closed(0.0, 1.0));
   f.shoulders = o.boolean("shoulders", f.shoulders);
+  f.held_beyond = o.number("held_beyond", f.held_beyond, Range::closed(0.0, 1.0));
   readList(o, "visemes", [&](Obj& vo) {
     FaceVisemeKey v;
     v.path = vo.path();

@@ -121,6 +121,35 @@ void FaceBody::keepAboveSkull() {
   });
 }
 
+// The scalp is bound to the skull by the galea aponeurotica and moves little over it; the back of
+// the neck carries no muscle of the face. Tissue that no muscle's zone and no part of the jaw
+// comes within held_beyond of, behind the temples (3 cm in front of the head's centre, scaled
+// with the head), is held to the skull: posed with it each step, as the neck's cut end is. Its
+// nodes leave the implicit solve, and with them the slowest modes the conjugate gradients had
+// to reach (the tissue sliding over the crown and round the neck: docs/face.md, Speed). The
+// forehead, which the frontalis lifts, stays free to the crown's front.
+void FaceBody::holdScalp(MassSpringDesc& ms) {
+  const double reach = desc_.held_beyond;
+  if (!(reach > 0)) return;
+  const std::size_t n = surface_.size();
+  std::vector<Vec3> moved;  // where the muscles pull and the jaw turns (rest skin positions)
+  for (const FaceMuscle& m : muscles_)
+    for (int k : m.nodes) moved.push_back(surface_.skin[static_cast<std::size_t>(k)]);
+  for (std::size_t k = 0; k < n; ++k)
+    if (surface_.jaw[k] > 0) moved.push_back(surface_.skin[k]);
+  const double behind = kHeldFront * surface_.scale, reach2 = reach * reach;
+  if (surface_.held.empty()) surface_.held.assign(n, 0);
+  parallelFor(static_cast<Index>(n), [&](Index i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (surface_.held[k] || surface_.skin[k].z() >= behind) return;
+    for (const Vec3& q : moved)
+      if ((q - surface_.skin[k]).squaredNorm() <= reach2) return;
+    surface_.held[k] = 1;
+  });
+  for (std::size_t k = 0; k < n; ++k)
+    if (surface_.held[k]) ms.nodes[k].fixed = ms.nodes[n + k].fixed = true;
+}
+
 void FaceBody::contactMasses() {
   const std::size_t n = surface_.size();
   const auto& x = net_.state.x;
@@ -230,6 +259,18 @@ Status FaceBody::setup(const BodyDesc& desc, const BuildContext& ctx) {
     surface_ = makeHead(desc_.height, desc_.resolution, thickness, desc_.look);
   }
   MassSpringDesc ms = buildTissue(surface_, desc_, tissue_);
+  // Muscles: reel's head's own, then the scene's.
+  std::vector<FaceMuscleDesc> all;
+  if (surface_.generated && desc_.default_muscles) all = defaultMuscles(surface_);
+  for (const FaceMuscleDesc& m : desc_.muscles) all.push_back(m);
+  std::vector<Vec3> fascia(surface_.size());
+  for (std::size_t k = 0; k < surface_.size(); ++k) fascia[k] = ms.nodes[surface_.size() + k].position;
+  for (const FaceMuscleDesc& m : all) {
+    auto placed = placeMuscle(m, surface_, fascia, file);
+    if (!placed) return placed.error();
+    muscles_.push_back(std::move(placed.value()));
+  }
+  if (surface_.generated) holdScalp(ms);
   fascia_share_ = desc_.dermis.thickness / (desc_.dermis.thickness + desc_.muscle.thickness);
   MassSpringDesc scaled = ms;
   const Vec3 gravity = desc_.gravity_scale * ctx.scene->gravity;
@@ -260,17 +301,6 @@ Status FaceBody::setup(const BodyDesc& desc, const BuildContext& ctx) {
   }
   if (std::string e = net_.unstableMethod(desc.name, ctx.scene->integrator); !e.empty())
     return Error(ErrorKind::BadInput, file + ": " + e);
-  // Muscles: reel's head's own, then the scene's.
-  std::vector<FaceMuscleDesc> all;
-  if (surface_.generated && desc_.default_muscles) all = defaultMuscles(surface_);
-  for (const FaceMuscleDesc& m : desc_.muscles) all.push_back(m);
-  std::vector<Vec3> fascia(surface_.size());
-  for (std::size_t k = 0; k < surface_.size(); ++k) fascia[k] = ms.nodes[surface_.size() + k].position;
-  for (const FaceMuscleDesc& m : all) {
-    auto placed = placeMuscle(m, surface_, fascia, file);
-    if (!placed) return placed.error();
-    muscles_.push_back(std::move(placed.value()));
-  }
   auto acts = makeActivations(desc_, muscles_, file);
   if (!acts) return acts.error();
   activations_ = std::move(acts.value());

@@ -92,6 +92,9 @@ class FaceBody final : public SpringNetworkBody {
   Vec3 attachmentWorld(std::size_t m) const;
   void muscleForces();
   void keepAboveSkull();
+  // Holds the tissue far from every muscle and the jaw to the skull (desc_.held_beyond): marks
+  // surface_.held and fixes the nodes in `ms`.
+  void holdScalp(MassSpringDesc& ms);
   // Each node's inverse mass as the contact layer sees it (a skin node resting on the skull: 0).
   void contactMasses();
   void drawSkin(DrawList& out) const;
@@ -130,5 +133,8 @@ Result<std::unique_ptr<Body>> buildFaceBody(const BodyDesc& desc, const BuildCon
 inline constexpr double kJawMaxRad = 0.3;
 // How far the jaw glides forward as it opens, m per rad at a head 0.24 m high.
 inline constexpr double kJawGlide = 0.05;
+// Held tissue lies behind this plane, m in front of the head's centre at a head 0.24 m high (the
+// temples): the scalp in front of it follows the frontalis.
+inline constexpr double kHeldFront = 0.03;
 
 }  // namespace reel
