@@ -371,6 +371,13 @@ TEST_CASE("face: the scalp and the back of the neck are held to the skull; the f
   CHECK(jaw == 0.0);
   CHECK(nearest > 0.03);
   CHECK(fixed);
+  // The volume term evaluates exactly the prisms with a free node (held ones keep their volume).
+  std::size_t with_free = 0;
+  for (const auto& P : fh.tissue().prisms)
+    with_free += std::any_of(P.begin(), P.end(), [&](int c) { return !fh.network().model.fixed[static_cast<std::size_t>(c)]; });
+  CHECK(fh.tissue().active.size() == with_free);
+  CHECK(with_free < fh.tissue().prisms.size() * 3 / 4);
+  CHECK(ff.tissue().active.size() > fh.tissue().active.size());
   CHECK(count > cut + n / 4);  // the crown, the back of the head and of the neck
   CHECK(cut < n / 20);
   const auto brows = [&](const FaceBody& f) {  // the skin's mean height over the brows, head frame

@@ -271,6 +271,7 @@ Status FaceBody::setup(const BodyDesc& desc, const BuildContext& ctx) {
     muscles_.push_back(std::move(placed.value()));
   }
   if (surface_.generated) holdScalp(ms);
+  keepActive(tissue_, ms);
   fascia_share_ = desc_.dermis.thickness / (desc_.dermis.thickness + desc_.muscle.thickness);
   MassSpringDesc scaled = ms;
   const Vec3 gravity = desc_.gravity_scale * ctx.scene->gravity;

@@ -77,6 +77,18 @@ void indexCorners(FaceTissue& T, std::size_t nodes) {
       T.corners[q] = static_cast<int>(6 * e) + c;
       T.corner_prism[q] = static_cast<int>(e);
     }
+  T.active.resize(T.prisms.size());
+  for (std::size_t e = 0; e < T.prisms.size(); ++e) T.active[e] = static_cast<int>(e);
+}
+
+void keepActive(FaceTissue& T, const MassSpringDesc& ms) {
+  T.active.clear();
+  for (std::size_t e = 0; e < T.prisms.size(); ++e)
+    for (int c : T.prisms[e])
+      if (!ms.nodes[static_cast<std::size_t>(c)].fixed) {
+        T.active.push_back(static_cast<int>(e));
+        break;
+      }
 }
 
 MassSpringDesc buildTissue(const FaceSurface& s, const FaceDesc& desc, FaceTissue& T) {
@@ -224,7 +236,8 @@ void preserveVolumes(FaceTissue& T, const MassSpringModel& m, std::vector<Vec3>&
 
 static void volumePass(FaceTissue& T, const MassSpringModel& m, std::vector<Vec3>& x, std::vector<Vec3>& v, double h) {
   T.corner_vec.resize(6 * T.prisms.size());
-  parallelFor(static_cast<Index>(T.prisms.size()), [&](Index e) {
+  parallelFor(static_cast<Index>(T.active.size()), [&](Index a) {
+    const Index e = T.active[static_cast<std::size_t>(a)];
     const auto& P = T.prisms[static_cast<std::size_t>(e)];
     std::array<Vec3, 6> p;
     for (int c = 0; c < 6; ++c) p[static_cast<std::size_t>(c)] = x[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])];
@@ -269,7 +282,8 @@ static void gatherScaled(const FaceTissue& T, const std::vector<double>& a, cons
 static void volumeGradients(FaceTissue& T, const Vec3* x, std::vector<Vec3>& g) {
   g.resize(6 * T.prisms.size());
   T.scalar.resize(T.prisms.size());
-  parallelFor(static_cast<Index>(T.prisms.size()), [&](Index e) {
+  parallelFor(static_cast<Index>(T.active.size()), [&](Index a) {
+    const Index e = T.active[static_cast<std::size_t>(a)];
     const auto& P = T.prisms[static_cast<std::size_t>(e)];
     std::array<Vec3, 6> p, ge;
     for (int c = 0; c < 6; ++c) p[static_cast<std::size_t>(c)] = x[static_cast<std::size_t>(P[static_cast<std::size_t>(c)])];
@@ -310,7 +324,8 @@ void TissueVolume::addProduct(const Vec3* p, double s, Vec3* out) {
 void TissueVolume::prepareProduct(const Vec3* p, double s) {
   FaceTissue& T = t_;
   T.scalar.resize(T.prisms.size());
-  parallelFor(static_cast<Index>(T.prisms.size()), [&](Index e) {
+  parallelFor(static_cast<Index>(T.active.size()), [&](Index a) {
+    const Index e = T.active[static_cast<std::size_t>(a)];
     const auto& P = T.prisms[static_cast<std::size_t>(e)];
     const Vec3* g = T.grad.data() + 6 * e;
     double dot = 0.0;

@@ -27,6 +27,9 @@ struct FaceTissue {
   // For each node, its (prism, corner) pairs in prism order (compressed rows): the volume forces
   // gathered in a fixed order. corners holds 6·prism + corner, corner_prism the prism alone.
   std::vector<int> corner_start, corners, corner_prism;
+  // The prisms with a free node, the only ones the volume term evaluates (a prism of fixed nodes
+  // keeps its volume; its scalar and gradients stay 0, read only by fixed nodes' rows).
+  std::vector<int> active;
   double biphasic_strain = 0.0, biphasic_ratio = 1.0;
   std::vector<double> stiffness, rest;  // the springs' own (first phase), N/m and m
   // The skull: each vertex's outward direction in the head frame (bone → skin at rest) and the
@@ -62,8 +65,12 @@ class TissueVolume final : public ForceTerm {
 // Nodes and springs of the tissue over `surface` (bone nodes fixed), and the tissue's own terms.
 MassSpringDesc buildTissue(const FaceSurface& surface, const FaceDesc& desc, FaceTissue& tissue);
 
-// Each node's corners (corner_start, corners, corner_prism) from the prisms, over `nodes` nodes.
+// Each node's corners (corner_start, corners, corner_prism) from the prisms, over `nodes` nodes;
+// every prism active.
 void indexCorners(FaceTissue& tissue, std::size_t nodes);
+
+// Only the prisms with a node that `ms` leaves free active.
+void keepActive(FaceTissue& tissue, const MassSpringDesc& ms);
 
 // The signed volume of a prism (its boundary, each side quad the mean of its two splits), m³.
 double prismVolume(const std::array<Vec3, 6>& p);
