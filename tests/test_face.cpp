@@ -57,6 +57,20 @@ TEST_CASE("face: a prism's volume and biphasic springs by their phases") {
     mirrored[static_cast<std::size_t>(3 + c)] = p[static_cast<std::size_t>(3 + m)].cwiseProduct(Vec3(-1, 1, 1));
   }
   CHECK(prismVolume(mirrored) == doctest::Approx(prismVolume(p)).epsilon(1e-14));
+  // ... and is the divergence theorem's sum over its boundary with each side quad the mean of its
+  // two splits into triangles (what the closed form for a quad stands for).
+  {
+    auto tri = [&](int i, int j, int k) {
+      return p[static_cast<std::size_t>(i)].dot(p[static_cast<std::size_t>(j)].cross(p[static_cast<std::size_t>(k)])) / 6;
+    };
+    double v = tri(0, 2, 1) + tri(3, 4, 5);
+    for (int i = 0; i < 3; ++i) {
+      const int P = i, Q = (i + 1) % 3, R = 3 + Q, S = 3 + i;
+      v += 0.5 * (tri(P, Q, R) + tri(P, R, S)) + 0.5 * (tri(P, Q, S) + tri(Q, R, S));
+    }
+    CHECK(prismVolume(p) == doctest::Approx(v).epsilon(1e-13));
+    CHECK(std::abs(v - 1.5) > 0.01);  // (the twist changed it)
+  }
   // Biphasic: one spring of stiffness c = 10, rest 1, ε_c = 0.1, β = 4. Its force at length L is
   // c(L − 1) within the strain, c·0.1 + 4c(L − 1.1) beyond (and the mirror in compression),
   // outside the band ε_c ± ε_c/3 where the stiffness turns.

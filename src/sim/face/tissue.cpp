@@ -17,37 +17,43 @@ namespace {
 // The prism's volume by the divergence theorem, V = Σ over its boundary's triangles of
 // a·(b × c)/6, each side quad (not flat in general) taken as the mean of its two splits into
 // triangles, so the volume is the same function for a prism listed in any order (a mirrored
-// prism gives the mirrored forces). Points relative to their centroid; `grad`, when given,
-// gets ∂V/∂p for each of the six points.
+// prism gives the mirrored forces). That mean, ½([P,Q,R] + [P,R,S] + [P,Q,S] + [Q,R,S]) for the
+// quad PQRS, is ¼ Σ·((R − P) × (S − Q)) with Σ = P + Q + R + S (the bilinear patch's volume):
+// three cross products for the quad and its gradient instead of twelve. Points relative to their
+// centroid; `grad`, when given, gets ∂V/∂p for each of the six points.
 double prismVolumeGrad(const std::array<Vec3, 6>& p, std::array<Vec3, 6>* grad) {
   Vec3 c = Vec3::Zero();
   for (const Vec3& q : p) c += q;
   c /= 6.0;
   std::array<Vec3, 6> r;
   for (int i = 0; i < 6; ++i) r[static_cast<std::size_t>(i)] = p[static_cast<std::size_t>(i)] - c;
-  if (grad) grad->fill(Vec3::Zero());
-  double v = 0.0;
-  auto tri = [&](int i, int j, int k, double w) {
-    const Vec3 &a = r[static_cast<std::size_t>(i)], &b = r[static_cast<std::size_t>(j)], &d = r[static_cast<std::size_t>(k)];
-    v += w * a.dot(b.cross(d));
-    if (!grad) return;
-    (*grad)[static_cast<std::size_t>(i)] += w * b.cross(d);
-    (*grad)[static_cast<std::size_t>(j)] += w * d.cross(a);
-    (*grad)[static_cast<std::size_t>(k)] += w * a.cross(b);
-  };
-  tri(0, 2, 1, 1.0);  // the lower triangle, facing down
-  tri(3, 4, 5, 1.0);  // the upper, facing up
+  auto at = [](int i) { return static_cast<std::size_t>(i); };
+  // The lower triangle (a0, a2, a1), facing down, and the upper (b0, b1, b2), facing up.
+  const Vec3 lo = r[2].cross(r[1]), up = r[4].cross(r[5]);
+  double v = r[0].dot(lo) + r[3].dot(up);
+  // The side quads (a_i, a_j, b_j, b_i), j = i + 1, facing out: P = a_i, Q = a_j, R = b_j,
+  // S = b_i, A = R − P, B = S − Q; its gradient ¼(A×B − B×Σ) at P, ¼(A×B + B×Σ) at R,
+  // ¼(A×B − Σ×A) at Q, ¼(A×B + Σ×A) at S.
+  Vec3 AB[3], BS[3], SA[3];
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3;
-    // The side quad (a_i, a_j, b_j, b_i), facing out: both of its splits, half each.
-    const int P = i, Q = j, R = 3 + j, S = 3 + i;
-    tri(P, Q, R, 0.5);
-    tri(P, R, S, 0.5);
-    tri(P, Q, S, 0.5);
-    tri(Q, R, S, 0.5);
+    const Vec3 A = r[at(3 + j)] - r[at(i)], B = r[at(3 + i)] - r[at(j)];
+    const Vec3 sum = r[at(i)] + r[at(j)] + r[at(3 + j)] + r[at(3 + i)];
+    AB[i] = A.cross(B);
+    v += 0.25 * sum.dot(AB[i]);
+    if (grad) BS[i] = B.cross(sum), SA[i] = sum.cross(A);
   }
-  if (grad)
-    for (Vec3& g : *grad) g /= 6.0;
+  if (grad) {
+    // Each corner's gradient written once (from its triangle and the two quads it is in: a_k is P
+    // of quad k and Q of quad k − 1, b_k is S of quad k and R of quad k − 1).
+    const Vec3 lo_grad[3] = {lo, r[0].cross(r[2]), r[1].cross(r[0])};
+    const Vec3 up_grad[3] = {up, r[5].cross(r[3]), r[3].cross(r[4])};
+    for (int k = 0; k < 3; ++k) {
+      const int b = (k + 2) % 3;  // the quad before
+      (*grad)[at(k)] = (lo_grad[k] + 0.25 * (AB[k] - BS[k] + AB[b] - SA[b])) / 6.0;
+      (*grad)[at(3 + k)] = (up_grad[k] + 0.25 * (AB[k] + SA[k] + AB[b] + BS[b])) / 6.0;
+    }
+  }
   return v / 6.0;
 }
 
