@@ -112,7 +112,7 @@ struct FaceDesc final : BodyParams {
   double gravity_scale = 1.0;
   // m, reel's head: tissue behind the temples and farther than this from every muscle's zone and
   // from the jaw is held to the skull (the scalp over the crown and the back of the head, the back
-  // of the neck); 0 holds none.
+  // of the neck); 0 holds only the neck's cut end.
   double held_beyond = 0.03;
   bool default_muscles = true;     // reel's head: its muscles (off: only `muscles`)
   std::vector<FaceMuscleDesc> muscles;

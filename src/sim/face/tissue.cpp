@@ -241,7 +241,7 @@ void preserveVolumes(FaceTissue& T, const MassSpringModel& m, std::vector<Vec3>&
 }
 
 static void volumePass(FaceTissue& T, const MassSpringModel& m, std::vector<Vec3>& x, std::vector<Vec3>& v, double h) {
-  T.corner_vec.resize(6 * T.prisms.size());
+  T.corner_vec.resize(6 * T.prisms.size(), Vec3::Zero());
   parallelFor(static_cast<Index>(T.active.size()), [&](Index a) {
     const Index e = T.active[static_cast<std::size_t>(a)];
     const auto& P = T.prisms[static_cast<std::size_t>(e)];
@@ -286,7 +286,7 @@ static void gatherScaled(const FaceTissue& T, const std::vector<double>& a, cons
 // Each element's volume gradient at x into g (per corner) and its force's coefficient
 // −κ/V₀·(V − V₀) into T.scalar.
 static void volumeGradients(FaceTissue& T, const Vec3* x, std::vector<Vec3>& g) {
-  g.resize(6 * T.prisms.size());
+  g.resize(6 * T.prisms.size(), Vec3::Zero());
   T.scalar.resize(T.prisms.size());
   parallelFor(static_cast<Index>(T.active.size()), [&](Index a) {
     const Index e = T.active[static_cast<std::size_t>(a)];

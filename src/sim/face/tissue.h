@@ -69,7 +69,8 @@ MassSpringDesc buildTissue(const FaceSurface& surface, const FaceDesc& desc, Fac
 // every prism active.
 void indexCorners(FaceTissue& tissue, std::size_t nodes);
 
-// Only the prisms with a node that `ms` leaves free active.
+// Only the prisms with a node that `ms` leaves free active. (The springs between fixed nodes stay:
+// the layers' lattice draws them, and they cost only their share of the step's linearisation.)
 void keepActive(FaceTissue& tissue, const MassSpringDesc& ms);
 
 // The signed volume of a prism (its boundary, each side quad the mean of its two splits), m³.
