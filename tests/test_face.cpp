@@ -10,6 +10,7 @@
 
 #include "face_scene.h"
 #include "helpers.h"
+#include "sim/contact_layer.h"
 #include "sim/face/face_body.h"
 #include "sim/world.h"
 
@@ -419,6 +420,39 @@ TEST_CASE("face: the scalp and the back of the neck are held to the skull; the f
   CHECK(lift > 0.85 * lift_free);
   CHECK(fh.mouthOpening() == doctest::Approx(ff.mouthOpening()).epsilon(0.05));
   CHECK(worstVolumeChange(fh.tissue(), fh.network().state.x) < 0.15);
+}
+
+TEST_CASE("face: the contact layer sees the held scalp and the skull move with a turning head") {
+  // Mid-turn (the head eases from 0 to 40° about y over 0.8 s), the posed nodes carry no velocity
+  // in the state, but the layer is handed their motion over the step.
+  World w = worldFromText(faceScene(R"(, "keys": [{"time": 0, "rotation_deg": [0, 0, 0]}, {"time": 0.8, "rotation_deg": [0, 40, 0]}])",
+                                    1.0, "[32, 24]"));
+  const FaceBody& f = face(w);
+  const std::size_t n = f.surface().size();
+  run(w, 12);
+  const std::vector<Vec3> before = f.network().state.x;
+  run(w, 1);  // one frame: two steps of 1/60 s
+  ContactProxies proxies;
+  proxies.clear();
+  proxies.add(f, 0);
+  const auto& x = f.network().state.x;
+  std::size_t posed = 0;
+  double worst = 0.0, fastest = 0.0, state = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!f.network().model.fixed[i]) continue;
+    ++posed;
+    state = std::max(state, f.network().state.v[i].norm());
+    // Over the frame the head turned at about the same rate in both steps: the layer's velocity
+    // is the last step's motion, within 5% of the frame's mean (plus a millimetre a second).
+    const Vec3 mean = (x[i] - before[i]) * 30.0;
+    worst = std::max(worst, (proxies.v[i] - mean).norm() - 0.05 * mean.norm());
+    fastest = std::max(fastest, proxies.v[i].norm());
+  }
+  MESSAGE(posed << " posed nodes of " << x.size() << "; fastest " << fastest << " m/s, worst excess " << worst << " m/s");
+  CHECK(state == 0.0);       // the state's rule: posed nodes carry no velocity
+  CHECK(posed > n);          // the bone, the held scalp and the neck's cut end
+  CHECK(fastest > 0.05);     // 40° over 0.8 s, eased: about 1.3 rad/s at its fastest, 0.1 m out
+  CHECK(worst < 1e-3);
 }
 
 TEST_CASE("face: activations and visemes are eased between their keys (no kink at a key)") {

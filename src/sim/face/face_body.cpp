@@ -92,7 +92,8 @@ void FaceBody::muscleForces() {
 
 void FaceBody::exportContacts(ContactExport& out) const {
   const std::size_t n = surface_.size();
-  out.points(net_.state.x, net_.state.v, contact_w_.size() == 3 * n ? contact_w_ : net_.model.inv_mass, net_.radius);
+  const bool found = contact_w_.size() == 3 * n && contact_v_.size() == 3 * n;
+  out.points(net_.state.x, found ? contact_v_ : net_.state.v, found ? contact_w_ : net_.model.inv_mass, net_.radius);
   const auto& t = surface_.tris;
   for (std::size_t layer : {std::size_t{0}, 2 * n})
     for (std::size_t k = 0; k + 2 < t.size(); k += 3)
@@ -150,9 +151,20 @@ void FaceBody::holdScalp(MassSpringDesc& ms) {
     if (surface_.held[k]) ms.nodes[k].fixed = ms.nodes[n + k].fixed = true;
 }
 
-void FaceBody::contactMasses() {
+void FaceBody::importContacts(std::span<const Vec3> x, std::span<const Vec3> v) {
+  SpringNetworkBody::importContacts(x, v);
+  for (std::size_t i = 0; i < net_.state.v.size(); ++i)
+    if (net_.model.fixed[i]) net_.state.v[i].setZero();
+}
+
+void FaceBody::contactState(const std::vector<Vec3>& posed, double h) {
   const std::size_t n = surface_.size();
   const auto& x = net_.state.x;
+  // The posed nodes carry no velocity in the state, but they move with the head and the jaw: the
+  // layer sees them move (a rope on the crown of a turning head is carried by its friction).
+  contact_v_ = net_.state.v;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (net_.model.fixed[i] && h > 0) contact_v_[i] = (x[i] - posed[i]) / h;
   contact_w_ = net_.model.inv_mass;
   for (std::size_t k = 0; k < n; ++k) {
     const double d = (x[k] - x[2 * n + k]).dot(boneRotation(k) * tissue_.out[k]);
@@ -161,6 +173,7 @@ void FaceBody::contactMasses() {
 }
 
 void FaceBody::step(StepContext& ctx) {
+  posed_before_ = net_.state.x;
   pose(ctx.t1);
   ext_.assign(net_.model.nodes(), Vec3::Zero());
   muscleForces();
@@ -170,7 +183,7 @@ void FaceBody::step(StepContext& ctx) {
   preserveVolumes(tissue_, net_.model, net_.state.x, net_.state.v, ctx.h);
   keepAboveSkull();
   net_.contacts(ctx);
-  contactMasses();
+  contactState(posed_before_, ctx.h);
 }
 
 void FaceBody::prepare() {

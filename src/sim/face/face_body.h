@@ -34,6 +34,8 @@ class FaceBody final : public SpringNetworkBody {
   // the bone rests on the skull, which no contact moves: the layer sees it held.
   bool exportsContacts() const override { return true; }
   void exportContacts(ContactExport& out) const override;
+  // The layer's velocities back, the posed nodes' left at rest (the integrators' rule).
+  void importContacts(std::span<const Vec3> x, std::span<const Vec3> v) override;
 
   const FaceSurface& surface() const { return surface_; }
   const FaceTissue& tissue() const { return tissue_; }
@@ -95,8 +97,10 @@ class FaceBody final : public SpringNetworkBody {
   // Holds the tissue far from every muscle and the jaw to the skull (desc_.held_beyond): marks
   // surface_.held and fixes the nodes in `ms`.
   void holdScalp(MassSpringDesc& ms);
-  // Each node's inverse mass as the contact layer sees it (a skin node resting on the skull: 0).
-  void contactMasses();
+  // Each node's inverse mass and velocity as the contact layer sees them (a skin node resting on
+  // the skull: mass 0; a posed node, the bone and the held tissue: its motion over the step, from
+  // `posed`, its positions before the step's pose).
+  void contactState(const std::vector<Vec3>& posed, double h);
   void drawSkin(DrawList& out) const;
   void drawEyes(DrawList& out) const;
   // reel's head's finer skin (with its points at rest and their wrinkle lines), made once.
@@ -113,6 +117,8 @@ class FaceBody final : public SpringNetworkBody {
   std::vector<double> act_;  // contractions now (controls)
   std::vector<Vec3> ext_;    // muscle and tissue forces, N (nodes)
   std::vector<double> contact_w_;  // 1/kg (nodes) as the contact layer sees them, found at the end of each step
+  std::vector<Vec3> contact_v_;    // m/s (nodes), likewise
+  std::vector<Vec3> posed_before_;  // the nodes' positions at the start of the step (scratch)
   // reel's head's skin, made once when first drawn (drawing is const; the flag makes it once).
   mutable std::once_flag skin_once_;
   mutable std::shared_ptr<const Image> skin_texture_;
