@@ -18,8 +18,6 @@ using namespace reel::test;
 
 namespace {
 
-const FaceBody& face(const World& w) { return *w.first<FaceBody>(); }
-
 // A face at a test resolution; `extra` adds keys to it.
 std::string faceScene(const std::string& extra, double duration = 1.0, const std::string& resolution = "[48, 32]") {
   return faceSceneText(extra, duration, resolution, "1e-5");
@@ -27,14 +25,6 @@ std::string faceScene(const std::string& extra, double duration = 1.0, const std
 
 // The head-frame position of skin vertex k now (the head is at the origin, unturned).
 Vec3 skin(const World& w, std::size_t k) { return face(w).network().state.x[k]; }
-
-// The vertex whose rest position is nearest p (in the head frame).
-std::size_t vertexNear(const FaceBody& f, const Vec3& p) {
-  std::size_t best = 0;
-  for (std::size_t k = 0; k < f.surface().size(); ++k)
-    if ((f.surface().skin[k] - p).squaredNorm() < (f.surface().skin[best] - p).squaredNorm()) best = k;
-  return best;
-}
 
 }  // namespace
 

@@ -15,20 +15,6 @@
 using namespace reel;
 using namespace reel::test;
 
-namespace {
-
-const FaceBody& face(const World& w) { return *w.first<FaceBody>(); }
-
-// The vertex whose rest position is nearest p (in the head frame).
-std::size_t vertexNear(const FaceBody& f, const Vec3& p) {
-  std::size_t best = 0;
-  for (std::size_t k = 0; k < f.surface().size(); ++k)
-    if ((f.surface().skin[k] - p).squaredNorm() < (f.surface().skin[best] - p).squaredNorm()) best = k;
-  return best;
-}
-
-}  // namespace
-
 TEST_CASE("face: the scalp and the back of the neck are held to the skull; the face moves as when all is free") {
   // Surprise (the frontalis lifts the brows, the jaw opens) while the head turns, with the far
   // tissue held (the default) and with none held.

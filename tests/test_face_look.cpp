@@ -16,8 +16,6 @@ using namespace reel::test;
 
 namespace {
 
-const FaceBody& face(const World& w) { return *w.first<FaceBody>(); }
-
 std::string scene(const std::string& extra, double duration = 1.0, const std::string& resolution = "[64, 40]") {
   return faceSceneText(extra, duration, resolution, "1e-3");
 }
