@@ -8,6 +8,7 @@
 #include "core/math.h"
 #include "core/parallel.h"
 #include "sim/contact_layer.h"
+#include "sim/grid.h"
 #include "sim/stability.h"
 
 namespace reel {
@@ -138,14 +139,16 @@ void FaceBody::holdScalp(MassSpringDesc& ms) {
     for (int k : m.nodes) moved.push_back(surface_.skin[static_cast<std::size_t>(k)]);
   for (std::size_t k = 0; k < n; ++k)
     if (surface_.jaw[k] > 0) moved.push_back(surface_.skin[k]);
+  BoxGrid grid;  // the moved points, in cells of the reach: the near ones are in the 27 around
+  grid.build(moved, moved, reach);
   const double behind = kHeldFront * surface_.scale, reach2 = reach * reach;
   if (surface_.held.empty()) surface_.held.assign(n, 0);
   parallelFor(static_cast<Index>(n), [&](Index i) {
     const auto k = static_cast<std::size_t>(i);
     if (surface_.held[k] || surface_.skin[k].z() >= behind) return;
-    for (const Vec3& q : moved)
-      if ((q - surface_.skin[k]).squaredNorm() <= reach2) return;
-    surface_.held[k] = 1;
+    bool near = false;
+    grid.forEachNear(surface_.skin[k], [&](std::uint32_t q) { near = near || (moved[q] - surface_.skin[k]).squaredNorm() <= reach2; });
+    if (!near) surface_.held[k] = 1;
   });
   for (std::size_t k = 0; k < n; ++k)
     if (surface_.held[k]) ms.nodes[k].fixed = ms.nodes[n + k].fixed = true;
