@@ -189,7 +189,7 @@ TEST_CASE("preconditioner pairs: each pair's rows invert its 6x6 block of A; the
       for (int c = 0; c < cols; ++c) pairs.push_back({3 * c, 3 * c + 1});
       s.dyn.setPreconditionerPairs(pairs);
     }
-    s.implicit = {1e-10, 1000};
+    s.implicit = {1e-10, 1000, false, LinearSolver::Cg};  // (the pairs are CG's preconditioner)
     StepStats stats;
     integrate(IntegratorKind::ImplicitEuler, s.dyn, s.state.x, s.state.v, h, s.ws, s.implicit, &stats);
     *iterations = stats.cg_iterations;

@@ -126,10 +126,16 @@ struct CameraDesc {
 // a tight solve in a film, docs/cloth.md, and 7x faster than 10⁻⁸), a fish to 10⁻⁴ (its thrust
 // comes from the body wave's small differences).
 inline constexpr double kFilmTolerance = 1e-2;
+// The implicit solve's linear solver: conjugate gradients, a direct factorisation of each piece
+// of a spring network (sim/skyline.h), or auto: the direct one where a network's factorisation
+// costs less than kDirectIterations iterations of CG would (fish, ropes, kelp; not sheets).
+enum class LinearSolver { Auto, Cg, Direct };
+inline constexpr double kDirectIterations = 6.0;
 struct ImplicitSettings {
   double cg_tolerance = kFilmTolerance;  // relative residual ‖r‖ ≤ tol·‖b‖
   int cg_max_iterations = 500;
   bool tolerance_given = false;  // the scene set cg_tolerance: every kind uses it
+  LinearSolver solver = LinearSolver::Auto;
 };
 
 // Steps a frame by default: 10, or this many with implicit_euler or bdf2.

@@ -384,6 +384,8 @@ void readSceneKeys(Obj& o, SceneDesc& s) {
     s.implicit.tolerance_given = io.has("cg_tolerance");
     s.implicit.cg_tolerance = io.number("cg_tolerance", s.implicit.cg_tolerance, Range{0.0, 1.0, true, true});
     s.implicit.cg_max_iterations = io.integer("cg_max_iterations", s.implicit.cg_max_iterations, 1, 100000);
+    const std::string solver = io.choice("solver", "auto", {"auto", "cg", "direct"});
+    s.implicit.solver = solver == "cg" ? LinearSolver::Cg : solver == "direct" ? LinearSolver::Direct : LinearSolver::Auto;
     io.finish();
   }
   if (s.frameCount() < 1) d.error("/duration", "too short for one frame at this fps");

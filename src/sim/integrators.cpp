@@ -114,7 +114,13 @@ double dot(const std::vector<Vec3>& p, const std::vector<Vec3>& q) {
 // 5.3 with every direction constrained). Each iteration is one
 // product with A and three passes over the nodes (four with pairs), which also return the dot
 // products (each a deterministic chunked sum).
+// A system that solves directly (OdeSystem::solveDirect, as the scene's `implicit.solver` allows)
+// takes no iteration and leaves no residual to speak of.
 void solveLinearized(OdeSystem& dyn, IntegratorWorkspace& ws, const ImplicitSettings& set, StepStats* stats) {
+  if (set.solver != LinearSolver::Cg && dyn.solveDirect(ws.rhs.data(), ws.dv.data(), set.solver == LinearSolver::Direct)) {
+    if (stats) stats->cg_iterations = 0, stats->cg_relative_residual = 0.0;
+    return;
+  }
   const Index ni = static_cast<Index>(ws.rhs.size());
   const std::uint8_t* fixed = ws.fixed.data();
   auto& dvel = ws.dv;

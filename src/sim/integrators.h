@@ -43,6 +43,10 @@ class OdeSystem {
     const Eigen::Matrix<double, 3, 6>* rows = nullptr;
   };
   virtual PreconditionerPairs preconditionerPairs() const { return {}; }
+  // Optional, valid after linearize(): solves A Δv = rhs directly (Δv = 0 at fixed nodes) and
+  // returns true, or returns false to leave the solve to conjugate gradients (the system cannot,
+  // or, unless `always`, a direct solve would cost more than kDirectIterations of CG).
+  virtual bool solveDirect(const Vec3* /*rhs*/, Vec3* /*dv*/, bool /*always*/) { return false; }
 };
 
 // Scratch arrays reused across steps (resized on demand).

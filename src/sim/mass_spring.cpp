@@ -1,6 +1,7 @@
 #include "sim/mass_spring.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 
@@ -16,6 +17,8 @@ namespace reel {
 using Index = std::ptrdiff_t;
 
 void Incidence::build(std::size_t nodes, const Springs& s) {
+  static std::atomic<std::uint64_t> builds{0};
+  generation = ++builds;
   start.assign(nodes + 1, 0);
   for (std::size_t k = 0; k < s.size(); ++k) {
     ++start[static_cast<std::size_t>(s.a[k]) + 1];
@@ -332,6 +335,64 @@ void MassSpringSystem::applySystem(const Vec3* p, Vec3* out) {
     }
   }, static_cast<Index>(m_.nodes()));
   spring_products_ += products_per_apply_;
+}
+
+bool MassSpringSystem::solveDirect(const Vec3* rhs, Vec3* dv, bool always) {
+  if (term_ || B_.size() != m_.springs.size() || own_.size() != m_.nodes()) return false;
+  const std::size_t nodes = m_.nodes();
+  const auto& inc = m_.incidence;
+  if (plan_generation_ != inc.generation || plan_fixed_ != m_.fixed) {
+    plan_.build(nodes, inc.start.data(), inc.other.data(), m_.fixed.data());
+    plan_generation_ = inc.generation;
+    plan_fixed_ = m_.fixed;
+  }
+  if (plan_.largest > kDirectMaxDoubles) return false;
+  // One CG iteration: a product (9 multiply-adds a spring block at each free end) and its passes
+  // over the free nodes (about 30).
+  const double cg_iteration = 18.0 * static_cast<double>(products_per_apply_) + 30.0 * static_cast<double>(plan_.nodes.size());
+  if (!always && plan_.factor_cost > kDirectIterations * cg_iteration) return false;
+  const Index pieces = static_cast<Index>(plan_.pieces());
+  std::vector<std::uint8_t> failed(static_cast<std::size_t>(pieces), 0);
+  parallelBlocks(pieces, 1, [&](Index p0, Index p1) {
+    thread_local SkylineFactor F;
+    thread_local std::vector<double> b;
+    for (Index p = p0; p < p1; ++p) {
+      F.begin(plan_, static_cast<std::size_t>(p));
+      const int k0 = plan_.piece_start[static_cast<std::size_t>(p)], k1 = plan_.piece_start[static_cast<std::size_t>(p) + 1];
+      b.resize(static_cast<std::size_t>(3 * (k1 - k0)));
+      // A's blocks: (m + hγ) I + h D_i + Σ B on the diagonal, −B to the other end of each spring.
+      for (int k = k0; k < k1; ++k) {
+        const auto i = static_cast<std::size_t>(plan_.nodes[static_cast<std::size_t>(k)]);
+        const int li = k - k0;
+        Mat3 d = Mat3::Identity() * own_[i];
+        if (node_drag_) d += h_ * node_drag_[i];
+        for (int e = inc.start[i]; e < inc.start[i + 1]; ++e) {
+          const Sym3& B = B_[static_cast<std::size_t>(inc.entries[static_cast<std::size_t>(e)] >> 1)];
+          const Mat3 Bm{{B.m[0], B.m[3], B.m[4]}, {B.m[3], B.m[1], B.m[5]}, {B.m[4], B.m[5], B.m[2]}};
+          d += Bm;
+          const int lj = plan_.local[static_cast<std::size_t>(inc.other[static_cast<std::size_t>(e)])];
+          if (lj >= 0 && lj < li) F.add(li, lj, -Bm);
+        }
+        F.add(li, li, d);
+        for (int c = 0; c < 3; ++c) b[static_cast<std::size_t>(3 * li + c)] = rhs[i][c];
+      }
+      if (!F.factor()) {
+        failed[static_cast<std::size_t>(p)] = 1;
+        continue;
+      }
+      F.solve(b.data());
+      for (int k = k0; k < k1; ++k) {
+        const int li = k - k0;
+        dv[plan_.nodes[static_cast<std::size_t>(k)]] = Vec3(b[static_cast<std::size_t>(3 * li)], b[static_cast<std::size_t>(3 * li + 1)],
+                                                           b[static_cast<std::size_t>(3 * li + 2)]);
+      }
+    }
+  }, static_cast<Index>(plan_.factor_cost / 64.0));
+  // A piece that is not positive definite to rounding (never expected) sends the whole solve to CG.
+  if (std::find(failed.begin(), failed.end(), 1) != failed.end()) return false;
+  for (std::size_t i = 0; i < nodes; ++i)
+    if (m_.fixed[i]) dv[i].setZero();
+  return true;
 }
 
 double kineticEnergy(const MassSpringModel& m, const MassSpringState& s) {

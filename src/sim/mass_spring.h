@@ -13,6 +13,7 @@
 #include "core/scene/mass_spring.h"
 #include "core/types.h"
 #include "sim/integrators.h"
+#include "sim/skyline.h"
 
 namespace reel {
 
@@ -36,6 +37,7 @@ struct Incidence {
   std::vector<int> start;    // (nodes + 1)
   std::vector<int> entries;  // (2 · springs)
   std::vector<int> other;    // the node at the spring's other end, per entry (2 · springs)
+  std::uint64_t generation = 0;  // a number no other build() gave (a changed network is a new one)
   void build(std::size_t nodes, const Springs& s);
 };
 
@@ -137,6 +139,12 @@ class MassSpringSystem final : public OdeSystem {
   // preconditioner inverts together (OdeSystem::preconditionerPairs); empty for none.
   void setPreconditionerPairs(std::vector<std::array<int, 2>> pairs);
   PreconditionerPairs preconditionerPairs() const override;
+  // Each piece of the network (its free nodes joined by springs: a fish, a rope) factorised by
+  // Cholesky in envelope storage (sim/skyline.h), with the springs' blocks in double precision;
+  // not with a force term (its blocks between nodes are not listed), nor where the largest
+  // piece's factor would pass kDirectMaxDoubles.
+  bool solveDirect(const Vec3* rhs, Vec3* dv, bool always) override;
+  static constexpr std::size_t kDirectMaxDoubles = std::size_t{1} << 24;  // 128 MiB a thread
   // Spring force evaluations done so far (for benchmarks).
   std::uint64_t springEvaluations() const { return spring_evals_; }
   // Products with a spring's 3×3 block in implicit Euler's conjugate-gradient solve.
@@ -168,6 +176,9 @@ class MassSpringSystem final : public OdeSystem {
   std::vector<Vec3> term_f_;   // the term's force at the linearisation, and (implicit) − h H w
   std::vector<Mat3> term_d_;   // its diagonal blocks
   double h_ = 0.0;  // the step of the last linearize()
+  SkylinePlan plan_;                        // the pieces, for the direct solve
+  std::uint64_t plan_generation_ = 0;       // the incidence it was made from
+  std::vector<std::uint8_t> plan_fixed_;    // and the fixed nodes
   bool predict_ = false;
   std::uint64_t spring_evals_ = 0;
   std::uint64_t spring_products_ = 0;
