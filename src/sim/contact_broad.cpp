@@ -38,7 +38,7 @@ bool ContactLayer::nearPieces(std::uint32_t pieces) {
         (piece_lo_[a].array() <= piece_hi_[b].array()).all() && (piece_lo_[b].array() <= piece_hi_[a].array()).all();
     return overlap ? how : 0;
   };
-  // Small pieces in the grid, large ones (and empty ones) far away.
+  // Small pieces in the grid; large ones (and empty ones) not listed.
   big_.clear();
   lo_.resize(pieces);
   hi_.resize(pieces);
@@ -46,13 +46,13 @@ bool ContactLayer::nearPieces(std::uint32_t pieces) {
     const bool empty = !(piece_lo_[q].x() <= piece_hi_[q].x());
     const bool small = !empty && (piece_hi_[q] - piece_lo_[q]).maxCoeff() <= cell;
     if (!empty && !small) big_.push_back(q);
-    lo_[q] = small ? piece_lo_[q] : Vec3::Constant(-1e9 * cell);
-    hi_[q] = small ? piece_hi_[q] : Vec3::Constant(-1e9 * cell);
+    lo_[q] = small ? piece_lo_[q] : Vec3::Constant(BoxGrid::kUnlistedLo);
+    hi_[q] = small ? piece_hi_[q] : Vec3::Constant(BoxGrid::kUnlistedHi);
   }
   point_grid_.build(lo_, hi_, cell);
   bool any = false;
   for (std::uint32_t q = 0; q < pieces; ++q) {
-    if (lo_[q].x() == -1e9 * cell) continue;
+    if (!BoxGrid::listed(lo_[q], hi_[q])) continue;
     point_grid_.forEachNear(0.5 * (piece_lo_[q] + piece_hi_[q]), [&](int o) {
       const auto ou = static_cast<std::uint32_t>(o);
       if (ou == q) return;
@@ -109,7 +109,7 @@ void ContactLayer::findPointTriangle() {
   std::size_t counted = 0;
   for (std::size_t t = 0; t < nt; ++t) {
     if (!near(p_.tri[t][0])) {
-      lo_[t] = hi_[t] = Vec3::Constant(-1e300);  // marked: put far away below
+      lo_[t] = Vec3::Constant(BoxGrid::kUnlistedLo), hi_[t] = Vec3::Constant(BoxGrid::kUnlistedHi);  // not listed
       continue;
     }
     Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
@@ -131,7 +131,7 @@ void ContactLayer::findPointTriangle() {
   const double cell = mean;
   // A triangle spread over very many cells (a corner flung far in one step) is left out.
   for (std::size_t t = 0; t < nt; ++t)
-    if (!((hi_[t] - lo_[t]).maxCoeff() <= 16 * cell) || lo_[t].x() == -1e300) lo_[t] = hi_[t] = Vec3::Constant(-1e9 * cell);
+    if (BoxGrid::listed(lo_[t], hi_[t]) && !((hi_[t] - lo_[t]).maxCoeff() <= 16 * cell)) lo_[t] = Vec3::Constant(BoxGrid::kUnlistedLo), hi_[t] = Vec3::Constant(BoxGrid::kUnlistedHi);
   tri_grid_.build(lo_, hi_, cell);
   // Each surface's triangles' boxes together: a point outside those of the surfaces it may meet
   // meets none.
@@ -139,7 +139,7 @@ void ContactLayer::findPointTriangle() {
   slot_lo_.assign(slots, Vec3::Constant(1e300));
   slot_hi_.assign(slots, Vec3::Constant(-1e300));
   for (std::size_t t = 0; t < nt; ++t)
-    if (lo_[t].x() != -1e9 * cell) {
+    if (BoxGrid::listed(lo_[t], hi_[t])) {
       const std::uint32_t e = p_.slot[p_.tri[t][0]];
       slot_lo_[e] = slot_lo_[e].cwiseMin(lo_[t]);
       slot_hi_[e] = slot_hi_[e].cwiseMax(hi_[t]);
@@ -203,8 +203,9 @@ void ContactLayer::findPointPoint() {
   lo_.resize(np);
   hi_.resize(np);
   for (std::size_t i = 0; i < np; ++i) {
-    // (Points of bodies that meet no one by the layer's own law are put far away.)
-    lo_[i] = hi_[i] = nearPlain(i) ? p_.x[i] : Vec3::Constant(-1e9 * cell);
+    // (Points of bodies that meet no one by the layer's own law are not listed.)
+    lo_[i] = nearPlain(i) ? p_.x[i] : Vec3::Constant(BoxGrid::kUnlistedLo);
+    hi_[i] = nearPlain(i) ? p_.x[i] : Vec3::Constant(BoxGrid::kUnlistedHi);
   }
   point_grid_.build(lo_, hi_, cell);
   gatherPairs(np, pp_pairs_, [&](std::uint32_t i, std::vector<std::uint32_t>& cand) {
@@ -231,7 +232,7 @@ void ContactLayer::findEdgeEdge() {
   for (std::size_t e = 0; e < ne; ++e) {
     const auto& E = p_.edge[e];
     if (!nearPlain(E[0]) && !nearPlain(E[1])) {
-      lo_[e] = hi_[e] = Vec3::Constant(-1e300);
+      lo_[e] = Vec3::Constant(BoxGrid::kUnlistedLo), hi_[e] = Vec3::Constant(BoxGrid::kUnlistedHi);  // not listed
       continue;
     }
     const Vec3 g = Vec3::Constant(std::max(p_.r[E[0]], p_.r[E[1]]));
@@ -240,11 +241,9 @@ void ContactLayer::findEdgeEdge() {
     cell = std::max(cell, (hi_[e] - lo_[e]).maxCoeff());
   }
   if (!(cell > 0.0 && cell < 1e3)) return;  // none near, or a runaway the state check reports
-  for (std::size_t e = 0; e < ne; ++e)
-    if (lo_[e].x() == -1e300) lo_[e] = hi_[e] = Vec3::Constant(-1e9 * cell);
   point_grid_.build(lo_, hi_, cell);
   gatherPairs(ne, ee_pairs_, [&](std::uint32_t e, std::vector<std::uint32_t>& cand) {
-    if (lo_[e].x() == -1e9 * cell) return;
+    if (!BoxGrid::listed(lo_[e], hi_[e])) return;
     const auto& E = p_.edge[e];
     point_grid_.forEachNear(0.5 * (lo_[e] + hi_[e]), [&](int f) {
       const auto fu = static_cast<std::uint32_t>(f);

@@ -14,6 +14,7 @@ void BoxGrid::build(std::span<const Vec3> lo, std::span<const Vec3> hi, double c
   // Cells per item, then a table of at least twice as many buckets (a power of two).
   std::size_t total = 0;
   for (std::size_t k = 0; k < lo.size(); ++k) {
+    if (!listed(lo[k], hi[k])) continue;
     const double nx = std::floor(hi[k].x() * inv_cell_) - std::floor(lo[k].x() * inv_cell_) + 1;
     const double ny = std::floor(hi[k].y() * inv_cell_) - std::floor(lo[k].y() * inv_cell_) + 1;
     const double nz = std::floor(hi[k].z() * inv_cell_) - std::floor(lo[k].z() * inv_cell_) + 1;
@@ -33,12 +34,13 @@ void BoxGrid::build(std::span<const Vec3> lo, std::span<const Vec3> hi, double c
         for (std::int64_t a = i0; a <= i1; ++a) f(bucket(a, b, c));
   };
   // Counting sort: count per bucket, prefix sums, then fill in item order.
-  for (std::size_t k = 0; k < lo.size(); ++k) visit(k, [&](std::uint32_t b) { ++start_[b + 1]; });
+  for (std::size_t k = 0; k < lo.size(); ++k)
+    if (listed(lo[k], hi[k])) visit(k, [&](std::uint32_t b) { ++start_[b + 1]; });
   for (std::size_t b = 0; b < buckets; ++b) start_[b + 1] += start_[b];
   items_.assign(total, 0);
   fill_.assign(start_.begin(), start_.end() - 1);
   for (std::size_t k = 0; k < lo.size(); ++k)
-    visit(k, [&](std::uint32_t b) {
+    if (listed(lo[k], hi[k])) visit(k, [&](std::uint32_t b) {
       // A box over several cells that share a bucket is listed there once.
       const std::uint32_t at = fill_[b];
       if (at > start_[b] && items_[at - 1] == static_cast<std::int32_t>(k)) return;

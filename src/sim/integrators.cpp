@@ -117,7 +117,7 @@ double dot(const std::vector<Vec3>& p, const std::vector<Vec3>& q) {
 // A system that solves directly (OdeSystem::solveDirect, as the scene's `implicit.solver` allows)
 // takes no iteration and leaves no residual to speak of.
 void solveLinearized(OdeSystem& dyn, IntegratorWorkspace& ws, const ImplicitSettings& set, StepStats* stats) {
-  if (set.solver != LinearSolver::Cg && dyn.solveDirect(ws.rhs.data(), ws.dv.data(), set.solver == LinearSolver::Direct)) {
+  if (dyn.solveDirect(ws.rhs.data(), ws.dv.data())) {
     if (stats) stats->cg_iterations = 0, stats->cg_relative_residual = 0.0;
     return;
   }
@@ -199,9 +199,10 @@ void solveLinearized(OdeSystem& dyn, IntegratorWorkspace& ws, const ImplicitSett
   }
 }
 
-// Sizes the solver's arrays and reads the fixed nodes.
-void prepareImplicit(OdeSystem& dyn, std::size_t n, IntegratorWorkspace& ws) {
+// Sizes the solver's arrays, reads the fixed nodes and tells the system the solver chosen.
+void prepareImplicit(OdeSystem& dyn, std::size_t n, IntegratorWorkspace& ws, const ImplicitSettings& set) {
   REEL_CHECK(dyn.linearizable(), "implicit integrators need a linearizable system");
+  dyn.setLinearSolver(set.solver);
   for (auto* w : {&ws.rhs, &ws.r, &ws.z, &ws.p, &ws.q, &ws.dv}) resize(*w, n);
   ws.pinv.resize(n);  // linearize fills every block
   ws.fixed.resize(n);
@@ -213,7 +214,7 @@ void prepareImplicit(OdeSystem& dyn, std::size_t n, IntegratorWorkspace& ws) {
 void implicitEuler(OdeSystem& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h,
                    IntegratorWorkspace& ws, const ImplicitSettings& set, StepStats* stats) {
   const Index ni = static_cast<Index>(x.size());
-  prepareImplicit(dyn, x.size(), ws);
+  prepareImplicit(dyn, x.size(), ws, set);
   dyn.linearize(x.data(), v.data(), v.data(), h, ws.rhs.data(), ws.pinv.data());
   solveLinearized(dyn, ws, set, stats);
   parallelFor(ni, [&](Index i) {
@@ -239,7 +240,7 @@ void bdf2(OdeSystem& dyn, std::vector<Vec3>& x, std::vector<Vec3>& v, double h, 
     implicitEuler(dyn, x, v, h, ws, set, stats);
     return;
   }
-  prepareImplicit(dyn, n, ws);
+  prepareImplicit(dyn, n, ws, set);
   resize(ws.w, n);
   const double hb = 2.0 * h / 3.0;
   // (A fixed node keeps implicit Euler's rules: w = v, x += h v; a body may pose it each step.)

@@ -43,10 +43,14 @@ class OdeSystem {
     const Eigen::Matrix<double, 3, 6>* rows = nullptr;
   };
   virtual PreconditionerPairs preconditionerPairs() const { return {}; }
+  // The scene's choice of linear solver (ImplicitSettings::solver), given before linearize().
+  virtual void setLinearSolver(LinearSolver) {}
   // Optional, valid after linearize(): solves A Δv = rhs directly (Δv = 0 at fixed nodes) and
   // returns true, or returns false to leave the solve to conjugate gradients (the system cannot,
-  // or, unless `always`, a direct solve would cost more than kDirectIterations of CG).
-  virtual bool solveDirect(const Vec3* /*rhs*/, Vec3* /*dv*/, bool /*always*/) { return false; }
+  // the solver chosen is CG, or, with auto, a direct solve would cost more than kDirectIterations
+  // of CG). A system that solves directly may skip what only CG's products and preconditioner
+  // need, and must have it ready whenever it returns false.
+  virtual bool solveDirect(const Vec3* /*rhs*/, Vec3* /*dv*/) { return false; }
 };
 
 // Scratch arrays reused across steps (resized on demand).

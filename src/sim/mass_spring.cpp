@@ -138,12 +138,59 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, do
                   c2 * u.x() * u.z(), c2 * u.y() * u.z()}};
   });
   spring_evals_ += sp.size();
-  // Per node: rhs = h (m g − γ v + Σ w + the force term's f − h H w); the springs' blocks copied in the node's entry order;
-  // the diagonal block (m + hγ) I + Σ B, inverted for the preconditioner.
+  // Per node: rhs = h (m g − γ v + Σ w + the force term's f − h H w), and for CG (cgNode) the
+  // springs' blocks copied in the node's entry order and the preconditioner's blocks; a direct
+  // solve (solveDirect) reads B_ itself and needs neither.
   const Vec3 g = m_.gravity;
-  const auto& inc = m_.incidence;
   const std::size_t nodes = m_.nodes();
   h_ = h;
+  block_inverse_ = block_inverse;
+  direct_ = solver_ != LinearSolver::Cg && planDirect();
+  if (!direct_) sizeCg();
+  own_.resize(nodes);
+  // The force term: its force at the step's end as linearised, f₀ − h H w, and h² H's blocks.
+  if (term_) {
+    term_f_.assign(nodes, Vec3::Zero());
+    term_d_.assign(nodes, Mat3::Zero());
+    term_->linearize(x, term_f_.data(), term_d_.data());
+    term_->addProduct(w, -h, term_f_.data());
+  }
+  parallelFor(static_cast<Index>(nodes), [&](Index i) {
+    Vec3 f = m_.mass[i] * g - m_.drag[i] * v[i];
+    gather(fs_, static_cast<std::size_t>(i), f);
+    if (external_) f += external_[i];
+    if (node_drag_) f += node_flow_[i] - node_drag_[i] * v[i];
+    if (term_) f += term_f_[i];
+    rhs[i] = h * f;
+    own_[i] = m_.mass[i] + h * m_.drag[i];
+    if (!direct_) cgNode(i);
+  });
+  if (!direct_) cgPairs();
+}
+
+// Whether this step's solve will be direct: no force term, the plan of pieces up to date, the
+// largest piece's factor within bounds, and (auto) its cost under kDirectIterations of CG's.
+bool MassSpringSystem::planDirect() {
+  if (term_) return false;
+  const auto& inc = m_.incidence;
+  if (plan_generation_ != inc.generation || plan_fixed_ != m_.fixed) {
+    plan_.build(m_.nodes(), inc.start.data(), inc.other.data(), m_.fixed.data());
+    plan_generation_ = inc.generation;
+    plan_fixed_ = m_.fixed;
+  }
+  if (plan_.largest > kDirectMaxDoubles) return false;
+  if (solver_ == LinearSolver::Direct) return true;
+  // One CG iteration: a product (9 multiply-adds a spring block at each free end) and its passes
+  // over the free nodes (about 30).
+  const double cg_iteration = 9.0 * static_cast<double>(plan_.free_ends) + 30.0 * static_cast<double>(plan_.nodes.size());
+  return plan_.factor_cost <= kDirectIterations * cg_iteration;
+}
+
+// CG's arrays sized for the nodes: the groups of four springs, runs of free nodes, the products'
+// pieces, the pairs' diagonal blocks.
+void MassSpringSystem::sizeCg() {
+  const auto& inc = m_.incidence;
+  const std::size_t nodes = m_.nodes();
   group_start_.resize(nodes + 1);
   group_start_[0] = 0;
   // A fixed node's row is never used (its Δv is 0): it gets no groups, and the products skip it.
@@ -167,7 +214,6 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, do
     if (piece_start_.back() < static_cast<Index>(nodes)) piece_start_.push_back(static_cast<Index>(nodes));
   }
   groups_.resize(static_cast<std::size_t>(group_start_[nodes]));
-  own_.resize(nodes);
   // Products with a spring's block per product with A: one per end at a free node, halved (a
   // spring between two free nodes counts once, as it did when every row was taken).
   products_per_apply_ = 0;
@@ -175,65 +221,73 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, do
     if (!m_.fixed[i]) products_per_apply_ += static_cast<std::uint64_t>(inc.start[i + 1] - inc.start[i]);
   products_per_apply_ /= 2;
   if (!pairs_.empty()) diag_.resize(nodes);
-  // The force term: its force at the step's end as linearised, f₀ − h H w, and h² H's blocks.
-  if (term_) {
-    term_f_.assign(nodes, Vec3::Zero());
-    term_d_.assign(nodes, Mat3::Zero());
-    term_->linearize(x, term_f_.data(), term_d_.data());
-    term_->addProduct(w, -h, term_f_.data());
+}
+
+// Node i's springs' blocks in its groups (rounded to single precision) and its preconditioner
+// block: the diagonal block (m + hγ) I + h D + h² H_ii + Σ B, inverted (a fixed node: 1/(m + hγ)).
+void MassSpringSystem::cgNode(Index i) {
+  const auto& inc = m_.incidence;
+  const double h = h_;
+  Mat3* block_inverse = block_inverse_;
+  if (m_.fixed[i]) {
+    block_inverse[i] = Mat3::Identity() / own_[i];
+    return;
   }
-  parallelFor(static_cast<Index>(nodes), [&](Index i) {
-    Vec3 f = m_.mass[i] * g - m_.drag[i] * v[i];
-    gather(fs_, static_cast<std::size_t>(i), f);
-    if (external_) f += external_[i];
-    if (node_drag_) f += node_flow_[i] - node_drag_[i] * v[i];
-    if (term_) f += term_f_[i];
-    rhs[i] = h * f;
-    own_[i] = m_.mass[i] + h * m_.drag[i];
-    if (m_.fixed[i]) {
-      block_inverse[i] = Mat3::Identity() / own_[i];
-      return;
-    }
-    Mat3 d = Mat3::Identity() * own_[i];
-    if (node_drag_) d += h * node_drag_[i];
-    if (term_) d += (h * h) * term_d_[i];
-    for (int gi = group_start_[i]; gi < group_start_[i + 1]; ++gi) {
-      Group4& G = groups_[static_cast<std::size_t>(gi)];
-      for (int k = 0; k < 4; ++k) {
-        const int e = inc.start[i] + 4 * (gi - group_start_[i]) + k;
-        if (e >= inc.start[i + 1]) {
-          for (int c = 0; c < 6; ++c) G.b[c][k] = 0.0f;
-          G.other[k] = static_cast<int>(i);
-          continue;
-        }
-        const Sym3& B = B_[static_cast<std::size_t>(inc.entries[static_cast<std::size_t>(e)] >> 1)];
-        for (int c = 0; c < 6; ++c) G.b[c][k] = static_cast<float>(B.m[c]);
-        G.other[k] = inc.other[static_cast<std::size_t>(e)];
-        d(0, 0) += B.m[0], d(1, 1) += B.m[1], d(2, 2) += B.m[2];
-        d(0, 1) += B.m[3], d(0, 2) += B.m[4], d(1, 2) += B.m[5];
+  Mat3 d = Mat3::Identity() * own_[i];
+  if (node_drag_) d += h * node_drag_[i];
+  if (term_) d += (h * h) * term_d_[i];
+  for (int gi = group_start_[i]; gi < group_start_[i + 1]; ++gi) {
+    Group4& G = groups_[static_cast<std::size_t>(gi)];
+    for (int k = 0; k < 4; ++k) {
+      const int e = inc.start[i] + 4 * (gi - group_start_[i]) + k;
+      if (e >= inc.start[i + 1]) {
+        for (int c = 0; c < 6; ++c) G.b[c][k] = 0.0f;
+        G.other[k] = static_cast<int>(i);
+        continue;
       }
+      const Sym3& B = B_[static_cast<std::size_t>(inc.entries[static_cast<std::size_t>(e)] >> 1)];
+      for (int c = 0; c < 6; ++c) G.b[c][k] = static_cast<float>(B.m[c]);
+      G.other[k] = inc.other[static_cast<std::size_t>(e)];
+      d(0, 0) += B.m[0], d(1, 1) += B.m[1], d(2, 2) += B.m[2];
+      d(0, 1) += B.m[3], d(0, 2) += B.m[4], d(1, 2) += B.m[5];
     }
-    d(1, 0) = d(0, 1), d(2, 0) = d(0, 2), d(2, 1) = d(1, 2);
-    if (!pairs_.empty()) diag_[i] = d;
-    // Its inverse by cofactors. A block of a positive definite A is positive definite; a
-    // degenerate one (never expected) falls back to its diagonal.
-    Mat3 inv;
-    inv(0, 0) = d(1, 1) * d(2, 2) - d(1, 2) * d(1, 2);
-    inv(0, 1) = d(0, 2) * d(1, 2) - d(0, 1) * d(2, 2);
-    inv(0, 2) = d(0, 1) * d(1, 2) - d(0, 2) * d(1, 1);
-    inv(1, 1) = d(0, 0) * d(2, 2) - d(0, 2) * d(0, 2);
-    inv(1, 2) = d(0, 1) * d(0, 2) - d(0, 0) * d(1, 2);
-    inv(2, 2) = d(0, 0) * d(1, 1) - d(0, 1) * d(0, 1);
-    const double det = d(0, 0) * inv(0, 0) + d(0, 1) * inv(0, 1) + d(0, 2) * inv(0, 2);
-    // (Extreme stiffness over mass can leave the cofactors too inexact for a positive inverse:
-    // then too the diagonal.)
-    if (det > 0.0 && std::isfinite(det) && inv(0, 0) > 0.0 && inv(1, 1) > 0.0 && inv(2, 2) > 0.0) {
-      inv(1, 0) = inv(0, 1), inv(2, 0) = inv(0, 2), inv(2, 1) = inv(1, 2);
-      block_inverse[i] = inv / det;
-    } else {
-      block_inverse[i] = Mat3(d.diagonal().cwiseInverse().asDiagonal());
-    }
-  });
+  }
+  d(1, 0) = d(0, 1), d(2, 0) = d(0, 2), d(2, 1) = d(1, 2);
+  if (!pairs_.empty()) diag_[i] = d;
+  // Its inverse by cofactors. A block of a positive definite A is positive definite; a
+  // degenerate one (never expected) falls back to its diagonal.
+  Mat3 inv;
+  inv(0, 0) = d(1, 1) * d(2, 2) - d(1, 2) * d(1, 2);
+  inv(0, 1) = d(0, 2) * d(1, 2) - d(0, 1) * d(2, 2);
+  inv(0, 2) = d(0, 1) * d(1, 2) - d(0, 2) * d(1, 1);
+  inv(1, 1) = d(0, 0) * d(2, 2) - d(0, 2) * d(0, 2);
+  inv(1, 2) = d(0, 1) * d(0, 2) - d(0, 0) * d(1, 2);
+  inv(2, 2) = d(0, 0) * d(1, 1) - d(0, 1) * d(0, 1);
+  const double det = d(0, 0) * inv(0, 0) + d(0, 1) * inv(0, 1) + d(0, 2) * inv(0, 2);
+  // (Extreme stiffness over mass can leave the cofactors too inexact for a positive inverse:
+  // then too the diagonal.)
+  if (det > 0.0 && std::isfinite(det) && inv(0, 0) > 0.0 && inv(1, 1) > 0.0 && inv(2, 2) > 0.0) {
+    inv(1, 0) = inv(0, 1), inv(2, 0) = inv(0, 2), inv(2, 1) = inv(1, 2);
+    block_inverse[i] = inv / det;
+  } else {
+    block_inverse[i] = Mat3(d.diagonal().cwiseInverse().asDiagonal());
+  }
+}
+
+// CG's arrays after a linearize() that prepared a direct solve, built when first needed: the
+// direct solve failed (a piece not positive definite), or a product with A is asked for.
+void MassSpringSystem::ensureCg() {
+  if (!direct_) return;
+  direct_ = false;
+  sizeCg();
+  parallelFor(static_cast<Index>(m_.nodes()), [&](Index i) { cgNode(i); });
+  cgPairs();
+}
+
+void MassSpringSystem::cgPairs() {
+  const auto& inc = m_.incidence;
+  const std::size_t nodes = m_.nodes();
+  const double h = h_;
   // The pairs' 6×6 blocks, [A_aa A_ab; A_ba A_bb] with A_ab = −Σ B over the springs between a and
   // b plus h² H_ab of the force term, inverted by Cholesky (a block of a positive definite A is
   // positive definite; should rounding say otherwise, the two keep their own blocks).
@@ -263,6 +317,7 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, do
   });
 }
 
+
 void MassSpringSystem::setPreconditionerPairs(std::vector<std::array<int, 2>> pairs) {
   std::vector<std::uint8_t> seen(m_.nodes(), 0);
   for (const auto& [a, b] : pairs) {
@@ -276,7 +331,7 @@ void MassSpringSystem::setPreconditionerPairs(std::vector<std::array<int, 2>> pa
 }
 
 OdeSystem::PreconditionerPairs MassSpringSystem::preconditionerPairs() const {
-  if (pairs_.empty() || partner_.size() != m_.nodes()) return {};
+  if (direct_ || pairs_.empty() || partner_.size() != m_.nodes()) return {};  // (direct: the pairs are not made)
   return {partner_.data(), pair_rows_.data()};
 }
 
@@ -315,6 +370,7 @@ void applyGroups(const MassSpringSystem::Group4* groups, const int* group_start,
 }  // namespace
 
 void MassSpringSystem::applySystem(const Vec3* p, Vec3* out) {
+  ensureCg();
   // The force term's share, h² H p, gathered in the same pass over the nodes as the springs'.
   if (term_) term_->prepareProduct(p, h_ * h_);
   const Index pieces = static_cast<Index>(piece_start_.size()) - 1;
@@ -337,20 +393,10 @@ void MassSpringSystem::applySystem(const Vec3* p, Vec3* out) {
   spring_products_ += products_per_apply_;
 }
 
-bool MassSpringSystem::solveDirect(const Vec3* rhs, Vec3* dv, bool always) {
-  if (term_ || B_.size() != m_.springs.size() || own_.size() != m_.nodes()) return false;
+bool MassSpringSystem::solveDirect(const Vec3* rhs, Vec3* dv) {
+  if (!direct_) return false;
   const std::size_t nodes = m_.nodes();
   const auto& inc = m_.incidence;
-  if (plan_generation_ != inc.generation || plan_fixed_ != m_.fixed) {
-    plan_.build(nodes, inc.start.data(), inc.other.data(), m_.fixed.data());
-    plan_generation_ = inc.generation;
-    plan_fixed_ = m_.fixed;
-  }
-  if (plan_.largest > kDirectMaxDoubles) return false;
-  // One CG iteration: a product (9 multiply-adds a spring block at each free end) and its passes
-  // over the free nodes (about 30).
-  const double cg_iteration = 18.0 * static_cast<double>(products_per_apply_) + 30.0 * static_cast<double>(plan_.nodes.size());
-  if (!always && plan_.factor_cost > kDirectIterations * cg_iteration) return false;
   const Index pieces = static_cast<Index>(plan_.pieces());
   std::vector<std::uint8_t> failed(static_cast<std::size_t>(pieces), 0);
   parallelBlocks(pieces, 1, [&](Index p0, Index p1) {
@@ -364,16 +410,23 @@ bool MassSpringSystem::solveDirect(const Vec3* rhs, Vec3* dv, bool always) {
       for (int k = k0; k < k1; ++k) {
         const auto i = static_cast<std::size_t>(plan_.nodes[static_cast<std::size_t>(k)]);
         const int li = k - k0;
-        Mat3 d = Mat3::Identity() * own_[i];
-        if (node_drag_) d += h_ * node_drag_[i];
+        double* R[3] = {F.row(3 * li), F.row(3 * li + 1), F.row(3 * li + 2)};
+        double d[6] = {own_[i], own_[i], own_[i], 0.0, 0.0, 0.0};  // xx, yy, zz, xy, xz, yz
         for (int e = inc.start[i]; e < inc.start[i + 1]; ++e) {
-          const Sym3& B = B_[static_cast<std::size_t>(inc.entries[static_cast<std::size_t>(e)] >> 1)];
-          const Mat3 Bm{{B.m[0], B.m[3], B.m[4]}, {B.m[3], B.m[1], B.m[5]}, {B.m[4], B.m[5], B.m[2]}};
-          d += Bm;
+          const double* B = B_[static_cast<std::size_t>(inc.entries[static_cast<std::size_t>(e)] >> 1)].m;
+          for (int c = 0; c < 6; ++c) d[c] += B[c];
           const int lj = plan_.local[static_cast<std::size_t>(inc.other[static_cast<std::size_t>(e)])];
-          if (lj >= 0 && lj < li) F.add(li, lj, -Bm);
+          if (lj < 0 || lj >= li) continue;  // (fixed, or added from the other end)
+          double* x = R[0] + 3 * lj;
+          double* y = R[1] + 3 * lj;
+          double* z = R[2] + 3 * lj;
+          x[0] -= B[0], x[1] -= B[3], x[2] -= B[4];
+          y[0] -= B[3], y[1] -= B[1], y[2] -= B[5];
+          z[0] -= B[4], z[1] -= B[5], z[2] -= B[2];
         }
-        F.add(li, li, d);
+        Mat3 D{{d[0], d[3], d[4]}, {d[3], d[1], d[5]}, {d[4], d[5], d[2]}};
+        if (node_drag_) D += h_ * node_drag_[i];
+        F.add(li, li, D);
         for (int c = 0; c < 3; ++c) b[static_cast<std::size_t>(3 * li + c)] = rhs[i][c];
       }
       if (!F.factor()) {
@@ -389,7 +442,10 @@ bool MassSpringSystem::solveDirect(const Vec3* rhs, Vec3* dv, bool always) {
     }
   }, static_cast<Index>(plan_.factor_cost / 64.0));
   // A piece that is not positive definite to rounding (never expected) sends the whole solve to CG.
-  if (std::find(failed.begin(), failed.end(), 1) != failed.end()) return false;
+  if (std::find(failed.begin(), failed.end(), 1) != failed.end()) {
+    ensureCg();
+    return false;
+  }
   for (std::size_t i = 0; i < nodes; ++i)
     if (m_.fixed[i]) dv[i].setZero();
   return true;

@@ -143,7 +143,8 @@ class MassSpringSystem final : public OdeSystem {
   // Cholesky in envelope storage (sim/skyline.h), with the springs' blocks in double precision;
   // not with a force term (its blocks between nodes are not listed), nor where the largest
   // piece's factor would pass kDirectMaxDoubles.
-  bool solveDirect(const Vec3* rhs, Vec3* dv, bool always) override;
+  void setLinearSolver(LinearSolver s) override { solver_ = s; }
+  bool solveDirect(const Vec3* rhs, Vec3* dv) override;
   static constexpr std::size_t kDirectMaxDoubles = std::size_t{1} << 24;  // 128 MiB a thread
   // Spring force evaluations done so far (for benchmarks).
   std::uint64_t springEvaluations() const { return spring_evals_; }
@@ -153,6 +154,11 @@ class MassSpringSystem final : public OdeSystem {
  private:
   // out_i = Σ over springs at i of ±per_spring[s] (+ on end a, − on end b).
   void gather(const std::vector<Vec3>& per_spring, std::size_t i, Vec3& out) const;
+  bool planDirect();
+  void sizeCg();
+  void cgNode(std::ptrdiff_t i);
+  void cgPairs();
+  void ensureCg();
   const MassSpringModel& m_;
   std::vector<Vec3> fs_;  // per-spring force on end a, N (springs)
   // A symmetric 3×3 block: xx, yy, zz, xy, xz, yz.
@@ -176,6 +182,9 @@ class MassSpringSystem final : public OdeSystem {
   std::vector<Vec3> term_f_;   // the term's force at the linearisation, and (implicit) − h H w
   std::vector<Mat3> term_d_;   // its diagonal blocks
   double h_ = 0.0;  // the step of the last linearize()
+  LinearSolver solver_ = LinearSolver::Auto;
+  bool direct_ = false;                     // the last linearize() prepared a direct solve (no CG arrays)
+  Mat3* block_inverse_ = nullptr;           // the preconditioner's blocks the last linearize() was given
   SkylinePlan plan_;                        // the pieces, for the direct solve
   std::uint64_t plan_generation_ = 0;       // the incidence it was made from
   std::vector<std::uint8_t> plan_fixed_;    // and the fixed nodes

@@ -44,7 +44,9 @@ void SkylinePlan::build(std::size_t n, const int* start, const int* other, const
   // the diagonal) takes about w²/2 multiply-adds to factor and 2w to substitute.
   first.assign(nodes.size(), 0);
   factor_cost = 0.0;
-  largest = total = 0;
+  largest = total = free_ends = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!fixed[i]) free_ends += static_cast<std::size_t>(start[i + 1] - start[i]);
   for (std::size_t p = 0; p + 1 < piece_start.size(); ++p) {
     std::size_t size = 0;
     for (int k = piece_start[p]; k < piece_start[p + 1]; ++k) {
@@ -105,20 +107,15 @@ inline double dotLanes(const double* a, const double* b, int n) {
 // The nine sums S_ab = Σ_k R_a[k]·C_b[k] over [0, n) of three rows R against three rows C, four
 // lanes each (nine independent chains: a single dot product's latency bound the row-by-row loop).
 inline void dots3x3(const double* const R[3], const double* const C[3], int n, double S[3][3]) {
-  Lane4 acc[3][3] = {};
-  int k = 0;
-  for (; k + 4 <= n; k += 4) {
-    Lane4 x[3], y[3];
-    for (int a = 0; a < 3; ++a) std::memcpy(&x[a], R[a] + k, sizeof x[a]), std::memcpy(&y[a], C[a] + k, sizeof y[a]);
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) acc[a][b] += x[a] * y[b];
+  double s00 = 0, s01 = 0, s02 = 0, s10 = 0, s11 = 0, s12 = 0, s20 = 0, s21 = 0, s22 = 0;
+  const double *r0 = R[0], *r1 = R[1], *r2 = R[2], *c0 = C[0], *c1 = C[1], *c2 = C[2];
+  for (int k = 0; k < n; ++k) {
+    const double x0 = r0[k], x1 = r1[k], x2 = r2[k], y0 = c0[k], y1 = c1[k], y2 = c2[k];
+    s00 += x0 * y0, s01 += x0 * y1, s02 += x0 * y2;
+    s10 += x1 * y0, s11 += x1 * y1, s12 += x1 * y2;
+    s20 += x2 * y0, s21 += x2 * y1, s22 += x2 * y2;
   }
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) {
-      double t = hsum(acc[a][b]);
-      for (int j = k; j < n; ++j) t += R[a][j] * C[b][j];
-      S[a][b] = t;
-    }
+  S[0][0] = s00, S[0][1] = s01, S[0][2] = s02, S[1][0] = s10, S[1][1] = s11, S[1][2] = s12, S[2][0] = s20, S[2][1] = s21, S[2][2] = s22;
 }
 
 // Node by node (the three rows of a node share their envelope's first column): for each block

@@ -28,6 +28,7 @@ struct SkylinePlan {
   double factor_cost = 0.0;      // multiply-adds of one factorisation and its two substitutions, all pieces
   std::size_t largest = 0;       // the largest piece's factor, doubles
   std::size_t total = 0;         // all pieces' factors, doubles
+  std::size_t free_ends = 0;     // couplings at free nodes, counted at each end
 
   // From the coupling graph in compressed rows (node i is coupled to other[start[i] .. start[i+1])).
   void build(std::size_t n, const int* start, const int* other, const std::uint8_t* fixed);
@@ -41,6 +42,8 @@ class SkylineFactor {
   void begin(const SkylinePlan& plan, std::size_t p);
   // Adds block A_ij (local nodes, j ≤ i; for j = i only its lower triangle is read).
   void add(int i, int j, const Mat3& block);
+  // Row r (a dof) of the factor: row(r)[c] is entry (r, c), for c from the row's first column to r.
+  double* row(int r) { return value_.data() + offset_[static_cast<std::size_t>(r)]; }
   // L Lᵀ = A in place; false when a pivot is not positive (A not positive definite to rounding).
   bool factor();
   // b := A⁻¹ b, b holding 3 doubles per local node.
