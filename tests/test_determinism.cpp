@@ -68,3 +68,30 @@ TEST_CASE("the determinism tests' small scenes go through the parallel paths (pa
   test::ParallelForTest parallel(2);
   CHECK(threadsUsed(64) == 2);
 }
+
+TEST_CASE("a body's step decides once: all its loops of 256 elements and more in parallel, or none") {
+  REQUIRE(parallelMin() == kParallelMin);
+  {
+    const ParallelScope big(600);  // a 600-node sheet: its node loops too
+    CHECK(parallelMin() == kScopeMin);
+    {
+      const ParallelScope small(100);  // nested: a small body's step runs serial
+      CHECK(parallelMin() > std::ptrdiff_t{1} << 40);
+      const ParallelScope none(-1);  // no decision: as it was
+      CHECK(parallelMin() > std::ptrdiff_t{1} << 40);
+    }
+    CHECK(parallelMin() == kScopeMin);
+  }
+  CHECK(parallelMin() == kParallelMin);
+  {
+    test::ParallelForTest parallel(2);  // (the tests' threshold of 2 stays 2 in any body)
+    const ParallelScope scope(3);
+    CHECK(parallelMin() == 2);
+  }
+  // A sheet of 24 x 24 nodes (576: under the threshold, over a quarter of it) steps in parallel
+  // and gives the same bits as on one thread.
+  const std::string sheet = R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 4, "integrator": "implicit_euler",
+    "objects": [{"type": "sphere", "center": [0, -0.5, 0], "radius": 0.4}],
+    "bodies": [{"type": "cloth", "name": "c", "size": [1, 1], "resolution": [24, 24]}]})";
+  CHECK(runHash(sheet, 1, 6) == runHash(sheet, 2, 6));
+}

@@ -5,17 +5,29 @@
 #include <sys/auxv.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cstdint>
 #include <cstring>
 
 namespace reel {
 
 namespace {
 std::atomic<std::ptrdiff_t> g_parallel_min{kParallelMin};
+thread_local std::ptrdiff_t t_scope_min = 0;  // a ParallelScope's threshold on this thread (0: none)
 }  // namespace
 
-std::ptrdiff_t parallelMin() { return g_parallel_min.load(std::memory_order_relaxed); }
+std::ptrdiff_t parallelMin() {
+  return t_scope_min > 0 ? t_scope_min : g_parallel_min.load(std::memory_order_relaxed);
+}
 void setParallelMin(std::ptrdiff_t n) { g_parallel_min.store(n < 1 ? 1 : n, std::memory_order_relaxed); }
+
+ParallelScope::ParallelScope(std::ptrdiff_t work) : saved_(t_scope_min) {
+  if (work < 0) return;
+  const std::ptrdiff_t global = g_parallel_min.load(std::memory_order_relaxed);
+  t_scope_min = work >= std::max<std::ptrdiff_t>(1, global / 4) ? std::min(kScopeMin, global) : PTRDIFF_MAX;
+}
+ParallelScope::~ParallelScope() { t_scope_min = saved_; }
 
 int threadCount() { return omp_get_max_threads(); }
 void setThreadCount(int n) { omp_set_num_threads(n); }

@@ -17,6 +17,25 @@ inline constexpr std::ptrdiff_t kParallelMin = 2048;
 // same for the reel binary). Results never depend on it: only which loops open a region.
 std::ptrdiff_t parallelMin();
 void setParallelMin(std::ptrdiff_t n);
+
+// One decision for all the loops of a body's step: with `work` (the body's nodes) at least a
+// quarter of the threshold, every loop of kScopeMin elements or more runs in parallel; below it, none does (on
+// this thread, until the scope ends; work < 0: no decision, the threshold as it is). A step whose
+// loops are split between the two lets the waiting threads fall asleep in the serial ones and
+// pays a wake-up in each parallel one: a 2,000-node sheet, its node loops under the threshold
+// and its spring loops over it, ran 1.2x slower on two threads than on one, and 1.4x faster with
+// all of them parallel (docs/engine.md, "Threads").
+inline constexpr std::ptrdiff_t kScopeMin = 256;
+class ParallelScope {
+ public:
+  explicit ParallelScope(std::ptrdiff_t work);
+  ~ParallelScope();
+  ParallelScope(const ParallelScope&) = delete;
+  ParallelScope& operator=(const ParallelScope&) = delete;
+
+ private:
+  std::ptrdiff_t saved_;
+};
 // Reduction chunk size: fixed, independent of the thread count.
 inline constexpr std::ptrdiff_t kReduceChunk = 1024;
 

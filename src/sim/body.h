@@ -110,6 +110,9 @@ class Body {
   virtual void publish(StepContext& /*ctx*/) {}
   // Advances the body from ctx.t0 to ctx.t1.
   virtual void step(StepContext& ctx) = 0;
+  // The elements its step's loops run over (a spring network's nodes), for one decision whether
+  // they all run in parallel (core/parallel.h, ParallelScope); −1: each loop decides by its size.
+  virtual std::ptrdiff_t parallelWork() const { return -1; }
   // Adds to `out` what the body shows the others (sim/shared_view.h), as pointers to its own
   // published state; called once, when the World is built. `self`: its index in scene order.
   virtual void show(SharedView& /*out*/, int /*self*/) {}
@@ -186,6 +189,9 @@ class BodySystem {
   // Advances every member from ctx.t0 to ctx.t1 (in the coupling stage: after the bodies that
   // push them, and the figures).
   virtual void step(StepContext& ctx) = 0;
+  // The elements its step's loops run over (a spring network's nodes), for one decision whether
+  // they all run in parallel (core/parallel.h, ParallelScope); −1: each loop decides by its size.
+  virtual std::ptrdiff_t parallelWork() const { return -1; }
   virtual void snapshot(StateBlob& out) const = 0;
   virtual bool restore(const StateBlob& in) = 0;
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/parallel.h"
 #include "sim/body.h"
 #include "sim/collide.h"
 #include "sim/geometry.h"
@@ -290,6 +291,7 @@ void ContactLayer::step(const std::vector<std::unique_ptr<Body>>& bodies, double
   std::uint32_t next_piece = 0;
   for (std::size_t k : exporters_) next_piece += p_.add(*bodies[k], k, next_piece);
   const std::size_t np = p_.x.size();
+  const ParallelScope threads(static_cast<std::ptrdiff_t>(np));  // (one decision for the layer's loops)
   p_.gone.assign(np, 0);
   for (std::size_t i = 0; i < np; ++i)
     if (!p_.x0_given[p_.slot[i]]) p_.x0[i] = p_.x[i] - h * p_.v[i];

@@ -50,6 +50,7 @@ class SpringNetworkBody : public Body {
  public:
   SpringNetworkBody(std::string name, std::string generator) : Body(std::move(name)), generator_(std::move(generator)) {}
   StepLimit stepLimit(IntegratorKind integrator) const override { return net_.stepLimit(name(), integrator); }
+  std::ptrdiff_t parallelWork() const override { return static_cast<std::ptrdiff_t>(net_.model.nodes()); }
   Status checkState(const StepContext& ctx) const override;
   bool view(BodyView& out) const override;
   void hash(Hasher& h) const override;

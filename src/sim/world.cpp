@@ -282,6 +282,7 @@ Status World::advanceFrame() {
       Body* b = bodies_[k].get();
       if (b->coupled() || in_system_[k]) continue;
       profile::Scope stage(profile::Stage::Integration);  // what the body's own scopes do not claim
+      const ParallelScope threads(b->parallelWork());
       b->step(ctx);
       if (Status st = b->checkState(ctx); !st) return st;
     }
