@@ -8,6 +8,7 @@
 
 #include "helpers.h"
 #include "sim/fish/fish.h"
+#include "sim/grid.h"
 #include "sim/skyline.h"
 
 using namespace reel;
@@ -164,6 +165,63 @@ TEST_CASE("direct solve: a school of fish steps as a tight CG steps it; auto tak
   StepStats stats;
   integrate(IntegratorKind::ImplicitEuler, s.dyn, s.state.x, s.state.v, 1.0 / 150.0, s.ws, s.implicit, &stats);
   CHECK(stats.cg_iterations > 0);
+}
+
+TEST_CASE("direct solve: a pinned chain with a drag toward a flow, by implicit Euler and BDF2, as a tight CG; after a pin and a new spring too") {
+  // 30 nodes, neighbours and next-but-one joined, node 0 fixed; each node a drag D (symmetric,
+  // not diagonal) toward a flow.
+  MassSpringDesc d;
+  const int n = 30;
+  for (int i = 0; i < n; ++i)
+    d.nodes.push_back({Vec3(0.05 * i, 0.01 * std::sin(i), 0.003 * i), Vec3(0.1 * std::cos(i), 0, 0.05), 0.01, 0.001, i == 0});
+  for (int i = 0; i + 1 < n; ++i) d.springs.push_back({i, i + 1, 400.0, 0.05, -1.0});
+  for (int i = 0; i + 2 < n; ++i) d.springs.push_back({i, i + 2, 40.0, 0.01, -1.0});
+  Mat3 D;
+  D << 0.02, 0.005, 0.0, 0.005, 0.03, 0.004, 0.0, 0.004, 0.01;
+  const std::vector<Mat3> drag(n, D);
+  const std::vector<Vec3> flow(n, D * Vec3(0.3, 0, -0.1));
+  for (IntegratorKind k : {IntegratorKind::ImplicitEuler, IntegratorKind::Bdf2}) {
+    CAPTURE(integratorName(k));
+    auto run = [&](LinearSolver solver, int* last_iterations) {
+      System s(d, Vec3(0, -9.8, 0));
+      s.dyn.setNodeDrag(drag.data(), flow.data());
+      s.implicit = {1e-13, 5000, true, solver};
+      StepStats stats;
+      for (int step = 0; step < 30; ++step) {
+        if (step == 10) {  // pin node 15 (the chain is now two pieces)
+          s.model.fixed[15] = 1, s.model.inv_mass[15] = 0.0, s.state.v[15].setZero();
+        }
+        if (step == 20) {  // a new spring joins nodes 3 and 25 (one piece again, with node 15 pinned)
+          s.model.springs.add(3, 25, 50.0, 0.01, (s.state.x[25] - s.state.x[3]).norm());
+          s.model.incidence.build(s.model.nodes(), s.model.springs);
+        }
+        integrate(k, s.dyn, s.state.x, s.state.v, 1.0 / 200.0, s.ws, s.implicit, &stats);
+      }
+      *last_iterations = stats.cg_iterations;
+      return s.state;
+    };
+    int it_cg = 0, it_direct = -1;
+    const MassSpringState cg = run(LinearSolver::Cg, &it_cg), direct = run(LinearSolver::Direct, &it_direct);
+    CHECK(it_cg > 0);
+    CHECK(it_direct == 0);
+    double dv = 0, vmax = 0;
+    for (int i = 0; i < n; ++i) dv = std::max(dv, (direct.v[i] - cg.v[i]).norm()), vmax = std::max(vmax, cg.v[i].norm());
+    CAPTURE(dv);
+    CHECK(dv <= 1e-6 * vmax);
+    CHECK(direct.v[15] == Vec3::Zero());
+    CHECK(direct.v[0] == Vec3::Zero());
+  }
+}
+
+TEST_CASE("the neighbour grid lists no empty box") {
+  BoxGrid g;
+  const std::vector<Vec3> lo = {Vec3(0, 0, 0), Vec3::Constant(BoxGrid::kUnlistedLo), Vec3(0, 1, 0), Vec3(0, std::nan(""), 0)};
+  const std::vector<Vec3> hi = {Vec3(0.1, 0.1, 0.1), Vec3::Constant(BoxGrid::kUnlistedHi), Vec3(0.1, 0.5, 0.1), Vec3(0.1, 0.1, 0.1)};
+  g.build(lo, hi, 0.2);
+  CHECK(g.entries() == 1);  // only the first: the second is empty, the third inverted in y, the fourth NaN
+  std::vector<int> found;
+  g.forEachNear(Vec3(0.05, 0.05, 0.05), [&](int k) { found.push_back(k); });
+  CHECK(found == std::vector<int>{0});
 }
 
 TEST_CASE("direct solve: a piece that is not positive definite goes back to CG") {

@@ -189,9 +189,6 @@ class BodySystem {
   // Advances every member from ctx.t0 to ctx.t1 (in the coupling stage: after the bodies that
   // push them, and the figures).
   virtual void step(StepContext& ctx) = 0;
-  // The elements its step's loops run over (a spring network's nodes), for one decision whether
-  // they all run in parallel (core/parallel.h, ParallelScope); −1: each loop decides by its size.
-  virtual std::ptrdiff_t parallelWork() const { return -1; }
   virtual void snapshot(StateBlob& out) const = 0;
   virtual bool restore(const StateBlob& in) = 0;
 };

@@ -204,7 +204,7 @@ void prepareImplicit(OdeSystem& dyn, std::size_t n, IntegratorWorkspace& ws, con
   REEL_CHECK(dyn.linearizable(), "implicit integrators need a linearizable system");
   dyn.setLinearSolver(set.solver);
   for (auto* w : {&ws.rhs, &ws.r, &ws.z, &ws.p, &ws.q, &ws.dv}) resize(*w, n);
-  ws.pinv.resize(n);  // linearize fills every block
+  ws.pinv.resize(n);  // linearize fills every block (or the system does, before CG reads it)
   ws.fixed.resize(n);
   for (std::size_t i = 0; i < n; ++i) ws.fixed[i] = dyn.fixed(i) ? 1 : 0;
 }

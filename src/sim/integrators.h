@@ -26,7 +26,9 @@ class OdeSystem {
   // both linearised at (x, v); implicit Euler takes w = v, BDF2 its own w and h.
   virtual bool linearizable() const { return false; }
   // Linearise at (x, v) for step h: fills rhs and, for the preconditioner, the inverse of each
-  // node's 3×3 diagonal block of A (block Jacobi).
+  // node's 3×3 diagonal block of A (block Jacobi). A system that prepares a direct solve
+  // (solveDirect) may fill block_inverse later, when CG first needs it (solveDirect returning
+  // false, or a product asked for): the array must stay alive until the next linearize().
   virtual void linearize(const Vec3* /*x*/, const Vec3* /*v*/, const Vec3* /*w*/, double /*h*/, Vec3* /*rhs*/,
                          Mat3* /*block_inverse*/) {}
   virtual double mass(std::size_t /*i*/) const { return 1.0; }

@@ -398,7 +398,8 @@ bool MassSpringSystem::solveDirect(const Vec3* rhs, Vec3* dv) {
   const std::size_t nodes = m_.nodes();
   const auto& inc = m_.incidence;
   const Index pieces = static_cast<Index>(plan_.pieces());
-  std::vector<std::uint8_t> failed(static_cast<std::size_t>(pieces), 0);
+  failed_.assign(static_cast<std::size_t>(pieces), 0);
+  auto& failed = failed_;
   parallelBlocks(pieces, 1, [&](Index p0, Index p1) {
     thread_local SkylineFactor F;
     thread_local std::vector<double> b;
@@ -431,9 +432,11 @@ bool MassSpringSystem::solveDirect(const Vec3* rhs, Vec3* dv) {
       }
       if (!F.factor()) {
         failed[static_cast<std::size_t>(p)] = 1;
+        F.release(kDirectKeepDoubles);
         continue;
       }
       F.solve(b.data());
+      F.release(kDirectKeepDoubles);  // (a large piece's factor is not kept by the thread)
       for (int k = k0; k < k1; ++k) {
         const int li = k - k0;
         dv[plan_.nodes[static_cast<std::size_t>(k)]] = Vec3(b[static_cast<std::size_t>(3 * li)], b[static_cast<std::size_t>(3 * li + 1)],

@@ -146,6 +146,7 @@ class MassSpringSystem final : public OdeSystem {
   void setLinearSolver(LinearSolver s) override { solver_ = s; }
   bool solveDirect(const Vec3* rhs, Vec3* dv) override;
   static constexpr std::size_t kDirectMaxDoubles = std::size_t{1} << 24;  // 128 MiB a thread
+  static constexpr std::size_t kDirectKeepDoubles = std::size_t{1} << 17;  // a thread keeps 1 MiB of scratch
   // Spring force evaluations done so far (for benchmarks).
   std::uint64_t springEvaluations() const { return spring_evals_; }
   // Products with a spring's 3×3 block in implicit Euler's conjugate-gradient solve.
@@ -188,6 +189,7 @@ class MassSpringSystem final : public OdeSystem {
   SkylinePlan plan_;                        // the pieces, for the direct solve
   std::uint64_t plan_generation_ = 0;       // the incidence it was made from
   std::vector<std::uint8_t> plan_fixed_;    // and the fixed nodes
+  std::vector<std::uint8_t> failed_;        // per piece: its factorisation failed (this step)
   bool predict_ = false;
   std::uint64_t spring_evals_ = 0;
   std::uint64_t spring_products_ = 0;

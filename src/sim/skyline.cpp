@@ -175,4 +175,12 @@ void SkylineFactor::solve(double* b) const {
   }
 }
 
+void SkylineFactor::release(std::size_t keep) {
+  if (value_.capacity() <= keep) return;
+  value_ = {};
+  offset_ = {};
+  first_ = {};
+  inv_ = {};
+}
+
 }  // namespace reel

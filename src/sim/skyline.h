@@ -48,6 +48,9 @@ class SkylineFactor {
   bool factor();
   // b := A⁻¹ b, b holding 3 doubles per local node.
   void solve(double* b) const;
+  // Gives the storage back when it holds more than `keep` doubles (a thread's scratch after a
+  // large piece).
+  void release(std::size_t keep);
 
  private:
   std::vector<std::ptrdiff_t> offset_;  // per row (dof): where its entries start, less its first column

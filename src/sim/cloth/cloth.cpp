@@ -378,7 +378,7 @@ bool selfPassDue(const Cloth& c, const std::vector<Vec3>& x, double gap) {
 // Boxes of the drawn triangles grown by the gap (the second sweep moves nodes by less than
 // that, and its misses are caught by the next pass) in a grid, a cell about their mean size. A
 // triangle stretched over more than eight cells is torn apart in all but name and sits out (an
-// empty box far away). Returns the mean size, −1 when no triangle is left.
+// empty box, listed nowhere). Returns the mean size, −1 when no triangle is left.
 double triangleBoxes(Cloth& c, const std::vector<Vec3>& x, double gap) {
   const std::size_t nt = c.tris.size();
   c.lo.resize(nt);
@@ -399,7 +399,8 @@ double triangleBoxes(Cloth& c, const std::vector<Vec3>& x, double gap) {
   mean /= live;
   const double cell = mean;
   for (std::size_t t = 0; t < nt; ++t)
-    if (!c.tri_alive[t] || !((c.hi[t] - c.lo[t]).maxCoeff() <= 8 * cell)) c.lo[t] = c.hi[t] = Vec3::Constant(-1e6 * cell);
+    if (!c.tri_alive[t] || !((c.hi[t] - c.lo[t]).maxCoeff() <= 8 * cell))
+      c.lo[t] = Vec3::Constant(BoxGrid::kUnlistedLo), c.hi[t] = Vec3::Constant(BoxGrid::kUnlistedHi);
   c.grid.build(c.lo, c.hi, cell);
   return mean;
 }
