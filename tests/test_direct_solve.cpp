@@ -16,19 +16,14 @@ using namespace reel::test;
 
 namespace {
 
-// Compressed rows of an undirected graph given as edges.
-struct Graph {
-  std::vector<int> start, other;
-  Graph(int n, const std::vector<std::array<int, 2>>& edges) {
-    std::vector<std::vector<int>> adj(static_cast<std::size_t>(n));
-    for (auto [a, b] : edges) adj[static_cast<std::size_t>(a)].push_back(b), adj[static_cast<std::size_t>(b)].push_back(a);
-    start.push_back(0);
-    for (const auto& l : adj) {
-      other.insert(other.end(), l.begin(), l.end());
-      start.push_back(static_cast<int>(other.size()));
-    }
-  }
-};
+// The nodes' couplings in compressed rows: the springs' own incidence (sim/mass_spring.h).
+Incidence graph(int n, const std::vector<std::array<int, 2>>& edges) {
+  Springs sp;
+  for (auto [a, b] : edges) sp.add(a, b, 1.0, 0.0, 1.0);
+  Incidence inc;
+  inc.build(static_cast<std::size_t>(n), sp);
+  return inc;
+}
 
 // `count` fish of the template side by side, moving and bent out of rest.
 MassSpringDesc school(int count) {
@@ -57,7 +52,7 @@ TEST_CASE("envelope Cholesky: a sparse positive definite system solved as a dens
   std::vector<std::array<int, 2>> edges;
   for (int i = 0; i + 1 < n; ++i) edges.push_back({i, i + 1});
   edges.push_back({2, 5}), edges.push_back({4, 9}), edges.push_back({7, 10});
-  const Graph g(n, edges);
+  const Incidence g = graph(n, edges);
   SkylinePlan plan;
   const std::vector<std::uint8_t> fixed(n, 0);
   plan.build(n, g.start.data(), g.other.data(), fixed.data());
@@ -106,7 +101,7 @@ TEST_CASE("envelope Cholesky: a sparse positive definite system solved as a dens
 
 TEST_CASE("direct solve: the pieces are the free nodes joined by couplings; a fixed node splits a chain") {
   // A chain 0-1-2-3-4 with node 2 fixed, a pair 5-6, and node 7 alone.
-  const Graph g(8, {{{0, 1}}, {{1, 2}}, {{2, 3}}, {{3, 4}}, {{5, 6}}});
+  const Incidence g = graph(8, {{{0, 1}}, {{1, 2}}, {{2, 3}}, {{3, 4}}, {{5, 6}}});
   std::vector<std::uint8_t> fixed(8, 0);
   fixed[2] = 1;
   SkylinePlan plan;
@@ -215,8 +210,9 @@ TEST_CASE("direct solve: a pinned chain with a drag toward a flow, by implicit E
 
 TEST_CASE("the neighbour grid lists no empty box") {
   BoxGrid g;
-  const std::vector<Vec3> lo = {Vec3(0, 0, 0), Vec3::Constant(BoxGrid::kUnlistedLo), Vec3(0, 1, 0), Vec3(0, std::nan(""), 0)};
-  const std::vector<Vec3> hi = {Vec3(0.1, 0.1, 0.1), Vec3::Constant(BoxGrid::kUnlistedHi), Vec3(0.1, 0.5, 0.1), Vec3(0.1, 0.1, 0.1)};
+  std::vector<Vec3> lo = {Vec3(0, 0, 0), Vec3::Zero(), Vec3(0, 1, 0), Vec3(0, std::nan(""), 0)};
+  std::vector<Vec3> hi = {Vec3(0.1, 0.1, 0.1), Vec3::Zero(), Vec3(0.1, 0.5, 0.1), Vec3(0.1, 0.1, 0.1)};
+  BoxGrid::unlist(lo[1], hi[1]);
   g.build(lo, hi, 0.2);
   CHECK(g.entries() == 1);  // only the first: the second is empty, the third inverted in y, the fourth NaN
   std::vector<int> found;

@@ -46,8 +46,8 @@ bool ContactLayer::nearPieces(std::uint32_t pieces) {
     const bool empty = !(piece_lo_[q].x() <= piece_hi_[q].x());
     const bool small = !empty && (piece_hi_[q] - piece_lo_[q]).maxCoeff() <= cell;
     if (!empty && !small) big_.push_back(q);
-    lo_[q] = small ? piece_lo_[q] : Vec3::Constant(BoxGrid::kUnlistedLo);
-    hi_[q] = small ? piece_hi_[q] : Vec3::Constant(BoxGrid::kUnlistedHi);
+    lo_[q] = piece_lo_[q], hi_[q] = piece_hi_[q];
+    if (!small) BoxGrid::unlist(lo_[q], hi_[q]);
   }
   point_grid_.build(lo_, hi_, cell);
   bool any = false;
@@ -109,7 +109,7 @@ void ContactLayer::findPointTriangle() {
   std::size_t counted = 0;
   for (std::size_t t = 0; t < nt; ++t) {
     if (!near(p_.tri[t][0])) {
-      lo_[t] = Vec3::Constant(BoxGrid::kUnlistedLo), hi_[t] = Vec3::Constant(BoxGrid::kUnlistedHi);  // not listed
+      BoxGrid::unlist(lo_[t], hi_[t]);
       continue;
     }
     Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
@@ -131,7 +131,7 @@ void ContactLayer::findPointTriangle() {
   const double cell = mean;
   // A triangle spread over very many cells (a corner flung far in one step) is left out.
   for (std::size_t t = 0; t < nt; ++t)
-    if (BoxGrid::listed(lo_[t], hi_[t]) && !((hi_[t] - lo_[t]).maxCoeff() <= 16 * cell)) lo_[t] = Vec3::Constant(BoxGrid::kUnlistedLo), hi_[t] = Vec3::Constant(BoxGrid::kUnlistedHi);
+    if (BoxGrid::listed(lo_[t], hi_[t]) && !((hi_[t] - lo_[t]).maxCoeff() <= 16 * cell)) BoxGrid::unlist(lo_[t], hi_[t]);
   tri_grid_.build(lo_, hi_, cell);
   // Each surface's triangles' boxes together: a point outside those of the surfaces it may meet
   // meets none.
@@ -204,8 +204,8 @@ void ContactLayer::findPointPoint() {
   hi_.resize(np);
   for (std::size_t i = 0; i < np; ++i) {
     // (Points of bodies that meet no one by the layer's own law are not listed.)
-    lo_[i] = nearPlain(i) ? p_.x[i] : Vec3::Constant(BoxGrid::kUnlistedLo);
-    hi_[i] = nearPlain(i) ? p_.x[i] : Vec3::Constant(BoxGrid::kUnlistedHi);
+    lo_[i] = hi_[i] = p_.x[i];
+    if (!nearPlain(i)) BoxGrid::unlist(lo_[i], hi_[i]);
   }
   point_grid_.build(lo_, hi_, cell);
   gatherPairs(np, pp_pairs_, [&](std::uint32_t i, std::vector<std::uint32_t>& cand) {
@@ -232,7 +232,7 @@ void ContactLayer::findEdgeEdge() {
   for (std::size_t e = 0; e < ne; ++e) {
     const auto& E = p_.edge[e];
     if (!nearPlain(E[0]) && !nearPlain(E[1])) {
-      lo_[e] = Vec3::Constant(BoxGrid::kUnlistedLo), hi_[e] = Vec3::Constant(BoxGrid::kUnlistedHi);  // not listed
+      BoxGrid::unlist(lo_[e], hi_[e]);
       continue;
     }
     const Vec3 g = Vec3::Constant(std::max(p_.r[E[0]], p_.r[E[1]]));

@@ -20,11 +20,12 @@ namespace reel {
 class BoxGrid {
  public:
   // Lists item k in the cells overlapped by [lo[k], hi[k]]. `cell` is the cell edge, m. An empty
-  // box (lo > hi on any axis, as kUnlisted, or NaN) is listed nowhere: the items a search leaves
+  // box (lo > hi on any axis, as unlist() makes it, or NaN) is listed nowhere: the items a search leaves
   // out (a contact piece far from any other) cost the build nothing.
   void build(std::span<const Vec3> lo, std::span<const Vec3> hi, double cell);
   static bool listed(const Vec3& lo, const Vec3& hi) { return (lo.array() <= hi.array()).all(); }
-  static constexpr double kUnlistedLo = 1e300, kUnlistedHi = -1e300;  // an empty box's ends
+  // Makes [lo, hi] the empty box that build() lists nowhere.
+  static void unlist(Vec3& lo, Vec3& hi) { lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300); }
 
   // Calls f(item) for the items listed in the cell that contains p.
   template <class F>

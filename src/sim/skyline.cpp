@@ -44,7 +44,7 @@ void SkylinePlan::build(std::size_t n, const int* start, const int* other, const
   // the diagonal) takes about w²/2 multiply-adds to factor and 2w to substitute.
   first.assign(nodes.size(), 0);
   factor_cost = 0.0;
-  largest = total = free_ends = 0;
+  largest = free_ends = 0;
   for (std::size_t i = 0; i < n; ++i)
     if (!fixed[i]) free_ends += static_cast<std::size_t>(start[i + 1] - start[i]);
   for (std::size_t p = 0; p + 1 < piece_start.size(); ++p) {
@@ -62,7 +62,6 @@ void SkylinePlan::build(std::size_t n, const int* start, const int* other, const
       }
     }
     largest = std::max(largest, size);
-    total += size;
   }
 }
 

@@ -27,7 +27,6 @@ struct SkylinePlan {
   std::vector<int> first;        // per entry of `nodes`: the lowest local node it is coupled to (or itself)
   double factor_cost = 0.0;      // multiply-adds of one factorisation and its two substitutions, all pieces
   std::size_t largest = 0;       // the largest piece's factor, doubles
-  std::size_t total = 0;         // all pieces' factors, doubles
   std::size_t free_ends = 0;     // couplings at free nodes, counted at each end
 
   // From the coupling graph in compressed rows (node i is coupled to other[start[i] .. start[i+1])).

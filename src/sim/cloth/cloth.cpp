@@ -400,7 +400,7 @@ double triangleBoxes(Cloth& c, const std::vector<Vec3>& x, double gap) {
   const double cell = mean;
   for (std::size_t t = 0; t < nt; ++t)
     if (!c.tri_alive[t] || !((c.hi[t] - c.lo[t]).maxCoeff() <= 8 * cell))
-      c.lo[t] = Vec3::Constant(BoxGrid::kUnlistedLo), c.hi[t] = Vec3::Constant(BoxGrid::kUnlistedHi);
+      BoxGrid::unlist(c.lo[t], c.hi[t]);
   c.grid.build(c.lo, c.hi, cell);
   return mean;
 }
