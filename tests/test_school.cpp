@@ -7,6 +7,8 @@
 #include <numbers>
 
 #include "core/parallel.h"
+#include "core/random.h"
+#include "sim/row_grid.h"
 #include "helpers.h"
 #include "sim/school/school_body.h"
 #include "core/union_find.h"
@@ -285,6 +287,61 @@ TEST_CASE("steering: no agent ever inside an object; bounds hold; a goal draws; 
     }
     CHECK(near_calm > 100);  // the shark swims through the calm school
     CHECK(near_scared < near_calm / 3);
+  }
+}
+
+// Every point within r of a point lies in exactly one of its runs; the sorted copies are the
+// points in order; the runs hold a few times the sphere's points; a second build of the same
+// points (or of the points dealt in another order) gives the same order.
+TEST_CASE("the row grid finds every neighbour once, in runs of a few times the sphere") {
+  const double r = 1.0;
+  auto cloud = [](int n, const Vec3& size, std::uint64_t seed) {
+    std::vector<Vec3> p(static_cast<std::size_t>(n));
+    for (std::size_t i = 0; i < p.size(); ++i)
+      for (int k = 0; k < 3; ++k) p[i][k] = size[k] * uniformAt(seed, 7, 3 * i + static_cast<std::size_t>(k));
+    return p;
+  };
+  std::vector<Vec3> far = cloud(300, Vec3(4, 4, 4), 3);  // two far clusters: the rows widen
+  for (std::size_t i = 150; i < far.size(); ++i) far[i] += Vec3(0, 5000, -3000);
+  std::vector<Vec3> line = cloud(400, Vec3(60, 0, 0), 4);  // one row
+  std::vector<Vec3> bad = cloud(500, Vec3(6, 6, 6), 5);
+  bad[7] = Vec3(NAN, 1, 1), bad[8] = Vec3(1, NAN, 1), bad[9] = Vec3(1, 1, INFINITY);
+  const std::vector<std::pair<const char*, std::vector<Vec3>>> cases = {
+      {"cube", cloud(3000, Vec3(10, 10, 10), 1)}, {"plane", cloud(2000, Vec3(20, 20, 0), 2)},
+      {"far clusters", far}, {"line", line}, {"non-finite", bad}, {"one", cloud(1, Vec3(1, 1, 1), 6)}, {"none", {}}};
+  for (const auto& [name, p] : cases) {
+    CAPTURE(name);
+    RowGrid g;
+    g.build(p, r);
+    REQUIRE(g.size() == p.size());
+    std::vector<int> hit(p.size(), 0);
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      const auto i = static_cast<std::size_t>(g.order()[k]);
+      ++hit[i];
+      if (p[i].allFinite()) CHECK((Vec3(g.x()[k], g.y()[k], g.z()[k]) == p[i]));
+    }
+    CHECK(std::count(hit.begin(), hit.end(), 1) == static_cast<long>(p.size()));  // a permutation
+    double candidates = 0, neighbours = 0;
+    int missed = 0, twice = 0;
+    g.visitRows(0, g.rows(), [&](std::uint32_t e, std::span<const RowGrid::Run> runs) {
+      const auto i = static_cast<std::size_t>(g.order()[e]);
+      std::vector<int> seen(p.size(), 0);
+      for (const RowGrid::Run& run : runs)
+        for (std::uint32_t k = run[0]; k < run[1]; ++k) ++seen[static_cast<std::size_t>(g.order()[k])], candidates += 1;
+      for (std::size_t j = 0; j < p.size(); ++j) {
+        twice += seen[j] > 1;
+        if (j != i && (p[j] - p[i]).squaredNorm() <= r * r) neighbours += 1, missed += seen[j] == 0;
+      }
+    });
+    CHECK(missed == 0);
+    CHECK(twice == 0);
+    if (std::string(name) == "cube") CHECK(candidates < 5.0 * neighbours);  // 27 cells of side r: 6.4
+    RowGrid again;
+    std::vector<Vec3> reversed(p.rbegin(), p.rend());
+    again.build(reversed, r);
+    again.build(p, r);  // dealt in the reversed build's order
+    CHECK((std::vector<std::int32_t>(again.order().begin(), again.order().end()) ==
+           std::vector<std::int32_t>(g.order().begin(), g.order().end())));
   }
 }
 

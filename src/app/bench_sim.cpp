@@ -23,6 +23,7 @@
 #include "sim/integrators.h"
 #include "sim/mass_spring.h"
 #include "sim/rigid/rigid_body.h"
+#include "sim/row_grid.h"
 #include "sim/school/school_body.h"
 #include "sim/springs/generators.h"
 #include "sim/world.h"
@@ -271,7 +272,7 @@ int benchFluid(double simulated) {
 
 // Schools of 1k, 10k and 100k agents of Couzin's model at about 20 neighbours inside the
 // attraction radius (r_a = 3 m, a random box at 20 agents per (4/3)π r_a³), deciding every step
-// (h = τ): agent-steps per second and the candidates the grid hands each agent (its 27 cells).
+// (h = τ): agent-steps per second and the candidates the row grid hands each agent (its 9 runs).
 int benchSchool(double seconds) {
   for (const long long n : {1000ll, 10000ll, 100000ll}) {
     const double ra = 3.0, side = std::cbrt(static_cast<double>(n) * (4.0 / 3.0) * 3.14159265358979 * ra * ra * ra / 20.0);
@@ -285,15 +286,18 @@ int benchSchool(double seconds) {
     if (!world.ok()) return report(world.error());
     World& w = world.value();
     const School& sc = w.first<SchoolBody>()->school();
-    // Neighbours inside r_a and the grid's candidates, at the start.
-    BoxGrid g;
-    g.build(sc.x, sc.x, ra);
+    // Neighbours inside r_a and the candidates the row grid hands each agent, at the start.
+    RowGrid g;
+    g.build(sc.x, ra);
     double neighbours = 0, candidates = 0;
-    for (const Vec3& p : sc.x)
-      g.forEachNear(p, [&](std::int32_t j) {
-        candidates += 1;
-        neighbours += (sc.x[static_cast<std::size_t>(j)] - p).squaredNorm() < ra * ra;
-      });
+    g.visitRows(0, g.rows(), [&](std::uint32_t e, std::span<const RowGrid::Run> runs) {
+      const Vec3 p = sc.x[static_cast<std::size_t>(g.order()[e])];
+      for (const RowGrid::Run& run : runs)
+        for (std::uint32_t k = run[0]; k < run[1]; ++k) {
+          candidates += 1;
+          neighbours += (sc.x[static_cast<std::size_t>(g.order()[k])] - p).squaredNorm() < ra * ra;
+        }
+    });
     const auto t0 = Clock::now();
     for (int k = 0; k < steps; ++k)
       if (Status st = w.advanceFrame(); !st) return report(st.error());

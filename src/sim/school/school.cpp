@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <span>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 
 #include <Eigen/Geometry>
@@ -13,6 +14,7 @@
 #include "core/lanes.h"
 #include "core/parallel.h"
 #include "core/random.h"
+#include "sim/grid.h"
 
 namespace reel {
 namespace {
@@ -47,15 +49,31 @@ struct ZoneSums {
 };
 
 // A run [begin, end) of sorted agents to scan.
-using Range32 = std::array<std::uint32_t, 2>;
+using Range32 = RowGrid::Run;
+
+// Sorted agents: positions (a RowGrid's copies) and headings, coordinate by coordinate.
+struct SortedView {
+  const double *x, *y, *z, *ux, *uy, *uz;
+};
+
+// Four consecutive doubles.
+[[gnu::always_inline]] inline Lane4 load4(const double* p) {
+  Lane4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
 
 // The zone sums of the agent at xi heading ui over the sorted agents of `ranges` (skipping entry
-// `self`), four candidates at a time (core/lanes.h: the same bits with or without AVX). The blind
-// cone test r·u ≥ cos(α/2)|r| is made without a root: for α > 180° it holds when r·u ≥ 0 or
-// (r·u)² ≤ cos²(α/2)|r|², for α ≤ 180° when r·u ≥ 0 and (r·u)² ≥ cos²(α/2)|r|².
-REEL_CLONED
-ZoneSums couzinZones(const SortedAgents& s, std::span<const Range32> ranges, std::uint32_t self, const Vec3& xi,
-                     const Vec3& ui, const Perception& p) {
+// `self`), four candidates at a time (core/lanes.h: the same bits with or without AVX), in two
+// passes: the first lists the candidates the agent perceives (within r_a, outside the blind
+// cone: about a quarter of them), the second sums their zones, so that only those pay for the
+// root and the division of r̂. The blind cone test r·u ≥ cos(α/2)|r| is made without a root: for
+// α > 180° it holds when r·u ≥ 0 or (r·u)² ≤ cos²(α/2)|r|², for α ≤ 180° when r·u ≥ 0 and
+// (r·u)² ≥ cos²(α/2)|r|².
+// Inlined into the AVX2 clone of its caller (couzinRows).
+[[gnu::always_inline]] inline ZoneSums couzinZones(const SortedView& s, std::span<const Range32> ranges,
+                                                   std::uint32_t self, const Vec3& xi, const Vec3& ui,
+                                                   const Perception& p) {
   const Lane4 zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
   const Lane4 x0 = zero + xi.x(), x1 = zero + xi.y(), x2 = zero + xi.z();
   const Lane4 u0 = zero + ui.x(), u1 = zero + ui.y(), u2 = zero + ui.z();
@@ -63,30 +81,46 @@ ZoneSums couzinZones(const SortedAgents& s, std::span<const Range32> ranges, std
   // All round (360°): everyone is seen, whatever the rounding of the squared test.
   const Mask4 wide = Mask4{0, 0, 0, 0} + (p.cos_half < 0 ? -1ll : 0ll), step = {0, 1, 2, 3};
   const Mask4 all_round = Mask4{0, 0, 0, 0} + (p.cos_half <= -1.0 ? -1ll : 0ll);
-  Lane4 r0s = zero, r1s = zero, r2s = zero, o0s = zero, o1s = zero, o2s = zero, a0s = zero, a1s = zero, a2s = zero;
-  Lane4 nr = zero, no = zero, na = zero;
+  // Pass 1: the perceived entries, in the order of the runs.
+  thread_local std::vector<std::uint32_t> seen;
+  std::size_t total = 4;
+  for (const Range32& rg : ranges) total += rg[1] - rg[0] + 3;
+  if (seen.size() < total) seen.resize(total);
+  std::uint32_t* list = seen.data();
+  std::size_t m = 0;
   for (const Range32& rg : ranges)
     for (std::uint32_t k = rg[0]; k < rg[1]; k += 4) {
       const Mask4 idx = step + static_cast<long long>(k);
       const Mask4 live = (idx < static_cast<long long>(rg[1])) & (idx != static_cast<long long>(self));
-      const Lane4 d0 = Lane4{s.x[k], s.x[k + 1], s.x[k + 2], s.x[k + 3]} - x0;
-      const Lane4 d1 = Lane4{s.y[k], s.y[k + 1], s.y[k + 2], s.y[k + 3]} - x1;
-      const Lane4 d2 = Lane4{s.z[k], s.z[k + 1], s.z[k + 2], s.z[k + 3]} - x2;
+      const Lane4 d0 = load4(s.x + k) - x0, d1 = load4(s.y + k) - x1, d2 = load4(s.z + k) - x2;
       const Lane4 r2 = d0 * d0 + d1 * d1 + d2 * d2, dot = d0 * u0 + d1 * u1 + d2 * u2;
       const Mask4 ahead = dot >= zero, wide_ok = ahead | (dot * dot <= c2 * r2), narrow_ok = ahead & (dot * dot >= c2 * r2);
       const Mask4 in = live & (r2 < ra2) & (r2 > zero) & (all_round | (wide ? wide_ok : narrow_ok));
-      const Mask4 rep = in & (r2 < rr2), ori = in & ~rep & (r2 < ro2), att = in & ~rep & ~ori;
-      Lane4 len = in ? r2 : one;
-      for (int l = 0; l < 4; ++l) len[l] = std::sqrt(len[l]);
-      const Lane4 inv = one / len;
-      const Lane4 wr = rep ? inv : zero, wa = att ? inv : zero;
-      r0s -= wr * d0, r1s -= wr * d1, r2s -= wr * d2;
-      a0s += wa * d0, a1s += wa * d1, a2s += wa * d2;
-      o0s += ori ? Lane4{s.ux[k], s.ux[k + 1], s.ux[k + 2], s.ux[k + 3]} : zero;
-      o1s += ori ? Lane4{s.uy[k], s.uy[k + 1], s.uy[k + 2], s.uy[k + 3]} : zero;
-      o2s += ori ? Lane4{s.uz[k], s.uz[k + 1], s.uz[k + 2], s.uz[k + 3]} : zero;
-      nr += rep ? one : zero, no += ori ? one : zero, na += att ? one : zero;
+      for (int l = 0; l < 4; ++l) list[m] = k + static_cast<std::uint32_t>(l), m -= static_cast<std::size_t>(in[l]);
     }
+  for (std::size_t l = 0; l < 3; ++l) list[m + l] = list[0];  // (a whole group of four to read)
+  // Pass 2: the zones of the perceived.
+  Lane4 r0s = zero, r1s = zero, r2s = zero, o0s = zero, o1s = zero, o2s = zero, a0s = zero, a1s = zero, a2s = zero;
+  Lane4 nr = zero, no = zero, na = zero;
+  for (std::size_t k = 0; k < m; k += 4) {
+    const std::uint32_t* e = list + k;
+    const Mask4 live = (step + static_cast<long long>(k)) < static_cast<long long>(m);
+    const Lane4 d0 = Lane4{s.x[e[0]], s.x[e[1]], s.x[e[2]], s.x[e[3]]} - x0;
+    const Lane4 d1 = Lane4{s.y[e[0]], s.y[e[1]], s.y[e[2]], s.y[e[3]]} - x1;
+    const Lane4 d2 = Lane4{s.z[e[0]], s.z[e[1]], s.z[e[2]], s.z[e[3]]} - x2;
+    const Lane4 r2 = d0 * d0 + d1 * d1 + d2 * d2;
+    const Mask4 rep = live & (r2 < rr2), ori = live & ~rep & (r2 < ro2), att = live & ~rep & ~ori;
+    Lane4 len = live ? r2 : one;
+    for (int l = 0; l < 4; ++l) len[l] = std::sqrt(len[l]);
+    const Lane4 inv = one / len;
+    const Lane4 wr = rep ? inv : zero, wa = att ? inv : zero;
+    r0s -= wr * d0, r1s -= wr * d1, r2s -= wr * d2;
+    a0s += wa * d0, a1s += wa * d1, a2s += wa * d2;
+    o0s += ori ? Lane4{s.ux[e[0]], s.ux[e[1]], s.ux[e[2]], s.ux[e[3]]} : zero;
+    o1s += ori ? Lane4{s.uy[e[0]], s.uy[e[1]], s.uy[e[2]], s.uy[e[3]]} : zero;
+    o2s += ori ? Lane4{s.uz[e[0]], s.uz[e[1]], s.uz[e[2]], s.uz[e[3]]} : zero;
+    nr += rep ? one : zero, no += ori ? one : zero, na += att ? one : zero;
+  }
   ZoneSums z;
   z.dr = Vec3(hsum(r0s), hsum(r1s), hsum(r2s));
   z.d_o = Vec3(hsum(o0s), hsum(o1s), hsum(o2s));
@@ -230,62 +264,47 @@ Vec3 steerDirection(const SchoolDesc& d, const Steering& s, Vec3 dir) {
   return dir;
 }
 
-// ---- The neighbour pass. The grid's occupied buckets are put in the order of their cells'
-// coordinates and their agents copied in that order, so neighbouring cells are neighbours in
-// memory and consecutive agents scan mostly the same runs (the hash alone scatters them).
-void sortAgents(School& sc, double cell, bool unit_headings) {
+// ---- The neighbour pass: the agents sorted into a RowGrid at the perception radius (rows of the
+// y–z plane, each by x), their headings copied in that order, and the rows visited in parallel,
+// each agent with the runs of sorted agents around it.
+SortedView sortAgents(School& sc, double r, bool unit_headings) {
   const std::size_t n = sc.size();
-  BoxGrid& g = sc.grid;
-  g.build(sc.x, sc.x, cell);
-  const auto items = g.items();
-  sc.cells.clear();
-  for (std::uint32_t b = 0; b < g.buckets(); ++b)
-    if (g.bucketBegin(b) < g.bucketEnd(b)) {
-      const auto c = g.cellOf(sc.x[static_cast<std::size_t>(items[g.bucketBegin(b)])]);
-      sc.cells.push_back({{c[2], c[1], c[0]}, b});
-    }
-  std::sort(sc.cells.begin(), sc.cells.end());
-  sc.bucket_range.assign(g.buckets(), {0, 0});
-  sc.order.resize(n);
-  SortedAgents& s = sc.sorted;
-  for (auto* a : {&s.x, &s.y, &s.z, &s.ux, &s.uy, &s.uz}) a->assign(n + 4, 0.0);
-  std::uint32_t e = 0;
-  for (const auto& [c, b] : sc.cells) {
-    sc.bucket_range[b][0] = e;
-    for (std::uint32_t k = g.bucketBegin(b); k < g.bucketEnd(b); ++k, ++e) {
-      const auto i = static_cast<std::size_t>(items[k]);
-      const Vec3 u = unit_headings ? Vec3(sc.v[i].normalized()) : sc.v[i];
-      sc.order[e] = items[k];
-      s.x[e] = sc.x[i].x(), s.y[e] = sc.x[i].y(), s.z[e] = sc.x[i].z();
-      s.ux[e] = u.x(), s.uy[e] = u.y(), s.uz[e] = u.z();
-    }
-    sc.bucket_range[b][1] = e;
-  }
+  sc.rows.build(sc.x, r);
+  const std::span<const std::int32_t> order = sc.rows.order();
+  SortedHeadings& s = sc.sorted;
+  for (auto* a : {&s.ux, &s.uy, &s.uz}) a->resize(n + 4);
+  parallelFor(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t e) {
+    const auto i = static_cast<std::size_t>(order[static_cast<std::size_t>(e)]);
+    const Vec3 u = unit_headings ? Vec3(sc.v[i].normalized()) : sc.v[i];
+    s.ux[e] = u.x(), s.uy[e] = u.y(), s.uz[e] = u.z();
+  });
+  for (std::size_t e = n; e < n + 4; ++e) s.ux[e] = s.uy[e] = s.uz[e] = 0.0;
+  return {sc.rows.x(), sc.rows.y(), sc.rows.z(), s.ux.data(), s.uy.data(), s.uz.data()};
 }
 
-// decide(i, e, ranges): agent i, its sorted entry e and the runs of sorted entries around it.
+// Boids: decide(i, e, ranges, sorted) for agent i, its sorted entry e, the runs of sorted entries
+// around it and the sorted agents.
 template <class F>
-void forEachAgent(School& sc, double cell, bool unit_headings, F&& decide) {
-  sortAgents(sc, cell, unit_headings);
-  const SortedAgents& s = sc.sorted;
-  parallelBlocks(static_cast<std::ptrdiff_t>(sc.cells.size()), 16, [&](std::ptrdiff_t c0, std::ptrdiff_t c1) {
-    std::uint32_t near[27];
-    Range32 ranges[27];
-    for (std::ptrdiff_t c = c0; c < c1; ++c) {
-      const Range32 own = sc.bucket_range[sc.cells[static_cast<std::size_t>(c)].second];
-      std::array<std::int64_t, 3> last{};
-      int nn = 0;
-      for (std::uint32_t e = own[0]; e < own[1]; ++e) {
-        const Vec3 p(s.x[e], s.y[e], s.z[e]);
-        const auto cp = sc.grid.cellOf(p);
-        if (e == own[0] || cp != last) {  // (cells that share a bucket differ here)
-          nn = sc.grid.nearBuckets(p, near), last = cp;
-          for (int q = 0; q < nn; ++q) ranges[q] = sc.bucket_range[near[q]];
-        }
-        decide(static_cast<std::size_t>(sc.order[e]), e, std::span<const Range32>(ranges, static_cast<std::size_t>(nn)));
-      }
-    }
+void forEachAgent(School& sc, double r, bool unit_headings, F&& decide) {
+  const SortedView so = sortAgents(sc, r, unit_headings);
+  const std::span<const std::int32_t> order = sc.rows.order();
+  parallelBlocks(static_cast<std::ptrdiff_t>(sc.rows.rows()), 16, [&](std::ptrdiff_t r0, std::ptrdiff_t r1) {
+    sc.rows.visitRows(r0, r1, [&](std::uint32_t e, std::span<const Range32> runs) {
+      decide(static_cast<std::size_t>(order[e]), e, runs, so);
+    });
   }, static_cast<std::ptrdiff_t>(sc.size()));
+}
+
+// The social direction of every agent of rows [r0, r1) into sc.social, one function compiled for
+// AVX2 where the CPU has it (core/lanes.h), the row walk and the zone sums inlined into it.
+REEL_CLONED
+void couzinRows(School& sc, const SortedView& so, const Perception& p, std::int64_t r0, std::int64_t r1) {
+  const std::span<const std::int32_t> order = sc.rows.order();
+  sc.rows.visitRows(r0, r1, [&](std::uint32_t e, std::span<const Range32> runs) __attribute__((always_inline)) {
+    const auto i = static_cast<std::size_t>(order[e]);
+    const Vec3 ui(so.ux[e], so.uy[e], so.uz[e]);  // unit, from sortAgents
+    sc.social[i] = couzinZones(so, runs, e, sc.x[i], ui, p).direction(ui);
+  });
 }
 
 void couzinDecide(School& sc, const std::vector<Collider>& cs, const SchoolView& pv, double t) {
@@ -293,12 +312,15 @@ void couzinDecide(School& sc, const std::vector<Collider>& cs, const SchoolView&
   CouzinDesc now = d.couzin;
   now.r_orientation = d.couzin.orientationAt(t);
   const Perception p(now, d.field_of_view_deg);
-  forEachAgent(sc, d.couzin.r_attraction, true, [&](std::size_t i, std::uint32_t e, std::span<const Range32> ranges) {
-    const Vec3 ui(sc.sorted.ux[e], sc.sorted.uy[e], sc.sorted.uz[e]);  // unit, from sortAgents
-    const ZoneSums z = couzinZones(sc.sorted, ranges, e, sc.x[i], ui, p);
-    const Steering s = steering(sc, cs, pv, i, t);
-    const Vec3 dir = steerDirection(d, s, z.direction(ui));
-    sc.desired[i] = wrappedGaussian(dir, d.couzin.noise, sc.seed, sc.decisions, i);
+  const SortedView so = sortAgents(sc, d.couzin.r_attraction, true);
+  sc.social.resize(sc.size());
+  parallelBlocks(static_cast<std::ptrdiff_t>(sc.rows.rows()), 16, [&](std::ptrdiff_t r0, std::ptrdiff_t r1) {
+    couzinRows(sc, so, p, r0, r1);
+  }, static_cast<std::ptrdiff_t>(sc.size()));
+  parallelFor(static_cast<std::ptrdiff_t>(sc.size()), [&](std::ptrdiff_t i) {
+    const Steering s = steering(sc, cs, pv, static_cast<std::size_t>(i), t);
+    const Vec3 dir = steerDirection(d, s, sc.social[i]);
+    sc.desired[i] = wrappedGaussian(dir, d.couzin.noise, sc.seed, sc.decisions, static_cast<std::size_t>(i));
     // Avoiding a wall or fleeing may turn faster than the social turning rate (up to 4θ).
     sc.turn[i] = 1.0 + 3.0 * std::max(s.avoid, s.fear);
   });
@@ -329,8 +351,8 @@ void boidsDecide(School& sc, const std::vector<Collider>& cs, const SchoolView& 
   const double rs2 = b.separation_radius * b.separation_radius, ra2 = b.alignment_radius * b.alignment_radius,
                rc2 = b.cohesion_radius * b.cohesion_radius, r2max = std::max({rs2, ra2, rc2});
   sc.steer.resize(sc.size());
-  const SortedAgents& so = sc.sorted;
-  forEachAgent(sc, d.interactionRadius(), false, [&](std::size_t i, std::uint32_t e, std::span<const Range32> ranges) {
+  forEachAgent(sc, d.interactionRadius(), false,
+               [&](std::size_t i, std::uint32_t e, std::span<const Range32> ranges, const SortedView& so) {
     const Vec3 xi = sc.x[i], vi = sc.v[i], ui = vi.normalized();
     Vec3 sep{0, 0, 0}, vel{0, 0, 0}, cen{0, 0, 0};
     int na = 0, nc = 0;
@@ -379,12 +401,13 @@ void keepOut(const std::vector<Collider>& cs, double clearance, Vec3& x, Vec3& v
 
 Vec3 couzinDirection(const CouzinDesc& c, double field_of_view_deg, const Vec3& xi, const Vec3& vi,
                      const std::vector<Vec3>& nx, const std::vector<Vec3>& nv) {
-  SortedAgents s;
-  for (auto* a : {&s.x, &s.y, &s.z, &s.ux, &s.uy, &s.uz}) a->assign(nx.size() + 4, 0.0);
+  std::vector<double> a[6];
+  for (auto& v : a) v.assign(nx.size() + 4, 0.0);
   for (std::size_t j = 0; j < nx.size(); ++j) {
     const Vec3 u = nv[j].normalized();
-    s.x[j] = nx[j].x(), s.y[j] = nx[j].y(), s.z[j] = nx[j].z(), s.ux[j] = u.x(), s.uy[j] = u.y(), s.uz[j] = u.z();
+    for (int k = 0; k < 3; ++k) a[k][j] = nx[j][k], a[3 + k][j] = u[k];
   }
+  const SortedView s{a[0].data(), a[1].data(), a[2].data(), a[3].data(), a[4].data(), a[5].data()};
   const Range32 all{0, static_cast<std::uint32_t>(nx.size())};
   const Vec3 ui = vi.normalized();
   return couzinZones(s, {&all, 1}, UINT32_MAX, xi, ui, Perception(c, field_of_view_deg)).direction(ui);

@@ -15,7 +15,7 @@
 #include "core/types.h"
 #include "sim/collide.h"
 #include "sim/shared_view.h"
-#include "sim/grid.h"
+#include "sim/row_grid.h"
 
 namespace reel {
 
@@ -39,22 +39,17 @@ struct SchoolState {
   std::int64_t decisions = 0; // Couzin: decisions taken (the noise's stream position)
 };
 
-// Agents in the grid's item order, coordinate by coordinate (four at a time in the hot loop),
-// padded with four more entries so that a loop may read a whole group of four past a bucket's end.
-struct SortedAgents {
-  std::vector<double> x, y, z;     // positions, m
+// Per-step scratch: the agents sorted into the rows of a RowGrid (sim/row_grid.h) at the
+// perception radius, and their headings in that order, padded with four more entries so that a
+// loop may read a whole group of four past a run's end.
+struct SortedHeadings {
   std::vector<double> ux, uy, uz;  // unit headings (Couzin) or velocities (boids)
 };
-
-// Per-step scratch: the neighbour grid and its agents sorted cell by cell, the cells in the order
-// of their coordinates (z, y, x), so that the cells around one lie close together in memory.
 struct SchoolScratch {
-  BoxGrid grid;
-  SortedAgents sorted;
-  std::vector<std::int32_t> order;  // sorted entry → agent
-  std::vector<std::array<std::uint32_t, 2>> bucket_range;  // grid bucket → its run of sorted entries
-  std::vector<std::pair<std::array<std::int64_t, 3>, std::uint32_t>> cells;  // (z, y, x), bucket
-  std::vector<Vec3> steer;  // boids: each agent's acceleration, m/s²
+  RowGrid rows;
+  SortedHeadings sorted;
+  std::vector<Vec3> social;  // Couzin: each agent's direction from its neighbours (unit)
+  std::vector<Vec3> steer;   // boids: each agent's acceleration, m/s²
 };
 
 // What a school sees of the other bodies: where its predator is (the points of a school or an
