@@ -56,12 +56,9 @@ struct SortedView {
   const double *x, *y, *z, *ux, *uy, *uz;
 };
 
-// Four consecutive doubles.
-[[gnu::always_inline]] inline Lane4 load4(const double* p) {
-  Lane4 v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
+// Four consecutive doubles (an out-parameter: a vector returned by value would change the ABI
+// between the clones).
+[[gnu::always_inline]] inline void load4(const double* p, Lane4& v) { std::memcpy(&v, p, sizeof v); }
 
 // The zone sums of the agent at xi heading ui over the sorted agents of `ranges` (skipping entry
 // `self`), four candidates at a time (core/lanes.h: the same bits with or without AVX), in two
@@ -92,7 +89,9 @@ struct SortedView {
     for (std::uint32_t k = rg[0]; k < rg[1]; k += 4) {
       const Mask4 idx = step + static_cast<long long>(k);
       const Mask4 live = (idx < static_cast<long long>(rg[1])) & (idx != static_cast<long long>(self));
-      const Lane4 d0 = load4(s.x + k) - x0, d1 = load4(s.y + k) - x1, d2 = load4(s.z + k) - x2;
+      Lane4 d0, d1, d2;
+      load4(s.x + k, d0), load4(s.y + k, d1), load4(s.z + k, d2);
+      d0 -= x0, d1 -= x1, d2 -= x2;
       const Lane4 r2 = d0 * d0 + d1 * d1 + d2 * d2, dot = d0 * u0 + d1 * u1 + d2 * u2;
       const Mask4 ahead = dot >= zero, wide_ok = ahead | (dot * dot <= c2 * r2), narrow_ok = ahead & (dot * dot >= c2 * r2);
       const Mask4 in = live & (r2 < ra2) & (r2 > zero) & (all_round | (wide ? wide_ok : narrow_ok));
@@ -160,7 +159,7 @@ void avoidSurface(const Vec3& x, const Vec3& ahead, double m, Steering& s, Dista
   for (int k = 0; k < 3; ++k) {
     const double f = 0.5 * k;  // probes at 0, ½ and 1 of the look-ahead
     double dist;
-    Vec3 n;
+    Vec3 n{0, 0, 0};
     if (!distance(x + f * ahead, dist, n)) continue;
     const double urgency = std::clamp(1.0 - dist / m, 0.0, 1.0) * (1.0 - 0.4 * f);
     if (urgency > best) best = urgency, bn = n;
