@@ -42,7 +42,7 @@ void RowGrid::build(std::span<const Vec3> p, double r) {
   }
   for (std::size_t k = 0; k < rows; ++k) start_[k + 1] += start_[k];
   // The points are dealt in the last build's order when it covered the same points: each row then
-  // arrives almost sorted by x, and an insertion sort finishes a short one in about one pass.
+  // arrives almost sorted by x, and an insertion sort finishes it in about one pass.
   key_.resize(n);
   const bool again = order_.size() == n;
   {
@@ -59,16 +59,17 @@ void RowGrid::build(std::span<const Vec3> p, double r) {
     for (std::ptrdiff_t row = r0; row < r1; ++row) {
       auto* a = key_.data() + start_[static_cast<std::size_t>(row)];
       const std::size_t m = start_[static_cast<std::size_t>(row) + 1] - start_[static_cast<std::size_t>(row)];
-      if (!again || m > 64) {  // (a long row, or no earlier order: no quadratic worst case)
-        std::sort(a, a + m);
-        continue;
-      }
-      for (std::size_t j = 1; j < m; ++j) {
+      // Insertion while the row is nearly sorted; past 8 moves a point (a row dealt in no earlier
+      // order, or shuffled), a sort: no quadratic worst case.
+      std::size_t moves = 0, j = again ? 1 : m;
+      for (; j < m && moves <= 8 * m; ++j) {
         const auto v = a[j];
         std::size_t k = j;
         for (; k > 0 && v < a[k - 1]; --k) a[k] = a[k - 1];
         a[k] = v;
+        moves += j - k;
       }
+      if (j < m || !again) std::sort(a, a + m);
     }
   }, static_cast<std::ptrdiff_t>(n));
   order_.resize(n);

@@ -301,8 +301,8 @@ void couzinRows(School& sc, const SortedView& so, const Perception& p, std::int6
   const std::span<const std::int32_t> order = sc.rows.order();
   sc.rows.visitRows(r0, r1, [&](std::uint32_t e, std::span<const Range32> runs) __attribute__((always_inline)) {
     const auto i = static_cast<std::size_t>(order[e]);
-    const Vec3 ui(so.ux[e], so.uy[e], so.uz[e]);  // unit, from sortAgents
-    sc.social[i] = couzinZones(so, runs, e, sc.x[i], ui, p).direction(ui);
+    const Vec3 xi(so.x[e], so.y[e], so.z[e]), ui(so.ux[e], so.uy[e], so.uz[e]);  // (sorted: in cache)
+    sc.social[i] = couzinZones(so, runs, e, xi, ui, p).direction(ui);
   });
 }
 
