@@ -503,7 +503,8 @@ void stepSchool(School& sc, const std::vector<Collider>& cs, const SchoolView& p
     sc.x[i] += h * sc.v[i];
     if (!cs.empty()) keepOut(cs, clearance, sc.x[i], sc.v[i]);
     const double f = std::max(1.0, sc.v[i].norm() / stride);
-    sc.phase[i] = std::fmod(sc.phase[i] + 2 * kPi * f * h, 2 * kPi);
+    const double ph = sc.phase[i] + 2 * kPi * f * h;
+    sc.phase[i] = ph < 2 * kPi ? ph : std::fmod(ph, 2 * kPi);  // (fmod of a smaller one: itself)
   });
 }
 
