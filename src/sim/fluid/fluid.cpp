@@ -123,62 +123,49 @@ void fluidById(Fluid& fl) {
 void buildNeighbours(Fluid& fl) {
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
   const double reach = fl.cutoff_max + fl.skin, reach2 = reach * reach;
-  fl.grid.build(fl.x, fl.x, reach);  // as rebuildGrid does from x_built
-  // The positions in the grid's bucket order, so that a bucket's candidates are read from
-  // consecutive memory.
-  const std::span<const std::int32_t> items = fl.grid.items();
-  const auto E = static_cast<std::ptrdiff_t>(items.size());
-  fl.cell_x.resize(items.size() * 3);
-  double* cx = fl.cell_x.data();
-  parallelFor(E, [&](std::ptrdiff_t e) {
-    const Vec3& p = fl.x[static_cast<std::size_t>(items[static_cast<std::size_t>(e)])];
-    double* c3 = cx + 3 * static_cast<std::size_t>(e);
-    c3[0] = p.x(), c3[1] = p.y(), c3[2] = p.z();
-  });
-  // One pass: fixed chunks of particles list their neighbours in parallel, then the chunks are
-  // joined in order (the same list for any thread count). Consecutive particles mostly share a
-  // cell (they are sorted along a Morton curve), so the 27 buckets are looked up once per run.
-  constexpr std::ptrdiff_t kChunk = 2048;
-  const std::ptrdiff_t chunks = (n + kChunk - 1) / kChunk;
-  fl.chunk_lists.resize(static_cast<std::size_t>(chunks));
+  fl.grid.build(fl.x, fl.x, reach);  // as rebuildGrid does from x_built (emitters, diffuse particles)
+  // The search: a row grid at the reach (9 runs of sorted entries a particle, about 4 times the
+  // sphere, where the hashed grid's 27 cells hold 6.4 times). Fixed blocks of rows list their
+  // particles' neighbours in parallel, each particle's list in its block's buffer; then the lists
+  // are copied in particle order (the same lists for any thread count).
+  RowGrid& g = fl.rows;
+  g.build(fl.x, reach);
+  const std::span<const std::int32_t> order = g.order();
+  const double *gx = g.x(), *gy = g.y(), *gz = g.z();
+  constexpr std::int64_t kRowsABlock = 16;
+  const std::int64_t blocks = (g.rows() + kRowsABlock - 1) / kRowsABlock;
+  fl.chunk_lists.resize(static_cast<std::size_t>(blocks));
+  fl.list_at.resize(static_cast<std::size_t>(n));
   fl.nbr_start.assign(static_cast<std::size_t>(n) + 1, 0);
-#pragma omp parallel for schedule(dynamic, 1) if (n >= parallelMin())
-  for (std::ptrdiff_t c = 0; c < chunks; ++c) {
+#pragma omp parallel for schedule(dynamic, 4) if (n >= parallelMin())
+  for (std::int64_t c = 0; c < blocks; ++c) {
     std::vector<std::int32_t>& out = fl.chunk_lists[static_cast<std::size_t>(c)];
     std::size_t count = 0;
-    std::uint32_t near[27];
-    int nnear = 0;
-    std::array<std::int64_t, 3> cell{};
-    for (std::ptrdiff_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i) {
-      const Vec3 xi = fl.x[static_cast<std::size_t>(i)];
-      const std::array<std::int64_t, 3> ci = fl.grid.cellOf(xi);
-      if (i == c * kChunk || ci != cell) {
-        nnear = fl.grid.nearBuckets(xi, near);
-        cell = ci;
-      }
+    g.visitRows(c * kRowsABlock, std::min(g.rows(), (c + 1) * kRowsABlock), [&](std::uint32_t e, std::span<const RowGrid::Run> runs) {
+      const double xi = gx[e], yi = gy[e], zi = gz[e];
+      std::size_t need = count;
+      for (const RowGrid::Run& run : runs) need += run[1] - run[0];
+      if (out.size() < need) out.resize(2 * need);
+      std::int32_t* w = out.data();
       const std::size_t before = count;
-      for (int q = 0; q < nnear; ++q) {
-        const std::uint32_t b0 = fl.grid.bucketBegin(near[q]), b1 = fl.grid.bucketEnd(near[q]);
-        if (out.size() < count + (b1 - b0)) out.resize(2 * (count + (b1 - b0)));
-        std::int32_t* w = out.data();
-        // Branch-free: every candidate is written, and kept (the count advances) when in reach.
-        for (std::uint32_t e = b0; e < b1; ++e) {
-          const double* c3 = cx + 3 * static_cast<std::size_t>(e);
-          const double d0 = c3[0] - xi.x(), d1 = c3[1] - xi.y(), d2 = c3[2] - xi.z();
-          const std::int32_t j = items[e];
-          w[count] = j;
-          count += static_cast<std::size_t>((d0 * d0 + d1 * d1 + d2 * d2 < reach2) & (j != i));
+      // Branch-free: every candidate is written, and kept (the count advances) when in reach.
+      for (const RowGrid::Run& run : runs)
+        for (std::uint32_t k = run[0]; k < run[1]; ++k) {
+          const double d0 = gx[k] - xi, d1 = gy[k] - yi, d2 = gz[k] - zi;
+          w[count] = order[k];
+          count += static_cast<std::size_t>((d0 * d0 + d1 * d1 + d2 * d2 < reach2) & (k != e));
         }
-      }
-      fl.nbr_start[static_cast<std::size_t>(i) + 1] = static_cast<std::uint32_t>(count - before);
-    }
-    out.resize(count);
+      const auto i = static_cast<std::size_t>(order[e]);
+      fl.list_at[i] = {static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(before)};
+      fl.nbr_start[i + 1] = static_cast<std::uint32_t>(count - before);
+    });
   }
   for (std::ptrdiff_t i = 0; i < n; ++i) fl.nbr_start[static_cast<std::size_t>(i) + 1] += fl.nbr_start[static_cast<std::size_t>(i)];
   fl.nbr.resize(fl.nbr_start.back());
-  parallelFor(chunks, [&](std::ptrdiff_t c) {
-    const auto& part = fl.chunk_lists[static_cast<std::size_t>(c)];
-    std::copy(part.begin(), part.end(), fl.nbr.begin() + fl.nbr_start[static_cast<std::size_t>(c * kChunk)]);
+  parallelFor(n, [&](std::ptrdiff_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    const std::int32_t* from = fl.chunk_lists[fl.list_at[i][0]].data() + fl.list_at[i][1];
+    std::copy(from, from + (fl.nbr_start[i + 1] - fl.nbr_start[i]), fl.nbr.begin() + fl.nbr_start[i]);
   });
   fl.x_built = fl.x;
   ++fl.rebuilds;

@@ -12,6 +12,7 @@
 // contact layer (point–convex), by the same per-species surfaces.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -22,6 +23,7 @@
 #include "sim/collide.h"
 #include "sim/body.h"
 #include "sim/grid.h"
+#include "sim/row_grid.h"
 #include "sim/stability.h"
 
 namespace reel {
@@ -142,8 +144,9 @@ struct FluidState {
 // Arrays reused from step to step; their contents do not outlive a step (the grid: a list build).
 struct FluidScratch {
   std::vector<Vec3> f;  // force per particle, N
-  std::vector<std::vector<std::int32_t>> chunk_lists;  // neighbour-list scratch
-  std::vector<double> cell_x;  // positions in the grid's bucket order (list builds)
+  std::vector<std::vector<std::int32_t>> chunk_lists;  // neighbour-list scratch: each block of rows' lists
+  std::vector<std::array<std::uint32_t, 2>> list_at;   // each particle's list: block, offset
+  RowGrid rows;  // the list build's search (sim/row_grid.h)
   struct alignas(64) Packed {  // what the force loop reads of a neighbour, in one cache line
     double x[3];
     double m;
