@@ -370,6 +370,46 @@ TEST_CASE("contacts: resting on a plane, restitution, Coulomb friction on an inc
   }
 }
 
+// The shortcut a liquid takes before measuring a container's five parts: wherever it says a point
+// is clear by a margin, every part is at least that far; and it does say so deep in the cavity.
+TEST_CASE("a container's cavity: a point it calls clear is farther than the margin from every part") {
+  for (const Vec3 rot : {Vec3(0, 0, 0), Vec3(10, 35, -20)}) {
+    CAPTURE(rot);
+    ObjectDesc o;
+    o.shape = ContainerShape{Vec3(0.3, 0.5, -0.2), Vec3(1.0, 0.6, 0.8), 0.05, rot};
+    const Collider c = makeCollider(o);
+    const Mat3 R = c.shape->R;
+    // Points around the container (safety), then points in its cavity (the shortcut takes them).
+    for (const bool cavity : {false, true}) {
+      CAPTURE(cavity);
+      const Vec3 span = cavity ? Vec3(0.9, 0.55, 0.7) : Vec3(1.4, 1.0, 1.2);
+      const Vec3 low = cavity ? Vec3(-0.45, -0.25, -0.35) : Vec3(-0.7, -0.5, -0.6);
+      int clear = 0, far = 0;
+      for (int k = 0; k < 10000; ++k) {
+        const Vec3 u(uniformAt(5, 1, 3 * k), uniformAt(5, 1, 3 * k + 1), uniformAt(5, 1, 3 * k + 2));
+        const Vec3 p = Vec3(0.3, 0.5, -0.2) + R * (low + span.cwiseProduct(u));
+        const double margin = 0.1 * uniformAt(5, 2, k);
+        double d[ColliderShape::kMaxParts];
+        Vec3 n[ColliderShape::kMaxParts];
+        const int parts = c.partDistances(p, d, n);
+        REQUIRE(parts == 5);
+        double nearest = INFINITY;
+        for (int q = 0; q < parts; ++q) nearest = std::min(nearest, d[q]);
+        far += nearest > margin + 1e-6;
+        if (c.clearOfParts(p, margin)) {
+          ++clear;
+          CHECK(nearest >= margin);
+        }
+      }
+      if (cavity) CHECK(clear == far);  // in the cavity, every point farther than the margin
+      else CHECK(clear < far);          // outside it, the test says nothing
+    }
+  }
+  ObjectDesc ball;
+  ball.shape = SphereShape{Vec3::Zero(), 1.0};
+  CHECK(!makeCollider(ball).clearOfParts(Vec3(0, 0, 0), 0.1));  // other shapes: never
+}
+
 TEST_CASE("the jelly lattice lands on the floor and bounces back up") {
   LatticeDesc l;
   l.position = Vec3(0, 1.0, 0);

@@ -206,6 +206,15 @@ int ColliderShape::partDistances(const Vec3& p, double* d, Vec3* n) const {
   return k;
 }
 
+bool ColliderShape::clearOfParts(const Vec3& p, double margin) const {
+  if (kind != ObjectKind::Container) return false;
+  // The cavity of containerBoxes(2·half, wall): inside its walls and above its floor by more
+  // than the margin (and a hair, for the parts' own rounding), every part is farther than it.
+  const Vec3 q = R.transpose() * (p - p0);
+  const double w = std::min(wall, half.minCoeff()), m = margin + 1e-9;
+  return half.x() - w - std::abs(q.x()) > m && half.z() - w - std::abs(q.z()) > m && q.y() + half.y() - w > m;
+}
+
 // One case per shape, each short; kept in one switch (past 80 lines) so that every shape's
 // distance and normal read side by side.
 bool ColliderShape::distance(const Vec3& p, double& d, Vec3& n) const {

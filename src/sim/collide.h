@@ -62,6 +62,10 @@ struct ColliderShape {
   // Returns how many of d[] and n[] are set (at most kMaxParts).
   static constexpr int kMaxParts = 5;
   int partDistances(const Vec3& p, double* d, Vec3* n) const;
+  // Whether the authored point p lies farther than `margin` from every part for certain: a cheap
+  // test before partDistances that answers true only deep in a container's cavity (a liquid's
+  // particles, most of them far from the floor and walls).
+  bool clearOfParts(const Vec3& p, double margin) const;
 };
 
 // Where a collider is and how it moves: the pose now and one step ago (surface velocities), and a
@@ -94,6 +98,7 @@ struct Collider {
   bool distance(const Vec3& p, double& d, Vec3& n) const;
   // Per convex part (ColliderShape::partDistances), normals in the world.
   int partDistances(const Vec3& p, double* d, Vec3* n) const;
+  bool clearOfParts(const Vec3& p, double margin) const { return shape->clearOfParts(moving() ? toAuthored(p) : p, margin); }
   // The authored point of the material point now at p, and back (the current pose).
   Vec3 toAuthored(const Vec3& p) const { return pose.rot.transpose() * (p - pose.pos) + shape->pivot; }
   Vec3 fromAuthored(const Vec3& a) const { return pose.rot * (a - shape->pivot) + pose.pos; }

@@ -218,6 +218,8 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
   const std::int32_t* nb = fl.nbr.data();
   const auto S = static_cast<std::size_t>(fl.species_count);
   const Lane4 zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
+  const Lane4 reach2 = zero + fl.cutoff_max * fl.cutoff_max;
+  thread_local std::vector<std::int32_t> inside;
   for (std::ptrdiff_t ii = i0; ii < i1; ++ii) {
     const auto i = static_cast<std::size_t>(ii);
     const Fluid::Packed& pi = P[i];
@@ -228,18 +230,40 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
     Lane4 mu = zero + row[0].visc_mu, icut = zero + row[0].inv_cutoff, cap2 = zero + row[0].cap_r2;
     Mask4 close = {0, 0, 0, 0};
     Lane4 a0 = zero, a1 = zero, a2 = zero;
-    const std::uint32_t end = fl.nbr_start[i + 1];
-    for (std::uint32_t e = fl.nbr_start[i]; e < end; e += 4) {
-      // Past the list's end a lane reads the particle itself: distance 0, masked out below.
-      const Fluid::Packed& q0 = P[nb[e]];
-      const Fluid::Packed& q1 = e + 1 < end ? P[nb[e + 1]] : pi;
-      const Fluid::Packed& q2 = e + 2 < end ? P[nb[e + 2]] : pi;
-      const Fluid::Packed& q3 = e + 3 < end ? P[nb[e + 3]] : pi;
+    // Pass 1: the list's entries inside the largest cutoff (about half: the rest lie in the skin),
+    // in the list's order, so that only they pay for the root and the division.
+    const std::uint32_t begin = fl.nbr_start[i], end = fl.nbr_start[i + 1];
+    if (inside.size() < end - begin + 8) inside.resize(2 * (end - begin) + 8);
+    std::int32_t* in_list = inside.data();
+    std::size_t m = 0;
+    for (std::uint32_t e = begin; e < end; e += 4) {
+      // Past the list's end a lane reads the particle itself: distance 0, left out.
+      const std::int32_t j0 = nb[e], j1 = e + 1 < end ? nb[e + 1] : static_cast<std::int32_t>(i),
+                         j2 = e + 2 < end ? nb[e + 2] : static_cast<std::int32_t>(i),
+                         j3 = e + 3 < end ? nb[e + 3] : static_cast<std::int32_t>(i);
+      const Fluid::Packed &q0 = P[j0], &q1 = P[j1], &q2 = P[j2], &q3 = P[j3];
+      const Lane4 d0 = xi0 - Lane4{q0.x[0], q1.x[0], q2.x[0], q3.x[0]};
+      const Lane4 d1 = xi1 - Lane4{q0.x[1], q1.x[1], q2.x[1], q3.x[1]};
+      const Lane4 d2 = xi2 - Lane4{q0.x[2], q1.x[2], q2.x[2], q3.x[2]};
+      const Lane4 r2 = d0 * d0 + d1 * d1 + d2 * d2;
+      const Mask4 in = (r2 < reach2) & (r2 > zero);
+      in_list[m] = j0, m -= static_cast<std::size_t>(in[0]);
+      in_list[m] = j1, m -= static_cast<std::size_t>(in[1]);
+      in_list[m] = j2, m -= static_cast<std::size_t>(in[2]);
+      in_list[m] = j3, m -= static_cast<std::size_t>(in[3]);
+    }
+    for (std::size_t k = 0; k < 3; ++k) in_list[m + k] = static_cast<std::int32_t>(i);
+    // Pass 2: their forces, four at a time; a lane past the end reads the particle itself (masked).
+    for (std::size_t k = 0; k < m; k += 4) {
+      const Fluid::Packed& q0 = P[in_list[k]];
+      const Fluid::Packed& q1 = P[in_list[k + 1]];
+      const Fluid::Packed& q2 = P[in_list[k + 2]];
+      const Fluid::Packed& q3 = P[in_list[k + 3]];
       if (S > 1) {
         const PairParams* p[4] = {&row[q0.s], &row[q1.s], &row[q2.s], &row[q3.s]};
-        for (int k = 0; k < 4; ++k) {
-          cut2[k] = p[k]->cutoff2, mass[k] = p[k]->mass_product, al[k] = p[k]->alpha, be[k] = p[k]->beta;
-          mu[k] = p[k]->visc_mu, icut[k] = p[k]->inv_cutoff, cap2[k] = p[k]->cap_r2;
+        for (int l = 0; l < 4; ++l) {
+          cut2[l] = p[l]->cutoff2, mass[l] = p[l]->mass_product, al[l] = p[l]->alpha, be[l] = p[l]->beta;
+          mu[l] = p[l]->visc_mu, icut[l] = p[l]->inv_cutoff, cap2[l] = p[l]->cap_r2;
         }
       }
       const Lane4 d0 = xi0 - Lane4{q0.x[0], q1.x[0], q2.x[0], q3.x[0]};
@@ -256,7 +280,7 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
       const Lane4 inv = one / safe;
       const Lane4 c = in ? mass * (be * inv - al) * inv : zero;
       Lane4 r = safe;
-      for (int k = 0; k < 4; ++k) r[k] = std::sqrt(r[k]);
+      for (int l = 0; l < 4; ++l) r[l] = std::sqrt(r[l]);
       const Lane4 w = in ? mu * (one - r * icut) : zero;
       a0 += c * d0 + w * (Lane4{q0.v[0], q1.v[0], q2.v[0], q3.v[0]} - vi0);
       a1 += c * d1 + w * (Lane4{q0.v[1], q1.v[1], q2.v[1], q3.v[1]} - vi1);
@@ -385,6 +409,7 @@ void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, double h)
       const Surface& sf = fl.surfaces[k * S + si];
       const double reach = c.shape->thickness + fl.radius;
       if (!c.near(fl.x[i], fl.radius + (sf.adhesion > 0 ? range : 0.0))) continue;
+      if (c.clearOfParts(fl.x[i], reach + (sf.adhesion > 0 ? range : 0.0))) continue;  // deep in a container
       // Each part of the object (a container's floor and walls) on its own: a particle pressed into
       // a corner is kept out of both walls in the same step. A part's distance follows the moves
       // the parts before it made; adhesion pulls toward the nearest part only.
