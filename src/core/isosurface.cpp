@@ -1,6 +1,7 @@
 #include "core/isosurface.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <unordered_map>
 #include <vector>
@@ -172,20 +173,43 @@ TriMesh isosurface(const GridField& f, double iso) {
 void smoothSurface(TriMesh& m, int passes) {
   const std::size_t n = m.vertexCount();
   if (passes <= 0 || n == 0) return;
-  // Each vertex's edge neighbours, once each (a CSR table).
-  std::vector<std::uint64_t> edges;
-  edges.reserve(2 * m.indices.size());
-  for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3)
+  // Each vertex's edge neighbours, once each and in increasing order (a CSR table): dealt by a
+  // counting sort on the vertex, then each short list sorted and its repeats (an edge's two
+  // triangles) dropped, in parallel.
+  std::vector<std::uint32_t> start(n + 1, 0), nb;
+  const std::size_t tris = m.indices.size() / 3;
+  auto edge = [&](std::size_t t, int e) {
+    return std::array<std::uint32_t, 2>{m.indices[3 * t + static_cast<std::size_t>(e)], m.indices[3 * t + static_cast<std::size_t>((e + 1) % 3)]};
+  };
+  for (std::size_t t = 0; t < tris; ++t)
     for (int e = 0; e < 3; ++e) {
-      const std::uint64_t a = m.indices[t + static_cast<std::size_t>(e)], b = m.indices[t + static_cast<std::size_t>((e + 1) % 3)];
-      edges.push_back(a << 32 | b);
-      edges.push_back(b << 32 | a);
+      const auto [a, b] = edge(t, e);
+      ++start[a + 1], ++start[b + 1];
     }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  std::vector<std::uint32_t> start(n + 1, 0);
-  for (std::uint64_t e : edges) ++start[(e >> 32) + 1];
   for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+  nb.resize(start[n]);
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t t = 0; t < tris; ++t)
+      for (int e = 0; e < 3; ++e) {
+        const auto [a, b] = edge(t, e);
+        nb[fill[a]++] = b, nb[fill[b]++] = a;
+      }
+  }
+  std::vector<std::uint32_t> count(n);
+  parallelFor(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t vi) {
+    const auto v = static_cast<std::size_t>(vi);
+    std::uint32_t* first = nb.data() + start[v];
+    std::uint32_t* last = nb.data() + start[v + 1];
+    std::sort(first, last);
+    count[v] = static_cast<std::uint32_t>(std::unique(first, last) - first);
+  });
+  for (std::size_t v = 0, out = 0; v < n; ++v) {  // (compacted in place: out never passes start[v])
+    const std::uint32_t from = start[v];
+    start[v] = static_cast<std::uint32_t>(out);
+    for (std::uint32_t k = 0; k < count[v]; ++k) nb[out++] = nb[from + k];
+    if (v + 1 == n) start[n] = static_cast<std::uint32_t>(out);
+  }
   std::vector<float> next(m.positions.size());
   auto relax = [&](double factor) {
     parallelFor(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t vi) {
@@ -194,7 +218,7 @@ void smoothSurface(TriMesh& m, int passes) {
       if (start[v + 1] == start[v]) return;
       double mean[3] = {0, 0, 0};
       for (std::uint32_t e = start[v]; e < start[v + 1]; ++e) {
-        const auto u = static_cast<std::size_t>(edges[e] & 0xFFFFFFFFu);
+        const auto u = static_cast<std::size_t>(nb[e]);
         for (int a = 0; a < 3; ++a) mean[a] += m.positions[3 * u + static_cast<std::size_t>(a)];
       }
       const double k = 1.0 / static_cast<double>(start[v + 1] - start[v]);

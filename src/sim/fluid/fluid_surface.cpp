@@ -12,6 +12,7 @@
 
 #include "core/isosurface.h"
 #include "core/parallel.h"
+#include "sim/row_grid.h"
 #include "core/union_find.h"
 #include "sim/grid.h"
 
@@ -57,40 +58,47 @@ std::vector<SurfaceKernel> surfaceKernels(const std::vector<Vec3>& x, const std:
     for (std::size_t i = 0; i < n; ++i) ball(out[i], p[i]);
     return out;
   }
-  BoxGrid grid;
-  grid.build(p, p, R);
+  // Each particle's neighbours within R from a row grid (sim/row_grid.h): 9 runs of sorted
+  // entries, rows of them in parallel.
+  RowGrid grid;
+  grid.build(p, R);
   const double R2 = R * R;
-  parallelFor(static_cast<std::ptrdiff_t>(n), [&](std::ptrdiff_t ii) {
-    const auto i = static_cast<std::size_t>(ii);
+  const double *gx = grid.x(), *gy = grid.y(), *gz = grid.z();
+  const std::span<const std::int32_t> order = grid.order();
+  // One particle's kernel from the runs around its sorted entry `self`.
+  auto kernelOf = [&](std::uint32_t self, std::span<const RowGrid::Run> runs) {
+    const auto i = static_cast<std::size_t>(order[self]);
+    const Vec3 pi(gx[self], gy[self], gz[self]);  // p[i], from the sorted copies
     Vec3 mean = Vec3::Zero();
     double wsum = 0.0;
     int near = 0;
-    auto weight = [&](std::size_t j) {
-      const double r2 = (p[j] - p[i]).squaredNorm();
-      if (r2 >= R2) return 0.0;
-      const double q = std::sqrt(r2) / R;
-      return 1.0 - q * q * q;
+    // Calls f(k, p, w) for the sorted entries k within R (the particle itself included, weight 1).
+    auto forEachNear = [&](auto&& f) {
+      for (const RowGrid::Run& run : runs)
+        for (std::uint32_t k = run[0]; k < run[1]; ++k) {
+          const Vec3 pj(gx[k], gy[k], gz[k]);
+          const double r2 = (pj - pi).squaredNorm();
+          if (r2 >= R2) continue;
+          const double q = std::sqrt(r2) / R;
+          f(k, pj, 1.0 - q * q * q);
+        }
     };
-    grid.forEachNear(p[i], [&](std::int32_t jj) {
-      const auto j = static_cast<std::size_t>(jj);
-      const double w = weight(j);
+    forEachNear([&](std::uint32_t k, const Vec3& pj, double w) {
       if (w <= 0.0) return;
-      mean += w * p[j];
+      mean += w * pj;
       wsum += w;
-      near += j != i;
+      near += k != self;
     });
     mean /= wsum;  // (the particle itself weighs 1)
-    const Vec3 centre = (1.0 - kCentreSmoothing) * p[i] + kCentreSmoothing * mean;
+    const Vec3 centre = (1.0 - kCentreSmoothing) * pi + kCentreSmoothing * mean;
     if (near < kMinNeighbours) {
       ball(out[i], centre);
       return;
     }
     Mat3 C = Mat3::Zero();
-    grid.forEachNear(p[i], [&](std::int32_t jj) {
-      const auto j = static_cast<std::size_t>(jj);
-      const double w = weight(j);
+    forEachNear([&](std::uint32_t, const Vec3& pj, double w) {
       if (w <= 0.0) return;
-      const Vec3 d = p[j] - mean;
+      const Vec3 d = pj - mean;
       C += w * d * d.transpose();
     });
     C /= wsum;
@@ -108,7 +116,10 @@ std::vector<SurfaceKernel> surfaceKernels(const std::vector<Vec3>& x, const std:
     k.centre = centre;
     k.A = V * Vec3(1.0 / (R * s[0]), 1.0 / (R * s[1]), 1.0 / (R * s[2])).asDiagonal() * V.transpose();
     for (int a = 0; a < 3; ++a) k.half[a] = R * V.row(a).cwiseProduct(s.transpose()).norm();
-  });
+  };
+  parallelBlocks(static_cast<std::ptrdiff_t>(grid.rows()), 16, [&](std::ptrdiff_t r0, std::ptrdiff_t r1) {
+    grid.visitRows(r0, r1, kernelOf);
+  }, static_cast<std::ptrdiff_t>(n));
   return out;
 }
 
@@ -175,12 +186,14 @@ TriMesh pieceSurface(const Fluid& fl, const SurfacePaint& paint, const std::vect
   if (clarity) clear.value.assign(f.value.size(), 0.0f);
   const double spacing = fl.packed_spacing;
   const double bulk = 0.6383 * R * R * R / (spacing * spacing * spacing);  // ∫W dV / spacing³
+  const double inv_bulk = 1.0 / bulk;
   // Splatted in slabs of grid layers, one per task, each task scanning every kernel and writing
   // its own layers only: every node still sums its particles in their order, so the field is the
   // same bits as one pass over the particles, on any number of threads.
   const int layers = f.dims[2], slab = std::max(1, (layers + 7) / 8);
   auto node = [&](double v, int a) { return static_cast<int>(std::floor((v - lo[a]) / cell)); };
   parallelBlocks(layers, slab, [&](std::ptrdiff_t k0, std::ptrdiff_t k1) {
+    const bool with_clarity = clarity;  // (a local: not reloaded at every node)
     for (std::size_t q = 0; q < part.size(); ++q) {
       const SurfaceKernel& K = kernels[q];
       const Vec3 blo = K.lo(), bhi = K.hi();
@@ -189,17 +202,33 @@ TriMesh pieceSurface(const Fluid& fl, const SurfacePaint& paint, const std::vect
       const int jlo = std::max(0, node(blo.y(), 1) + 1), jhi = std::min(f.dims[1] - 1, node(bhi.y(), 1));
       const int ilo = std::max(0, node(blo.x(), 0) + 1), ihi = std::min(f.dims[0] - 1, node(bhi.x(), 0));
       const Vec3& c = colors[part[q]];
+      // Along a row of nodes y = A·(x − centre) moves by a constant step, and q² of an unswept
+      // kernel is a quadratic in the node's index: a row that misses the ellipsoid is skipped
+      // whole, and the others visit only the nodes around its chord (one more each side for the
+      // rounding; each node is still tested).
+      const Vec3 step = K.A.col(0) * cell;
+      const double step2 = step.squaredNorm();
       for (int k = klo; k <= khi; ++k)
-        for (int j = jlo; j <= jhi; ++j)
-          for (int i = ilo; i <= ihi; ++i) {
-            const double q2 = K.q2(lo + cell * Vec3(i, j, k));
+        for (int j = jlo; j <= jhi; ++j) {
+          const Vec3 y0 = K.local(lo + cell * Vec3(ilo, j, k));
+          int i0 = ilo, i1 = ihi;
+          if (!K.swept() && step2 > 0) {
+            const double t = -y0.dot(step) / step2, closest = (y0 + t * step).squaredNorm();
+            if (!(closest < 1.0)) continue;
+            const double half = std::sqrt((1.0 - closest) / step2), span = static_cast<double>(ihi - ilo) + 1.0;
+            i0 = std::max(ilo, ilo + static_cast<int>(std::floor(std::clamp(t - half, -1.0, span))) - 1);
+            i1 = std::min(ihi, ilo + static_cast<int>(std::ceil(std::clamp(t + half, -1.0, span))) + 1);
+          }
+          for (int i = i0; i <= i1; ++i) {
+            const double q2 = K.q2Local(y0 + static_cast<double>(i - ilo) * step);
             if (q2 >= 1.0) continue;
-            const double w = (1 - q2) * (1 - q2) * (1 - q2) / bulk;
+            const double w = (1 - q2) * (1 - q2) * (1 - q2) * inv_bulk;
             const std::size_t id = f.index(i, j, k);
             f.value[id] += static_cast<float>(w);
             for (int a = 0; a < 3; ++a) f.color[3 * id + static_cast<std::size_t>(a)] += static_cast<float>(w * c[a]);
-            if (clarity) clear.value[id] += static_cast<float>(w * paint.clarity[part[q]]);
+            if (with_clarity) clear.value[id] += static_cast<float>(w * paint.clarity[part[q]]);
           }
+        }
     }
   }, static_cast<std::ptrdiff_t>(part.size()) * 64);
   parallelFor(static_cast<std::ptrdiff_t>(f.value.size()), [&](std::ptrdiff_t i) {

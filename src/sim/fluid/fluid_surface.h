@@ -26,12 +26,15 @@ struct SurfaceKernel {
     trail = A * t;
     trail2 = trail.squaredNorm();
   }
-  // q² at x (the splat's inner loop).
-  double q2(const Vec3& x) const {
-    const Vec3 y = A * (x - centre);
+  // q² at x.
+  double q2(const Vec3& x) const { return q2Local(local(x)); }
+  // The same in two halves, for a splat that steps y = A·(x − centre) along a row of nodes.
+  Vec3 local(const Vec3& x) const { return A * (x - centre); }
+  double q2Local(const Vec3& y) const {
     const double s = trail2 > 0 ? std::clamp(y.dot(trail) / trail2, 0.0, 1.0) : 0.0;
     return (y - s * trail).squaredNorm();
   }
+  bool swept() const { return trail2 > 0; }
   // The box around the swept kernel.
   Vec3 lo() const { return centre.cwiseMin(centre + travel) - half; }
   Vec3 hi() const { return centre.cwiseMax(centre + travel) + half; }
