@@ -98,16 +98,19 @@ TEST_CASE("dfsph: a pool stays at rest at the height its volume gives, compresse
     highest = std::max(highest, fl.sph.density[i]);
   }
   MESSAGE("largest speed " << vmax << " m/s, mean density " << mean << ", highest " << highest << ", top " << topTenth(ys));
-  // The slowest sloshing left: most particles under 1 cm/s, the fastest few at about 5 cm/s. The
-  // largest of 1,440 moves by some percent with the order of the neighbour lists' sums (0.048 m/s
-  // with the hashed grid's order, 0.050 with the row grid's), so the 99th percentile carries
-  // the claim and the largest has a looser bound.
+  // The slowest sloshing left: the median particle at 0.7 cm/s, the 99th percentile at 3.3 and the
+  // fastest at 4–5 (measured). The largest of 1,440 moves by a fifth with the order of the sums
+  // (0.048 m/s with the hashed grid's lists, 0.050 with the row grid's, 0.040 with the force
+  // loop's two passes), the percentiles by under 1%: they carry the claim, each bound about 20%
+  // over what was measured, and the largest has 10% over the largest seen.
   std::vector<double> speeds;
   for (std::size_t i = 0; i < fl.size(); ++i) speeds.push_back(fl.v[i].norm());
   std::sort(speeds.begin(), speeds.end());
-  CHECK(speeds[speeds.size() / 2] < 0.01);
-  CHECK(speeds[speeds.size() * 99 / 100] < 0.04);
-  CHECK(vmax < 0.06);
+  const double median = speeds[speeds.size() / 2], p99 = speeds[speeds.size() * 99 / 100];
+  MESSAGE("speeds: median " << median << ", 99th percentile " << p99 << " m/s");
+  CHECK(median < 0.0085);
+  CHECK(p99 < 0.04);
+  CHECK(vmax < 0.055);
   CHECK(topTenth(ys) == doctest::Approx(0.095).epsilon(0.05));  // the top layer's centres, half a spacing down
   CHECK(mean < 1.01);
   CHECK(highest < 1.06);

@@ -322,12 +322,18 @@ TEST_CASE("the row grid finds every neighbour once, in runs of a few times the s
     }
     CHECK(std::count(hit.begin(), hit.end(), 1) == static_cast<long>(p.size()));  // a permutation
     double candidates = 0, neighbours = 0;
-    int missed = 0, twice = 0;
+    int missed = 0, twice = 0, visits = 0, non_finite_found = 0, non_finite_runs = 0;
     g.visitRows(0, g.rows(), [&](std::uint32_t e, std::span<const RowGrid::Run> runs) {
       const auto i = static_cast<std::size_t>(g.order()[e]);
+      ++visits;
+      non_finite_runs += !p[i].allFinite() && !runs.empty();
       std::vector<int> seen(p.size(), 0);
       for (const RowGrid::Run& run : runs)
-        for (std::uint32_t k = run[0]; k < run[1]; ++k) ++seen[static_cast<std::size_t>(g.order()[k])], candidates += 1;
+        for (std::uint32_t k = run[0]; k < run[1]; ++k) {
+          const auto j = static_cast<std::size_t>(g.order()[k]);
+          ++seen[j], candidates += 1;
+          non_finite_found += !p[j].allFinite();
+        }
       for (std::size_t j = 0; j < p.size(); ++j) {
         twice += seen[j] > 1;
         if (j != i && (p[j] - p[i]).squaredNorm() <= r * r) neighbours += 1, missed += seen[j] == 0;
@@ -335,6 +341,9 @@ TEST_CASE("the row grid finds every neighbour once, in runs of a few times the s
     });
     CHECK(missed == 0);
     CHECK(twice == 0);
+    CHECK(visits == static_cast<int>(p.size()));  // every point once, the non-finite ones too
+    CHECK(non_finite_found == 0);                  // which no one finds
+    CHECK(non_finite_runs == 0);                   // and which find no one
     if (std::string(name) == "cube") CHECK(candidates < 5.0 * neighbours);  // 27 cells of side r: 6.4
     RowGrid again;
     std::vector<Vec3> reversed(p.rbegin(), p.rend());

@@ -20,6 +20,7 @@ void RowGrid::build(std::span<const Vec3> p, double r) {
   }
   if (!(ylo <= yhi)) ylo = yhi = 0;
   if (!(zlo <= zhi)) zlo = zhi = 0;
+  yhi = std::min(yhi, ylo + 1e300), zhi = std::min(zhi, zlo + 1e300);  // (an extent that stays finite)
   const double cap = 4.0 * static_cast<double>(n) + 4096.0;
   cell_ = r;
   while ((yhi - ylo) / cell_ + 1 > cap / ((zhi - zlo) / cell_ + 1)) cell_ *= 1.5;
@@ -29,14 +30,15 @@ void RowGrid::build(std::span<const Vec3> p, double r) {
   const double inv = 1.0 / cell_;
   auto index = [inv](double v, double v0, std::int64_t m) {
     const double c = std::floor((v - v0) * inv);
-    return c >= 0 ? std::min(static_cast<std::int64_t>(std::min(c, 1e15)), m - 1) : std::int64_t{0};  // NaN: 0
+    return c >= 0 ? std::min(static_cast<std::int64_t>(std::min(c, 1e15)), m - 1) : std::int64_t{0};
   };
-  // Counting sort by row.
-  const auto rows = static_cast<std::size_t>(ny_ * nz_);
+  // Counting sort by row; a point with a non-finite coordinate goes to the extra last row.
+  const auto rows = static_cast<std::size_t>(ny_ * nz_) + 1;
   start_.assign(rows + 1, 0);
   row_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const auto row = static_cast<std::uint32_t>(index(p[i].z(), z0_, nz_) * ny_ + index(p[i].y(), y0_, ny_));
+    const auto row = static_cast<std::uint32_t>(p[i].allFinite() ? index(p[i].z(), z0_, nz_) * ny_ + index(p[i].y(), y0_, ny_)
+                                                                  : ny_ * nz_);
     row_[i] = row;
     ++start_[row + 1];
   }
@@ -50,7 +52,7 @@ void RowGrid::build(std::span<const Vec3> p, double r) {
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t i = again ? static_cast<std::size_t>(order_[k]) : k;
       const double xi = p[i].x();
-      key_[fill[row_[i]]++] = {std::isnan(xi) ? std::numeric_limits<double>::infinity() : xi, static_cast<std::int32_t>(i)};
+      key_[fill[row_[i]]++] = {std::isnan(xi) ? std::numeric_limits<double>::infinity() : xi, static_cast<std::int32_t>(i)};  // (a total order)
     }
   }
   // Each row by x (ties by index: one order whatever the dealing), rows in parallel; then the

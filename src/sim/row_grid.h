@@ -28,11 +28,13 @@ class RowGrid {
   static constexpr int kMaxRuns = 9;
 
   // Sorts the points into rows of side r (wider where the points spread so thin that there would
-  // be more than 4n + 4,096 rows). r > 0. A point with a NaN coordinate finds nothing near it.
+  // be more than 4n + 4,096 rows). r > 0. A point with a non-finite coordinate goes to a row of
+  // its own, last: it is visited with no runs, and no other point finds it.
   void build(std::span<const Vec3> p, double r);
 
   std::size_t size() const { return order_.size(); }
-  std::int64_t rows() const { return ny_ * nz_; }
+  // Rows to visit: the grid's, and the last one of non-finite points.
+  std::int64_t rows() const { return start_.empty() ? 0 : ny_ * nz_ + 1; }
   // Sorted entry → point.
   std::span<const std::int32_t> order() const { return order_; }
   // The points' coordinates in sorted order, padded with four zeros past the end (so that a loop
@@ -52,6 +54,10 @@ class RowGrid {
     for (std::int64_t row = r0; row < r1; ++row) {
       const std::uint32_t b = start_[static_cast<std::size_t>(row)], e = start_[static_cast<std::size_t>(row) + 1];
       if (b == e) continue;
+      if (row == ny_ * nz_) {  // the non-finite points: nothing near them
+        for (std::uint32_t k = b; k < e; ++k) f(k, std::span<const Run>());
+        continue;
+      }
       const std::int64_t iy = row % ny_, iz = row / ny_;
       int nq = 0;
       for (std::int64_t jz = iz - 1; jz <= iz + 1; ++jz)
@@ -84,7 +90,7 @@ class RowGrid {
           const double gy = std::max(std::max(slab[q][0] - yk, yk - slab[q][1]), 0.0);
           const double gz = std::max(std::max(slab[q][2] - zk, zk - slab[q][3]), 0.0);
           runs[nr] = {l, h};
-          nr += static_cast<int>((l < h) & (gy * gy + gz * gz <= r2));  // (NaN: left out)
+          nr += static_cast<int>((l < h) & (gy * gy + gz * gz <= r2));
         }
         f(k, std::span<const Run>(runs, static_cast<std::size_t>(nr)));
       }
@@ -94,7 +100,7 @@ class RowGrid {
  private:
   double r_ = 1, cell_ = 1, y0_ = 0, z0_ = 0;
   std::int64_t ny_ = 0, nz_ = 0;              // rows along y and z
-  std::vector<std::uint32_t> start_;          // row → its first entry (rows + 1)
+  std::vector<std::uint32_t> start_;          // row → its first entry (rows() + 1)
   std::vector<std::int32_t> order_;
   std::vector<double> x_, y_, z_;
   std::vector<std::uint32_t> row_;                   // scratch: each point's row

@@ -159,6 +159,7 @@ void buildNeighbours(Fluid& fl) {
       fl.list_at[i] = {static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(before)};
       fl.nbr_start[i + 1] = static_cast<std::uint32_t>(count - before);
     });
+    out.resize(count);  // (its size: what the block's rows hold now)
   }
   for (std::ptrdiff_t i = 0; i < n; ++i) fl.nbr_start[static_cast<std::size_t>(i) + 1] += fl.nbr_start[static_cast<std::size_t>(i)];
   fl.nbr.resize(fl.nbr_start.back());
@@ -167,6 +168,10 @@ void buildNeighbours(Fluid& fl) {
     const std::int32_t* from = fl.chunk_lists[fl.list_at[i][0]].data() + fl.list_at[i][1];
     std::copy(from, from + (fl.nbr_start[i + 1] - fl.nbr_start[i]), fl.nbr.begin() + fl.nbr_start[i]);
   });
+  // A block's buffer is kept for the next build, but not at many times what its rows now hold
+  // (rows follow the liquid's box, and a block that once held a splash may now hold little).
+  for (auto& buffer : fl.chunk_lists)
+    if (buffer.capacity() > 65536 && buffer.capacity() > 4 * buffer.size()) buffer.shrink_to_fit();
   fl.x_built = fl.x;
   ++fl.rebuilds;
 }
@@ -207,10 +212,11 @@ void refreshNeighbours(Fluid& fl, bool force) {
 }
 
 // The pair and viscous forces on particles [i0, i1) whose species meets every species in the
-// seed's form (a = 2, b = 4, ε = 0), four list entries at a time: lane k takes the entries k, k+4,
-// ... of the particle's list, in order, and the lanes are added in a fixed order at the end. The
-// cutoff is a mask, not a branch (half the entries of a Verlet list lie in its skin). Compiled for
-// AVX2 and for any x86-64 (core/lanes.h): both give the same bits.
+// seed's form (a = 2, b = 4, ε = 0), four entries at a time, in two passes: the first lists the
+// entries of the particle's list inside the largest cutoff (a mask, not a branch: half the entries
+// of a Verlet list lie in its skin), the second takes their forces, lane k the listed entries k,
+// k+4, ... in order, and the lanes are added in a fixed order at the end. Compiled for AVX2 and
+// for any x86-64 (core/lanes.h): both give the same bits.
 void generalForces(const Fluid& fl, std::size_t i, const Vec3& gravity, Vec3* out);
 REEL_CLONED
 void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const Vec3& gravity, Vec3* out) {

@@ -78,7 +78,7 @@ std::vector<SurfaceKernel> surfaceKernels(const std::vector<Vec3>& x, const std:
         for (std::uint32_t k = run[0]; k < run[1]; ++k) {
           const Vec3 pj(gx[k], gy[k], gz[k]);
           const double r2 = (pj - pi).squaredNorm();
-          if (r2 >= R2) continue;
+          if (!(r2 < R2)) continue;
           const double q = std::sqrt(r2) / R;
           f(k, pj, 1.0 - q * q * q);
         }
