@@ -295,8 +295,9 @@ void forEachAgent(School& sc, double r, bool unit_headings, F&& decide) {
 }
 
 // The social direction of every agent of rows [r0, r1) into sc.social, one function compiled for
-// AVX2 where the CPU has it (core/lanes.h), the row walk and the zone sums inlined into it.
-REEL_CLONED
+// AVX-512 and AVX2 where the CPU has them (core/lanes.h), the row walk and the zone sums inlined
+// into it.
+REEL_CLONED_WIDE
 void couzinRows(School& sc, const SortedView& so, const Perception& p, std::int64_t r0, std::int64_t r1) {
   const std::span<const std::int32_t> order = sc.rows.order();
   sc.rows.visitRows(r0, r1, [&](std::uint32_t e, std::span<const Range32> runs) __attribute__((always_inline)) {
