@@ -47,7 +47,7 @@ bool emit(Fluid& fl, double t0, double t1) {
         const Vec3 p = d.position + u * e.u + w * e.w + (t0 - t_layer) * vel;
         bool occupied = false;
         if (listed > 0)
-          fl.grid.forEachNear(p, [&](int j) {
+          listedGrid(fl).forEachNear(p, [&](int j) {
             occupied = occupied || (static_cast<std::size_t>(j) < listed && (fl.x[static_cast<std::size_t>(j)] - p).squaredNorm() < clear2);
           });
         if (occupied) {
@@ -123,7 +123,7 @@ void fluidById(Fluid& fl) {
 void buildNeighbours(Fluid& fl) {
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
   const double reach = fl.cutoff_max + fl.skin, reach2 = reach * reach;
-  fl.grid.build(fl.x, fl.x, reach);  // as rebuildGrid does from x_built (emitters, diffuse particles)
+  fl.grid_current = false;  // (emitters and diffuse particles build it when they ask: listedGrid)
   // The search: a row grid at the reach (9 runs of sorted entries a particle, about 4 times the
   // sphere, where the hashed grid's 27 cells hold 6.4 times). Fixed blocks of rows list their
   // particles' neighbours in parallel, each particle's list in its block's buffer; then the lists
@@ -176,9 +176,13 @@ void buildNeighbours(Fluid& fl) {
   ++fl.rebuilds;
 }
 
-void rebuildGrid(Fluid& fl) {
-  if (!fl.x_built.empty()) fl.grid.build(fl.x_built, fl.x_built, fl.cutoff_max + fl.skin);
+const BoxGrid& listedGrid(Fluid& fl) {
+  if (!fl.grid_current) fl.grid.build(fl.x_built, fl.x_built, fl.cutoff_max + fl.skin);
+  fl.grid_current = true;
+  return fl.grid;
 }
+
+void rebuildGrid(Fluid& fl) { fl.grid_current = false; }
 
 namespace {
 

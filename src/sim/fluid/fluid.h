@@ -154,7 +154,8 @@ struct FluidScratch {
     int s;
   };
   std::vector<Packed> packed;
-  BoxGrid grid;  // built with the list, at x_built
+  BoxGrid grid;  // the last list build's particles at x_built: listedGrid() builds it when first asked
+  bool grid_current = false;
   // The dfsph model's pressure solve (fluid_dfsph.cpp), per particle: relative density, factor α,
   // pressure, the walls' volume gradient and flux, working velocity; the neighbours inside the
   // kernel's reach (the Verlet list without its skin: the solver's iterations read only these)
@@ -202,7 +203,10 @@ void stepFluid(Fluid& fl, const std::vector<Collider>& colliders, const Vec3& gr
 
 // Rebuilds the neighbour list now (the step does it when needed).
 void buildNeighbours(Fluid& fl);
-// Rebuilds the grid of the last list build (at x_built), as after restoring a state.
+// The grid of the last list build's particles (at x_built, cells of the cutoff plus the skin),
+// built on the first call after a build (emitters and diffuse particles ask; most steps do not).
+const BoxGrid& listedGrid(Fluid& fl);
+// Marks that grid out of date, as after restoring a state.
 void rebuildGrid(Fluid& fl);
 
 // Reorders the particles' slots along a Morton curve of their grid cells (memory locality); the

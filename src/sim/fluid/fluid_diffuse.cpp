@@ -57,14 +57,15 @@ void stepDiffuse(Fluid& fl, const Vec3& gravity, double t1) {
   const double spacing = fl.packed_spacing;
   const double bulk = kPi * c * c * c / (3.0 * spacing * spacing * spacing);  // ∫W dV / spacing³
   const std::size_t m = fl.diffuse_x.size();
+  const BoxGrid* grid = listed && m > 0 ? &listedGrid(fl) : nullptr;
   parallelFor(static_cast<std::ptrdiff_t>(m), [&](std::ptrdiff_t kk) {
     const auto k = static_cast<std::size_t>(kk);
     Vec3& x = fl.diffuse_x[k];
     Vec3& v = fl.diffuse_v[k];
     double w_sum = 0;
     Vec3 vf = Vec3::Zero();
-    if (listed)
-      fl.grid.forEachNear(x, [&](std::int32_t j) {
+    if (grid)
+      grid->forEachNear(x, [&](std::int32_t j) {
         const auto jj = static_cast<std::size_t>(j);
         if (jj >= n) return;
         const double r = (fl.x[jj] - x).norm();
