@@ -228,7 +228,7 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
   const std::int32_t* nb = fl.nbr.data();
   const auto S = static_cast<std::size_t>(fl.species_count);
   const Lane4 zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
-  const Lane4 reach2 = zero + fl.cutoff_max * fl.cutoff_max;
+  const Lane4 cut_max2 = zero + fl.cutoff_max * fl.cutoff_max;  // the largest cutoff, squared
   thread_local std::vector<std::int32_t> inside;
   for (std::ptrdiff_t ii = i0; ii < i1; ++ii) {
     const auto i = static_cast<std::size_t>(ii);
@@ -256,7 +256,7 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
       const Lane4 d1 = xi1 - Lane4{q0.x[1], q1.x[1], q2.x[1], q3.x[1]};
       const Lane4 d2 = xi2 - Lane4{q0.x[2], q1.x[2], q2.x[2], q3.x[2]};
       const Lane4 r2 = d0 * d0 + d1 * d1 + d2 * d2;
-      const Mask4 in = (r2 < reach2) & (r2 > zero);
+      const Mask4 in = (r2 < cut_max2) & (r2 > zero);
       in_list[m] = j0, m -= static_cast<std::size_t>(in[0]);
       in_list[m] = j1, m -= static_cast<std::size_t>(in[1]);
       in_list[m] = j2, m -= static_cast<std::size_t>(in[2]);
