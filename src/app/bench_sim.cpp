@@ -369,7 +369,10 @@ int benchRigid() {
       "gravity": [0, -9.81, 0], "objects": [{"type": "plane", "name": "ground", "surface": {"friction": 0.5}}],
       "bodies": [)" + bodies + "]}";
   double wall = 0.0;
+  profile::enable(true);
   auto world = runFrames(text, "bench_rigid.json", frames, wall);
+  const profile::Seconds stage = profile::totals();
+  profile::enable(false);
   if (!world.ok()) return report(world.error());
   World& w = world.value();
   const auto* first = w.first<RigidBody>();
@@ -392,7 +395,10 @@ int benchRigid() {
                               {"final_max_speed", fastest},
                               {"final_mean_height", height},
                               {"asleep", first->solverStats().asleep},
-                              {"sleeping", sleeping}};
+                              {"sleeping", sleeping},
+                              {"broad_s", stage[static_cast<std::size_t>(profile::Stage::Neighbours)]},
+                              {"narrow_s", stage[static_cast<std::size_t>(profile::Stage::Contacts)]},
+                              {"solver_s", stage[static_cast<std::size_t>(profile::Stage::Integration)]}};
   std::printf("%s\n", j.dump().c_str());
   std::fflush(stdout);
   }

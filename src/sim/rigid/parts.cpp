@@ -80,10 +80,6 @@ void buildParts(const std::vector<Collider>& colliders, ObjectParts& cache, bool
   cache.built = true;
 }
 
-bool overlaps(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
-  return (alo.array() <= bhi.array()).all() && (blo.array() <= ahi.array()).all();
-}
-
 // The parts of an object whose box meets [lo, hi] (world), in part order.
 void partsNear(const ObjectParts& cache, const std::vector<Collider>& colliders, const Vec3& lo, const Vec3& hi,
                std::vector<std::uint32_t>& out) {

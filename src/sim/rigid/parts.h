@@ -38,7 +38,9 @@ void buildParts(const std::vector<Collider>& colliders, ObjectParts& cache, bool
                 std::size_t skip_first = 0, std::size_t skip_end = 0);
 
 // Whether two boxes overlap.
-bool overlaps(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi);
+inline bool overlaps(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
+  return (alo.array() <= bhi.array()).all() && (blo.array() <= ahi.array()).all();
+}
 
 // The parts whose box meets [lo, hi] (world), in part order (a mesh's triangles through its grid).
 void partsNear(const ObjectParts& cache, const std::vector<Collider>& colliders, const Vec3& lo, const Vec3& hi,

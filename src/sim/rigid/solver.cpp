@@ -1,13 +1,16 @@
 #include "sim/rigid/solver.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <optional>
 
 #include "core/math.h"
 #include "core/parallel.h"
-#include "sim/rigid/rigid_body.h"
+#include "core/profile.h"
 #include "core/union_find.h"
 #include "sim/rigid/parts.h"
+#include "sim/rigid/rigid_body.h"
 
 namespace reel {
 namespace {
@@ -17,62 +20,83 @@ constexpr double kContactHertz = 60.0;    // stiffness of the soft push (Box2D: 
 constexpr double kBounceSpeed = 0.5;      // m/s: slower approaches do not bounce
 constexpr double kSleepSpeed = 0.05;      // m/s (and rad/s times the body's extent)
 constexpr std::uint32_t kObjectBit = 0x80000000u;
+constexpr int kColours = 64;              // graph colours (a bit each); more: the serial overflow
+constexpr int kWideColour = 64;           // a colour of fewer contacts runs on one thread
 
-// A body as the solver sees it.
+// A body as the step's set-up sees it.
 struct SolverBody {
   RigidModel* model = nullptr;
   RigidState* state = nullptr;
-  Mat3 inv_inertia = Mat3::Zero();  // world, 1/(kg·m²)
   Vec3 lo{0, 0, 0}, hi{0, 0, 0};    // box grown by the margin
   double margin = 0.0;               // m
   Pose pose;
 };
 
-// A contact point as a row of the solver.
-struct Row {
-  int a = -1, b = -1;  // solver bodies; b = −1: an object (its surface moves at vs)
-  Vec3 n{0, 1, 0}, t1{1, 0, 0}, t2{0, 0, 1};
-  Vec3 ra{0, 0, 0}, rb{0, 0, 0}, vs{0, 0, 0};
-  double mn = 0, mt1 = 0, mt2 = 0;  // effective masses, kg
-  double depth = 0, slop = 0, mu = 0, e = 0, vn0 = 0;
-  double near = 0;  // m: how far last step's point may be to warm-start this one
-  double ln = 0, lt1 = 0, lt2 = 0;  // accumulated impulses, N·s
-  Vec3 la{0, 0, 0}, lb{0, 0, 0};    // the point on A (body frame); on B (body frame), or world for an object
-  double base = 0;                  // separation at the start, less the anchors' gap along n, m
-  CachedImpulse key;
+// A body as the sub-steps see it, one dense array of them (Box2D v3's solver bodies): what each
+// contact reads and writes, in two cache lines.
+struct Motion {
+  Vec3 v{0, 0, 0}, w{0, 0, 0};
+  double inv_mass = 0.0;
+  Mat3 inv_inertia = Mat3::Zero();  // world, 1/(kg·m²), fixed for the step
+};
+// Where a body is during the sub-steps (for the points' separations).
+struct Place {
+  Mat3 R = Mat3::Identity();
+  Vec3 x{0, 0, 0};
 };
 
-// The velocity of a body's point at r from its centre of mass (zero for no body).
-Vec3 pointVelocity(const std::vector<SolverBody>& bodies, int i, const Vec3& r) {
-  if (i < 0) return Vec3::Zero();
-  const RigidState& s = *bodies[static_cast<std::size_t>(i)].state;
-  return s.v + s.w.cross(r);
-}
+// A contact point as a row of the solver.
+struct Point {
+  Vec3 ra{0, 0, 0}, rb{0, 0, 0}, vs{0, 0, 0};  // from A's and B's centres; an object's surface velocity
+  Vec3 la{0, 0, 0}, lb{0, 0, 0};  // the point on A (body frame); on B (body frame), or world for an object
+  double base = 0, slop = 0;      // separation at the start, less the anchors' gap along n, m
+  double mn = 0, mt1 = 0, mt2 = 0;  // effective masses, kg
+  double ln = 0, lt1 = 0, lt2 = 0;  // accumulated impulses, N·s
+  double vn0 = 0;                   // approach speed at the start, m/s
+};
 
-void applyImpulse(std::vector<SolverBody>& bodies, const Row& row, const Vec3& P) {
-  SolverBody& A = bodies[static_cast<std::size_t>(row.a)];
-  A.state->v -= A.model->inv_mass * P;
-  A.state->w -= A.inv_inertia * row.ra.cross(P);
-  if (row.b >= 0) {
-    SolverBody& B = bodies[static_cast<std::size_t>(row.b)];
-    B.state->v += B.model->inv_mass * P;
-    B.state->w += B.inv_inertia * row.rb.cross(P);
-  }
-}
+// A manifold: the points of one pair of bodies (or a body and an object part), solved together.
+struct Contact {
+  int a = -1, b = -1;  // solver bodies; b = −1: an object (its surface moves at the points' vs)
+  int first = 0, count = 0;  // its points
+  Vec3 n{0, 1, 0}, t1{1, 0, 0}, t2{0, 0, 1};
+  double mu = 0, e = 0;
+};
 
-double relativeAlong(const std::vector<SolverBody>& bodies, const Row& row, const Vec3& dir) {
-  const Vec3 vb = row.b >= 0 ? pointVelocity(bodies, row.b, row.rb) : row.vs;
-  return (vb - pointVelocity(bodies, row.a, row.ra)).dot(dir);
-}
+// The step's buffers, kept from step to step on each thread so that a step allocates nothing.
+struct Scratch {
+  std::vector<SolverBody> bodies;
+  std::vector<std::uint32_t> global;
+  std::vector<Motion> motion;
+  std::vector<Place> place;
+  struct Sweep {
+    Vec3 lo, hi;
+    int body = 0;
+    bool asleep = false;
+    double strip = 0;  // which strip across the sweep
+  };
+  std::vector<Sweep> sweep, sorted;
+  struct Pair {
+    int a, b;  // b < 0: an object part
+    std::uint32_t part = 0;
+  };
+  std::vector<Pair> pairs;
+  std::vector<std::uint32_t> near;
+  std::vector<Manifold> manifolds;
+  std::vector<Contact> contacts, coloured;
+  std::vector<Point> points, coloured_points;
+  std::vector<CachedImpulse> keys, coloured_keys;
+  std::vector<int> parent, colour, slot;
+  std::vector<double> island_rest;
+  std::vector<std::uint64_t> used;
+};
 
-double effectiveMass(const std::vector<SolverBody>& bodies, const Row& row, const Vec3& dir) {
-  const SolverBody& A = bodies[static_cast<std::size_t>(row.a)];
-  const Vec3 ca = row.ra.cross(dir);
-  double k = A.model->inv_mass + ca.dot(A.inv_inertia * ca);
-  if (row.b >= 0) {
-    const SolverBody& B = bodies[static_cast<std::size_t>(row.b)];
-    const Vec3 cb = row.rb.cross(dir);
-    k += B.model->inv_mass + cb.dot(B.inv_inertia * cb);
+double effectiveMass(const Motion& A, const Motion* B, const Vec3& ra, const Vec3& rb, const Vec3& dir) {
+  const Vec3 ca = ra.cross(dir);
+  double k = A.inv_mass + ca.dot(A.inv_inertia * ca);
+  if (B) {
+    const Vec3 cb = rb.cross(dir);
+    k += B->inv_mass + cb.dot(B->inv_inertia * cb);
   }
   return k > 0 ? 1.0 / k : 0.0;
 }
@@ -91,21 +115,59 @@ struct Soft {
   }
 };
 
-// The point's separation now (negative: overlap), from how far its two anchors moved apart
-// along the normal since the step began.
-double separation(const std::vector<SolverBody>& bodies, const Row& r) {
-  const RigidState& A = *bodies[static_cast<std::size_t>(r.a)].state;
-  Vec3 d = -(A.x + A.q * r.la);
-  d += r.b >= 0 ? Vec3(bodies[static_cast<std::size_t>(r.b)].state->x + bodies[static_cast<std::size_t>(r.b)].state->q * r.lb) : r.lb;
-  return d.dot(r.n) + r.base;
+// A contact's two bodies' velocities, held in registers while its points are solved.
+struct Pairing {
+  Motion& A;
+  Motion* B;
+  Vec3 va, wa, vb{0, 0, 0}, wb{0, 0, 0};
+  Pairing(std::vector<Motion>& motion, const Contact& c)
+      : A(motion[static_cast<std::size_t>(c.a)]),
+        B(c.b >= 0 ? &motion[static_cast<std::size_t>(c.b)] : nullptr),
+        va(A.v),
+        wa(A.w) {
+    if (B) vb = B->v, wb = B->w;
+  }
+  // B's point velocity less A's.
+  [[gnu::always_inline]] Vec3 relative(const Point& p) const {
+    return (B ? Vec3(vb + wb.cross(p.rb)) : p.vs) - va - wa.cross(p.ra);
+  }
+  [[gnu::always_inline]] void apply(const Point& p, const Vec3& P) {
+    va -= A.inv_mass * P;
+    wa -= A.inv_inertia * p.ra.cross(P);
+    if (B) {
+      vb += B->inv_mass * P;
+      wb += B->inv_inertia * p.rb.cross(P);
+    }
+  }
+  void store() {
+    A.v = va, A.w = wa;
+    if (B) B->v = vb, B->w = wb;
+  }
+};
+
+// Last step's impulses applied again (warm start).
+void warmStart(std::vector<Motion>& motion, const Contact& c, const Point* pts) {
+  Pairing m(motion, c);
+  for (int i = 0; i < c.count; ++i) {
+    const Point& p = pts[i];
+    m.apply(p, p.ln * c.n + p.lt1 * c.t1 + p.lt2 * c.t2);
+  }
+  m.store();
 }
 
-// One pass over every row: the normal (a separated point may close its gap this sub-step; an
-// overlap beyond the slop is pushed out softly when `push`), then friction in the circle of radius
-// μ·λ_n.
-void solvePass(std::vector<SolverBody>& bodies, std::vector<Row>& rows, double h, const Soft& soft, bool push) {
-  for (Row& r : rows) {
-    const double s = separation(bodies, r) + r.slop;
+// One contact's points, in order: the normal (a separated point may close its gap this sub-step;
+// an overlap beyond the slop is pushed out softly when `push`), then friction in the circle of
+// radius μ·λ_n. A point's separation now (negative: overlap) follows from how far its two anchors
+// moved apart along the normal since the step began.
+void solveContact(std::vector<Motion>& motion, const std::vector<Place>& place, const Contact& c, Point* pts,
+                  double h, const Soft& soft, bool push) {
+  Pairing m(motion, c);
+  const Place& PA = place[static_cast<std::size_t>(c.a)];
+  const Place* PB = c.b >= 0 ? &place[static_cast<std::size_t>(c.b)] : nullptr;
+  for (int i = 0; i < c.count; ++i) {
+    Point& p = pts[i];
+    const Vec3 d = (PB ? Vec3(PB->x + PB->R * p.lb) : p.lb) - (PA.x + PA.R * p.la);
+    const double s = d.dot(c.n) + p.base + p.slop;
     double bias = 0.0, mass_scale = 1.0, impulse_scale = 0.0;
     if (s > 0) {
       bias = s / h;
@@ -114,18 +176,54 @@ void solvePass(std::vector<SolverBody>& bodies, std::vector<Row>& rows, double h
       mass_scale = soft.mass_scale;
       impulse_scale = soft.impulse_scale;
     }
-    const double vn = relativeAlong(bodies, r, r.n);
-    const double ln = std::max(0.0, r.ln - r.mn * mass_scale * (vn + bias) - impulse_scale * r.ln);
-    applyImpulse(bodies, r, (ln - r.ln) * r.n);
-    r.ln = ln;
-    const double l1 = r.lt1 - r.mt1 * relativeAlong(bodies, r, r.t1);
-    const double l2 = r.lt2 - r.mt2 * relativeAlong(bodies, r, r.t2);
-    const double lim = r.mu * r.ln, len = std::sqrt(l1 * l1 + l2 * l2);
+    const double vn = m.relative(p).dot(c.n);
+    const double ln = std::max(0.0, p.ln - p.mn * mass_scale * (vn + bias) - impulse_scale * p.ln);
+    m.apply(p, (ln - p.ln) * c.n);
+    p.ln = ln;
+    const Vec3 dv = m.relative(p);
+    const double l1 = p.lt1 - p.mt1 * dv.dot(c.t1);
+    const double l2 = p.lt2 - p.mt2 * dv.dot(c.t2);
+    const double lim = c.mu * p.ln, len = std::sqrt(l1 * l1 + l2 * l2);
     const double scale = len > lim && len > 0 ? lim / len : 1.0;
-    const double d1 = l1 * scale - r.lt1, d2 = l2 * scale - r.lt2;
-    r.lt1 += d1;
-    r.lt2 += d2;
-    applyImpulse(bodies, r, d1 * r.t1 + d2 * r.t2);
+    const double d1 = l1 * scale - p.lt1, d2 = l2 * scale - p.lt2;
+    p.lt1 += d1;
+    p.lt2 += d2;
+    m.apply(p, d1 * c.t1 + d2 * c.t2);
+  }
+  m.store();
+}
+
+// Restitution: a point that was approaching faster than kBounceSpeed leaves at e times that speed.
+void bounce(std::vector<Motion>& motion, const Contact& c, Point* pts) {
+  if (c.e <= 0) return;
+  Pairing m(motion, c);
+  for (int i = 0; i < c.count; ++i) {
+    Point& p = pts[i];
+    if (p.vn0 > -kBounceSpeed || p.ln <= 0) continue;
+    const double ln = std::max(0.0, p.ln - p.mn * (m.relative(p).dot(c.n) + c.e * p.vn0));
+    m.apply(p, (ln - p.ln) * c.n);
+    p.ln = ln;
+  }
+  m.store();
+}
+
+// Sorts `order` by `less` (a strict total order), starting from the order it has (last step's,
+// nearly sorted): insertion, or a full sort once it has moved too much. The result does not
+// depend on where it started.
+template <class Less>
+void sortNearlySorted(std::vector<int>& order, Less less) {
+  std::size_t moves = 0;
+  const std::size_t budget = 8 * order.size() + 64;
+  for (std::size_t i = 1; i < order.size(); ++i) {
+    const int v = order[i];
+    std::size_t j = i;
+    for (; j > 0 && less(v, order[j - 1]); --j) order[j] = order[j - 1];
+    order[j] = v;
+    moves += i - j;
+    if (moves > budget) {
+      std::sort(order.begin(), order.end(), less);
+      return;
+    }
   }
 }
 
@@ -133,6 +231,8 @@ void solvePass(std::vector<SolverBody>& bodies, std::vector<Row>& rows, double h
 
 void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, RigidSolverCache& cache,
                      RigidSolverStats& stats) {
+  static thread_local Scratch scratch;
+  Scratch& S = scratch;
   std::vector<Collider>& colliders = *ctx.colliders;
   const double h = ctx.h;
   if (!cache.built) buildParts(colliders, cache);
@@ -141,8 +241,10 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
     iterations = std::max(iterations, e->iterations());
   }
   // Kinematic bodies follow their colliders; the others take gravity and what was handed them.
-  std::vector<SolverBody> bodies;
-  std::vector<std::uint32_t> global;  // per solver body: its index among all the World's rigid bodies
+  std::vector<SolverBody>& bodies = S.bodies;
+  std::vector<std::uint32_t>& global = S.global;  // per solver body: its index among all the World's rigid bodies
+  std::vector<Motion>& motion = S.motion;
+  bodies.clear(), global.clear(), motion.clear();
   std::uint32_t g = 0;
   for (RigidBody* e : entries) {
     e->follow(colliders);
@@ -156,14 +258,16 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
       const Vec3 L = ctx.coupling->angular[c] + (colliders[c].pose.pos - s.x).cross(J);
       const double wake = 1e-3 * m.mass * kSleepSpeed;  // N·s: a push that would move it a little
       if (s.asleep && (J.norm() > wake || L.norm() > wake * m.extent)) s.asleep = false, s.rest = 0.0;
+      Motion mo;
+      mo.inv_mass = m.inv_mass;
+      mo.inv_inertia = inverseInertia(m, s);
+      if (!s.asleep) {
+        s.v += m.inv_mass * J;
+        s.w += mo.inv_inertia * L;
+      }
       SolverBody b;
       b.model = &m;
       b.state = &s;
-      b.inv_inertia = inverseInertia(m, s);
-      if (!s.asleep) {
-        s.v += m.inv_mass * J;
-        s.w += b.inv_inertia * L;
-      }
       b.pose = {s.q.toRotationMatrix(), s.x};
       b.margin = 0.004 + h * (s.v.norm() + s.w.norm() * m.extent);
       shapeBounds(m.shape, b.pose, b.lo, b.hi);
@@ -171,41 +275,79 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
       b.hi += Vec3::Constant(b.margin);
       bodies.push_back(b);
       global.push_back(g);
+      motion.push_back(mo);
     }
   }
   const int nb = static_cast<int>(bodies.size());
 
-  // Broad phase: body pairs by sweeping boxes sorted along an axis; each body's object parts.
-  struct Pair {
-    int a, b;           // b < 0: object part −b − 1
-    std::uint32_t part = 0;
-  };
-  std::vector<Pair> pairs;
-  std::vector<int> order(static_cast<std::size_t>(nb));
-  for (int i = 0; i < nb; ++i) order[static_cast<std::size_t>(i)] = i;
-  // Along the axis the bodies spread most (a tall stack is swept along y).
-  Vec3 spread_lo = Vec3::Constant(1e300), spread_hi = Vec3::Constant(-1e300);
-  for (const SolverBody& b : bodies) {
-    spread_lo = spread_lo.cwiseMin(b.lo);
-    spread_hi = spread_hi.cwiseMax(b.lo);
-  }
-  int axis = 0;
-  (spread_hi - spread_lo).maxCoeff(&axis);
-  std::sort(order.begin(), order.end(), [&](int p, int q) {
-    const double a = bodies[static_cast<std::size_t>(p)].lo[axis], b = bodies[static_cast<std::size_t>(q)].lo[axis];
-    return a != b ? a < b : p < q;
-  });
-  for (std::size_t oi = 0; oi < order.size(); ++oi) {
-    const SolverBody& A = bodies[static_cast<std::size_t>(order[oi])];
-    for (std::size_t oj = oi + 1; oj < order.size(); ++oj) {
-      const SolverBody& B = bodies[static_cast<std::size_t>(order[oj])];
-      if (B.lo[axis] > A.hi[axis]) break;
-      if (A.state->asleep && B.state->asleep) continue;
-      if (!overlaps(A.lo, A.hi, B.lo, B.hi)) continue;
-      pairs.push_back({std::min(order[oi], order[oj]), std::max(order[oi], order[oj])});
+  std::optional<profile::Scope> stage(std::in_place, profile::Stage::Neighbours);
+  // Broad phase: the bodies' boxes cut into strips across the axis they spread second most, each
+  // strip as wide as the widest box, and swept along the axis they spread most (a tall stack is
+  // swept along y): a box meets the boxes after it in its own strip and those of the next strip
+  // whose interval reaches it, each pair found once (a strip two away lies beyond the widest box).
+  // A pile of columns is swept column by column, not a row of columns at once. Sorted by strip,
+  // then the box's low end, then the body, starting from last step's order.
+  auto& pairs = S.pairs;
+  pairs.clear();
+  Vec3 spread_lo = Vec3::Constant(1e300), spread_hi = Vec3::Constant(-1e300), widest = Vec3::Zero();
+  for (const SolverBody& b : bodies)
+    if (b.lo.allFinite() && b.hi.allFinite()) {
+      spread_lo = spread_lo.cwiseMin(b.lo);
+      spread_hi = spread_hi.cwiseMax(b.lo);
+      widest = widest.cwiseMax(b.hi - b.lo);
     }
+  const Vec3 spread = (spread_hi - spread_lo).cwiseMax(0.0);
+  int axis = 0;
+  spread.maxCoeff(&axis);
+  const int across = spread[(axis + 1) % 3] >= spread[(axis + 2) % 3] ? (axis + 1) % 3 : (axis + 2) % 3;
+  const double strip_width = widest[across] * (1.0 + 1e-9) + 1e-9;
+  auto& sweep = S.sweep;
+  sweep.resize(static_cast<std::size_t>(nb));
+  for (int i = 0; i < nb; ++i) {
+    const SolverBody& b = bodies[static_cast<std::size_t>(i)];
+    Scratch::Sweep& w = sweep[static_cast<std::size_t>(i)];
+    w = {b.lo, b.hi, i, b.state->asleep, 0.0};
+    // (A box with a non-finite bound meets nothing: it goes last and its tests fail.)
+    const double k = (b.lo[across] - spread_lo[across]) / strip_width;
+    w.strip = b.lo.allFinite() && b.hi.allFinite() ? std::floor(std::clamp(k, 0.0, 1e15)) : 2e15;
+    if (!std::isfinite(w.lo[axis])) w.lo[axis] = 1e300;
   }
-  std::vector<std::uint32_t> near;
+  std::vector<int>& order = cache.sweep_order;
+  if (order.size() != static_cast<std::size_t>(nb)) {
+    order.resize(static_cast<std::size_t>(nb));
+    for (int i = 0; i < nb; ++i) order[static_cast<std::size_t>(i)] = i;
+  }
+  sortNearlySorted(order, [&](int i, int j) {
+    const Scratch::Sweep& p = sweep[static_cast<std::size_t>(i)];
+    const Scratch::Sweep& q = sweep[static_cast<std::size_t>(j)];
+    return p.strip != q.strip ? p.strip < q.strip : p.lo[axis] != q.lo[axis] ? p.lo[axis] < q.lo[axis] : i < j;
+  });
+  auto& sorted = S.sorted;
+  sorted.resize(static_cast<std::size_t>(nb));
+  for (int i = 0; i < nb; ++i) sorted[static_cast<std::size_t>(i)] = sweep[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])];
+  auto test = [&](const Scratch::Sweep& A, const Scratch::Sweep& B) {
+    if (A.asleep && B.asleep) return;
+    if (!overlaps(A.lo, A.hi, B.lo, B.hi)) return;
+    pairs.push_back({std::min(A.body, B.body), std::max(A.body, B.body)});
+  };
+  const std::size_t ns = sorted.size();
+  for (std::size_t s0 = 0; s0 < ns;) {
+    std::size_t s1 = s0;  // the strip [s0, s1), the next one [s1, s2)
+    while (s1 < ns && sorted[s1].strip == sorted[s0].strip) ++s1;
+    std::size_t s2 = s1;
+    if (s1 < ns && sorted[s1].strip == sorted[s0].strip + 1 && sorted[s0].strip < 1e15)
+      while (s2 < ns && sorted[s2].strip == sorted[s1].strip) ++s2;
+    std::size_t from = s1;  // the next strip's first box that may reach the current one
+    for (std::size_t i = s0; i < s1; ++i) {
+      const Scratch::Sweep& A = sorted[i];
+      const double end = A.hi[axis];
+      for (std::size_t j = i + 1; j < s1 && sorted[j].lo[axis] <= end; ++j) test(A, sorted[j]);
+      while (from < s2 && sorted[from].lo[axis] < A.lo[axis] - widest[axis]) ++from;
+      for (std::size_t j = from; j < s2 && sorted[j].lo[axis] <= end; ++j) test(A, sorted[j]);
+    }
+    s0 = s1;
+  }
+  std::vector<std::uint32_t>& near = S.near;
   // A sleeping body meets only moving objects (which may wake it).
   for (int i = 0; i < nb; ++i) {
     const SolverBody& A = bodies[static_cast<std::size_t>(i)];
@@ -213,14 +355,18 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
     for (std::uint32_t p : near)
       if (!A.state->asleep || colliders[cache.parts[p].collider].moving()) pairs.push_back({i, -1, p});
   }
-  std::sort(pairs.begin(), pairs.end(), [](const Pair& p, const Pair& q) {
-    return p.a != q.a ? p.a < q.a : p.b != q.b ? p.b < q.b : p.part < q.part;
+  // In the order of the cache's keys: by A, then B's bodies, then the object parts.
+  std::sort(pairs.begin(), pairs.end(), [](const Scratch::Pair& p, const Scratch::Pair& q) {
+    const unsigned pb = static_cast<unsigned>(p.b), qb = static_cast<unsigned>(q.b);  // (−1: past every body)
+    return p.a != q.a ? p.a < q.a : pb != qb ? pb < qb : p.part < q.part;
   });
 
   // Narrow phase, in parallel: each pair writes its own manifold.
-  std::vector<Manifold> manifolds(pairs.size());
+  stage.emplace(profile::Stage::Contacts);
+  std::vector<Manifold>& manifolds = S.manifolds;
+  manifolds.resize(pairs.size());
   parallelFor(static_cast<std::ptrdiff_t>(pairs.size()), [&](std::ptrdiff_t k) {
-    const Pair& p = pairs[static_cast<std::size_t>(k)];
+    const Scratch::Pair& p = pairs[static_cast<std::size_t>(k)];
     const SolverBody& A = bodies[static_cast<std::size_t>(p.a)];
     Manifold& m = manifolds[static_cast<std::size_t>(k)];
     if (p.b >= 0) {
@@ -232,52 +378,64 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
     }
   });
 
-  // Rows: one per point, warm-started from last step's matching point.
-  std::vector<Row> rows;
+  // Contacts: one per touching pair, a point per manifold point.
+  stage.emplace(profile::Stage::Integration);
+  auto& contacts = S.contacts;
+  auto& points = S.points;
+  auto& keys = S.keys;
+  contacts.clear(), points.clear(), keys.clear();
   for (std::size_t k = 0; k < pairs.size(); ++k) {
-    const Pair& p = pairs[k];
+    const Scratch::Pair& p = pairs[k];
     const Manifold& m = manifolds[k];
+    if (m.count == 0) continue;
     const SolverBody& A = bodies[static_cast<std::size_t>(p.a)];
     const Surface& sa = A.model->surface;
-    const Surface sb = p.b >= 0 ? bodies[static_cast<std::size_t>(p.b)].model->surface
-                                : colliders[cache.parts[p.part].collider].shape->surface;
+    const Collider* object = p.b >= 0 ? nullptr : &colliders[cache.parts[p.part].collider];
+    const Surface sb = p.b >= 0 ? bodies[static_cast<std::size_t>(p.b)].model->surface : object->shape->surface;
     const double extent = std::min(A.model->extent, p.b >= 0 ? bodies[static_cast<std::size_t>(p.b)].model->extent : 1e300);
+    Contact c;
+    c.a = p.a;
+    c.b = p.b;
+    c.first = static_cast<int>(points.size());
+    c.count = m.count;
+    c.n = m.normal;
+    c.t1 = perpendicular(c.n);
+    c.t2 = c.n.cross(c.t1);
+    c.mu = std::sqrt(sa.friction * sb.friction);
+    c.e = std::max(sa.restitution, sb.restitution);
+    contacts.push_back(c);
     for (int i = 0; i < m.count; ++i) {
       const ContactPoint& cp = m.points[static_cast<std::size_t>(i)];
-      Row r;
-      r.a = p.a;
-      r.b = p.b;
-      r.n = m.normal;
-      r.t1 = perpendicular(r.n);
-      r.t2 = r.n.cross(r.t1);
+      Point r;
       r.ra = cp.position - A.state->x;
       if (p.b >= 0) r.rb = cp.position - bodies[static_cast<std::size_t>(p.b)].state->x;
-      else if (colliders[cache.parts[p.part].collider].moving()) r.vs = colliders[cache.parts[p.part].collider].velocityAt(cp.position);
-      r.depth = cp.depth;
+      else if (object->moving()) r.vs = object->velocityAt(cp.position);
       r.slop = std::min(0.005, 0.01 * extent);
-      r.near = 0.02 * extent;
-      r.mu = std::sqrt(sa.friction * sb.friction);
-      r.e = std::max(sa.restitution, sb.restitution);
-      r.key = {global[static_cast<std::size_t>(p.a)], p.b >= 0 ? global[static_cast<std::size_t>(p.b)] : (kObjectBit | p.part), cp.id};
-      rows.push_back(r);
+      r.base = -cp.depth;
+      points.push_back(r);
+      keys.push_back({global[static_cast<std::size_t>(p.a)], p.b >= 0 ? global[static_cast<std::size_t>(p.b)] : (kObjectBit | p.part), cp.id});
     }
   }
-  stats.contacts = static_cast<int>(rows.size());
+  stats.contacts = static_cast<int>(points.size());
   stats.contact_total += stats.contacts;
 
   // An object moving at a body's contact wakes it.
-  for (const Row& r : rows) {
-    RigidState& s = *bodies[static_cast<std::size_t>(r.a)].state;
-    if (r.b < 0 && r.vs.norm() > kSleepSpeed) s.rest = 0.0, s.asleep = false;
+  for (const Contact& c : contacts) {
+    if (c.b >= 0) continue;
+    RigidState& s = *bodies[static_cast<std::size_t>(c.a)].state;
+    for (int i = 0; i < c.count; ++i)
+      if (points[static_cast<std::size_t>(c.first + i)].vs.norm() > kSleepSpeed) s.rest = 0.0, s.asleep = false;
   }
   // Islands: bodies joined by contacts sleep together once every one has rested long enough.
-  std::vector<int> parent(static_cast<std::size_t>(nb));
+  std::vector<int>& parent = S.parent;
+  parent.resize(static_cast<std::size_t>(nb));
   for (int i = 0; i < nb; ++i) parent[static_cast<std::size_t>(i)] = i;
-  for (const Row& r : rows)
-    if (r.b >= 0) unite(parent, r.a, r.b);
+  for (const Contact& c : contacts)
+    if (c.b >= 0) unite(parent, c.a, c.b);
   // An island sleeps when each of its bodies has rested its own sleep time (a body that never
   // sleeps keeps its island awake).
-  std::vector<double> island_rest(static_cast<std::size_t>(nb), 1e300);
+  std::vector<double>& island_rest = S.island_rest;
+  island_rest.assign(static_cast<std::size_t>(nb), 1e300);
   for (int i = 0; i < nb; ++i) {
     const SolverBody& b = bodies[static_cast<std::size_t>(i)];
     const double spare = b.model->sleep_time <= 0 ? -1e300 : b.state->asleep ? 1e300 : b.state->rest - b.model->sleep_time;
@@ -293,87 +451,183 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
     if (!sleep && s.asleep) s.rest = 0.0;
     s.asleep = sleep;
     ++(sleep ? stats.asleep : stats.awake);
+    motion[static_cast<std::size_t>(i)].v = s.v;
+    motion[static_cast<std::size_t>(i)].w = s.w;
   }
-  std::erase_if(rows, [&](const Row& r) { return bodies[static_cast<std::size_t>(r.a)].state->asleep; });
 
-  // Effective masses, anchors, and last step's impulses of the matching points (warm start).
-  for (Row& r : rows) {
-    const SolverBody& A = bodies[static_cast<std::size_t>(r.a)];
-    r.mn = effectiveMass(bodies, r, r.n);
-    r.mt1 = effectiveMass(bodies, r, r.t1);
-    r.mt2 = effectiveMass(bodies, r, r.t2);
-    const Vec3 p = A.state->x + r.ra;
-    r.la = A.state->q.conjugate() * r.ra;
-    r.lb = r.b >= 0 ? Vec3(bodies[static_cast<std::size_t>(r.b)].state->q.conjugate() * r.rb) : p;
-    r.base = -r.depth;
-    const Vec3 anchor = r.la;
-    r.key.anchor = {anchor.x(), anchor.y(), anchor.z()};
-    const CachedImpulse* match = nullptr;
-    double nearest = r.near * r.near;
-    CachedImpulse first = r.key;
-    first.id = 0;
-    for (auto it = std::lower_bound(cache.impulses.begin(), cache.impulses.end(), first);
-         it != cache.impulses.end() && it->a == r.key.a && it->b == r.key.b; ++it) {
-      const double d2 = (Vec3(it->anchor[0], it->anchor[1], it->anchor[2]) - anchor).squaredNorm();
-      if (d2 < nearest || (d2 == nearest && match && it->id == r.key.id)) {
-        nearest = d2;
-        match = &*it;
+  // Colours (Box2D v3's constraint graph colouring, Catto 2024): contacts that share no moving
+  // body take the same colour, the lowest one free for both (an object takes none), so a colour's
+  // contacts can be solved at once on any number of threads. A colour is solved in contact order,
+  // the colours one after another; colours of fewer than kWideColour contacts and the overflow
+  // past 64 colours run on one thread, in that order, so every thread count gives the same bits.
+  // Contacts of sleeping islands are left out.
+  std::vector<std::uint64_t>& used = S.used;
+  used.assign(static_cast<std::size_t>(nb), 0);
+  std::vector<int>& colour = S.colour;
+  std::vector<int>& slot = S.slot;  // per contact: its place among the coloured ones
+  colour.assign(contacts.size(), -1);
+  slot.assign(contacts.size(), -1);
+  std::array<int, kColours + 2> start{};
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    const Contact& c = contacts[k];
+    if (bodies[static_cast<std::size_t>(c.a)].state->asleep) continue;
+    std::uint64_t& ua = used[static_cast<std::size_t>(c.a)];
+    const std::uint64_t taken = ua | (c.b >= 0 ? used[static_cast<std::size_t>(c.b)] : 0);
+    const int col = ~taken ? std::countr_zero(~taken) : kColours;
+    if (col < kColours) {
+      ua |= std::uint64_t{1} << col;
+      if (c.b >= 0) used[static_cast<std::size_t>(c.b)] |= std::uint64_t{1} << col;
+    }
+    colour[k] = col;
+    ++start[static_cast<std::size_t>(col) + 1];
+  }
+  for (int k = 0; k <= kColours; ++k) start[static_cast<std::size_t>(k) + 1] += start[static_cast<std::size_t>(k)];
+  int wide = 0;  // colours [0, wide) run in parallel
+  while (wide < kColours && start[static_cast<std::size_t>(wide) + 1] - start[static_cast<std::size_t>(wide)] >= kWideColour) ++wide;
+  auto& cc = S.coloured;
+  auto& cp = S.coloured_points;
+  auto& ck = S.coloured_keys;
+  cc.resize(static_cast<std::size_t>(start[kColours + 1]));
+  cp.clear(), ck.clear();
+  {
+    std::array<int, kColours + 2> at = start;
+    for (std::size_t k = 0; k < contacts.size(); ++k)
+      if (colour[k] >= 0) {
+        slot[k] = at[static_cast<std::size_t>(colour[k])]++;
+        cc[static_cast<std::size_t>(slot[k])] = contacts[k];
+      }
+    for (Contact& c : cc) {
+      const int first = static_cast<int>(cp.size());
+      for (int i = 0; i < c.count; ++i) {
+        cp.push_back(points[static_cast<std::size_t>(c.first + i)]);
+        ck.push_back(keys[static_cast<std::size_t>(c.first + i)]);
+      }
+      c.first = first;
+    }
+  }
+
+  // Effective masses, anchors, and last step's impulses of the matching points (warm start): a
+  // point of the same bodies takes those of last step's nearest point within 2% of the smaller
+  // body's size (measured on body A; feature keys alone can swap between the corners of aligned faces).
+  for (const Contact& c : cc) {
+    const Motion& A = motion[static_cast<std::size_t>(c.a)];
+    const Motion* B = c.b >= 0 ? &motion[static_cast<std::size_t>(c.b)] : nullptr;
+    const RigidState& sa = *bodies[static_cast<std::size_t>(c.a)].state;
+    const double reach = 0.02 * std::min(bodies[static_cast<std::size_t>(c.a)].model->extent,
+                                        B ? bodies[static_cast<std::size_t>(c.b)].model->extent : 1e300);
+    for (int i = 0; i < c.count; ++i) {
+      const std::size_t pi = static_cast<std::size_t>(c.first + i);
+      Point& r = cp[pi];
+      CachedImpulse& key = ck[pi];
+      r.mn = effectiveMass(A, B, r.ra, r.rb, c.n);
+      r.mt1 = effectiveMass(A, B, r.ra, r.rb, c.t1);
+      r.mt2 = effectiveMass(A, B, r.ra, r.rb, c.t2);
+      r.la = sa.q.conjugate() * r.ra;
+      r.lb = c.b >= 0 ? Vec3(bodies[static_cast<std::size_t>(c.b)].state->q.conjugate() * r.rb) : Vec3(sa.x + r.ra);
+      const Vec3 anchor = r.la;
+      key.anchor = {anchor.x(), anchor.y(), anchor.z()};
+      const CachedImpulse* match = nullptr;
+      double nearest = reach * reach;
+      CachedImpulse first = key;
+      first.id = 0;
+      for (auto it = std::lower_bound(cache.impulses.begin(), cache.impulses.end(), first);
+           it != cache.impulses.end() && it->a == key.a && it->b == key.b; ++it) {
+        const double d2 = (Vec3(it->anchor[0], it->anchor[1], it->anchor[2]) - anchor).squaredNorm();
+        if (d2 < nearest || (d2 == nearest && match && it->id == key.id)) {
+          nearest = d2;
+          match = &*it;
+        }
+      }
+      if (match) {
+        r.ln = match->normal;
+        r.lt1 = match->t1;
+        r.lt2 = match->t2;
       }
     }
-    if (match) {
-      r.ln = match->normal;
-      r.lt1 = match->t1;
-      r.lt2 = match->t2;
+    Pairing m(motion, c);
+    for (int i = 0; i < c.count; ++i) {
+      Point& r = cp[static_cast<std::size_t>(c.first + i)];
+      r.vn0 = m.relative(r).dot(c.n);
     }
   }
-  for (Row& r : rows) r.vn0 = relativeAlong(bodies, r, r.n);
+  std::vector<Place>& place = S.place;
+  place.resize(static_cast<std::size_t>(nb));
+  for (int i = 0; i < nb; ++i) place[static_cast<std::size_t>(i)] = {bodies[static_cast<std::size_t>(i)].pose.R, bodies[static_cast<std::size_t>(i)].state->x};
+
   // Sub-steps (Box2D v3's soft step): gravity, warm start, solve with the soft push, move, relax
-  // without it; then restitution.
+  // without it; then restitution. One parallel region for them all: each colour is a loop that
+  // ends in a barrier.
   const double hs = h / iterations;
   const Soft soft(std::min(kContactHertz, 0.25 / hs), 10.0, hs);
+  const int ncc = static_cast<int>(cc.size());
+  auto colours = [&](auto&& fn) {
+    for (int k = 0; k < wide; ++k) {
+#pragma omp for schedule(static)
+      for (int i = start[static_cast<std::size_t>(k)]; i < start[static_cast<std::size_t>(k) + 1]; ++i)
+        fn(cc[static_cast<std::size_t>(i)]);
+    }
+#pragma omp single
+    for (int i = start[static_cast<std::size_t>(wide)]; i < ncc; ++i) fn(cc[static_cast<std::size_t>(i)]);
+  };
+  const Vec3 gravity = ctx.gravity;
+#pragma omp parallel if (static_cast<std::ptrdiff_t>(cp.size()) >= parallelMin() && wide > 0)
   for (int sub = 0; sub < iterations; ++sub) {
-    for (SolverBody& b : bodies)
-      if (!b.state->asleep) {
-        // Gravity, the body's own force and torque, damping (implicit, so any rate is stable).
-        RigidState& st = *b.state;
-        const RigidModel& m = *b.model;
-        st.v += hs * (ctx.gravity + m.inv_mass * m.force);
-        st.w += hs * (b.inv_inertia * m.torque);
-        if (m.linear_damping > 0) st.v /= 1.0 + hs * m.linear_damping;
-        if (m.angular_damping > 0) st.w /= 1.0 + hs * m.angular_damping;
-      }
-    for (const Row& r : rows) applyImpulse(bodies, r, r.ln * r.n + r.lt1 * r.t1 + r.lt2 * r.t2);
-    solvePass(bodies, rows, hs, soft, true);
-    for (SolverBody& b : bodies) {
+#pragma omp for schedule(static)
+    for (int i = 0; i < nb; ++i) {
+      const SolverBody& b = bodies[static_cast<std::size_t>(i)];
+      if (b.state->asleep) continue;
+      // Gravity, the body's own force and torque, damping (implicit, so any rate is stable).
+      Motion& mo = motion[static_cast<std::size_t>(i)];
+      const RigidModel& m = *b.model;
+      mo.v += hs * (gravity + m.inv_mass * m.force);
+      mo.w += hs * (mo.inv_inertia * m.torque);
+      if (m.linear_damping > 0) mo.v /= 1.0 + hs * m.linear_damping;
+      if (m.angular_damping > 0) mo.w /= 1.0 + hs * m.angular_damping;
+    }
+    colours([&](const Contact& c) { warmStart(motion, c, &cp[static_cast<std::size_t>(c.first)]); });
+    colours([&](const Contact& c) { solveContact(motion, place, c, &cp[static_cast<std::size_t>(c.first)], hs, soft, true); });
+#pragma omp for schedule(static)
+    for (int i = 0; i < nb; ++i) {
+      const SolverBody& b = bodies[static_cast<std::size_t>(i)];
       RigidState& s = *b.state;
       if (s.asleep) continue;
-      s.x += hs * s.v;
+      Motion& mo = motion[static_cast<std::size_t>(i)];
+      s.x += hs * mo.v;
+      s.w = mo.w;
       rotateFree(*b.model, s, hs);
+      mo.w = s.w;
+      place[static_cast<std::size_t>(i)] = {s.q.toRotationMatrix(), s.x};
     }
-    solvePass(bodies, rows, hs, soft, false);
+    colours([&](const Contact& c) { solveContact(motion, place, c, &cp[static_cast<std::size_t>(c.first)], hs, soft, false); });
   }
-  for (Row& r : rows) {
-    if (r.e <= 0 || r.vn0 > -kBounceSpeed || r.ln <= 0) continue;
-    const double ln = std::max(0.0, r.ln - r.mn * (relativeAlong(bodies, r, r.n) + r.e * r.vn0));
-    applyImpulse(bodies, r, (ln - r.ln) * r.n);
-    r.ln = ln;
-  }
+  for (const Contact& c : cc) bounce(motion, c, &cp[static_cast<std::size_t>(c.first)]);
   // Keep the impulses for the next step; count rest; pose the colliders.
+  // (Contacts come in the keys' order: only a manifold's own points need sorting.)
   cache.impulses.clear();
-  for (const Row& r : rows) {
-    CachedImpulse c = r.key;
-    c.normal = r.ln;
-    c.t1 = r.lt1;
-    c.t2 = r.lt2;
-    cache.impulses.push_back(c);
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    if (slot[k] < 0) continue;
+    const Contact& c = cc[static_cast<std::size_t>(slot[k])];
+    for (int i = 0; i < c.count; ++i) {
+      const std::size_t pi = static_cast<std::size_t>(c.first + i);
+      CachedImpulse key = ck[pi];
+      key.normal = cp[pi].ln;
+      key.t1 = cp[pi].lt1;
+      key.t2 = cp[pi].lt2;
+      cache.impulses.push_back(key);
+    }
+    std::sort(cache.impulses.end() - c.count, cache.impulses.end());
   }
-  std::sort(cache.impulses.begin(), cache.impulses.end());
-  for (SolverBody& b : bodies) {
+  if (!std::is_sorted(cache.impulses.begin(), cache.impulses.end())) std::sort(cache.impulses.begin(), cache.impulses.end());
+  for (int i = 0; i < nb; ++i) {
+    const SolverBody& b = bodies[static_cast<std::size_t>(i)];
     RigidState& s = *b.state;
     if (s.asleep) continue;
+    s.v = motion[static_cast<std::size_t>(i)].v;
+    s.w = motion[static_cast<std::size_t>(i)].w;
     const bool slow = s.v.norm() < kSleepSpeed && s.w.norm() * b.model->extent < kSleepSpeed;
     s.rest = slow ? s.rest + h : 0.0;
   }
+  stage.reset();
   for (RigidBody* e : entries) e->pose(colliders, h);
 }
 

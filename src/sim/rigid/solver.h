@@ -17,6 +17,11 @@
 // the sub-steps from how far its anchors on the two bodies moved apart. Last, restitution: a point
 // that was approaching faster than 0.5 m/s leaves at e times that speed. Friction μ = √(μ_a·μ_b),
 // restitution e = max(e_a, e_b).
+//
+// Layout and threads, after Box2D v3: the sub-steps read and write one dense array of the bodies'
+// velocities and inverse masses; a pair's points are one contact, solved together; contacts are
+// graph-coloured (no two of a colour share a moving body), and each colour's contacts are solved
+// in parallel, the colours in turn, with the same bits on any number of threads.
 #pragma once
 
 #include <array>
@@ -47,6 +52,9 @@ struct CachedImpulse {
 
 struct RigidSolverCache : ObjectParts {
   std::vector<CachedImpulse> impulses;  // sorted
+  // The broad phase's order of the bodies along its axis, last step: only where the next sort
+  // starts (its result does not depend on it), so it is not part of a snapshot.
+  std::vector<int> sweep_order;
 };
 
 struct RigidSolverStats {
