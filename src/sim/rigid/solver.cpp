@@ -45,14 +45,24 @@ struct Place {
   Vec3 x{0, 0, 0};
 };
 
+// One direction d of a point's constraint (a row of the Jacobian): B's point velocity less A's
+// along d is d·(v_B − v_A) + jb·ω_B − ja·ω_A, with ja = r_A × d and jb = r_B × d; an impulse λ
+// along d turns ω_A by −λ·I_A⁻¹·ja and ω_B by λ·I_B⁻¹·jb. Kept for the step, so that a pass
+// takes dot products and sums, not cross products and matrix products.
+struct Axis {
+  Vec3 ja{0, 0, 0}, jb{0, 0, 0}, ia{0, 0, 0}, ib{0, 0, 0};  // ia = I_A⁻¹·ja, ib = I_B⁻¹·jb
+  double mass = 0;  // effective mass along d, kg
+};
+
 // A contact point as a row of the solver.
 struct Point {
-  Vec3 ra{0, 0, 0}, rb{0, 0, 0}, vs{0, 0, 0};  // from A's and B's centres; an object's surface velocity
+  Axis n, t1, t2;                 // the normal and the two tangents
+  Vec3 vs{0, 0, 0};               // an object's surface velocity at the point
   Vec3 la{0, 0, 0}, lb{0, 0, 0};  // the point on A (body frame); on B (body frame), or world for an object
   double base = 0, slop = 0;      // separation at the start, less the anchors' gap along n, m
-  double mn = 0, mt1 = 0, mt2 = 0;  // effective masses, kg
   double ln = 0, lt1 = 0, lt2 = 0;  // accumulated impulses, N·s
   double vn0 = 0;                   // approach speed at the start, m/s
+  Vec3 ra{0, 0, 0}, rb{0, 0, 0};    // from A's and B's centres (set-up only)
 };
 
 // A manifold: the points of one pair of bodies (or a body and an object part), solved together.
@@ -91,14 +101,19 @@ struct Scratch {
   std::vector<std::uint64_t> used;
 };
 
-double effectiveMass(const Motion& A, const Motion* B, const Vec3& ra, const Vec3& rb, const Vec3& dir) {
-  const Vec3 ca = ra.cross(dir);
-  double k = A.inv_mass + ca.dot(A.inv_inertia * ca);
+// The row of direction d at arms ra, rb (B: none for an object).
+Axis axisOf(const Motion& A, const Motion* B, const Vec3& ra, const Vec3& rb, const Vec3& d) {
+  Axis x;
+  x.ja = ra.cross(d);
+  x.ia = A.inv_inertia * x.ja;
+  double k = A.inv_mass + x.ja.dot(x.ia);
   if (B) {
-    const Vec3 cb = rb.cross(dir);
-    k += B->inv_mass + cb.dot(B->inv_inertia * cb);
+    x.jb = rb.cross(d);
+    x.ib = B->inv_inertia * x.jb;
+    k += B->inv_mass + x.jb.dot(x.ib);
   }
-  return k > 0 ? 1.0 / k : 0.0;
+  x.mass = k > 0 ? 1.0 / k : 0.0;
+  return x;
 }
 
 // The soft contact of Box2D v3 (Catto, "Solver2D", 2024): a push out of overlap as a damped spring
@@ -115,42 +130,60 @@ struct Soft {
   }
 };
 
-// A contact's two bodies' velocities, held in registers while its points are solved.
+// A contact's two bodies' velocities, held in registers while its points are solved (kBody: B is
+// a body, not an object).
+template <bool kBody>
 struct Pairing {
   Motion& A;
   Motion* B;
   Vec3 va, wa, vb{0, 0, 0}, wb{0, 0, 0};
+  double ima, imb = 0;
   Pairing(std::vector<Motion>& motion, const Contact& c)
       : A(motion[static_cast<std::size_t>(c.a)]),
-        B(c.b >= 0 ? &motion[static_cast<std::size_t>(c.b)] : nullptr),
+        B(kBody ? &motion[static_cast<std::size_t>(c.b)] : nullptr),
         va(A.v),
-        wa(A.w) {
-    if (B) vb = B->v, wb = B->w;
+        wa(A.w),
+        ima(A.inv_mass) {
+    if (kBody) vb = B->v, wb = B->w, imb = B->inv_mass;
   }
-  // B's point velocity less A's.
-  [[gnu::always_inline]] Vec3 relative(const Point& p) const {
-    return (B ? Vec3(vb + wb.cross(p.rb)) : p.vs) - va - wa.cross(p.ra);
+  // B's point velocity less A's, along d.
+  [[gnu::always_inline]] double along(const Point& p, const Axis& x, const Vec3& d) const {
+    if (kBody) return d.dot(vb - va) + x.jb.dot(wb) - x.ja.dot(wa);
+    return d.dot(p.vs - va) - x.ja.dot(wa);
   }
-  [[gnu::always_inline]] void apply(const Point& p, const Vec3& P) {
-    va -= A.inv_mass * P;
-    wa -= A.inv_inertia * p.ra.cross(P);
-    if (B) {
-      vb += B->inv_mass * P;
-      wb += B->inv_inertia * p.rb.cross(P);
+  // Impulses l1 along d1 and l2 along d2 (B's share; A takes the opposite).
+  [[gnu::always_inline]] void apply(const Axis& x1, const Vec3& d1, double l1, const Axis& x2, const Vec3& d2,
+                                    double l2) {
+    const Vec3 P = l1 * d1 + l2 * d2;
+    va -= ima * P;
+    wa -= l1 * x1.ia + l2 * x2.ia;
+    if (kBody) {
+      vb += imb * P;
+      wb += l1 * x1.ib + l2 * x2.ib;
+    }
+  }
+  [[gnu::always_inline]] void apply(const Axis& x, const Vec3& d, double l) {
+    va -= (ima * l) * d;
+    wa -= l * x.ia;
+    if (kBody) {
+      vb += (imb * l) * d;
+      wb += l * x.ib;
     }
   }
   void store() {
     A.v = va, A.w = wa;
-    if (B) B->v = vb, B->w = wb;
+    if (kBody) B->v = vb, B->w = wb;
   }
 };
 
 // Last step's impulses applied again (warm start).
+template <bool kBody>
 void warmStart(std::vector<Motion>& motion, const Contact& c, const Point* pts) {
-  Pairing m(motion, c);
+  Pairing<kBody> m(motion, c);
   for (int i = 0; i < c.count; ++i) {
     const Point& p = pts[i];
-    m.apply(p, p.ln * c.n + p.lt1 * c.t1 + p.lt2 * c.t2);
+    m.apply(p.n, c.n, p.ln);
+    m.apply(p.t1, c.t1, p.lt1, p.t2, c.t2, p.lt2);
   }
   m.store();
 }
@@ -159,14 +192,15 @@ void warmStart(std::vector<Motion>& motion, const Contact& c, const Point* pts) 
 // an overlap beyond the slop is pushed out softly when `push`), then friction in the circle of
 // radius μ·λ_n. A point's separation now (negative: overlap) follows from how far its two anchors
 // moved apart along the normal since the step began.
+template <bool kBody>
 void solveContact(std::vector<Motion>& motion, const std::vector<Place>& place, const Contact& c, Point* pts,
                   double h, const Soft& soft, bool push) {
-  Pairing m(motion, c);
+  Pairing<kBody> m(motion, c);
   const Place& PA = place[static_cast<std::size_t>(c.a)];
-  const Place* PB = c.b >= 0 ? &place[static_cast<std::size_t>(c.b)] : nullptr;
+  const Place* PB = kBody ? &place[static_cast<std::size_t>(c.b)] : nullptr;
   for (int i = 0; i < c.count; ++i) {
     Point& p = pts[i];
-    const Vec3 d = (PB ? Vec3(PB->x + PB->R * p.lb) : p.lb) - (PA.x + PA.R * p.la);
+    const Vec3 d = (kBody ? Vec3(PB->x + PB->R * p.lb) : p.lb) - (PA.x + PA.R * p.la);
     const double s = d.dot(c.n) + p.base + p.slop;
     double bias = 0.0, mass_scale = 1.0, impulse_scale = 0.0;
     if (s > 0) {
@@ -176,32 +210,32 @@ void solveContact(std::vector<Motion>& motion, const std::vector<Place>& place, 
       mass_scale = soft.mass_scale;
       impulse_scale = soft.impulse_scale;
     }
-    const double vn = m.relative(p).dot(c.n);
-    const double ln = std::max(0.0, p.ln - p.mn * mass_scale * (vn + bias) - impulse_scale * p.ln);
-    m.apply(p, (ln - p.ln) * c.n);
+    const double vn = m.along(p, p.n, c.n);
+    const double ln = std::max(0.0, p.ln - p.n.mass * mass_scale * (vn + bias) - impulse_scale * p.ln);
+    m.apply(p.n, c.n, ln - p.ln);
     p.ln = ln;
-    const Vec3 dv = m.relative(p);
-    const double l1 = p.lt1 - p.mt1 * dv.dot(c.t1);
-    const double l2 = p.lt2 - p.mt2 * dv.dot(c.t2);
+    const double l1 = p.lt1 - p.t1.mass * m.along(p, p.t1, c.t1);
+    const double l2 = p.lt2 - p.t2.mass * m.along(p, p.t2, c.t2);
     const double lim = c.mu * p.ln, len = std::sqrt(l1 * l1 + l2 * l2);
     const double scale = len > lim && len > 0 ? lim / len : 1.0;
     const double d1 = l1 * scale - p.lt1, d2 = l2 * scale - p.lt2;
     p.lt1 += d1;
     p.lt2 += d2;
-    m.apply(p, d1 * c.t1 + d2 * c.t2);
+    m.apply(p.t1, c.t1, d1, p.t2, c.t2, d2);
   }
   m.store();
 }
 
 // Restitution: a point that was approaching faster than kBounceSpeed leaves at e times that speed.
+template <bool kBody>
 void bounce(std::vector<Motion>& motion, const Contact& c, Point* pts) {
   if (c.e <= 0) return;
-  Pairing m(motion, c);
+  Pairing<kBody> m(motion, c);
   for (int i = 0; i < c.count; ++i) {
     Point& p = pts[i];
     if (p.vn0 > -kBounceSpeed || p.ln <= 0) continue;
-    const double ln = std::max(0.0, p.ln - p.mn * (m.relative(p).dot(c.n) + c.e * p.vn0));
-    m.apply(p, (ln - p.ln) * c.n);
+    const double ln = std::max(0.0, p.ln - p.n.mass * (m.along(p, p.n, c.n) + c.e * p.vn0));
+    m.apply(p.n, c.n, ln - p.ln);
     p.ln = ln;
   }
   m.store();
@@ -475,14 +509,13 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
       CachedImpulse first = keys[static_cast<std::size_t>(c.first)];
       first.id = 0;
       const auto from = std::lower_bound(cache.impulses.begin(), cache.impulses.end(), first);
-      const Pairing m(motion, c);
       for (int i = 0; i < c.count; ++i) {
         const std::size_t pi = static_cast<std::size_t>(c.first + i);
         Point& r = points[pi];
         CachedImpulse& key = keys[pi];
-        r.mn = effectiveMass(A, B, r.ra, r.rb, c.n);
-        r.mt1 = effectiveMass(A, B, r.ra, r.rb, c.t1);
-        r.mt2 = effectiveMass(A, B, r.ra, r.rb, c.t2);
+        r.n = axisOf(A, B, r.ra, r.rb, c.n);
+        r.t1 = axisOf(A, B, r.ra, r.rb, c.t1);
+        r.t2 = axisOf(A, B, r.ra, r.rb, c.t2);
         r.la = BA.pose.R.transpose() * r.ra;
         r.lb = BB ? Vec3(BB->pose.R.transpose() * r.rb) : Vec3(BA.pose.p + r.ra);
         const Vec3 anchor = r.la;
@@ -501,7 +534,7 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
           r.lt1 = match->t1;
           r.lt2 = match->t2;
         }
-        r.vn0 = m.relative(r).dot(c.n);
+        r.vn0 = B ? Pairing<true>(motion, c).along(r, r.n, c.n) : Pairing<false>(motion, c).along(r, r.n, c.n);
       }
     }
   }, static_cast<std::ptrdiff_t>(contacts.size()) * 16);
@@ -591,8 +624,14 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
       if (m.linear_damping > 0) mo.v /= 1.0 + hs * m.linear_damping;
       if (m.angular_damping > 0) mo.w /= 1.0 + hs * m.angular_damping;
     }
-    colours([&](const Contact& c) { warmStart(motion, c, &cp[static_cast<std::size_t>(c.first)]); });
-    colours([&](const Contact& c) { solveContact(motion, place, c, &cp[static_cast<std::size_t>(c.first)], hs, soft, true); });
+    colours([&](const Contact& c) {
+      Point* pts = &cp[static_cast<std::size_t>(c.first)];
+      c.b >= 0 ? warmStart<true>(motion, c, pts) : warmStart<false>(motion, c, pts);
+    });
+    colours([&](const Contact& c) {
+      Point* pts = &cp[static_cast<std::size_t>(c.first)];
+      c.b >= 0 ? solveContact<true>(motion, place, c, pts, hs, soft, true) : solveContact<false>(motion, place, c, pts, hs, soft, true);
+    });
 #pragma omp for schedule(static)
     for (int i = 0; i < nb; ++i) {
       const SolverBody& b = bodies[static_cast<std::size_t>(i)];
@@ -605,9 +644,15 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
       mo.w = s.w;
       place[static_cast<std::size_t>(i)] = {s.q.toRotationMatrix(), s.x};
     }
-    colours([&](const Contact& c) { solveContact(motion, place, c, &cp[static_cast<std::size_t>(c.first)], hs, soft, false); });
+    colours([&](const Contact& c) {
+      Point* pts = &cp[static_cast<std::size_t>(c.first)];
+      c.b >= 0 ? solveContact<true>(motion, place, c, pts, hs, soft, false) : solveContact<false>(motion, place, c, pts, hs, soft, false);
+    });
   }
-  for (const Contact& c : cc) bounce(motion, c, &cp[static_cast<std::size_t>(c.first)]);
+  for (const Contact& c : cc) {
+    Point* pts = &cp[static_cast<std::size_t>(c.first)];
+    c.b >= 0 ? bounce<true>(motion, c, pts) : bounce<false>(motion, c, pts);
+  }
   // Keep the impulses for the next step; count rest; pose the colliders.
   // (Contacts come in the keys' order: only a manifold's own points need sorting.)
   cache.impulses.clear();
