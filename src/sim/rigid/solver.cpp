@@ -94,9 +94,9 @@ struct Scratch {
   std::vector<std::uint32_t> near;
   std::vector<Manifold> manifolds;
   std::vector<Contact> contacts, coloured;
-  std::vector<Point> points, coloured_points;
-  std::vector<CachedImpulse> keys, coloured_keys;
-  std::vector<int> parent, colour, slot;
+  std::vector<Point> points;
+  std::vector<CachedImpulse> keys;
+  std::vector<int> parent, colour, source;
   std::vector<double> island_rest;
   std::vector<std::uint64_t> used;
 };
@@ -418,10 +418,13 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
 
   // Contacts: one per touching pair, a point per manifold point.
   stage.emplace(profile::Stage::Integration);
+  // (Here the contacts only; their points are filled in parallel once the islands are known.)
   auto& contacts = S.contacts;
   auto& points = S.points;
   auto& keys = S.keys;
-  contacts.clear(), points.clear(), keys.clear();
+  auto& source = S.source;  // per contact: its pair
+  contacts.clear(), source.clear();
+  int npoints = 0;
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const Scratch::Pair& p = pairs[k];
     const Manifold& m = manifolds[k];
@@ -430,11 +433,10 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
     const Surface& sa = A.model->surface;
     const Collider* object = p.b >= 0 ? nullptr : &colliders[cache.parts[p.part].collider];
     const Surface sb = p.b >= 0 ? bodies[static_cast<std::size_t>(p.b)].model->surface : object->shape->surface;
-    const double extent = std::min(A.model->extent, p.b >= 0 ? bodies[static_cast<std::size_t>(p.b)].model->extent : 1e300);
     Contact c;
     c.a = p.a;
     c.b = p.b;
-    c.first = static_cast<int>(points.size());
+    c.first = npoints;
     c.count = m.count;
     c.n = m.normal;
     c.t1 = perpendicular(c.n);
@@ -442,28 +444,19 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
     c.mu = std::sqrt(sa.friction * sb.friction);
     c.e = std::max(sa.restitution, sb.restitution);
     contacts.push_back(c);
-    for (int i = 0; i < m.count; ++i) {
-      const ContactPoint& cp = m.points[static_cast<std::size_t>(i)];
-      Point r;
-      r.ra = cp.position - A.state->x;
-      if (p.b >= 0) r.rb = cp.position - bodies[static_cast<std::size_t>(p.b)].state->x;
-      else if (object->moving()) r.vs = object->velocityAt(cp.position);
-      r.slop = std::min(0.005, 0.01 * extent);
-      r.base = -cp.depth;
-      points.push_back(r);
-      keys.push_back({global[static_cast<std::size_t>(p.a)], p.b >= 0 ? global[static_cast<std::size_t>(p.b)] : (kObjectBit | p.part), cp.id});
-    }
+    source.push_back(static_cast<int>(k));
+    npoints += m.count;
+    // An object moving at a body's contact wakes it.
+    if (object && object->moving())
+      for (int i = 0; i < m.count; ++i)
+        if (object->velocityAt(m.points[static_cast<std::size_t>(i)].position).norm() > kSleepSpeed)
+          A.state->rest = 0.0, A.state->asleep = false;
   }
-  stats.contacts = static_cast<int>(points.size());
+  stats.contacts = npoints;
   stats.contact_total += stats.contacts;
+  points.resize(static_cast<std::size_t>(npoints));
+  keys.resize(static_cast<std::size_t>(npoints));
 
-  // An object moving at a body's contact wakes it.
-  for (const Contact& c : contacts) {
-    if (c.b >= 0) continue;
-    RigidState& s = *bodies[static_cast<std::size_t>(c.a)].state;
-    for (int i = 0; i < c.count; ++i)
-      if (points[static_cast<std::size_t>(c.first + i)].vs.norm() > kSleepSpeed) s.rest = 0.0, s.asleep = false;
-  }
   // Islands: bodies joined by contacts sleep together once every one has rested long enough.
   std::vector<int>& parent = S.parent;
   parent.resize(static_cast<std::size_t>(nb));
@@ -506,13 +499,24 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
       const Motion* B = c.b >= 0 ? &motion[static_cast<std::size_t>(c.b)] : nullptr;
       const SolverBody* BB = c.b >= 0 ? &bodies[static_cast<std::size_t>(c.b)] : nullptr;
       const double reach = 0.02 * std::min(BA.model->extent, BB ? BB->model->extent : 1e300);
-      CachedImpulse first = keys[static_cast<std::size_t>(c.first)];
-      first.id = 0;
+      const Scratch::Pair& pair = pairs[static_cast<std::size_t>(source[static_cast<std::size_t>(k)])];
+      const Manifold& mf = manifolds[static_cast<std::size_t>(source[static_cast<std::size_t>(k)])];
+      const Collider* object = BB ? nullptr : &colliders[cache.parts[pair.part].collider];
+      const CachedImpulse first = {global[static_cast<std::size_t>(c.a)], BB ? global[static_cast<std::size_t>(c.b)] : (kObjectBit | pair.part), 0};
       const auto from = std::lower_bound(cache.impulses.begin(), cache.impulses.end(), first);
       for (int i = 0; i < c.count; ++i) {
         const std::size_t pi = static_cast<std::size_t>(c.first + i);
+        const ContactPoint& cpt = mf.points[static_cast<std::size_t>(i)];
         Point& r = points[pi];
+        r = Point();
+        r.ra = cpt.position - BA.state->x;
+        if (BB) r.rb = cpt.position - BB->state->x;
+        else if (object->moving()) r.vs = object->velocityAt(cpt.position);
+        r.slop = std::min(0.005, 0.01 * std::min(BA.model->extent, BB ? BB->model->extent : 1e300));
+        r.base = -cpt.depth;
         CachedImpulse& key = keys[pi];
+        key = first;
+        key.id = cpt.id;
         r.n = axisOf(A, B, r.ra, r.rb, c.n);
         r.t1 = axisOf(A, B, r.ra, r.rb, c.t1);
         r.t2 = axisOf(A, B, r.ra, r.rb, c.t2);
@@ -548,9 +552,7 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   std::vector<std::uint64_t>& used = S.used;
   used.assign(static_cast<std::size_t>(nb), 0);
   std::vector<int>& colour = S.colour;
-  std::vector<int>& slot = S.slot;  // per contact: its place among the coloured ones
   colour.assign(contacts.size(), -1);
-  slot.assign(contacts.size(), -1);
   std::array<int, kColours + 2> start{};
   for (std::size_t k = 0; k < contacts.size(); ++k) {
     const Contact& c = contacts[k];
@@ -568,27 +570,15 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   for (int k = 0; k <= kColours; ++k) start[static_cast<std::size_t>(k) + 1] += start[static_cast<std::size_t>(k)];
   int wide = 0;  // colours [0, wide) run in parallel
   while (wide < kColours && start[static_cast<std::size_t>(wide) + 1] - start[static_cast<std::size_t>(wide)] >= kWideColour) ++wide;
+  // The contacts in colour order (their points stay where they are, each contact's together).
   auto& cc = S.coloured;
-  auto& cp = S.coloured_points;
-  auto& ck = S.coloured_keys;
   cc.resize(static_cast<std::size_t>(start[kColours + 1]));
-  cp.clear(), ck.clear();
   {
     std::array<int, kColours + 2> at = start;
     for (std::size_t k = 0; k < contacts.size(); ++k)
-      if (colour[k] >= 0) {
-        slot[k] = at[static_cast<std::size_t>(colour[k])]++;
-        cc[static_cast<std::size_t>(slot[k])] = contacts[k];
-      }
-    for (Contact& c : cc) {
-      const int first = static_cast<int>(cp.size());
-      for (int i = 0; i < c.count; ++i) {
-        cp.push_back(points[static_cast<std::size_t>(c.first + i)]);
-        ck.push_back(keys[static_cast<std::size_t>(c.first + i)]);
-      }
-      c.first = first;
-    }
+      if (colour[k] >= 0) cc[static_cast<std::size_t>(at[static_cast<std::size_t>(colour[k])]++)] = contacts[k];
   }
+  std::vector<Point>& cp = points;
 
   std::vector<Place>& place = S.place;
   place.resize(static_cast<std::size_t>(nb));
@@ -606,8 +596,10 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
       for (int i = start[static_cast<std::size_t>(k)]; i < start[static_cast<std::size_t>(k) + 1]; ++i)
         fn(cc[static_cast<std::size_t>(i)]);
     }
+    if (start[static_cast<std::size_t>(wide)] < ncc) {  // (the same answer on every thread)
 #pragma omp single
-    for (int i = start[static_cast<std::size_t>(wide)]; i < ncc; ++i) fn(cc[static_cast<std::size_t>(i)]);
+      for (int i = start[static_cast<std::size_t>(wide)]; i < ncc; ++i) fn(cc[static_cast<std::size_t>(i)]);
+    }
   };
   const Vec3 gravity = ctx.gravity;
 #pragma omp parallel if (static_cast<std::ptrdiff_t>(cp.size()) >= parallelMin() && wide > 0)
@@ -656,15 +648,14 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   // Keep the impulses for the next step; count rest; pose the colliders.
   // (Contacts come in the keys' order: only a manifold's own points need sorting.)
   cache.impulses.clear();
-  for (std::size_t k = 0; k < contacts.size(); ++k) {
-    if (slot[k] < 0) continue;
-    const Contact& c = cc[static_cast<std::size_t>(slot[k])];
+  for (const Contact& c : contacts) {
+    if (bodies[static_cast<std::size_t>(c.a)].state->asleep) continue;
     for (int i = 0; i < c.count; ++i) {
       const std::size_t pi = static_cast<std::size_t>(c.first + i);
-      CachedImpulse key = ck[pi];
-      key.normal = cp[pi].ln;
-      key.t1 = cp[pi].lt1;
-      key.t2 = cp[pi].lt2;
+      CachedImpulse key = keys[pi];
+      key.normal = points[pi].ln;
+      key.t1 = points[pi].lt1;
+      key.t2 = points[pi].lt2;
       cache.impulses.push_back(key);
     }
     std::sort(cache.impulses.end() - c.count, cache.impulses.end());
