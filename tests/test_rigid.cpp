@@ -108,6 +108,43 @@ TEST_CASE("a box on an incline stays when tan θ < μ and slides with g (sin θ 
   }
 }
 
+TEST_CASE("a box sliding across another slows at μg and stays on its face (a pair's kept manifold moves with it)") {
+  // A 10 cm cube thrown at 2 m/s along the top of a heavy slab (a body, not an object: their
+  // manifold is kept while they barely move against each other and computed again when they have).
+  // Thrown along the slab's face it rests on: friction μ·g = 4.905 m/s² stops it after 0.408 s
+  // and 0.408 m.
+  World thrown = worldFromText(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 10, "gravity": [0, -9.81, 0],
+    "objects": [{"type": "plane", "name": "floor", "surface": {"friction": 0.5}}],
+    "bodies": [{"type": "rigid", "name": "slab", "shape": "box", "size": [3, 0.2, 1], "position": [0, 0.1, 0], "density": 100000,
+                "sleep_time": 0, "surface": {"friction": 0.5}},
+               {"type": "rigid", "name": "block", "shape": "box", "size": [0.1, 0.1, 0.1], "position": [-1, 0.25, 0], "sleep_time": 0,
+                "velocity": [2, 0, 0], "surface": {"friction": 0.5}}]})");
+  const double top = 0.2 + 0.05;
+  double lowest = 1.0;
+  for (int f = 0; f < 6; ++f) {  // 0.2 s
+    run(thrown, 1);
+    lowest = std::min(lowest, rigid(thrown, 1).states()[0].x.y());
+  }
+  CHECK(rigid(thrown, 1).states()[0].v.x() == doctest::Approx(2.0 - 4.905 * 0.2).epsilon(0.02));
+  run(thrown, 24);  // 1 s: stopped
+  const RigidState& end = rigid(thrown, 1).states()[0];
+  MESSAGE("slid " << end.x.x() + 1.0 << " m, lowest centre " << lowest << " m (face + half size " << top << " m)");
+  CHECK(end.v.norm() < 0.01);
+  CHECK(end.x.x() + 1.0 == doctest::Approx(0.408).epsilon(0.02));
+  CHECK(lowest > top - 0.006);  // into its slop, no farther
+  CHECK(std::abs(end.x.y() - top) < 0.006);
+  // Thrown at 3 m/s half a metre from the slab's end, it slides off and falls to the floor.
+  World off = worldFromText(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 10, "gravity": [0, -9.81, 0],
+    "objects": [{"type": "plane", "name": "floor", "surface": {"friction": 0.5}}],
+    "bodies": [{"type": "rigid", "name": "slab", "shape": "box", "size": [3, 0.2, 1], "position": [0, 0.1, 0], "density": 100000,
+                "sleep_time": 0, "surface": {"friction": 0.5}},
+               {"type": "rigid", "name": "block", "shape": "box", "size": [0.1, 0.1, 0.1], "position": [1, 0.25, 0], "sleep_time": 0,
+                "velocity": [3, 0, 0], "surface": {"friction": 0.5}}]})");
+  run(off, 30);
+  CHECK(rigid(off, 1).states()[0].x.x() > 1.5);
+  CHECK(rigid(off, 1).states()[0].x.y() < 0.1);
+}
+
 TEST_CASE("a ball dropped with restitution e bounces back to e² of its drop height") {
   World w = worldFromText(R"({"format": "reel/1", "duration": 2, "fps": 30, "substeps": 20,
     "objects": [{"type": "plane", "name": "floor", "surface": {"restitution": 0.8}}],

@@ -74,12 +74,15 @@ void RigidSystem::step(StepContext& ctx) { stepRigidBodies(entries_, ctx, cache_
 void RigidSystem::snapshot(StateBlob& out) const {
   StateWriter w(out);
   w.put(cache_.impulses);
+  w.put(cache_.manifolds);
 }
 
 bool RigidSystem::restore(const StateBlob& in) {
   StateReader r(in);
   std::vector<CachedImpulse> impulses;
+  std::vector<CachedManifold> manifolds;
   r.get(impulses);
+  r.get(manifolds);
   if (!r.done()) return false;
   // The warm-start cache: finite, sorted (it is searched).
   if (!std::is_sorted(impulses.begin(), impulses.end())) return false;
@@ -87,7 +90,19 @@ bool RigidSystem::restore(const StateBlob& in) {
     if (!std::isfinite(c.normal) || !std::isfinite(c.t1) || !std::isfinite(c.t2) || !std::isfinite(c.anchor[0]) ||
         !std::isfinite(c.anchor[1]) || !std::isfinite(c.anchor[2]))
       return false;
+  // The manifold cache: sorted, finite, at most 4 points each.
+  if (!std::is_sorted(manifolds.begin(), manifolds.end())) return false;
+  for (const CachedManifold& m : manifolds) {
+    if (m.count < 1 || m.count > 4) return false;
+    bool finite = std::isfinite(m.q[0]) && std::isfinite(m.q[1]) && std::isfinite(m.q[2]) && std::isfinite(m.q[3]);
+    for (int k = 0; k < 3; ++k) {
+      finite = finite && std::isfinite(m.t[k]) && std::isfinite(m.normal[k]);
+      for (int i = 0; i < 4; ++i) finite = finite && std::isfinite(m.on_a[i][k]) && std::isfinite(m.on_b[i][k]);
+    }
+    if (!finite) return false;
+  }
   cache_.impulses = std::move(impulses);
+  cache_.manifolds = std::move(manifolds);
   return true;
 }
 

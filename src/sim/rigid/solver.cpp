@@ -93,6 +93,8 @@ struct Scratch {
   std::vector<Pair> pairs;
   std::vector<std::uint32_t> near;
   std::vector<Manifold> manifolds;
+  std::vector<int> reused;
+  std::vector<CachedManifold> next_manifolds;
   std::vector<Contact> contacts, coloured;
   std::vector<Point> points;
   std::vector<CachedImpulse> keys;
@@ -239,6 +241,53 @@ void bounce(std::vector<Motion>& motion, const Contact& c, Point* pts) {
     p.ln = ln;
   }
   m.store();
+}
+
+constexpr double kReuse = 1e-3;  // m: how far a pair may move against itself and keep its manifold
+
+// B's pose in A's frame.
+Eigen::Quaterniond relativeTurn(const SolverBody& A, const SolverBody& B) { return A.state->q.conjugate() * B.state->q; }
+Vec3 relativeShift(const SolverBody& A, const SolverBody& B) { return A.pose.R.transpose() * (B.pose.p - A.pose.p); }
+
+// A fresh manifold of A and B, kept with their relative pose.
+CachedManifold keepManifold(std::uint32_t ga, std::uint32_t gb, const SolverBody& A, const SolverBody& B,
+                            const Manifold& m) {
+  CachedManifold c;
+  c.a = ga, c.b = gb;
+  c.count = m.count;
+  const Eigen::Quaterniond q = relativeTurn(A, B);
+  c.q = {q.w(), q.x(), q.y(), q.z()};
+  const Vec3 t = relativeShift(A, B), n = A.pose.R.transpose() * m.normal;
+  c.t = {t.x(), t.y(), t.z()};
+  c.normal = {n.x(), n.y(), n.z()};
+  for (int i = 0; i < m.count; ++i) {
+    const ContactPoint& p = m.points[static_cast<std::size_t>(i)];
+    // The surface points the midpoint joins: A's lies depth/2 along the normal, B's as far back.
+    const Vec3 on_a = A.pose.R.transpose() * (p.position + 0.5 * p.depth * m.normal - A.pose.p);
+    const Vec3 on_b = B.pose.R.transpose() * (p.position - 0.5 * p.depth * m.normal - B.pose.p);
+    c.on_a[static_cast<std::size_t>(i)] = {on_a.x(), on_a.y(), on_a.z()};
+    c.on_b[static_cast<std::size_t>(i)] = {on_b.x(), on_b.y(), on_b.z()};
+    c.id[static_cast<std::size_t>(i)] = p.id;
+  }
+  return c;
+}
+
+// The kept manifold carried by the bodies as they are now, when B has moved less than kReuse in
+// A's frame since it was computed (its turn measured at B's extent).
+bool reuseManifold(const CachedManifold& c, const SolverBody& A, const SolverBody& B, Manifold& m) {
+  const Vec3 shift = relativeShift(A, B) - Vec3(c.t[0], c.t[1], c.t[2]);
+  const Eigen::Quaterniond turn = Eigen::Quaterniond(c.q[0], c.q[1], c.q[2], c.q[3]).conjugate() * relativeTurn(A, B);
+  const double angle = 2.0 * std::asin(std::min(1.0, turn.vec().norm()));
+  if (!(shift.norm() + angle * B.model->extent <= kReuse)) return false;
+  m.normal = A.pose.R * Vec3(c.normal[0], c.normal[1], c.normal[2]);
+  m.count = c.count;
+  for (int i = 0; i < c.count; ++i) {
+    const auto& a = c.on_a[static_cast<std::size_t>(i)];
+    const auto& b = c.on_b[static_cast<std::size_t>(i)];
+    const Vec3 pa = A.pose.R * Vec3(a[0], a[1], a[2]) + A.pose.p, pb = B.pose.R * Vec3(b[0], b[1], b[2]) + B.pose.p;
+    m.points[static_cast<std::size_t>(i)] = {0.5 * (pa + pb), (pa - pb).dot(m.normal), c.id[static_cast<std::size_t>(i)]};
+  }
+  return true;
 }
 
 // Sorts `order` by `less` (a strict total order), starting from the order it has (last step's,
@@ -399,22 +448,45 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   stage.emplace(profile::Stage::Contacts);
   std::vector<Manifold>& manifolds = S.manifolds;
   manifolds.resize(pairs.size());
-  // (A pair costs about a microsecond, a few hundred times an element of a plain loop: the
-  // threshold is taken on 16 times the pairs.)
+  // Body pairs take last step's manifold where they have barely moved against each other (see
+  // CachedManifold), else compute it and keep it. (A pair costs about a microsecond, a few hundred
+  // times an element of a plain loop: the threshold is taken on 16 times the pairs.)
+  auto& reused = S.reused;  // per pair: the cached manifold it took, or −1
+  reused.assign(pairs.size(), -1);
+  const std::vector<CachedManifold>& kept = cache.manifolds;
   parallelBlocks(static_cast<std::ptrdiff_t>(pairs.size()), 8, [&](std::ptrdiff_t k0, std::ptrdiff_t k1) {
     for (std::ptrdiff_t k = k0; k < k1; ++k) {
       const Scratch::Pair& p = pairs[static_cast<std::size_t>(k)];
       const SolverBody& A = bodies[static_cast<std::size_t>(p.a)];
       Manifold& m = manifolds[static_cast<std::size_t>(k)];
-      if (p.b >= 0) {
-        const SolverBody& B = bodies[static_cast<std::size_t>(p.b)];
-        collide(A.model->shape, A.pose, B.model->shape, B.pose, A.margin + B.margin, m);
-      } else {
+      if (p.b < 0) {
         const ObjectPart& part = cache.parts[p.part];
         collidePart(A.model->shape, A.pose, part, colliders[part.collider], A.margin, m);
+        continue;
       }
+      const SolverBody& B = bodies[static_cast<std::size_t>(p.b)];
+      CachedManifold key;
+      key.a = global[static_cast<std::size_t>(p.a)], key.b = global[static_cast<std::size_t>(p.b)];
+      const auto it = std::lower_bound(kept.begin(), kept.end(), key);
+      if (it != kept.end() && it->a == key.a && it->b == key.b && reuseManifold(*it, A, B, m)) {
+        reused[static_cast<std::size_t>(k)] = static_cast<int>(it - kept.begin());
+        continue;
+      }
+      collide(A.model->shape, A.pose, B.model->shape, B.pose, A.margin + B.margin, m);
     }
   }, static_cast<std::ptrdiff_t>(pairs.size()) * 16);
+  {
+    auto& next = S.next_manifolds;
+    next.clear();
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      const Scratch::Pair& p = pairs[k];
+      if (p.b < 0 || manifolds[k].count == 0) continue;
+      if (reused[k] >= 0) next.push_back(kept[static_cast<std::size_t>(reused[k])]);
+      else next.push_back(keepManifold(global[static_cast<std::size_t>(p.a)], global[static_cast<std::size_t>(p.b)],
+                                       bodies[static_cast<std::size_t>(p.a)], bodies[static_cast<std::size_t>(p.b)], manifolds[k]));
+    }
+    std::swap(cache.manifolds, next);
+  }
 
   // Contacts: one per touching pair, a point per manifold point.
   stage.emplace(profile::Stage::Integration);
