@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "core/math.h"
+#include "core/lanes.h"
 #include "core/parallel.h"
 #include "core/profile.h"
 #include "core/union_find.h"
@@ -54,23 +55,52 @@ struct Axis {
   double mass = 0;  // effective mass along d, kg
 };
 
-// A contact point as a row of the solver.
-struct Point {
-  Axis n, t1, t2;                 // the normal and the two tangents
-  Vec3 vs{0, 0, 0};               // an object's surface velocity at the point
-  Vec3 la{0, 0, 0}, lb{0, 0, 0};  // the point on A (body frame); on B (body frame), or world for an object
-  double base = 0, slop = 0;      // separation at the start, less the anchors' gap along n, m
-  double ln = 0, lt1 = 0, lt2 = 0;  // accumulated impulses, N·s
-  double vn0 = 0;                   // approach speed at the start, m/s
-  Vec3 ra{0, 0, 0}, rb{0, 0, 0};    // from A's and B's centres (set-up only)
-};
-
 // A manifold: the points of one pair of bodies (or a body and an object part), solved together.
 struct Contact {
   int a = -1, b = -1;  // solver bodies; b = −1: an object (its surface moves at the points' vs)
   int first = 0, count = 0;  // its points
   Vec3 n{0, 1, 0}, t1{1, 0, 0}, t2{0, 0, 1};
   double mu = 0, e = 0;
+};
+
+// Wide contacts (Box2D v3's wide constraints, Catto 2024, in 3D with four doubles): four contacts
+// of one colour solved at once, a lane each, their points side by side (a contact's k-th point in
+// slot k; slots past a contact's points, and lanes with no contact, hold zeros, whose impulses are
+// zero). The arithmetic is lane-wise IEEE, so a lane gets the bits it would get alone, in any clone.
+// (Helpers that take and return four lanes are always inlined into the clones that call them:
+// no call passes a vector across the ABI, whatever the -Wpsabi note says.)
+// Four lanes are 32-byte aligned where AVX is on and 16 where it is not: every structure that holds
+// them in memory is aligned to 32, so that both clones agree on where they lie.
+#pragma GCC diagnostic ignored "-Wpsabi"
+struct alignas(32) L3 {
+  alignas(32) Lane4 x{}, y{}, z{};
+};
+[[gnu::always_inline]] inline Lane4 dot(const L3& a, const L3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+[[gnu::always_inline]] inline L3 operator+(const L3& a, const L3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+[[gnu::always_inline]] inline L3 operator-(const L3& a, const L3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+[[gnu::always_inline]] inline L3 operator*(const Lane4& k, const L3& a) { return {k * a.x, k * a.y, k * a.z}; }
+[[gnu::always_inline]] inline void setLane(L3& a, int l, const Vec3& v) { a.x[l] = v.x(), a.y[l] = v.y(), a.z[l] = v.z(); }
+[[gnu::always_inline]] inline Vec3 lane(const L3& a, int l) { return {a.x[l], a.y[l], a.z[l]}; }
+[[gnu::always_inline]] inline Lane4 splat(double v) { return Lane4{v, v, v, v}; }
+
+struct alignas(32) WideAxis {
+  L3 ja, jb, ia, ib;  // as in Axis
+  alignas(32) Lane4 mass{};
+};
+struct alignas(32) WidePoint {
+  WideAxis n, t1, t2;
+  L3 la, lb, vs;  // anchors on A and B (B's: world for an object); an object's surface velocity
+  alignas(32) Lane4 base{};  // separation at the start, less the anchors' gap along n, m
+  alignas(32) Lane4 slop{};  // m
+  alignas(32) Lane4 ln{}, lt1{}, lt2{};  // accumulated impulses, N·s
+  alignas(32) Lane4 vn0{};   // approach speed at the start, m/s
+};
+struct alignas(32) WideContact {
+  std::array<int, 4> a{-1, -1, -1, -1}, b{-1, -1, -1, -1};  // per lane: its bodies (−1: none, or an object)
+  std::array<int, 4> contact{-1, -1, -1, -1};                // per lane: its contact
+  int first = 0, count = 0;  // its slots of points (the most points of its lanes)
+  L3 n, t1, t2;
+  alignas(32) Lane4 mu{}, e{}, ima{}, imb{};  // friction, restitution, inverse masses
 };
 
 // The step's buffers, kept from step to step on each thread so that a step allocates nothing.
@@ -95,8 +125,11 @@ struct Scratch {
   std::vector<Manifold> manifolds;
   std::vector<int> reused;
   std::vector<CachedManifold> next_manifolds;
-  std::vector<Contact> contacts, coloured;
-  std::vector<Point> points;
+  std::vector<Contact> contacts;
+  std::vector<int> coloured;  // the contacts in colour order
+  std::vector<WideContact> batches;
+  std::vector<WidePoint> wide_points;
+  std::vector<int> where;  // per contact: its batch · 4 + its lane
   std::vector<CachedImpulse> keys;
   std::vector<int> parent, colour, source;
   std::vector<double> island_rest;
@@ -132,115 +165,131 @@ struct Soft {
   }
 };
 
-// A contact's two bodies' velocities, held in registers while its points are solved (kBody: B is
-// a body, not an object).
-template <bool kBody>
-struct Pairing {
-  Motion& A;
-  Motion* B;
-  Vec3 va, wa, vb{0, 0, 0}, wb{0, 0, 0};
-  double ima, imb = 0;
-  Pairing(std::vector<Motion>& motion, const Contact& c)
-      : A(motion[static_cast<std::size_t>(c.a)]),
-        B(kBody ? &motion[static_cast<std::size_t>(c.b)] : nullptr),
-        va(A.v),
-        wa(A.w),
-        ima(A.inv_mass) {
-    if (kBody) vb = B->v, wb = B->w, imb = B->inv_mass;
-  }
-  // B's point velocity less A's, along d.
-  [[gnu::always_inline]] double along(const Point& p, const Axis& x, const Vec3& d) const {
-    if (kBody) return d.dot(vb - va) + x.jb.dot(wb) - x.ja.dot(wa);
-    return d.dot(p.vs - va) - x.ja.dot(wa);
-  }
-  // Impulses l1 along d1 and l2 along d2 (B's share; A takes the opposite).
-  [[gnu::always_inline]] void apply(const Axis& x1, const Vec3& d1, double l1, const Axis& x2, const Vec3& d2,
-                                    double l2) {
-    const Vec3 P = l1 * d1 + l2 * d2;
-    va -= ima * P;
-    wa -= l1 * x1.ia + l2 * x2.ia;
-    if (kBody) {
-      vb += imb * P;
-      wb += l1 * x1.ib + l2 * x2.ib;
+// The four lanes' body velocities, gathered from the dense array and scattered back.
+struct alignas(32) WideMotion {
+  L3 va, wa, vb, wb;
+  [[gnu::always_inline]] WideMotion(const WideContact& c, const std::vector<Motion>& motion) {
+    for (int l = 0; l < 4; ++l) {
+      if (c.a[static_cast<std::size_t>(l)] >= 0) {
+        const Motion& A = motion[static_cast<std::size_t>(c.a[static_cast<std::size_t>(l)])];
+        setLane(va, l, A.v), setLane(wa, l, A.w);
+      }
+      if (c.b[static_cast<std::size_t>(l)] >= 0) {
+        const Motion& B = motion[static_cast<std::size_t>(c.b[static_cast<std::size_t>(l)])];
+        setLane(vb, l, B.v), setLane(wb, l, B.w);
+      }
     }
   }
-  [[gnu::always_inline]] void apply(const Axis& x, const Vec3& d, double l) {
-    va -= (ima * l) * d;
-    wa -= l * x.ia;
-    if (kBody) {
-      vb += (imb * l) * d;
-      wb += l * x.ib;
+  [[gnu::always_inline]] void store(const WideContact& c, std::vector<Motion>& motion) const {
+    for (int l = 0; l < 4; ++l) {
+      if (c.a[static_cast<std::size_t>(l)] >= 0) {
+        Motion& A = motion[static_cast<std::size_t>(c.a[static_cast<std::size_t>(l)])];
+        A.v = lane(va, l), A.w = lane(wa, l);
+      }
+      if (c.b[static_cast<std::size_t>(l)] >= 0) {
+        Motion& B = motion[static_cast<std::size_t>(c.b[static_cast<std::size_t>(l)])];
+        B.v = lane(vb, l), B.w = lane(wb, l);
+      }
     }
   }
-  void store() {
-    A.v = va, A.w = wa;
-    if (kBody) B->v = vb, B->w = wb;
+  // B's point velocity less A's along d (an object's surface moves at vs; B's terms are zero).
+  [[gnu::always_inline]] Lane4 along(const WidePoint& p, const WideAxis& x, const L3& d) const {
+    return dot(d, vb + p.vs - va) + dot(x.jb, wb) - dot(x.ja, wa);
+  }
+  // Impulses l1 along d1 and l2 along d2 on B (A takes the opposite).
+  [[gnu::always_inline]] void apply(const WideContact& c, const WideAxis& x1, const L3& d1, const Lane4& l1,
+                                    const WideAxis& x2, const L3& d2, const Lane4& l2) {
+    const L3 P = l1 * d1 + l2 * d2;
+    va = va - c.ima * P, wa = wa - (l1 * x1.ia + l2 * x2.ia);
+    vb = vb + c.imb * P, wb = wb + (l1 * x1.ib + l2 * x2.ib);
+  }
+  [[gnu::always_inline]] void apply(const WideContact& c, const WideAxis& x, const L3& d, const Lane4& l) {
+    va = va - (c.ima * l) * d, wa = wa - l * x.ia;
+    vb = vb + (c.imb * l) * d, wb = wb + l * x.ib;
   }
 };
 
-// Last step's impulses applied again (warm start).
-template <bool kBody>
-void warmStart(std::vector<Motion>& motion, const Contact& c, const Point* pts) {
-  Pairing<kBody> m(motion, c);
-  for (int i = 0; i < c.count; ++i) {
-    const Point& p = pts[i];
-    m.apply(p.n, c.n, p.ln);
-    m.apply(p.t1, c.t1, p.lt1, p.t2, c.t2, p.lt2);
+// The four lanes' bodies' rotations and centres now (an object: the identity and zero, its
+// anchor being in the world already).
+struct alignas(32) WidePlace {
+  std::array<L3, 3> ra, rb;  // rows
+  L3 xa, xb;
+  [[gnu::always_inline]] WidePlace(const WideContact& c, const std::vector<Place>& place) {
+    for (int l = 0; l < 4; ++l) {
+      const int ia = c.a[static_cast<std::size_t>(l)], ib = c.b[static_cast<std::size_t>(l)];
+      if (ia < 0) continue;
+      const Place& A = place[static_cast<std::size_t>(ia)];
+      const Place B = ib >= 0 ? place[static_cast<std::size_t>(ib)] : Place{};
+      for (int r = 0; r < 3; ++r) setLane(ra[static_cast<std::size_t>(r)], l, A.R.row(r)), setLane(rb[static_cast<std::size_t>(r)], l, B.R.row(r));
+      setLane(xa, l, A.x), setLane(xb, l, B.x);
+    }
   }
-  m.store();
+  [[gnu::always_inline]] static L3 turn(const std::array<L3, 3>& R, const L3& v) { return {dot(R[0], v), dot(R[1], v), dot(R[2], v)}; }
+};
+
+// Last step's impulses applied again (warm start).
+REEL_CLONED void warmStart(const WideContact& c, const WidePoint* pts, std::vector<Motion>& motion) {
+  WideMotion m(c, motion);
+  for (int k = 0; k < c.count; ++k) {
+    const WidePoint& p = pts[k];
+    m.apply(c, p.n, c.n, p.ln);
+    m.apply(c, p.t1, c.t1, p.lt1, p.t2, c.t2, p.lt2);
+  }
+  m.store(c, motion);
 }
 
-// One contact's points, in order: the normal (a separated point may close its gap this sub-step;
-// an overlap beyond the slop is pushed out softly when `push`), then friction in the circle of
-// radius μ·λ_n. A point's separation now (negative: overlap) follows from how far its two anchors
-// moved apart along the normal since the step began.
-template <bool kBody>
-void solveContact(std::vector<Motion>& motion, const std::vector<Place>& place, const Contact& c, Point* pts,
-                  double h, const Soft& soft, bool push) {
-  Pairing<kBody> m(motion, c);
-  const Place& PA = place[static_cast<std::size_t>(c.a)];
-  const Place* PB = kBody ? &place[static_cast<std::size_t>(c.b)] : nullptr;
-  for (int i = 0; i < c.count; ++i) {
-    Point& p = pts[i];
-    const Vec3 d = (kBody ? Vec3(PB->x + PB->R * p.lb) : p.lb) - (PA.x + PA.R * p.la);
-    const double s = d.dot(c.n) + p.base + p.slop;
-    double bias = 0.0, mass_scale = 1.0, impulse_scale = 0.0;
-    if (s > 0) {
-      bias = s / h;
-    } else if (push) {
-      bias = std::max(soft.bias_rate * s, -kMaxPush);
-      mass_scale = soft.mass_scale;
-      impulse_scale = soft.impulse_scale;
-    }
-    const double vn = m.along(p, p.n, c.n);
-    const double ln = std::max(0.0, p.ln - p.n.mass * mass_scale * (vn + bias) - impulse_scale * p.ln);
-    m.apply(p.n, c.n, ln - p.ln);
+// One pass over a contact's points, in order: the normal (a separated point may close its gap
+// this sub-step; an overlap beyond the slop is pushed out softly when `push`), then friction in
+// the circle of radius μ·λ_n. A point's separation now (negative: overlap) follows from how far
+// its two anchors moved apart along the normal since the step began.
+REEL_CLONED void solveContact(const WideContact& c, WidePoint* pts, std::vector<Motion>& motion,
+                              const std::vector<Place>& place, double h, const Soft& soft, bool push) {
+  WideMotion m(c, motion);
+  const WidePlace at(c, place);
+  const Lane4 zero = splat(0.0), one = splat(1.0);
+  const Lane4 push_rate = splat(push ? soft.bias_rate : 0.0), push_mass = splat(push ? soft.mass_scale : 1.0);
+  const Lane4 push_impulse = splat(push ? soft.impulse_scale : 0.0), max_push = splat(push ? -kMaxPush : 0.0);
+  for (int k = 0; k < c.count; ++k) {
+    WidePoint& p = pts[k];
+    const L3 d = (at.xb + WidePlace::turn(at.rb, p.lb)) - (at.xa + WidePlace::turn(at.ra, p.la));
+    const Lane4 s = dot(d, c.n) + p.base + p.slop;
+    const Lane4 pushed = push_rate * s;
+    const auto apart = s > zero;
+    const Lane4 bias = apart ? s / h : (pushed > max_push ? pushed : max_push);
+    const Lane4 mass_scale = apart ? one : push_mass, impulse_scale = apart ? zero : push_impulse;
+    const Lane4 vn = m.along(p, p.n, c.n);
+    Lane4 ln = p.ln - p.n.mass * mass_scale * (vn + bias) - impulse_scale * p.ln;
+    ln = ln > zero ? ln : zero;
+    m.apply(c, p.n, c.n, ln - p.ln);
     p.ln = ln;
-    const double l1 = p.lt1 - p.t1.mass * m.along(p, p.t1, c.t1);
-    const double l2 = p.lt2 - p.t2.mass * m.along(p, p.t2, c.t2);
-    const double lim = c.mu * p.ln, len = std::sqrt(l1 * l1 + l2 * l2);
-    const double scale = len > lim && len > 0 ? lim / len : 1.0;
-    const double d1 = l1 * scale - p.lt1, d2 = l2 * scale - p.lt2;
+    const Lane4 l1 = p.lt1 - p.t1.mass * m.along(p, p.t1, c.t1);
+    const Lane4 l2 = p.lt2 - p.t2.mass * m.along(p, p.t2, c.t2);
+    const Lane4 lim = c.mu * p.ln, q = l1 * l1 + l2 * l2;
+    Lane4 len;
+    for (int l = 0; l < 4; ++l) len[l] = std::sqrt(q[l]);
+    const Lane4 scale = (len > lim) & (len > zero) ? lim / len : one;
+    const Lane4 d1 = l1 * scale - p.lt1, d2 = l2 * scale - p.lt2;
     p.lt1 += d1;
     p.lt2 += d2;
-    m.apply(p.t1, c.t1, d1, p.t2, c.t2, d2);
+    m.apply(c, p.t1, c.t1, d1, p.t2, c.t2, d2);
   }
-  m.store();
+  m.store(c, motion);
 }
 
 // Restitution: a point that was approaching faster than kBounceSpeed leaves at e times that speed.
-template <bool kBody>
-void bounce(std::vector<Motion>& motion, const Contact& c, Point* pts) {
-  if (c.e <= 0) return;
-  Pairing<kBody> m(motion, c);
-  for (int i = 0; i < c.count; ++i) {
-    Point& p = pts[i];
-    if (p.vn0 > -kBounceSpeed || p.ln <= 0) continue;
-    const double ln = std::max(0.0, p.ln - p.n.mass * (m.along(p, p.n, c.n) + c.e * p.vn0));
-    m.apply(p.n, c.n, ln - p.ln);
+void bounce(const WideContact& c, WidePoint* pts, std::vector<Motion>& motion) {
+  const Lane4 zero = splat(0.0);
+  if (!((c.e > zero)[0] | (c.e > zero)[1] | (c.e > zero)[2] | (c.e > zero)[3])) return;
+  WideMotion m(c, motion);
+  for (int k = 0; k < c.count; ++k) {
+    WidePoint& p = pts[k];
+    const auto hit = (c.e > zero) & (p.vn0 <= splat(-kBounceSpeed)) & (p.ln > zero);
+    Lane4 ln = p.ln - p.n.mass * (m.along(p, p.n, c.n) + c.e * p.vn0);
+    ln = hit ? (ln > zero ? ln : zero) : p.ln;
+    m.apply(c, p.n, c.n, ln - p.ln);
     p.ln = ln;
   }
-  m.store();
+  m.store(c, motion);
 }
 
 constexpr double kReuse = 1e-3;  // m: how far a pair may move against itself and keep its manifold
@@ -490,9 +539,8 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
 
   // Contacts: one per touching pair, a point per manifold point.
   stage.emplace(profile::Stage::Integration);
-  // (Here the contacts only; their points are filled in parallel once the islands are known.)
+  // (Here the contacts only; their points are filled in parallel once they are coloured.)
   auto& contacts = S.contacts;
-  auto& points = S.points;
   auto& keys = S.keys;
   auto& source = S.source;  // per contact: its pair
   contacts.clear(), source.clear();
@@ -526,7 +574,6 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   }
   stats.contacts = npoints;
   stats.contact_total += stats.contacts;
-  points.resize(static_cast<std::size_t>(npoints));
   keys.resize(static_cast<std::size_t>(npoints));
 
   // Islands: bodies joined by contacts sleep together once every one has rested long enough.
@@ -558,69 +605,12 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
     motion[static_cast<std::size_t>(i)].w = s.w;
   }
 
-  // Effective masses, anchors, and last step's impulses of the matching points (warm start): a
-  // point of the same bodies takes those of last step's nearest point within 2% of the smaller
-  // body's size (measured on body A; feature keys alone can swap between the corners of aligned
-  // faces). Each contact on its own, in parallel.
-  parallelBlocks(static_cast<std::ptrdiff_t>(contacts.size()), 16, [&](std::ptrdiff_t k0, std::ptrdiff_t k1) {
-    for (std::ptrdiff_t k = k0; k < k1; ++k) {
-      const Contact& c = contacts[static_cast<std::size_t>(k)];
-      const SolverBody& BA = bodies[static_cast<std::size_t>(c.a)];
-      if (BA.state->asleep) continue;
-      const Motion& A = motion[static_cast<std::size_t>(c.a)];
-      const Motion* B = c.b >= 0 ? &motion[static_cast<std::size_t>(c.b)] : nullptr;
-      const SolverBody* BB = c.b >= 0 ? &bodies[static_cast<std::size_t>(c.b)] : nullptr;
-      const double reach = 0.02 * std::min(BA.model->extent, BB ? BB->model->extent : 1e300);
-      const Scratch::Pair& pair = pairs[static_cast<std::size_t>(source[static_cast<std::size_t>(k)])];
-      const Manifold& mf = manifolds[static_cast<std::size_t>(source[static_cast<std::size_t>(k)])];
-      const Collider* object = BB ? nullptr : &colliders[cache.parts[pair.part].collider];
-      const CachedImpulse first = {global[static_cast<std::size_t>(c.a)], BB ? global[static_cast<std::size_t>(c.b)] : (kObjectBit | pair.part), 0};
-      const auto from = std::lower_bound(cache.impulses.begin(), cache.impulses.end(), first);
-      for (int i = 0; i < c.count; ++i) {
-        const std::size_t pi = static_cast<std::size_t>(c.first + i);
-        const ContactPoint& cpt = mf.points[static_cast<std::size_t>(i)];
-        Point& r = points[pi];
-        r = Point();
-        r.ra = cpt.position - BA.state->x;
-        if (BB) r.rb = cpt.position - BB->state->x;
-        else if (object->moving()) r.vs = object->velocityAt(cpt.position);
-        r.slop = std::min(0.005, 0.01 * std::min(BA.model->extent, BB ? BB->model->extent : 1e300));
-        r.base = -cpt.depth;
-        CachedImpulse& key = keys[pi];
-        key = first;
-        key.id = cpt.id;
-        r.n = axisOf(A, B, r.ra, r.rb, c.n);
-        r.t1 = axisOf(A, B, r.ra, r.rb, c.t1);
-        r.t2 = axisOf(A, B, r.ra, r.rb, c.t2);
-        r.la = BA.pose.R.transpose() * r.ra;
-        r.lb = BB ? Vec3(BB->pose.R.transpose() * r.rb) : Vec3(BA.pose.p + r.ra);
-        const Vec3 anchor = r.la;
-        key.anchor = {anchor.x(), anchor.y(), anchor.z()};
-        const CachedImpulse* match = nullptr;
-        double nearest = reach * reach;
-        for (auto it = from; it != cache.impulses.end() && it->a == key.a && it->b == key.b; ++it) {
-          const double d2 = (Vec3(it->anchor[0], it->anchor[1], it->anchor[2]) - anchor).squaredNorm();
-          if (d2 < nearest || (d2 == nearest && match && it->id == key.id)) {
-            nearest = d2;
-            match = &*it;
-          }
-        }
-        if (match) {
-          r.ln = match->normal;
-          r.lt1 = match->t1;
-          r.lt2 = match->t2;
-        }
-        r.vn0 = B ? Pairing<true>(motion, c).along(r, r.n, c.n) : Pairing<false>(motion, c).along(r, r.n, c.n);
-      }
-    }
-  }, static_cast<std::ptrdiff_t>(contacts.size()) * 16);
-
   // Colours (Box2D v3's constraint graph colouring, Catto 2024): contacts that share no moving
   // body take the same colour, the lowest one free for both (an object takes none), so a colour's
-  // contacts can be solved at once on any number of threads. A colour is solved in contact order,
-  // the colours one after another; colours of fewer than kWideColour contacts and the overflow
-  // past 64 colours run on one thread, in that order, so every thread count gives the same bits.
-  // Contacts of sleeping islands are left out.
+  // contacts can be solved at once on any number of threads. A colour is solved four contacts at
+  // a time (wide contacts) in contact order, the colours one after another; colours of fewer than
+  // kWideColour contacts, and one at a time the overflow past 64 colours, run on one thread, in
+  // that order, so every thread count gives the same bits. Contacts of sleeping islands are left out.
   std::vector<std::uint64_t>& used = S.used;
   used.assign(static_cast<std::size_t>(nb), 0);
   std::vector<int>& colour = S.colour;
@@ -642,15 +632,110 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   for (int k = 0; k <= kColours; ++k) start[static_cast<std::size_t>(k) + 1] += start[static_cast<std::size_t>(k)];
   int wide = 0;  // colours [0, wide) run in parallel
   while (wide < kColours && start[static_cast<std::size_t>(wide) + 1] - start[static_cast<std::size_t>(wide)] >= kWideColour) ++wide;
-  // The contacts in colour order (their points stay where they are, each contact's together).
   auto& cc = S.coloured;
   cc.resize(static_cast<std::size_t>(start[kColours + 1]));
   {
     std::array<int, kColours + 2> at = start;
     for (std::size_t k = 0; k < contacts.size(); ++k)
-      if (colour[k] >= 0) cc[static_cast<std::size_t>(at[static_cast<std::size_t>(colour[k])]++)] = contacts[k];
+      if (colour[k] >= 0) cc[static_cast<std::size_t>(at[static_cast<std::size_t>(colour[k])]++)] = static_cast<int>(k);
   }
-  std::vector<Point>& cp = points;
+  // Batches of four (the overflow's one at a time, as they may share bodies), each contact's points
+  // in slots.
+  auto& batches = S.batches;
+  auto& where = S.where;
+  batches.clear();
+  where.assign(contacts.size(), -1);
+  std::array<int, kColours + 2> bstart{};
+  int nslots = 0;
+  for (int k = 0; k <= kColours; ++k) {
+    bstart[static_cast<std::size_t>(k)] = static_cast<int>(batches.size());
+    const int lanes = k < kColours ? 4 : 1;
+    for (int i = start[static_cast<std::size_t>(k)]; i < start[static_cast<std::size_t>(k) + 1]; i += lanes) {
+      WideContact w;
+      w.first = nslots;
+      for (int l = 0; l < lanes && i + l < start[static_cast<std::size_t>(k) + 1]; ++l) {
+        const int ci = cc[static_cast<std::size_t>(i + l)];
+        const Contact& c = contacts[static_cast<std::size_t>(ci)];
+        w.a[static_cast<std::size_t>(l)] = c.a, w.b[static_cast<std::size_t>(l)] = c.b, w.contact[static_cast<std::size_t>(l)] = ci;
+        w.count = std::max(w.count, c.count);
+        where[static_cast<std::size_t>(ci)] = static_cast<int>(batches.size()) * 4 + l;
+      }
+      nslots += w.count;
+      batches.push_back(w);
+    }
+  }
+  bstart[kColours + 1] = static_cast<int>(batches.size());
+  auto& wp = S.wide_points;
+  wp.resize(static_cast<std::size_t>(nslots));
+
+  // Each lane's contact: directions, effective masses, anchors, and last step's impulses of the
+  // matching points (warm start): a point of the same bodies takes those of last step's nearest
+  // point within 2% of the smaller body's size (measured on body A; feature keys alone can swap
+  // between the corners of aligned faces). The batches in parallel.
+  parallelBlocks(static_cast<std::ptrdiff_t>(batches.size()), 4, [&](std::ptrdiff_t b0, std::ptrdiff_t b1) {
+    for (std::ptrdiff_t bi = b0; bi < b1; ++bi) {
+      WideContact& w = batches[static_cast<std::size_t>(bi)];
+      WidePoint* pts = &wp[static_cast<std::size_t>(w.first)];
+      std::fill(pts, pts + w.count, WidePoint{});
+      for (int l = 0; l < 4; ++l) {
+        const int ci = w.contact[static_cast<std::size_t>(l)];
+        if (ci < 0) continue;
+        const Contact& c = contacts[static_cast<std::size_t>(ci)];
+        const SolverBody& BA = bodies[static_cast<std::size_t>(c.a)];
+        const Motion& A = motion[static_cast<std::size_t>(c.a)];
+        const Motion* B = c.b >= 0 ? &motion[static_cast<std::size_t>(c.b)] : nullptr;
+        const SolverBody* BB = c.b >= 0 ? &bodies[static_cast<std::size_t>(c.b)] : nullptr;
+        setLane(w.n, l, c.n), setLane(w.t1, l, c.t1), setLane(w.t2, l, c.t2);
+        w.mu[l] = c.mu, w.e[l] = c.e, w.ima[l] = A.inv_mass, w.imb[l] = B ? B->inv_mass : 0.0;
+        const double extent = std::min(BA.model->extent, BB ? BB->model->extent : 1e300);
+        const double reach = 0.02 * extent;
+        const Scratch::Pair& pair = pairs[static_cast<std::size_t>(source[static_cast<std::size_t>(ci)])];
+        const Manifold& mf = manifolds[static_cast<std::size_t>(source[static_cast<std::size_t>(ci)])];
+        const Collider* object = BB ? nullptr : &colliders[cache.parts[pair.part].collider];
+        const CachedImpulse first = {global[static_cast<std::size_t>(c.a)], BB ? global[static_cast<std::size_t>(c.b)] : (kObjectBit | pair.part), 0};
+        const auto from = std::lower_bound(cache.impulses.begin(), cache.impulses.end(), first);
+        for (int i = 0; i < c.count; ++i) {
+          const ContactPoint& cpt = mf.points[static_cast<std::size_t>(i)];
+          WidePoint& r = pts[i];
+          const Vec3 ra = cpt.position - BA.state->x;
+          const Vec3 rb = BB ? Vec3(cpt.position - BB->state->x) : Vec3::Zero();
+          const Vec3 vs = !BB && object->moving() ? object->velocityAt(cpt.position) : Vec3::Zero();
+          r.slop[l] = std::min(0.005, 0.01 * extent);
+          r.base[l] = -cpt.depth;
+          setLane(r.vs, l, vs);
+          auto setAxis = [&](WideAxis& x, const Vec3& d) {
+            const Axis a = axisOf(A, B, ra, rb, d);
+            setLane(x.ja, l, a.ja), setLane(x.jb, l, a.jb), setLane(x.ia, l, a.ia), setLane(x.ib, l, a.ib);
+            x.mass[l] = a.mass;
+            return a;
+          };
+          const Axis an = setAxis(r.n, c.n);
+          setAxis(r.t1, c.t1);
+          setAxis(r.t2, c.t2);
+          const Vec3 la = BA.pose.R.transpose() * ra;
+          setLane(r.la, l, la);
+          setLane(r.lb, l, BB ? Vec3(BB->pose.R.transpose() * rb) : Vec3(BA.pose.p + ra));
+          CachedImpulse& key = keys[static_cast<std::size_t>(c.first + i)];
+          key = first;
+          key.id = cpt.id;
+          key.anchor = {la.x(), la.y(), la.z()};
+          const CachedImpulse* match = nullptr;
+          double nearest = reach * reach;
+          for (auto it = from; it != cache.impulses.end() && it->a == key.a && it->b == key.b; ++it) {
+            const double d2 = (Vec3(it->anchor[0], it->anchor[1], it->anchor[2]) - la).squaredNorm();
+            if (d2 < nearest || (d2 == nearest && match && it->id == key.id)) {
+              nearest = d2;
+              match = &*it;
+            }
+          }
+          if (match) r.ln[l] = match->normal, r.lt1[l] = match->t1, r.lt2[l] = match->t2;
+          // The approach speed at the start (restitution).
+          const Vec3 vb = B ? Vec3(B->v) : vs;
+          r.vn0[l] = c.n.dot(vb - A.v) + (B ? an.jb.dot(B->w) : 0.0) - an.ja.dot(A.w);
+        }
+      }
+    }
+  }, static_cast<std::ptrdiff_t>(batches.size()) * 64);
 
   std::vector<Place>& place = S.place;
   place.resize(static_cast<std::size_t>(nb));
@@ -661,20 +746,20 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   // ends in a barrier.
   const double hs = h / iterations;
   const Soft soft(std::min(kContactHertz, 0.25 / hs), 10.0, hs);
-  const int ncc = static_cast<int>(cc.size());
+  const int nbatch = static_cast<int>(batches.size());
   auto colours = [&](auto&& fn) {
     for (int k = 0; k < wide; ++k) {
 #pragma omp for schedule(static)
-      for (int i = start[static_cast<std::size_t>(k)]; i < start[static_cast<std::size_t>(k) + 1]; ++i)
-        fn(cc[static_cast<std::size_t>(i)]);
+      for (int i = bstart[static_cast<std::size_t>(k)]; i < bstart[static_cast<std::size_t>(k) + 1]; ++i)
+        fn(batches[static_cast<std::size_t>(i)]);
     }
-    if (start[static_cast<std::size_t>(wide)] < ncc) {  // (the same answer on every thread)
+    if (bstart[static_cast<std::size_t>(wide)] < nbatch) {  // (the same answer on every thread)
 #pragma omp single
-      for (int i = start[static_cast<std::size_t>(wide)]; i < ncc; ++i) fn(cc[static_cast<std::size_t>(i)]);
+      for (int i = bstart[static_cast<std::size_t>(wide)]; i < nbatch; ++i) fn(batches[static_cast<std::size_t>(i)]);
     }
   };
   const Vec3 gravity = ctx.gravity;
-#pragma omp parallel if (static_cast<std::ptrdiff_t>(cp.size()) >= parallelMin() && wide > 0)
+#pragma omp parallel if (npoints >= parallelMin() && wide > 0)
   for (int sub = 0; sub < iterations; ++sub) {
 #pragma omp for schedule(static)
     for (int i = 0; i < nb; ++i) {
@@ -688,14 +773,8 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
       if (m.linear_damping > 0) mo.v /= 1.0 + hs * m.linear_damping;
       if (m.angular_damping > 0) mo.w /= 1.0 + hs * m.angular_damping;
     }
-    colours([&](const Contact& c) {
-      Point* pts = &cp[static_cast<std::size_t>(c.first)];
-      c.b >= 0 ? warmStart<true>(motion, c, pts) : warmStart<false>(motion, c, pts);
-    });
-    colours([&](const Contact& c) {
-      Point* pts = &cp[static_cast<std::size_t>(c.first)];
-      c.b >= 0 ? solveContact<true>(motion, place, c, pts, hs, soft, true) : solveContact<false>(motion, place, c, pts, hs, soft, true);
-    });
+    colours([&](const WideContact& c) { warmStart(c, &wp[static_cast<std::size_t>(c.first)], motion); });
+    colours([&](const WideContact& c) { solveContact(c, &wp[static_cast<std::size_t>(c.first)], motion, place, hs, soft, true); });
 #pragma omp for schedule(static)
     for (int i = 0; i < nb; ++i) {
       const SolverBody& b = bodies[static_cast<std::size_t>(i)];
@@ -708,26 +787,23 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
       mo.w = s.w;
       place[static_cast<std::size_t>(i)] = {s.q.toRotationMatrix(), s.x};
     }
-    colours([&](const Contact& c) {
-      Point* pts = &cp[static_cast<std::size_t>(c.first)];
-      c.b >= 0 ? solveContact<true>(motion, place, c, pts, hs, soft, false) : solveContact<false>(motion, place, c, pts, hs, soft, false);
-    });
+    colours([&](const WideContact& c) { solveContact(c, &wp[static_cast<std::size_t>(c.first)], motion, place, hs, soft, false); });
   }
-  for (const Contact& c : cc) {
-    Point* pts = &cp[static_cast<std::size_t>(c.first)];
-    c.b >= 0 ? bounce<true>(motion, c, pts) : bounce<false>(motion, c, pts);
-  }
+  for (const WideContact& c : batches) bounce(c, &wp[static_cast<std::size_t>(c.first)], motion);
   // Keep the impulses for the next step; count rest; pose the colliders.
   // (Contacts come in the keys' order: only a manifold's own points need sorting.)
   cache.impulses.clear();
-  for (const Contact& c : contacts) {
-    if (bodies[static_cast<std::size_t>(c.a)].state->asleep) continue;
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    if (where[k] < 0) continue;
+    const Contact& c = contacts[k];
+    const WideContact& w = batches[static_cast<std::size_t>(where[k] / 4)];
+    const int l = where[k] % 4;
     for (int i = 0; i < c.count; ++i) {
-      const std::size_t pi = static_cast<std::size_t>(c.first + i);
-      CachedImpulse key = keys[pi];
-      key.normal = points[pi].ln;
-      key.t1 = points[pi].lt1;
-      key.t2 = points[pi].lt2;
+      const WidePoint& p = wp[static_cast<std::size_t>(w.first + i)];
+      CachedImpulse key = keys[static_cast<std::size_t>(c.first + i)];
+      key.normal = p.ln[l];
+      key.t1 = p.lt1[l];
+      key.t2 = p.lt2[l];
       cache.impulses.push_back(key);
     }
     std::sort(cache.impulses.end() - c.count, cache.impulses.end());
