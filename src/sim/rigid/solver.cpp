@@ -112,7 +112,6 @@ struct Scratch {
   struct Sweep {
     Vec3 lo, hi;
     int body = 0;
-    bool asleep = false;
     double strip = 0;  // which strip across the sweep
   };
   std::vector<Sweep> sweep, sorted;
@@ -413,85 +412,112 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   const int nb = static_cast<int>(bodies.size());
 
   std::optional<profile::Scope> stage(std::in_place, profile::Stage::Neighbours);
-  // Broad phase: the bodies' boxes cut into strips across the axis they spread second most, each
-  // strip as wide as the widest box, and swept along the axis they spread most (a tall stack is
-  // swept along y): a box meets the boxes after it in its own strip and those of the next strip
-  // whose interval reaches it, each pair found once (a strip two away lies beyond the widest box).
-  // A pile of columns is swept column by column, not a row of columns at once. Sorted by strip,
-  // then the box's low end, then the body, starting from last step's order.
+  // Broad phase. Candidates: the pairs whose fattened boxes overlap, kept while every body's box
+  // stays inside its fattened one (a resting pile keeps them for ever; the idea of Box2D's fat
+  // boxes, a margin of 5% of the body's size, at least 1 cm, and two steps of its motion). The
+  // pairs: the candidates whose boxes overlap now (and not both asleep), so they are the same
+  // whatever candidates were kept. Candidates come from the fattened boxes cut into strips across
+  // the axis they spread second most, each strip as wide as the widest box, and swept along the
+  // axis they spread most (a tall stack is swept along y): a box meets the boxes after it in its
+  // own strip and those of the next strip whose interval reaches it, each pair found once (a
+  // strip two away lies beyond the widest box). A pile of columns is swept column by column, not
+  // a row of columns at once. Sorted by strip, then the box's low end, then the body, starting
+  // from the last order.
   auto& pairs = S.pairs;
   pairs.clear();
-  Vec3 spread_lo = Vec3::Constant(1e300), spread_hi = Vec3::Constant(-1e300), widest = Vec3::Zero();
-  for (const SolverBody& b : bodies)
-    if (b.lo.allFinite() && b.hi.allFinite()) {
-      spread_lo = spread_lo.cwiseMin(b.lo);
-      spread_hi = spread_hi.cwiseMax(b.lo);
-      widest = widest.cwiseMax(b.hi - b.lo);
-    }
-  const Vec3 spread = (spread_hi - spread_lo).cwiseMax(0.0);
-  int axis = 0;
-  spread.maxCoeff(&axis);
-  const int across = spread[(axis + 1) % 3] >= spread[(axis + 2) % 3] ? (axis + 1) % 3 : (axis + 2) % 3;
-  const double strip_width = widest[across] * (1.0 + 1e-9) + 1e-9;
-  auto& sweep = S.sweep;
-  sweep.resize(static_cast<std::size_t>(nb));
-  for (int i = 0; i < nb; ++i) {
+  auto& fat_lo = cache.fat_lo;
+  auto& fat_hi = cache.fat_hi;
+  auto& candidates = cache.candidates;
+  bool inside = fat_lo.size() == static_cast<std::size_t>(nb);
+  for (int i = 0; i < nb && inside; ++i) {
     const SolverBody& b = bodies[static_cast<std::size_t>(i)];
-    Scratch::Sweep& w = sweep[static_cast<std::size_t>(i)];
-    w = {b.lo, b.hi, i, b.state->asleep, 0.0};
-    // (A box with a non-finite bound meets nothing: it goes last and its tests fail.)
-    const double k = (b.lo[across] - spread_lo[across]) / strip_width;
-    w.strip = b.lo.allFinite() && b.hi.allFinite() ? std::floor(std::clamp(k, 0.0, 1e15)) : 2e15;
-    if (!std::isfinite(w.lo[axis])) w.lo[axis] = 1e300;
+    inside = (b.lo.array() >= fat_lo[static_cast<std::size_t>(i)].array()).all() &&
+             (b.hi.array() <= fat_hi[static_cast<std::size_t>(i)].array()).all();
   }
-  std::vector<int>& order = cache.sweep_order;
-  if (order.size() != static_cast<std::size_t>(nb)) {
-    order.resize(static_cast<std::size_t>(nb));
-    for (int i = 0; i < nb; ++i) order[static_cast<std::size_t>(i)] = i;
-  }
-  sortNearlySorted(order, [&](int i, int j) {
-    const Scratch::Sweep& p = sweep[static_cast<std::size_t>(i)];
-    const Scratch::Sweep& q = sweep[static_cast<std::size_t>(j)];
-    return p.strip != q.strip ? p.strip < q.strip : p.lo[axis] != q.lo[axis] ? p.lo[axis] < q.lo[axis] : i < j;
-  });
-  auto& sorted = S.sorted;
-  sorted.resize(static_cast<std::size_t>(nb));
-  for (int i = 0; i < nb; ++i) sorted[static_cast<std::size_t>(i)] = sweep[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])];
-  auto test = [&](const Scratch::Sweep& A, const Scratch::Sweep& B) {
-    if (A.asleep && B.asleep) return;
-    if (!overlaps(A.lo, A.hi, B.lo, B.hi)) return;
-    pairs.push_back({std::min(A.body, B.body), std::max(A.body, B.body)});
-  };
-  const std::size_t ns = sorted.size();
-  for (std::size_t s0 = 0; s0 < ns;) {
-    std::size_t s1 = s0;  // the strip [s0, s1), the next one [s1, s2)
-    while (s1 < ns && sorted[s1].strip == sorted[s0].strip) ++s1;
-    std::size_t s2 = s1;
-    if (s1 < ns && sorted[s1].strip == sorted[s0].strip + 1 && sorted[s0].strip < 1e15)
-      while (s2 < ns && sorted[s2].strip == sorted[s1].strip) ++s2;
-    std::size_t from = s1;  // the next strip's first box that may reach the current one
-    for (std::size_t i = s0; i < s1; ++i) {
-      const Scratch::Sweep& A = sorted[i];
-      const double end = A.hi[axis];
-      for (std::size_t j = i + 1; j < s1 && sorted[j].lo[axis] <= end; ++j) test(A, sorted[j]);
-      while (from < s2 && sorted[from].lo[axis] < A.lo[axis] - widest[axis]) ++from;
-      for (std::size_t j = from; j < s2 && sorted[j].lo[axis] <= end; ++j) test(A, sorted[j]);
+  if (!inside) {
+    fat_lo.resize(static_cast<std::size_t>(nb));
+    fat_hi.resize(static_cast<std::size_t>(nb));
+    candidates.clear();
+    Vec3 spread_lo = Vec3::Constant(1e300), spread_hi = Vec3::Constant(-1e300), widest = Vec3::Zero();
+    for (int i = 0; i < nb; ++i) {
+      const SolverBody& b = bodies[static_cast<std::size_t>(i)];
+      const RigidState& st = *b.state;
+      const double fat = std::max(0.01, 0.05 * b.model->extent) + 2.0 * h * (st.v.norm() + st.w.norm() * b.model->extent);
+      fat_lo[static_cast<std::size_t>(i)] = b.lo - Vec3::Constant(fat);
+      fat_hi[static_cast<std::size_t>(i)] = b.hi + Vec3::Constant(fat);
+      const Vec3& lo = fat_lo[static_cast<std::size_t>(i)];
+      const Vec3& hi = fat_hi[static_cast<std::size_t>(i)];
+      if (lo.allFinite() && hi.allFinite()) {
+        spread_lo = spread_lo.cwiseMin(lo);
+        spread_hi = spread_hi.cwiseMax(lo);
+        widest = widest.cwiseMax(hi - lo);
+      }
     }
-    s0 = s1;
+    const Vec3 spread = (spread_hi - spread_lo).cwiseMax(0.0);
+    int axis = 0;
+    spread.maxCoeff(&axis);
+    const int across = spread[(axis + 1) % 3] >= spread[(axis + 2) % 3] ? (axis + 1) % 3 : (axis + 2) % 3;
+    const double strip_width = widest[across] * (1.0 + 1e-9) + 1e-9;
+    auto& sweep = S.sweep;
+    sweep.resize(static_cast<std::size_t>(nb));
+    for (int i = 0; i < nb; ++i) {
+      Scratch::Sweep& w = sweep[static_cast<std::size_t>(i)];
+      w = {fat_lo[static_cast<std::size_t>(i)], fat_hi[static_cast<std::size_t>(i)], i, 0.0};
+      // (A box with a non-finite bound meets nothing: it goes last and its tests fail.)
+      const double k = (w.lo[across] - spread_lo[across]) / strip_width;
+      w.strip = w.lo.allFinite() && w.hi.allFinite() ? std::floor(std::clamp(k, 0.0, 1e15)) : 2e15;
+      if (!std::isfinite(w.lo[axis])) w.lo[axis] = 1e300;
+    }
+    std::vector<int>& order = cache.sweep_order;
+    if (order.size() != static_cast<std::size_t>(nb)) {
+      order.resize(static_cast<std::size_t>(nb));
+      for (int i = 0; i < nb; ++i) order[static_cast<std::size_t>(i)] = i;
+    }
+    sortNearlySorted(order, [&](int i, int j) {
+      const Scratch::Sweep& p = sweep[static_cast<std::size_t>(i)];
+      const Scratch::Sweep& q = sweep[static_cast<std::size_t>(j)];
+      return p.strip != q.strip ? p.strip < q.strip : p.lo[axis] != q.lo[axis] ? p.lo[axis] < q.lo[axis] : i < j;
+    });
+    auto& sorted = S.sorted;
+    sorted.resize(static_cast<std::size_t>(nb));
+    for (int i = 0; i < nb; ++i) sorted[static_cast<std::size_t>(i)] = sweep[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])];
+    auto test = [&](const Scratch::Sweep& A, const Scratch::Sweep& B) {
+      if (overlaps(A.lo, A.hi, B.lo, B.hi)) candidates.push_back({std::min(A.body, B.body), std::max(A.body, B.body)});
+    };
+    const std::size_t ns = sorted.size();
+    for (std::size_t s0 = 0; s0 < ns;) {
+      std::size_t s1 = s0;  // the strip [s0, s1), the next one [s1, s2)
+      while (s1 < ns && sorted[s1].strip == sorted[s0].strip) ++s1;
+      std::size_t s2 = s1;
+      if (s1 < ns && sorted[s1].strip == sorted[s0].strip + 1 && sorted[s0].strip < 1e15)
+        while (s2 < ns && sorted[s2].strip == sorted[s1].strip) ++s2;
+      std::size_t from = s1;  // the next strip's first box that may reach the current one
+      for (std::size_t i = s0; i < s1; ++i) {
+        const Scratch::Sweep& A = sorted[i];
+        const double end = A.hi[axis];
+        for (std::size_t j = i + 1; j < s1 && sorted[j].lo[axis] <= end; ++j) test(A, sorted[j]);
+        while (from < s2 && sorted[from].lo[axis] < A.lo[axis] - widest[axis]) ++from;
+        for (std::size_t j = from; j < s2 && sorted[j].lo[axis] <= end; ++j) test(A, sorted[j]);
+      }
+      s0 = s1;
+    }
+    std::sort(candidates.begin(), candidates.end());
   }
+  // The pairs in the order of the cache's keys: by A, then B's bodies, then the object parts (a
+  // sleeping body meets only moving objects, which may wake it).
   std::vector<std::uint32_t>& near = S.near;
-  // A sleeping body meets only moving objects (which may wake it).
+  std::size_t cursor = 0;
   for (int i = 0; i < nb; ++i) {
     const SolverBody& A = bodies[static_cast<std::size_t>(i)];
+    for (; cursor < candidates.size() && candidates[cursor][0] == i; ++cursor) {
+      const SolverBody& B = bodies[static_cast<std::size_t>(candidates[cursor][1])];
+      if (A.state->asleep && B.state->asleep) continue;
+      if (overlaps(A.lo, A.hi, B.lo, B.hi)) pairs.push_back({i, candidates[cursor][1]});
+    }
     partsNear(cache, colliders, A.lo, A.hi, near);
     for (std::uint32_t p : near)
       if (!A.state->asleep || colliders[cache.parts[p].collider].moving()) pairs.push_back({i, -1, p});
   }
-  // In the order of the cache's keys: by A, then B's bodies, then the object parts.
-  std::sort(pairs.begin(), pairs.end(), [](const Scratch::Pair& p, const Scratch::Pair& q) {
-    const unsigned pb = static_cast<unsigned>(p.b), qb = static_cast<unsigned>(q.b);  // (−1: past every body)
-    return p.a != q.a ? p.a < q.a : pb != qb ? pb < qb : p.part < q.part;
-  });
 
   // Narrow phase, in parallel: each pair writes its own manifold.
   stage.emplace(profile::Stage::Contacts);

@@ -71,8 +71,11 @@ struct CachedManifold {
 struct RigidSolverCache : ObjectParts {
   std::vector<CachedImpulse> impulses;  // sorted
   std::vector<CachedManifold> manifolds;  // sorted
-  // The broad phase's order of the bodies along its axis, last step: only where the next sort
-  // starts (its result does not depend on it), so it is not part of a snapshot.
+  // The broad phase's fattened boxes, the pairs whose fattened boxes overlap, and its order of
+  // the bodies along its axis: they only spare work (the pairs found do not depend on them), so
+  // they are not part of a snapshot.
+  std::vector<Vec3> fat_lo, fat_hi;
+  std::vector<std::array<int, 2>> candidates;
   std::vector<int> sweep_order;
 };
 
