@@ -93,13 +93,17 @@ bool RigidSystem::restore(const StateBlob& in) {
   // The manifold cache: sorted, finite, at most 4 points each.
   if (!std::is_sorted(manifolds.begin(), manifolds.end())) return false;
   for (const CachedManifold& m : manifolds) {
-    if (m.count < 1 || m.count > 4) return false;
-    bool finite = std::isfinite(m.q[0]) && std::isfinite(m.q[1]) && std::isfinite(m.q[2]) && std::isfinite(m.q[3]);
-    for (int k = 0; k < 3; ++k) {
+    if (m.count < 1 || m.count > 4 || !std::isfinite(m.margin) || m.margin < 0) return false;
+    bool finite = true;
+    double q2 = 0, n2 = 0;
+    for (int k = 0; k < 4; ++k) finite = finite && std::isfinite(m.q[static_cast<std::size_t>(k)]), q2 += m.q[static_cast<std::size_t>(k)] * m.q[static_cast<std::size_t>(k)];
+    for (std::size_t k = 0; k < 3; ++k) {
       finite = finite && std::isfinite(m.t[k]) && std::isfinite(m.normal[k]);
-      for (int i = 0; i < 4; ++i) finite = finite && std::isfinite(m.on_a[i][k]) && std::isfinite(m.on_b[i][k]);
+      n2 += m.normal[k] * m.normal[k];
+      for (std::size_t i = 0; i < 4; ++i) finite = finite && std::isfinite(m.on_a[i][k]) && std::isfinite(m.on_b[i][k]);
     }
-    if (!finite) return false;
+    // (A unit turn and a unit normal: the normal gives the contact's tangents.)
+    if (!finite || std::abs(q2 - 1.0) > 1e-9 || std::abs(n2 - 1.0) > 1e-9) return false;
   }
   cache_.impulses = std::move(impulses);
   cache_.manifolds = std::move(manifolds);
@@ -301,7 +305,7 @@ Result<std::unique_ptr<Body>> buildRigidBody(const BodyDesc& desc, const BuildCo
     m.shape = shape.value();
     Vec3 lo, hi;
     shapeBounds(m.shape, Pose{}, lo, hi);
-    m.extent = std::max(lo.norm(), hi.norm());
+    m.extent = lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).norm();  // (the box's farthest corner from the centre of mass)
     RigidState s;
     s.x = m.center0;
     s.q = Eigen::Quaterniond(it.axes).normalized();

@@ -22,7 +22,7 @@ constexpr double kBounceSpeed = 0.5;      // m/s: slower approaches do not bounc
 constexpr double kSleepSpeed = 0.05;      // m/s (and rad/s times the body's extent)
 constexpr std::uint32_t kObjectBit = 0x80000000u;
 constexpr int kColours = 64;              // graph colours (a bit each); more: the serial overflow
-constexpr int kWideColour = 64;           // a colour of fewer contacts runs on one thread
+constexpr int kWideColour = 64;           // from the first colour of fewer contacts on, one thread runs them
 
 // A body as the step's set-up sees it.
 struct SolverBody {
@@ -35,7 +35,7 @@ struct SolverBody {
 
 // A body as the sub-steps see it, one dense array of them (Box2D v3's solver bodies): what each
 // contact reads and writes, in two cache lines.
-struct Motion {
+struct alignas(64) Motion {
   Vec3 v{0, 0, 0}, w{0, 0, 0};
   double inv_mass = 0.0;
   Mat3 inv_inertia = Mat3::Zero();  // world, 1/(kg·m²), fixed for the step
@@ -66,12 +66,12 @@ struct Contact {
 // Wide contacts (Box2D v3's wide constraints, Catto 2024, in 3D with four doubles): four contacts
 // of one colour solved at once, a lane each, their points side by side (a contact's k-th point in
 // slot k; slots past a contact's points, and lanes with no contact, hold zeros, whose impulses are
-// zero). The arithmetic is lane-wise IEEE, so a lane gets the bits it would get alone, in any clone.
+// zero). The arithmetic is lane-wise IEEE: the same bits in every clone and on any number of threads.
 // (Helpers that take and return four lanes are always inlined into the clones that call them:
 // no call passes a vector across the ABI, whatever the -Wpsabi note says.)
 // Four lanes are 32-byte aligned where AVX is on and 16 where it is not: every structure that holds
 // them in memory is aligned to 32, so that both clones agree on where they lie.
-#pragma GCC diagnostic ignored "-Wpsabi"
+#pragma GCC diagnostic ignored "-Wpsabi"  // (for the file: GCC reports it at the file's end)
 struct alignas(32) L3 {
   alignas(32) Lane4 x{}, y{}, z{};
 };
@@ -292,6 +292,7 @@ void bounce(const WideContact& c, WidePoint* pts, std::vector<Motion>& motion) {
 }
 
 constexpr double kReuse = 1e-3;  // m: how far a pair may move against itself and keep its manifold
+constexpr double kKeptMargin = 2e-3;  // m: added to the margin of a manifold that is kept
 
 // B's pose in A's frame.
 Eigen::Quaterniond relativeTurn(const SolverBody& A, const SolverBody& B) { return A.state->q.conjugate() * B.state->q; }
@@ -299,10 +300,11 @@ Vec3 relativeShift(const SolverBody& A, const SolverBody& B) { return A.pose.R.t
 
 // A fresh manifold of A and B, kept with their relative pose.
 CachedManifold keepManifold(std::uint32_t ga, std::uint32_t gb, const SolverBody& A, const SolverBody& B,
-                            const Manifold& m) {
+                            const Manifold& m, double margin) {
   CachedManifold c;
   c.a = ga, c.b = gb;
   c.count = m.count;
+  c.margin = margin;
   const Eigen::Quaterniond q = relativeTurn(A, B);
   c.q = {q.w(), q.x(), q.y(), q.z()};
   const Vec3 t = relativeShift(A, B), n = A.pose.R.transpose() * m.normal;
@@ -321,12 +323,13 @@ CachedManifold keepManifold(std::uint32_t ga, std::uint32_t gb, const SolverBody
 }
 
 // The kept manifold carried by the bodies as they are now, when B has moved less than kReuse in
-// A's frame since it was computed (its turn measured at B's extent).
+// A's frame since it was computed (its turn measured at B's extent) and their margin now, plus
+// kReuse, is within the one it was computed with.
 bool reuseManifold(const CachedManifold& c, const SolverBody& A, const SolverBody& B, Manifold& m) {
   const Vec3 shift = relativeShift(A, B) - Vec3(c.t[0], c.t[1], c.t[2]);
   const Eigen::Quaterniond turn = Eigen::Quaterniond(c.q[0], c.q[1], c.q[2], c.q[3]).conjugate() * relativeTurn(A, B);
   const double angle = 2.0 * std::asin(std::min(1.0, turn.vec().norm()));
-  if (!(shift.norm() + angle * B.model->extent <= kReuse)) return false;
+  if (!(shift.norm() + angle * B.model->extent <= kReuse) || !(A.margin + B.margin + kReuse <= c.margin)) return false;
   m.normal = A.pose.R * Vec3(c.normal[0], c.normal[1], c.normal[2]);
   m.count = c.count;
   for (int i = 0; i < c.count; ++i) {
@@ -413,16 +416,17 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
 
   std::optional<profile::Scope> stage(std::in_place, profile::Stage::Neighbours);
   // Broad phase. Candidates: the pairs whose fattened boxes overlap, kept while every body's box
-  // stays inside its fattened one (a resting pile keeps them for ever; the idea of Box2D's fat
-  // boxes, a margin of 5% of the body's size, at least 1 cm, and two steps of its motion). The
-  // pairs: the candidates whose boxes overlap now (and not both asleep), so they are the same
-  // whatever candidates were kept. Candidates come from the fattened boxes cut into strips across
-  // the axis they spread second most, each strip as wide as the widest box, and swept along the
-  // axis they spread most (a tall stack is swept along y): a box meets the boxes after it in its
-  // own strip and those of the next strip whose interval reaches it, each pair found once (a
-  // strip two away lies beyond the widest box). A pile of columns is swept column by column, not
-  // a row of columns at once. Sorted by strip, then the box's low end, then the body, starting
-  // from the last order.
+  // stays inside its fattened one (a resting pile keeps them for ever). The idea is Box2D's fat
+  // boxes (a fixed 0.1 m there); reel's margin is 5% of the body's size, at least 1 cm, and two
+  // steps of its motion. The pairs of a step are the candidates whose boxes overlap now (and not
+  // both asleep), so they are the same whatever candidates were kept. Candidates are found by sweep
+  // and prune (Baraff 1992; Cohen et al. 1995, I-COLLIDE) in strips: the fattened boxes are cut
+  // into strips across the axis they spread second most, each strip as wide as the widest box, and
+  // swept along the axis they spread most (a tall stack is swept along y). A box meets the boxes
+  // after it in its own strip and those of the next strip whose interval reaches it, each pair
+  // found once (a strip two away lies beyond the widest box): a pile of columns is swept column by
+  // column, not a row of columns at once. Sorted by strip, then the box's low end, then the body,
+  // starting from the last order.
   auto& pairs = S.pairs;
   pairs.clear();
   auto& fat_lo = cache.fat_lo;
@@ -431,14 +435,16 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   bool inside = fat_lo.size() == static_cast<std::size_t>(nb);
   for (int i = 0; i < nb && inside; ++i) {
     const SolverBody& b = bodies[static_cast<std::size_t>(i)];
-    inside = (b.lo.array() >= fat_lo[static_cast<std::size_t>(i)].array()).all() &&
-             (b.hi.array() <= fat_hi[static_cast<std::size_t>(i)].array()).all();
+    const Vec3& lo = fat_lo[static_cast<std::size_t>(i)];
+    const Vec3& hi = fat_hi[static_cast<std::size_t>(i)];
+    inside = lo.allFinite() && hi.allFinite() && (b.lo.array() >= lo.array()).all() && (b.hi.array() <= hi.array()).all();
   }
   if (!inside) {
     fat_lo.resize(static_cast<std::size_t>(nb));
     fat_hi.resize(static_cast<std::size_t>(nb));
     candidates.clear();
     Vec3 spread_lo = Vec3::Constant(1e300), spread_hi = Vec3::Constant(-1e300), widest = Vec3::Zero();
+    double largest = 0.0;  // the largest coordinate, for the rounding slack below
     for (int i = 0; i < nb; ++i) {
       const SolverBody& b = bodies[static_cast<std::size_t>(i)];
       const RigidState& st = *b.state;
@@ -451,19 +457,23 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
         spread_lo = spread_lo.cwiseMin(lo);
         spread_hi = spread_hi.cwiseMax(lo);
         widest = widest.cwiseMax(hi - lo);
+        largest = std::max({largest, lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()});
       }
     }
     const Vec3 spread = (spread_hi - spread_lo).cwiseMax(0.0);
     int axis = 0;
     spread.maxCoeff(&axis);
     const int across = spread[(axis + 1) % 3] >= spread[(axis + 2) % 3] ? (axis + 1) % 3 : (axis + 2) % 3;
-    const double strip_width = widest[across] * (1.0 + 1e-9) + 1e-9;
+    // (Strips and the window along the axis take a slack far beyond the rounding of coordinates
+    // this large, so no overlapping pair falls between them.)
+    const double slack = 1e-9 * (1.0 + largest);
+    const double strip_width = widest[across] + slack;
     auto& sweep = S.sweep;
     sweep.resize(static_cast<std::size_t>(nb));
     for (int i = 0; i < nb; ++i) {
       Scratch::Sweep& w = sweep[static_cast<std::size_t>(i)];
       w = {fat_lo[static_cast<std::size_t>(i)], fat_hi[static_cast<std::size_t>(i)], i, 0.0};
-      // (A box with a non-finite bound meets nothing: it goes last and its tests fail.)
+      // (A box with a non-finite bound goes last and meets nothing.)
       const double k = (w.lo[across] - spread_lo[across]) / strip_width;
       w.strip = w.lo.allFinite() && w.hi.allFinite() ? std::floor(std::clamp(k, 0.0, 1e15)) : 2e15;
       if (!std::isfinite(w.lo[axis])) w.lo[axis] = 1e300;
@@ -482,7 +492,8 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
     sorted.resize(static_cast<std::size_t>(nb));
     for (int i = 0; i < nb; ++i) sorted[static_cast<std::size_t>(i)] = sweep[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])];
     auto test = [&](const Scratch::Sweep& A, const Scratch::Sweep& B) {
-      if (overlaps(A.lo, A.hi, B.lo, B.hi)) candidates.push_back({std::min(A.body, B.body), std::max(A.body, B.body)});
+      if (A.strip < 1e15 && B.strip < 1e15 && overlaps(A.lo, A.hi, B.lo, B.hi))
+        candidates.push_back({std::min(A.body, B.body), std::max(A.body, B.body)});
     };
     const std::size_t ns = sorted.size();
     for (std::size_t s0 = 0; s0 < ns;) {
@@ -496,7 +507,7 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
         const Scratch::Sweep& A = sorted[i];
         const double end = A.hi[axis];
         for (std::size_t j = i + 1; j < s1 && sorted[j].lo[axis] <= end; ++j) test(A, sorted[j]);
-        while (from < s2 && sorted[from].lo[axis] < A.lo[axis] - widest[axis]) ++from;
+        while (from < s2 && sorted[from].lo[axis] < A.lo[axis] - widest[axis] - slack) ++from;
         for (std::size_t j = from; j < s2 && sorted[j].lo[axis] <= end; ++j) test(A, sorted[j]);
       }
       s0 = s1;
@@ -547,7 +558,7 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
         reused[static_cast<std::size_t>(k)] = static_cast<int>(it - kept.begin());
         continue;
       }
-      collide(A.model->shape, A.pose, B.model->shape, B.pose, A.margin + B.margin, m);
+      collide(A.model->shape, A.pose, B.model->shape, B.pose, A.margin + B.margin + kKeptMargin, m);
     }
   }, static_cast<std::ptrdiff_t>(pairs.size()) * 16);
   {
@@ -557,8 +568,12 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
       const Scratch::Pair& p = pairs[k];
       if (p.b < 0 || manifolds[k].count == 0) continue;
       if (reused[k] >= 0) next.push_back(kept[static_cast<std::size_t>(reused[k])]);
-      else next.push_back(keepManifold(global[static_cast<std::size_t>(p.a)], global[static_cast<std::size_t>(p.b)],
-                                       bodies[static_cast<std::size_t>(p.a)], bodies[static_cast<std::size_t>(p.b)], manifolds[k]));
+      else {
+        const SolverBody& A = bodies[static_cast<std::size_t>(p.a)];
+        const SolverBody& B = bodies[static_cast<std::size_t>(p.b)];
+        next.push_back(keepManifold(global[static_cast<std::size_t>(p.a)], global[static_cast<std::size_t>(p.b)], A, B,
+                                    manifolds[k], A.margin + B.margin + kKeptMargin));
+      }
     }
     std::swap(cache.manifolds, next);
   }
@@ -634,9 +649,10 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   // Colours (Box2D v3's constraint graph colouring, Catto 2024): contacts that share no moving
   // body take the same colour, the lowest one free for both (an object takes none), so a colour's
   // contacts can be solved at once on any number of threads. A colour is solved four contacts at
-  // a time (wide contacts) in contact order, the colours one after another; colours of fewer than
-  // kWideColour contacts, and one at a time the overflow past 64 colours, run on one thread, in
-  // that order, so every thread count gives the same bits. Contacts of sleeping islands are left out.
+  // a time (wide contacts) in contact order, the colours one after another; from the first colour
+  // of fewer than kWideColour contacts on, the colours, and one at a time the overflow past 64
+  // colours, run on one thread, in that order, so every thread count gives the same bits.
+  // Contacts of sleeping islands are left out.
   std::vector<std::uint64_t>& used = S.used;
   used.assign(static_cast<std::size_t>(nb), 0);
   std::vector<int>& colour = S.colour;
@@ -658,6 +674,7 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   for (int k = 0; k <= kColours; ++k) start[static_cast<std::size_t>(k) + 1] += start[static_cast<std::size_t>(k)];
   int wide = 0;  // colours [0, wide) run in parallel
   while (wide < kColours && start[static_cast<std::size_t>(wide) + 1] - start[static_cast<std::size_t>(wide)] >= kWideColour) ++wide;
+  stats.shared_colours = wide;
   auto& cc = S.coloured;
   cc.resize(static_cast<std::size_t>(start[kColours + 1]));
   {

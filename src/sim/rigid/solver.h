@@ -52,14 +52,17 @@ struct CachedImpulse {
 
 // A pair of bodies' manifold, kept while the pair barely moves relative to itself (the idea of
 // Jolt's body pair cache, Rouwé): B's pose in A's frame when it was computed, and each point as
-// the two surface points it joins, on A (A's frame) and on B (B's frame). While B's pose in A's
-// frame stays within kReuse (1 mm, its rotation counted at B's extent) of that pose, the
-// manifold is not computed again: its points are carried by the bodies and their depths measured
-// anew along the normal (which turns with A). A feature that was beyond the margin then has come
-// at most 1 mm closer, less than the smallest margin (4 mm a body), so nothing is missed.
+// the two surface points it joins, on A (A's frame) and on B (B's frame). It is computed with the
+// pair's speculative margin plus 2 mm, and kept while B's pose in A's frame stays within kReuse
+// (1 mm, its turn counted at B's extent) of that pose and the pair's margin now, plus 1 mm, is
+// still within the margin it was computed with: its points are carried by the bodies and their
+// depths measured anew along the normal (which turns with A). A feature that was beyond that
+// margin has come at most 1 mm closer, so it is still beyond the margin a fresh manifold would
+// take now: nothing is missed.
 struct CachedManifold {
   std::uint32_t a = 0, b = 0;  // bodies, as in CachedImpulse
   std::int32_t count = 0, pad = 0;
+  double margin = 0;                    // m, the margin it was computed with
   std::array<double, 4> q{1, 0, 0, 0};  // B's orientation in A's frame (w, x, y, z)
   std::array<double, 3> t{};            // B's centre in A's frame, m
   std::array<double, 3> normal{};       // A's frame
@@ -83,6 +86,7 @@ struct RigidSolverStats {
   int contacts = 0;  // points touching or speculative, last step
   long long contact_total = 0;  // over every step so far
   int awake = 0, asleep = 0;
+  int shared_colours = 0;  // colours of contacts shared between the threads, last step
 };
 
 // One step of every rigid entry (the World's RigidSystem keeps the cache and statistics).
