@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <optional>
 
 #include "core/math.h"
 #include "core/lanes.h"
@@ -361,20 +360,27 @@ void sortNearlySorted(std::vector<int>& order, Less less) {
   }
 }
 
-}  // namespace
 
-void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, RigidSolverCache& cache,
-                     RigidSolverStats& stats) {
-  static thread_local Scratch scratch;
-  Scratch& S = scratch;
-  std::vector<Collider>& colliders = *ctx.colliders;
-  const double h = ctx.h;
-  if (!cache.built) buildParts(colliders, cache);
-  int iterations = 1;
-  for (RigidBody* e : entries) {
-    iterations = std::max(iterations, e->iterations());
-  }
-  // Kinematic bodies follow their colliders; the others take gravity and what was handed them.
+// One step's state shared by its phases below: the buffers, the caches, and what a phase hands on.
+struct Step {
+  Scratch& S;
+  RigidSolverCache& cache;
+  std::vector<Collider>& colliders;
+  StepContext& ctx;
+  RigidSolverStats& stats;
+  double h = 0;        // s
+  int nb = 0;          // solver bodies
+  int npoints = 0;     // contact points
+  int wide = 0;        // colours shared between the threads
+  std::array<int, kColours + 2> start{}, bstart{};  // each colour's first contact and first batch
+};
+
+// Kinematic bodies follow their colliders; the others take gravity and what was handed them.
+void gatherBodies(Step& t, std::span<RigidBody* const> entries) {
+  Scratch& S = t.S;
+  std::vector<Collider>& colliders = t.colliders;
+  StepContext& ctx = t.ctx;
+  const double h = t.h;
   std::vector<SolverBody>& bodies = S.bodies;
   std::vector<std::uint32_t>& global = S.global;  // per solver body: its index among all the World's rigid bodies
   std::vector<Motion>& motion = S.motion;
@@ -412,21 +418,28 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
       motion.push_back(mo);
     }
   }
-  const int nb = static_cast<int>(bodies.size());
+  t.nb = static_cast<int>(bodies.size());
+}
 
-  std::optional<profile::Scope> stage(std::in_place, profile::Stage::Neighbours);
-  // Broad phase. Candidates: the pairs whose fattened boxes overlap, kept while every body's box
-  // stays inside its fattened one (a resting pile keeps them for ever). The idea is Box2D's fat
-  // boxes (a fixed 0.1 m there); reel's margin is 5% of the body's size, at least 1 cm, and two
-  // steps of its motion. The pairs of a step are the candidates whose boxes overlap now (and not
-  // both asleep), so they are the same whatever candidates were kept. Candidates are found by sweep
-  // and prune (Baraff 1992; Cohen et al. 1995, I-COLLIDE) in strips: the fattened boxes are cut
-  // into strips across the axis they spread second most, each strip as wide as the widest box, and
-  // swept along the axis they spread most (a tall stack is swept along y). A box meets the boxes
-  // after it in its own strip and those of the next strip whose interval reaches it, each pair
-  // found once (a strip two away lies beyond the widest box): a pile of columns is swept column by
-  // column, not a row of columns at once. Sorted by strip, then the box's low end, then the body,
-  // starting from the last order.
+// Broad phase. Candidates: the pairs whose fattened boxes overlap, kept while every body's box
+// stays inside its fattened one (a resting pile keeps them for ever). The idea is Box2D's fat
+// boxes (a fixed 0.1 m there); reel's margin is 5% of the body's size, at least 1 cm, and two
+// steps of its motion. The pairs of a step are the candidates whose boxes overlap now (and not
+// both asleep), so they are the same whatever candidates were kept. Candidates are found by sweep
+// and prune (Baraff 1992; Cohen et al. 1995, I-COLLIDE) in strips: the fattened boxes are cut
+// into strips across the axis they spread second most, each strip as wide as the widest box, and
+// swept along the axis they spread most (a tall stack is swept along y). A box meets the boxes
+// after it in its own strip and those of the next strip whose interval reaches it, each pair
+// found once (a strip two away lies beyond the widest box): a pile of columns is swept column by
+// column, not a row of columns at once. Sorted by strip, then the box's low end, then the body,
+// starting from the last order.
+void broadPhase(Step& t) {
+  Scratch& S = t.S;
+  RigidSolverCache& cache = t.cache;
+  std::vector<Collider>& colliders = t.colliders;
+  const double h = t.h;
+  const int nb = t.nb;
+  std::vector<SolverBody>& bodies = t.S.bodies;
   auto& pairs = S.pairs;
   pairs.clear();
   auto& fat_lo = cache.fat_lo;
@@ -529,9 +542,16 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
     for (std::uint32_t p : near)
       if (!A.state->asleep || colliders[cache.parts[p].collider].moving()) pairs.push_back({i, -1, p});
   }
+}
 
-  // Narrow phase, in parallel: each pair writes its own manifold.
-  stage.emplace(profile::Stage::Contacts);
+// Narrow phase, in parallel: each pair writes its own manifold.
+void narrowPhase(Step& t) {
+  Scratch& S = t.S;
+  RigidSolverCache& cache = t.cache;
+  std::vector<Collider>& colliders = t.colliders;
+  std::vector<SolverBody>& bodies = t.S.bodies;
+  const std::vector<std::uint32_t>& global = t.S.global;
+  auto& pairs = t.S.pairs;
   std::vector<Manifold>& manifolds = S.manifolds;
   manifolds.resize(pairs.size());
   // Body pairs take last step's manifold where they have barely moved against each other (see
@@ -577,15 +597,26 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
     }
     std::swap(cache.manifolds, next);
   }
+}
 
-  // Contacts: one per touching pair, a point per manifold point.
-  stage.emplace(profile::Stage::Integration);
-  // (Here the contacts only; their points are filled in parallel once they are coloured.)
+// Contacts: one per touching pair, a point per manifold point.
+// (Here the contacts only; their points are filled in parallel once they are coloured.)
+void contactsAndIslands(Step& t) {
+  Scratch& S = t.S;
+  RigidSolverCache& cache = t.cache;
+  std::vector<Collider>& colliders = t.colliders;
+  RigidSolverStats& stats = t.stats;
+  const int nb = t.nb;
+  std::vector<SolverBody>& bodies = t.S.bodies;
+  std::vector<Motion>& motion = t.S.motion;
+  auto& pairs = t.S.pairs;
+  std::vector<Manifold>& manifolds = t.S.manifolds;
   auto& contacts = S.contacts;
   auto& keys = S.keys;
   auto& source = S.source;  // per contact: its pair
   contacts.clear(), source.clear();
-  int npoints = 0;
+  int& npoints = t.npoints;
+  npoints = 0;
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const Scratch::Pair& p = pairs[k];
     const Manifold& m = manifolds[k];
@@ -645,19 +676,27 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
     motion[static_cast<std::size_t>(i)].v = s.v;
     motion[static_cast<std::size_t>(i)].w = s.w;
   }
+}
 
-  // Colours (Box2D v3's constraint graph colouring, Catto 2024): contacts that share no moving
-  // body take the same colour, the lowest one free for both (an object takes none), so a colour's
-  // contacts can be solved at once on any number of threads. A colour is solved four contacts at
-  // a time (wide contacts) in contact order, the colours one after another; from the first colour
-  // of fewer than kWideColour contacts on, the colours, and one at a time the overflow past 64
-  // colours, run on one thread, in that order, so every thread count gives the same bits.
-  // Contacts of sleeping islands are left out.
+// Colours (Box2D v3's constraint graph colouring, Catto 2024): contacts that share no moving
+// body take the same colour, the lowest one free for both (an object takes none), so a colour's
+// contacts can be solved at once on any number of threads. A colour is solved four contacts at
+// a time (wide contacts) in contact order, the colours one after another; from the first colour
+// of fewer than kWideColour contacts on, the colours, and one at a time the overflow past 64
+// colours, run on one thread, in that order, so every thread count gives the same bits.
+// Contacts of sleeping islands are left out.
+void colourContacts(Step& t) {
+  Scratch& S = t.S;
+  RigidSolverStats& stats = t.stats;
+  const int nb = t.nb;
+  std::vector<SolverBody>& bodies = t.S.bodies;
+  auto& contacts = t.S.contacts;
   std::vector<std::uint64_t>& used = S.used;
   used.assign(static_cast<std::size_t>(nb), 0);
   std::vector<int>& colour = S.colour;
   colour.assign(contacts.size(), -1);
-  std::array<int, kColours + 2> start{};
+  auto& start = t.start;
+  start.fill(0);
   for (std::size_t k = 0; k < contacts.size(); ++k) {
     const Contact& c = contacts[k];
     if (bodies[static_cast<std::size_t>(c.a)].state->asleep) continue;
@@ -672,7 +711,8 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
     ++start[static_cast<std::size_t>(col) + 1];
   }
   for (int k = 0; k <= kColours; ++k) start[static_cast<std::size_t>(k) + 1] += start[static_cast<std::size_t>(k)];
-  int wide = 0;  // colours [0, wide) run in parallel
+  int& wide = t.wide;  // colours [0, wide) run in parallel
+  wide = 0;
   while (wide < kColours && start[static_cast<std::size_t>(wide) + 1] - start[static_cast<std::size_t>(wide)] >= kWideColour) ++wide;
   stats.shared_colours = wide;
   auto& cc = S.coloured;
@@ -688,7 +728,8 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   auto& where = S.where;
   batches.clear();
   where.assign(contacts.size(), -1);
-  std::array<int, kColours + 2> bstart{};
+  auto& bstart = t.bstart;
+  bstart.fill(0);
   int nslots = 0;
   for (int k = 0; k <= kColours; ++k) {
     bstart[static_cast<std::size_t>(k)] = static_cast<int>(batches.size());
@@ -710,11 +751,25 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
   bstart[kColours + 1] = static_cast<int>(batches.size());
   auto& wp = S.wide_points;
   wp.resize(static_cast<std::size_t>(nslots));
+}
 
-  // Each lane's contact: directions, effective masses, anchors, and last step's impulses of the
-  // matching points (warm start): a point of the same bodies takes those of last step's nearest
-  // point within 2% of the smaller body's size (measured on body A; feature keys alone can swap
-  // between the corners of aligned faces). The batches in parallel.
+// Each lane's contact: directions, effective masses, anchors, and last step's impulses of the
+// matching points (warm start): a point of the same bodies takes those of last step's nearest
+// point within 2% of the smaller body's size (measured on body A; feature keys alone can swap
+// between the corners of aligned faces). The batches in parallel.
+void setUpPoints(Step& t) {
+  RigidSolverCache& cache = t.cache;
+  std::vector<Collider>& colliders = t.colliders;
+  std::vector<SolverBody>& bodies = t.S.bodies;
+  const std::vector<std::uint32_t>& global = t.S.global;
+  std::vector<Motion>& motion = t.S.motion;
+  auto& pairs = t.S.pairs;
+  std::vector<Manifold>& manifolds = t.S.manifolds;
+  auto& contacts = t.S.contacts;
+  auto& keys = t.S.keys;
+  auto& source = t.S.source;
+  auto& batches = t.S.batches;
+  auto& wp = t.S.wide_points;
   parallelBlocks(static_cast<std::ptrdiff_t>(batches.size()), 4, [&](std::ptrdiff_t b0, std::ptrdiff_t b1) {
     for (std::ptrdiff_t bi = b0; bi < b1; ++bi) {
       WideContact& w = batches[static_cast<std::size_t>(bi)];
@@ -779,14 +834,26 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
       }
     }
   }, static_cast<std::ptrdiff_t>(batches.size()) * 64);
+}
 
+// Sub-steps (Box2D v3's soft step): gravity, warm start, solve with the soft push, move, relax
+// without it; then restitution. One parallel region for them all: each colour is a loop that
+// ends in a barrier.
+void solveSubSteps(Step& t, int iterations) {
+  Scratch& S = t.S;
+  StepContext& ctx = t.ctx;
+  const double h = t.h;
+  const int nb = t.nb;
+  const int npoints = t.npoints;
+  const int wide = t.wide;
+  const auto& bstart = t.bstart;
+  std::vector<SolverBody>& bodies = t.S.bodies;
+  std::vector<Motion>& motion = t.S.motion;
+  auto& batches = t.S.batches;
+  auto& wp = t.S.wide_points;
   std::vector<Place>& place = S.place;
   place.resize(static_cast<std::size_t>(nb));
   for (int i = 0; i < nb; ++i) place[static_cast<std::size_t>(i)] = {bodies[static_cast<std::size_t>(i)].pose.R, bodies[static_cast<std::size_t>(i)].state->x};
-
-  // Sub-steps (Box2D v3's soft step): gravity, warm start, solve with the soft push, move, relax
-  // without it; then restitution. One parallel region for them all: each colour is a loop that
-  // ends in a barrier.
   const double hs = h / iterations;
   const Soft soft(std::min(kContactHertz, 0.25 / hs), 10.0, hs);
   const int nbatch = static_cast<int>(batches.size());
@@ -833,8 +900,21 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
     colours([&](const WideContact& c) { solveContact(c, &wp[static_cast<std::size_t>(c.first)], motion, place, hs, soft, false); });
   }
   for (const WideContact& c : batches) bounce(c, &wp[static_cast<std::size_t>(c.first)], motion);
-  // Keep the impulses for the next step; count rest; pose the colliders.
-  // (Contacts come in the keys' order: only a manifold's own points need sorting.)
+}
+
+// Keep the impulses for the next step; count each body's time at rest.
+// (Contacts come in the keys' order: only a manifold's own points need sorting.)
+void keepForNextStep(Step& t) {
+  RigidSolverCache& cache = t.cache;
+  const double h = t.h;
+  const int nb = t.nb;
+  std::vector<SolverBody>& bodies = t.S.bodies;
+  std::vector<Motion>& motion = t.S.motion;
+  auto& contacts = t.S.contacts;
+  auto& keys = t.S.keys;
+  auto& batches = t.S.batches;
+  auto& where = t.S.where;
+  auto& wp = t.S.wide_points;
   cache.impulses.clear();
   for (std::size_t k = 0; k < contacts.size(); ++k) {
     if (where[k] < 0) continue;
@@ -861,8 +941,36 @@ void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, Rigi
     const bool slow = s.v.norm() < kSleepSpeed && s.w.norm() * b.model->extent < kSleepSpeed;
     s.rest = slow ? s.rest + h : 0.0;
   }
-  stage.reset();
-  for (RigidBody* e : entries) e->pose(colliders, h);
+}
+
+}  // namespace
+
+void stepRigidBodies(std::span<RigidBody* const> entries, StepContext& ctx, RigidSolverCache& cache,
+                     RigidSolverStats& stats) {
+  static thread_local Scratch scratch;
+  std::vector<Collider>& colliders = *ctx.colliders;
+  if (!cache.built) buildParts(colliders, cache);
+  int iterations = 1;
+  for (RigidBody* e : entries) iterations = std::max(iterations, e->iterations());
+  Step t{scratch, cache, colliders, ctx, stats, ctx.h};
+  gatherBodies(t, entries);
+  {
+    profile::Scope stage(profile::Stage::Neighbours);
+    broadPhase(t);
+  }
+  {
+    profile::Scope stage(profile::Stage::Contacts);
+    narrowPhase(t);
+  }
+  {
+    profile::Scope stage(profile::Stage::Integration);
+    contactsAndIslands(t);
+    colourContacts(t);
+    setUpPoints(t);
+    solveSubSteps(t, iterations);
+    keepForNextStep(t);
+  }
+  for (RigidBody* e : entries) e->pose(colliders, ctx.h);
 }
 
 }  // namespace reel
