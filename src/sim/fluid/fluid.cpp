@@ -427,14 +427,14 @@ void moveAndCollide(Fluid& fl, const std::vector<Collider>& colliders, double h)
       Vec3 nk[ColliderShape::kMaxParts];
       const int parts = c.partDistances(fl.x[i], dk, nk);
       int nearest = 0;
-      for (int k = 1; k < parts; ++k) nearest = dk[k] < dk[nearest] ? k : nearest;
+      for (int q = 1; q < parts; ++q) nearest = dk[q] < dk[nearest] ? q : nearest;
       const Vec3 x0 = fl.x[i];
-      for (int k = 0; k < parts; ++k) {
-        const double d = dk[k] + (fl.x[i] - x0).dot(nk[k]);
-        const Vec3& nrm = nk[k];
+      for (int q = 0; q < parts; ++q) {
+        const double d = dk[q] + (fl.x[i] - x0).dot(nk[q]);
+        const Vec3& nrm = nk[q];
         if (d >= reach + (sf.adhesion > 0 ? range : 0.0)) continue;
         // Adhesion: an acceleration towards the surface, full in contact, fading to 0 one cutoff away.
-        if (sf.adhesion > 0 && k == nearest) fl.v[i] -= (h * sf.adhesion * std::clamp(1.0 - (d - reach) / range, 0.0, 1.0)) * nrm;
+        if (sf.adhesion > 0 && q == nearest) fl.v[i] -= (h * sf.adhesion * std::clamp(1.0 - (d - reach) / range, 0.0, 1.0)) * nrm;
         if (d < reach) contactNode(c, sf, reach, d, nrm, h, fl.x[i], fl.v[i]);
       }
     }
