@@ -371,9 +371,9 @@ TEST_CASE("rigid bodies are one system of the World: entries apart in the scene 
     if (k == 4) m[0].margin = -1;
     WorldSnapshot broken = snap;
     broken.systems[0].bytes.clear();
-    StateWriter w(broken.systems[0]);
-    w.put(impulses);
-    w.put(m);
+    StateWriter writer(broken.systems[0]);
+    writer.put(impulses);
+    writer.put(m);
     CAPTURE(k);
     CHECK_FALSE(again.restore(broken).ok());
     CHECK(again.stateHash() == before);
