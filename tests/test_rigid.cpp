@@ -39,6 +39,17 @@ RigidModel tumbler() {
   return m;
 }
 
+// A heavy slab (3 × 0.2 × 1 m, 60 t) on the floor and a 10 cm cube resting on it at x, with its
+// own keys (μ = 0.5 everywhere; sleeping off).
+std::string slabScene(double x, const std::string& keys) {
+  return R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 10, "gravity": [0, -9.81, 0],
+    "objects": [{"type": "plane", "name": "floor", "surface": {"friction": 0.5}}],
+    "bodies": [{"type": "rigid", "name": "slab", "shape": "box", "size": [3, 0.2, 1], "position": [0, 0.1, 0], "density": 100000,
+                "sleep_time": 0, "surface": {"friction": 0.5}},
+               {"type": "rigid", "name": "block", "shape": "box", "size": [0.1, 0.1, 0.1], "position": [)" +
+         formatNumber(x, 17) + R"(, 0.25, 0], "sleep_time": 0, )" + keys + R"(, "surface": {"friction": 0.5}}]})";
+}
+
 }  // namespace
 
 TEST_CASE("torque-free tumbling keeps angular momentum; the intermediate axis flips, the others stay") {
@@ -114,12 +125,7 @@ TEST_CASE("a box sliding across another slows at μg and stays on its face (a pa
   // manifold is kept while they barely move against each other and computed again when they have).
   // Thrown along the slab's face it rests on: friction μ·g = 4.905 m/s² stops it after 0.408 s
   // and 0.408 m.
-  World thrown = worldFromText(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 10, "gravity": [0, -9.81, 0],
-    "objects": [{"type": "plane", "name": "floor", "surface": {"friction": 0.5}}],
-    "bodies": [{"type": "rigid", "name": "slab", "shape": "box", "size": [3, 0.2, 1], "position": [0, 0.1, 0], "density": 100000,
-                "sleep_time": 0, "surface": {"friction": 0.5}},
-               {"type": "rigid", "name": "block", "shape": "box", "size": [0.1, 0.1, 0.1], "position": [-1, 0.25, 0], "sleep_time": 0,
-                "velocity": [2, 0, 0], "surface": {"friction": 0.5}}]})");
+  World thrown = worldFromText(slabScene(-1, R"("velocity": [2, 0, 0])"));
   const double top = 0.2 + 0.05;
   double lowest = 1.0;
   for (int f = 0; f < 6; ++f) {  // 0.2 s
@@ -135,12 +141,7 @@ TEST_CASE("a box sliding across another slows at μg and stays on its face (a pa
   CHECK(lowest > top - 0.0065);  // into its slop and the soft push's give, no farther
   CHECK(std::abs(end.x.y() - top) < 0.006);
   // Thrown at 3 m/s half a metre from the slab's end, it slides off and falls to the floor.
-  World off = worldFromText(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 10, "gravity": [0, -9.81, 0],
-    "objects": [{"type": "plane", "name": "floor", "surface": {"friction": 0.5}}],
-    "bodies": [{"type": "rigid", "name": "slab", "shape": "box", "size": [3, 0.2, 1], "position": [0, 0.1, 0], "density": 100000,
-                "sleep_time": 0, "surface": {"friction": 0.5}},
-               {"type": "rigid", "name": "block", "shape": "box", "size": [0.1, 0.1, 0.1], "position": [1, 0.25, 0], "sleep_time": 0,
-                "velocity": [3, 0, 0], "surface": {"friction": 0.5}}]})");
+  World off = worldFromText(slabScene(1, R"("velocity": [3, 0, 0])"));
   run(off, 30);
   CHECK(rigid(off, 1).states()[0].x.x() > 1.5);
   CHECK(rigid(off, 1).states()[0].x.y() < 0.1);
@@ -150,12 +151,7 @@ TEST_CASE("a box pushed slowly across another creeps at (F − μmg)/m: kept and
   // A 10 cm cube (1 kg) on a heavy slab, pushed by 5 N against friction μmg = 4.905 N: it creeps
   // at 0.095 m/s², 0.3–0.5 mm a step, so its manifold is kept for a few steps and computed again
   // in between. (The first 0.1 s, while the contact takes the block's weight, it gains more.)
-  World w = worldFromText(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 10, "gravity": [0, -9.81, 0],
-    "objects": [{"type": "plane", "name": "floor", "surface": {"friction": 0.5}}],
-    "bodies": [{"type": "rigid", "name": "slab", "shape": "box", "size": [3, 0.2, 1], "position": [0, 0.1, 0], "density": 100000,
-                "sleep_time": 0, "surface": {"friction": 0.5}},
-               {"type": "rigid", "name": "block", "shape": "box", "size": [0.1, 0.1, 0.1], "position": [-1, 0.25, 0], "sleep_time": 0,
-                "mass": 1, "force": [5, 0, 0], "surface": {"friction": 0.5}}]})");
+  World w = worldFromText(slabScene(-1, R"("mass": 1, "force": [5, 0, 0])"));
   run(w, 6);  // 0.2 s
   const double v0 = rigid(w, 1).states()[0].v.x();
   double lowest = 1.0;
