@@ -64,8 +64,8 @@ int pokingOut(const FaceBody& f, const Skin& skin, bool shut, int step = 1) {
         const Vec3 h = f.rotation().transpose() * d;  // in the head's frame
         const double el = std::asin(std::clamp(h.y(), -1.0, 1.0)), az = std::atan2(h.x(), h.z());
         const bool within = std::abs(az) <= eye.lid_azimuth;
-        const bool lidded = within && (el >= eye.upper || el <= eye.lower);
-        const bool opening = within && el > eye.lower && el < eye.upper;
+        const bool lidded = within && (el >= eye.upperEdge(az) || el <= eye.lowerEdge(az));
+        const bool opening = within && el > eye.lowerEdge(az) && el < eye.upperEdge(az);
         if (lidded || (!shut && opening)) continue;
         if (winding(skin, q) < 0.5) ++bad;  // not under the skin
       }
@@ -118,11 +118,46 @@ TEST_CASE("face: the eyes stay behind the skin and the lids, looking anywhere, w
     CHECK(outside == 0);
   }
   run(w, 3);  // 1.3 s: shut, 0.1 s into the blink at 1.2 s
-  REQUIRE(f.eye(0).upper < f.eye(0).lower);
+  REQUIRE(f.eye(0).upperEdge(0.0) < f.eye(0).lowerEdge(0.0));
   const int shut_bad = pokingOut(f, simulated(f), true), shut_drawn = pokingOut(f, drawn(f), true, 3);
   MESSAGE("eyeball samples showing, eyes shut: " << shut_bad << " (the skin drawn: " << shut_drawn << ")");
   CHECK(shut_bad == 0);
   CHECK(shut_drawn == 0);
+}
+
+TEST_CASE("face: the lids open in an almond: the margins meet at the corners, the outer corner higher, pinched toward them") {
+  World w = worldFromText(scene(R"(, "blinks": [0.5])"));
+  const FaceBody& f = face(w);
+  for (int e = 0; e < 2; ++e) {
+    const FaceBody::Eye ey = f.eye(e);
+    const double inner = -ey.outward * ey.corner, outer = ey.outward * ey.corner;
+    // The margins meet at both corners, and stay shut beyond them.
+    CHECK(std::abs(ey.upperEdge(inner) - ey.lowerEdge(inner)) < 1e-12);
+    CHECK(std::abs(ey.upperEdge(1.1 * outer) - ey.lowerEdge(1.1 * outer)) < 1e-12);
+    // The canthal tilt: the outer corner above the inner.
+    CHECK(ey.upperEdge(outer) > ey.upperEdge(inner) + 0.05);
+    // Three quarters of the way to each corner the opening is under 60% of its height in the
+    // middle (a slot would keep it all).
+    auto height = [&](double u) { return ey.upperEdge(ey.outward * u * ey.corner) - ey.lowerEdge(ey.outward * u * ey.corner); };
+    MESSAGE("eye " << e << ": the opening " << height(0) << " rad high in the middle, " << height(-0.75) << " and " << height(0.75)
+                   << " toward the inner and outer corners");
+    CHECK(height(0) > 0.6);
+    CHECK(height(-0.75) < 0.6 * height(0));
+    CHECK(height(0.75) < 0.6 * height(0));
+    // The upper margin is highest inside the middle (toward the nose).
+    double best = -1, best_u = 0;
+    for (int i = -50; i <= 50; ++i) {
+      const double u = i / 50.0, el = ey.upperEdge(ey.outward * u * ey.corner);
+      if (el > best) best = el, best_u = u;
+    }
+    CHECK(best_u < 0.0);
+  }
+  run(w, 18);  // 0.6 s: mid-blink
+  for (int e = 0; e < 2; ++e) {
+    const FaceBody::Eye ey = f.eye(e);
+    CHECK(ey.closure > 0.9);
+    for (int i = -10; i <= 10; ++i) CHECK(ey.upperEdge(ey.outward * 0.1 * i * ey.corner) < ey.lowerEdge(ey.outward * 0.1 * i * ey.corner));
+  }
 }
 
 TEST_CASE("face: the profile keeps its measured order: nose ahead of the lips, the lips just ahead of the chin") {

@@ -47,12 +47,20 @@ class FaceBody final : public SpringNetworkBody {
   double jawAngle() const { return jaw_; }
   // An eye of reel's head now (0: left, +x; 1: right): its centre and axes in the world (the
   // gaze's right, up and ahead), its radius, and its lids: a shell of `lid_radius` about the
-  // centre spanning ±`lid_azimuth` around the head's forward axis, the upper lid above the
-  // elevation `upper` and the lower below `lower` (rad, in the head's frame; a shut eye has
-  // upper < lower).
+  // centre spanning ±`lid_azimuth` around the head's forward axis (azimuth az, rad, toward the
+  // head's +x), the upper lid above the elevation upperEdge(az) and the lower below
+  // lowerEdge(az) (rad, in the head's frame; a shut eye has upper < lower). The lids' margins
+  // curve, an almond: each meets the other at the corners (`corner` rad from the middle; the
+  // outer corner `tilt` rad higher than the inner, the canthal tilt), the upper highest just
+  // inside the middle at `upper`, the lower lowest just outside it at `lower`.
   struct Eye {
     Vec3 center{0, 0, 0}, right{1, 0, 0}, up{0, 1, 0}, ahead{0, 0, 1};
     double radius = 0.0, lid_radius = 0.0, lid_azimuth = 0.0, upper = 0.0, lower = 0.0;
+    double corner = 1.2, tilt = 0.0, corners = 0.0;  // corners: the corners' mean elevation, rad
+    double outward = 1.0;  // +1 where the outer corner lies toward +x (the left eye), -1 else
+    double closure = 0.0;  // 0 open .. 1 shut: the upper margin brought down past the lower
+    double upperEdge(double az) const;
+    double lowerEdge(double az) const;
   };
   Eye eye(int e) const;
   // The head-frame point q moved by the jaw now, taking `share` (0..1) of its motion.

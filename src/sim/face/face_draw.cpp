@@ -9,12 +9,21 @@
 
 #include "core/keys.h"
 #include "core/math.h"
+#include "core/random.h"
 #include "sim/draw_material.h"
 #include "sim/face/face_body.h"
 #include "sim/face/head_shape.h"
 
 namespace reel {
 namespace {
+
+// How far a lid's margin stands from the corners' line at v across the opening (-1 the inner
+// corner, 0 its highest (or lowest) point, 1 the outer corner): a cosine lobe, full in the middle
+// and pinched at the corners, so the opening is an almond rather than a slot.
+double lidLobe(double v) { return std::abs(v) >= 1.0 ? 0.0 : std::pow(std::cos(0.5 * kPi * v), 0.65); }
+
+// v for the position u across the opening (-1 inner corner .. 1 outer), the lobe's peak at `peak`.
+double acrossLobe(double u, double peak) { return u < peak ? (u - peak) / (1.0 + peak) : (u - peak) / (1.0 - peak); }
 
 // Skin is lit with wrap lighting: light scattered beneath it softens the terminator.
 constexpr double kSkinWrap = 0.4;
@@ -187,9 +196,10 @@ void FaceBody::drawEyes(DrawList& out) const {
     for (std::size_t v = 0; v < ball->vertexCount(); ++v) {
       const Vec3 q(ball->positions[3 * v], ball->positions[3 * v + 1], ball->positions[3 * v + 2]);
       const Vec3 d = B * q, h = R_.transpose() * d;  // the direction from the eye's centre, world and head
-      const double el = std::asin(std::clamp(h.y(), -1.0, 1.0)), az = std::abs(std::atan2(h.x(), h.z()));
-      const double shade = (0.4 + 0.6 * smoothstep(0.0, 0.5, ey.upper - el)) * (0.75 + 0.25 * smoothstep(0.0, 0.3, el - ey.lower)) *
-                           (0.7 + 0.3 * smoothstep(ey.lid_azimuth, ey.lid_azimuth - 0.6, az));
+      const double el = std::asin(std::clamp(h.y(), -1.0, 1.0)), az = std::atan2(h.x(), h.z());
+      const double shade = (0.4 + 0.6 * smoothstep(0.0, 0.5, ey.upperEdge(az) - el)) *
+                           (0.75 + 0.25 * smoothstep(0.0, 0.3, el - ey.lowerEdge(az))) *
+                           (0.7 + 0.3 * smoothstep(ey.corner, ey.corner - 0.6, std::abs(az)));
       for (int k = 0; k < 3; ++k) {
         ball->positions[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(ey.center[k] + ey.radius * d[k]);
         ball->normals[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(d[k]);
@@ -313,45 +323,64 @@ void FaceBody::drawSkin(DrawList& out) const {
   };
   for (int e = 0; e < 2; ++e) {
     const Eye ey = eye(e);
-    const double edge = ey.upper, low_edge = ey.lower, r = ey.lid_radius, span = ey.lid_azimuth;
+    const double r = ey.lid_radius, span = ey.lid_azimuth;
     const Vec3 c = surface_.eye[static_cast<std::size_t>(e)];
     constexpr int kA = 18, kE = 24;
     auto at = [&](double el, double az) { return Vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az)); };
     auto azimuth = [&](int i) { return span * (2.0 * i / kA - 1.0); };
     for (int lower = 0; lower < 2; ++lower) {
-      const double from = lower ? low_edge : edge, to = lower ? -0.5 * kPi : 0.5 * kPi;
+      const double to = lower ? -0.5 * kPi : 0.5 * kPi;
+      auto from = [&](double az) { return lower ? ey.lowerEdge(az) : ey.upperEdge(az); };
       auto base = static_cast<std::uint32_t>(lids->vertexCount());
       for (int j = 0; j <= kE; ++j) {
-        const double el = from + (to - from) * j / kE;
-        const double line = j == 0 ? (lower ? 0.25 : 0.55) : 0.0;
-        // The upper lid's fold (the supratarsal crease, where the lid tucks under the skin
-        // above it when open), a shade darker at a fixed height, 43° above the eye's centre;
-        // a fainter one under the lower lid.
-        const double fold = lower ? 0.12 * std::exp(-0.5 * std::pow((el + 0.75) / 0.1, 2)) : 0.3 * std::exp(-0.5 * std::pow((el - 0.75) / 0.07, 2));
-        const Vec3 tone = (1.0 - fold) * lid_tone;
-        for (int i = 0; i <= kA; ++i) vertex(c + r * at(el, azimuth(i)), at(el, azimuth(i)), tone + line * (lash_tone - tone));
+        const double line = j == 0 ? (lower ? 0.3 : 0.75) : 0.0;
+        for (int i = 0; i <= kA; ++i) {
+          const double az = azimuth(i), el = from(az) + (to - from(az)) * j / kE;
+          // The upper lid's fold (the supratarsal crease, where the lid tucks under the skin
+          // above it when open), a shade darker at a fixed height, 43° above the eye's centre;
+          // a fainter one under the lower lid.
+          const double fold = lower ? 0.12 * std::exp(-0.5 * std::pow((el + 0.75) / 0.1, 2)) : 0.3 * std::exp(-0.5 * std::pow((el - 0.75) / 0.07, 2));
+          // The upper lid's skin in its lashes' shade, darkest at their roots.
+          const double shade = lower ? 0.0 : 0.3 * std::exp(-std::abs(el - from(az)) / 0.2);
+          const Vec3 tone = (1.0 - fold) * (1.0 - shade) * lid_tone;
+          vertex(c + r * at(el, az), at(el, az), tone + line * (lash_tone - tone));
+        }
       }
       quads(base, kE, kA);
-      // The lashes: a fringe curving out and away from the eye from the lid's edge, longest
-      // at the middle and toward the outer corner, its tip cut into points (every other column,
-      // about 0.4 mm apart, shorter: each point a clump of lashes), 4.5 mm above and 1.2 mm
-      // below (shorter than real lashes, 8-12 and 6-8 mm: a solid fringe that long reads as a
-      // visor). At 1.4 mm they did not show at all.
-      base = static_cast<std::uint32_t>(lids->vertexCount());
-      const double length = (lower ? 0.0012 : 0.0045) * surface_.scale;
-      const Vec3 away(0, lower ? -1 : 1, 0);
-      constexpr int kL = 90;
+      // The lashes, one by one: ribbons tapering from 0.12 mm at the root, in two or three
+      // rows along the margin, curving out and then up (down below), longer in the middle and
+      // toward the outer corner, each its own length and slant; 7.5 mm above and 2.8 mm below
+      // (real lashes are 8-12 and 6-8 mm; the lower lie against the lid). As a solid fringe cut
+      // into points they read as a comb.
       const double outer = e == 0 ? 1.0 : -1.0;  // the side the eye's outer corner lies (head +x for the left eye)
-      for (int j = 0; j <= 2; ++j)
-        for (int i = 0; i <= kL; ++i) {
-          const double az = span * (2.0 * i / kL - 1.0), fall = std::max(0.0, 1.0 - std::pow(std::abs(az) / 1.3, 4.0));
-          const double sweep = 0.8 + 0.2 * std::clamp(outer * az / span, -1.0, 1.0);  // longer outward
-          const double point = j == 2 && i % 2 == 1 ? 0.7 : 1.0;
-          const Vec3 d = at(from, az), dir = (0.9 * d + 0.45 * away).normalized();
-          const double l = 0.5 * j * length * fall * sweep * point;
-          vertex(c + r * d + l * dir + (0.3 * l * j) * away, dir.cross(Vec3(std::cos(az), 0, -std::sin(az))), lash_tone);
+      const int count = lower ? 40 : 120;
+      const double length = (lower ? 0.0028 : 0.0075) * surface_.scale, width = 0.00012 * surface_.scale;
+      const Vec3 away(0, lower ? -1 : 1, 0);
+      for (int k = 0; k < count; ++k) {
+        const auto rnd = [&](int stream) { return uniformAt(static_cast<std::uint64_t>(e * 2 + lower), static_cast<std::uint64_t>(stream), static_cast<std::uint64_t>(k)); };
+        const double u = 0.94 * (2.0 * (k + 0.2 + 0.6 * rnd(0)) / count - 1.0);  // across: -1 inner .. 1 outer corner
+        const double az = outer * u * ey.corner;
+        const double l = length * (0.45 + 0.55 * lidLobe(u)) * (0.8 + 0.2 * std::max(u, 0.0)) * (0.7 + 0.45 * rnd(1));
+        const Vec3 d = at(from(az), az), side(std::cos(az), 0, -std::sin(az));
+        // Out from the eye, tipped away from it, leaning toward the nearer corner.
+        const Vec3 out0 = (d + 0.12 * away + (0.3 * u + 0.15 * (rnd(2) - 0.5)) * outer * side).normalized();
+        const Vec3 root = c + (r + 0.0002 * surface_.scale * rnd(3)) * d;
+        base = static_cast<std::uint32_t>(lids->vertexCount());
+        constexpr int kS = 4;  // segments
+        for (int q = 0; q <= kS; ++q) {
+          const double t = static_cast<double>(q) / kS;
+          // The curl: the tangent turns from out0 toward `away` along its length.
+          const Vec3 p = root + l * (t * out0 + (0.3 + 0.2 * rnd(4)) * t * t * away);
+          const Vec3 tangent = (out0 + 2.0 * (0.3 + 0.2 * rnd(4)) * t * away).normalized();
+          const double w = 0.5 * width * (1.0 - 0.85 * t);
+          vertex(p - w * side, tangent.cross(side).normalized(), lash_tone);
+          vertex(p + w * side, tangent.cross(side).normalized(), lash_tone);
         }
-      quads(base, 2, kL);
+        for (int q = 0; q < kS; ++q) {
+          const std::uint32_t a = base + static_cast<std::uint32_t>(2 * q);
+          lids->indices.insert(lids->indices.end(), {a, a + 1, a + 3, a, a + 3, a + 2});
+        }
+      }
     }
   }
   DrawMaterial lid = drawMaterial(material_);
@@ -389,13 +418,34 @@ FaceBody::Eye FaceBody::eye(int e) const {
     return i < 0 ? 0.0 : act_[static_cast<std::size_t>(i)];
   };
   const double squeeze = control(e == 0 ? "orbicularis_oculi_left" : "orbicularis_oculi_right");
-  const double closure = std::clamp(std::max(control("blink"), 0.45 * squeeze), 0.0, 1.0);
-  const double open = (17.0 + 11.0 * control("eyelid_raise")) * kPi / 180.0, shut = -40.0 * kPi / 180.0;
-  out.upper = open + closure * (shut - open);
-  out.lower = (-23.0 + 16.0 * squeeze) * kPi / 180.0;
+  constexpr double deg = kPi / 180.0;
+  out.closure = std::clamp(std::max(control("blink"), 0.45 * squeeze), 0.0, 1.0);
+  out.upper = (18.0 + 11.0 * control("eyelid_raise")) * deg;
+  out.lower = (-24.0 + 16.0 * squeeze) * deg;
+  // The corners 64° to each side on the lids' shell (the opening about 28 mm wide at 0.24 m,
+  // Farkas 1994's palpebral fissure; the skin closes over the rest), the outer 8° above the inner.
+  out.corner = 64.0 * deg;
+  out.corners = -4.0 * deg;
+  out.tilt = 8.0 * deg;
+  out.outward = e == 0 ? 1.0 : -1.0;
   out.lid_radius = 1.07 * surface_.eye_radius;
   out.lid_azimuth = 80.0 * kPi / 180.0;
   return out;
+}
+
+
+// The upper margin is highest a little inside the middle, the lower lowest a little outside it
+// (the eyelids' shape in Farkas 1994 and any portrait): the lobes' peaks at u = -0.12 and 0.18.
+double FaceBody::Eye::lowerEdge(double az) const {
+  const double u = outward * az / corner, c = corners + 0.5 * tilt * std::clamp(u, -1.0, 1.0);
+  return c + (lower - c) * lidLobe(acrossLobe(u, 0.18));
+}
+
+double FaceBody::Eye::upperEdge(double az) const {
+  const double u = outward * az / corner, c = corners + 0.5 * tilt * std::clamp(u, -1.0, 1.0);
+  const double open = c + (upper - c) * lidLobe(acrossLobe(u, -0.12));
+  // Shut, it comes down 3° past the lower margin.
+  return open + closure * (lowerEdge(az) - 3.0 * kPi / 180.0 - open);
 }
 
 void FaceBody::drawLayers(DrawList& out) const {
