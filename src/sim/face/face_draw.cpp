@@ -347,15 +347,34 @@ void FaceBody::drawSkin(DrawList& out) const {
         }
       }
       quads(base, kE, kA);
-      // The lashes, one by one: ribbons tapering from 0.12 mm at the root, in two or three
-      // rows along the margin, curving out and then up (down below), longer in the middle and
-      // toward the outer corner, each its own length and slant; 7.5 mm above and 2.8 mm below
+      // The lashes, one by one: ribbons tapering from 0.26 mm at the root (each a clump of two
+      // or three lashes) along the margin, curving out and then up (down below), longer in the
+      // middle and toward the outer corner, each its own length and slant; 6.2 mm above and 2.5 mm below
       // (real lashes are 8-12 and 6-8 mm; the lower lie against the lid). As a solid fringe cut
       // into points they read as a comb.
       const double outer = e == 0 ? 1.0 : -1.0;  // the side the eye's outer corner lies (head +x for the left eye)
-      const int count = lower ? 40 : 120;
-      const double length = (lower ? 0.0028 : 0.0075) * surface_.scale, width = 0.00012 * surface_.scale;
+      const int count = lower ? 28 : 75;
+      const double length = (lower ? 0.0025 : 0.0062) * surface_.scale, width = 0.00026 * surface_.scale;
       const Vec3 away(0, lower ? -1 : 1, 0);
+      // The lash line: where the lashes root, densely, a dark band along the margin 0.7 mm out
+      // (0.3 mm below), thinning to nothing at the corners. At a film's distance a lash is far
+      // under a pixel and they read only as this line and a soft fringe beyond it.
+      {
+        constexpr int kM = 40;
+        base = static_cast<std::uint32_t>(lids->vertexCount());
+        const double band = (lower ? 0.0003 : 0.0007) * surface_.scale;
+        for (int i = 0; i <= kM; ++i) {
+          const double u = 0.98 * (2.0 * i / kM - 1.0), az = outer * u * ey.corner;
+          const Vec3 d = at(from(az), az), dir = (d + 0.3 * away).normalized();
+          const Vec3 normal = dir.cross(Vec3(std::cos(az), 0, -std::sin(az))).normalized();
+          vertex(c + r * d, normal, lash_tone);
+          vertex(c + r * d + band * std::sqrt(lidLobe(u)) * dir, normal, lash_tone);
+        }
+        for (int i = 0; i < kM; ++i) {
+          const std::uint32_t a = base + static_cast<std::uint32_t>(2 * i);
+          lids->indices.insert(lids->indices.end(), {a, a + 2, a + 3, a, a + 3, a + 1});
+        }
+      }
       for (int k = 0; k < count; ++k) {
         const auto rnd = [&](int stream) { return uniformAt(static_cast<std::uint64_t>(e * 2 + lower), static_cast<std::uint64_t>(stream), static_cast<std::uint64_t>(k)); };
         const double u = 0.94 * (2.0 * (k + 0.2 + 0.6 * rnd(0)) / count - 1.0);  // across: -1 inner .. 1 outer corner

@@ -111,6 +111,9 @@ double vermilionTop(double x, double ym) {
 }
 double vermilionBottom(double x, double ym) { return ym - 0.0095 + 0.0093 * std::pow(std::min(std::abs(x) / 0.026, 1.0), 1.8); }
 
+// The middle of the nose's left wing (x, y).
+constexpr double kWing[2] = {0.0145, -0.0412};
+
 // The nasolabial fold, from beside the nose's wing to beside the mouth's corner (the left side's,
 // x > 0): its ends (x, y).
 constexpr double kFoldTop[2] = {0.0195, -0.041}, kFoldEnd[2] = {0.031, -0.073};
@@ -187,8 +190,12 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     const double outer = s * (X - s * kEyeX) > 0 ? 0.0095 : 0.011;
     f.bone -= 0.0105 * gauss(X, Y, s * kEyeX, kEyeY + 0.0005, outer, 0.0065);
     f.bone += 0.004 * gauss(X, Y, s * 0.05, -0.016, 0.014, 0.009);                     // cheekbone
-    f.soft += 0.0095 * gauss(X, Y, s * 0.015, -0.0405, 0.006, 0.0055);                 // the nose's wing
-    f.soft -= 0.0018 * gauss(X, Y, s * 0.0065, -0.0445, 0.003, 0.0015);                // nostril
+    // The nose's wing (ala): a lobe beside the tip's base, ringed above and behind by the alar
+    // groove where it meets the cheek (not below it, where it sits on the lip).
+    const double wing = std::hypot((X - s * kWing[0]) / 0.0052, (Y - kWing[1]) / 0.0047);  // 1 at its rim
+    f.soft += 0.0068 * std::exp(-0.5 * sq(wing));
+    f.soft -= 0.0011 * std::exp(-0.5 * sq((wing - 1.55) / 0.3)) * smoothstep(kWing[1] - 0.005, kWing[1] - 0.001, Y);
+    f.soft -= 0.0018 * gauss(X, Y, s * 0.0062, -0.0447, 0.0032, 0.0016);               // nostril
     f.soft += 0.0008 * gauss(X, Y, s * 0.0045, -0.054, 0.0016, 0.005);                 // philtrum's ridge
     // The fold from the nose's wing to beside the mouth's corner (deeper with age), and the
     // cheek's fat beside it (fuller with the build).
@@ -287,8 +294,12 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
     const Vec3 lip = Y < ym ? Vec3(0.47, 0.17, 0.15) : Vec3(0.42, 0.14, 0.13);
     c = c + lips * (1.0 - 0.15 * male) * (lip * (0.95 + 0.1 * mottle) - c);
     // Nostrils, under the nose.
-    const double nostril = smoothstep(0.6, 0.9, gauss(ax, Y, 0.0065, -0.0446, 0.0028, 0.0013));
-    c = c + 0.6 * nostril * (Vec3(0.2, 0.09, 0.08) - c);
+    const double nostril = smoothstep(0.45, 0.9, gauss(ax, Y, 0.0062, -0.0449, 0.003, 0.0014));
+    c = c + 0.8 * nostril * (Vec3(0.12, 0.05, 0.045) - c);
+    // The alar groove's shade, and the wing a touch redder than the cheek.
+    const double wing = std::hypot((ax - kWing[0]) / 0.0052, (Y - kWing[1]) / 0.0047);
+    c = c.cwiseProduct(Vec3::Ones() - 0.12 * std::exp(-0.5 * sq((wing - 1.5) / 0.3)) * smoothstep(kWing[1] - 0.005, kWing[1] - 0.001, Y) * Vec3(0.8, 1.0, 1.0));
+    c = c + 0.12 * std::exp(-0.5 * sq(wing)) * (Vec3(0.58, 0.3, 0.25) - c);
     // Brows: arched bands of hairs, thick inside, thinning to their tails.
     const double t = (ax - 0.012) / 0.042;
     if (t > -0.1 && t < 1.1) {
