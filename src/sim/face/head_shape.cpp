@@ -75,10 +75,11 @@ const Curve kNose{{-0.05, 0.0},     {-0.047, 0.002},  {-0.0445, 0.0095}, {-0.041
 const Curve kNoseWidth{{-0.05, 0.0075}, {-0.038, 0.0095}, {-0.03, 0.0082}, {-0.01, 0.0065}, {0.014, 0.0058}};
 
 // The hairline's height against the angle around the vertical from the front (rad): a soft peak
-// at the middle, receding at the temples, down to the sideburns, over the ears, to the nape.
-const Curve kHairline{{0.0, 0.07},    {0.3, 0.071},  {0.55, 0.077},  {0.8, 0.066},  {1.0, 0.05},
-                      {1.15, 0.036},  {1.26, -0.012}, {1.34, -0.004}, {1.42, 0.03},  {1.72, 0.034},
-                      {1.95, 0.018},  {2.3, -0.035}, {2.7, -0.062},  {3.1416, -0.066}};
+// at the middle, receding at the temples, down to the sideburns just in front of the ears (whose
+// fronts are 1.69 rad round), over the ears, to the nape.
+const Curve kHairline{{0.0, 0.071},  {0.3, 0.072},  {0.5, 0.076},   {0.75, 0.07},   {0.95, 0.06},  {1.15, 0.047},
+                      {1.32, 0.037}, {1.42, 0.02},  {1.47, -0.012}, {1.6, -0.016},  {1.66, 0.01},  {1.72, 0.028},
+                      {2.0, 0.028},  {2.12, -0.01}, {2.3, -0.045},  {2.75, -0.064}, {3.1416, -0.066}};
 
 // Value noise on the integer lattice (smooth, 0..1), by a hash of the cell's corners.
 double lattice(std::int64_t x, std::int64_t y, std::int64_t z) {
@@ -223,8 +224,9 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   f.soft -= 0.0022 * gauss(X, Y, 0, ym - 0.0165, 0.015, 0.004);
   f.bone *= front;
   f.soft *= front;
-  // Hair stands off the scalp.
-  f.soft += 0.004 * hairCover(p, d, 0.012);
+  // Hair stands off the scalp, thin at its edges and fuller over the top (short hair, 4 mm at
+  // the hairline and 9 mm over the crown: at 4 mm all over it read as a painted helmet).
+  f.soft += (0.004 + 0.005 * smoothstep(0.03, 0.1, Y)) * hairCover(p, d, 0.012);
   return f;
 }
 
