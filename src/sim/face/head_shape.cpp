@@ -194,7 +194,10 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     // The nose's wing (ala): a lobe beside the tip's base, ringed above and behind by the alar
     // groove where it meets the cheek (not below it, where it sits on the lip).
     const double wing = std::hypot((X - s * kWing[0]) / 0.0052, (Y - kWing[1]) / 0.0047);  // 1 at its rim
-    f.soft += 0.0068 * std::exp(-0.5 * sq(wing));
+    // (Sloping gently out to the cheek: a lobe as steep outside as in reads as a ball stuck on,
+    // its far side dark.)
+    const double outside = s * (X - s * kWing[0]) > 0 ? 0.0085 : 0.0052;
+    f.soft += 0.0068 * std::exp(-0.5 * (sq((X - s * kWing[0]) / outside) + sq((Y - kWing[1]) / 0.0047)));
     f.soft -= 0.0011 * std::exp(-0.5 * sq((wing - 1.55) / 0.3)) * smoothstep(kWing[1] - 0.005, kWing[1] - 0.001, Y);
     f.soft -= 0.0018 * gauss(X, Y, s * 0.0062, -0.0447, 0.0032, 0.0016);               // nostril
     f.soft += 0.0008 * gauss(X, Y, s * 0.0045, -0.054, 0.0016, 0.005);                 // philtrum's ridge
@@ -293,8 +296,9 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
     // The vermilion, with a sharp border.
     const double lips = smoothstep(-0.0004, 0.0004, vermilionTop(X, ym) - Y) * smoothstep(-0.0004, 0.0004, Y - vermilionBottom(X, ym)) *
                         smoothstep(0.0275, 0.0255, ax);
-    const Vec3 lip = Y < ym ? Vec3(0.47, 0.17, 0.15) : Vec3(0.42, 0.14, 0.13);
-    c = c + lips * (1.0 - 0.15 * male) * (lip * (0.95 + 0.1 * mottle) - c);
+    // (A muted rose, not a painted one: lips are skin with blood showing through.)
+    const Vec3 lip = Y < ym ? Vec3(0.46, 0.21, 0.18) : Vec3(0.42, 0.19, 0.17);
+    c = c + lips * (0.85 - 0.15 * male) * (lip * (0.95 + 0.1 * mottle) - c);
     // Nostrils, under the nose.
     const double nostril = smoothstep(0.45, 0.9, gauss(ax, Y, 0.0062, -0.0449, 0.003, 0.0014));
     c = c + 0.8 * nostril * (Vec3(0.12, 0.05, 0.045) - c);
@@ -305,19 +309,28 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
     // Brows: arched bands of hairs, thick inside, thinning to their tails.
     const double t = (ax - 0.012) / 0.042;
     if (t > -0.1 && t < 1.1) {
-      const double mid = 0.0195 + 0.0065 * t * (1.6 - t), half = 0.0042 * (1 - 0.55 * std::clamp(t, 0.0, 1.0));
-      const double band = smoothstep(half + 0.0007, half - 0.0005, std::abs(Y - mid)) * smoothstep(-0.1, 0.05, t) * smoothstep(1.1, 0.9, t);
+      // The brow's head rounded, its tail tapering to a point; its edges soft (the hairs thin
+      // out), softer above than below. Cut square at both ends, they read as painted bands.
+      const double tc = std::clamp(t, 0.0, 1.0);
+      const double mid = 0.0195 + 0.0065 * t * (1.6 - t) - 0.0008 * tc * tc;
+      const double half = 0.0041 * (1 - 0.8 * std::pow(tc, 1.6)) * std::sqrt(smoothstep(-0.1, 0.14, t));
+      const double soft = Y > mid ? 0.0011 : 0.0006;
+      const double band = smoothstep(half + soft, half - 0.5 * soft, std::abs(Y - mid)) * smoothstep(-0.1, 0.0, t) * smoothstep(1.08, 0.95, t) *
+                          (0.8 + 0.2 * smoothstep(0.0, 0.2, t));
       // Hairs: streaks along the brow (upward at its head, sideways along it).
       const double slant = t < 0.25 ? 0.3 : 1.0;  // hairs upright at the brow's head, lying along it after
       const double hairs = noise(Vec3((ax - slant * 0.6 * Y) * 4000.0, (Y + slant * 0.25 * ax) * 1200.0, 3.0));
       const double density = band * std::clamp(0.62 + 0.45 * hairs, 0.0, 1.0);
-      c = c + 0.92 * density * (Vec3(0.045, 0.03, 0.022) - c);
+      c = c + 0.95 * density * (Vec3(0.035, 0.024, 0.018) - c);
     }
   }
-  // Hair: strands running down from the crown, greying with age.
-  const double hair = hairCover(p, d, 0.0018 + 0.0012 * noise(p * 1500.0));
+  // Hair: strands running down from the crown, greying with age. Its edge is a band about 7 mm
+  // wide where single strands thin out over the skin (a hard edge reads as a helmet).
+  const double cover = hairCover(p, d, 0.0035 + 0.0012 * noise(p * 1500.0));
+  const double around = std::atan2(d.x(), d.z()), down = std::acos(std::clamp(d.y(), -1.0, 1.0));
+  const double wisps = noise(Vec3(around * 260.0, down * 30.0, 2.5));
+  const double hair = std::clamp(0.5 + 2.0 * (cover - 0.5) + 1.1 * (wisps - 0.5) * (1.0 - std::abs(2.0 * cover - 1.0)), 0.0, 1.0);
   if (hair > 0) {
-    const double around = std::atan2(d.x(), d.z()), down = std::acos(std::clamp(d.y(), -1.0, 1.0));
     const double strand = noise(Vec3(around * 160.0, down * 14.0, 0.5));
     Vec3 h = Vec3(0.05, 0.033, 0.022) * (0.6 + 0.8 * strand);
     h = h + std::clamp(aged - 0.6, 0.0, 1.0) * (Vec3(0.35, 0.34, 0.33) * (0.7 + 0.5 * strand) - h);
