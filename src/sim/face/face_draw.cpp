@@ -278,6 +278,14 @@ void FaceBody::drawSkin(DrawList& out) const {
     for (float& v : inside->normals) v = -v;
     for (std::size_t t = 0; t + 2 < inside->indices.size(); t += 3) std::swap(inside->indices[t + 1], inside->indices[t + 2]);
     inside->uvs.clear();
+    // Dark red at the lips' inner faces, darkening into the mouth (little light reaches far into
+    // it): lit evenly all through, the cavity read as a red box.
+    inside->colors.resize(3 * inside->vertexCount());
+    for (std::size_t v = 0; v < inside->vertexCount(); ++v) {
+      const double r = (surface_.skin[v] - surface_.mouth).norm() / surface_.scale;
+      const double f = 0.3 + 1.4 * std::exp(-std::max(0.0, r - 0.008) / 0.014);
+      for (int k = 0; k < 3; ++k) inside->colors[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(k == 0 ? f : 0.9 * f);
+    }
     DrawMaterial dark = plain(Vec3(0.16, 0.03, 0.03), 0.1);
     dark.casts_shadow = false;
     out.meshes.push_back({std::move(inside), true, dark});
@@ -297,11 +305,11 @@ void FaceBody::drawSkin(DrawList& out) const {
       out.meshes.push_back({std::move(teeth), true, enamel});
     }
     // The tongue: a flattened ellipsoid on the mouth's floor behind the lower teeth, its back
-    // 3 mm below their edges, with the jaw; wet, but with little to reflect inside a mouth.
-    const Vec3 centre(0.0, ym - 0.0095 * k, front - 0.027 * k);
+    // 5 mm below their edges, with the jaw; wet, but with little to reflect inside a mouth.
+    const Vec3 centre(0.0, ym - 0.0115 * k, front - 0.027 * k);
     auto tongue = std::make_shared<TriMesh>(
-        placeMesh(makeUvSphere(1.0, 24, 12), k * Vec3(0.017, 0.0055, 0.022), jawRotation(1.0), world(jawMoved(1.0, centre))));
-    DrawMaterial wet = plain(lit * Vec3(0.36, 0.1, 0.1), 0.01);
+        placeMesh(makeUvSphere(1.0, 24, 12), k * Vec3(0.019, 0.0045, 0.024), jawRotation(1.0), world(jawMoved(1.0, centre))));
+    DrawMaterial wet = plain(lit * Vec3(0.3, 0.08, 0.08), 0.01);
     wet.roughness = 0.35;
     wet.casts_shadow = false;
     out.meshes.push_back({std::move(tongue), true, wet});
