@@ -160,6 +160,43 @@ TEST_CASE("face: the lids open in an almond: the margins meet at the corners, th
   }
 }
 
+TEST_CASE("face: the ears are closed shells with a back: a line through one crosses it twice and encloses what lies between") {
+  const auto ears = makeEars(1.0, Vec3(0.57, 0.36, 0.28));
+  Skin ear;
+  for (std::size_t v = 0; v < ears->vertexCount(); ++v)
+    ear.x.emplace_back(ears->positions[3 * v], ears->positions[3 * v + 1], ears->positions[3 * v + 2]);
+  // The left ear's triangles (+x).
+  for (std::size_t t = 0; t + 2 < ears->indices.size(); t += 3)
+    if (ear.x[ears->indices[t]].x() > 0)
+      for (int k = 0; k < 3; ++k) ear.tris.push_back(ears->indices[t + static_cast<std::size_t>(k)]);
+  int lines = 0;
+  for (double y : {-0.025, -0.012, 0.0, 0.01})
+    for (double z : {-0.018, -0.026}) {
+      // Where the line along x at (y, z) crosses the ear (Möller & Trumbore 1997).
+      std::vector<double> hits;
+      for (std::size_t t = 0; t + 2 < ear.tris.size(); t += 3) {
+        const Vec3 a = ear.x[ear.tris[t]], e1 = ear.x[ear.tris[t + 1]] - a, e2 = ear.x[ear.tris[t + 2]] - a, d(-1, 0, 0), o(0.2, y, z);
+        const Vec3 p = d.cross(e2);
+        const double det = e1.dot(p);
+        if (std::abs(det) < 1e-15) continue;
+        const Vec3 s0 = o - a;
+        const double u = s0.dot(p) / det, v = d.dot(s0.cross(e1)) / det;
+        if (u < 0 || v < 0 || u + v > 1) continue;
+        hits.push_back(0.2 - e2.dot(s0.cross(e1)) / det);
+      }
+      std::sort(hits.begin(), hits.end());
+      hits.erase(std::unique(hits.begin(), hits.end(), [](double a, double b) { return std::abs(a - b) < 1e-9; }), hits.end());
+      if (hits.empty()) continue;
+      ++lines;
+      CHECK(hits.size() % 2 == 0);
+      if (hits.size() < 2) continue;
+      const double thick = hits[hits.size() - 1] - hits[hits.size() - 2];
+      CHECK(thick > 0.0015);
+      CHECK(winding(ear, Vec3(0.5 * (hits[hits.size() - 1] + hits[hits.size() - 2]), y, z)) > 0.9);
+    }
+  CHECK(lines >= 6);
+}
+
 TEST_CASE("face: the profile keeps its measured order: nose ahead of the lips, the lips just ahead of the chin") {
   World w = worldFromText(scene(""));
   const FaceSurface& s = face(w).surface();

@@ -37,35 +37,71 @@ void ringTriangles(TriMesh& m, std::uint32_t first, int rings, int segments, boo
 }
 
 // One ear at height 0.24 m: 62 mm tall, 30 mm wide, its root in the skull behind the jaw's
-// hinge, its back edge 13 mm off the head.
+// hinge, its back edge 13 mm off the head. A closed shell, its rings from the middle of the front
+// out to the rim, round the rim and back in over the back: the front's relief (the helix's rolled
+// rim, the antihelix's ridge above, the bowl of the concha, the lobe flat) rolls over the rim
+// into the smooth back of the auricle, 2 mm behind the rim and 4 mm behind the middle, bulging
+// toward the head behind the bowl. (A single sheet read as a blade from behind and flat from the
+// side.)
 void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
-  constexpr int kRings = 14, kSegments = 48;
+  constexpr int kRings = 16, kRoll = 5, kSegments = 56;
   const auto first = static_cast<std::uint32_t>(m.vertexCount());
   const Vec3 origin(side * 0.0705, -0.012, -0.02), out(side, 0, 0), back(0, 0, -1), up(0, 1, 0);
-  for (int j = 0; j <= kRings; ++j) {
-    const double r = static_cast<double>(j) / kRings;
+  const Vec3 rim_tone = skin + 0.3 * (Vec3(0.62, 0.3, 0.26) - skin);  // thin skin, redder
+  // Where (u back, v up) a point of the outline at fraction r of the way out lies, its relief
+  // off the ear's plane (front or back) and how far the ear stands off the skull there.
+  struct At {
+    double u, v, front, back;
+  };
+  auto at = [&](double r, double a) {
+    const double ca = std::cos(a), sa = std::sin(a);
+    // The outline: wider at the back, the lobe narrower below.
+    double rx = ca > 0 ? 0.0175 : 0.0115, ry = sa > 0 ? 0.031 : 0.03;
+    if (sa < 0) rx *= 1.0 - 0.3 * sq(sa);
+    At p;
+    p.u = r * rx * ca, p.v = r * ry * sa + 0.002;
+    const double upper = std::clamp(0.5 + sa, 0.0, 1.0);
+    const double bowl = 0.006 * std::exp(-sq(p.u / 0.007) - sq((p.v + 0.002) / 0.009));
+    double h = 0.0045 * std::exp(-sq((r - 0.9) / 0.075)) * (sa > -0.6 ? 1.0 : 0.3);
+    h += 0.0028 * std::exp(-sq((r - 0.58) / 0.09)) * upper;
+    const double stand = 0.5 * (p.u + 0.0115) - 0.0012;
+    p.front = stand + h - bowl;
+    p.back = stand - 0.7 * bowl - (0.002 + 0.002 * (1.0 - r * r)) + 0.3 * std::min(h, 0.0015);
+    return p;
+  };
+  auto place = [&](const At& p, double off) { return Vec3(scale * (origin + p.u * back + p.v * up + off * out)); };
+  auto color = [&](const Vec3& c) {
+    for (int k = 0; k < 3; ++k) m.colors.push_back(static_cast<float>(c[k]));
+  };
+  // The front, from its middle out to the rim.
+  for (int j = 0; j <= kRings; ++j)
     for (int i = 0; i < kSegments; ++i) {
-      const double a = 2 * kPi * i / kSegments, ca = std::cos(a), sa = std::sin(a);
-      // The outline: wider at the back, the lobe narrower below.
-      double rx = ca > 0 ? 0.0175 : 0.0115, ry = sa > 0 ? 0.031 : 0.03;
-      if (sa < 0) rx *= 1.0 - 0.3 * sq(sa);
-      const double u = r * rx * ca, v = r * ry * sa + 0.002;
-      // Relief: the helix's rolled rim, the antihelix's ridge above, the bowl (concha) at the
-      // middle, the lobe flat; the whole standing off the skull toward the back.
-      const double upper = std::clamp(0.5 + sa, 0.0, 1.0);
-      double h = 0.0045 * std::exp(-sq((r - 0.9) / 0.075)) * (sa > -0.6 ? 1.0 : 0.3);
-      h += 0.0028 * std::exp(-sq((r - 0.58) / 0.09)) * upper;
-      h -= 0.006 * std::exp(-sq(u / 0.007) - sq((v + 0.002) / 0.009));
-      const double stand = 0.55 * (u + 0.0115) - 0.0035;
-      const Vec3 p = origin + u * back + v * up + (h + stand) * out;
-      m.addVertex(scale * p, out);
-      const double shade = std::clamp(1.0 + 40.0 * std::min(h, 0.0), 0.55, 1.0);
-      const Vec3 c = shade * (skin + 0.15 * (Vec3(0.62, 0.3, 0.26) - skin));
-      for (int k = 0; k < 3; ++k) m.colors.push_back(static_cast<float>(c[k]));
+      const double r = static_cast<double>(j) / kRings;
+      const At p = at(r, 2 * kPi * i / kSegments);
+      m.addVertex(place(p, p.front), out);
+      // Darker down in the bowl and the folds, redder toward the rim.
+      const double shade = std::clamp(1.0 + 40.0 * std::min(p.front - (0.5 * (p.u + 0.0115) - 0.0012), 0.0), 0.55, 1.0);
+      color(shade * (skin + smoothstep(0.6, 1.0, r) * (rim_tone - skin) + 0.15 * (Vec3(0.62, 0.3, 0.26) - skin)));
     }
-  }
-  ringTriangles(m, first, kRings, kSegments, side < 0);
-  // The centre: its first ring collapses to a point; nothing else to close.
+  // Round the rim: a half turn from the front's edge to the back's, out past the outline.
+  for (int q = 1; q < kRoll; ++q)
+    for (int i = 0; i < kSegments; ++i) {
+      const double a = 2 * kPi * i / kSegments, phi = kPi * q / kRoll;
+      const At p = at(1.0, a);
+      const double mid = 0.5 * (p.front + p.back), half = 0.5 * (p.front - p.back);
+      const Vec3 radial = Vec3(p.u * back + (p.v - 0.002) * up).normalized();
+      m.addVertex(place(p, mid + half * std::cos(phi)) + scale * half * std::sin(phi) * radial, out);
+      color(rim_tone);
+    }
+  // The back, from the rim in to its middle.
+  for (int j = kRings; j >= 0; --j)
+    for (int i = 0; i < kSegments; ++i) {
+      const double r = static_cast<double>(j) / kRings;
+      const At p = at(r, 2 * kPi * i / kSegments);
+      m.addVertex(place(p, p.back), -out);
+      color(skin + smoothstep(0.6, 1.0, r) * (rim_tone - skin));
+    }
+  ringTriangles(m, first, 2 * kRings + kRoll, kSegments, side < 0);
 }
 
 }  // namespace
