@@ -197,6 +197,29 @@ TEST_CASE("face: the ears are closed shells with a back: a line through one cros
   CHECK(lines >= 6);
 }
 
+TEST_CASE("face: reel's head has hair strands on the cap and nowhere else, lying on it") {
+  World w = worldFromText(scene(""));
+  const FaceSurface& s = face(w).surface();
+  REQUIRE(s.hair);
+  const TriMesh& hair = *s.hair;
+  const std::size_t strands = hair.vertexCount() / 8;  // four pairs of points along each
+  MESSAGE(strands << " strands");
+  CHECK(strands > 3000);
+  CHECK(hair.indices.size() == strands * 18);
+  int on_face = 0, floating = 0;
+  for (std::size_t v = 0; v < hair.vertexCount(); ++v) {
+    const Vec3 p(hair.positions[3 * v], hair.positions[3 * v + 1], hair.positions[3 * v + 2]);
+    // The face below the hairline, ahead of the ears.
+    if (p.z() > 0.04 && p.y() < 0.05 && std::abs(p.x()) < 0.06) ++on_face;
+    double nearest = 1e9;
+    for (const Vec3& q : s.skin) nearest = std::min(nearest, (q - p).squaredNorm());
+    if (std::sqrt(nearest) > 0.012) ++floating;
+  }
+  MESSAGE(on_face << " points on the face, " << floating << " over 12 mm off the skin");
+  CHECK(on_face == 0);
+  CHECK(floating == 0);
+}
+
 TEST_CASE("face: the profile keeps its measured order: nose ahead of the lips, the lips just ahead of the chin") {
   World w = worldFromText(scene(""));
   const FaceSurface& s = face(w).surface();
@@ -393,8 +416,9 @@ TEST_CASE("face: the teeth and the tongue stay inside the skin drawn: at rest, s
     const Skin skin = drawn(f);
     int checked = 0, outside = 0;
     for (const DrawMesh& m : list.meshes) {
-      // The teeth and the tongue: the meshes inside that cast no shadow, less the mouth's lining.
-      if (m.material.casts_shadow || (m.material.color - Vec3(0.16, 0.03, 0.03)).isZero(1e-9)) continue;
+      // The teeth and the tongue: the meshes inside that cast no shadow, less the mouth's lining
+      // and the hair's strands (sheets, double-sided).
+      if (m.material.casts_shadow || m.material.double_sided || (m.material.color - Vec3(0.16, 0.03, 0.03)).isZero(1e-9)) continue;
       for (std::size_t v = 0; v < m.mesh->vertexCount(); v += 3) {
         ++checked;
         if (winding(skin, Vec3(m.mesh->positions[3 * v], m.mesh->positions[3 * v + 1], m.mesh->positions[3 * v + 2])) < 0.5) ++outside;

@@ -254,6 +254,15 @@ void FaceBody::drawSkin(DrawList& out) const {
     ear.double_sided = true;
     out.meshes.push_back({std::move(ears), true, ear});
   }
+  if (surface_.hair && surface_.hair->vertexCount() > 0) {
+    auto hair = std::make_shared<TriMesh>(*surface_.hair);
+    hair->transform(R_, desc_.position);
+    DrawMaterial strands = plain(Vec3(1, 1, 1), 0.3);
+    strands.roughness = 0.45;
+    strands.double_sided = true;
+    strands.casts_shadow = false;  // (the cap under them casts the head's shadow)
+    out.meshes.push_back({std::move(hair), true, strands});
+  }
   if (surface_.bust && desc_.shoulders) {
     auto bust = std::make_shared<TriMesh>(*surface_.bust);
     const Mat3 turn = Eigen::Quaterniond::Identity().slerp(1.0 / 3.0, Eigen::Quaterniond(R_)).toRotationMatrix();

@@ -273,6 +273,7 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
   for (int row = 0; row < 2; ++row)
     out.teeth[static_cast<std::size_t>(row)] = makeTeeth(s, out.mouth.z() - (row == 0 ? 0.0085 : 0.011) * s,
                                                          out.mouth.y() + (row == 0 ? 0.0008 : -0.0008) * s, row == 0);
+  out.hair = makeHair(out);
   return out;
 }
 

@@ -52,6 +52,7 @@ struct FaceSurface {
   // colours; they turn with the skull), the teeth (the upper row with the skull, the lower with
   // the jaw) and the shoulders in a sweater (they turn a third as far).
   std::shared_ptr<const TriMesh> ears, bust;
+  std::shared_ptr<const TriMesh> hair;  // strands over the painted cap (per-vertex colours), with the skull
   std::array<std::shared_ptr<const TriMesh>, 2> teeth;  // upper (with the skull), lower (with the jaw)
   std::size_t size() const { return skin.size(); }
 };
@@ -102,6 +103,9 @@ SkinDetail makeSkinDetail(const FaceSurface& s, int level);
 // (head_parts.cpp).
 std::shared_ptr<const TriMesh> makeEars(double scale, const Vec3& skin);
 std::shared_ptr<const TriMesh> makeBust(double scale, const FaceLook& look);
+// reel's head's hair as strands rooted in the cap its skin paints, in the head's frame
+// (head_hair.cpp); empty for a user's mesh.
+std::shared_ptr<const TriMesh> makeHair(const FaceSurface& s);
 // A row of teeth (per-vertex albedo), the upper or the lower: its labial face `front` (z)
 // at the midline, its incisal edge at height `edge`, in the head's frame at rest.
 std::shared_ptr<const TriMesh> makeTeeth(double scale, double front, double edge, bool upper);

@@ -1,0 +1,84 @@
+// reel's head's hair drawn as strands over the cap its skin paints (head::hairCover): thin ribbons
+// rooted in the hair, combed away from the crown's whorl, lying down along the head with a little
+// lift, so the hair's outline is soft and its surface catches light strand by strand (a painted
+// cap alone reads as a helmet). Drawn, not simulated: they turn with the skull (face_draw.cpp).
+// After the shell-and-strand idea of real-time fur (Lengyel, Praun, Finkelstein & Hoppe 2001),
+// with the strands as geometry since the renderer has no cut-out textures.
+#include <algorithm>
+#include <cmath>
+
+#include "core/math.h"
+#include "core/mesh.h"
+#include "core/random.h"
+#include "sim/face/head.h"
+#include "sim/face/head_shape.h"
+
+namespace reel {
+
+std::shared_ptr<const TriMesh> makeHair(const FaceSurface& s) {
+  auto m = std::make_shared<TriMesh>();
+  if (!s.generated) return m;
+  const double k = s.scale;
+  // The whorl, where the hair parts from: over the back of the crown (at 0.24 m).
+  const Vec3 whorl(0.0, 0.1, -0.045);
+  // Strands per square metre of scalp: one every 8 mm² (real hair is some 200 per cm², each
+  // ribbon here a lock).
+  constexpr double kDensity = 1.0 / 8e-6;
+  constexpr int kSegments = 3;
+  const std::vector<Vec3> normals = areaNormals(s.skin, s.tris);
+  std::uint64_t serial = 0;
+  for (std::size_t t = 0; t + 2 < s.tris.size(); t += 3) {
+    const Vec3 a = s.skin[s.tris[t]], b = s.skin[s.tris[t + 1]], c = s.skin[s.tris[t + 2]];
+    const double area = 0.5 * (b - a).cross(c - a).norm() / (k * k);
+    const Vec3 mid = (a + b + c) / (3.0 * k);
+    if (mid.y() < -0.09) continue;  // the neck's rings
+    const Vec3 d = mid.normalized();
+    if (head::hairCover(mid, d, 0.004) < 0.05) continue;
+    // How many strands this triangle roots: its share of the density, the fraction drawn by lot.
+    const double expected = area * kDensity;
+    const int count = static_cast<int>(expected) + (uniformAt(7, 0, t) < expected - std::floor(expected) ? 1 : 0);
+    for (int q = 0; q < count; ++q, ++serial) {
+      auto rnd = [&](int stream) { return uniformAt(7, static_cast<std::uint64_t>(stream + 1), serial); };
+      double u = rnd(0), v = rnd(1);
+      if (u + v > 1) u = 1 - u, v = 1 - v;
+      const Vec3 root = (a + u * (b - a) + v * (c - a)) / k;
+      const Vec3 dir = root.normalized();
+      // Fewer strands toward the hairline (they thin out over the skin, as painted).
+      const double cover = head::hairCover(root, dir, 0.004);
+      if (rnd(2) > cover) continue;
+      const Vec3 n = unitOr(normals[s.tris[t]] + normals[s.tris[t + 1]] + normals[s.tris[t + 2]], dir);
+      // Combed away from the whorl along the head, a little wayward; over the forehead, up and
+      // back from the hairline (combed forward, the strands hung over the brow as a fringe).
+      const double front = smoothstep(0.25, 0.6, dir.z()) * smoothstep(0.02, 0.05, root.y());
+      Vec3 flow = (root - whorl).normalized() + front * (Vec3(0, 0.6, -1.0) - (root - whorl).normalized());
+      flow -= flow.dot(n) * n;
+      const Vec3 side = unitOr(n.cross(flow), Vec3::UnitX());
+      flow = unitOr(flow, side.cross(n));
+      flow = (flow + 0.35 * (rnd(3) - 0.5) * side).normalized();
+      // 7 to 13 mm long, shorter at the hairline; rising from under the cap's surface, lifting
+      // off it and lying back down along it.
+      const double length = (0.007 + 0.006 * rnd(4)) * (0.35 + 0.65 * cover), lift = 0.35 + 0.3 * rnd(5);
+      const double width = 0.00035;
+      const Vec3 start = root - 0.0015 * cover * n;  // (under the cap, never under the scalp)
+      const Vec3 hair = head::skinColor(root, dir, s.parting_y, s.look) * (0.75 + 0.5 * rnd(6));
+      const auto base = static_cast<std::uint32_t>(m->vertexCount());
+      for (int j = 0; j <= kSegments; ++j) {
+        const double f = static_cast<double>(j) / kSegments;
+        const Vec3 p = start + length * (f * flow + (lift * f * (1.0 - 0.6 * f) + 0.15 * f) * n);
+        const double w = 0.5 * width * (1.0 - 0.7 * f);
+        for (double e : {-1.0, 1.0}) {
+          m->addVertex(k * (p + e * w * side), n);
+          const Vec3 col = hair * (0.85 + 0.3 * f);  // lighter toward the tips
+          for (int i = 0; i < 3; ++i) m->colors.push_back(static_cast<float>(col[i]));
+        }
+      }
+      for (int j = 0; j < kSegments; ++j) {
+        const std::uint32_t p0 = base + static_cast<std::uint32_t>(2 * j);
+        m->indices.insert(m->indices.end(), {p0, p0 + 1, p0 + 3, p0, p0 + 3, p0 + 2});
+      }
+    }
+  }
+  return m;
+}
+
+}  // namespace reel
