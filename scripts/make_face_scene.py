@@ -100,12 +100,12 @@ def main():
         # falls short, toward the mouth's corner: higher, it lay on the upper lip as a dark smear
         # viewers took for a moustache; a soft-box, so its edge is soft), a warm fill from the
         # camera's side at an eighth of it (at a fifth, viewers found the face flat), and a rim from
-        # straight behind that lifts the head's outline off the background (from the side it lit a
-        # band down the cheek).
+        # straight behind and above that lifts the head's outline off the background (from the side
+        # it lit a band down the cheek; at 0.5 its sheen on the temple read as a hot streak).
         "lights": [{"type": "directional", "direction": [0.6, -0.33, -0.62], "color": [1.0, 0.93, 0.84],
                     "intensity": 2.2, "shadows": True, "angle_deg": 20},
                    {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.95, 0.86, 0.8], "intensity": 0.28},
-                   {"type": "directional", "direction": [-0.1, -0.3, 1.0], "color": [0.9, 0.9, 1.0], "intensity": 0.5},
+                   {"type": "directional", "direction": [0.0, -0.4, 1.0], "color": [0.9, 0.9, 1.0], "intensity": 0.32},
                    {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.12}],
         "bodies": [{
             "type": "face", "name": "face",

@@ -257,8 +257,9 @@ void FaceBody::drawSkin(DrawList& out) const {
   if (surface_.hair && surface_.hair->vertexCount() > 0) {
     auto hair = std::make_shared<TriMesh>(*surface_.hair);
     hair->transform(R_, desc_.position);
-    DrawMaterial strands = plain(Vec3(1, 1, 1), 0.3);
-    strands.roughness = 0.45;
+    // (Little Fresnel sheen: at 0.3 the strands on the outline, seen edge-on, made a grey rim.)
+    DrawMaterial strands = plain(Vec3(1, 1, 1), 0.06);
+    strands.roughness = 0.5;
     strands.double_sided = true;
     strands.casts_shadow = false;  // (the cap under them casts the head's shadow)
     out.meshes.push_back({std::move(hair), true, strands});
@@ -292,7 +293,7 @@ void FaceBody::drawSkin(DrawList& out) const {
     inside->colors.resize(3 * inside->vertexCount());
     for (std::size_t v = 0; v < inside->vertexCount(); ++v) {
       const double r = (surface_.skin[v] - surface_.mouth).norm() / surface_.scale;
-      const double f = 0.3 + 1.4 * std::exp(-std::max(0.0, r - 0.008) / 0.014);
+      const double f = 0.55 + 1.2 * std::exp(-std::max(0.0, r - 0.008) / 0.02);
       for (int k = 0; k < 3; ++k) inside->colors[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(k == 0 ? f : 0.9 * f);
     }
     DrawMaterial dark = plain(Vec3(0.16, 0.03, 0.03), 0.1);
@@ -326,11 +327,12 @@ void FaceBody::drawSkin(DrawList& out) const {
   drawEyes(out);
   // The lids' colours: the skin's tone, a shade darker, and the lash line at their edges.
   const Vec3 lid_tone = 0.93 * Vec3(0.57, 0.36, 0.28), lash_tone(0.07, 0.05, 0.04);
-  auto lids = std::make_shared<TriMesh>();
+  auto lids = std::make_shared<TriMesh>(), lashes = std::make_shared<TriMesh>();
   auto vertex = [&](const Vec3& p, const Vec3& normal, const Vec3& color) {
     lids->addVertex(world(p), R_ * normal);
     for (int k = 0; k < 3; ++k) lids->colors.push_back(static_cast<float>(color[k]));
   };
+  auto lash = [&](const Vec3& p, const Vec3& normal) { lashes->addVertex(world(p), R_ * normal); };
   auto quads = [&](std::uint32_t base, int rows, int cols) {
     for (int j = 0; j < rows; ++j)
       for (int i = 0; i < cols; ++i) {
@@ -378,18 +380,18 @@ void FaceBody::drawSkin(DrawList& out) const {
       // under a pixel and they read only as this line and a soft fringe beyond it.
       {
         constexpr int kM = 40;
-        base = static_cast<std::uint32_t>(lids->vertexCount());
+        base = static_cast<std::uint32_t>(lashes->vertexCount());
         const double band = (lower ? 0.0003 : 0.0007) * surface_.scale;
         for (int i = 0; i <= kM; ++i) {
           const double u = 0.98 * (2.0 * i / kM - 1.0), az = outer * u * ey.corner;
           const Vec3 d = at(from(az), az), dir = (d + 0.3 * away).normalized();
           const Vec3 normal = dir.cross(Vec3(std::cos(az), 0, -std::sin(az))).normalized();
-          vertex(c + r * d, normal, lash_tone);
-          vertex(c + r * d + band * std::sqrt(lidLobe(u)) * dir, normal, lash_tone);
+          lash(c + r * d, normal);
+          lash(c + r * d + band * std::sqrt(lidLobe(u)) * dir, normal);
         }
         for (int i = 0; i < kM; ++i) {
           const std::uint32_t a = base + static_cast<std::uint32_t>(2 * i);
-          lids->indices.insert(lids->indices.end(), {a, a + 2, a + 3, a, a + 3, a + 1});
+          lashes->indices.insert(lashes->indices.end(), {a, a + 2, a + 3, a, a + 3, a + 1});
         }
       }
       for (int k = 0; k < count; ++k) {
@@ -401,7 +403,7 @@ void FaceBody::drawSkin(DrawList& out) const {
         // Out from the eye, tipped away from it, leaning toward the nearer corner.
         const Vec3 out0 = (d + 0.12 * away + (0.3 * u + 0.15 * (rnd(2) - 0.5)) * outer * side).normalized();
         const Vec3 root = c + (r + 0.0002 * surface_.scale * rnd(3)) * d;
-        base = static_cast<std::uint32_t>(lids->vertexCount());
+        base = static_cast<std::uint32_t>(lashes->vertexCount());
         constexpr int kS = 4;  // segments
         for (int q = 0; q <= kS; ++q) {
           const double t = static_cast<double>(q) / kS;
@@ -409,12 +411,12 @@ void FaceBody::drawSkin(DrawList& out) const {
           const Vec3 p = root + l * (t * out0 + (0.3 + 0.2 * rnd(4)) * t * t * away);
           const Vec3 tangent = (out0 + 2.0 * (0.3 + 0.2 * rnd(4)) * t * away).normalized();
           const double w = 0.5 * width * (1.0 - 0.85 * t);
-          vertex(p - w * side, tangent.cross(side).normalized(), lash_tone);
-          vertex(p + w * side, tangent.cross(side).normalized(), lash_tone);
+          lash(p - w * side, tangent.cross(side).normalized());
+          lash(p + w * side, tangent.cross(side).normalized());
         }
         for (int q = 0; q < kS; ++q) {
           const std::uint32_t a = base + static_cast<std::uint32_t>(2 * q);
-          lids->indices.insert(lids->indices.end(), {a, a + 1, a + 3, a, a + 3, a + 2});
+          lashes->indices.insert(lashes->indices.end(), {a, a + 1, a + 3, a, a + 3, a + 2});
         }
       }
     }
@@ -423,6 +425,13 @@ void FaceBody::drawSkin(DrawList& out) const {
   lid.wrap = kSkinWrap;
   lid.double_sided = true;
   out.meshes.push_back({std::move(lids), true, lid});
+  // The lashes: dark, matt and with no Fresnel sheen (seen edge-on a ribbon's grazing reflection
+  // lit the fringe up pale, which read as mould).
+  DrawMaterial lash_material = plain(Vec3(0.025, 0.018, 0.014), 0.0);  // near black: lit by the key, lash_tone read mid-brown
+  lash_material.roughness = 0.8;
+  lash_material.double_sided = true;
+  lash_material.casts_shadow = false;
+  out.meshes.push_back({std::move(lashes), true, lash_material});
 }
 
 FaceBody::Eye FaceBody::eye(int e) const {
