@@ -248,12 +248,12 @@ Wrinkles wrinkleLines(const Vec3& p) {
   const double furrows = std::pow(0.5 + 0.5 * std::cos(2 * kPi * (Y - 0.0335) / 0.0075 + 0.9 * std::sin(X * 45.0)), 6.0);
   // Between the brows: two short vertical lines.
   const double glabella = std::exp(-0.5 * sq((ax - 0.0045) / 0.0009)) * smoothstep(0.006, 0.012, Y) * smoothstep(0.032, 0.025, Y);
-  // Crow's feet: three or four soft lines fanning out from the outer corner of each eye, fading
-  // in and out along their length, each as wide as the gaps between them (sharper, they read as
-  // scratches).
+  // Crow's feet: three soft lines fanning out from the outer corner of each eye, fading in and
+  // out along their length, each wider than the gaps between them (sharper, longer or more of
+  // them, they read as scratches).
   const double cx = ax - 0.047, r = std::hypot(cx, Y - 0.001), fan = std::atan2(Y - 0.001, cx);
-  const double crows = cx > -0.002 ? std::pow(0.5 + 0.5 * std::cos(fan * 9.0), 1.5) * smoothstep(0.004, 0.009, r) *
-                                         smoothstep(0.02, 0.012, r) * smoothstep(1.3, 0.9, std::abs(fan))
+  const double crows = cx > -0.002 ? std::pow(0.5 + 0.5 * std::cos(fan * 7.0), 0.8) * smoothstep(0.005, 0.01, r) *
+                                         smoothstep(0.017, 0.011, r) * smoothstep(1.2, 0.8, std::abs(fan))
                                    : 0.0;
   // The nasolabial fold, from the nose's wing to beside the mouth's corner.
   const double fold = std::exp(-0.5 * sq(segmentDistance(ax, Y, kFoldTop[0], kFoldTop[1], kFoldEnd[0], kFoldEnd[1]) / 0.0012));
