@@ -79,6 +79,7 @@ TEST_CASE("face: the scalp and the back of the neck are held to the skull; the f
   CHECK(lift_free > 0.003);
   CHECK(lift > 0.85 * lift_free);
   CHECK(fh.mouthOpening() == doctest::Approx(ff.mouthOpening()).epsilon(0.05));
+  MESSAGE("worst volume change held " << worstVolumeChange(fh.tissue(), fh.network().state.x));
   CHECK(worstVolumeChange(fh.tissue(), fh.network().state.x) < 0.15);
 }
 

@@ -58,8 +58,8 @@ class Curve {
 // The sections' profiles against height y: half-width, the front's and the back's depth from the
 // centre (the face's midline before its features). Below the chin they close; above y = 0.03 the
 // crown is a dome.
-const Curve kWidth{{-0.124, 0.0},  {-0.118, 0.016}, {-0.112, 0.028}, {-0.1, 0.042}, {-0.085, 0.054},
-                   {-0.07, 0.06},  {-0.05, 0.066},  {-0.02, 0.071},  {0.0, 0.0735}, {0.03, 0.075}};
+const Curve kWidth{{-0.124, 0.0},  {-0.118, 0.0175}, {-0.112, 0.03}, {-0.1, 0.0445}, {-0.085, 0.0555},
+                   {-0.07, 0.061},  {-0.05, 0.066},   {-0.02, 0.071}, {0.0, 0.0735}, {0.03, 0.075}};
 const Curve kFront{{-0.124, 0.0},  {-0.119, 0.04},  {-0.114, 0.066}, {-0.108, 0.08}, {-0.1, 0.086},
                    {-0.088, 0.087}, {-0.07, 0.09},  {-0.046, 0.092}, {0.005, 0.092}, {0.018, 0.095},
                    {0.03, 0.095}};
