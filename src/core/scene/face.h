@@ -156,9 +156,9 @@ struct FacePreset {
 inline constexpr std::array<FacePreset, 7> kFacePresets = {{
     // AU6 + AU12 (+ AU13, AU20, AU25/26): the lips a little apart showing the upper teeth.
     {"happiness",
-     {{{"zygomatic_major", 1.0}, {"orbicularis_oculi", 0.45}, {"jaw_open", 0.15}, {"risorius", 0.3}, {"zygomatic_minor", 0.4}}}},
+     {{{"zygomatic_major", 1.0}, {"orbicularis_oculi", 0.6}, {"jaw_open", 0.15}, {"risorius", 0.3}, {"zygomatic_minor", 0.4}}}},
     // AU1 + AU4 + AU15 (+ AU17)
-    {"sadness", {{{"frontalis_inner", 1.0}, {"corrugator", 0.6}, {"depressor_anguli_oris", 1.0}, {"mentalis", 0.2}, {"orbicularis_oculi", 0.15}}}},
+    {"sadness", {{{"frontalis_inner", 1.0}, {"corrugator", 0.35}, {"depressor_anguli_oris", 1.0}, {"mentalis", 0.2}, {"orbicularis_oculi", 0.15}}}},
     // AU1 + AU2 + AU5 + AU26
     {"surprise", {{{"frontalis_inner", 1.0}, {"frontalis_outer", 1.0}, {"jaw_open", 0.8}, {"eyelid_raise", 1.0}}}},
     // AU4 + AU5 + AU7 + AU23 (+ AU17)
