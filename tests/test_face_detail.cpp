@@ -61,8 +61,8 @@ TEST_CASE("face: the skin drawn finer holds the head's shape where the simulated
   CHECK(!coarse_twice);
   CHECK(!fine_twice);
   CHECK(fine_open == kLevel * coarse_open);
-  // At rest, the nose in profile: the head's exact midline from the root of the nose to the
-  // upper lip (sampled every 0.006°), and how far it passes from the polyline of the skin drawn
+  // At rest, the nose in profile: the head's exact midline over the nose's lower half, its tip
+  // and under it (sampled every 0.006°), and how far it passes from the polyline of the skin drawn
   // and from the simulated skin's (the chord's error falls with the square of the spacing, so
   // three times finer should miss by far less than half).
   const std::vector<Vec3> fine = placed(d, s, s.skin, s.skin);

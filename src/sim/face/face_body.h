@@ -56,7 +56,7 @@ class FaceBody final : public SpringNetworkBody {
   struct Eye {
     Vec3 center{0, 0, 0}, right{1, 0, 0}, up{0, 1, 0}, ahead{0, 0, 1};
     double radius = 0.0, lid_radius = 0.0, lid_azimuth = 0.0, upper = 0.0, lower = 0.0;
-    double corner = 1.2, tilt = 0.0, corners = 0.0;  // corners: the corners' mean elevation, rad
+    double corner = 64.0 * kPi / 180.0, tilt = 0.0, corners = 0.0;  // corners: the corners' mean elevation, rad
     double outward = 1.0;  // +1 where the outer corner lies toward +x (the left eye), -1 else
     double closure = 0.0;  // 0 open .. 1 shut: the upper margin brought down past the lower
     double upperEdge(double az) const;
@@ -109,7 +109,10 @@ class FaceBody final : public SpringNetworkBody {
   // the skull: mass 0; a posed node, the bone and the held tissue: its motion over the step, from
   // `posed`, its positions before the step's pose).
   void contactState(const std::vector<Vec3>& posed, double h);
-  void drawSkin(DrawList& out) const;
+  // The skin and what goes with it (ears, hair, shoulders, eyes, lids and lashes), and with
+  // `mouth_inside` the mouth's cavity, teeth and tongue (left out of a dissolve's skin: they
+  // would show through it as it fades).
+  void drawSkin(DrawList& out, bool mouth_inside = true) const;
   void drawEyes(DrawList& out) const;
   // reel's head's finer skin (with its points at rest and their wrinkle lines), made once.
   const SkinDetail& detail() const;

@@ -82,13 +82,12 @@ void FaceBody::draw(DrawList& out) const {
   // A dissolve: the layers drawn solid and the skin over them, blended (the renderer draws the
   // blended after the solid, depth-tested: the layers fading over a solid skin would hide
   // behind it), fading out into the layers or in from them; the skin's share casts no shadow
-  // and leaves out what lies inside it (the mouth's cavity, teeth and tongue: they cast none).
+  // and leaves out what lies inside it (the mouth's cavity, teeth and tongue).
   drawLayers(out);
   DrawList skin;
-  drawSkin(skin);
+  drawSkin(skin, false);
   const double s = smoothstep(0.0, 1.0, since / fade), opacity = layers ? 1.0 - s : s;
   for (DrawMesh& m : skin.meshes) {
-    if (!m.material.casts_shadow) continue;
     m.material.opacity *= opacity;
     m.material.casts_shadow = false;
     out.meshes.push_back(std::move(m));
@@ -210,7 +209,7 @@ void FaceBody::drawEyes(DrawList& out) const {
   }
 }
 
-void FaceBody::drawSkin(DrawList& out) const {
+void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
   std::vector<Vec3> relaxed;
   std::vector<double> lost, lines;
   std::shared_ptr<TriMesh> mesh = skinMesh(&relaxed, &lost, &lines);
@@ -277,7 +276,7 @@ void FaceBody::drawSkin(DrawList& out) const {
   // The mouth's inside, seen through the parted lips: the skin's inner side, drawn dark red, so
   // whatever one sees past the lips is the mouth's cavity; the teeth, the upper row on the
   // skull, the lower on the jaw; and the tongue.
-  {
+  if (mouth_inside) {
     // (The simulated skin's triangles, not the nine times as many drawn: 1.5 mm in, and
     // further where the skin drawn dips below them, so it never shows through the skin.)
     auto inside = smoothMesh(relaxed, 0, relaxed.size(), surface_.tris);
@@ -315,7 +314,7 @@ void FaceBody::drawSkin(DrawList& out) const {
       out.meshes.push_back({std::move(teeth), true, enamel});
     }
     // The tongue: a flattened ellipsoid on the mouth's floor behind the lower teeth, its back
-    // 5 mm below their edges, with the jaw; wet, but with little to reflect inside a mouth.
+    // about 6 mm below their edges, with the jaw; wet, but with little to reflect inside a mouth.
     const Vec3 centre(0.0, ym - 0.0115 * k, front - 0.027 * k);
     auto tongue = std::make_shared<TriMesh>(
         placeMesh(makeUvSphere(1.0, 24, 12), k * Vec3(0.019, 0.0045, 0.024), jawRotation(1.0), world(jawMoved(1.0, centre))));
@@ -371,7 +370,7 @@ void FaceBody::drawSkin(DrawList& out) const {
       // middle and toward the outer corner, each its own length and slant; 6.2 mm above and 2.5 mm below
       // (real lashes are 8-12 and 6-8 mm; the lower lie against the lid). As a solid fringe cut
       // into points they read as a comb.
-      const double outer = e == 0 ? 1.0 : -1.0;  // the side the eye's outer corner lies (head +x for the left eye)
+      const double outer = ey.outward;  // the side the eye's outer corner lies (head +x for the left eye)
       const int count = lower ? 28 : 75;
       const double length = (lower ? 0.0025 : 0.0062) * surface_.scale, width = 0.00026 * surface_.scale;
       const Vec3 away(0, lower ? -1 : 1, 0);
@@ -389,10 +388,7 @@ void FaceBody::drawSkin(DrawList& out) const {
           lash(c + r * d, normal);
           lash(c + r * d + band * std::sqrt(lidLobe(u)) * dir, normal);
         }
-        for (int i = 0; i < kM; ++i) {
-          const std::uint32_t a = base + static_cast<std::uint32_t>(2 * i);
-          lashes->indices.insert(lashes->indices.end(), {a, a + 2, a + 3, a, a + 3, a + 1});
-        }
+        ribbonTriangles(*lashes, base, kM);
       }
       for (int k = 0; k < count; ++k) {
         const auto rnd = [&](int stream) { return uniformAt(static_cast<std::uint64_t>(e * 2 + lower), static_cast<std::uint64_t>(stream), static_cast<std::uint64_t>(k)); };
@@ -414,10 +410,7 @@ void FaceBody::drawSkin(DrawList& out) const {
           lash(p - w * side, tangent.cross(side).normalized());
           lash(p + w * side, tangent.cross(side).normalized());
         }
-        for (int q = 0; q < kS; ++q) {
-          const std::uint32_t a = base + static_cast<std::uint32_t>(2 * q);
-          lashes->indices.insert(lashes->indices.end(), {a, a + 1, a + 3, a, a + 3, a + 2});
-        }
+        ribbonTriangles(*lashes, base, kS);
       }
     }
   }

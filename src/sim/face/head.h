@@ -103,6 +103,9 @@ SkinDetail makeSkinDetail(const FaceSurface& s, int level);
 // (head_parts.cpp).
 std::shared_ptr<const TriMesh> makeEars(double scale, const Vec3& skin);
 std::shared_ptr<const TriMesh> makeBust(double scale, const FaceLook& look);
+// The triangles of a ribbon whose points were added in pairs (one on each edge) from `base`,
+// `segments` long: each pair joined to the next.
+void ribbonTriangles(TriMesh& m, std::uint32_t base, int segments);
 // reel's head's hair as strands rooted in the cap its skin paints, in the head's frame
 // (head_hair.cpp); empty for a user's mesh.
 std::shared_ptr<const TriMesh> makeHair(const FaceSurface& s);

@@ -1,6 +1,6 @@
 // reel's head's hair drawn as strands over the cap its skin paints (head::hairCover): thin ribbons
-// rooted in the hair, combed away from the crown's whorl, lying down along the head with a little
-// lift, so the hair's outline is soft and its surface catches light strand by strand (a painted
+// rooted in the hair, combed away from the crown's whorl, along the head with a little lift,
+// so the hair's outline is soft and its surface catches light strand by strand (a painted
 // cap alone reads as a helmet). Drawn, not simulated: they turn with the skull (face_draw.cpp).
 // After the shell-and-strand idea of real-time fur (Lengyel, Praun, Finkelstein & Hoppe 2001),
 // with the strands as geometry since the renderer has no cut-out textures.
@@ -55,8 +55,9 @@ std::shared_ptr<const TriMesh> makeHair(const FaceSurface& s) {
       const Vec3 side = unitOr(n.cross(flow), Vec3::UnitX());
       flow = unitOr(flow, side.cross(n));
       flow = (flow + 0.35 * (rnd(3) - 0.5) * side).normalized();
-      // 7 to 13 mm long, shorter at the hairline; rising from under the cap's surface, lifting
-      // off it and lying back down along it.
+      // 7 to 13 mm long, shorter at the hairline; rising from under the cap's surface at an
+      // angle that flattens along the strand, its tip 0.5-4 mm off the cap (on the outline, a
+      // soft fringe).
       const double length = (0.007 + 0.006 * rnd(4)) * (0.35 + 0.65 * cover), lift = 0.35 + 0.3 * rnd(5);
       const double width = 0.00035;
       const Vec3 start = root - 0.0015 * cover * n;  // (under the cap, never under the scalp)
@@ -72,10 +73,7 @@ std::shared_ptr<const TriMesh> makeHair(const FaceSurface& s) {
           for (int i = 0; i < 3; ++i) m->colors.push_back(static_cast<float>(col[i]));
         }
       }
-      for (int j = 0; j < kSegments; ++j) {
-        const std::uint32_t p0 = base + static_cast<std::uint32_t>(2 * j);
-        m->indices.insert(m->indices.end(), {p0, p0 + 1, p0 + 3, p0, p0 + 3, p0 + 2});
-      }
+      ribbonTriangles(*m, base, kSegments);
     }
   }
   return m;

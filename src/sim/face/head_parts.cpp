@@ -106,6 +106,13 @@ void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
 
 }  // namespace
 
+void ribbonTriangles(TriMesh& m, std::uint32_t base, int segments) {
+  for (int j = 0; j < segments; ++j) {
+    const std::uint32_t a = base + static_cast<std::uint32_t>(2 * j);
+    m.indices.insert(m.indices.end(), {a, a + 1, a + 3, a, a + 3, a + 2});
+  }
+}
+
 std::shared_ptr<const TriMesh> makeEars(double scale, const Vec3& skin) {
   auto m = std::make_shared<TriMesh>();
   addEar(*m, scale, 1.0, skin);

@@ -112,8 +112,9 @@ double vermilionTop(double x, double ym) {
 }
 double vermilionBottom(double x, double ym) { return ym - 0.0095 + 0.0093 * std::pow(std::min(std::abs(x) / 0.026, 1.0), 1.8); }
 
-// The middle of the nose's left wing (x, y).
+// The middle of the nose's left wing (x, y), and its nostril's (x, y, and its half-sizes).
 constexpr double kWing[2] = {0.0145, -0.0412};
+constexpr double kNostril[4] = {0.0062, -0.0448, 0.0031, 0.0015};
 
 // The nasolabial fold, from beside the nose's wing to beside the mouth's corner (the left side's,
 // x > 0): its ends (x, y).
@@ -199,7 +200,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     const double outside = s * (X - s * kWing[0]) > 0 ? 0.0085 : 0.0052;
     f.soft += 0.0068 * std::exp(-0.5 * (sq((X - s * kWing[0]) / outside) + sq((Y - kWing[1]) / 0.0047)));
     f.soft -= 0.0011 * std::exp(-0.5 * sq((wing - 1.55) / 0.3)) * smoothstep(kWing[1] - 0.005, kWing[1] - 0.001, Y);
-    f.soft -= 0.0018 * gauss(X, Y, s * 0.0062, -0.0447, 0.0032, 0.0016);               // nostril
+    f.soft -= 0.0018 * gauss(X, Y, s * kNostril[0], kNostril[1], kNostril[2], kNostril[3]);  // nostril
     f.soft += 0.0008 * gauss(X, Y, s * 0.0045, -0.054, 0.0016, 0.005);                 // philtrum's ridge
     // The fold from the nose's wing to beside the mouth's corner (deeper with age), and the
     // cheek's fat beside it (fuller with the build).
@@ -300,7 +301,7 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
     const Vec3 lip = Y < ym ? Vec3(0.46, 0.21, 0.18) : Vec3(0.42, 0.19, 0.17);
     c = c + lips * (0.85 - 0.15 * male) * (lip * (0.95 + 0.1 * mottle) - c);
     // Nostrils, under the nose.
-    const double nostril = smoothstep(0.45, 0.9, gauss(ax, Y, 0.0062, -0.0449, 0.003, 0.0014));
+    const double nostril = smoothstep(0.45, 0.9, gauss(ax, Y, kNostril[0], kNostril[1], kNostril[2], kNostril[3]));
     c = c + 0.8 * nostril * (Vec3(0.12, 0.05, 0.045) - c);
     // The alar groove's shade, and the wing a touch redder than the cheek.
     const double wing = std::hypot((ax - kWing[0]) / 0.0052, (Y - kWing[1]) / 0.0047);
