@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "face_scene.h"
@@ -159,6 +160,32 @@ TEST_CASE("face: the lids open in an almond: the margins meet at the corners, th
     CHECK(ey.closure > 0.97);
     for (int i = -10; i <= 10; ++i) CHECK(ey.upperEdge(ey.outward * 0.1 * i * ey.corner) < ey.lowerEdge(ey.outward * 0.1 * i * ey.corner));
   }
+}
+
+TEST_CASE("face: the lids follow the gaze up and down, the upper over the iris's top") {
+  // Looking ahead, then 30° down, then 30° up (targets 1 m away).
+  World w = worldFromText(scene(R"(, "gaze": [{"time": 0, "target": [0.032, 0, 1]}, {"time": 0.3, "target": [0.032, -0.577, 1]},
+      {"time": 0.6, "target": [0.032, -0.577, 1]}, {"time": 0.9, "target": [0.032, 0.577, 1]}])"));
+  const FaceBody& f = face(w);
+  auto state = [&] {
+    const FaceBody::Eye ey = f.eye(0);
+    const double gaze = std::asin(std::clamp(ey.ahead.dot(f.rotation() * Vec3::UnitY()), -1.0, 1.0));
+    return std::array<double, 3>{gaze, ey.upperEdge(0.0), ey.lowerEdge(0.0)};
+  };
+  const auto ahead = state();
+  run(w, 15);  // 0.5 s: looking down
+  const auto down = state();
+  run(w, 12);  // 0.9 s: looking up
+  const auto up = state();
+  MESSAGE("gaze " << ahead[0] << ", " << down[0] << ", " << up[0] << " rad: upper margin " << ahead[1] << ", " << down[1] << ", "
+                  << up[1] << "; lower " << ahead[2] << ", " << down[2] << ", " << up[2]);
+  REQUIRE(down[0] < -0.4);
+  REQUIRE(up[0] > 0.4);
+  // The upper margin keeps to the iris's top (18° above the gaze when ahead): within 12° of it
+  // looking down or up (a lid that stays leaves white above the iris, or covers the pupil).
+  for (const auto& st : {down, up}) CHECK(std::abs((st[1] - st[0]) - (ahead[1] - ahead[0])) < 0.21);
+  CHECK(down[2] < ahead[2]);
+  CHECK(up[2] > ahead[2]);
 }
 
 TEST_CASE("face: the ears are closed shells with a back: a line through one crosses it twice and encloses what lies between") {

@@ -447,10 +447,12 @@ FaceBody::Eye FaceBody::eye(int e) const {
   out.ahead = look;
   out.right = unitOr(up.cross(look), R_ * Vec3::UnitX());
   out.up = look.cross(out.right);
-  // The lids: open, the upper lid's edge 17° above the centre, just over the iris's top (28° with
-  // eyelid_raise: white shows above it), the lower
-  // lid's 23° below (higher as the orbicularis oculi squeezes); a blink, or the orbicularis
-  // oculi in part, brings the upper lid down to 40° below.
+  // The lids: open, the upper margin's top 18° above the centre, just over the iris's top (29°
+  // with eyelid_raise: white shows above it), the lower's bottom 24° below (higher as the
+  // orbicularis oculi squeezes); both follow the gaze up and down, the upper 0.7 and the lower
+  // 0.4 of its elevation (the levator and the lower lid's retractors move with the eye: with
+  // lids that stayed, eyes looking down showed a band of white above the iris, as if rolled
+  // back). A blink, or the orbicularis oculi in part, brings the upper margin down past the lower.
   auto control = [&](const std::string& name) {
     const int i = activations_.index(name);
     return i < 0 ? 0.0 : act_[static_cast<std::size_t>(i)];
@@ -458,8 +460,9 @@ FaceBody::Eye FaceBody::eye(int e) const {
   const double squeeze = control(e == 0 ? "orbicularis_oculi_left" : "orbicularis_oculi_right");
   constexpr double deg = kPi / 180.0;
   out.closure = std::clamp(std::max(control("blink"), 0.45 * squeeze), 0.0, 1.0);
-  out.upper = (18.0 + 11.0 * control("eyelid_raise")) * deg;
-  out.lower = (-24.0 + 16.0 * squeeze) * deg;
+  const double gaze = std::asin(std::clamp(look.dot(up), -1.0, 1.0));  // the gaze's elevation in the head
+  out.upper = (18.0 + 11.0 * control("eyelid_raise")) * deg + 0.7 * gaze;
+  out.lower = (-24.0 + 16.0 * squeeze) * deg + 0.4 * gaze;
   // The corners 64° to each side on the lids' shell (the opening about 28 mm wide at 0.24 m,
   // Farkas 1994's palpebral fissure; the skin closes over the rest), the outer 8° above the inner.
   out.corner = 64.0 * deg;
