@@ -45,7 +45,7 @@ std::shared_ptr<const TriMesh> eyeMesh(const Vec3& iris) {
     // The sclera: off-white, greying toward the back (less lit, veined) and darkening into a
     // limbal ring at the iris's edge.
     const double from = std::acos(std::clamp(z, -1.0, 1.0));
-    Vec3 c = Vec3(0.56, 0.52, 0.49) * (0.75 + 0.25 * std::clamp(z + 0.3, 0.0, 1.0));
+    Vec3 c = Vec3(0.68, 0.64, 0.6) * (0.75 + 0.25 * std::clamp(z + 0.3, 0.0, 1.0));
     if (from < 0.2) c = Vec3(0.015, 0.015, 0.015);
     else if (from < 0.5) c = iris * (0.7 + 0.6 * (from - 0.2) / 0.3) * (from > 0.44 ? 0.55 : 1.0);
     for (int k = 0; k < 3; ++k) m->colors[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(c[k]);
@@ -326,6 +326,7 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
   drawEyes(out);
   // The lids' colours: the skin's tone, a shade darker, and the lash line at their edges.
   const Vec3 lid_tone = 0.93 * Vec3(0.57, 0.36, 0.28), lash_tone(0.07, 0.05, 0.04);
+  const Vec3 caruncle(0.52, 0.22, 0.2), rim(0.5, 0.27, 0.24);
   auto lids = std::make_shared<TriMesh>(), lashes = std::make_shared<TriMesh>();
   auto vertex = [&](const Vec3& p, const Vec3& normal, const Vec3& color) {
     lids->addVertex(world(p), R_ * normal);
@@ -360,19 +361,35 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
           const double fold = lower ? 0.12 * std::exp(-0.5 * std::pow((el + 0.75) / 0.1, 2)) : 0.3 * std::exp(-0.5 * std::pow((el - 0.75) / 0.07, 2));
           // The upper lid's skin in its lashes' shade, darkest at their roots.
           const double shade = lower ? 0.0 : 0.3 * std::exp(-std::abs(el - from(az)) / 0.2);
-          const Vec3 tone = (1.0 - fold) * (1.0 - shade) * lid_tone;
-          vertex(c + r * at(el, az), at(el, az), tone + line * (lash_tone - tone));
+          Vec3 tone = (1.0 - fold) * (1.0 - shade) * lid_tone;
+          // The inner corner's caruncle and fold, pink where the lids meet (a lid there in the
+          // skin's tone read as a notch cut into the face).
+          const double inner = smoothstep(0.7, 1.0, -ey.outward * az / ey.corner) * std::exp(-std::abs(el - from(az)) / 0.25);
+          tone = tone + 0.8 * inner * (caruncle - tone);
+          vertex(c + r * at(el, az), at(el, az), tone + (1.0 - inner) * line * (lash_tone - tone));
         }
       }
       quads(base, kE, kA);
+      // The lid's margin: its thickness, from the shell down to the eyeball (a strip facing the
+      // opening), dark under the upper lashes, the lower lid's wet rim pink. Without it the
+      // lids were paper-thin and the eye read as painted on.
+      base = static_cast<std::uint32_t>(lids->vertexCount());
+      for (int q = 0; q < 2; ++q)
+        for (int i = 0; i <= kA; ++i) {
+          const double az = azimuth(i), el = from(az), rq = q == 0 ? r : 1.004 * surface_.eye_radius;
+          const Vec3 facing = lower ? Vec3(-std::sin(el) * std::sin(az), std::cos(el), -std::sin(el) * std::cos(az))
+                                    : Vec3(std::sin(el) * std::sin(az), -std::cos(el), std::sin(el) * std::cos(az));
+          vertex(c + rq * at(el, az), facing, lower ? rim : lash_tone);
+        }
+      quads(base, 1, kA);
       // The lashes, one by one: ribbons tapering from 0.26 mm at the root (each a clump of two
       // or three lashes) along the margin, curving out and then up (down below), longer in the
       // middle and toward the outer corner, each its own length and slant; 6.2 mm above and 2.5 mm below
       // (real lashes are 8-12 and 6-8 mm; the lower lie against the lid). As a solid fringe cut
       // into points they read as a comb.
       const double outer = ey.outward;  // the side the eye's outer corner lies (head +x for the left eye)
-      const int count = lower ? 28 : 75;
-      const double length = (lower ? 0.0025 : 0.0062) * surface_.scale, width = 0.00026 * surface_.scale;
+      const int count = lower ? 24 : 90;
+      const double length = (lower ? 0.0022 : 0.0052) * surface_.scale, width = (lower ? 0.00012 : 0.00017) * surface_.scale;
       const Vec3 away(0, lower ? -1 : 1, 0);
       // The lash line: where the lashes root, densely, a dark band along the margin 0.7 mm out
       // (0.3 mm below), thinning to nothing at the corners. At a film's distance a lash is far
@@ -463,13 +480,13 @@ FaceBody::Eye FaceBody::eye(int e) const {
   const double gaze = std::asin(std::clamp(look.dot(up), -1.0, 1.0));  // the gaze's elevation in the head
   out.upper = (18.0 + 11.0 * control("eyelid_raise")) * deg + 0.7 * gaze;
   out.lower = (-24.0 + 16.0 * squeeze) * deg + 0.4 * gaze;
-  // The corners 64° to each side on the lids' shell (the opening about 28 mm wide at 0.24 m,
+  // The corners 61° to each side on the lids' shell (the opening about 28 mm wide at 0.24 m,
   // Farkas 1994's palpebral fissure; the skin closes over the rest), the outer 8° above the inner.
-  out.corner = 64.0 * deg;
+  out.corner = 61.0 * deg;
   out.corners = -4.0 * deg;
   out.tilt = 8.0 * deg;
   out.outward = e == 0 ? 1.0 : -1.0;
-  out.lid_radius = 1.07 * surface_.eye_radius;
+  out.lid_radius = head::kLidShell * surface_.eye_radius;
   out.lid_azimuth = 80.0 * kPi / 180.0;
   return out;
 }

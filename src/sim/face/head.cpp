@@ -243,19 +243,9 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
     w *= std::max(smoothstep(-0.125, -0.1, Y), smoothstep(0.45, 0.95, plan) * (1 - smoothstep(-0.12, -0.135, Y)));
     out.jaw[k] = w;
   }
-  // Eyes: in the sockets, their fronts 4 mm behind where the face would be without them (at
-  // 2.5 mm the lids around them stood out of the face like caps, and a shut eye as a dome).
+  // Eyes: in the sockets (head::eyeCentre).
   out.eye_radius = head::kEyeRadius * s;
-  for (int e = 0; e < 2; ++e) {
-    const double x = (e == 0 ? 1 : -1) * head::kEyeX;
-    Vec3 d = Vec3(x, head::kEyeY, 0.09).normalized();
-    for (int it = 0; it < 4; ++it) {
-      const Vec3 p = baseRadius(d, look) * d;
-      d = Vec3(x, head::kEyeY, p.z()).normalized();
-    }
-    const double z = baseRadius(d, look) * d.z();
-    out.eye[static_cast<std::size_t>(e)] = s * Vec3(x, head::kEyeY, z - 0.004 - head::kEyeRadius);
-  }
+  for (int e = 0; e < 2; ++e) out.eye[static_cast<std::size_t>(e)] = s * head::eyeCentre(e, look);
   out.columns = C;
   out.rays = R;
   out.rows = rings;

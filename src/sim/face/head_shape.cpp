@@ -175,6 +175,23 @@ Vec3 baseNormal(const Vec3& p, const FaceLook& look) {
   return g.normalized();
 }
 
+Vec3 eyeCentre(int e, const FaceLook& look) {
+  // (Cached for the last look: features() asks for it at every point of the skin.)
+  thread_local FaceLook last{-1.0, -1.0, -1.0};
+  thread_local double front = 0.0;
+  if (last.sex != look.sex || last.age != look.age || last.build != look.build) {
+    Vec3 d = Vec3(kEyeX, kEyeY, 0.09).normalized();
+    for (int it = 0; it < 4; ++it) {
+      const Vec3 p = baseRadius(d, look) * d;
+      d = Vec3(kEyeX, kEyeY, p.z()).normalized();
+    }
+    front = baseRadius(d, look) * d.z();
+    last = look;
+  }
+  // (At 2.5 mm behind, the lids around them stood out of the face like caps, and a shut eye as a dome.)
+  return Vec3(e == 0 ? kEyeX : -kEyeX, kEyeY, front - 0.004 - kEyeRadius);
+}
+
 double hairCover(const Vec3& p, const Vec3& d, double soft) {
   const double around = std::abs(std::atan2(d.x(), d.z()));
   return smoothstep(-soft, soft, p.y() - kHairline(around));
@@ -228,6 +245,37 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   f.soft -= 0.0022 * gauss(X, Y, 0, ym - 0.0165, 0.015, 0.004);
   f.bone *= front;
   f.soft *= front;
+  // The lids are skin lying on the eyeball: over the eye's opening and a band around it (up to
+  // the upper lid's crease, down past the lower lid), the skin sinks to just behind the eyeball
+  // and the lids' shell over it, so the lids and the opening between them show out to the corners, 23 mm apart
+  // (Farkas 1994: the palpebral fissure 28-30 mm). Over the flat socket alone, only the middle
+  // 16 mm of the almond cleared the skin, and the eyes looked small.
+  {
+    const Vec3 e = featureDirection(d);
+    for (int k = 0; k < 2; ++k) {
+      const Vec3 c = eyeCentre(k, look);
+      // Where the skin's ray (from the base point along e) meets a sphere 0.4 mm inside the
+      // eyeball (the skin never covers the eye in the opening, nor crosses it at a graze).
+      const double r = kEyeRadius - 0.0004;
+      const Vec3 m = p - c;
+      const double along = m.dot(e), disc = along * along - m.squaredNorm() + r * r;
+      if (disc <= 0 || e.z() < 0.3) continue;
+      const double most = -along + std::sqrt(disc);  // the displacement that reaches the shell
+      const Vec3 h = p + most * e - c;
+      // The almond as drawn at rest (FaceBody::Eye): its corners 11.3 mm to either side, the
+      // outer 0.9 mm above the middle's line, the inner as far below; the band above reaching
+      // the lid's crease (9.5 mm above that line), the one below 2.5 mm past the margin, both
+      // narrowing to 1.2 mm at the corners.
+      const double t = (k == 0 ? h.x() : -h.x()) / 0.0113, v = h.y();
+      if (std::abs(t) >= 1.0) continue;
+      const double lobe = std::abs(t) < 1 ? std::pow(std::cos(0.5 * kPi * t), 0.65) : 0.0;
+      const double mid = -0.0009 + 0.0009 * std::clamp(t, -1.0, 1.0);
+      const double top = mid + 0.0012 + 0.0083 * lobe, bottom = mid - 0.0012 - 0.0066 * lobe;
+      const double w = smoothstep(top, top - 0.003, v) * smoothstep(bottom, bottom + 0.0025, v) * smoothstep(1.0, 0.85, std::abs(t));
+      const double over = f.bone + f.soft - most;
+      if (over > 0) f.bone -= over * w;
+    }
+  }
   // Hair stands off the scalp, thin at its edges and fuller over the top (short hair, 4 mm at
   // the hairline and 9 mm over the crown: at 4 mm all over it read as a painted helmet).
   f.soft += (0.004 + 0.005 * smoothstep(0.03, 0.1, Y)) * hairCover(p, d, 0.012);
@@ -238,7 +286,14 @@ Vec3 featureDirection(const Vec3& d) {
   const double front = smoothstep(0.15, 0.6, d.z()) * smoothstep(-0.8, -0.62, d.y()) * smoothstep(0.15, 0.0, d.y());
   if (front <= 0) return d;
   const Vec3 level = Vec3(d.x(), 0.0, d.z()).normalized();
-  return (d + front * (level - d)).normalized();
+  Vec3 out = (d + front * (level - d)).normalized();
+  // Straight back over the eyes (the levelled ray leans out 20° there, and the skin along it
+  // could not reach behind the eye's inner corner: a wall there cut the opening off square).
+  for (double s : {-1.0, 1.0}) {
+    const double from = std::acos(std::clamp(d.dot(Vec3(s * kEyeX, kEyeY, 0.085).normalized()), -1.0, 1.0));
+    out += front * std::exp(-0.5 * sq(from / 0.16)) * (Vec3::UnitZ() - out);
+  }
+  return out.normalized();
 }
 
 Wrinkles wrinkleLines(const Vec3& p) {

@@ -30,6 +30,8 @@ inline double atIndex(const std::vector<double>& a, double f) {
 
 // Landmarks at height 0.24 m.
 inline constexpr double kEyeX = 0.032, kEyeY = 0.0, kEyeRadius = 0.012;
+// The lids' shell about each eye (its radius over the eye's): the lids are drawn on it.
+inline constexpr double kLidShell = 1.07;
 inline constexpr double kMouthY = -0.070, kMouthHalf = 0.025;
 
 // The neck: its axis (vertical, at this z) and where it is cut (inside the shoulders).
@@ -42,6 +44,9 @@ double baseRadius(const Vec3& d, const FaceLook& look);
 double baseDistance(const Vec3& o, const Vec3& d, const FaceLook& look);
 // The head's outward normal at a point of its base surface (the shape's gradient, unit).
 Vec3 baseNormal(const Vec3& p, const FaceLook& look);
+// The centre of eye e (0: left, +x; 1: right) in the socket: its front 4 mm behind where the
+// face would be without the features.
+Vec3 eyeCentre(int e, const FaceLook& look);
 
 // The features as displacements along the ray at the base point p (direction d) with the lips'
 // parting at height ym: the skull's (brow ridge, eye sockets, cheekbones, chin), which the skin
