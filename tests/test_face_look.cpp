@@ -96,7 +96,7 @@ TEST_CASE("face: the eyes stay behind the skin and the lids, looking anywhere, w
   MESSAGE("eyeball samples poking out, eyes open: " << open_bad << " (the skin drawn: " << open_drawn << ")");
   CHECK(open_bad == 0);
   CHECK(open_drawn == 0);
-  // The mouth's inside (the skin's inner side, drawn dark red) stays under the skin drawn: the
+  // The mouth's inside (the skin's inner side, drawn dark) stays under the skin drawn: the
   // middles of its triangles in the face's front half all lie inside it.
   {
     DrawList list;
@@ -104,7 +104,7 @@ TEST_CASE("face: the eyes stay behind the skin and the lids, looking anywhere, w
     const Skin skin = drawn(f);
     int checked = 0, outside = 0;
     for (const DrawMesh& m : list.meshes) {
-      if (!(m.material.color - Vec3(0.16, 0.03, 0.03)).isZero(1e-9)) continue;
+      if (!(m.material.color - FaceBody::kMouthInside).isZero(1e-9)) continue;
       // (Its triangles' middles: its corners lie on the exact shape, the middles cut across.)
       const auto& ix = m.mesh->indices;
       auto at = [&](std::size_t k) { return Vec3(m.mesh->positions[3 * ix[k]], m.mesh->positions[3 * ix[k] + 1], m.mesh->positions[3 * ix[k] + 2]); };
@@ -454,7 +454,7 @@ TEST_CASE("face: the teeth and the tongue stay inside the skin drawn: at rest, s
     for (const DrawMesh& m : list.meshes) {
       // The teeth and the tongue: the meshes inside that cast no shadow, less the mouth's lining
       // and the hair's strands (sheets, double-sided).
-      if (m.material.casts_shadow || m.material.double_sided || (m.material.color - Vec3(0.16, 0.03, 0.03)).isZero(1e-9)) continue;
+      if (m.material.casts_shadow || m.material.double_sided || (m.material.color - FaceBody::kMouthInside).isZero(1e-9)) continue;
       for (std::size_t v = 0; v < m.mesh->vertexCount(); v += 3) {
         ++checked;
         if (winding(skin, Vec3(m.mesh->positions[3 * v], m.mesh->positions[3 * v + 1], m.mesh->positions[3 * v + 2])) < 0.5) ++outside;

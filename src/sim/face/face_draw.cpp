@@ -287,15 +287,20 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     for (float& v : inside->normals) v = -v;
     for (std::size_t t = 0; t + 2 < inside->indices.size(); t += 3) std::swap(inside->indices[t + 1], inside->indices[t + 2]);
     inside->uvs.clear();
-    // Dark red at the lips' inner faces, darkening into the mouth (little light reaches far into
-    // it): lit evenly all through, the cavity read as a red box.
+    // The lips' inner faces a wet red, 3 mm in from the parting; past them the mouth is near
+    // black (little light reaches far into it: lit evenly all through, the cavity read as a red
+    // box, and the head's inside seen through the lips as a maroon wall).
     inside->colors.resize(3 * inside->vertexCount());
+    const double yp = surface_.mouth.y(), half = 0.5 * surface_.mouth_width;
     for (std::size_t v = 0; v < inside->vertexCount(); ++v) {
-      const double r = (surface_.skin[v] - surface_.mouth).norm() / surface_.scale;
-      const double f = 0.55 + 1.2 * std::exp(-std::max(0.0, r - 0.008) / 0.02);
-      for (int k = 0; k < 3; ++k) inside->colors[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(k == 0 ? f : 0.9 * f);
+      const Vec3& q = surface_.skin[v];
+      const double lip = std::exp(-std::max(0.0, std::abs(q.y() - yp) - 0.002 * surface_.scale) / (0.003 * surface_.scale)) *
+                         smoothstep(half + 0.004 * surface_.scale, half - 0.004 * surface_.scale, std::abs(q.x())) *
+                         smoothstep(surface_.mouth.z() - 0.02 * surface_.scale, surface_.mouth.z() - 0.01 * surface_.scale, q.z());
+      const Vec3 c = Vec3(0.05, 0.012, 0.012) + lip * (Vec3(0.4, 0.12, 0.11) - Vec3(0.05, 0.012, 0.012));
+      for (int k = 0; k < 3; ++k) inside->colors[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(c[k]);
     }
-    DrawMaterial dark = plain(Vec3(0.16, 0.03, 0.03), 0.1);
+    DrawMaterial dark = plain(kMouthInside, 0.1);
     dark.casts_shadow = false;
     out.meshes.push_back({std::move(inside), true, dark});
     const double k = surface_.scale, ym = surface_.mouth.y();

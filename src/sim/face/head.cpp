@@ -258,13 +258,13 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
   out.jaw_hinge = s * Vec3(0, -0.02, -0.015);
   out.ears = makeEars(s, head::skinColor(Vec3(0.07, -0.012, -0.02), Vec3(1, 0, 0), ym, look));
   out.bust = makeBust(s, look);
-  // The teeth behind the lips' parting: the upper 8.5 mm behind, their edges 1.5 mm below it (as
-  // lips part, a few mm of the upper incisors show: with their edges above it, an open mouth
-  // showed only the lower row), the lower 2.5 mm further back with their edges 0.8 mm below it
+  // The teeth behind the lips' parting: the upper 8.5 mm behind, their edges 4.5 mm below it (as
+  // lips part, a few mm of the upper incisors show: with their edges 1.5 mm below it, the upper
+  // lip rising as the jaw opened hid them), the lower 2.5 mm further back with their edges 0.8 mm below it
   // (the upper incisors stand ahead of and over them: overjet and overbite).
   for (int row = 0; row < 2; ++row)
     out.teeth[static_cast<std::size_t>(row)] = makeTeeth(s, out.mouth.z() - (row == 0 ? 0.0085 : 0.011) * s,
-                                                         out.mouth.y() + (row == 0 ? -0.0015 : -0.0008) * s, row == 0);
+                                                         out.mouth.y() + (row == 0 ? -0.0045 : -0.0008) * s, row == 0);
   out.hair = makeHair(out);
   return out;
 }

@@ -214,8 +214,8 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     const double wing = std::hypot((X - s * kWing[0]) / 0.0052, (Y - kWing[1]) / 0.0047);  // 1 at its rim
     // (Sloping gently out to the cheek: a lobe as steep outside as in reads as a ball stuck on,
     // its far side dark.)
-    const double outside = s * (X - s * kWing[0]) > 0 ? 0.0085 : 0.0052;
-    f.soft += 0.0068 * std::exp(-0.5 * (sq((X - s * kWing[0]) / outside) + sq((Y - kWing[1]) / 0.0047)));
+    const double outside = s * (X - s * kWing[0]) > 0 ? 0.0085 : 0.0064;
+    f.soft += 0.0046 * std::exp(-0.5 * (sq((X - s * kWing[0]) / outside) + sq((Y - kWing[1]) / 0.0047)));
     f.soft -= 0.0011 * std::exp(-0.5 * sq((wing - 1.55) / 0.3)) * smoothstep(kWing[1] - 0.005, kWing[1] - 0.001, Y);
     f.soft -= 0.0018 * gauss(X, Y, s * kNostril[0], kNostril[1], kNostril[2], kNostril[3]);  // nostril
     f.soft += 0.0008 * gauss(X, Y, s * 0.0045, -0.054, 0.0016, 0.005);                 // philtrum's ridge
@@ -233,7 +233,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   // Nose: the ridge from the root to the tip and under it, the tip's lobule.
   const double nose = 0.92 + 0.16 * male;
   f.soft += nose * kNose(Y) * std::exp(-0.5 * sq(X / kNoseWidth(Y)));
-  f.soft += 0.0018 * gauss(X, Y, 0, -0.0365, 0.0055, 0.0045);
+  f.soft += 0.0024 * gauss(X, Y, 0, -0.0365, 0.0068, 0.0048);
   // Lips: the upper lip's skin slopes out from under the nose to the vermilion; the vermilion
   // of each lip rolls out (fuller for a woman); the parting and the fold under the lower lip.
   const double full = 1.08 - 0.16 * male;
