@@ -105,7 +105,7 @@ struct FaceDesc final : BodyParams {
   FaceLayerDesc muscle{0.005, 3.0e3};     // muscle layer, down to the skull
   double biphasic_strain = 0.15;   // past this strain the skin's springs stiffen
   double biphasic_ratio = 5.0;     // by this factor
-  double volume_modulus = 2.0e5;   // Pa, resistance of each tissue element to a change of volume
+  double volume_modulus = 2.5e5;   // Pa, resistance of each tissue element to a change of volume
   double density = 1000.0;         // kg/m³
   double damping = 8.0;            // 1/s, each node's drag over its mass
   double spring_damping = 0.002;   // s, a spring's damping over its stiffness
