@@ -2,14 +2,16 @@
 """Writes scenes/face.json: the muscle-driven face (docs/face.md), a three-quarter close-up.
 
   0-2 s        the head, turned away, turns to the camera; the eyes lead it;
-  2-11.6 s     the six universal expressions, one after another, each with its carriage of the
-               head and its gaze (sadness looks down, disgust and fear away), the eyes glancing
-               about between them, with blinks: happiness, surprise, sadness, anger, disgust,
-               fear;
+  2-11.6 s     the six universal expressions as one small performance, each flowing into the
+               next without a return to a blank face, each held as long as it needs (a start
+               of surprise is short, sadness lingers) and relaxing a little as it is held, with
+               its carriage of the head and its gaze (sadness looks down, disgust and fear away),
+               the eyes glancing about, with blinks: a smile of greeting, surprise, fear, anger,
+               disgust, sadness;
   11.6-15.2 s  a spoken line's mouth shapes (visemes), the head nodding with it;
   15.2-18 s    the camera glides round to the other side as the head turns to it and the skin
                dissolves into the layers: the lattice over the left half, the skull and the
-               muscles (yellow relaxed, red contracted) on the right, as the face smiles again.
+               muscles (red relaxed, glowing orange contracted) on the right, as the face smiles again.
 Run from the repository root: python3 scripts/make_face_scene.py
 """
 import json
@@ -17,9 +19,13 @@ import json
 from make_rigid_scenes import write_scene
 
 FPS = 30
-EXPRESSIONS = ["happiness", "surprise", "sadness", "anger", "disgust", "fear"]
-START, EACH = 2.0, 1.6  # s: the first expression's start, and each one's length
-SPEECH = START + EACH * len(EXPRESSIONS)  # 11.6 s
+# The order tells a small story (greeting, a start, fear, anger pushing back, disgust, giving
+# up); each one's length, s (summing to 9.6: a start of surprise is brief, sadness lingers).
+EXPRESSIONS = ["happiness", "surprise", "fear", "anger", "disgust", "sadness"]
+LENGTHS = [1.8, 1.1, 1.5, 1.6, 1.5, 2.1]
+START = 2.0  # s: the first expression's start
+STARTS = [START + sum(LENGTHS[:i]) for i in range(len(EXPRESSIONS))]
+SPEECH = START + sum(LENGTHS)  # 11.6 s
 # "Oh, hello. Well, who'd have thought?" as visemes (time after SPEECH, s).
 LINE = [(0.0, "rest"), (0.15, "oh"), (0.42, "rest"), (0.62, "th"), (0.78, "ee"), (0.92, "th"), (1.06, "oh"),
         (1.35, "rest"), (1.6, "oo"), (1.78, "ee"), (1.92, "th"), (2.12, "oo"), (2.3, "th"), (2.5, "fv"),
@@ -34,11 +40,15 @@ def activations():
     # At rest while the head turns to the camera (keys are eased between: without the key at
     # START the first smile would creep in over the whole turn).
     keys = [{"time": 0.0, "preset": "happiness", "amount": 0.0}, {"time": START, "preset": "happiness", "amount": 0.0}]
+    # Each rises (a start of surprise fast, sadness slowly), holds while relaxing a little (a
+    # face holding a mask still reads as a list of poses), and flows straight into the next;
+    # only sadness lets go, into the line.
     for i, name in enumerate(EXPRESSIONS):
-        t0 = START + EACH * i
-        keys.append({"time": round(t0 + 0.45, 3), "preset": name, "amount": 1.0})
-        keys.append({"time": round(t0 + 1.15, 3), "preset": name, "amount": 1.0})
-        keys.append({"time": round(t0 + EACH, 3), "preset": name, "amount": 0.0})
+        t0, length = STARTS[i], LENGTHS[i]
+        rise = 0.25 if name == "surprise" else 0.6 if name == "sadness" else 0.42
+        keys.append({"time": round(t0 + rise, 3), "preset": name, "amount": 1.0})
+        keys.append({"time": round(t0 + length - 0.05, 3), "preset": name, "amount": 0.8})
+    keys.append({"time": round(SPEECH + 0.1, 3), "preset": "sadness", "amount": 0.0})
     # A faint smile while speaking, then the smile of the layers view.
     keys.append({"time": round(SPEECH + 0.3, 3), "preset": "happiness", "amount": 0.25})
     keys.append({"time": round(CUT - 0.2, 3), "preset": "happiness", "amount": 0.3})
@@ -59,8 +69,8 @@ def head_keys():
     # moving on into the next; nods while it speaks.
     keys = [(0.0, [6, -58, 0]), (0.3, [6, -58, 0]), (1.8, [0, 12, 0])]
     for i, name in enumerate(EXPRESSIONS):
-        t0 = START + EACH * i
-        keys += [(t0 + 0.55, CARRIAGE[name][0]), (t0 + 1.15, CARRIAGE[name][0])]
+        t0, length = STARTS[i], LENGTHS[i]
+        keys += [(t0 + 0.55, CARRIAGE[name][0]), (t0 + length - 0.45, CARRIAGE[name][0])]
     keys += [(SPEECH + 0.5, [3, 14, 0]), (SPEECH + 1.3, [-2, 10, -2]), (SPEECH + 2.2, [4, 15, 1]),
              (CUT - GLIDE_BEFORE, [0, 12, 0]),
              # As the camera glides round, the head turns to it: lattice on the left half, muscles on the right.
@@ -73,10 +83,10 @@ def gaze_keys(camera):
     # and glance away between expressions and while speaking.
     keys = [(0.0, [-0.3, 0.0, 0.3]), (0.8, camera)]
     for i, name in enumerate(EXPRESSIONS):
-        t0 = START + EACH * i
+        t0, length = STARTS[i], LENGTHS[i]
         look = CARRIAGE[name][1] or camera
-        keys += [(t0 + 0.35, look), (t0 + 1.2, look), (t0 + 1.35, [0.15 * (-1) ** i, 0.05 - 0.08 * (i % 3 == 1), 0.4]),
-                 (t0 + 1.55, camera)]
+        keys += [(t0 + 0.2, look), (t0 + length - 0.4, look),
+                 (t0 + length - 0.25, [0.15 * (-1) ** i, 0.05 - 0.08 * (i % 3 == 1), 0.4]), (t0 + length - 0.05, camera)]
     keys += [(SPEECH + 1.3, camera), (SPEECH + 1.45, [-0.12, 0.08, 0.4]), (SPEECH + 2.0, [-0.12, 0.08, 0.4]),
              (SPEECH + 2.15, camera), (END, camera)]
     return [{"time": round(t, 3), "target": p} for t, p in keys]
@@ -99,14 +109,15 @@ def main():
         # Loop lighting: the key 20 degrees up and to the far side of the face (the nose's shadow
         # falls short, toward the mouth's corner: higher, it lay on the upper lip as a dark smear
         # viewers took for a moustache; a soft-box, so its edge is soft), a warm fill from the
-        # camera's side at an eighth of it (at a fifth, viewers found the face flat), and a rim from
+        # camera's side at a seventeenth of it (at a fifth, then an eighth, viewers found the face
+        # flat: the cheek toward the camera should turn into shadow), and a rim from
         # straight behind and above that lifts the head's outline off the background (from the side
         # it lit a band down the cheek; at 0.5 its sheen on the temple read as a hot streak).
         "lights": [{"type": "directional", "direction": [0.6, -0.33, -0.62], "color": [1.0, 0.93, 0.84],
-                    "intensity": 2.2, "shadows": True, "angle_deg": 20},
-                   {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.95, 0.86, 0.8], "intensity": 0.28},
+                    "intensity": 2.4, "shadows": True, "angle_deg": 20},
+                   {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.95, 0.86, 0.8], "intensity": 0.14},
                    {"type": "directional", "direction": [0.0, -0.4, 1.0], "color": [0.9, 0.9, 1.0], "intensity": 0.32},
-                   {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.12}],
+                   {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.08}],
         "bodies": [{
             "type": "face", "name": "face",
             "keys": head_keys(),

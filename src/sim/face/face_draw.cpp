@@ -1,7 +1,7 @@
 // What a face gives the renderer: its skin (per-vertex colours: skin, lips, brows, hair) with
 // eyes that look at the gaze target, eyelids that blink, and the mouth's inside; or, in
 // layers mode, the classic figure: the lattice's layers, the skull, and the muscles coloured from
-// yellow (relaxed) to red (fully contracted).
+// muscle red (relaxed) to a glowing orange (fully contracted).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -546,7 +546,8 @@ void FaceBody::drawLayers(DrawList& out) const {
     const double a = std::clamp(act_[m], 0.0, 1.0);
     DrawTubes t;
     t.radius = static_cast<float>(0.0022 * s);
-    t.material = plain((1 - a) * Vec3(1.0, 0.85, 0.15) + a * Vec3(0.9, 0.08, 0.04), 0.3);
+    // Muscle red relaxed, glowing orange as it contracts (yellow sticks read as a debug view).
+    t.material = plain((1 - a) * Vec3(0.42, 0.07, 0.06) + a * Vec3(1.0, 0.5, 0.1), 0.3);
     if (!mu.desc.sphincter) {
       Vec3 mid = Vec3::Zero();
       for (std::size_t j = 0; j < mu.nodes.size(); ++j) mid += mu.weight[j] * x[n + static_cast<std::size_t>(mu.nodes[j])];
@@ -571,7 +572,14 @@ void FaceBody::drawLayers(DrawList& out) const {
         }
         return mu.nodes.empty() ? Vec3(desc_.position + R_ * q) : Vec3(x[n + best]);
       };
-      for (int i = 0; i < 24; ++i) pushTube(t, at(i), at(i + 1));
+      // (Each point on its nearest node, the ring steps from node to node: smoothed, it runs round.)
+      std::array<Vec3, 24> ring;
+      for (int i = 0; i < 24; ++i) ring[static_cast<std::size_t>(i)] = at(i);
+      for (int pass = 0; pass < 4; ++pass) {
+        const std::array<Vec3, 24> was = ring;
+        for (std::size_t i = 0; i < 24; ++i) ring[i] = 0.5 * was[i] + 0.25 * (was[(i + 23) % 24] + was[(i + 1) % 24]);
+      }
+      for (std::size_t i = 0; i < 24; ++i) pushTube(t, ring[i], ring[(i + 1) % 24]);
     }
     out.tubes.push_back(std::move(t));
   }

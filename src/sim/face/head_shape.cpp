@@ -342,7 +342,11 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   // Blood under thin skin: cheeks, the nose's tip, the chin; shadow under the eyes.
   const double flush = 0.55 * gauss(ax, Y, 0.045, -0.028, 0.016, 0.013) + 0.45 * gauss(X, Y, 0, -0.036, 0.01, 0.008) +
                        0.2 * gauss(X, Y, 0, -0.1, 0.015, 0.01);
-  c = c + 0.22 * flush * (Vec3(0.6, 0.27, 0.24) - c);
+  c = c + 0.35 * flush * (Vec3(0.6, 0.27, 0.24) - c);
+  // The forehead a shade more yellow, the temples and the sides of the face a shade paler: the
+  // face's colour zones (a face in one tone read as wax).
+  c = c.cwiseProduct(Vec3::Ones() + 0.06 * smoothstep(0.02, 0.05, Y) * Vec3(0.3, 0.2, -0.6));
+  c = c.cwiseProduct(Vec3::Ones() + 0.08 * smoothstep(0.03, 0.06, ax) * smoothstep(0.02, -0.02, Y) * smoothstep(-0.09, -0.06, Y) * Vec3(0.6, -0.3, -0.4));
   c = c.cwiseProduct(Vec3::Ones() - (0.1 + 0.08 * aged) * gauss(ax, Y, kEyeX, -0.0125, 0.012, 0.004) * Vec3(0.7, 1.0, 0.8));
   // A man's shaved beard: a faint grey-blue over the chin, jaw and upper lip.
   if (male > 0.5) {
