@@ -71,7 +71,7 @@ constexpr double kHeadBottom = -0.124;  // where the sections close
 // The nose along the midline: how far it stands out (m) and its half-width (the Gaussian's σ)
 // against height, from the root between the eyes to the tip and under it to the upper lip.
 const Curve kNose{{-0.05, 0.0},     {-0.047, 0.002},  {-0.0445, 0.0095}, {-0.041, 0.0185}, {-0.037, 0.0215},
-                  {-0.033, 0.021},  {-0.026, 0.0175}, {-0.01, 0.011},    {0.006, 0.0045},  {0.014, 0.0}};
+                  {-0.033, 0.021},  {-0.026, 0.0175}, {-0.01, 0.011},    {0.006, 0.003},   {0.012, 0.0}};
 const Curve kNoseWidth{{-0.05, 0.0075}, {-0.038, 0.0095}, {-0.03, 0.0082}, {-0.01, 0.0065}, {0.014, 0.0058}};
 
 // The hairline's height against the angle around the vertical from the front (rad): a soft peak
@@ -228,7 +228,9 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     f.soft -= 0.0009 * (1 - heavy) * gauss(X, Y, s * 0.052, -0.056, 0.014, 0.016);    // under the cheekbone
     f.soft += 0.001 * (0.4 + aged) * gauss(X, Y, s * kEyeX, -0.0135, 0.009, 0.0028);  // below the lower lid
   }
-  f.bone += (0.0005 + 0.0025 * male) * gauss(X, Y, 0, 0.02, 0.01, 0.006);  // glabella
+  // The glabella, over the nose's root: the profile dips from it into the nasion at the eyes'
+  // level (a nose running straight up into the brow read as a statue's).
+  f.bone += (0.0025 + 0.003 * male) * gauss(X, Y, 0, 0.022, 0.012, 0.007);
   f.bone += (0.0065 + 0.002 * male) * gauss(X, Y, 0, -0.103, 0.013, 0.0075);  // chin
   f.bone += 0.004 * gauss(X, Y, 0, ym, 0.028, 0.014);                        // the teeth's arch under the lips
   // Nose: the ridge from the root to the tip and under it, the tip's lobule.
