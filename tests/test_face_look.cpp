@@ -370,7 +370,7 @@ TEST_CASE("face: a draw key's fade dissolves the skin into the layers and back, 
                                               {"time": 0.6, "mode": "skin", "fade": 0.2}])"));
   const FaceBody& f = face(w);
   struct Seen {
-    int blended = 0, casting = 0, outer = 0, tubes = 0;
+    int blended = 0, casting = 0, outer = 0, tubes = 0, shoulders = 0;  // shoulders: solid wool
     double lo = 1.0, hi = 0.0;
     bool shadows = false;  // a blended mesh casts a shadow
   };
@@ -385,6 +385,7 @@ TEST_CASE("face: a draw key's fade dissolves the skin into the layers and back, 
       // (What lies inside the mouth casts no shadow and is not a sheet as the hair's strands and
       // the lashes are.)
       if (m.material.casts_shadow || m.material.double_sided) ++s.outer;
+      if (m.material.sheen > 0 && m.material.opacity >= 1.0) ++s.shoulders;
       if (m.material.opacity >= 1.0) continue;
       ++s.blended;
       s.lo = std::min(s.lo, m.material.opacity), s.hi = std::max(s.hi, m.material.opacity);
@@ -401,7 +402,9 @@ TEST_CASE("face: a draw key's fade dissolves the skin into the layers and back, 
   CHECK(skin.outer == skin.casting + 2);
   run(w, 9);  // 0.3 s: halfway into the layers (smoothstep(½) = ½)
   const Seen half = look();
-  CHECK(half.blended == skin.outer);  // the skin's parts but those inside it
+  CHECK(half.blended == skin.outer - 1);  // the skin's parts but those inside it and the shoulders
+  CHECK(skin.shoulders == 1);
+  CHECK(half.shoulders == 1);  // solid through the dissolve
   CHECK(half.lo == doctest::Approx(0.5));
   CHECK(half.hi == doctest::Approx(0.5));
   CHECK_FALSE(half.shadows);
@@ -410,6 +413,7 @@ TEST_CASE("face: a draw key's fade dissolves the skin into the layers and back, 
   const Seen layers = look();
   CHECK(layers.blended == 0);
   CHECK(layers.tubes == half.tubes);
+  CHECK(layers.shoulders == 1);  // the layers' head on its shoulders, not a bare pole
   run(w, 6);  // 0.7 s: halfway back to the skin, the skin fading in over the solid layers
   const Seen back = look();
   CHECK(back.blended == half.blended);

@@ -117,6 +117,8 @@ class FaceBody final : public SpringNetworkBody {
   // would show through it as it fades).
   void drawSkin(DrawList& out, bool mouth_inside = true) const;
   void drawEyes(DrawList& out) const;
+  // The shoulders in their sweater (reel's head, `shoulders`), in every mode.
+  void drawBust(DrawList& out) const;
   // reel's head's finer skin (with its points at rest and their wrinkle lines), made once.
   const SkinDetail& detail() const;
   void drawLayers(DrawList& out) const;

@@ -68,12 +68,27 @@ DrawMaterial plain(const Vec3& color, double specular = 0.1) {
 
 }  // namespace
 
+void FaceBody::drawBust(DrawList& out) const {
+  if (!surface_.bust || !desc_.shoulders) return;
+  auto bust = std::make_shared<TriMesh>(*surface_.bust);
+  const Mat3 turn = Eigen::Quaterniond::Identity().slerp(1.0 / 3.0, Eigen::Quaterniond(R_)).toRotationMatrix();
+  bust->transform(turn, desc_.position);
+  DrawMaterial wool = plain(Vec3(0.07, 0.1, 0.12), 0.2);
+  wool.roughness = 0.85;
+  wool.sheen = 0.6;
+  wool.double_sided = true;
+  out.meshes.push_back({std::move(bust), true, wool});
+}
+
 void FaceBody::draw(DrawList& out) const {
   // The key in force, and the mode before it.
   bool layers = false, before = false;
   double since = 0.0, fade = 0.0;
   for (const FaceDrawKey& k : desc_.draw)
     if (k.time <= t_ + 1e-9) before = layers, layers = k.layers, since = t_ - k.time, fade = k.fade;
+  // The shoulders in every mode, solid through a dissolve (the layers' head on a bare pole,
+  // the sweater fading away under it, read as a debug view).
+  drawBust(out);
   if (before == layers || since >= fade - 1e-9) {
     if (layers) drawLayers(out);
     else drawSkin(out);
@@ -262,16 +277,6 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     strands.double_sided = true;
     strands.casts_shadow = false;  // (the cap under them casts the head's shadow)
     out.meshes.push_back({std::move(hair), true, strands});
-  }
-  if (surface_.bust && desc_.shoulders) {
-    auto bust = std::make_shared<TriMesh>(*surface_.bust);
-    const Mat3 turn = Eigen::Quaterniond::Identity().slerp(1.0 / 3.0, Eigen::Quaterniond(R_)).toRotationMatrix();
-    bust->transform(turn, desc_.position);
-    DrawMaterial wool = plain(Vec3(0.07, 0.1, 0.12), 0.2);
-    wool.roughness = 0.85;
-    wool.sheen = 0.6;
-    wool.double_sided = true;
-    out.meshes.push_back({std::move(bust), true, wool});
   }
   // The mouth's inside, seen through the parted lips: the skin's inner side, drawn dark red, so
   // whatever one sees past the lips is the mouth's cavity; the teeth, the upper row on the
@@ -516,8 +521,12 @@ void FaceBody::drawLayers(DrawList& out) const {
   const auto& x = net_.state.x;
   const double s = surface_.scale;
   // The figure of the lattice under the face, cut away: only the front of the head, and only its
-  // left half (+x), so the muscles show on the skull over the right half.
-  auto shown = [&](std::size_t k) { return surface_.skin[k].z() > -0.01 * s && surface_.skin[k].x() > -0.002 * s; };
+  // left half (+x), so the muscles show on the skull over the right half; and only below the
+  // hairline (over the scalp the hair's thickness stood the lattice off the skull as a bulge).
+  auto shown = [&](std::size_t k) {
+    const Vec3& p = surface_.skin[k];
+    return p.z() > -0.01 * s && p.x() > -0.002 * s && p.y() < 0.062 * s;
+  };
   DrawTubes skin, fascia, across;
   skin.radius = static_cast<float>(0.0004 * s);
   fascia.radius = skin.radius;
