@@ -93,8 +93,9 @@ def gaze_keys(camera):
 
 
 def main():
-    close = ([0.17, 0.01, 0.5], [0.0, -0.03, 0.0])
-    close_end = ([0.14, 0.005, 0.47], [0.0, -0.03, 0.0])
+    # (Far enough back that the crown stays in frame: cut off, the head read as cropped.)
+    close = ([0.185, 0.02, 0.545], [0.0, -0.015, 0.0])
+    close_end = ([0.155, 0.015, 0.515], [0.0, -0.015, 0.0])
     layers = ([-0.27, 0.04, 0.52], [0.0, -0.02, 0.0])
     scene = {
         "format": "reel/1", "name": "face", "duration": round(END, 3), "fps": FPS, "substeps": 2,

@@ -280,8 +280,9 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     }
   }
   // Hair stands off the scalp, thin at its edges and fuller over the top (short hair, 4 mm at
-  // the hairline and 9 mm over the crown: at 4 mm all over it read as a painted helmet).
-  f.soft += (0.004 + 0.005 * smoothstep(0.03, 0.1, Y)) * hairCover(p, d, 0.012);
+  // the hairline and 13 mm over the crown: at 4 mm all over it read as a painted helmet, at 9
+  // over the crown as a helmet still).
+  f.soft += (0.004 + 0.009 * smoothstep(0.03, 0.1, Y)) * hairCover(p, d, 0.012);
   return f;
 }
 
