@@ -26,10 +26,12 @@ LENGTHS = [1.8, 1.1, 1.5, 1.6, 1.5, 2.1]
 START = 2.0  # s: the first expression's start
 STARTS = [START + sum(LENGTHS[:i]) for i in range(len(EXPRESSIONS))]
 SPEECH = START + sum(LENGTHS)  # 11.6 s
-# "Oh, hello. Well, who'd have thought?" as visemes (time after SPEECH, s).
-LINE = [(0.0, "rest"), (0.15, "oh"), (0.42, "rest"), (0.62, "th"), (0.78, "ee"), (0.92, "th"), (1.06, "oh"),
-        (1.35, "rest"), (1.6, "oo"), (1.78, "ee"), (1.92, "th"), (2.12, "oo"), (2.3, "th"), (2.5, "fv"),
-        (2.64, "aa"), (2.82, "th"), (3.0, "aa"), (3.2, "th"), (3.4, "rest")]
+# "Oh, hello. Maybe... who knows?" as visemes (time after SPEECH, s): a line whose shapes differ
+# (a round "oh", the lips pressed for m and b, spread for "ee", pushed out for "who"), each held
+# long enough to be seen (a line of quick, similar shapes read as the jaw opening and closing).
+LINE = [(0.0, "rest"), (0.15, "oh"), (0.4, "oh"), (0.5, "rest"), (0.62, "ee"), (0.76, "th"), (0.9, "oh"), (1.2, "oh"),
+        (1.35, "rest"), (1.55, "mbp"), (1.7, "ee"), (1.84, "mbp"), (1.98, "ee"), (2.25, "ee"), (2.4, "rest"),
+        (2.55, "oo"), (2.8, "oo"), (2.9, "th"), (3.02, "oh"), (3.25, "oh"), (3.36, "th"), (3.5, "rest")]
 CUT = SPEECH + 3.6  # 15.2 s: the skin starts to fade from the layers
 FADE = 1.2  # s
 GLIDE_BEFORE, GLIDE_AFTER = 0.6, 1.2  # s: the camera's glide round to the layers' side, about CUT
@@ -49,9 +51,10 @@ def activations():
         keys.append({"time": round(t0 + rise, 3), "preset": name, "amount": 1.0})
         keys.append({"time": round(t0 + length - 0.05, 3), "preset": name, "amount": 0.8})
     keys.append({"time": round(SPEECH + 0.1, 3), "preset": "sadness", "amount": 0.0})
-    # A faint smile while speaking, then the smile of the layers view.
-    keys.append({"time": round(SPEECH + 0.3, 3), "preset": "happiness", "amount": 0.25})
-    keys.append({"time": round(CUT - 0.2, 3), "preset": "happiness", "amount": 0.3})
+    # A faint smile while speaking (faint: its pull on the corners spread every mouth shape into
+    # one grin), then the smile of the layers view.
+    keys.append({"time": round(SPEECH + 0.3, 3), "preset": "happiness", "amount": 0.12})
+    keys.append({"time": round(CUT - 0.2, 3), "preset": "happiness", "amount": 0.2})
     keys.append({"time": round(CUT + 0.9, 3), "preset": "happiness", "amount": 1.0})
     return keys
 
