@@ -34,20 +34,34 @@ constexpr int kSkinDetailLevel = 3;
 constexpr int kSkinSmoothing = 4;
 
 
-// A unit eye looking along +z: white, an iris and a pupil by the angle from +z.
+// A unit eye looking along +z: white, an iris and a pupil by the angle from +z. The iris has
+// its anatomy's pattern (radial fibres, a paler collarette round the pupil, a dark limbal ring
+// at its edge): a flat disc of colour read as glass, the eyes dead.
 std::shared_ptr<const TriMesh> eyeMesh(const Vec3& iris) {
-  auto m = std::make_shared<TriMesh>(makeUvSphere(1.0, 48, 48));
+  auto m = std::make_shared<TriMesh>(makeUvSphere(1.0, 96, 96));
   // Its pole turned from +y to +z: the rings of latitude circle the gaze, the iris's edge is one.
   m->transform(Eigen::AngleAxisd(0.5 * kPi, Vec3::UnitX()).toRotationMatrix(), Vec3::Zero());
   m->colors.resize(m->positions.size());
+  // Smooth noise round the iris (64 cells, wrapping) at a ring's fraction t of the way out.
+  auto fibres = [](double around, double t) {
+    const double f = (around / (2 * kPi) + 0.5) * 64.0 + 3.0 * t;
+    const double i = std::floor(f), w = f - i;
+    auto at = [](double k) { return uniformAt(0, 7, static_cast<std::uint64_t>((static_cast<std::int64_t>(k) % 64 + 64) % 64)); };
+    return at(i) + smoothstep(0.0, 1.0, w) * (at(i + 1) - at(i));
+  };
   for (std::size_t v = 0; v < m->vertexCount(); ++v) {
-    const double z = m->positions[3 * v + 2];
-    // The sclera: off-white, greying toward the back (less lit, veined) and darkening into a
-    // limbal ring at the iris's edge.
+    const double x = m->positions[3 * v], y = m->positions[3 * v + 1], z = m->positions[3 * v + 2];
+    // The sclera: off-white, greying toward the back (less lit, veined).
     const double from = std::acos(std::clamp(z, -1.0, 1.0));
     Vec3 c = Vec3(0.68, 0.64, 0.6) * (0.75 + 0.25 * std::clamp(z + 0.3, 0.0, 1.0));
-    if (from < 0.2) c = Vec3(0.015, 0.015, 0.015);
-    else if (from < 0.5) c = iris * (0.7 + 0.6 * (from - 0.2) / 0.3) * (from > 0.44 ? 0.55 : 1.0);
+    if (from < 0.17) {
+      c = Vec3(0.012, 0.012, 0.012);
+    } else if (from < 0.5) {
+      const double t = (from - 0.17) / 0.33, around = std::atan2(y, x);
+      c = iris * (0.7 + 0.5 * t) * (0.7 + 0.6 * fibres(around, t));
+      c = c + 0.18 * std::exp(-0.5 * std::pow((t - 0.22) / 0.1, 2)) * (Vec3(0.55, 0.45, 0.25) - c);  // the collarette
+      c *= 1.0 - 0.6 * smoothstep(0.78, 0.97, t);                                           // the limbal ring
+    }
     for (int k = 0; k < 3; ++k) m->colors[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(c[k]);
   }
   return m;
