@@ -118,6 +118,15 @@ TEST_CASE("face: the eyes stay behind the skin and the lids, looking anywhere, w
     MESSAGE("the mouth's inside: " << outside << " of " << checked << " points outside the skin drawn");
     CHECK(checked > 100);
     CHECK(outside == 0);
+    // The lips part with their thickness: wet red strips along the parting's edges, among the
+    // points checked above (each edge's strip lit from either side: 8 vertices).
+    int rim = 0;
+    for (const DrawMesh& m : list.meshes)
+      if ((m.material.color - FaceBody::kMouthInside).isZero(1e-9))
+        for (std::size_t v = 0; v < m.mesh->vertexCount(); ++v)
+          if (std::abs(m.mesh->colors[3 * v] - 0.42f) < 1e-6f && std::abs(m.mesh->colors[3 * v + 1] - 0.13f) < 1e-6f) ++rim;
+    MESSAGE("the lips' rims: " << rim / 8 << " edges");
+    CHECK(rim / 8 >= 2 * 10);  // both lips, across the mouth's 50 mm at about 4 mm a node
   }
   run(w, 3);  // 1.3 s: shut, 0.1 s into the blink at 1.2 s
   REQUIRE(f.eye(0).upperEdge(0.0) < f.eye(0).lowerEdge(0.0));

@@ -26,6 +26,15 @@ inline DrawMaterial drawMaterial(const Material& m) {
   return d;
 }
 
+// A plain material of one colour, with a dielectric's sheen (specular 0..1, as DrawMaterial's).
+inline DrawMaterial plainMaterial(const Vec3& color, double specular = 0.1) {
+  DrawMaterial m;
+  m.color = color;
+  m.specular = specular;
+  m.shininess = 24;
+  return m;
+}
+
 // Appends points as the float xyz triples a DrawSpheres (or DrawTubes) list holds.
 inline void appendPoints(std::vector<float>& out, std::span<const Vec3> points) {
   out.reserve(out.size() + 3 * points.size());

@@ -119,6 +119,8 @@ class FaceBody final : public SpringNetworkBody {
   void drawEyes(DrawList& out) const;
   // The shoulders in their sweater (reel's head, `shoulders`), in every mode.
   void drawBust(DrawList& out) const;
+  // The lips' thickness where they part, added to the mouth's lining `inside` (drawSkin).
+  void addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) const;
   // reel's head's finer skin (with its points at rest and their wrinkle lines), made once.
   const SkinDetail& detail() const;
   void drawLayers(DrawList& out) const;

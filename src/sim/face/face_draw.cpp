@@ -1,7 +1,6 @@
 // What a face gives the renderer: its skin (per-vertex colours: skin, lips, brows, hair) with
-// eyes that look at the gaze target, eyelids that blink, and the mouth's inside; or, in
-// layers mode, the classic figure: the lattice's layers, the skull, and the muscles coloured from
-// muscle red (relaxed) to a glowing orange (fully contracted).
+// eyes that look at the gaze target, eyelids that blink, and the mouth's inside; the layers
+// mode's figure is face_layers.cpp's.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -67,27 +66,58 @@ std::shared_ptr<const TriMesh> eyeMesh(const Vec3& iris) {
   return m;
 }
 
-void pushTube(DrawTubes& t, const Vec3& a, const Vec3& b) {
-  for (const Vec3* p : {&a, &b})
-    for (int k = 0; k < 3; ++k) t.ends.push_back(static_cast<float>((*p)[k]));
-}
 
-DrawMaterial plain(const Vec3& color, double specular = 0.1) {
-  DrawMaterial m;
-  m.color = color;
-  m.specular = specular;
-  m.shininess = 24;
-  return m;
-}
 
 }  // namespace
+
+// The lips' thickness where they part: along each edge of the parted skin (an edge of one
+// triangle only), a wet red strip from just under the skin drawn in to the mouth's lining, lit
+// from either side (without it the opening's edge was a line, the lips rubber sheets and the
+// mouth a flat black hole). Its vertices after the lining's, in the lining's mesh.
+void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) const {
+  const std::size_t n = surface_.size();
+  if (!surface_.generated || inside.vertexCount() < n) return;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  const auto& t = surface_.tris;
+  for (std::size_t k = 0; k + 2 < t.size(); k += 3)
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = t[k + static_cast<std::size_t>(e)], b = t[k + static_cast<std::size_t>((e + 1) % 3)];
+      edges.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  std::sort(edges.begin(), edges.end());
+  const Vec3 rim(0.42, 0.13, 0.12);
+  const double near = 0.015 * surface_.scale;
+  auto lining = [&](std::uint32_t v) {
+    return Vec3(inside.positions[3 * v], inside.positions[3 * v + 1], inside.positions[3 * v + 2]);
+  };
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const bool shared = (i > 0 && edges[i - 1] == edges[i]) || (i + 1 < edges.size() && edges[i + 1] == edges[i]);
+    const auto [a, b] = edges[i];
+    if (shared || std::abs(surface_.skin[a].y() - surface_.mouth.y()) > near) continue;
+    // (Just under the skin drawn: 0.3 mm below where it dips deepest under the simulated skin.)
+    const Vec3 na = (relaxed[a] - lining(a)).normalized(), nb = (relaxed[b] - lining(b)).normalized();
+    const Vec3 oa = relaxed[a] - (detail_.dip[a] + 0.0003 * surface_.scale) * na;
+    const Vec3 ob = relaxed[b] - (detail_.dip[b] + 0.0003 * surface_.scale) * nb;
+    const Vec3 facing = unitOr((ob - oa).cross(na + nb), Vec3::UnitY());
+    for (double side : {1.0, -1.0}) {
+      const auto base = static_cast<std::uint32_t>(inside.vertexCount());
+      for (const Vec3& p : {oa, ob, lining(b), lining(a)}) {
+        inside.addVertex(p, side * facing);
+        for (int k = 0; k < 3; ++k) inside.colors.push_back(static_cast<float>(rim[k]));
+      }
+      if (side > 0) inside.indices.insert(inside.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+      else inside.indices.insert(inside.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
+    }
+  }
+  inside.uvs.clear();
+}
 
 void FaceBody::drawBust(DrawList& out) const {
   if (!surface_.bust || !desc_.shoulders) return;
   auto bust = std::make_shared<TriMesh>(*surface_.bust);
   const Mat3 turn = Eigen::Quaterniond::Identity().slerp(1.0 / 3.0, Eigen::Quaterniond(R_)).toRotationMatrix();
   bust->transform(turn, desc_.position);
-  DrawMaterial wool = plain(Vec3(0.07, 0.1, 0.12), 0.2);
+  DrawMaterial wool = plainMaterial(Vec3(0.07, 0.1, 0.12), 0.2);
   wool.roughness = 0.85;
   wool.sheen = 0.6;
   wool.double_sided = true;
@@ -214,7 +244,7 @@ std::vector<double> FaceBody::wrinkleDepth(const std::vector<double>& lost) cons
 void FaceBody::drawEyes(DrawList& out) const {
   static const std::shared_ptr<const TriMesh> kEye = eyeMesh(Vec3(0.12, 0.22, 0.35));
   const std::shared_ptr<const TriMesh> eye_mesh = desc_.iris_color == Vec3(0.12, 0.22, 0.35) ? kEye : eyeMesh(desc_.iris_color);
-  DrawMaterial wet_eye = plain(Vec3(1, 1, 1), 0.6);
+  DrawMaterial wet_eye = plainMaterial(Vec3(1, 1, 1), 0.6);
   wet_eye.shininess = 80;
   for (int e = 0; e < 2; ++e) {
     const Eye ey = eye(e);
@@ -286,7 +316,7 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     auto hair = std::make_shared<TriMesh>(*surface_.hair);
     hair->transform(R_, desc_.position);
     // (Little Fresnel sheen: at 0.3 the strands on the outline, seen edge-on, made a grey rim.)
-    DrawMaterial strands = plain(Vec3(1, 1, 1), 0.06);
+    DrawMaterial strands = plainMaterial(Vec3(1, 1, 1), 0.06);
     strands.roughness = 0.5;
     strands.double_sided = true;
     strands.casts_shadow = false;  // (the cap under them casts the head's shadow)
@@ -299,10 +329,21 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     // (The simulated skin's triangles, not the nine times as many drawn: 1.5 mm in, and
     // further where the skin drawn dips below them, so it never shows through the skin.)
     auto inside = smoothMesh(relaxed, 0, relaxed.size(), surface_.tris);
+    // How much of the lips' inner faces each vertex is: near the parting, across the mouth, at
+    // the front (rest positions).
+    const double yp = surface_.mouth.y(), half = 0.5 * surface_.mouth_width, sc = surface_.scale;
+    std::vector<double> lip(inside->vertexCount());
+    for (std::size_t v = 0; v < lip.size(); ++v) {
+      const Vec3& q = surface_.skin[v];
+      lip[v] = std::exp(-std::max(0.0, std::abs(q.y() - yp) - 0.002 * sc) / (0.003 * sc)) *
+               smoothstep(half + 0.004 * sc, half - 0.004 * sc, std::abs(q.x())) *
+               smoothstep(surface_.mouth.z() - 0.02 * sc, surface_.mouth.z() - 0.01 * sc, q.z());
+    }
+    // (The lips' lining 4 mm in, so they part with their thickness (addLipRims).)
     for (std::size_t v = 0; v < inside->vertexCount(); ++v)
       for (int k = 0; k < 3; ++k)
         inside->positions[3 * v + static_cast<std::size_t>(k)] -=
-            static_cast<float>(0.0015 * surface_.scale + detail_.dip[v]) * inside->normals[3 * v + static_cast<std::size_t>(k)];
+            static_cast<float>((0.0015 + 0.0025 * lip[v]) * sc + detail_.dip[v]) * inside->normals[3 * v + static_cast<std::size_t>(k)];
     for (float& v : inside->normals) v = -v;
     for (std::size_t t = 0; t + 2 < inside->indices.size(); t += 3) std::swap(inside->indices[t + 1], inside->indices[t + 2]);
     inside->uvs.clear();
@@ -310,23 +351,19 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     // black (little light reaches far into it: lit evenly all through, the cavity read as a red
     // box, and the head's inside seen through the lips as a maroon wall).
     inside->colors.resize(3 * inside->vertexCount());
-    const double yp = surface_.mouth.y(), half = 0.5 * surface_.mouth_width;
     for (std::size_t v = 0; v < inside->vertexCount(); ++v) {
-      const Vec3& q = surface_.skin[v];
-      const double lip = std::exp(-std::max(0.0, std::abs(q.y() - yp) - 0.002 * surface_.scale) / (0.003 * surface_.scale)) *
-                         smoothstep(half + 0.004 * surface_.scale, half - 0.004 * surface_.scale, std::abs(q.x())) *
-                         smoothstep(surface_.mouth.z() - 0.02 * surface_.scale, surface_.mouth.z() - 0.01 * surface_.scale, q.z());
-      const Vec3 c = Vec3(0.05, 0.012, 0.012) + lip * (Vec3(0.4, 0.12, 0.11) - Vec3(0.05, 0.012, 0.012));
+      const Vec3 c = Vec3(0.05, 0.012, 0.012) + lip[v] * (Vec3(0.4, 0.12, 0.11) - Vec3(0.05, 0.012, 0.012));
       for (int k = 0; k < 3; ++k) inside->colors[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(c[k]);
     }
-    DrawMaterial dark = plain(kMouthInside, 0.1);
+    addLipRims(*inside, relaxed);
+    DrawMaterial dark = plainMaterial(kMouthInside, 0.1);
     dark.casts_shadow = false;
     out.meshes.push_back({std::move(inside), true, dark});
     const double k = surface_.scale, ym = surface_.mouth.y();
     const double front = surface_.mouth.z() - 0.0085 * k;
     const double open = mouthOpening() / k, lit = 0.15 + 0.85 * std::clamp((open - 0.002) / 0.006, 0.0, 1.0);
     // (Dimmer as the lips close: little light reaches into a closed mouth.)
-    DrawMaterial enamel = plain(Vec3(1, 1, 1), 0.5);
+    DrawMaterial enamel = plainMaterial(Vec3(1, 1, 1), 0.5);
     enamel.roughness = 0.3;
     enamel.casts_shadow = false;
     for (int row = 0; row < 2; ++row) {
@@ -342,7 +379,7 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     const Vec3 centre(0.0, ym - 0.0115 * k, front - 0.027 * k);
     auto tongue = std::make_shared<TriMesh>(
         placeMesh(makeUvSphere(1.0, 24, 12), k * Vec3(0.019, 0.0045, 0.024), jawRotation(1.0), world(jawMoved(1.0, centre))));
-    DrawMaterial wet = plain(lit * Vec3(0.3, 0.08, 0.08), 0.01);
+    DrawMaterial wet = plainMaterial(lit * Vec3(0.3, 0.08, 0.08), 0.01);
     wet.roughness = 0.35;
     wet.casts_shadow = false;
     out.meshes.push_back({std::move(tongue), true, wet});
@@ -461,7 +498,7 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
   out.meshes.push_back({std::move(lids), true, lid});
   // The lashes: dark, matt and with no Fresnel sheen (seen edge-on a ribbon's grazing reflection
   // lit the fringe up pale, which read as mould).
-  DrawMaterial lash_material = plain(Vec3(0.025, 0.018, 0.014), 0.0);  // near black: lit by the key, lash_tone read mid-brown
+  DrawMaterial lash_material = plainMaterial(Vec3(0.025, 0.018, 0.014), 0.0);  // near black: lit by the key, lash_tone read mid-brown
   lash_material.roughness = 0.8;
   lash_material.double_sided = true;
   lash_material.casts_shadow = false;
@@ -528,84 +565,6 @@ double FaceBody::Eye::upperEdge(double az) const {
   const double open = c + (upper - c) * lidLobe(acrossLobe(u, -0.12));
   // Shut, it comes down 3° past the lower margin.
   return open + closure * (lowerEdge(az) - 3.0 * kPi / 180.0 - open);
-}
-
-void FaceBody::drawLayers(DrawList& out) const {
-  const std::size_t n = surface_.size();
-  const auto& x = net_.state.x;
-  const double s = surface_.scale;
-  // The figure of the lattice under the face, cut away: only the front of the head, and only its
-  // left half (+x), so the muscles show on the skull over the right half; and only below the
-  // hairline (over the scalp the hair's thickness stood the lattice off the skull as a bulge).
-  auto shown = [&](std::size_t k) {
-    const Vec3& p = surface_.skin[k];
-    return p.z() > -0.01 * s && p.x() > -0.002 * s && p.y() < 0.062 * s;
-  };
-  DrawTubes skin, fascia, across;
-  skin.radius = static_cast<float>(0.0004 * s);
-  fascia.radius = skin.radius;
-  across.radius = static_cast<float>(0.0003 * s);
-  skin.material = plain(Vec3(0.9, 0.62, 0.45));
-  fascia.material = plain(Vec3(0.75, 0.2, 0.2));
-  across.material = plain(Vec3(0.3, 0.45, 0.75));
-  const Springs& sp = net_.model.springs;
-  for (std::size_t q = 0; q < sp.size(); ++q) {
-    const auto a = static_cast<std::size_t>(sp.a[q]), b = static_cast<std::size_t>(sp.b[q]);
-    if (!shown(a % n) || !shown(b % n)) continue;
-    if (a < n && b < n) pushTube(skin, x[a], x[b]);
-    else if (a >= n && b >= n && a < 2 * n && b < 2 * n) pushTube(fascia, x[a], x[b]);
-    else if (b == a + n) pushTube(across, x[a], x[b]);
-  }
-  out.tubes.push_back(std::move(skin));
-  out.tubes.push_back(std::move(fascia));
-  out.tubes.push_back(std::move(across));
-  // The skull: the bone surface, in bone's ivory, and the eyes in their sockets.
-  auto bone = smoothMesh(x, 2 * n, n, surface_.tris);
-  out.meshes.push_back({std::move(bone), true, plain(Vec3(0.55, 0.5, 0.42), 0.2)});
-  if (surface_.generated) drawEyes(out);
-  // Muscles: attachment to the centre of the nodes they pull (sphincters: their ellipse).
-  for (std::size_t m = 0; m < muscles_.size(); ++m) {
-    const FaceMuscle& mu = muscles_[m];
-    const double a = std::clamp(act_[m], 0.0, 1.0);
-    DrawTubes t;
-    t.radius = static_cast<float>(0.0022 * s);
-    // Muscle red relaxed, glowing orange as it contracts (yellow sticks read as a debug view).
-    t.material = plain((1 - a) * Vec3(0.42, 0.07, 0.06) + a * Vec3(1.0, 0.5, 0.1), 0.3);
-    if (!mu.desc.sphincter) {
-      Vec3 mid = Vec3::Zero();
-      for (std::size_t j = 0; j < mu.nodes.size(); ++j) mid += mu.weight[j] * x[n + static_cast<std::size_t>(mu.nodes[j])];
-      const Vec3 att = attachmentWorld(m);
-      pushTube(t, att, mid);
-    } else {
-      Vec3 u, v;
-      sphincterAxes(mu.desc.normal.normalized(), u, v);
-      // Its ring lies in the tissue: each point on the fascia node its nodes hold nearest to it
-      // across the muscle's plane (the ring follows the face's curve and its contraction).
-      const double shrink = 1.0 - 0.25 * a;
-      auto at = [&](int j) {
-        const double ang = 2 * kPi * j / 24;
-        const Vec3 q = mu.desc.center + shrink * 0.6 * (mu.desc.radii[0] * std::cos(ang) * u + mu.desc.radii[1] * std::sin(ang) * v);
-        const Vec3 axis = mu.desc.normal.normalized();
-        std::size_t best = 0;
-        double bd = 1e300;
-        for (int k : mu.nodes) {
-          const Vec3 r = surface_.skin[static_cast<std::size_t>(k)] - q;
-          const double off = (r - r.dot(axis) * axis).squaredNorm();
-          if (off < bd) bd = off, best = static_cast<std::size_t>(k);
-        }
-        return mu.nodes.empty() ? Vec3(desc_.position + R_ * q) : Vec3(x[n + best]);
-      };
-      // (Each point on its nearest node, the ring steps from node to node: smoothed, it runs round.)
-      std::array<Vec3, 24> ring;
-      for (int i = 0; i < 24; ++i) ring[static_cast<std::size_t>(i)] = at(i);
-      for (int pass = 0; pass < 4; ++pass) {
-        const std::array<Vec3, 24> was = ring;
-        for (std::size_t i = 0; i < 24; ++i) ring[i] = 0.5 * was[i] + 0.25 * (was[(i + 23) % 24] + was[(i + 1) % 24]);
-      }
-      for (std::size_t i = 0; i < 24; ++i) pushTube(t, ring[i], ring[(i + 1) % 24]);
-    }
-    out.tubes.push_back(std::move(t));
-  }
 }
 
 }  // namespace reel
