@@ -33,7 +33,7 @@ LINE = [(0.0, "rest"), (0.15, "oh"), (0.4, "oh"), (0.5, "rest"), (0.62, "ee"), (
         (1.35, "rest"), (1.55, "mbp"), (1.7, "ee"), (1.84, "mbp"), (1.98, "ee"), (2.25, "ee"), (2.4, "rest"),
         (2.55, "oo"), (2.8, "oo"), (2.9, "th"), (3.02, "oh"), (3.25, "oh"), (3.36, "th"), (3.5, "rest")]
 CUT = SPEECH + 3.6  # 15.2 s: the skin starts to fade from the layers
-FADE = 1.2  # s
+FADE = 1.8  # s (at 1.2 a viewer saw the layers simply appear)
 GLIDE_BEFORE, GLIDE_AFTER = 0.6, 1.2  # s: the camera's glide round to the layers' side, about CUT
 END = CUT + 2.8
 

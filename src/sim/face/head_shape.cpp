@@ -138,8 +138,8 @@ double baseShape(const Vec3& p, const FaceLook& look) {
   const double depth = std::max(z > 0 ? kFront(yc) : kBack(yc), 1e-4);
   const double dome = y > kDomeFrom ? std::sqrt(std::max(0.0, 1.0 - sq((y - kDomeFrom) / kDomeHeight))) : 1.0;
   // Sections: a superellipse, a little squarer at the front (a face is broad across the cheeks;
-  // at n = 2.4 its front was a flat mask, the cheeks one plane with the jaw).
-  const double n = z > 0 ? 2.1 : 2.0;
+  // at n = 2.4 all down the face its front was a flat mask, the cheeks one plane with the jaw).
+  const double n = z > 0 ? 2.1 + 0.35 * smoothstep(-0.07, -0.1, y) : 2.0;  // squarer at the jaw: a round one read as a narrow chin
   const double q = std::pow(std::pow(std::abs(x) / a, n) + std::pow(std::abs(z) / depth, n), 1.0 / n);
   // (Below its closing section the head is outside everywhere, its axis too, where the
   // superellipse of zero size would leave q = 0.)
