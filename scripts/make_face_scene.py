@@ -127,7 +127,7 @@ def main():
             "type": "face", "name": "face",
             "keys": head_keys(),
             "gaze": gaze_keys(close[0]),
-            "blinks": [1.0, 3.3, 6.1, 8.9, 11.9, 13.9, 16.4],
+            "blinks": [1.0, 3.3, 6.1, 8.9, 12.3, 14.15, 16.4],
             "activations": activations(),
             "visemes": [{"time": round(SPEECH + t, 3), "viseme": v} for t, v in LINE],
             "draw": [{"time": 0, "mode": "skin"}, {"time": round(CUT, 3), "mode": "layers", "fade": FADE}],

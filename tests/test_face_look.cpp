@@ -118,15 +118,30 @@ TEST_CASE("face: the eyes stay behind the skin and the lids, looking anywhere, w
     MESSAGE("the mouth's inside: " << outside << " of " << checked << " points outside the skin drawn");
     CHECK(checked > 100);
     CHECK(outside == 0);
-    // The lips part with their thickness: wet red strips along the parting's edges, among the
-    // points checked above (each edge's strip lit from either side: 8 vertices).
-    int rim = 0;
+    // The lips part with their thickness: wet red strips along the parting's edges (among the
+    // points checked above), one quad an edge, on both lips, each facing the opening's middle.
+    std::vector<Vec3> rim, rim_normal;
     for (const DrawMesh& m : list.meshes)
       if ((m.material.color - FaceBody::kMouthInside).isZero(1e-9))
         for (std::size_t v = 0; v < m.mesh->vertexCount(); ++v)
-          if (std::abs(m.mesh->colors[3 * v] - 0.42f) < 1e-6f && std::abs(m.mesh->colors[3 * v + 1] - 0.13f) < 1e-6f) ++rim;
-    MESSAGE("the lips' rims: " << rim / 8 << " edges");
-    CHECK(rim / 8 >= 2 * 10);  // both lips, across the mouth's 50 mm at about 4 mm a node
+          if (std::abs(m.mesh->colors[3 * v] - 0.42f) < 1e-6f && std::abs(m.mesh->colors[3 * v + 1] - 0.13f) < 1e-6f) {
+            rim.emplace_back(m.mesh->positions[3 * v], m.mesh->positions[3 * v + 1], m.mesh->positions[3 * v + 2]);
+            rim_normal.emplace_back(m.mesh->normals[3 * v], m.mesh->normals[3 * v + 1], m.mesh->normals[3 * v + 2]);
+          }
+    REQUIRE(rim.size() % 4 == 0);
+    Vec3 middle = Vec3::Zero();
+    for (const Vec3& p : rim) middle += p;
+    middle /= std::max<double>(1.0, static_cast<double>(rim.size()));
+    int upper = 0, lower = 0, away = 0;
+    for (std::size_t q = 0; q < rim.size(); q += 4) {
+      const Vec3 mid = 0.25 * (rim[q] + rim[q + 1] + rim[q + 2] + rim[q + 3]);
+      ++((f.rotation().transpose() * (mid - middle)).y() > 0 ? upper : lower);
+      if (rim_normal[q].dot(middle - mid) <= 0) ++away;
+    }
+    MESSAGE("the lips' rims: " << upper << " edges above the opening's middle, " << lower << " below, " << away << " facing away");
+    CHECK(upper >= 8);  // across the mouth's 50 mm at about 4 mm a node
+    CHECK(lower >= 8);
+    CHECK(away == 0);
   }
   run(w, 3);  // 1.3 s: shut, 0.1 s into the blink at 1.2 s
   REQUIRE(f.eye(0).upperEdge(0.0) < f.eye(0).lowerEdge(0.0));

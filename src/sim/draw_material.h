@@ -26,7 +26,7 @@ inline DrawMaterial drawMaterial(const Material& m) {
   return d;
 }
 
-// A plain material of one colour, with a dielectric's sheen (specular 0..1, as DrawMaterial's).
+// A plain material of one colour and a dielectric's specular reflectance (0..1, as DrawMaterial's).
 inline DrawMaterial plainMaterial(const Vec3& color, double specular = 0.1) {
   DrawMaterial m;
   m.color = color;

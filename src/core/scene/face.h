@@ -77,6 +77,7 @@ struct FaceDrawKey {
 // 1 (heavy): cheeks, jaw, neck.
 struct FaceLook {
   double sex = 0.5, age = 35.0, build = 0.5;
+  bool operator==(const FaceLook&) const = default;
 };
 
 // A mouth shape of speech (a viseme) at one time: the lips and jaw reach it at `time` and blend

@@ -56,7 +56,7 @@ class FaceBody final : public SpringNetworkBody {
   struct Eye {
     Vec3 center{0, 0, 0}, right{1, 0, 0}, up{0, 1, 0}, ahead{0, 0, 1};
     double radius = 0.0, lid_radius = 0.0, lid_azimuth = 0.0, upper = 0.0, lower = 0.0;
-    double corner = 64.0 * kPi / 180.0, tilt = 0.0, corners = 0.0;  // corners: the corners' mean elevation, rad
+    double corner = 0.0, tilt = 0.0, corners = 0.0;  // corners: the corners' mean elevation, rad (eye(): head::kEyeCorner...)
     double outward = 1.0;  // +1 where the outer corner lies toward +x (the left eye), -1 else
     double closure = 0.0;  // 0 open .. 1 shut: the upper margin brought down past the lower
     double upperEdge(double az) const;

@@ -71,8 +71,8 @@ std::shared_ptr<const TriMesh> eyeMesh(const Vec3& iris) {
 }  // namespace
 
 // The lips' thickness where they part: along each edge of the parted skin (an edge of one
-// triangle only), a wet red strip from just under the skin drawn in to the mouth's lining, lit
-// from either side (without it the opening's edge was a line, the lips rubber sheets and the
+// triangle only), a wet red strip from just under the skin drawn in to the mouth's lining,
+// facing the opening (without it the opening's edge was a line, the lips rubber sheets and the
 // mouth a flat black hole). Its vertices after the lining's, in the lining's mesh.
 void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) const {
   const std::size_t n = surface_.size();
@@ -90,6 +90,11 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
   auto lining = [&](std::uint32_t v) {
     return Vec3(inside.positions[3 * v], inside.positions[3 * v + 1], inside.positions[3 * v + 2]);
   };
+  struct Rim {
+    Vec3 oa, ob, ia, ib, side;  // side: the skin's outward normal along the edge
+  };
+  std::vector<Rim> rims;
+  Vec3 centre = Vec3::Zero();
   for (std::size_t i = 0; i < edges.size(); ++i) {
     const bool shared = (i > 0 && edges[i - 1] == edges[i]) || (i + 1 < edges.size() && edges[i + 1] == edges[i]);
     const auto [a, b] = edges[i];
@@ -98,16 +103,23 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
     const Vec3 na = (relaxed[a] - lining(a)).normalized(), nb = (relaxed[b] - lining(b)).normalized();
     const Vec3 oa = relaxed[a] - (detail_.dip[a] + 0.0003 * surface_.scale) * na;
     const Vec3 ob = relaxed[b] - (detail_.dip[b] + 0.0003 * surface_.scale) * nb;
-    const Vec3 facing = unitOr((ob - oa).cross(na + nb), Vec3::UnitY());
-    for (double side : {1.0, -1.0}) {
-      const auto base = static_cast<std::uint32_t>(inside.vertexCount());
-      for (const Vec3& p : {oa, ob, lining(b), lining(a)}) {
-        inside.addVertex(p, side * facing);
-        for (int k = 0; k < 3; ++k) inside.colors.push_back(static_cast<float>(rim[k]));
-      }
-      if (side > 0) inside.indices.insert(inside.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-      else inside.indices.insert(inside.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
+    rims.push_back({oa, ob, lining(a), lining(b), na + nb});
+    centre += oa + ob;
+  }
+  if (rims.empty()) return;
+  centre /= 2.0 * static_cast<double>(rims.size());  // the opening's middle
+  // One quad an edge, facing the opening's middle (its winding to match).
+  for (const Rim& r : rims) {
+    Vec3 facing = unitOr((r.ob - r.oa).cross(r.side), Vec3::UnitY());
+    if (facing.dot(centre - 0.5 * (r.oa + r.ob)) < 0) facing = -facing;
+    const bool flip = (r.ob - r.oa).cross(r.ib - r.oa).dot(facing) < 0;
+    const auto base = static_cast<std::uint32_t>(inside.vertexCount());
+    for (const Vec3& p : {r.oa, r.ob, r.ib, r.ia}) {
+      inside.addVertex(p, facing);
+      for (int k = 0; k < 3; ++k) inside.colors.push_back(static_cast<float>(rim[k]));
     }
+    if (!flip) inside.indices.insert(inside.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+    else inside.indices.insert(inside.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
   }
   inside.uvs.clear();
 }
@@ -322,8 +334,8 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     strands.casts_shadow = false;  // (the cap under them casts the head's shadow)
     out.meshes.push_back({std::move(hair), true, strands});
   }
-  // The mouth's inside, seen through the parted lips: the skin's inner side, drawn dark red, so
-  // whatever one sees past the lips is the mouth's cavity; the teeth, the upper row on the
+  // The mouth's inside, seen through the parted lips: the skin's inner side, drawn near black
+  // but red at the lips, so whatever one sees past the lips is the mouth's cavity; the teeth, the upper row on the
   // skull, the lower on the jaw; and the tongue.
   if (mouth_inside) {
     // (The simulated skin's triangles, not the nine times as many drawn: 1.5 mm in, and
@@ -443,11 +455,11 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
           vertex(c + rq * at(el, az), facing, lower ? rim : lash_tone);
         }
       quads(base, 1, kA);
-      // The lashes, one by one: ribbons tapering from 0.26 mm at the root (each a clump of two
-      // or three lashes) along the margin, curving out and then up (down below), longer in the
-      // middle and toward the outer corner, each its own length and slant; 6.2 mm above and 2.5 mm below
-      // (real lashes are 8-12 and 6-8 mm; the lower lie against the lid). As a solid fringe cut
-      // into points they read as a comb.
+      // The lashes, one by one: ribbons tapering from 0.17 mm at the root (0.12 below) along the
+      // margin, curving out and then up (down below), longer in the middle and toward the outer
+      // corner, each its own length and slant; 5.2 mm above and 2.2 mm below (real lashes are 8-12
+      // and 6-8 mm, but thinner: at 0.26 and 6.2 mm a close-up showed a doll's false lashes; the
+      // lower lie against the lid). As a solid fringe cut into points they read as a comb.
       const double outer = ey.outward;  // the side the eye's outer corner lies (head +x for the left eye)
       const int count = lower ? 24 : 90;
       const double length = (lower ? 0.0022 : 0.0052) * surface_.scale, width = (lower ? 0.00012 : 0.00017) * surface_.scale;
@@ -541,11 +553,12 @@ FaceBody::Eye FaceBody::eye(int e) const {
   const double gaze = std::asin(std::clamp(look.dot(up), -1.0, 1.0));  // the gaze's elevation in the head
   out.upper = (18.0 + 11.0 * control("eyelid_raise")) * deg + 0.7 * gaze;
   out.lower = (-24.0 + 16.0 * squeeze) * deg + 0.4 * gaze;
-  // The corners 61° to each side on the lids' shell (the opening about 28 mm wide at 0.24 m,
-  // Farkas 1994's palpebral fissure; the skin closes over the rest), the outer 8° above the inner.
-  out.corner = 61.0 * deg;
-  out.corners = -4.0 * deg;
-  out.tilt = 8.0 * deg;
+  // The corners 61° to each side on the lids' shell (the opening about 23 mm wide at 0.24 m, a
+  // little short of Farkas 1994's palpebral fissure, 28-30 mm, whose inner end lies past the
+  // eyeball; the skin closes over the rest), the outer 8° above the inner.
+  out.corner = head::kEyeCorner;
+  out.corners = head::kEyeCorners;
+  out.tilt = head::kCanthalTilt;
   out.outward = e == 0 ? 1.0 : -1.0;
   out.lid_radius = head::kLidShell * surface_.eye_radius;
   out.lid_azimuth = 80.0 * kPi / 180.0;

@@ -35,8 +35,10 @@ void FaceBody::drawLayers(DrawList& out) const {
   fascia.radius = skin.radius;
   across.radius = static_cast<float>(0.0003 * s);
   skin.material = plainMaterial(Vec3(0.9, 0.62, 0.45));
-  fascia.material = plainMaterial(Vec3(0.75, 0.2, 0.2));
-  across.material = plainMaterial(Vec3(0.3, 0.45, 0.75));
+  // (The layers below the skin in muted tones: saturated red and blue, their edges at the cut
+  // read as zig-zags and a checkered pattern.)
+  fascia.material = plainMaterial(Vec3(0.6, 0.4, 0.33));
+  across.material = plainMaterial(Vec3(0.42, 0.46, 0.52));
   const Springs& sp = net_.model.springs;
   for (std::size_t q = 0; q < sp.size(); ++q) {
     const auto a = static_cast<std::size_t>(sp.a[q]), b = static_cast<std::size_t>(sp.b[q]);

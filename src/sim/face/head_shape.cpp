@@ -180,7 +180,7 @@ Vec3 eyeCentre(int e, const FaceLook& look) {
   // (Cached for the last look: features() asks for it at every point of the skin.)
   thread_local FaceLook last{-1.0, -1.0, -1.0};
   thread_local double front = 0.0;
-  if (last.sex != look.sex || last.age != look.age || last.build != look.build) {
+  if (!(last == look)) {
     Vec3 d = Vec3(kEyeX, kEyeY, 0.09).normalized();
     for (int it = 0; it < 4; ++it) {
       const Vec3 p = baseRadius(d, look) * d;
@@ -265,14 +265,14 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
       if (disc <= 0 || e.z() < 0.3) continue;
       const double most = -along + std::sqrt(disc);  // the displacement that reaches the shell
       const Vec3 h = p + most * e - c;
-      // The almond as drawn at rest (FaceBody::Eye): its corners 11.3 mm to either side, the
-      // outer 0.9 mm above the middle's line, the inner as far below; the band above reaching
-      // the lid's crease (9.5 mm above that line), the one below 2.5 mm past the margin, both
-      // narrowing to 1.2 mm at the corners.
-      const double t = (k == 0 ? h.x() : -h.x()) / 0.0113, v = h.y();
+      // The almond as drawn at rest (FaceBody::Eye), on the lids' shell: its corners 11.2 mm to
+      // either side, the outer 0.9 mm above the middle's line, the inner as far below; the band
+      // above reaching the lid's crease (9.5 mm above that line), the one below 2.5 mm past the
+      // margin, both narrowing to 1.2 mm at the corners.
+      const double shell = kLidShell * kEyeRadius;
+      const double t = (k == 0 ? h.x() : -h.x()) / (shell * std::sin(kEyeCorner)), v = h.y();
       if (std::abs(t) >= 1.0) continue;
-      const double lobe = std::abs(t) < 1 ? std::pow(std::cos(0.5 * kPi * t), 0.65) : 0.0;
-      const double mid = -0.0009 + 0.0009 * std::clamp(t, -1.0, 1.0);
+      const double lobe = std::pow(std::cos(0.5 * kPi * t), 0.65), mid = shell * std::sin(kEyeCorners + 0.5 * kCanthalTilt * t);
       const double top = mid + 0.0012 + 0.0083 * lobe, bottom = mid - 0.0012 - 0.0066 * lobe;
       const double w = smoothstep(top, top - 0.003, v) * smoothstep(bottom, bottom + 0.0025, v) * smoothstep(1.0, 0.85, std::abs(t));
       const double over = f.bone + f.soft - most;
