@@ -303,10 +303,12 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
   }
   // Wrinkles, a wrinkle map weighted by the tissue's strain (after Oat 2007, "Animated wrinkle
   // maps", SIGGRAPH course): where the skin drawn has shrunk in area (the brows drawn together,
-  // the cheeks pushed up against the eyes) it shades darker, by up to 35% at 30% of area lost, and
-  // its wrinkle lines (head::wrinkleLines) darker still, as they fold in (skinMesh).
+  // the cheeks pushed up against the eyes) it shades darker, by up to 15% at 30% of area lost, and
+  // its wrinkle lines (head::wrinkleLines) darker still, by up to 35%, as they fold in
+  // (skinMesh). (At 35% for the area lost, the broad shade read as brown smudges and bruises
+  // beside the eyes: the lines should carry a wrinkle, not the patch around them.)
   for (std::size_t k = 0; k < nv; ++k) {
-    const double crease = (1.0 - 0.35 * smoothstep(0.06, 0.3, lost[k])) * (1.0 - 0.3 * lines[k]);
+    const double crease = (1.0 - 0.15 * smoothstep(0.06, 0.3, lost[k])) * (1.0 - 0.35 * lines[k]);
     const Vec3 c = (surface_.generated ? Vec3::Ones() : surface_.color[k]) * crease;
     for (int i = 0; i < 3; ++i) mesh->colors.push_back(static_cast<float>(c[i]));
   }
@@ -398,7 +400,9 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
   }
   drawEyes(out);
   // The lids' colours: the skin's tone, a shade darker, and the lash line at their edges.
-  const Vec3 lid_tone = 0.93 * Vec3(0.57, 0.36, 0.28), lash_tone(0.07, 0.05, 0.04);
+  // (A shade darker and pinker than the skin: the skin round the eyes is thin; in the skin's
+  // own tone the upper lids, catching the key, read as pale ovals stuck on.)
+  const Vec3 lid_tone(0.48, 0.29, 0.24), lash_tone(0.07, 0.05, 0.04);
   const Vec3 caruncle(0.52, 0.22, 0.2), rim(0.5, 0.27, 0.24);
   auto lids = std::make_shared<TriMesh>(), lashes = std::make_shared<TriMesh>();
   auto vertex = [&](const Vec3& p, const Vec3& normal, const Vec3& color) {
