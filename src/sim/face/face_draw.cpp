@@ -58,7 +58,7 @@ std::shared_ptr<const TriMesh> eyeMesh(const Vec3& iris) {
     } else if (from < 0.5) {
       const double t = (from - 0.17) / 0.33, around = std::atan2(y, x);
       c = iris * (0.7 + 0.5 * t) * (0.7 + 0.6 * fibres(around, t));
-      c = c + 0.18 * std::exp(-0.5 * std::pow((t - 0.22) / 0.1, 2)) * (Vec3(0.55, 0.45, 0.25) - c);  // the collarette
+      c = c + 0.18 * std::exp(-0.5 * head::sq((t - 0.22) / 0.1)) * (Vec3(0.55, 0.45, 0.25) - c);  // the collarette
       c *= 1.0 - 0.6 * smoothstep(0.78, 0.97, t);                                           // the limbal ring
     }
     for (int k = 0; k < 3; ++k) m->colors[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(c[k]);

@@ -25,8 +25,6 @@ constexpr double kRayEnd = 2.875;
 // The skin texture's padding: the share of its width beyond the midline, of its height at each end.
 constexpr double kSkinPadU = 0.08, kSkinPadV = 0.02;
 
-double sq(double x) { return x * x; }
-
 
 // n + 1 angles from a0 to a1 whose spacing follows 1 / density: equal steps of the density's
 // integral (so a region of density 3 gets three times the samples).
@@ -390,7 +388,7 @@ std::size_t frontVertex(const FaceSurface& s, double x, double y) {
   for (std::size_t k = 0; k < s.size(); ++k) {
     const Vec3& p = s.skin[k];
     if (p.z() <= 0) continue;
-    const double d = sq(p.x() - x) + sq(p.y() - y);
+    const double d = head::sq(p.x() - x) + head::sq(p.y() - y);
     if (d < bd - 1e-15) bd = d, best = k;
   }
   return best;

@@ -8,11 +8,12 @@
 #include "core/math.h"
 #include "core/mesh.h"
 #include "sim/face/head.h"
+#include "sim/face/head_shape.h"
 
 namespace reel {
 namespace {
 
-double sq(double x) { return x * x; }
+using head::sq;
 
 // Smooth normals of a mesh from its triangles' areas.
 void smoothNormals(TriMesh& m) {

@@ -12,8 +12,6 @@
 namespace reel::head {
 namespace {
 
-double sq(double x) { return x * x; }
-
 
 double gauss(double x, double y, double x0, double y0, double sx, double sy) {
   const double u = (x - x0) / sx, v = (y - y0) / sy;

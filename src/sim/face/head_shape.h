@@ -18,6 +18,8 @@
 
 namespace reel::head {
 
+inline constexpr double sq(double x) { return x * x; }
+
 // The unit direction at polar angle th from the crown (+y) and azimuth ph from the front (+z).
 inline Vec3 direction(double th, double ph) { return Vec3(std::sin(th) * std::sin(ph), std::cos(th), std::sin(th) * std::cos(ph)); }
 
