@@ -19,6 +19,7 @@ void charge() {
 
 namespace detail {
 bool g_on = false;
+thread_local bool t_muted = false;
 
 void enter(Stage s, Stage& previous) {
   charge();

@@ -42,12 +42,13 @@ namespace detail {
 void enter(Stage s, Stage& previous);
 void leave(Stage previous);
 extern bool g_on;
+extern thread_local bool t_muted;
 }  // namespace detail
 
 class Scope {
  public:
   explicit Scope(Stage s) {
-    if (detail::g_on) {
+    if (detail::g_on && !detail::t_muted) {
       on_ = true;
       detail::enter(s, previous_);
     }
@@ -61,6 +62,19 @@ class Scope {
  private:
   bool on_ = false;
   Stage previous_ = Stage::Other;
+};
+
+// While one lives, this thread's scopes charge nothing: bodies stepping side by side on the worker
+// threads (World::stepTogether), whose time the simulation thread's enclosing scope takes.
+class Mute {
+ public:
+  Mute() : saved_(detail::t_muted) { detail::t_muted = true; }
+  ~Mute() { detail::t_muted = saved_; }
+  Mute(const Mute&) = delete;
+  Mute& operator=(const Mute&) = delete;
+
+ private:
+  bool saved_;
 };
 
 }  // namespace reel::profile

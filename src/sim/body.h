@@ -113,6 +113,12 @@ class Body {
   // The elements its step's loops run over (a spring network's nodes), for one decision whether
   // they all run in parallel (core/parallel.h, ParallelScope); −1: each loop decides by its size.
   virtual std::ptrdiff_t parallelWork() const { return -1; }
+  // A body whose step reads only the objects, the scene's fields and its own state, and writes
+  // only its own state and its solver's statistics (no SharedView, no Coupling), returns the
+  // elements its step works on (nodes, particles); −1 otherwise. The World steps such bodies that
+  // are small side by side, each on one thread (World::stepTogether): a body of a few thousand
+  // elements keeps two threads busy poorly on its own.
+  virtual std::ptrdiff_t togetherWork() const { return -1; }
   // Adds to `out` what the body shows the others (sim/shared_view.h), as pointers to its own
   // published state; called once, when the World is built. `self`: its index in scene order.
   virtual void show(SharedView& /*out*/, int /*self*/) {}

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
+#include <exception>
 #include <cmath>
 #include <map>
 
@@ -98,6 +100,7 @@ Result<World> World::create(const SceneDesc& scene, std::span<const BodyKindRow>
   w.coupling_.reset(w.colliders_.size());
   // A system per kind that has one and bodies in the scene, stepping them together.
   w.in_system_.assign(w.bodies_.size(), 0);
+  w.step_time_.assign(w.bodies_.size(), 0.0);
   for (const BodyKindRow& row : kinds) {
     if (!row.system) continue;
     System sys;
@@ -253,6 +256,88 @@ Status World::stepAlone(StepContext& ctx) {
   return {};
 }
 
+// Bodies of this many elements or more step over all threads on their own (their loops keep the
+// cores busy); smaller ones may step side by side, each on one thread.
+constexpr std::ptrdiff_t kTogetherMax = 16384;
+
+// The run of bodies in together_, each touching only its own state (Body::togetherWork). A body
+// that is large, or whose last step took more than its share of the run's (its time times the
+// threads above the run's total: side by side it would leave the other threads idle, a poured
+// stream that rebuilds its neighbour lists every step beside sheets that do little), steps first
+// over all threads; the rest then step side by side, each on one thread (its loops serial), the
+// slowest first. Each writes its solver's statistics apart, taken in scene order afterwards as one
+// after another would have left them, and is checked in scene order. The times choose only who
+// runs where: what a body computes depends on no other body and on no thread count (DESIGN 6),
+// so the bits are those of stepping them one after another.
+Status World::stepTogether(StepContext& ctx) {
+  profile::Scope stage(profile::Stage::Integration);  // (the side-by-side steps' own scopes are muted)
+  using Clock = std::chrono::steady_clock;
+  const std::size_t n = together_.size();
+  together_stats_.assign(n, SolverStats{});
+  for (SolverStats& s : together_stats_) s.last.cg_iterations = -1;  // (still −1 after: no solve)
+  auto stepOn = [&](std::size_t i) {
+    StepContext own = ctx;
+    own.solver = &together_stats_[i];
+    const std::size_t k = together_[i];
+    const Clock::time_point t0 = Clock::now();
+    bodies_[k]->step(own);
+    step_time_[k] = std::chrono::duration<double>(Clock::now() - t0).count();
+  };
+  std::vector<std::size_t> side;  // slots, stepped side by side
+  double total = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    total += step_time_[together_[i]];
+    side.push_back(i);
+  }
+  const double threads = threadCount();
+  for (bool again = true; again && side.size() >= 2;) {
+    again = false;
+    for (std::size_t q = 0; q < side.size(); ++q) {
+      const std::size_t k = together_[side[q]];
+      if (bodies_[k]->togetherWork() < kTogetherMax && !(step_time_[k] * threads > total)) continue;
+      total -= step_time_[k];
+      const ParallelScope all(bodies_[k]->parallelWork());
+      stepOn(side[q]);
+      side.erase(side.begin() + static_cast<std::ptrdiff_t>(q));
+      again = true;
+      break;
+    }
+  }
+  std::stable_sort(side.begin(), side.end(),
+                   [&](std::size_t a, std::size_t b) { return step_time_[together_[a]] > step_time_[together_[b]]; });
+  const auto m = static_cast<std::ptrdiff_t>(side.size());
+  if (m >= 2) side_by_side_ += m;
+  if (m == 1) {
+    const ParallelScope all(bodies_[together_[side[0]]]->parallelWork());
+    stepOn(side[0]);
+  }
+  // (an exception may not leave a parallel region: each is kept and the first in scene order
+  // thrown after it, as one after another would have thrown it)
+  std::vector<std::exception_ptr> thrown(n);
+#pragma omp parallel for schedule(dynamic, 1) if (m >= 2)
+  for (std::ptrdiff_t q = 0; q < m; ++q) {
+    if (m == 1) continue;
+    const profile::Mute mute;
+    const ParallelScope one(0);
+    try {
+      stepOn(side[static_cast<std::size_t>(q)]);
+    } catch (...) {
+      thrown[side[static_cast<std::size_t>(q)]] = std::current_exception();
+    }
+  }
+  for (const std::exception_ptr& e : thrown)
+    if (e) std::rethrow_exception(e);
+  for (std::size_t i = 0; i < n; ++i) {
+    const SolverStats& s = together_stats_[i];
+    if (s.last.cg_iterations >= 0) solver_.last = s.last;
+    solver_.unconverged += s.unconverged;
+    solver_.worst_residual = std::max(solver_.worst_residual, s.worst_residual);
+  }
+  for (std::size_t k : together_)
+    if (Status st = bodies_[k]->checkState(ctx); !st) return st;
+  return {};
+}
+
 Status World::advanceFrame() {
   const int steps = stepsPerFrame();
   const double per_step = 1.0 / (static_cast<double>(fps_) * steps);
@@ -277,14 +362,32 @@ Status World::advanceFrame() {
     for (std::size_t o : moving_objects_) colliders_[o].moveTo(ctx.t1, ctx.h);
     coupling_.reset(colliders_.size());
     if (!watched_.empty()) gatherBodyPoints();
-    // The bodies, in scene order, each checked for a bad state.
-    for (std::size_t k = 0; k < bodies_.size(); ++k) {
+    // The bodies, in scene order, each checked for a bad state; a run of two or more that may step
+    // side by side (Body::togetherWork; the coupled and the systems' bodies, which step later, do
+    // not break a run) steps together.
+    for (std::size_t k = 0; k < bodies_.size();) {
       Body* b = bodies_[k].get();
-      if (b->coupled() || in_system_[k]) continue;
+      if (b->coupled() || in_system_[k]) {
+        ++k;
+        continue;
+      }
+      together_.clear();
+      std::size_t end = k;
+      for (; end < bodies_.size(); ++end) {
+        if (bodies_[end]->coupled() || in_system_[end]) continue;
+        if (bodies_[end]->togetherWork() < 0) break;
+        together_.push_back(end);
+      }
+      if (together_.size() >= 2 && threadCount() > 1) {
+        if (Status st = stepTogether(ctx); !st) return st;
+        k = end;
+        continue;
+      }
       profile::Scope stage(profile::Stage::Integration);  // what the body's own scopes do not claim
       const ParallelScope threads(b->parallelWork());
       b->step(ctx);
       if (Status st = b->checkState(ctx); !st) return st;
+      ++k;
     }
     // The coupling stage: the contact layer, every body's points and triangles against every
     // other's (the hooked pairs by their own law, which then ends its step); then the free objects

@@ -99,6 +99,8 @@ class World {
   // Implicit steps whose conjugate-gradient solve stopped before reaching its tolerance, and the
   // worst relative residual among them.
   long long unconvergedSteps() const { return solver_.unconverged; }
+  // How many body steps ran side by side with others, each on one thread (stepTogether).
+  long long sideBySideSteps() const { return side_by_side_; }
   double worstResidual() const { return solver_.worst_residual; }
 
  private:
@@ -131,6 +133,11 @@ class World {
   std::vector<std::uint8_t> solved_;  // per collider: its figure stepped already this step (StepContext::solved)
   bool aloneNear() const;  // whether the reach of two bodies that step alone may overlap this step
   Status stepAlone(StepContext& ctx);
+  std::vector<std::size_t> together_;      // (scratch) a run of bodies that step side by side, in scene order
+  std::vector<SolverStats> together_stats_;  // (scratch) their solvers' statistics, kept apart
+  long long side_by_side_ = 0;
+  std::vector<double> step_time_;  // per body: its last step's wall time when it stepped in a run, s (scheduling only)
+  Status stepTogether(StepContext& ctx);
   struct System {
     std::unique_ptr<BodySystem> solver;
     std::vector<std::size_t> members;  // bodies, in scene order

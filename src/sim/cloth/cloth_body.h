@@ -23,6 +23,12 @@ class ClothBody final : public SpringNetworkBody {
   void statistics(std::vector<Statistic>& out) const override;
   Cloth& cloth() { return cloth_; }
   const Cloth& cloth() const { return cloth_; }
+  // A sheet that grips no free object hands nothing back (Coupling): it steps beside others.
+  std::ptrdiff_t togetherWork() const override {
+    for (int k : cloth_.grip_collider)
+      if (k >= 0) return -1;
+    return parallelWork();
+  }
   void heldBy(std::vector<std::size_t>& colliders) const override {
     for (int k : cloth_.grip_collider)
       if (k >= 0) colliders.push_back(static_cast<std::size_t>(k));

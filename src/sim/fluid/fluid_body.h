@@ -22,6 +22,7 @@ class FluidBody final : public Body {
         bound_(fluidStableStep(fluid_)), nozzles_(nozzleMesh(fluid_)) {}
   StepLimit stepLimit(IntegratorKind integrator) const override;
   void step(StepContext& ctx) override;
+  std::ptrdiff_t togetherWork() const override { return static_cast<std::ptrdiff_t>(fluid_.x.size()); }
   Status checkState(const StepContext& ctx) const override;
   bool view(BodyView& out) const override;
   void snapshot(StateBlob& out) const override;

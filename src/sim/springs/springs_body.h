@@ -17,6 +17,7 @@ class SpringsBody final : public SpringNetworkBody {
   SpringsBody(std::string name, std::string generator, const Material& material)
       : SpringNetworkBody(std::move(name), std::move(generator)), material_(material) {}
   void step(StepContext& ctx) override;
+  std::ptrdiff_t togetherWork() const override { return parallelWork(); }  // (it reads only the objects)
   void draw(DrawList& out) const override;
   // Draws a smooth skin over the nodes instead of the nodes and springs (a lattice's).
   void setSkin(std::shared_ptr<const SubdivisionSurface> skin) { skin_ = std::move(skin); }
