@@ -226,7 +226,8 @@ TEST_CASE("the grid's neighbour lists equal brute force on random sets") {
                   "particles": [{"positions": [)") + pos + "]}]}]}");
     Fluid fl = fluid(w);
     buildNeighbours(fl);
-    const double reach = fl.cutoff_max + fl.skin;
+    CHECK(fl.list_skin == fl.skin);  // (a first list: the default skin)
+    const double reach = fl.cutoff_max + fl.list_skin;
     std::size_t pairs = 0;
     for (std::size_t i = 0; i < fl.size(); ++i) {
       std::set<int> grid(fl.nbr.begin() + fl.nbr_start[i], fl.nbr.begin() + fl.nbr_start[i + 1]);

@@ -219,6 +219,48 @@ TEST_CASE("streams poured from 1.5 m into a tank stay below their impact speed a
   CHECK(fluid(w).x.size() > 1000);
 }
 
+TEST_CASE("a poured stream's neighbour list takes a thin skin and still holds every pair inside the cutoff") {
+  // A stream falling at metres a second passes the default skin (0.3 of the cutoff) within a step:
+  // its list is then built with a twentieth of it, and goes back to the default once the liquid
+  // slows. Whatever the skin, while the two largest displacements since the build stay within it
+  // every pair closer than the cutoff must be listed (checked by brute force after every frame).
+  World w = makeWorld(R"({"format": "reel/1", "duration": 2, "fps": 30, "substeps": 40, "seed": 4,
+    "objects": [{"type": "container", "name": "tank", "center": [0, 0.5, 0], "size": [0.6, 1.0, 0.6], "wall": 0.02}],
+    "bodies": [{"type": "fluid", "name": "water", "radius": 0.01,
+      "species": [{"name": "water", "mass": 0.008, "alpha": 212.6, "beta": 0.085, "cutoff": 0.02725, "viscosity": 6}],
+      "emitters": [{"position": [0, 1.0, 0], "direction": [0, -1, 0], "speed": 1.2, "radius": 0.035, "rate": 1300, "stop": 0.4}]}]})");
+  bool thin = false;
+  long long missing = 0, checked = 0;
+  for (int f = 0; f < 60; ++f) {
+    REQUIRE(w.advanceFrame().ok());
+    const Fluid& fl = fluid(w);
+    thin = thin || fl.list_skin < fl.skin;
+    if (fl.x_built.size() != fl.size()) continue;
+    double d1 = 0, d2 = 0;
+    for (std::size_t i = 0; i < fl.size(); ++i) {
+      const double d = (fl.x[i] - fl.x_built[i]).norm();
+      if (d > d1) d2 = d1, d1 = d;
+      else if (d > d2) d2 = d;
+    }
+    if (!(d1 + d2 <= fl.list_skin)) continue;  // (the next step rebuilds it)
+    for (std::size_t i = 0; i < fl.size(); ++i) {
+      const std::set<int> listed(fl.nbr.begin() + fl.nbr_start[i], fl.nbr.begin() + fl.nbr_start[i + 1]);
+      for (std::size_t j = 0; j < fl.size(); ++j)
+        if (j != i && (fl.x[i] - fl.x[j]).norm() < fl.cutoff_max) {
+          ++checked;
+          missing += !listed.count(static_cast<int>(j));
+        }
+    }
+  }
+  const Fluid& fl = fluid(w);
+  MESSAGE(fl.size() << " particles, " << fl.rebuilds << " list builds, " << checked << " pairs checked");
+  CHECK(thin);                       // the stream took the thin skin
+  CHECK(fl.list_skin == fl.skin);    // and the settled pool the default again
+  CHECK(checked > 10000);
+  CHECK(missing == 0);
+  CHECK(fl.size() > 400);
+}
+
 TEST_CASE("a fluid that blows up stops with exit 3 naming the body, particle and frame") {
   // A particle thrown at 20 km/s: faster than anything physical, it runs away.
   World w = makeWorld(R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 1, "auto_substeps": true,

@@ -86,7 +86,7 @@ struct FluidModel {
   std::vector<PairParams> pairs;  // species × species
   double radius = 0.01;           // contact radius, m
   double cutoff_max = 0.05;       // m
-  double skin = 0.01;             // Verlet-list margin, m
+  double skin = 0.01;             // Verlet-list margin, m (FluidState::list_skin: the one in use)
   double ref_spacing = 0.01;      // m: how close neighbours come in a settled liquid (step splitting)
   double packed_spacing = 0.02;   // m: a settled bulk's nearest neighbours, 0.8 of the bulk spacing (drawing)
   std::vector<Surface> surfaces;  // colliders × species
@@ -125,6 +125,8 @@ struct FluidState {
   std::vector<Vec3> x_built;     // positions at the last list build, m (particles then)
   std::vector<std::uint32_t> nbr_start;  // the neighbour list: particle i's entries (particles + 1)
   std::vector<std::int32_t> nbr;         // neighbour slots
+  double list_skin = 0.0;  // the margin the list was built with, m (Fluid::skin, or less while it cannot last: refreshNeighbours)
+  long long list_age = 0;  // neighbour checks since the list was built
   long long thermal_draws = 0;  // force evaluations with random pair forces (their random stream)
   // Statistics.
   long long rebuilds = 0;

@@ -64,7 +64,7 @@ bool FluidBody::view(BodyView& out) const {
 // stream's position and the statistics, in one order for writing and reading.
 template <class State, class Archive>
 void FluidBody::fields(State& s, Archive& a) {
-  a(s.x)(s.v)(s.s)(s.m)(s.id)(s.layers)(s.x_built)(s.nbr_start)(s.nbr);
+  a(s.x)(s.v)(s.s)(s.m)(s.id)(s.layers)(s.x_built)(s.nbr_start)(s.nbr)(s.list_skin)(s.list_age);
   a(s.thermal_draws)(s.rebuilds)(s.pair_tests)(s.split_steps)(s.skipped);
   a(s.diffuse_x)(s.diffuse_v)(s.diffuse_life)(s.diffuse_kind)(s.diffuse_id)(s.diffuse_time)(s.diffuse_ticks)(s.diffuse_made);
 }
@@ -82,7 +82,8 @@ bool FluidBody::restore(const StateBlob& in) {
   if (!r.done() || s.v.size() != n || s.s.size() != n || s.m.size() != n || s.id.size() != n ||
       s.layers.size() != fluid_.emitters.size() || s.x_built.size() > n ||
       (!s.x_built.empty() && s.nbr_start.size() != s.x_built.size() + 1) ||
-      (!s.nbr_start.empty() && s.nbr.size() != s.nbr_start.back()))
+      (!s.nbr_start.empty() && s.nbr.size() != s.nbr_start.back()) ||
+      (!s.x_built.empty() && !(s.list_skin > 0 && s.list_skin <= fluid_.skin)) || s.list_age < 0)
     return false;
   const std::size_t d = s.diffuse_x.size();
   if (s.diffuse_v.size() != d || s.diffuse_life.size() != d || s.diffuse_kind.size() != d || s.diffuse_id.size() != d ||
