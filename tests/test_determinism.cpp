@@ -146,3 +146,28 @@ TEST_CASE("bodies that touch only their own state step side by side, with the bi
     CHECK(r->worst == one.worst);
   }
 }
+
+TEST_CASE("bodies side by side report the first bad state in scene order, as one after another does") {
+  // Two liquids that run away in the same step (a particle at 20 km/s) beside a sheet: the first in
+  // scene order is named whichever thread finishes first.
+  const std::string goo = R"("species": [{"name": "w", "mass": 0.01, "alpha": 200, "beta": 0.1, "cutoff": 0.05}],
+                "particles": [{"positions": [[0, 0, 0], [0.05, 0, 0]], "velocities": [[20000, 0, 0], [0, 0, 0]]}]})";
+  const std::string scene = R"({"format": "reel/1", "duration": 1, "fps": 30, "substeps": 1, "auto_substeps": true,
+    "bodies": [{"type": "cloth", "name": "sheet", "size": [1, 1], "resolution": [12, 12], "position": [3, 0, 0]},
+               {"type": "fluid", "name": "first", )" + goo + R"(,
+               {"type": "fluid", "name": "second", )" + goo + "]}";
+  auto errorAt = [&](int threads) {
+    const int before = threadCount();
+    setThreadCount(threads);
+    World w = worldFromText(scene);
+    Status st;
+    for (int f = 0; f < 30 && st; ++f) st = w.advanceFrame();
+    setThreadCount(before);
+    REQUIRE(!st);
+    return std::make_pair(st.error().headline(), w.sideBySideSteps());
+  };
+  const auto one = errorAt(1), two = errorAt(2);
+  CHECK(one.first.find("body 'first'") != std::string::npos);
+  CHECK(two.first == one.first);
+  CHECK(two.second > 0);
+}

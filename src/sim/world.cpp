@@ -268,19 +268,27 @@ constexpr std::ptrdiff_t kTogetherMax = 16384;
 // slowest first. Each writes its solver's statistics apart, taken in scene order afterwards as one
 // after another would have left them, and is checked in scene order. The times choose only who
 // runs where: what a body computes depends on no other body and on no thread count (DESIGN 6),
-// so the bits are those of stepping them one after another.
+// so the bits are those of stepping them one after another, and so is the first error (a bad
+// state, or an exception a step threw).
 Status World::stepTogether(StepContext& ctx) {
   profile::Scope stage(profile::Stage::Integration);  // (the side-by-side steps' own scopes are muted)
   using Clock = std::chrono::steady_clock;
   const std::size_t n = together_.size();
   together_stats_.assign(n, SolverStats{});
   for (SolverStats& s : together_stats_) s.last.cg_iterations = -1;  // (still −1 after: no solve)
+  // (an exception may not leave a parallel region: each body's is kept, and the first in scene
+  // order thrown where one after another would have met it, among the bodies' checks)
+  std::vector<std::exception_ptr> thrown(n);
   auto stepOn = [&](std::size_t i) {
     StepContext own = ctx;
     own.solver = &together_stats_[i];
     const std::size_t k = together_[i];
     const Clock::time_point t0 = Clock::now();
-    bodies_[k]->step(own);
+    try {
+      bodies_[k]->step(own);
+    } catch (...) {
+      thrown[i] = std::current_exception();
+    }
     step_time_[k] = std::chrono::duration<double>(Clock::now() - t0).count();
   };
   std::vector<std::size_t> side;  // slots, stepped side by side
@@ -311,30 +319,23 @@ Status World::stepTogether(StepContext& ctx) {
     const ParallelScope all(bodies_[together_[side[0]]]->parallelWork());
     stepOn(side[0]);
   }
-  // (an exception may not leave a parallel region: each is kept and the first in scene order
-  // thrown after it, as one after another would have thrown it)
-  std::vector<std::exception_ptr> thrown(n);
 #pragma omp parallel for schedule(dynamic, 1) if (m >= 2)
   for (std::ptrdiff_t q = 0; q < m; ++q) {
     if (m == 1) continue;
     const profile::Mute mute;
     const ParallelScope one(0);
-    try {
-      stepOn(side[static_cast<std::size_t>(q)]);
-    } catch (...) {
-      thrown[side[static_cast<std::size_t>(q)]] = std::current_exception();
-    }
+    stepOn(side[static_cast<std::size_t>(q)]);
   }
-  for (const std::exception_ptr& e : thrown)
-    if (e) std::rethrow_exception(e);
   for (std::size_t i = 0; i < n; ++i) {
     const SolverStats& s = together_stats_[i];
     if (s.last.cg_iterations >= 0) solver_.last = s.last;
     solver_.unconverged += s.unconverged;
     solver_.worst_residual = std::max(solver_.worst_residual, s.worst_residual);
   }
-  for (std::size_t k : together_)
-    if (Status st = bodies_[k]->checkState(ctx); !st) return st;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (thrown[i]) std::rethrow_exception(thrown[i]);
+    if (Status st = bodies_[together_[i]]->checkState(ctx); !st) return st;
+  }
   return {};
 }
 

@@ -23,7 +23,7 @@ class ClothBody final : public SpringNetworkBody {
   void statistics(std::vector<Statistic>& out) const override;
   Cloth& cloth() { return cloth_; }
   const Cloth& cloth() const { return cloth_; }
-  // A sheet that grips no free object hands nothing back (Coupling): it steps beside others.
+  // A sheet without grips on objects hands nothing back (Coupling): it steps beside others.
   std::ptrdiff_t togetherWork() const override {
     for (int k : cloth_.grip_collider)
       if (k >= 0) return -1;

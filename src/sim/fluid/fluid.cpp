@@ -199,7 +199,9 @@ namespace {
 // ((1.015/1.3)³ of the row grid's candidates and of the force loop's first pass) for the same pairs
 // inside the cutoff. (Where a list at the default skin lasts two checks, rebuilding a thin one at
 // every check cost more: liquid_object 1.11x, mixing_liquids 1.19x.) The rate is measured at each
-// skin-driven rebuild, so the default comes back as soon as the liquid slows.
+// rebuild the motion calls for, so the default comes back once the liquid slows. A liquid with
+// foam keeps the default: its diffuse particles read the list and its grid after the step's motion
+// (stepDiffuse), which a thin skin would no longer cover.
 constexpr double kFastSkin = 0.05;  // of Fluid::skin
 void refreshNeighbours(Fluid& fl, bool force) {
   profile::Scope stage(profile::Stage::Neighbours);
@@ -224,7 +226,7 @@ void refreshNeighbours(Fluid& fl, bool force) {
     rebuild = !(moved <= fl.list_skin);
     // (moved/age: how fast the closest-coming pair can close, per check; past the default skin in
     // one check, a list at that skin would be rebuilt at every check too)
-    if (rebuild) fl.list_skin = std::isfinite(moved) && moved > fl.skin * static_cast<double>(fl.list_age) ? kFastSkin * fl.skin : fl.skin;
+    if (rebuild) fl.list_skin = std::isfinite(moved) && moved > fl.skin * static_cast<double>(fl.list_age) && !(fl.foam > 0) ? kFastSkin * fl.skin : fl.skin;
   }
   if (!rebuild) return;
   // (a thin list is rebuilt every step, at least twice as often as one at the default skin: it

@@ -83,7 +83,8 @@ bool FluidBody::restore(const StateBlob& in) {
       s.layers.size() != fluid_.emitters.size() || s.x_built.size() > n ||
       (!s.x_built.empty() && s.nbr_start.size() != s.x_built.size() + 1) ||
       (!s.nbr_start.empty() && s.nbr.size() != s.nbr_start.back()) ||
-      (!s.x_built.empty() && !(s.list_skin > 0 && s.list_skin <= fluid_.skin)) || s.list_age < 0)
+      !(s.list_skin == 0 || (s.list_skin > 0 && s.list_skin <= fluid_.skin)) || (!s.x_built.empty() && s.list_skin == 0) ||
+      s.list_age < 0)
     return false;
   const std::size_t d = s.diffuse_x.size();
   if (s.diffuse_v.size() != d || s.diffuse_life.size() != d || s.diffuse_kind.size() != d || s.diffuse_id.size() != d ||
