@@ -291,40 +291,37 @@ Status World::stepTogether(StepContext& ctx) {
     }
     step_time_[k] = std::chrono::duration<double>(Clock::now() - t0).count();
   };
-  std::vector<std::size_t> side;  // slots, stepped side by side
-  double total = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    total += step_time_[together_[i]];
-    side.push_back(i);
-  }
   const double threads = threadCount();
-  for (bool again = true; again && side.size() >= 2;) {
-    again = false;
-    for (std::size_t q = 0; q < side.size(); ++q) {
-      const std::size_t k = together_[side[q]];
-      if (bodies_[k]->togetherWork() < kTogetherMax && !(step_time_[k] * threads > total)) continue;
-      total -= step_time_[k];
-      const ParallelScope all(bodies_[k]->parallelWork());
-      stepOn(side[q]);
-      side.erase(side.begin() + static_cast<std::ptrdiff_t>(q));
-      again = true;
-      break;
+  std::vector<std::size_t> side;  // slots of the small bodies, the slowest first
+  double total = 0.0;             // their last steps' time, s
+  for (std::size_t i = 0; i < n; ++i) {
+    const Body& b = *bodies_[together_[i]];
+    if (b.togetherWork() >= kTogetherMax) {
+      const ParallelScope all(b.parallelWork());
+      stepOn(i);
+    } else {
+      side.push_back(i);
+      total += step_time_[together_[i]];
     }
   }
   std::stable_sort(side.begin(), side.end(),
                    [&](std::size_t a, std::size_t b) { return step_time_[together_[a]] > step_time_[together_[b]]; });
-  const auto m = static_cast<std::ptrdiff_t>(side.size());
-  if (m >= 2) side_by_side_ += m;
-  if (m == 1) {
-    const ParallelScope all(bodies_[together_[side[0]]]->parallelWork());
-    stepOn(side[0]);
+  // The slowest over all threads while it would hold up the rest (and a last one alone).
+  std::size_t first = 0;
+  for (; first < side.size(); ++first) {
+    const double t = step_time_[together_[side[first]]];
+    if (side.size() - first >= 2 && !(t * threads > total)) break;
+    total -= t;
+    const ParallelScope all(bodies_[together_[side[first]]]->parallelWork());
+    stepOn(side[first]);
   }
+  const auto m = static_cast<std::ptrdiff_t>(side.size() - first);
+  side_by_side_ += m;
 #pragma omp parallel for schedule(dynamic, 1) if (m >= 2)
   for (std::ptrdiff_t q = 0; q < m; ++q) {
-    if (m == 1) continue;
     const profile::Mute mute;
     const ParallelScope one(0);
-    stepOn(side[static_cast<std::size_t>(q)]);
+    stepOn(side[first + static_cast<std::size_t>(q)]);
   }
   for (std::size_t i = 0; i < n; ++i) {
     const SolverStats& s = together_stats_[i];
