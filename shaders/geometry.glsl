@@ -18,6 +18,7 @@ layout(location = 9) in vec3 a_origin;
 layout(location = 10) in vec4 a_tint_phase;  // INSTANCED, per instance: rgb tint, wave phase
 layout(location = 11) in float a_gloss;  // per-vertex wet sheen 0..1; 0 where a mesh has none
 layout(location = 12) in float a_clarity;  // per-vertex share of the transmission 0..1; 1 where a mesh has none
+layout(location = 13) in float a_wrinkle;  // per-vertex depth of the wrinkle map 0..1; 0 where a mesh has none
 
 uniform int u_mode;
 uniform float u_radius;

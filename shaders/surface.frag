@@ -18,6 +18,7 @@ in vec2 v_uv;
 in vec3 v_color;
 in float v_gloss;
 in float v_clarity;  // the share of u_transmission that passes here
+in float v_wrinkle;  // WRINKLED: how deep the wrinkle map sinks here, 0..1
 out vec4 o_color;
 
 uniform vec3 u_light_vec[8];       // direction the light travels, or its position
@@ -41,6 +42,11 @@ uniform float u_sheen;      // SHEEN: 0..1
 uniform float u_wrap;       // WRAP: 0..1
 uniform float u_opacity;
 uniform sampler2D u_texture;
+uniform sampler2D u_bump;         // BUMPED: a height map over the UVs (its luminance, 0..1)
+uniform float u_bump_depth;       // BUMPED: the height of luminance 1 over 0, m (0 with only wrinkles)
+uniform sampler2D u_wrinkles;     // WRINKLED: a second height map, its depth scaled per vertex
+uniform float u_wrinkle_depth;    // WRINKLED: m
+uniform float u_wrinkle_shade;    // WRINKLED: 0..1, a crease's floor this much darker in full
 uniform sampler2D u_dfg;    // SPECULAR: the split-sum table (A, B) by (n·v, roughness)
 uniform float u_env_lod;    // ENVIRONMENT: u_env's last mip level (roughness 1)
 uniform vec3 u_sh[9];       // ENVIRONMENT: irradiance / π in spherical harmonics
@@ -116,6 +122,44 @@ SHADOW_PCSS(u_shadow_map1, u_shadow_raw1, 1)
 float linearDepth(float d) {  // window depth → distance along the view axis
   float z = d * 2.0 - 1.0, n = u_near_far.x, f = u_near_far.y;
   return 2.0 * n * f / (f + n - z * (f - n));
+}
+#endif
+
+#if defined(BUMPED) || defined(WRINKLED)
+// Bump mapping without tangents (Mikkelsen 2010, "Bump Mapping Unparametrized Surfaces on the
+// GPU"): the height's screen-space derivatives dB/dx, dB/dy and the position's σ_s = ∂p/∂x,
+// σ_t = ∂p/∂y give the surface gradient ∇_S B = (dB/dx·(σ_t × n) + dB/dy·(n × σ_s)) / (σ_s·(σ_t × n)),
+// and the bumped normal n − ∇_S B. dB/dx and dB/dy come from the height's gradient over the UVs,
+// by central differences a texel (or the pixel's footprint, where wider) apart, taken through the
+// UVs' own derivatives (per pixel; differencing the height itself would be blocky over 2 × 2 quads).
+// The height (m) at uv: the bump map's, plus the wrinkle map's (animated wrinkle maps, Oat 2007)
+// as deep as the vertices' weights say. The maps hold luminance, uploaded as one channel.
+float bumpHeight(vec2 uv) {
+  float h = 0.0;
+#ifdef BUMPED
+  h += texture(u_bump, uv).r * u_bump_depth;
+#endif
+#ifdef WRINKLED
+  h += texture(u_wrinkles, uv).r * (u_wrinkle_depth * clamp(v_wrinkle, 0.0, 1.0));
+#endif
+  return h;
+}
+vec3 bumped(vec3 n, vec3 p, vec2 uv) {
+  vec3 ss = dFdx(p), st = dFdy(p);
+  vec2 dx = dFdx(uv), dy = dFdy(uv);
+#ifdef BUMPED
+  vec2 texel = 1.0 / vec2(textureSize(u_bump, 0));
+#else
+  vec2 texel = 1.0 / vec2(textureSize(u_wrinkles, 0));
+#endif
+  vec2 e = max(texel, max(abs(dx), abs(dy)));
+  vec2 grad = vec2(bumpHeight(uv + vec2(e.x, 0.0)) - bumpHeight(uv - vec2(e.x, 0.0)),
+                   bumpHeight(uv + vec2(0.0, e.y)) - bumpHeight(uv - vec2(0.0, e.y))) / (2.0 * e);
+  vec3 r1 = cross(st, n), r2 = cross(n, ss);
+  float det = dot(ss, r1);
+  vec3 surf = sign(det) * (dot(grad, dx) * r1 + dot(grad, dy) * r2);
+  vec3 b = abs(det) * n - surf;
+  return dot(b, b) > 0.0 && abs(det) > 0.0 ? normalize(b) : n;
 }
 #endif
 
@@ -218,6 +262,13 @@ void main() {
 #endif
 #ifdef TEXTURED
   if (!plain) albedo *= texture(u_texture, v_uv).rgb;
+#endif
+#ifdef WRINKLED
+  // A crease's floor darker: less of the light reaches into a fold.
+  albedo *= 1.0 - u_wrinkle_shade * clamp(v_wrinkle, 0.0, 1.0) * (1.0 - texture(u_wrinkles, v_uv).r);
+#endif
+#if defined(BUMPED) || defined(WRINKLED)
+  n = bumped(n, v_world, v_uv);
 #endif
 #ifdef CHECKER
   // Squares (u_checker_size m) of 1 and 0.55 times the albedo, fading to their mean where a pixel covers

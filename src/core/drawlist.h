@@ -23,6 +23,16 @@ namespace reel {
 struct DrawMaterial {
   Vec3 color{0.8, 0.8, 0.8};  // linear albedo (a metal's specular colour)
   std::shared_ptr<const Image> texture;  // sRGB pixels, multiplied into the albedo (UVs)
+  // Relief (bump mapping over the UVs): a height map, its pixels' luminance read as stored (0..1,
+  // no sRGB decoding), and the height of luminance 1 over 0 (m; 0: flat). It may be `texture` itself.
+  std::shared_ptr<const Image> bump;
+  double bump_depth = 0.0;  // m
+  // Creases that come and go (Oat 2007, "Animated wrinkle maps"): a second height map over the
+  // UVs, as `bump`, its depth (m; the height of luminance 1 over 0) scaled per vertex by the
+  // mesh's `wrinkle` weights.
+  std::shared_ptr<const Image> wrinkles;
+  double wrinkle_depth = 0.0;  // m
+  double wrinkle_shade = 0.0;  // 0..1: a crease's floor this much darker in full (less light reaches into a fold)
   // specular 0..1: a dielectric's reflectance at normal incidence is 0.08·specular (Burley 2012;
   // 0.5 is 4%, water and glass). roughness 0..1 (α = roughness²); none: from the Blinn–Phong
   // `shininess` of older scenes, brdf::roughnessOfShininess.

@@ -22,6 +22,9 @@ struct TriMesh {
   // per vertex 0..1: the share of the material's transmission that passes here (a liquid's clear
   // and opaque species in one surface); empty: all of it
   std::vector<float> clarity;
+  // per vertex 0..1: how deep the material's wrinkle map sinks here (creases that come and go with
+  // an expression); empty: not at all
+  std::vector<float> wrinkle;
   std::vector<std::uint32_t> indices;  // three per triangle, counter-clockwise seen from outside
   std::size_t vertexCount() const { return positions.size() / 3; }
   std::size_t triangleCount() const { return indices.size() / 3; }

@@ -374,6 +374,7 @@ Status Renderer::Impl::mainPass(const DrawList& list, const Mat4f& view_proj, co
   gl->VertexAttrib3f(5, 1.0f, 1.0f, 1.0f);  // white where no per-vertex colour is given
   gl->VertexAttrib1f(11, 0.0f);              // no sheen where no per-vertex gloss is given
   gl->VertexAttrib1f(12, 1.0f);              // all of the transmission where no clarity is given
+  gl->VertexAttrib1f(13, 0.0f);              // no wrinkles where no per-vertex weights are given
   // The frame's uniforms and the #defines of its surface variants.
   surfaces.beginFrame(list, light_shadow, view_proj, shadow_frame, W, H);
   for (std::size_t i = 0; i < 2; ++i) {

@@ -19,8 +19,11 @@ Status SurfaceShaders::compileRichest() {
   probe.sheen = 1;
   probe.transmission = 0.5;
   probe.double_sided = probe.checker = true;
-  TextureCache no_textures(*gl_);  // the probe has no texture
-  return use(probe, no_textures);
+  probe.texture = probe.bump = probe.wrinkles = std::make_shared<const Image>(2, 2);
+  probe.bump_depth = probe.wrinkle_depth = 1e-3;
+  probe.wrap = 0.5;
+  TextureCache textures(*gl_);  // the probe's texture, gone with it
+  return use(probe, textures);
 }
 
 void SurfaceShaders::beginFrame(const DrawList& list, const std::vector<int>& light_shadow, const Mat4f& view_proj,
@@ -76,6 +79,10 @@ Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures, bool i
   if (m.double_sided) key += "#define DOUBLE_SIDED\n";
   if (m.checker) key += "#define CHECKER\n";
   if (m.texture) key += "#define TEXTURED\n";
+  const bool bumped = m.bump && m.bump_depth != 0;
+  if (bumped) key += "#define BUMPED\n";
+  const bool wrinkled = m.wrinkles && m.wrinkle_depth != 0;
+  if (wrinkled) key += "#define WRINKLED\n";
   if (m.wrap > 0) key += "#define WRAP\n";
   auto it = variants_.find(key);
   if (it == variants_.end()) {
@@ -94,6 +101,8 @@ Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures, bool i
   }
   // The material's texture and uniforms.
   if (m.texture) textures.bind(m.texture);
+  if (bumped) textures.bind(m.bump, kBumpUnit, false);
+  if (wrinkled) textures.bind(m.wrinkles, kWrinkleUnit, false);
   auto loc = [&](const char* name) { return uniforms_->get(*gl_, prog, name); };
   gl_->Uniform3f(loc("u_color"), float(m.color.x()), float(m.color.y()), float(m.color.z()));
   gl_->Uniform1f(loc("u_f0"), float(0.08 * m.specular));
@@ -107,6 +116,11 @@ Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures, bool i
   gl_->Uniform1f(loc("u_opacity"), float(m.opacity));
   if (m.wrap > 0) gl_->Uniform1f(loc("u_wrap"), float(m.wrap));
   if (m.checker) gl_->Uniform1f(loc("u_checker_size"), float(m.checker_size));
+  if (bumped) gl_->Uniform1f(loc("u_bump_depth"), float(m.bump_depth));
+  if (wrinkled) {
+    gl_->Uniform1f(loc("u_wrinkle_depth"), float(m.wrinkle_depth));
+    gl_->Uniform1f(loc("u_wrinkle_shade"), float(m.wrinkle_shade));
+  }
   if (m.double_sided) {
     const Vec3 back = m.back_color.value_or(m.color);
     gl_->Uniform3f(loc("u_back_color"), float(back.x()), float(back.y()), float(back.z()));
@@ -129,6 +143,8 @@ void SurfaceShaders::setFrameUniforms(GLuint prog) {
   gl_->Uniform1i(loc("u_shadow_raw1"), kRawShadowUnit + 1);
   gl_->Uniform1f(loc("u_shadow_texel"), 1.0f / float(shadow_map_size_));
   gl_->Uniform1i(loc("u_texture"), 0);
+  gl_->Uniform1i(loc("u_bump"), kBumpUnit);
+  gl_->Uniform1i(loc("u_wrinkles"), kWrinkleUnit);
   gl_->Uniform3f(loc("u_fog_color"), fu_.fog_color.x(), fu_.fog_color.y(), fu_.fog_color.z());
   gl_->Uniform1f(loc("u_fog_density"), fu_.fog_density);
   gl_->Uniform1f(loc("u_exposure"), fu_.exposure);

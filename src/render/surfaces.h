@@ -22,6 +22,8 @@ namespace reel {
 inline constexpr int kDfgUnit = 3, kEnvUnit = 4, kAoUnit = 5, kRawShadowUnit = 6;
 // 8, 9, 10: the picture, its depth and the see-through bodies' far depth (transmission).
 inline constexpr int kSceneColorUnit = 8, kSceneDepthUnit = 9, kBackDepthUnit = 10;
+// 11 and 12: the material's bump map and wrinkle map.
+inline constexpr int kBumpUnit = 11, kWrinkleUnit = 12;
 // ACES's input gain: middle grey 0.18 comes out 0.18 (shaders/surface.frag's aces()).
 inline constexpr double kAcesGreyGain = 1.4617;
 // What the frame's linear colours are multiplied by before tone mapping: 2^exposure, with ACES's gain.

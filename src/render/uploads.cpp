@@ -1,6 +1,8 @@
 #include "render/uploads.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <vector>
 
 namespace reel {
 
@@ -78,9 +80,10 @@ void upload(const gl::GlApi& gl, GpuMesh& m, const TriMesh& t) {
   m.capacity_v = std::max(m.capacity_v, nv);
   if (coloured) m.capacity_c = std::max(m.capacity_c, nv);
   // Attribute 11: per-vertex gloss, else the constant 0 set per frame; attribute 12: per-vertex
-  // clarity, else the constant 1.
+  // clarity, else the constant 1; attribute 13: per-vertex wrinkle weights, else 0.
   perVertexFloat(gl, m.vbo[4], m.capacity_g, 11, t.gloss, nv);
   perVertexFloat(gl, m.vbo[5], m.capacity_k, 12, t.clarity, nv);
+  perVertexFloat(gl, m.vbo[6], m.capacity_w, 13, t.wrinkle, nv);
   m.capacity_i = std::max(m.capacity_i, t.indices.size());
   m.count = static_cast<GLsizei>(t.indices.size());
 }
@@ -183,26 +186,38 @@ void TextureCache::forgetExpired() {
   std::erase_if(textures_, [](const auto& kv) { return kv.second.first.expired(); });
 }
 
-void TextureCache::bind(const std::shared_ptr<const Image>& img) {
-  auto& entry = textures_[img.get()];
+void TextureCache::bind(const std::shared_ptr<const Image>& img, int unit, bool srgb) {
+  auto& entry = textures_[{img.get(), srgb}];
+  const GLenum texture_unit = GL_TEXTURE0 + static_cast<GLenum>(unit);
   if (entry.first.lock() != img) {
     entry.second.reset();  // an old image's texture at a reused address
     entry.first = img;
     entry.second = gl::makeTexture(*gl_);
-    gl_->ActiveTexture(GL_TEXTURE0);
+    gl_->ActiveTexture(texture_unit);
     gl_->BindTexture(GL_TEXTURE_2D, entry.second.id());
     gl_->PixelStorei(GL_UNPACK_ALIGNMENT, 1);
     // Rows from the top: v = 0 is the image's first row.
-    gl_->TexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8, img->width, img->height, 0, GL_RGB, GL_UNSIGNED_BYTE,
-                    img->rgb.data());
+    if (srgb) {
+      gl_->TexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8, img->width, img->height, 0, GL_RGB, GL_UNSIGNED_BYTE, img->rgb.data());
+    } else {
+      // Data: the luminance as one float channel, so that filtering keeps its fractions (a bump
+      // map's slopes are differences of filtered heights; in 8 bits they came out 15% short).
+      std::vector<float> lum(static_cast<std::size_t>(img->width) * static_cast<std::size_t>(img->height));
+      for (std::size_t k = 0; k < lum.size(); ++k) {
+        const std::uint8_t* px = img->rgb.data() + 3 * k;
+        lum[k] = (0.2126f * px[0] + 0.7152f * px[1] + 0.0722f * px[2]) / 255.0f;
+      }
+      gl_->TexImage2D(GL_TEXTURE_2D, 0, GL_R32F, img->width, img->height, 0, GL_RED, GL_FLOAT, lum.data());
+    }
     gl_->GenerateMipmap(GL_TEXTURE_2D);
     gl_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     gl_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     gl_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
     gl_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
   }
-  gl_->ActiveTexture(GL_TEXTURE0);
+  gl_->ActiveTexture(texture_unit);
   gl_->BindTexture(GL_TEXTURE_2D, entry.second.id());
+  gl_->ActiveTexture(GL_TEXTURE0);
 }
 
 }  // namespace reel

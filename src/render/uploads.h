@@ -18,10 +18,11 @@ namespace reel {
 // A triangle mesh on the GPU: attributes 0..2 (and 5 when coloured) and the indices, in one VAO.
 struct GpuMesh {
   gl::VertexArray vao;
-  std::array<gl::Buffer, 6> vbo;  // positions, normals, uvs, colours, gloss, clarity
+  std::array<gl::Buffer, 7> vbo;  // positions, normals, uvs, colours, gloss, clarity, wrinkle
   gl::Buffer ebo;
   GLsizei count = 0;  // indices
-  std::size_t capacity_v = 0, capacity_i = 0, capacity_c = 0, capacity_g = 0, capacity_k = 0;  // vertices, indices, coloured, glossy, clarity
+  // vertices, indices, coloured, glossy, clarity, wrinkle
+  std::size_t capacity_v = 0, capacity_i = 0, capacity_c = 0, capacity_g = 0, capacity_k = 0, capacity_w = 0;
 };
 
 // Copies `t` into `m`: makes the VAO and buffers on first use, grows them when `t` is larger,
@@ -79,20 +80,22 @@ class MeshCache {
   std::vector<GpuMesh*> slots_;    // list.meshes[i]'s copy, into static_ or per_frame_
 };
 
-// Textures on the GPU once while their image lives; sRGB-encoded pixels are decoded to linear
-// by the sampler (GL_SRGB8), mipmapped.
+// Textures on the GPU once while their image lives, mipmapped: colours sRGB-encoded, decoded to
+// linear by the sampler (GL_SRGB8); data (a bump map's heights): the luminance as stored, 0..1,
+// one float channel (GL_R32F).
 class TextureCache {
  public:
   explicit TextureCache(const gl::GlApi& gl) : gl_(&gl) {}
   // Deletes the textures whose images are gone.
   void forgetExpired();
-  // Binds the image's texture to unit 0, uploading it first if needed.
-  void bind(const std::shared_ptr<const Image>& img);
+  // Binds the image's texture to `unit`, uploading it first if needed; srgb: colours (decoded),
+  // else data. One image may be bound both ways (a texture that is also its own bump map).
+  void bind(const std::shared_ptr<const Image>& img, int unit = 0, bool srgb = true);
 
  private:
   const gl::GlApi* gl_;
-  // By image address; the weak pointer tells a live owner from a reused address.
-  std::map<const Image*, std::pair<std::weak_ptr<const Image>, gl::Texture>> textures_;
+  // By image address and encoding; the weak pointer tells a live owner from a reused address.
+  std::map<std::pair<const Image*, bool>, std::pair<std::weak_ptr<const Image>, gl::Texture>> textures_;
 };
 
 }  // namespace reel

@@ -14,6 +14,8 @@ inline DrawMaterial drawMaterial(const Material& m) {
   DrawMaterial d;
   d.color = m.color;
   d.texture = m.texture_image;
+  d.bump = m.bump_image ? m.bump_image : m.texture_image;
+  d.bump_depth = d.bump ? m.bump : 0.0;
   d.specular = m.specular;
   d.shininess = m.shininess;
   d.roughness = m.roughness;

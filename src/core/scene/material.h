@@ -27,6 +27,11 @@ struct Material {
   double transmission = 0.0;  // 0..1: see-through (water, glass), refracted and absorbed
   double absorption_depth = 0.1;  // m: the depth of it through which light keeps `color` of itself
   double opacity = 1.0;       // 0..1
+  // Relief (bump mapping): the height of a bump map's luminance 1 over 0, m (0: flat; negative:
+  // the dark parts stand out). The map is `bump_texture` when given, else the texture or pattern.
+  double bump = 0.0;
+  std::string bump_texture;  // resolved path of a PNG, empty for none
+  std::shared_ptr<const Image> bump_image;  // its pixels
   // A sheet's back (the side its normal points away from), plain: this albedo and no texture.
   std::optional<Vec3> back_color;
 };

@@ -13,19 +13,28 @@
 
 namespace reel::io {
 
+namespace {
+
+// A PNG named by `key`, read into `path` and `image`; errors at the key's path.
+void readTexture(Obj& o, const std::string& key, std::string& path, std::shared_ptr<const Image>& image) {
+  auto tex = o.string(key);
+  if (!tex) return;
+  auto r = resolveAsset(o.diag().file(), *tex, {".png"}, kMaxTextureBytes);
+  auto img = r.ok() ? readPng(r.value(), kMaxTexturePixels) : Result<Image>(r.error());
+  if (img.ok()) {
+    path = r.value();
+    image = std::make_shared<const Image>(std::move(img.value()));
+  } else if (r.ok()) {
+    o.diag().error(childPath(o.path(), key), "\"" + *tex + "\": " + img.error().headline());
+  } else
+    o.diag().error(childPath(o.path(), key), r.error().headline());
+}
+
+}  // namespace
+
 void readMaterial(Obj& o, Material& m) {
   m.color = o.vec3("color", m.color, kNonNeg);
-  if (auto tex = o.string("texture")) {
-    auto r = resolveAsset(o.diag().file(), *tex, {".png"}, kMaxTextureBytes);
-    auto img = r.ok() ? readPng(r.value(), kMaxTexturePixels) : Result<Image>(r.error());
-    if (img.ok()) {
-      m.texture = r.value();
-      m.texture_image = std::make_shared<const Image>(std::move(img.value()));
-    } else if (r.ok()) {
-      o.diag().error(childPath(o.path(), "texture"), "\"" + *tex + "\": " + img.error().headline());
-    } else
-      o.diag().error(childPath(o.path(), "texture"), r.error().headline());
-  }
+  readTexture(o, "texture", m.texture, m.texture_image);
   if (o.has("pattern")) {
     const std::string pat = o.choice("pattern", "", {std::begin(kPatternNames), std::end(kPatternNames)});
     if (!m.texture.empty())
@@ -35,6 +44,13 @@ void readMaterial(Obj& o, Material& m) {
       m.texture_image = std::make_shared<const Image>(makePattern(pat, 512));
     }
   }
+  // Relief: at most 5 cm (a bump map stands in for detail finer than the mesh, not for shape).
+  readTexture(o, "bump_texture", m.bump_texture, m.bump_image);
+  m.bump = o.number("bump", m.bump, Range::closed(-0.05, 0.05));
+  if (o.has("bump_texture") && !o.has("bump"))
+    o.diag().error(childPath(o.path(), "bump"), "bump_texture needs bump, the relief's height in m");
+  if (m.bump != 0 && !o.has("bump_texture") && !o.has("texture") && !o.has("pattern") && !m.texture_image)
+    o.diag().error(childPath(o.path(), "bump"), "bump needs a map: give bump_texture, texture or pattern");
   m.specular = o.number("specular", m.specular, kUnit);
   m.shininess = o.number("shininess", m.shininess, kPos);
   if (o.has("roughness")) m.roughness = o.number("roughness", 0.5, kUnit);
