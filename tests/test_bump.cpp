@@ -9,8 +9,12 @@
 
 #include "core/math.h"
 #include "core/mesh.h"
+#include "face_scene.h"
 #include "render_helpers.h"
+#include "sim/face/face_body.h"
 #include "sim/draw_material.h"
+#include "sim/face/head.h"
+#include "sim/face/head_shape.h"
 
 using namespace reel;
 using namespace reel::test;
@@ -134,4 +138,68 @@ TEST_CASE("a material's bump: from its bump_texture, its texture or its pattern;
   auto plain = parse("");
   REQUIRE(plain.ok());
   CHECK(drawMaterial(plain.value().objects.at(0).material).bump_depth == 0.0);
+}
+
+TEST_CASE("the face's skin relief: furrows across the lips about a millimetre apart, grain on the cheek, strands on the hair") {
+  const FaceLook look;
+  const double ym = head::kMouthY;  // the lips' parting (about where reel's head has it)
+  // Along the lower lip's middle, the height rises and falls with the furrows: count its swings.
+  const Vec3 d(0, 0, 1);
+  auto along = [&](double y) {
+    int swings = 0;
+    double lo = 1, hi = 0, prev = 0.5;
+    int dir = 0;
+    for (int i = 0; i <= 200; ++i) {
+      const double x = -0.01 + 0.02 * i / 200.0, h = head::skinRelief(Vec3(x, y, 0.09), d, ym, look);
+      lo = std::min(lo, h), hi = std::max(hi, h);
+      const int now = h > prev ? 1 : h < prev ? -1 : dir;
+      if (dir != 0 && now != dir) ++swings;
+      dir = now, prev = h;
+    }
+    return std::tuple{swings, lo, hi};
+  };
+  const auto [lip_swings, lip_lo, lip_hi] = along(ym - 0.0045);
+  CHECK(lip_hi - lip_lo > 0.15);
+  // 20 mm at about 1.1 mm apart: some 18 furrows, a rise and a fall each (grain adds a few).
+  CHECK(lip_swings >= 24);
+  CHECK(lip_swings <= 60);
+  // The cheek: grain and pores about 0.5, far shallower than the lips' furrows.
+  double lo = 1, hi = 0, sum = 0;
+  for (int i = 0; i < 400; ++i) {
+    const Vec3 p(0.04 + 0.00005 * (i % 20), -0.03 + 0.00005 * (i / 20), 0.07);
+    const double h = head::skinRelief(p, p.normalized(), ym, look);
+    lo = std::min(lo, h), hi = std::max(hi, h), sum += h;
+  }
+  CHECK(sum / 400 == doctest::Approx(0.5).epsilon(0.1));
+  CHECK(hi - lo > 0.03);
+  CHECK(hi - lo < lip_hi - lip_lo);
+  // The crown, under hair: raised strands.
+  const Vec3 crown(0, 0.115, 0.0);
+  CHECK(head::skinRelief(crown, Vec3::UnitY(), ym, look) > 0.6);
+}
+
+TEST_CASE("reel's face draws its skin with its relief and its wrinkle map, the wrinkles sunk only where an expression pulls") {
+  // The skin's mesh in the draw list: the one with the skin's relief.
+  auto skin = [](const std::string& preset, double amount) {
+    World w = worldFromText(test::faceSceneText(R"(, "activations": [{"time": 0, "preset": ")" + preset + R"(", "amount": 0}, {"time": 0.4, "preset": ")" +
+                                                    preset + R"(", "amount": )" + std::to_string(amount) + "}]",
+                                                0.6, "[48, 32]", "1e-3"));
+    run(w, 18);
+    DrawList list;
+    w.draw(list);
+    const FaceBody& f = *w.first<FaceBody>();
+    for (const DrawMesh& m : list.meshes)
+      if (m.material.bump) {
+        CHECK(m.material.bump_depth == doctest::Approx(kSkinReliefDepth * f.surface().scale));
+        REQUIRE(m.material.wrinkles);
+        CHECK(m.material.wrinkle_depth == doctest::Approx(kWrinkleDepth * f.surface().scale));
+        REQUIRE(m.mesh->wrinkle.size() == m.mesh->vertexCount());
+        return *std::max_element(m.mesh->wrinkle.begin(), m.mesh->wrinkle.end());
+      }
+    FAIL("no skin with relief drawn");
+    return 0.0f;
+  };
+  CHECK(skin("surprise", 0.0) < 0.05f);
+  CHECK(skin("surprise", 1.0) > 0.7f);
+  CHECK(skin("anger", 1.0) > 0.7f);
 }

@@ -69,14 +69,14 @@ class FaceBody final : public SpringNetworkBody {
   // The head-frame point q moved by the jaw now, taking `share` (0..1) of its motion.
   Vec3 jawMoved(double share, const Vec3& q) const;
   // The skin as drawn: reel's head finer than it is simulated (SkinDetail, with its texture
-  // coordinates, its wrinkle lines folded in as wrinkleDepth says; `relaxed`, when given,
+  // coordinates and per-vertex wrinkle weights, wrinkleDepth's; `relaxed`, when given,
   // receives the simulated skin's points the fine skin was placed over), a user's mesh as it is.
   // `lost`, when given, receives each drawn vertex's share of area lost from rest.
   // `lines`, when given, receives their wrinkleDepth.
   std::shared_ptr<TriMesh> skinMesh(std::vector<Vec3>* relaxed = nullptr, std::vector<double>* lost = nullptr,
                                     std::vector<double>* lines = nullptr) const;
-  // How deep each vertex of the skin drawn (skinMesh) folds into its wrinkle lines now (0..1):
-  // each region's as the muscle that makes it pulls, or as far as the skin there has shrunk
+  // How deep the wrinkle map sinks at each vertex of the skin drawn (skinMesh) now (0..1):
+  // in each region as the muscle that makes it pulls, or as far as the skin there has shrunk
   // (`lost`, skinMesh's, one per vertex drawn); reel's head only (empty for a user's mesh).
   std::vector<double> wrinkleDepth(const std::vector<double>& lost) const;
   // The height of each moving node above its skull point (m; negative: through the skull).
@@ -139,11 +139,11 @@ class FaceBody final : public SpringNetworkBody {
   std::vector<Vec3> posed_before_;  // the nodes' positions at the start of the step (scratch)
   // reel's head's skin, made once when first drawn (drawing is const; the flag makes it once).
   mutable std::once_flag skin_once_;
-  mutable std::shared_ptr<const Image> skin_texture_;
+  mutable std::shared_ptr<const Image> skin_texture_, skin_relief_, skin_wrinkles_;
   mutable std::once_flag detail_once_;
   mutable SkinDetail detail_;
   mutable std::vector<Vec3> detail_rest_;  // its points at rest, in the head's frame
-  mutable std::vector<head::Wrinkles> detail_lines_;  // their wrinkle lines (head::wrinkleLines)
+  mutable std::vector<head::Wrinkles> detail_regions_;  // their wrinkles' regions (head::wrinkleRegions)
   double t_ = 0.0;           // time of the last pose, s
   Mat3 R_ = Mat3::Identity();
   double jaw_ = 0.0;

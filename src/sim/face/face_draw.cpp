@@ -185,8 +185,8 @@ const SkinDetail& FaceBody::detail() const {
   std::call_once(detail_once_, [&] {
     detail_ = makeSkinDetail(surface_, kSkinDetailLevel);
     detail_.place(surface_.skin, surface_.skin, surface_.skin, surface_.tris, 0, detail_rest_);
-    detail_lines_.resize(detail_rest_.size());
-    for (std::size_t k = 0; k < detail_rest_.size(); ++k) detail_lines_[k] = head::wrinkleLines(detail_rest_[k] / surface_.scale);
+    detail_regions_.resize(detail_rest_.size());
+    for (std::size_t k = 0; k < detail_rest_.size(); ++k) detail_regions_[k] = head::wrinkleRegions(detail_rest_[k] / surface_.scale);
   });
   return detail_;
 }
@@ -200,23 +200,17 @@ std::shared_ptr<TriMesh> FaceBody::skinMesh(std::vector<Vec3>* relaxed, std::vec
     return smoothMesh(x, 0, n, surface_.tris);
   }
   // reel's head is drawn finer than it is simulated (SkinDetail), made once when first drawn,
-  // with its wrinkle lines at rest.
+  // with its wrinkles' regions at rest.
   const SkinDetail& d = detail();
   std::vector<Vec3> p, posed(n);
   for (std::size_t k = 0; k < n; ++k) posed[k] = boneToWorld(k, surface_.skin[k]);
   d.place(surface_.skin, posed, std::span<const Vec3>(x.data(), n), surface_.tris, kSkinSmoothing, p, relaxed);
-  // Wrinkles: its wrinkle lines fold in, up to 0.5 mm deep (wrinkleDepth).
+  // Wrinkles: how deep the wrinkle map sinks at each vertex (wrinkleDepth). (They used to fold
+  // the mesh itself in, 0.5 mm; its vertices, a millimetre or more apart, drew them as blobs.)
   std::vector<double> shrunk = areaLost(p, detail_rest_, d.tris);
   std::vector<double> folds = wrinkleDepth(shrunk);
-  {
-    const std::vector<Vec3> normal = areaNormals(p, d.tris);
-    const double depth = 0.0005 * surface_.scale;
-    for (std::size_t k = 0; k < p.size(); ++k) {
-      const double fold = depth * folds[k];
-      if (fold > 0) p[k] -= fold * unitOr(normal[k], Vec3::UnitY());
-    }
-  }
   auto mesh = smoothMesh(p, 0, p.size(), d.tris);
+  mesh->wrinkle.assign(folds.begin(), folds.end());
   for (std::size_t k = 0; k < p.size(); ++k) mesh->uvs[2 * k] = d.points[k].uv[0], mesh->uvs[2 * k + 1] = d.points[k].uv[1];
   if (lost) *lost = std::move(shrunk);
   if (lines) *lines = std::move(folds);
@@ -226,7 +220,7 @@ std::shared_ptr<TriMesh> FaceBody::skinMesh(std::vector<Vec3>* relaxed, std::vec
 std::vector<double> FaceBody::wrinkleDepth(const std::vector<double>& lost) const {
   if (!surface_.generated) return {};
   detail();
-  REEL_CHECK(lost.size() == detail_lines_.size(), "wrinkleDepth: one area lost per vertex of the skin drawn");
+  REEL_CHECK(lost.size() == detail_regions_.size(), "wrinkleDepth: one area lost per vertex of the skin drawn");
   auto control = [&](const std::string& name) {
     const int i = activations_.index(name);
     return i < 0 ? 0.0 : std::clamp(act_[static_cast<std::size_t>(i)], 0.0, 1.0);
@@ -240,9 +234,9 @@ std::vector<double> FaceBody::wrinkleDepth(const std::vector<double>& lost) cons
                                             std::max(control("orbicularis_oculi" + s), control("zygomatic_major" + s)),
                                             std::max(control("zygomatic_major" + s), control("levator_labii" + s))};
   }
-  std::vector<double> out(detail_lines_.size(), 0.0);
+  std::vector<double> out(detail_regions_.size(), 0.0);
   for (std::size_t k = 0; k < out.size(); ++k) {
-    const head::Wrinkles& w = detail_lines_[k];
+    const head::Wrinkles& w = detail_regions_[k];
     const head::Wrinkles& a = pull[detail_rest_[k].x() >= 0 ? 0 : 1];
     out[k] = std::max({w.forehead * a.forehead, w.glabella * a.glabella, w.crows * a.crows, w.fold * a.fold,
                        w.most() * smoothstep(0.02, 0.15, lost[k])});
@@ -282,17 +276,23 @@ void FaceBody::drawEyes(DrawList& out) const {
 
 void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
   std::vector<Vec3> relaxed;
-  std::vector<double> lost, lines;
-  std::shared_ptr<TriMesh> mesh = skinMesh(&relaxed, &lost, &lines);
+  std::vector<double> lost;
+  std::shared_ptr<TriMesh> mesh = skinMesh(&relaxed, &lost);
   const bool fine = surface_.generated;
   DrawMesh skin;
   skin.material = drawMaterial(material_);
   skin.material.wrap = kSkinWrap;
   const std::size_t nv = mesh->vertexCount();
   if (surface_.generated) {
-    // reel's head: its skin's texture, made once when first drawn.
-    std::call_once(skin_once_, [&] { skin_texture_ = skinTexture(surface_); });
+    // reel's head: its skin's texture and relief, made once when first drawn.
+    std::call_once(skin_once_, [&] {
+      skin_texture_ = skinTexture(surface_);
+      skin_relief_ = skinRelief(surface_);
+      skin_wrinkles_ = skinWrinkles(surface_);
+    });
     skin.material.texture = skin_texture_;
+    skin.material.bump = skin_relief_;
+    skin.material.bump_depth = kSkinReliefDepth * surface_.scale;
   }
   // reel's head: rough and dull where hair covers it (the material's roughness, 0.7 unless the
   // scene says), a sheen over the skin, more on the T-zone and the lips (per-vertex gloss smooths
@@ -301,14 +301,21 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     mesh->gloss.resize(nv);
     for (std::size_t k = 0; k < nv; ++k) mesh->gloss[k] = static_cast<float>(detail_.blend(detail_.points[k], surface_.gloss));
   }
-  // Wrinkles, a wrinkle map weighted by the tissue's strain (after Oat 2007, "Animated wrinkle
-  // maps", SIGGRAPH course): where the skin drawn has shrunk in area (the brows drawn together,
-  // the cheeks pushed up against the eyes) it shades darker, by up to 15% at 30% of area lost, and
-  // its wrinkle lines (head::wrinkleLines) darker still, by up to 35%, as they fold in
-  // (skinMesh). (At 35% for the area lost, the broad shade read as brown smudges and bruises
-  // beside the eyes: the lines should carry a wrinkle, not the patch around them.)
+  // Wrinkles, a wrinkle map weighted by the muscles and the tissue's strain (after Oat 2007,
+  // "Animated wrinkle maps", SIGGRAPH course): the map holds the lines (head::wrinkleLines) as
+  // relief 1 mm deep, their floors up to 20% darker, and each vertex says how far they sink
+  // there now (wrinkleDepth, in the mesh's wrinkle weights). Where the skin drawn has shrunk in
+  // area (the brows drawn together, the cheeks pushed up against the eyes) it shades darker too,
+  // by up to 15% at 30% of area lost. (At 35% for the area lost, the broad shade read as brown
+  // smudges and bruises beside the eyes: the lines should carry a wrinkle, not the patch around
+  // them; drawn by the mesh's vertices, the lines read as blobs.)
+  if (fine) {
+    skin.material.wrinkles = skin_wrinkles_;
+    skin.material.wrinkle_depth = kWrinkleDepth * surface_.scale;
+    skin.material.wrinkle_shade = 0.2;
+  }
   for (std::size_t k = 0; k < nv; ++k) {
-    const double crease = (1.0 - 0.15 * smoothstep(0.06, 0.3, lost[k])) * (1.0 - 0.35 * lines[k]);
+    const double crease = 1.0 - 0.15 * smoothstep(0.06, 0.3, lost[k]);
     const Vec3 c = (surface_.generated ? Vec3::Ones() : surface_.color[k]) * crease;
     for (int i = 0; i < 3; ++i) mesh->colors.push_back(static_cast<float>(c[i]));
   }
@@ -323,6 +330,8 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     ears->transform(R_, desc_.position);
     DrawMaterial ear = skin.material;
     ear.texture.reset();
+    ear.bump.reset();
+    ear.wrinkles.reset();
     ear.double_sided = true;
     out.meshes.push_back({std::move(ears), true, ear});
   }

@@ -267,7 +267,12 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
   return out;
 }
 
-std::shared_ptr<const Image> skinTexture(const FaceSurface& s) {
+namespace {
+
+// A texture over reel's head's uv, kSkinTexels a side: `texel(p, d, rgb)` writes the pixel of the
+// skin's base point p in direction d (an empty image for a user's mesh).
+template <class F>
+std::shared_ptr<const Image> paintSkin(const FaceSurface& s, F&& texel) {
   const int size = kSkinTexels;
   auto img = std::make_shared<Image>(size, size);
   if (!s.generated || s.theta.size() < 2 || s.phi.size() < 3) return img;
@@ -300,12 +305,33 @@ std::shared_ptr<const Image> skinTexture(const FaceSurface& s) {
       };
       const double rb = lerp(radius);
       const Vec3 d = direction(lerp(polar), azimuth(u));
-      const Vec3 c = head::skinColor(rb * d, d, s.parting_y, s.look);
-      std::uint8_t* px = img->pixel(x, y);
-      for (int k = 0; k < 3; ++k) px[k] = linearToSrgb8(c[k]);
+      texel(rb * d, d, img->pixel(x, y));
     }
   });
   return img;
+}
+
+}  // namespace
+
+std::shared_ptr<const Image> skinTexture(const FaceSurface& s) {
+  return paintSkin(s, [&](const Vec3& p, const Vec3& d, std::uint8_t* px) {
+    const Vec3 c = head::skinColor(p, d, s.parting_y, s.look);
+    for (int k = 0; k < 3; ++k) px[k] = linearToSrgb8(c[k]);
+  });
+}
+
+std::shared_ptr<const Image> skinRelief(const FaceSurface& s) {
+  return paintSkin(s, [&](const Vec3& p, const Vec3& d, std::uint8_t* px) {
+    const auto h = static_cast<std::uint8_t>(std::lround(255.0 * std::clamp(head::skinRelief(p, d, s.parting_y, s.look), 0.0, 1.0)));
+    px[0] = px[1] = px[2] = h;
+  });
+}
+
+std::shared_ptr<const Image> skinWrinkles(const FaceSurface& s) {
+  return paintSkin(s, [&](const Vec3& p, const Vec3&, std::uint8_t* px) {
+    const auto h = static_cast<std::uint8_t>(std::lround(255.0 * (1.0 - std::clamp(head::wrinkleLines(p).most(), 0.0, 1.0))));
+    px[0] = px[1] = px[2] = h;
+  });
 }
 
 Result<FaceSurface> userHead(const TriMesh& mesh, const TriMesh* skull, double inset, const std::string& path) {

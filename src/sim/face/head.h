@@ -66,6 +66,14 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
 // face): skin, lips, brows, hair, pores (an empty image for a user's mesh).
 inline constexpr int kSkinTexels = 1024;
 std::shared_ptr<const Image> skinTexture(const FaceSurface& s);
+// Its relief, a bump map over the same uv (head::skinRelief; heights as stored, 0..255 for 0..1,
+// kSkinReliefDepth m from 0 to 1).
+std::shared_ptr<const Image> skinRelief(const FaceSurface& s);
+inline constexpr double kSkinReliefDepth = 0.0004;
+// Its wrinkle lines (head::wrinkleLines) as a wrinkle map over the same uv: 1 on bare skin, down
+// to 0 in a line's floor, kWrinkleDepth m deep where a wrinkle shows in full.
+std::shared_ptr<const Image> skinWrinkles(const FaceSurface& s);
+inline constexpr double kWrinkleDepth = 0.001;
 
 // reel's head drawn finer than it is simulated: each quad of its grid split level x level, each
 // fine point the bilinear blend of its quad's four corners plus an offset, the head's own shape

@@ -125,6 +125,50 @@ double segmentDistance(double x, double y, double ax, double ay, double bx, doub
   return std::hypot(x - ax - t * vx, y - ay - t * vy);
 }
 
+// The vermilion's cover at (x, y) (0..1, with a sharp border), on the face's front.
+double vermilion(double x, double y, double ym) {
+  return smoothstep(-0.0004, 0.0004, vermilionTop(x, ym) - y) * smoothstep(-0.0004, 0.0004, y - vermilionBottom(x, ym)) *
+         smoothstep(0.0275, 0.0255, std::abs(x));
+}
+
+// Brows at (|x|, y) on the face's front: arched bands of hairs, thick inside, thinning to their
+// tails; the hairs' density there (0..1).
+double browHairs(double ax, double y) {
+  const double t = (ax - 0.012) / 0.042;
+  if (t <= -0.1 || t >= 1.1) return 0.0;
+  // The brow's head rounded, its tail tapering to a point; its edges soft (the hairs thin out),
+  // softer above than below. Cut square at both ends, they read as painted bands.
+  const double tc = std::clamp(t, 0.0, 1.0);
+  const double mid = 0.0195 + 0.0065 * t * (1.6 - t) - 0.0008 * tc * tc;
+  const double half = 0.0041 * (1 - 0.8 * std::pow(tc, 1.6)) * std::sqrt(smoothstep(-0.1, 0.14, t));
+  const double soft = y > mid ? 0.0011 : 0.0006;
+  const double band = smoothstep(half + soft, half - 0.5 * soft, std::abs(y - mid)) * smoothstep(-0.1, 0.0, t) * smoothstep(1.08, 0.95, t) *
+                      (0.8 + 0.2 * smoothstep(0.0, 0.2, t));
+  // Hairs: streaks along the brow (upward at its head, sideways along it).
+  const double slant = t < 0.25 ? 0.3 : 1.0;  // hairs upright at the brow's head, lying along it after
+  const double hairs = noise(Vec3((ax - slant * 0.6 * y) * 4000.0, (y + slant * 0.25 * ax) * 1200.0, 3.0));
+  return band * std::clamp(0.62 + 0.45 * hairs, 0.0, 1.0);
+}
+
+// The hair over the skin at p, direction d: its cover (0..1; the edge a band about 7 mm wide where
+// single strands thin out over the skin: a hard edge reads as a helmet) and the strand there (0..1,
+// streaks running down from the crown).
+struct HairAt {
+  double cover = 0, strand = 0;
+};
+HairAt hairAt(const Vec3& p, const Vec3& d) {
+  const double cover = hairCover(p, d, 0.0035 + 0.0012 * noise(p * 1500.0));
+  const double around = std::atan2(d.x(), d.z()), down = std::acos(std::clamp(d.y(), -1.0, 1.0));
+  const double wisps = noise(Vec3(around * 260.0, down * 30.0, 2.5));
+  return {std::clamp(0.5 + 2.0 * (cover - 0.5) + 1.1 * (wisps - 0.5) * (1.0 - std::abs(2.0 * cover - 1.0)), 0.0, 1.0),
+          noise(Vec3(around * 160.0, down * 14.0, 0.5))};
+}
+
+// Pores (under a millimetre) and mottling (a few mm), value noise over the surface; none on the
+// neck, whose few rows of the mesh would stretch them into streaks.
+double poreAt(const Vec3& p) { return noise(p * 2400.0 + Vec3(7.1, 3.3, 1.7)); }
+double skinDetail(double y) { return smoothstep(-0.14, -0.115, y); }
+
 }  // namespace
 
 double baseShape(const Vec3& p, const FaceLook& look) {
@@ -298,32 +342,40 @@ Vec3 featureDirection(const Vec3& d) {
   return out.normalized();
 }
 
+Wrinkles wrinkleRegions(const Vec3& p) {
+  const double X = p.x(), Y = p.y(), ax = std::abs(X);
+  if (p.z() < 0.02) return {};
+  const double forehead = smoothstep(0.03, 0.037, Y) * smoothstep(0.072, 0.062, Y) * smoothstep(0.052, 0.038, ax);
+  const double glabella = smoothstep(0.0095, 0.0065, ax) * smoothstep(0.006, 0.012, Y) * smoothstep(0.032, 0.025, Y);
+  const double cx = ax - 0.047, r = std::hypot(cx, Y - 0.001), fan = std::atan2(Y - 0.001, cx);
+  const double crows = cx > -0.002 ? smoothstep(0.004, 0.008, r) * smoothstep(0.02, 0.012, r) * smoothstep(1.1, 0.7, std::abs(fan)) : 0.0;
+  const double fold = std::exp(-0.5 * sq(segmentDistance(ax, Y, kFoldTop[0], kFoldTop[1], kFoldEnd[0], kFoldEnd[1]) / 0.004));
+  return {forehead, glabella, crows, fold};
+}
+
 Wrinkles wrinkleLines(const Vec3& p) {
   const double X = p.x(), Y = p.y(), ax = std::abs(X);
   if (p.z() < 0.02) return {};
+  const Wrinkles region = wrinkleRegions(p);
   // The forehead: four or five furrows 7.5 mm apart, wavering across it.
-  const double forehead = smoothstep(0.03, 0.037, Y) * smoothstep(0.072, 0.062, Y) * smoothstep(0.052, 0.038, ax);
   const double furrows = std::pow(0.5 + 0.5 * std::cos(2 * kPi * (Y - 0.0335) / 0.0075 + 0.9 * std::sin(X * 45.0)), 6.0);
   // Between the brows: two short vertical lines.
   const double glabella = std::exp(-0.5 * sq((ax - 0.0045) / 0.0009)) * smoothstep(0.006, 0.012, Y) * smoothstep(0.032, 0.025, Y);
-  // Crow's feet: three soft lines fanning out from the outer corner of each eye, fading in and
-  // out along their length, each wider than the gaps between them (sharper, longer or more of
-  // them, they read as scratches).
+  // Crow's feet: four or five fine lines fanning out from the outer corner of each eye, fading
+  // in and out along their length, wavering.
   const double cx = ax - 0.047, r = std::hypot(cx, Y - 0.001), fan = std::atan2(Y - 0.001, cx);
-  const double crows = cx > -0.002 ? std::pow(0.5 + 0.5 * std::cos(fan * 7.0), 0.8) * smoothstep(0.005, 0.01, r) *
-                                         smoothstep(0.017, 0.011, r) * smoothstep(1.2, 0.8, std::abs(fan))
-                                   : 0.0;
+  // (Half as deep as the others: at full depth their lit edges read as whiskers.)
+  const double crows = 0.5 * region.crows * std::pow(0.5 + 0.5 * std::cos(fan * 12.0 + 0.25 * std::sin(r * 900.0)), 2.5);
   // The nasolabial fold, from the nose's wing to beside the mouth's corner.
   const double fold = std::exp(-0.5 * sq(segmentDistance(ax, Y, kFoldTop[0], kFoldTop[1], kFoldEnd[0], kFoldEnd[1]) / 0.0012));
-  return {forehead * furrows, glabella, crows, fold};
+  return {region.forehead * furrows, glabella, crows, fold};
 }
 
 double skinGloss(const Vec3& p, const Vec3& d, double ym) {
   const double X = p.x(), Y = p.y(), ax = std::abs(X);
   const double front = smoothstep(0.2, 0.5, d.z());
   const double tzone = std::max({gauss(X, Y, 0, 0.035, 0.03, 0.02), gauss(X, Y, 0, -0.03, 0.008, 0.02), gauss(X, Y, 0, -0.1, 0.012, 0.008)});
-  const double lips = front * smoothstep(0.0004, -0.0004, Y - vermilionTop(X, ym)) * smoothstep(-0.0004, 0.0004, Y - vermilionBottom(X, ym)) *
-                      smoothstep(0.0275, 0.0255, ax);
+  const double lips = front * vermilion(X, Y, ym);
   const double brows = front * gauss(ax, Y, 0.034, 0.022, 0.02, 0.005);
   const double g = 0.15 + 0.15 * front * tzone + 0.3 * lips;
   return std::clamp(g * (1.0 - hairCover(p, d, 0.004)) * (1.0 - 0.8 * brows), 0.0, 1.0);
@@ -335,11 +387,9 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   const double male = std::clamp(look.sex, 0.0, 1.0);
   const double aged = std::clamp((look.age - 20.0) / 50.0, 0.0, 1.4);
   Vec3 c(0.57, 0.36, 0.28);
-  // Mottling (a few mm) and pores (under a millimetre), from value noise over the surface.
-  const double mottle = noise(p * 320.0), pore = noise(p * 2400.0 + Vec3(7.1, 3.3, 1.7));
-  // (None on the neck, whose few rows of the mesh would stretch them into streaks.)
-  const double detail = smoothstep(-0.14, -0.115, Y);
-  c *= 1.0 + detail * (0.08 * (mottle - 0.5) - 0.07 * smoothstep(0.68, 0.9, pore));
+  // Mottling and pores.
+  const double mottle = noise(p * 320.0);
+  c *= 1.0 + skinDetail(Y) * (0.08 * (mottle - 0.5) - 0.07 * smoothstep(0.68, 0.9, poreAt(p)));
   // Blood under thin skin: cheeks, the nose's tip, the chin; shadow under the eyes.
   const double flush = 0.55 * gauss(ax, Y, 0.045, -0.028, 0.016, 0.013) + 0.45 * gauss(X, Y, 0, -0.036, 0.01, 0.008) +
                        0.2 * gauss(X, Y, 0, -0.1, 0.015, 0.01);
@@ -356,8 +406,7 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   }
   if (front) {
     // The vermilion, with a sharp border.
-    const double lips = smoothstep(-0.0004, 0.0004, vermilionTop(X, ym) - Y) * smoothstep(-0.0004, 0.0004, Y - vermilionBottom(X, ym)) *
-                        smoothstep(0.0275, 0.0255, ax);
+    const double lips = vermilion(X, Y, ym);
     // (A muted rose, not a painted one: lips are skin with blood showing through.)
     const Vec3 lip = Y < ym ? Vec3(0.46, 0.21, 0.18) : Vec3(0.42, 0.19, 0.17);
     c = c + lips * (0.85 - 0.15 * male) * (lip * (0.95 + 0.1 * mottle) - c);
@@ -368,37 +417,47 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
     const double wing = std::hypot((ax - kWing[0]) / 0.0052, (Y - kWing[1]) / 0.0047);
     c = c.cwiseProduct(Vec3::Ones() - 0.12 * std::exp(-0.5 * sq((wing - 1.5) / 0.3)) * smoothstep(kWing[1] - 0.005, kWing[1] - 0.001, Y) * Vec3(0.8, 1.0, 1.0));
     c = c + 0.12 * std::exp(-0.5 * sq(wing)) * (Vec3(0.58, 0.3, 0.25) - c);
-    // Brows: arched bands of hairs, thick inside, thinning to their tails.
-    const double t = (ax - 0.012) / 0.042;
-    if (t > -0.1 && t < 1.1) {
-      // The brow's head rounded, its tail tapering to a point; its edges soft (the hairs thin
-      // out), softer above than below. Cut square at both ends, they read as painted bands.
-      const double tc = std::clamp(t, 0.0, 1.0);
-      const double mid = 0.0195 + 0.0065 * t * (1.6 - t) - 0.0008 * tc * tc;
-      const double half = 0.0041 * (1 - 0.8 * std::pow(tc, 1.6)) * std::sqrt(smoothstep(-0.1, 0.14, t));
-      const double soft = Y > mid ? 0.0011 : 0.0006;
-      const double band = smoothstep(half + soft, half - 0.5 * soft, std::abs(Y - mid)) * smoothstep(-0.1, 0.0, t) * smoothstep(1.08, 0.95, t) *
-                          (0.8 + 0.2 * smoothstep(0.0, 0.2, t));
-      // Hairs: streaks along the brow (upward at its head, sideways along it).
-      const double slant = t < 0.25 ? 0.3 : 1.0;  // hairs upright at the brow's head, lying along it after
-      const double hairs = noise(Vec3((ax - slant * 0.6 * Y) * 4000.0, (Y + slant * 0.25 * ax) * 1200.0, 3.0));
-      const double density = band * std::clamp(0.62 + 0.45 * hairs, 0.0, 1.0);
-      c = c + 0.95 * density * (Vec3(0.035, 0.024, 0.018) - c);
-    }
+    // Brows.
+    c = c + 0.95 * browHairs(ax, Y) * (Vec3(0.035, 0.024, 0.018) - c);
   }
-  // Hair: strands running down from the crown, greying with age. Its edge is a band about 7 mm
-  // wide where single strands thin out over the skin (a hard edge reads as a helmet).
-  const double cover = hairCover(p, d, 0.0035 + 0.0012 * noise(p * 1500.0));
-  const double around = std::atan2(d.x(), d.z()), down = std::acos(std::clamp(d.y(), -1.0, 1.0));
-  const double wisps = noise(Vec3(around * 260.0, down * 30.0, 2.5));
-  const double hair = std::clamp(0.5 + 2.0 * (cover - 0.5) + 1.1 * (wisps - 0.5) * (1.0 - std::abs(2.0 * cover - 1.0)), 0.0, 1.0);
-  if (hair > 0) {
-    const double strand = noise(Vec3(around * 160.0, down * 14.0, 0.5));
-    Vec3 h = Vec3(0.05, 0.033, 0.022) * (0.6 + 0.8 * strand);
-    h = h + std::clamp(aged - 0.6, 0.0, 1.0) * (Vec3(0.35, 0.34, 0.33) * (0.7 + 0.5 * strand) - h);
-    c = c + hair * (h - c);
+  // Hair, greying with age.
+  const HairAt hair = hairAt(p, d);
+  if (hair.cover > 0) {
+    Vec3 h = Vec3(0.05, 0.033, 0.022) * (0.6 + 0.8 * hair.strand);
+    h = h + std::clamp(aged - 0.6, 0.0, 1.0) * (Vec3(0.35, 0.34, 0.33) * (0.7 + 0.5 * hair.strand) - h);
+    c = c + hair.cover * (h - c);
   }
   return c.cwiseMax(Vec3::Zero()).cwiseMin(Vec3::Ones());
+}
+
+// The skin's relief: what a bump map over the skin can show that the mesh, 0.5 mm at its finest,
+// cannot (skin without it reads as plastic at close range). Skin's surface has a fine grain of
+// furrows a fraction of a millimetre deep between plateaus, pores sunk into it, and on the lips
+// vertical furrows across the vermilion (Igarashi et al. 2007, "The appearance of human skin: a
+// survey", for the scales); brows and hair stand off it in strands.
+double skinRelief(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
+  const double X = p.x(), Y = p.y(), ax = std::abs(X);
+  const double aged = std::clamp((look.age - 20.0) / 50.0, 0.0, 1.4);
+  // The grain: two octaves of noise, about 1.2 mm and 0.5 mm; coarser and deeper with age.
+  const double grain = 0.65 * noise(p * (800.0 - 150.0 * aged) + Vec3(1.3, 5.1, 2.2)) + 0.35 * noise(p * 2000.0 + Vec3(4.4, 0.7, 9.2));
+  double h = 0.5 + skinDetail(Y) * ((0.22 + 0.1 * aged) * (grain - 0.5) - 0.3 * smoothstep(0.68, 0.9, poreAt(p)));
+  if (d.z() > 0.2) {
+    // The lips' furrows, about 1.1 mm apart, wavering, deepest at the vermilion's middle.
+    const double lips = vermilion(X, Y, ym);
+    if (lips > 0) {
+      const double wave = 2 * kPi * (X + 0.0004 * std::sin(Y * 900.0)) / 0.0011 + 3.0 * noise(Vec3(X * 600.0, Y * 150.0, 7.0));
+      const double across = std::abs(Y - ym) / std::max(Y > ym ? vermilionTop(X, ym) - ym : ym - vermilionBottom(X, ym), 1e-4);
+      h -= 0.35 * lips * std::pow(0.5 + 0.5 * std::cos(wave), 3.0) * smoothstep(0.05, 0.3, across) * smoothstep(1.0, 0.7, across);
+    }
+    h += 0.3 * browHairs(ax, Y);
+  }
+  const HairAt hair = hairAt(p, d);
+  if (hair.cover > 0) {
+    const double around = std::atan2(d.x(), d.z()), down = std::acos(std::clamp(d.y(), -1.0, 1.0));
+    const double fine = noise(Vec3(around * 700.0, down * 25.0, 4.0));
+    h += hair.cover * (0.25 + 0.2 * (hair.strand - 0.5) + 0.25 * (fine - 0.5));
+  }
+  return std::clamp(h, 0.0, 1.0);
 }
 
 }  // namespace reel::head

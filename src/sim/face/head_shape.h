@@ -80,6 +80,10 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look);
 // the hair (rough and dull) or the brows.
 double skinGloss(const Vec3& p, const Vec3& d, double ym);
 
+// The skin's relief at the base point p, direction d (0..1, about 0.5 on bare skin; a bump map's
+// height): a fine grain, pores, the lips' furrows, the brows' and the hair's strands.
+double skinRelief(const Vec3& p, const Vec3& d, double ym, const FaceLook& look);
+
 // Where the skin folds into lines when it is squeezed (0..1 at the rest point p): the forehead's
 // horizontal furrows (the frontalis raising the brows), the two vertical lines between the brows
 // (the corrugator), crow's feet fanning from each eye's outer corner (the orbicularis oculi, a
@@ -91,6 +95,9 @@ struct Wrinkles {
   double most() const { return std::max({forehead, glabella, crows, fold}); }
 };
 Wrinkles wrinkleLines(const Vec3& p);
+// The regions those lines lie in (0..1 at the rest point p, smooth over millimetres): how deep
+// the wrinkle map may sink there as each region's muscle pulls.
+Wrinkles wrinkleRegions(const Vec3& p);
 
 // How much hair covers the point (0..1), with a soft edge `soft` m wide.
 double hairCover(const Vec3& p, const Vec3& d, double soft);
