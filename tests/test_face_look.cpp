@@ -493,3 +493,40 @@ TEST_CASE("face: the teeth and the tongue stay inside the skin drawn: at rest, s
     CHECK(outside == 0);
   }
 }
+
+TEST_CASE("face: the layers' skull has orbits, a nasal aperture and teeth, where the bone layer was an egg") {
+  World w = worldFromText(scene(R"(, "draw": [{"time": 0, "mode": "layers"}])"));
+  const FaceBody& f = face(w);
+  DrawList list;
+  f.draw(list);
+  const std::size_t n = f.surface().size();
+  const auto& x = f.network().state.x;
+  const TriMesh* skull = nullptr;
+  int teeth = 0;
+  for (const DrawMesh& m : list.meshes) {
+    if (m.mesh->vertexCount() == n && m.mesh->colors.size() == 3 * n) skull = m.mesh.get();
+    if (m.material.color == Vec3(1, 1, 1) && m.material.roughness == 0.3) ++teeth;
+  }
+  REQUIRE(skull);
+  CHECK(teeth == 2);
+  // The skull's vertex nearest a rest point of the head frame (at the head's scale): how far it
+  // lies in from the bone layer's node, and its shade.
+  const double s = f.surface().scale;
+  auto at = [&](const Vec3& rest) {
+    std::size_t best = 0;
+    for (std::size_t k = 1; k < n; ++k)
+      if ((f.surface().bone[k] - rest * s).norm() < (f.surface().bone[best] - rest * s).norm()) best = k;
+    const Vec3 p(skull->positions[3 * best], skull->positions[3 * best + 1], skull->positions[3 * best + 2]);
+    return std::pair{(p - x[2 * n + best]).norm() / s, double(skull->colors[3 * best])};
+  };
+  const auto [orbit_in, orbit_shade] = at(Vec3(head::kEyeX, head::kEyeY, 0.09));
+  const auto [nose_in, nose_shade] = at(Vec3(0, -0.04, 0.11));
+  const auto [crown_in, crown_shade] = at(Vec3(0, 0.12, 0));
+  MESSAGE("orbit " << orbit_in << " m in, shade " << orbit_shade << "; nasal aperture " << nose_in << " m in, shade " << nose_shade);
+  CHECK(orbit_in > 0.012);  // (the nearest vertex, not the bowl's deepest point)
+  CHECK(orbit_shade < 0.4);
+  CHECK(nose_in > 0.015);
+  CHECK(nose_shade < 0.3);
+  CHECK(crown_in == doctest::Approx(0.0).epsilon(1e-9));  // the vault is the bone layer's
+  CHECK(crown_shade == 1.0);
+}

@@ -117,6 +117,8 @@ class FaceBody final : public SpringNetworkBody {
   // would show through it as it fades).
   void drawSkin(DrawList& out, bool mouth_inside = true) const;
   void drawEyes(DrawList& out) const;
+  // The teeth, both rows, their shade times `lit` (0..1: little light reaches into a closed mouth).
+  void drawTeeth(DrawList& out, double lit) const;
   // The shoulders in their sweater (reel's head, `shoulders`), in every mode.
   void drawBust(DrawList& out) const;
   // The lips' thickness where they part, added to the mouth's lining `inside` (drawSkin).
@@ -124,6 +126,9 @@ class FaceBody final : public SpringNetworkBody {
   // reel's head's finer skin (with its points at rest and their wrinkle lines), made once.
   const SkinDetail& detail() const;
   void drawLayers(DrawList& out) const;
+  // The layers' skull: the bone layer sculpted as a skull, its points at rest in the head frame
+  // and their shades (made once, face_layers.cpp).
+  void sculptSkull() const;
 
   FaceDesc desc_;
   Material material_;
@@ -141,6 +146,9 @@ class FaceBody final : public SpringNetworkBody {
   mutable std::once_flag skin_once_;
   mutable std::shared_ptr<const Image> skin_texture_, skin_relief_, skin_wrinkles_;
   mutable std::once_flag detail_once_;
+  mutable std::once_flag skull_once_;
+  mutable std::vector<Vec3> skull_rest_;
+  mutable std::vector<float> skull_shade_;
   mutable SkinDetail detail_;
   mutable std::vector<Vec3> detail_rest_;  // its points at rest, in the head's frame
   mutable std::vector<head::Wrinkles> detail_regions_;  // their wrinkles' regions (head::wrinkleRegions)

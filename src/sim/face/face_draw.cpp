@@ -386,17 +386,7 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     const double front = surface_.mouth.z() - 0.0085 * k;
     const double open = mouthOpening() / k, lit = 0.15 + 0.85 * std::clamp((open - 0.002) / 0.006, 0.0, 1.0);
     // (Dimmer as the lips close: little light reaches into a closed mouth.)
-    DrawMaterial enamel = plainMaterial(Vec3(1, 1, 1), 0.5);
-    enamel.roughness = 0.3;
-    enamel.casts_shadow = false;
-    for (int row = 0; row < 2; ++row) {
-      // The upper row with the skull, the lower with the jaw: jawMoved is a rigid motion.
-      const double share = row == 0 ? 0.0 : 1.0;
-      auto teeth = std::make_shared<TriMesh>(*surface_.teeth[static_cast<std::size_t>(row)]);
-      teeth->transform(jawRotation(share), world(jawMoved(share, Vec3::Zero())));
-      for (float& c : teeth->colors) c *= static_cast<float>(lit);
-      out.meshes.push_back({std::move(teeth), true, enamel});
-    }
+    drawTeeth(out, lit);
     // The tongue: a flattened ellipsoid on the mouth's floor behind the lower teeth, its back
     // about 6 mm below their edges, with the jaw; wet, but with little to reflect inside a mouth.
     const Vec3 centre(0.0, ym - 0.0115 * k, front - 0.027 * k);

@@ -1,6 +1,6 @@
 // The face's layers mode: the classic figure of Terzopoulos & Waters (1990) and Lee, Terzopoulos
-// & Waters (1995), the lattice's layers, the skull, and the muscles coloured from muscle red
-// (relaxed) to a glowing orange (fully contracted).
+// & Waters (1995), the lattice's layers, the skull sculpted from the bone layer with its teeth,
+// and the muscles coloured from muscle red (relaxed) to a glowing orange (fully contracted).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -8,6 +8,7 @@
 #include "core/math.h"
 #include "sim/draw_material.h"
 #include "sim/face/face_body.h"
+#include "sim/face/head_shape.h"
 
 namespace reel {
 namespace {
@@ -18,6 +19,67 @@ void pushTube(DrawTubes& t, const Vec3& a, const Vec3& b) {
 }
 
 }  // namespace
+
+// The skull of the layers' figure. The tissue's bone layer follows the skin a few millimetres in,
+// so drawn as it is it is an egg with a nose (a viewer's words). Drawn, it is sculpted after the
+// skull's anatomy (proportions as in Gray's Anatomy, plate 190, the skull from the front): the
+// orbits, about 40 mm wide and 35 tall with squarish rims, sunk 20 mm to floors behind the
+// eyeballs; the pear-shaped nasal aperture, 24 mm wide at its base and 32 tall, with the nose's
+// cartilage taken away; the cheekbones standing out 3 mm; the teeth's recess where the lips were.
+// The cavities are shaded darker with depth. The simulation's skull is not changed.
+void FaceBody::sculptSkull() const {
+  const std::size_t n = surface_.size();
+  const double s = surface_.scale, ym = surface_.mouth.y() / s;
+  skull_rest_.resize(n);
+  skull_shade_.assign(3 * n, 1.0f);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3 q = surface_.bone[k], p = q / s;
+    const Vec3 out = unitOr(surface_.skin[k] - q, p.normalized());
+    double sink = 0.0, shade = 1.0, rise = 0.0;
+    if (surface_.generated && p.z() > 0.02) {
+      const double ax = std::abs(p.x()), y = p.y();
+      // The orbits: a superellipse (n = 3) about each eye, a bowl 20 mm deep.
+      const double u = (ax - head::kEyeX) / 0.021, v = (y - head::kEyeY + 0.001) / 0.0175;
+      const double rho = std::cbrt(std::pow(std::abs(u), 3) + std::pow(std::abs(v), 3));
+      if (rho < 1.0) {
+        const double bowl = std::sqrt(1.0 - rho * rho);
+        sink = std::max(sink, 0.02 * bowl);
+        shade = std::min(shade, 1.0 - 0.75 * smoothstep(0.0, 0.6, bowl));
+      }
+      // The nasal aperture: a pear, widest a third of the way up.
+      const double t = (y + 0.053) / 0.032;
+      if (t > -0.1 && t < 1.1) {
+        const double w = 0.002 + 0.0105 * std::sin(kPi * std::pow(std::clamp(t, 0.0, 1.0), 0.7));
+        const double hole = smoothstep(w, w - 0.002, ax) * smoothstep(-0.1, 0.05, t) * smoothstep(1.1, 0.95, t);
+        sink = std::max(sink, 0.022 * hole);
+        shade = std::min(shade, 1.0 - 0.85 * hole);
+      }
+      // The teeth's recess, where the lips were: the teeth drawn stand in front of it.
+      const double mouth = smoothstep(0.026, 0.02, ax) * smoothstep(0.013, 0.009, std::abs(y - ym));
+      sink = std::max(sink, 0.008 * mouth);
+      shade = std::min(shade, 1.0 - 0.6 * mouth);
+      // The cheekbones.
+      rise = 0.003 * std::exp(-0.5 * (head::sq((ax - 0.05) / 0.012) + head::sq((y + 0.022) / 0.008)));
+    }
+    skull_rest_[k] = q + s * (rise - sink) * out;
+    for (int c = 0; c < 3; ++c) skull_shade_[3 * k + static_cast<std::size_t>(c)] = static_cast<float>(shade);
+  }
+}
+
+// The teeth, in both modes (face_draw.cpp's skin, the layers' skull).
+void FaceBody::drawTeeth(DrawList& out, double lit) const {
+  DrawMaterial enamel = plainMaterial(Vec3(1, 1, 1), 0.5);
+  enamel.roughness = 0.3;
+  enamel.casts_shadow = false;
+  for (int row = 0; row < 2; ++row) {
+    // The upper row with the skull, the lower with the jaw: jawMoved is a rigid motion.
+    const double share = row == 0 ? 0.0 : 1.0;
+    auto teeth = std::make_shared<TriMesh>(*surface_.teeth[static_cast<std::size_t>(row)]);
+    teeth->transform(jawRotation(share), Vec3(desc_.position + R_ * jawMoved(share, Vec3::Zero())));
+    for (float& c : teeth->colors) c *= static_cast<float>(lit);
+    out.meshes.push_back({std::move(teeth), true, enamel});
+  }
+}
 
 void FaceBody::drawLayers(DrawList& out) const {
   const std::size_t n = surface_.size();
@@ -50,10 +112,18 @@ void FaceBody::drawLayers(DrawList& out) const {
   out.tubes.push_back(std::move(skin));
   out.tubes.push_back(std::move(fascia));
   out.tubes.push_back(std::move(across));
-  // The skull: the bone surface, in bone's ivory, and the eyes in their sockets.
-  auto bone = smoothMesh(x, 2 * n, n, surface_.tris);
+  // The skull, sculpted (sculptSkull), posed as the bone nodes are, in bone's ivory, and the eyes
+  // in their sockets.
+  std::call_once(skull_once_, [&] { sculptSkull(); });
+  std::vector<Vec3> skull(n);
+  for (std::size_t k = 0; k < n; ++k) skull[k] = boneToWorld(k, skull_rest_[k]);
+  auto bone = smoothMesh(skull, 0, n, surface_.tris);
+  bone->colors = skull_shade_;
   out.meshes.push_back({std::move(bone), true, plainMaterial(Vec3(0.55, 0.5, 0.42), 0.2)});
-  if (surface_.generated) drawEyes(out);
+  if (surface_.generated) {
+    drawEyes(out);
+    drawTeeth(out, 1.0);
+  }
   // Muscles: attachment to the centre of the nodes they pull (sphincters: their ellipse).
   for (std::size_t m = 0; m < muscles_.size(); ++m) {
     const FaceMuscle& mu = muscles_[m];
