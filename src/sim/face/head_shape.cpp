@@ -433,8 +433,8 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
 // The skin's relief: what a bump map over the skin can show that the mesh, 0.5 mm at its finest,
 // cannot (skin without it reads as plastic at close range). Skin's surface has a fine grain of
 // furrows a fraction of a millimetre deep between plateaus, pores sunk into it, and on the lips
-// vertical furrows across the vermilion (Igarashi et al. 2007, "The appearance of human skin: a
-// survey", for the scales); brows and hair stand off it in strands.
+// vertical furrows across the vermilion and a ridge along its border (Igarashi et al. 2007, "The
+// appearance of human skin: a survey", for the scales); brows and hair stand off it in strands.
 double skinRelief(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   const double X = p.x(), Y = p.y(), ax = std::abs(X);
   const double aged = std::clamp((look.age - 20.0) / 50.0, 0.0, 1.4);
@@ -449,6 +449,10 @@ double skinRelief(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
       const double across = std::abs(Y - ym) / std::max(Y > ym ? vermilionTop(X, ym) - ym : ym - vermilionBottom(X, ym), 1e-4);
       h -= 0.35 * lips * std::pow(0.5 + 0.5 * std::cos(wave), 3.0) * smoothstep(0.05, 0.3, across) * smoothstep(1.0, 0.7, across);
     }
+    // The vermilion's border, the "white roll": a ridge about a millimetre wide where lip meets
+    // skin (without it the vermilion's edge is only colour, and the lips read as pasted on).
+    const double roll = std::exp(-0.5 * sq((Y - vermilionTop(X, ym)) / 0.0006)) + std::exp(-0.5 * sq((Y - vermilionBottom(X, ym)) / 0.0007));
+    h += 0.3 * roll * smoothstep(0.0265, 0.022, ax);
     h += 0.3 * browHairs(ax, Y);
   }
   const HairAt hair = hairAt(p, d);
