@@ -70,7 +70,7 @@ constexpr double kHeadBottom = -0.124;  // where the sections close
 // against height, from the root between the eyes to the tip and under it to the upper lip.
 const Curve kNose{{-0.05, 0.0},     {-0.047, 0.002},  {-0.0445, 0.0095}, {-0.041, 0.0185}, {-0.037, 0.0215},
                   {-0.033, 0.021},  {-0.026, 0.0175}, {-0.01, 0.011},    {0.006, 0.003},   {0.012, 0.0}};
-const Curve kNoseWidth{{-0.05, 0.0075}, {-0.038, 0.0095}, {-0.03, 0.0082}, {-0.01, 0.0065}, {0.014, 0.0058}};
+const Curve kNoseWidth{{-0.05, 0.0075}, {-0.038, 0.0095}, {-0.03, 0.0082}, {-0.01, 0.006}, {0.014, 0.0052}};
 
 // The hairline's height against the angle around the vertical from the front (rad): a soft peak
 // at the middle, receding at the temples, down to the sideburns just in front of the ears (whose
@@ -277,7 +277,10 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   f.bone += 0.004 * gauss(X, Y, 0, ym, 0.028, 0.014);                        // the teeth's arch under the lips
   // Nose: the ridge from the root to the tip and under it, the tip's lobule.
   const double nose = 0.92 + 0.16 * male;
-  f.soft += nose * kNose(Y) * std::exp(-0.5 * sq(X / kNoseWidth(Y)));
+  // (Across it, flatter on top and steeper at the sides than a Gaussian, most so up the bridge:
+  // a Gaussian's soft shoulders read as a wide, flat bridge.)
+  const double sides = 2.0 + 0.8 * smoothstep(-0.03, -0.015, Y);
+  f.soft += nose * kNose(Y) * std::exp(-0.5 * std::pow(std::abs(X) / kNoseWidth(Y), sides));
   f.soft += 0.0024 * gauss(X, Y, 0, -0.0365, 0.0068, 0.0048);
   // Lips: the upper lip's skin slopes out from under the nose to the vermilion; the vermilion
   // of each lip rolls out (fuller for a woman); the parting and the fold under the lower lip.
