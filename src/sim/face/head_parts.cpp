@@ -182,10 +182,12 @@ std::shared_ptr<const TriMesh> makeBust(double scale, const FaceLook& look) {
     double y, w, d;
   };
   const double broad = 1.0 + 0.08 * (look.sex - 0.5) + 0.1 * (look.build - 0.5);
-  const double neck = 0.052 + 0.008 * look.build;
-  // The collar's rim turns in to the neck, so no gap shows between them.
-  const Section sections[] = {{-0.142, neck + 0.002, neck + 0.004}, {-0.134, neck + 0.009, neck + 0.012},
-                              {-0.16, neck + 0.015, neck + 0.018},
+  // The collar's rim turns in to the neck's own ellipse (head::neckRadii), so no gap shows
+  // between them (at 6–10 mm wider than the neck, a dark band ran round it; at 1.5 mm the neck
+  // poked through as the head turned).
+  const auto [nx, nz] = head::neckRadii(look);
+  const Section sections[] = {{-0.142, nx + 0.0045, nz + 0.005}, {-0.134, nx + 0.01, nz + 0.012},
+                              {-0.16, nx + 0.016, nz + 0.019},
                               {-0.185, 0.1 * broad, 0.08},         {-0.215, 0.16 * broad, 0.1},
                               {-0.25, 0.195 * broad, 0.11},        {-0.285, 0.21 * broad, 0.118},
                               {-0.34, 0.205 * broad, 0.122},       {-0.5, 0.19 * broad, 0.12}};
@@ -199,11 +201,13 @@ std::shared_ptr<const TriMesh> makeBust(double scale, const FaceLook& look) {
       const Section& a = sections[s];
       const Section& b = sections[s + 1];
       const double y = a.y + t * (b.y - a.y), w = a.w + e * (b.w - a.w), d = a.d + e * (b.d - a.d);
+      // A superellipse: the neck's ellipse at the collar (a squarer rim stood off the neck at its
+      // corners), n = 2.6 from the shoulders down (square shoulders).
+      const double sq_n = 2.0 + 0.6 * smoothstep(-0.16, -0.185, y);
       for (int i = 0; i < kSegments; ++i) {
         const double ang = 2 * kPi * i / kSegments, ca = std::cos(ang), sa = std::sin(ang);
-        // A superellipse (n = 2.6): square shoulders.
-        const double x = w * std::copysign(std::pow(std::abs(sa), 2.0 / 2.6), sa);
-        const double z = d * std::copysign(std::pow(std::abs(ca), 2.0 / 2.6), ca) - 0.018;
+        const double x = w * std::copysign(std::pow(std::abs(sa), 2.0 / sq_n), sa);
+        const double z = d * std::copysign(std::pow(std::abs(ca), 2.0 / sq_n), ca) + head::kNeckAxisZ;
         m->addVertex(scale * Vec3(x, y, z), Vec3(sa, 0, ca));
       }
       ++rings;

@@ -187,7 +187,7 @@ double baseShape(const Vec3& p, const FaceLook& look) {
   // superellipse of zero size would leave q = 0.)
   const double head = std::max((q - dome) * 0.085, kHeadBottom - y);
   // The neck: an elliptic cylinder, thicker with the build, from under the skull to the shoulders.
-  const double nx = 0.046 + 0.008 * look.build, nz = 0.047 + 0.006 * look.build;
+  const auto [nx, nz] = neckRadii(look);
   const double cyl = (std::sqrt(sq(x / nx) + sq((z - kNeckAxisZ) / nz)) - 1.0) * 0.055;
   const double neck = std::max({cyl, y + 0.04, kNeckCut - y});
   // Smooth minimum: the union with a fillet where the jaw meets the neck.
