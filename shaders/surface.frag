@@ -252,23 +252,32 @@ void main() {
   vec3 view = normalize(u_eye - v_world);
   vec3 albedo = u_color * v_color;
   bool plain = false;
+#if defined(BUMPED) || defined(WRINKLED)
+  // The relief tilts the front's normal (here, outside any branch: it takes screen derivatives);
+  // a back sees the same surface from behind, its normal the tilted one reversed.
+  vec3 tilted = bumped(n, v_world, v_uv);
+#endif
 #ifdef DOUBLE_SIDED
   // The back: the other side's normal, and its own plain colour when the material has one.
-  if (dot(n, view) < 0.0) {
+  bool from_back = dot(n, view) < 0.0;
+  if (from_back) {
     n = -n;
     plain = u_plain_back != 0;
     if (plain) albedo = u_back_color * v_color;
   }
+#else
+  bool from_back = false;
 #endif
 #ifdef TEXTURED
   if (!plain) albedo *= texture(u_texture, v_uv).rgb;
 #endif
+#if defined(BUMPED) || defined(WRINKLED)
+  // (A plain back has neither the front's texture nor its relief.)
+  if (!plain) n = from_back ? -tilted : tilted;
+#endif
 #ifdef WRINKLED
   // A crease's floor darker: less of the light reaches into a fold.
-  albedo *= 1.0 - u_wrinkle_shade * clamp(v_wrinkle, 0.0, 1.0) * (1.0 - texture(u_wrinkles, v_uv).r);
-#endif
-#if defined(BUMPED) || defined(WRINKLED)
-  n = bumped(n, v_world, v_uv);
+  if (!plain) albedo *= 1.0 - u_wrinkle_shade * clamp(v_wrinkle, 0.0, 1.0) * (1.0 - texture(u_wrinkles, v_uv).r);
 #endif
 #ifdef CHECKER
   // Squares (u_checker_size m) of 1 and 0.55 times the albedo, fading to their mean where a pixel covers

@@ -94,6 +94,17 @@ TEST_CASE("a wrinkle map sinks as deep as the vertices' weights say: none at 0, 
   Image flat;
   middle(dr, flat, 60, nullptr, 0.0);
   CHECK(draw(0.0f, 0.5, false).rgb == flat.rgb);
+  {  // a mesh without weights under a wrinkled material: no wrinkles either
+    DrawList list = sunlit(Vec3(0, 3, 0.001), Vec3(std::sin(kPi / 3), -std::cos(kPi / 3), 0));
+    DrawMesh d;
+    d.mesh = std::make_shared<const TriMesh>(makeQuad(4, 4));
+    d.material.color = Vec3(0.6, 0.6, 0.6);
+    d.material.wrinkles = map;
+    d.material.wrinkle_depth = 0.4;
+    d.material.wrinkle_shade = 0.5;
+    list.meshes = {d};
+    CHECK(dr.draw(list).rgb == flat.rgb);
+  }
   const Image bumped = draw(0.0f, 0.0, true), full = draw(1.0f, 0.0, false), half = draw(0.5f, 0.0, false);
   CHECK(full.rgb == bumped.rgb);
   // Half the weight, half the slope: between the flat plane and the full tilt.
@@ -105,6 +116,45 @@ TEST_CASE("a wrinkle map sinks as deep as the vertices' weights say: none at 0, 
   const double s = 0.4 * (256.0 / 255.0) / 4.0, lit = (s * std::sin(kPi / 3) + std::cos(kPi / 3)) / std::sqrt(1 + s * s);
   const double h = (128.0 - 0.5 + 0.5) / 255.0;  // about the middle column's height
   CHECK(std::abs(g(shaded) - int(std::lround(255.0 * srgb(0.6 * (1 - 0.4 * (1 - h)) * lit)))) <= 2);
+}
+
+TEST_CASE("relief seen from a sheet's back is the same surface from behind; a plain back has none; a texture may be its own bump map") {
+  DirectRenderer dr(64, 48, 1);
+  const auto map = ramp();
+  const double t = kPi / 3, s = 0.4 * (256.0 / 255.0) / 4.0;
+  auto quad = [&](std::shared_ptr<const Image> bump, bool plain_back, std::shared_ptr<const Image> texture, const Vec3& eye,
+                  const Vec3& sun) {
+    DrawList list = sunlit(eye, sun);
+    DrawMesh d;
+    d.mesh = std::make_shared<const TriMesh>(makeQuad(4, 4));
+    d.material.color = Vec3(0.6, 0.6, 0.6);
+    d.material.double_sided = true;
+    if (plain_back) d.material.back_color = Vec3(0.6, 0.6, 0.6);
+    d.material.texture = std::move(texture);
+    d.material.bump = std::move(bump);
+    d.material.bump_depth = 0.4;
+    list.meshes = {d};
+    return dr.draw(list);
+  };
+  const auto g = [](const Image& i) { return int(i.pixel(i.width / 2, i.height / 2)[1]); };
+  // From below, lit from below at 60° toward +x: the front's height rises along x, so the back's
+  // normal (the tilted front's reversed) leans toward +x, away from that light:
+  // (−s sin θ + cos θ)/√(1 + s²).
+  const Vec3 below(0, -3, 0.001), up_sun(std::sin(t), std::cos(t), 0);
+  const double lin = 0.6 * (-s * std::sin(t) + std::cos(t)) / std::sqrt(1 + s * s);
+  CHECK(std::abs(g(quad(map, false, nullptr, below, up_sun)) - int(std::lround(255.0 * srgb(lin)))) <= 1);
+  // A plain back (its own colour) has neither the front's texture nor its relief.
+  CHECK(quad(map, true, nullptr, below, up_sun).rgb == quad(nullptr, true, nullptr, below, up_sun).rgb);
+  // The ramp as the texture and its own bump map (a pattern with `bump`): the albedo the
+  // texture's, the light the tilted normal's. The ratio to the flat plane's is the tilt's.
+  const Vec3 above(0, 3, 0.001), sun(std::sin(t), -std::cos(t), 0);
+  auto linear = [](int v) {
+    const double c = v / 255.0;
+    return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+  };
+  const double flat = linear(g(quad(nullptr, false, map, above, sun))), both = linear(g(quad(map, false, map, above, sun)));
+  CHECK(flat > 0.05);
+  CHECK(both / flat == doctest::Approx((s * std::sin(t) + std::cos(t)) / std::sqrt(1 + s * s) / std::cos(t)).epsilon(0.03));
 }
 
 TEST_CASE("a material's bump: from its bump_texture, its texture or its pattern; bad ones named with their paths") {

@@ -1,6 +1,6 @@
 // The surface shader in its variants: one program per #define header, made of the frame's part
 // (its lights unrolled, fog, tone mapping) and the material's (specular, double-sided, checker,
-// textured), each compiled on first use and kept for the renderer's life.
+// textured, bumped, wrinkled), each compiled on first use and kept for the renderer's life.
 #pragma once
 
 #include <array>

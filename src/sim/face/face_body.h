@@ -123,7 +123,7 @@ class FaceBody final : public SpringNetworkBody {
   void drawBust(DrawList& out) const;
   // The lips' thickness where they part, added to the mouth's lining `inside` (drawSkin).
   void addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) const;
-  // reel's head's finer skin (with its points at rest and their wrinkle lines), made once.
+  // reel's head's finer skin (with its points at rest and their wrinkles' regions), made once.
   const SkinDetail& detail() const;
   void drawLayers(DrawList& out) const;
   // The layers' skull: the bone layer sculpted as a skull, its points at rest in the head frame

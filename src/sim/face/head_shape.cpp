@@ -433,7 +433,7 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   return c.cwiseMax(Vec3::Zero()).cwiseMin(Vec3::Ones());
 }
 
-// The skin's relief: what a bump map over the skin can show that the mesh, 0.5 mm at its finest,
+// The skin's relief: what a bump map over the skin can show that the mesh, 1.4 mm at its finest,
 // cannot (skin without it reads as plastic at close range). Skin's surface has a fine grain of
 // furrows a fraction of a millimetre deep between plateaus, pores sunk into it, and on the lips
 // vertical furrows across the vermilion and a ridge along its border (Igarashi et al. 2007, "The

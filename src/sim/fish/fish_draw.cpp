@@ -176,6 +176,8 @@ void FishBody::draw(DrawList& out) const {
   dm.material = drawMaterial(material_);
   dm.material.color = Vec3(1, 1, 1);  // the skin texture carries the colours
   dm.material.texture = skin_;
+  // Its own skin replaces the scene's texture, which is then no bump map either (a bump_texture is).
+  if (!material_.bump_image) dm.material.bump = nullptr;
   dm.material.double_sided = true;  // the fins are thin
   out.meshes.push_back(std::move(dm));
   out.spheres.push_back(std::move(eyes));

@@ -120,6 +120,7 @@ void FluidBody::draw(DrawList& out) const {
   DrawMaterial dm = drawMaterial(material);
   dm.color = Vec3(1, 1, 1);  // the species colours carry the albedo
   dm.texture = nullptr;
+  dm.bump = nullptr;  // (the surface has no UVs for a texture's or a bump map's)
   dm.transmission = clearest;
   // A clear liquid lets the light through to what lies under it (a tub's floor under water is lit,
   // not in the water's shadow; the caustics it would focus are not drawn): when every species is
