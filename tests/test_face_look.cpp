@@ -530,3 +530,56 @@ TEST_CASE("face: the layers' skull has orbits, a nasal aperture and teeth, where
   CHECK(crown_in == doctest::Approx(0.0).epsilon(1e-9));  // the vault is the bone layer's
   CHECK(crown_shade == 1.0);
 }
+
+TEST_CASE("face: the collar's rim hugs the neck, the neck inside it all round, at rest and turned") {
+  for (const double turn : {0.0, 35.0}) {
+    CAPTURE(turn);
+    World w = worldFromText(scene(R"(, "rotation_deg": [0, )" + std::to_string(turn) + R"(, 0])"));
+    const FaceBody& f = face(w);
+    DrawList list;
+    f.draw(list);
+    const TriMesh *bust = nullptr, *skin = nullptr;
+    for (const DrawMesh& m : list.meshes) {
+      if (m.material.sheen > 0) bust = m.mesh.get();
+      if (m.material.bump) skin = m.mesh.get();
+    }
+    REQUIRE(bust);
+    REQUIRE(skin);
+    // The rim: the bust's first ring (64 vertices), its centre and its radius by angle about it.
+    constexpr int kRing = 64;
+    Vec3 c = Vec3::Zero();
+    std::vector<Vec3> rim;
+    for (int i = 0; i < kRing; ++i) {
+      rim.emplace_back(bust->positions[3 * i], bust->positions[3 * i + 1], bust->positions[3 * i + 2]);
+      c += rim.back() / kRing;
+    }
+    auto polar = [&](const Vec3& p) { return std::pair{std::atan2(p.x() - c.x(), p.z() - c.z()), std::hypot(p.x() - c.x(), p.z() - c.z())}; };
+    // The neck's skin cut at the rim's height (its triangles' sections): its farthest out at each
+    // rim vertex's angle.
+    std::vector<double> neck(kRing, 0.0);
+    auto vertex = [&](std::uint32_t v) { return Vec3(skin->positions[3 * v], skin->positions[3 * v + 1], skin->positions[3 * v + 2]); };
+    for (std::size_t t = 0; t + 2 < skin->indices.size(); t += 3) {
+      std::vector<Vec3> cut;
+      for (int e = 0; e < 3; ++e) {
+        const Vec3 a = vertex(skin->indices[t + static_cast<std::size_t>(e)]), b = vertex(skin->indices[t + static_cast<std::size_t>((e + 1) % 3)]);
+        if ((a.y() - c.y()) * (b.y() - c.y()) < 0) cut.push_back(a + (c.y() - a.y()) / (b.y() - a.y()) * (b - a));
+      }
+      if (cut.size() != 2) continue;
+      for (int k = 0; k <= 16; ++k) {
+        const auto [a, r] = polar(cut[0] + (k / 16.0) * (cut[1] - cut[0]));
+        for (int i = 0; i < kRing; ++i)
+          if (std::abs(std::remainder(a - polar(rim[static_cast<std::size_t>(i)]).first, 2 * kPi)) < kPi / kRing)
+            neck[static_cast<std::size_t>(i)] = std::max(neck[static_cast<std::size_t>(i)], r);
+      }
+    }
+    double least = 1e9, most = 0;
+    for (int i = 0; i < kRing; ++i) {
+      REQUIRE(neck[static_cast<std::size_t>(i)] > 0);  // the neck's skin found all round
+      const double gap = polar(rim[static_cast<std::size_t>(i)]).second - neck[static_cast<std::size_t>(i)];
+      least = std::min(least, gap), most = std::max(most, gap);
+    }
+    MESSAGE("rim's clearance over the neck " << least * 1000 << "–" << most * 1000 << " mm");
+    CHECK(least > 0.0005);  // the neck never pokes through
+    CHECK(most < 0.0075);   // no wide dark band (the rim 6–10 mm off a squarer one measured more)
+  }
+}

@@ -127,8 +127,12 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
 void FaceBody::drawBust(DrawList& out) const {
   if (!surface_.bust || !desc_.shoulders) return;
   auto bust = std::make_shared<TriMesh>(*surface_.bust);
+  // It turns a third as far as the head, about the neck's axis at the collar, which stays where
+  // the head carries that point (the head turns about its own centre: turned about the head's,
+  // the collar slid off the neck's axis and the neck poked through it, 2 mm at 35°).
   const Mat3 turn = Eigen::Quaterniond::Identity().slerp(1.0 / 3.0, Eigen::Quaterniond(R_)).toRotationMatrix();
-  bust->transform(turn, desc_.position);
+  const Vec3 collar = surface_.scale * Vec3(0.0, head::kCollarY, head::kNeckAxisZ);
+  bust->transform(turn, Vec3(desc_.position + R_ * collar - turn * collar));
   DrawMaterial wool = plainMaterial(Vec3(0.07, 0.1, 0.12), 0.2);
   wool.roughness = 0.85;
   wool.sheen = 0.6;

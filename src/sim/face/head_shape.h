@@ -42,6 +42,7 @@ inline constexpr double kMouthY = -0.070, kMouthHalf = 0.025;
 
 // The neck: its axis (vertical, at this z) and where it is cut (inside the shoulders).
 inline constexpr double kNeckAxisZ = -0.016, kNeckCut = -0.32;
+inline constexpr double kCollarY = -0.142;  // the shoulders' collar: its rim's height
 // The neck's half-width and half-depth (m): an elliptic cylinder about kNeckAxisZ, thicker with the build.
 inline std::array<double, 2> neckRadii(const FaceLook& look) { return {0.046 + 0.008 * look.build, 0.047 + 0.006 * look.build}; }
 
