@@ -119,6 +119,16 @@ void FaceBody::drawLayers(DrawList& out) const {
   for (std::size_t k = 0; k < n; ++k) skull[k] = boneToWorld(k, skull_rest_[k]);
   auto bone = smoothMesh(skull, 0, n, surface_.tris);
   bone->colors = skull_shade_;
+  // A point laid on the skull: onto the tangent plane of its nearest vertex, a muscle's radius and
+  // a little more above it.
+  const std::vector<float>& skull_normal = bone->normals;
+  auto onSkull = [&](const Vec3& p) {
+    std::size_t best = 0;
+    for (std::size_t k = 1; k < n; ++k)
+      if ((skull[k] - p).squaredNorm() < (skull[best] - p).squaredNorm()) best = k;
+    const Vec3 nk(skull_normal[3 * best], skull_normal[3 * best + 1], skull_normal[3 * best + 2]);
+    return Vec3(p - (p - skull[best]).dot(nk) * nk + 0.0028 * s * nk);
+  };
   out.meshes.push_back({std::move(bone), true, plainMaterial(Vec3(0.55, 0.5, 0.42), 0.2)});
   if (surface_.generated) {
     drawEyes(out);
@@ -136,7 +146,16 @@ void FaceBody::drawLayers(DrawList& out) const {
       Vec3 mid = Vec3::Zero();
       for (std::size_t j = 0; j < mu.nodes.size(); ++j) mid += mu.weight[j] * x[n + static_cast<std::size_t>(mu.nodes[j])];
       const Vec3 att = attachmentWorld(m);
-      pushTube(t, att, mid);
+      // From its attachment to the centre of the nodes it pulls, lying on the skull in twelve
+      // pieces, smoothed (a straight stick stood off the cheek's curve and over the sculpted
+      // orbits; laid on the nearest vertices' planes unsmoothed, it kinked from plane to plane).
+      std::array<Vec3, 13> path;
+      for (std::size_t i = 0; i < path.size(); ++i) path[i] = onSkull(att + (static_cast<double>(i) / 12.0) * (mid - att));
+      for (int pass = 0; pass < 3; ++pass) {
+        const std::array<Vec3, 13> was = path;
+        for (std::size_t i = 1; i + 1 < path.size(); ++i) path[i] = 0.5 * was[i] + 0.25 * (was[i - 1] + was[i + 1]);
+      }
+      for (std::size_t i = 0; i + 1 < path.size(); ++i) pushTube(t, path[i], path[i + 1]);
     } else {
       Vec3 u, v;
       sphincterAxes(mu.desc.normal.normalized(), u, v);
