@@ -530,32 +530,38 @@ TEST_CASE("face: the layers' skull has orbits, a nasal aperture and teeth, where
   CHECK(nose_shade < 0.3);
   CHECK(crown_in == doctest::Approx(0.0).epsilon(1e-9));  // the vault is the bone layer's
   CHECK(crown_shade == 1.0);
-  // The muscles lie on the skull: every piece's ends within 7 mm of its surface, 3.5 mm on
-  // average (straight sticks from attachment to insertion measured 8.9 mm, passing in and out).
-  double farthest = 0, sum = 0;
-  int pieces = 0;
-  std::size_t muscle = 0;  // the muscles' tubes come one list each, in the muscles' order
-  for (const DrawTubes& t : list.tubes) {
-    if (std::abs(t.radius - 0.0022 * s) > 1e-6) continue;  // not a muscle's
-    if (f.muscles().at(muscle++).desc.sphincter) continue;  // (rings in the tissue, over the orbits and the mouth)
-    for (std::size_t e = 0; e + 2 < t.ends.size(); e += 3, ++pieces) {
-      const Vec3 p(t.ends[e], t.ends[e + 1], t.ends[e + 2]);
-      auto vert = [&](std::uint32_t v) { return Vec3(skull->positions[3 * v], skull->positions[3 * v + 1], skull->positions[3 * v + 2]); };
+  // The linear muscles lie on the skull as bellies: one mesh each in the relaxed muscle's red,
+  // 95% of their vertices within 5 mm of the skull's surface, 3.5 mm on average (straight sticks
+  // from attachment to insertion stood up to 8.9 mm off it, passing in and out).
+  std::size_t linear = 0;
+  for (const FaceMuscle& mu : f.muscles()) linear += mu.desc.sphincter ? 0 : 1;
+  auto vert = [&](const TriMesh& m, std::uint32_t v) { return Vec3(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]); };
+  std::vector<double> off;
+  std::size_t bellies = 0;
+  for (const DrawMesh& m : list.meshes) {
+    if (m.material.color != Vec3(0.42, 0.07, 0.06)) continue;  // not a relaxed muscle's
+    ++bellies;
+    for (std::uint32_t v = 0; v < m.mesh->vertexCount(); v += 3) {
+      const Vec3 p = vert(*m.mesh, v);
       double near = 1e9;
       for (std::size_t q = 0; q + 2 < skull->indices.size(); q += 3) {
-        const Vec3 a = vert(skull->indices[q]), b = vert(skull->indices[q + 1]), c = vert(skull->indices[q + 2]);
-        const Vec3 w = closestOnTriangle(p, a, b, c);  // barycentric
-        near = std::min(near, (w.x() * a + w.y() * b + w.z() * c - p).norm());
+        const Vec3 a = vert(*skull, skull->indices[q]), b = vert(*skull, skull->indices[q + 1]), c = vert(*skull, skull->indices[q + 2]);
+        const Vec3 bary = closestOnTriangle(p, a, b, c);
+        near = std::min(near, (bary.x() * a + bary.y() * b + bary.z() * c - p).norm());
       }
-      farthest = std::max(farthest, near / s);
-      sum += near / s;
+      off.push_back(near / s);
     }
   }
-  MESSAGE(pieces << " muscle piece ends, the farthest " << farthest * 1000 << " mm from the skull, " << sum / pieces * 1000 << " mm on average");
-  CHECK(pieces > 100);
-  CHECK(farthest < 0.007);
-  CHECK(sum / pieces < 0.0035);  // a muscle's radius and a little more: its centre line 2.8 mm up
-  CHECK(muscle == f.muscles().size());
+  REQUIRE(off.size() > 300);
+  std::sort(off.begin(), off.end());
+  double mean = 0;
+  for (double d : off) mean += d / static_cast<double>(off.size());
+  const double p95 = off[off.size() * 95 / 100];
+  MESSAGE(bellies << " bellies, " << off.size() << " points: 95% within " << p95 * 1000 << " mm of the skull, " << mean * 1000
+                  << " mm on average, the farthest " << off.back() * 1000 << " mm");
+  CHECK(bellies == linear);
+  CHECK(p95 < 0.005);
+  CHECK(mean < 0.0035);
 }
 
 TEST_CASE("face: the collar's rim hugs the neck, the neck inside it all round, at rest and turned") {

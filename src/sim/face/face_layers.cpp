@@ -18,6 +18,46 @@ void pushTube(DrawTubes& t, const Vec3& a, const Vec3& b) {
     for (int k = 0; k < 3; ++k) t.ends.push_back(static_cast<float>((*p)[k]));
 }
 
+// A muscle's belly along `path` (the skull's normals `up` under it): a flattened spindle, its
+// section an ellipse of half-width `wide` across the path and half-height `thick` off the skull at
+// its middle, tapering to 0.3 of that at its ends, which are closed.
+std::shared_ptr<TriMesh> muscleBelly(const std::array<Vec3, 13>& path, const std::array<Vec3, 13>& up, double wide, double thick) {
+  constexpr int kAround = 10;
+  const int rings = static_cast<int>(path.size());
+  auto m = std::make_shared<TriMesh>();
+  for (int i = 0; i < rings; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const Vec3 along = unitOr(path[std::min(k + 1, path.size() - 1)] - path[k > 0 ? k - 1 : 0], Vec3::UnitY());
+    const Vec3 across = unitOr(along.cross(up[k]), Vec3::UnitX()), off = across.cross(along);
+    const double t = static_cast<double>(i) / (rings - 1), spindle = 0.3 + 0.7 * std::pow(std::sin(kPi * t), 0.7);
+    for (int j = 0; j < kAround; ++j) {
+      const double a = 2 * kPi * j / kAround, c = std::cos(a), sn = std::sin(a);
+      const Vec3 normal = unitOr(c / wide * across + sn / thick * off, off);
+      m->addVertex(path[k] + spindle * (wide * c * across + thick * sn * off), normal);
+    }
+  }
+  for (int i = 0; i + 1 < rings; ++i)
+    for (int j = 0; j < kAround; ++j) {
+      const auto a = static_cast<std::uint32_t>(i * kAround + j), b = static_cast<std::uint32_t>(i * kAround + (j + 1) % kAround);
+      const std::uint32_t c = a + kAround, d = b + kAround;
+      m->indices.insert(m->indices.end(), {a, d, b, a, c, d});  // counter-clockwise from outside
+    }
+  // The ends: a fan round each end's centre.
+  for (int e = 0; e < 2; ++e) {
+    const std::size_t k = e == 0 ? 0 : path.size() - 1;
+    const auto centre = static_cast<std::uint32_t>(m->vertexCount());
+    const Vec3 along = unitOr(path[path.size() - 1] - path[0], Vec3::UnitY());
+    m->addVertex(path[k], e == 0 ? Vec3(-along) : along);
+    const auto ring = static_cast<std::uint32_t>(e == 0 ? 0 : (rings - 1) * kAround);
+    for (int j = 0; j < kAround; ++j) {
+      const std::uint32_t a = ring + static_cast<std::uint32_t>(j), b = ring + static_cast<std::uint32_t>((j + 1) % kAround);
+      if (e == 0) m->indices.insert(m->indices.end(), {centre, a, b});
+      else m->indices.insert(m->indices.end(), {centre, b, a});
+    }
+  }
+  return m;
+}
+
 }  // namespace
 
 // The skull of the layers' figure. The tissue's bone layer follows the skin a few millimetres in,
@@ -25,7 +65,8 @@ void pushTube(DrawTubes& t, const Vec3& a, const Vec3& b) {
 // skull's anatomy (proportions as in Gray's Anatomy, plate 190, the skull from the front): the
 // orbits, about 40 mm wide and 35 tall with squarish rims, sunk 20 mm to floors behind the
 // eyeballs; the pear-shaped nasal aperture, 24 mm wide at its base and 32 tall, with the nose's
-// cartilage taken away; the cheekbones standing out 3 mm; the teeth's recess where the lips were.
+// cartilage taken away; the cheekbones standing out 5 mm over the hollows beside the nose; the
+// temples' hollows; the teeth's recess where the lips were.
 // The cavities are shaded darker with depth. The simulation's skull is not changed.
 void FaceBody::sculptSkull() const {
   const std::size_t n = surface_.size();
@@ -58,8 +99,17 @@ void FaceBody::sculptSkull() const {
       const double mouth = smoothstep(0.026, 0.02, ax) * smoothstep(0.013, 0.009, std::abs(y - ym));
       sink = std::max(sink, 0.008 * mouth);
       shade = std::min(shade, 1.0 - 0.6 * mouth);
-      // The cheekbones.
-      rise = 0.003 * std::exp(-0.5 * (head::sq((ax - 0.05) / 0.012) + head::sq((y + 0.022) / 0.008)));
+      // The cheekbones (the zygomatic bones' bodies), and the hollow under each beside the nose
+      // (the canine fossa).
+      rise = 0.005 * std::exp(-0.5 * (head::sq((ax - 0.05) / 0.012) + head::sq((y + 0.022) / 0.008)));
+      sink = std::max(sink, 0.003 * std::exp(-0.5 * (head::sq((ax - 0.026) / 0.008) + head::sq((y + 0.045) / 0.007))));
+    }
+    if (surface_.generated) {
+      // The temples' hollows (the temporal fossae), above the cheekbones' arches on the sides.
+      const double side = std::abs(p.x()) / std::max(p.norm(), 1e-9);
+      const double temple = smoothstep(0.55, 0.8, side) * std::exp(-0.5 * (head::sq((p.y() - 0.015) / 0.018) + head::sq((p.z() - 0.025) / 0.025)));
+      sink = std::max(sink, 0.004 * temple);
+      shade = std::min(shade, 1.0 - 0.15 * temple);
     }
     skull_rest_[k] = q + s * (rise - sink) * out;
     for (int c = 0; c < 3; ++c) skull_shade_[3 * k + static_cast<std::size_t>(c)] = static_cast<float>(shade);
@@ -86,11 +136,12 @@ void FaceBody::drawLayers(DrawList& out) const {
   const auto& x = net_.state.x;
   const double s = surface_.scale;
   // The figure of the lattice under the face, cut away: only the front of the head, and only its
-  // left half (+x), so the muscles show on the skull over the right half; and only below the
+  // left half (+x) from 12 mm off the midline, so the muscles show on the skull over the right half
+  // and the nasal aperture between (cut at the midline, the lattice hid it); and only below the
   // hairline (over the scalp the hair's thickness stood the lattice off the skull as a bulge).
   auto shown = [&](std::size_t k) {
     const Vec3& p = surface_.skin[k];
-    return p.z() > -0.01 * s && p.x() > -0.002 * s && p.y() < 0.062 * s;
+    return p.z() > -0.01 * s && p.x() > 0.012 * s && p.y() < 0.062 * s;
   };
   DrawTubes skin, fascia, across;
   skin.radius = static_cast<float>(0.0004 * s);
@@ -119,15 +170,16 @@ void FaceBody::drawLayers(DrawList& out) const {
   for (std::size_t k = 0; k < n; ++k) skull[k] = boneToWorld(k, skull_rest_[k]);
   auto bone = smoothMesh(skull, 0, n, surface_.tris);
   bone->colors = skull_shade_;
-  // A point laid on the skull: onto the tangent plane of its nearest vertex, a muscle's radius and
-  // a little more above it.
-  const std::vector<float>& skull_normal = bone->normals;
-  auto onSkull = [&](const Vec3& p) {
+  // A point laid on the skull: onto the tangent plane of its nearest vertex, a muscle belly's
+  // half-thickness and a little more above it; and that vertex's normal.
+  const std::vector<float> skull_normal = bone->normals;
+  auto onSkull = [&](const Vec3& p, Vec3* normal = nullptr) {
     std::size_t best = 0;
     for (std::size_t k = 1; k < n; ++k)
       if ((skull[k] - p).squaredNorm() < (skull[best] - p).squaredNorm()) best = k;
     const Vec3 nk(skull_normal[3 * best], skull_normal[3 * best + 1], skull_normal[3 * best + 2]);
-    return Vec3(p - (p - skull[best]).dot(nk) * nk + 0.0028 * s * nk);
+    if (normal) *normal = nk;
+    return Vec3(p - (p - skull[best]).dot(nk) * nk + 0.0024 * s * nk);
   };
   out.meshes.push_back({std::move(bone), true, plainMaterial(Vec3(0.55, 0.5, 0.42), 0.2)});
   if (surface_.generated) {
@@ -146,16 +198,18 @@ void FaceBody::drawLayers(DrawList& out) const {
       Vec3 mid = Vec3::Zero();
       for (std::size_t j = 0; j < mu.nodes.size(); ++j) mid += mu.weight[j] * x[n + static_cast<std::size_t>(mu.nodes[j])];
       const Vec3 att = attachmentWorld(m);
-      // From its attachment to the centre of the nodes it pulls, lying on the skull in twelve
+      // From its attachment to the centre of the nodes it pulls, lying on the skull along twelve
       // pieces, smoothed (a straight stick stood off the cheek's curve and over the sculpted
-      // orbits; laid on the nearest vertices' planes unsmoothed, it kinked from plane to plane).
-      std::array<Vec3, 13> path;
-      for (std::size_t i = 0; i < path.size(); ++i) path[i] = onSkull(att + (static_cast<double>(i) / 12.0) * (mid - att));
+      // orbits; laid on the nearest vertices' planes unsmoothed, it kinked from plane to plane),
+      // drawn as a flat, spindle-shaped belly (tubes read as worms).
+      std::array<Vec3, 13> path, up;
+      for (std::size_t i = 0; i < path.size(); ++i) path[i] = onSkull(att + (static_cast<double>(i) / 12.0) * (mid - att), &up[i]);
       for (int pass = 0; pass < 3; ++pass) {
         const std::array<Vec3, 13> was = path;
         for (std::size_t i = 1; i + 1 < path.size(); ++i) path[i] = 0.5 * was[i] + 0.25 * (was[i - 1] + was[i + 1]);
       }
-      for (std::size_t i = 0; i + 1 < path.size(); ++i) pushTube(t, path[i], path[i + 1]);
+      out.meshes.push_back({muscleBelly(path, up, 0.0045 * s, 0.0016 * s), true, t.material});
+      continue;
     } else {
       Vec3 u, v;
       sphincterAxes(mu.desc.normal.normalized(), u, v);

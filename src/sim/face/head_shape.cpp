@@ -367,8 +367,9 @@ Wrinkles wrinkleLines(const Vec3& p) {
   // Crow's feet: four or five fine lines fanning out from the outer corner of each eye, fading
   // in and out along their length, wavering.
   const double cx = ax - 0.047, r = std::hypot(cx, Y - 0.001), fan = std::atan2(Y - 0.001, cx);
-  // (Half as deep as the others: at full depth their lit edges read as whiskers.)
-  const double crows = 0.5 * region.crows * std::pow(0.5 + 0.5 * std::cos(fan * 12.0 + 0.25 * std::sin(r * 900.0)), 2.5);
+  // (A third as deep as the others and soft: at full depth their lit edges read as whiskers, at
+  // half depth and sharper as scratches.)
+  const double crows = 0.35 * region.crows * std::pow(0.5 + 0.5 * std::cos(fan * 12.0 + 0.25 * std::sin(r * 900.0)), 1.6);
   // The nasolabial fold, from the nose's wing to beside the mouth's corner.
   const double fold = std::exp(-0.5 * sq(segmentDistance(ax, Y, kFoldTop[0], kFoldTop[1], kFoldEnd[0], kFoldEnd[1]) / 0.0012));
   return {region.forehead * furrows, glabella, crows, fold};
