@@ -190,10 +190,8 @@ void FaceBody::drawLayers(DrawList& out) const {
   for (std::size_t m = 0; m < muscles_.size(); ++m) {
     const FaceMuscle& mu = muscles_[m];
     const double a = std::clamp(act_[m], 0.0, 1.0);
-    DrawTubes t;
-    t.radius = static_cast<float>(0.0022 * s);
     // Muscle red relaxed, glowing orange as it contracts (yellow sticks read as a debug view).
-    t.material = plainMaterial((1 - a) * Vec3(0.42, 0.07, 0.06) + a * Vec3(1.0, 0.5, 0.1), 0.3);
+    const DrawMaterial red = plainMaterial((1 - a) * Vec3(0.42, 0.07, 0.06) + a * Vec3(1.0, 0.5, 0.1), 0.3);
     if (!mu.desc.sphincter) {
       Vec3 mid = Vec3::Zero();
       for (std::size_t j = 0; j < mu.nodes.size(); ++j) mid += mu.weight[j] * x[n + static_cast<std::size_t>(mu.nodes[j])];
@@ -208,9 +206,11 @@ void FaceBody::drawLayers(DrawList& out) const {
         const std::array<Vec3, 13> was = path;
         for (std::size_t i = 1; i + 1 < path.size(); ++i) path[i] = 0.5 * was[i] + 0.25 * (was[i - 1] + was[i + 1]);
       }
-      out.meshes.push_back({muscleBelly(path, up, 0.0045 * s, 0.0016 * s), true, t.material});
-      continue;
+      out.meshes.push_back({muscleBelly(path, up, 0.0045 * s, 0.0016 * s), true, red});
     } else {
+      DrawTubes t;
+      t.radius = static_cast<float>(0.0022 * s);
+      t.material = red;
       Vec3 u, v;
       sphincterAxes(mu.desc.normal.normalized(), u, v);
       // Its ring lies in the tissue: each point on the fascia node its nodes hold nearest to it
@@ -237,8 +237,8 @@ void FaceBody::drawLayers(DrawList& out) const {
         for (std::size_t i = 0; i < 24; ++i) ring[i] = 0.5 * was[i] + 0.25 * (was[(i + 23) % 24] + was[(i + 1) % 24]);
       }
       for (std::size_t i = 0; i < 24; ++i) pushTube(t, ring[i], ring[(i + 1) % 24]);
+      out.tubes.push_back(std::move(t));
     }
-    out.tubes.push_back(std::move(t));
   }
 }
 

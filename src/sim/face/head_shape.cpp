@@ -155,13 +155,14 @@ double browHairs(double ax, double y) {
 // streaks running down from the crown).
 struct HairAt {
   double cover = 0, strand = 0;
+  double around = 0, down = 0;  // the direction's angle round the vertical from the front, and from the crown (rad)
 };
 HairAt hairAt(const Vec3& p, const Vec3& d) {
   const double cover = hairCover(p, d, 0.0035 + 0.0012 * noise(p * 1500.0));
   const double around = std::atan2(d.x(), d.z()), down = std::acos(std::clamp(d.y(), -1.0, 1.0));
   const double wisps = noise(Vec3(around * 260.0, down * 30.0, 2.5));
   return {std::clamp(0.5 + 2.0 * (cover - 0.5) + 1.1 * (wisps - 0.5) * (1.0 - std::abs(2.0 * cover - 1.0)), 0.0, 1.0),
-          noise(Vec3(around * 160.0, down * 14.0, 0.5))};
+          noise(Vec3(around * 160.0, down * 14.0, 0.5)), around, down};
 }
 
 // Pores (under a millimetre) and mottling (a few mm), value noise over the surface; none on the
@@ -461,8 +462,7 @@ double skinRelief(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   }
   const HairAt hair = hairAt(p, d);
   if (hair.cover > 0) {
-    const double around = std::atan2(d.x(), d.z()), down = std::acos(std::clamp(d.y(), -1.0, 1.0));
-    const double fine = noise(Vec3(around * 700.0, down * 25.0, 4.0));
+    const double fine = noise(Vec3(hair.around * 700.0, hair.down * 25.0, 4.0));
     h += hair.cover * (0.25 + 0.2 * (hair.strand - 0.5) + 0.25 * (fine - 0.5));
   }
   return std::clamp(h, 0.0, 1.0);
