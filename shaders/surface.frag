@@ -30,6 +30,7 @@ uniform float u_shadow_texel;
 uniform sampler2D u_shadow_raw0;  // the same maps read as depths (no comparison)
 uniform sampler2D u_shadow_raw1;
 uniform vec4 u_shadow_soft[2];    // per map: its penumbra's parameters (render/surfaces.h ShadowFrame)
+uniform float u_shadow_offset[2]; // per map: a texel's width on the scene, m
 
 uniform vec3 u_color;
 uniform vec3 u_back_color;  // DOUBLE_SIDED: the back's albedo
@@ -64,10 +65,18 @@ uniform mat4 u_view;
 uniform vec2 u_near_far;
 uniform vec2 u_screen_texel;
 
+// The point a shadow map is read at: moved off its surface along the normal by one to three of
+// the map's texels (more as the light grazes), so that a surface does not shadow itself between
+// the map's samples (acne). In texels, not metres: a fixed centimetre lost every shadow smaller
+// than it (a nose's on a face), and was under a texel of a map over a large scene.
+vec3 shadowPoint(vec3 p, vec3 n, vec3 l, int s) {
+  return p + n * (u_shadow_offset[s] * (1.0 + 2.0 * (1.0 - max(dot(n, l), 0.0))));
+}
+
 // 3 x 3 taps of bilinear percentage-closer filtering: soft edges.
 #define SHADOW_PCF(MAP, S)                                                          \
   float shadow##S(vec3 p, vec3 n, vec3 l) {                                         \
-    vec4 q = u_shadow_matrix[S] * vec4(p + n * 0.01, 1.0);                         \
+    vec4 q = u_shadow_matrix[S] * vec4(shadowPoint(p, n, l, S), 1.0);              \
     q.xyz /= q.w;                                                                    \
     float bias = 0.0015 + 0.004 * (1.0 - max(dot(n, l), 0.0));                     \
     float sum = 0.0;                                                                 \
@@ -98,7 +107,7 @@ vec2 spiral(int i, int n, float turn) {
 }
 #define SHADOW_PCSS(MAP, RAW, S)                                                    \
   float shadowSoft##S(vec3 p, vec3 n, vec3 l) {                                     \
-    vec4 q = u_shadow_matrix[S] * vec4(p + n * 0.01, 1.0);                         \
+    vec4 q = u_shadow_matrix[S] * vec4(shadowPoint(p, n, l, S), 1.0);              \
     q.xyz /= q.w;                                                                    \
     float zr = q.z - (0.0015 + 0.004 * (1.0 - max(dot(n, l), 0.0)));               \
     float turn = 6.2831853 * fract(52.9829189 * fract(dot(gl_FragCoord.xy, vec2(0.06711056, 0.00583715)))); \
@@ -239,12 +248,12 @@ vec3 irradiance(vec3 n) {  // Ramamoorthi & Hanrahan 2001: irradiance / π from 
 #define LIT(s, L) (s)
 #endif
 #define DIRECTIONAL_SHADOW(I, S) \
-  (LIT(shadow##S(v_world, n, -normalize(u_light_vec[I])), -normalize(u_light_vec[I])) * DIRECTIONAL(I))
+  (LIT(shadow##S(v_world, geo, -normalize(u_light_vec[I])), -normalize(u_light_vec[I])) * DIRECTIONAL(I))
 #define POINT_RADIANCE(I) (u_light_radiance[I] / max(dot(u_light_vec[I] - v_world, u_light_vec[I] - v_world), 1e-8))
 #define POINT(I) shade(n, view, normalize(u_light_vec[I] - v_world), POINT_RADIANCE(I))
-#define POINT_SHADOW(I, S) (LIT(shadow##S(v_world, n, normalize(u_light_vec[I] - v_world)), normalize(u_light_vec[I] - v_world)) * POINT(I))
-#define DIRECTIONAL_SHADOW_SOFT(I, S) (LIT(shadowSoft##S(v_world, n, -normalize(u_light_vec[I])), -normalize(u_light_vec[I])) * DIRECTIONAL(I))
-#define POINT_SHADOW_SOFT(I, S) (LIT(shadowSoft##S(v_world, n, normalize(u_light_vec[I] - v_world)), normalize(u_light_vec[I] - v_world)) * POINT(I))
+#define POINT_SHADOW(I, S) (LIT(shadow##S(v_world, geo, normalize(u_light_vec[I] - v_world)), normalize(u_light_vec[I] - v_world)) * POINT(I))
+#define DIRECTIONAL_SHADOW_SOFT(I, S) (LIT(shadowSoft##S(v_world, geo, -normalize(u_light_vec[I])), -normalize(u_light_vec[I])) * DIRECTIONAL(I))
+#define POINT_SHADOW_SOFT(I, S) (LIT(shadowSoft##S(v_world, geo, normalize(u_light_vec[I] - v_world)), normalize(u_light_vec[I] - v_world)) * POINT(I))
 #define AMBIENT(I) ((g_kd + g_es) * u_light_radiance[I] * g_ao)
 
 void main() {
@@ -271,6 +280,9 @@ void main() {
 #ifdef TEXTURED
   if (!plain) albedo *= texture(u_texture, v_uv).rgb;
 #endif
+  // The surface's own normal, which the shadow maps are read along: the relief's tilt would move
+  // each pixel's lookup by its pore, and speckle a penumbra.
+  vec3 geo = n;
 #if defined(BUMPED) || defined(WRINKLED)
   // (A plain back has neither the front's texture nor its relief.)
   if (!plain) n = from_back ? -tilted : tilted;

@@ -405,3 +405,25 @@ TEST_CASE("a plane's checker_size sets the width of its squares; a bad one is na
   const std::string bad = badInputErrors(R"({"format": "reel/1", "duration": 1, "objects": [{"type": "plane", "checker": true, "checker_size": 0}]})");
   CHECK(bad.find("/objects/0/checker_size") != std::string::npos);
 }
+
+TEST_CASE("a small object's shadow on a small scene is kept: the lookup moves off the surface by texels, not centimetres") {
+  // A plate 20 mm square, 6 mm over the floor, under a sun along (1, −1, 0): its shadow on the
+  // floor runs from x = −4 to 16 mm, seen from above beyond the plate's edge at 10 mm. Seen from
+  // straight above, 2 px to the millimetre. (With the lookup moved a fixed centimetre off the
+  // floor, the floor there looked up the map above the plate and was lit.)
+  const char* scene = R"({"format": "reel/1", "duration": 0.1,
+    "render": {"width": 200, "height": 120, "samples": 1, "background": [0, 0, 0]},
+    "camera": {"position": [0, 0.3, 0.0001], "target": [0, 0, 0], "fov_deg": 11.42},
+    "lights": [{"type": "directional", "direction": [1, -1, 0], "intensity": 1, "shadows": true},
+               {"type": "ambient", "intensity": 0.1}],
+    "objects": [{"type": "plane", "size": [0.1, 0.1], "color": [0.8, 0.8, 0.8]},
+                {"type": "box", "center": [0, 0.006, 0], "size": [0.02, 0.001, 0.02]}]})";
+  const Image img = renderScene(scene);
+  const auto green = [&](double x_mm) { return img.pixel(100 + static_cast<int>(std::lround(2 * x_mm)), 60)[1]; };
+  CAPTURE(green(13));
+  CAPTURE(green(-13));
+  CAPTURE(green(20));
+  CHECK(green(-13) > 100);               // open floor, lit
+  CHECK(green(20) > 100);                // past the shadow, lit
+  CHECK(green(13) + 60 < green(-13));    // in the plate's shadow
+}

@@ -325,12 +325,14 @@ Status Renderer::Impl::shadowPasses(const DrawList& list, const Vec3& center, do
       vp = ortho(radius, radius * 0.5, radius * 3.5) * lookAt(from, center, Vec3::UnitY());
       // A penumbra of depth difference · 2 tan(θ/2) m, over a map 2·radius wide and 3·radius deep.
       if (l.size > 0) soft[0] = 1, soft[1] = float(3.0 * radius * 2.0 * std::tan(l.size * kPi / 360.0) / (2.0 * radius));
+      shadow_frame.texel_world[static_cast<std::size_t>(shadows)] = float(2.0 * radius / set.shadow_map_size);
     } else {
       const double dist = std::max((l.position - center).norm(), radius * 1.01);
       const double half = std::asin(std::min(radius / dist, 0.99));
       const double near = std::max(dist - radius, 0.05), far = dist + radius;
       vp = perspective(2 * half * 180 / kPi, 1.0, near, far) * lookAt(l.position, center, Vec3::UnitY());
       if (l.size > 0) soft[0] = 2, soft[1] = float(near), soft[2] = float(far), soft[3] = float(2.0 * l.size / (2.0 * std::tan(half)));
+      shadow_frame.texel_world[static_cast<std::size_t>(shadows)] = float(2.0 * dist * std::tan(half) / set.shadow_map_size);
     }
     gl->BindFramebuffer(GL_FRAMEBUFFER, shadow_fbo[static_cast<std::size_t>(shadows)].id());
     gl->Viewport(0, 0, set.shadow_map_size, set.shadow_map_size);

@@ -142,6 +142,7 @@ void SurfaceShaders::setFrameUniforms(GLuint prog) {
   gl_->Uniform1i(loc("u_shadow_raw0"), kRawShadowUnit);
   gl_->Uniform1i(loc("u_shadow_raw1"), kRawShadowUnit + 1);
   gl_->Uniform1f(loc("u_shadow_texel"), 1.0f / float(shadow_map_size_));
+  gl_->Uniform1fv(loc("u_shadow_offset"), 2, fu_.shadows.texel_world.data());
   gl_->Uniform1i(loc("u_texture"), 0);
   gl_->Uniform1i(loc("u_bump"), kBumpUnit);
   gl_->Uniform1i(loc("u_wrinkles"), kWrinkleUnit);

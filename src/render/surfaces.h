@@ -38,6 +38,9 @@ struct ShadowFrame {
   // width) for an orthographic map; 2, near, far and (light diameter / (2 tan(fov/2))) for a
   // perspective one.
   std::array<float, 8> soft{};
+  // Per map: the width of one of its texels on the scene, m (at the scene's centre for a
+  // perspective map): how far a point looked up is moved off its surface (the normal offset).
+  std::array<float, 2> texel_world{};
 };
 
 class SurfaceShaders {
