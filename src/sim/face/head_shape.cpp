@@ -70,7 +70,7 @@ constexpr double kHeadBottom = -0.124;  // where the sections close
 // against height, from the root between the eyes to the tip and under it to the upper lip.
 const Curve kNose{{-0.05, 0.0},     {-0.047, 0.002},  {-0.0445, 0.0095}, {-0.041, 0.0185}, {-0.037, 0.0215},
                   {-0.033, 0.021},  {-0.026, 0.0175}, {-0.01, 0.011},    {0.006, 0.003},   {0.012, 0.0}};
-const Curve kNoseWidth{{-0.05, 0.0075}, {-0.038, 0.0095}, {-0.03, 0.0082}, {-0.01, 0.006}, {0.014, 0.0052}};
+const Curve kNoseWidth{{-0.05, 0.0075}, {-0.038, 0.0092}, {-0.03, 0.0074}, {-0.01, 0.0049}, {0.014, 0.0046}};
 
 // The hairline's height against the angle around the vertical from the front (rad): a soft peak
 // at the middle, receding at the temples, down to the sideburns just in front of the ears (whose
@@ -260,7 +260,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     // its far side dark.)
     const double outside = s * (X - s * kWing[0]) > 0 ? 0.0085 : 0.0064;
     f.soft += 0.0046 * std::exp(-0.5 * (sq((X - s * kWing[0]) / outside) + sq((Y - kWing[1]) / 0.0047)));
-    f.soft -= 0.0011 * std::exp(-0.5 * sq((wing - 1.55) / 0.3)) * smoothstep(kWing[1] - 0.005, kWing[1] - 0.001, Y);
+    f.soft -= 0.0019 * std::exp(-0.5 * sq((wing - 1.45) / 0.22)) * smoothstep(kWing[1] - 0.005, kWing[1] - 0.001, Y);
     f.soft -= 0.0018 * gauss(X, Y, s * kNostril[0], kNostril[1], kNostril[2], kNostril[3]);  // nostril
     f.soft += 0.0008 * gauss(X, Y, s * 0.0045, -0.054, 0.0016, 0.005);                 // philtrum's ridge
     // The fold from the nose's wing to beside the mouth's corner (deeper with age), and the
@@ -280,9 +280,11 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   const double nose = 0.92 + 0.16 * male;
   // (Across it, flatter on top and steeper at the sides than a Gaussian, most so up the bridge:
   // a Gaussian's soft shoulders read as a wide, flat bridge.)
-  const double sides = 2.0 + 0.8 * smoothstep(-0.03, -0.015, Y);
+  const double sides = 2.0 + 1.2 * smoothstep(-0.034, -0.018, Y);
   f.soft += nose * kNose(Y) * std::exp(-0.5 * std::pow(std::abs(X) / kNoseWidth(Y), sides));
-  f.soft += 0.0024 * gauss(X, Y, 0, -0.0365, 0.0068, 0.0048);
+  // The tip's lobule: two domes either side of the midline (the lower lateral cartilages'
+  // domes), which give a tip its highlight and its notch; one round ball read as a blob.
+  for (double s : {-1.0, 1.0}) f.soft += 0.0019 * gauss(X, Y, s * 0.0036, -0.0368, 0.0046, 0.0045);
   // Lips: the upper lip's skin slopes out from under the nose to the vermilion; the vermilion
   // of each lip rolls out (fuller for a woman); the parting and the fold under the lower lip.
   const double full = 1.08 - 0.16 * male;
