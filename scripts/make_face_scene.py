@@ -113,14 +113,15 @@ def main():
         # Loop lighting: the key 21 degrees up and 27 to the far side of the face (the nose's
         # shadow falls short, beside it: higher, it lay on the upper lip as a dark smear viewers
         # took for a moustache; at 44 degrees to the side it lay under the near wing, where a
-        # viewer saw dirt; a soft-box, so its edge is soft), a warm fill from the
+        # viewer saw dirt; a soft-box 30 degrees across, as close to a face as a portrait's (at 14 degrees, once the
+        # shadow maps kept it, the near wing's shadow lay on the lip as a dark wedge viewers took for half a moustache)), a warm fill from the
         # camera's side at a tenth of it (at a fifth, then an eighth, viewers found the face
         # flat: the cheek toward the camera should turn into shadow; at a seventeenth, once the
         # shadow maps kept the nose's shadow, that shadow was near black under the wing), and a rim from
         # straight behind and above that lifts the head's outline off the background (from the side
         # it lit a band down the cheek; at 0.5 its sheen on the temple read as a hot streak).
         "lights": [{"type": "directional", "direction": [0.42, -0.36, -0.83], "color": [1.0, 0.93, 0.84],
-                    "intensity": 2.3, "shadows": True, "angle_deg": 14},
+                    "intensity": 2.3, "shadows": True, "angle_deg": 30},
                    {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.95, 0.86, 0.8], "intensity": 0.23},
                    {"type": "directional", "direction": [0.0, -0.4, 1.0], "color": [0.9, 0.9, 1.0], "intensity": 0.32},
                    {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.1}],
