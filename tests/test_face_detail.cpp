@@ -202,3 +202,49 @@ TEST_CASE("face: wrinkles fold in as their muscles pull: the forehead in surpris
   CHECK(deepest("happiness", forehead) < 0.05);
   CHECK(deepest("surprise", glabella) < 0.1);
 }
+
+TEST_CASE("face: an open mouth's rims run on curves through the simulated vertices, not along a polygon of its edges") {
+  World w = worldFromText(faceSceneText(R"(, "activations": [{"time": 0, "muscles": {"jaw_open": 0}}, {"time": 0.3, "muscles": {"jaw_open": 1}}])",
+                                        1.0, "[64, 40]", "1e-3"));
+  run(w, 12);
+  const FaceBody& f = face(w);
+  DrawList list;
+  f.draw(list);
+  // The rims' pieces (their outer edges), each coarse edge's three in a row, found by colour.
+  std::vector<std::array<Vec3, 2>> pieces;
+  for (const DrawMesh& m : list.meshes) {
+    if (!(m.material.color - FaceBody::kMouthInside).isZero(1e-9)) continue;
+    const TriMesh& t = *m.mesh;
+    auto at = [&](std::size_t v) { return Vec3(t.positions[3 * v], t.positions[3 * v + 1], t.positions[3 * v + 2]); };
+    for (std::size_t v = 0; v + 3 < t.vertexCount(); ++v)
+      if (std::abs(t.colors[3 * v] - 0.42f) < 1e-6f && std::abs(t.colors[3 * v + 1] - 0.13f) < 1e-6f) {
+        pieces.push_back({at(v), at(v + 1)});
+        v += 3;
+      }
+  }
+  REQUIRE(pieces.size() >= 12);
+  REQUIRE(pieces.size() % 3 == 0);
+  // The largest turn, seen from the front (x, y), at the joints of a chain of segments, away from
+  // the mouth's corners.
+  const double half = 0.5 * f.surface().mouth_width;
+  auto worstTurn = [&](const std::vector<std::array<Vec3, 2>>& segs) {
+    std::map<std::array<float, 3>, std::vector<Vec3>> ends;  // joint → the segments' other ends
+    auto key = [](const Vec3& p) { return std::array<float, 3>{float(p.x()), float(p.y()), float(p.z())}; };
+    for (const auto& s : segs) ends[key(s[0])].push_back(s[1]), ends[key(s[1])].push_back(s[0]);
+    double worst = 0;
+    for (const auto& [k, other] : ends) {
+      const Vec3 p(k[0], k[1], k[2]);
+      if (other.size() != 2 || std::abs(p.x()) > 0.8 * half) continue;
+      const Vec3 a = Vec3(p.x() - other[0].x(), p.y() - other[0].y(), 0).normalized();
+      const Vec3 b = Vec3(other[1].x() - p.x(), other[1].y() - p.y(), 0).normalized();
+      worst = std::max(worst, std::acos(std::clamp(std::abs(a.dot(b)), -1.0, 1.0)));
+    }
+    return worst * 180 / kPi;
+  };
+  std::vector<std::array<Vec3, 2>> straight;  // each coarse edge as one segment
+  for (std::size_t k = 0; k < pieces.size(); k += 3) straight.push_back({pieces[k][0], pieces[k + 2][1]});
+  const double curved = worstTurn(pieces), polygon = worstTurn(straight);
+  MESSAGE("the rims' sharpest turn from the front: " << curved << " deg in pieces on curves, " << polygon << " deg along the simulated edges");
+  CHECK(polygon > 3.0);
+  CHECK(curved < 0.7 * polygon);
+}

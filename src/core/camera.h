@@ -36,14 +36,10 @@ inline DrawCamera cameraAt(const CameraDesc& c, double t) {
   constexpr double kCameraCut = 0.01;  // s
   const std::size_t i0 = i == 0 || k[i].time - k[i - 1].time < kCameraCut ? i : i - 1;
   const std::size_t i3 = i + 2 >= k.size() || k[i + 2].time - k[i + 1].time < kCameraCut ? i + 1 : i + 2;
-  // Uniform Catmull–Rom: p(s) = ½[2p1 + (p2 − p0)s + (2p0 − 5p1 + 4p2 − p3)s² + (3p1 − p0 − 3p2 + p3)s³].
-  auto cr = [s = s](const auto& p0, const auto& p1, const auto& p2, const auto& p3) {
-    return 0.5 * (2.0 * p1 + (p2 - p0) * s + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * (s * s) +
-                  (3.0 * p1 - p0 - 3.0 * p2 + p3) * (s * s * s));
-  };
-  out.position = cr(k[i0].position, k[i].position, k[i + 1].position, k[i3].position);
-  out.target = cr(k[i0].target, k[i].target, k[i + 1].target, k[i3].target);
-  out.fov_deg = std::clamp(cr(k[i0].fov_deg, k[i].fov_deg, k[i + 1].fov_deg, k[i3].fov_deg), 1.0, 179.0);
+  // Uniform Catmull–Rom (core/math.h).
+  out.position = catmullRom(k[i0].position, k[i].position, k[i + 1].position, k[i3].position, s);
+  out.target = catmullRom(k[i0].target, k[i].target, k[i + 1].target, k[i3].target, s);
+  out.fov_deg = std::clamp(catmullRom(k[i0].fov_deg, k[i].fov_deg, k[i + 1].fov_deg, k[i3].fov_deg, s), 1.0, 179.0);
   return out;
 }
 

@@ -70,60 +70,6 @@ std::shared_ptr<const TriMesh> eyeMesh(const Vec3& iris) {
 
 }  // namespace
 
-// The lips' thickness where they part: along each edge of the parted skin (an edge of one
-// triangle only), a wet red strip from just under the skin drawn in to the mouth's lining,
-// facing the opening (without it the opening's edge was a line, the lips rubber sheets and the
-// mouth a flat black hole). Its vertices after the lining's, in the lining's mesh.
-void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) const {
-  const std::size_t n = surface_.size();
-  if (!surface_.generated || inside.vertexCount() < n) return;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
-  const auto& t = surface_.tris;
-  for (std::size_t k = 0; k + 2 < t.size(); k += 3)
-    for (int e = 0; e < 3; ++e) {
-      const std::uint32_t a = t[k + static_cast<std::size_t>(e)], b = t[k + static_cast<std::size_t>((e + 1) % 3)];
-      edges.emplace_back(std::min(a, b), std::max(a, b));
-    }
-  std::sort(edges.begin(), edges.end());
-  const Vec3 rim(0.42, 0.13, 0.12);
-  const double near = 0.015 * surface_.scale;
-  auto lining = [&](std::uint32_t v) {
-    return Vec3(inside.positions[3 * v], inside.positions[3 * v + 1], inside.positions[3 * v + 2]);
-  };
-  struct Rim {
-    Vec3 oa, ob, ia, ib, side;  // side: the skin's outward normal along the edge
-  };
-  std::vector<Rim> rims;
-  Vec3 centre = Vec3::Zero();
-  for (std::size_t i = 0; i < edges.size(); ++i) {
-    const bool shared = (i > 0 && edges[i - 1] == edges[i]) || (i + 1 < edges.size() && edges[i + 1] == edges[i]);
-    const auto [a, b] = edges[i];
-    if (shared || std::abs(surface_.skin[a].y() - surface_.mouth.y()) > near) continue;
-    // (Just under the skin drawn: 0.3 mm below where it dips deepest under the simulated skin.)
-    const Vec3 na = (relaxed[a] - lining(a)).normalized(), nb = (relaxed[b] - lining(b)).normalized();
-    const Vec3 oa = relaxed[a] - (detail_.dip[a] + 0.0003 * surface_.scale) * na;
-    const Vec3 ob = relaxed[b] - (detail_.dip[b] + 0.0003 * surface_.scale) * nb;
-    rims.push_back({oa, ob, lining(a), lining(b), na + nb});
-    centre += oa + ob;
-  }
-  if (rims.empty()) return;
-  centre /= 2.0 * static_cast<double>(rims.size());  // the opening's middle
-  // One quad an edge, facing the opening's middle (its winding to match).
-  for (const Rim& r : rims) {
-    Vec3 facing = unitOr((r.ob - r.oa).cross(r.side), Vec3::UnitY());
-    if (facing.dot(centre - 0.5 * (r.oa + r.ob)) < 0) facing = -facing;
-    const bool flip = (r.ob - r.oa).cross(r.ib - r.oa).dot(facing) < 0;
-    const auto base = static_cast<std::uint32_t>(inside.vertexCount());
-    for (const Vec3& p : {r.oa, r.ob, r.ib, r.ia}) {
-      inside.addVertex(p, facing);
-      for (int k = 0; k < 3; ++k) inside.colors.push_back(static_cast<float>(rim[k]));
-    }
-    if (!flip) inside.indices.insert(inside.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-    else inside.indices.insert(inside.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
-  }
-  inside.uvs.clear();
-}
-
 void FaceBody::drawBust(DrawList& out) const {
   if (!surface_.bust || !desc_.shoulders) return;
   auto bust = std::make_shared<TriMesh>(*surface_.bust);

@@ -8,6 +8,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "core/error.h"
@@ -106,6 +107,10 @@ struct SkinDetail {
   double blend(const Point& p, std::span<const double> value) const;
 };
 SkinDetail makeSkinDetail(const FaceSurface& s, int level);
+
+// A mesh's open edges (edges of one triangle only) as each vertex's neighbours along them (up to
+// two; more where open edges meet at a vertex, in which case the first two).
+std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> openEdgeNeighbours(const std::vector<std::uint32_t>& tris);
 
 // The ears and the shoulders of reel's head at scale (height / 0.24), in the head's frame
 // (head_parts.cpp).

@@ -2,6 +2,7 @@
 // refined, its fine points on the head's own shape at rest, carried by the tissue's motion.
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 
 #include "core/math.h"
 #include "core/mesh.h"
@@ -187,6 +188,25 @@ double SkinDetail::blend(const Point& p, std::span<const double> value) const {
   double v = 0;
   for (int c = 0; c < 4; ++c) v += p.w[static_cast<std::size_t>(c)] * value[p.from[static_cast<std::size_t>(c)]];
   return v;
+}
+
+std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> openEdgeNeighbours(const std::vector<std::uint32_t>& tris) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  for (std::size_t k = 0; k + 2 < tris.size(); k += 3)
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = tris[k + static_cast<std::size_t>(e)], b = tris[k + static_cast<std::size_t>((e + 1) % 3)];
+      edges.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  std::sort(edges.begin(), edges.end());
+  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> out;
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const bool shared = (i > 0 && edges[i - 1] == edges[i]) || (i + 1 < edges.size() && edges[i + 1] == edges[i]);
+    const auto [a, b] = edges[i];
+    if (shared || a == b) continue;
+    out[a].push_back(b);
+    out[b].push_back(a);
+  }
+  return out;
 }
 
 }  // namespace reel

@@ -1,0 +1,78 @@
+// The lips' thickness where they part (FaceBody::addLipRims): the strip from the skin drawn
+// in to the mouth's lining along the parting's open edges.
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "core/math.h"
+#include "sim/face/face_body.h"
+
+namespace reel {
+
+// Along each open edge of the parted skin (an edge of one triangle only), a wet red strip from
+// just under the skin drawn in to the mouth's lining, facing the opening (without it the
+// opening's edge was a line, the lips rubber sheets and the mouth a flat black hole). Each edge
+// in three, on Catmull–Rom curves through its vertices and their neighbours along the opening:
+// straight from vertex to vertex, 4-7 mm apart, the rims were a polygon's facets round a
+// puppet's mouth. Its vertices after the lining's, in the lining's mesh.
+void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) const {
+  const std::size_t n = surface_.size();
+  if (!surface_.generated || inside.vertexCount() < n) return;
+  const auto open = openEdgeNeighbours(surface_.tris);
+  const Vec3 rim(0.42, 0.13, 0.12);
+  const double near = 0.015 * surface_.scale;
+  auto lining = [&](std::uint32_t v) {
+    return Vec3(inside.positions[3 * v], inside.positions[3 * v + 1], inside.positions[3 * v + 2]);
+  };
+  // Each vertex of the parting's open edges: its rim's outer end (just under the skin drawn: 0.3 mm
+  // below where it dips deepest under the simulated skin), its inner end (the lining) and the
+  // skin's outward direction there.
+  struct End {
+    Vec3 outer, inner, normal;
+  };
+  std::unordered_map<std::uint32_t, End> ends;
+  for (const auto& [v, next] : open) {
+    if (std::abs(surface_.skin[v].y() - surface_.mouth.y()) > near) continue;
+    const Vec3 nv = (relaxed[v] - lining(v)).normalized();
+    ends[v] = {relaxed[v] - (detail_.dip[v] + 0.0003 * surface_.scale) * nv, lining(v), nv};
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  Vec3 centre = Vec3::Zero();
+  for (const auto& [v, next] : open)
+    for (std::uint32_t u : next)
+      if (v < u && ends.count(v) && ends.count(u)) edges.emplace_back(v, u);
+  if (edges.empty()) return;
+  std::sort(edges.begin(), edges.end());  // (in the mesh's order, not the map's)
+  for (const auto& [a, b] : edges) centre += ends[a].outer + ends[b].outer;
+  centre /= 2.0 * static_cast<double>(edges.size());  // the opening's middle
+  // Along the opening a → b, the neighbour of a that is not b (a itself at a chain's end).
+  auto beyond = [&](std::uint32_t a, std::uint32_t b) {
+    for (std::uint32_t c : open.at(a))
+      if (c != b && ends.count(c)) return c;
+    return a;
+  };
+  for (const auto& [a, b] : edges) {
+    const End &E0 = ends[beyond(a, b)], &E1 = ends[a], &E2 = ends[b], &E3 = ends[beyond(b, a)];
+    const Vec3 side = E1.normal + E2.normal;
+    constexpr int kPieces = 3;
+    for (int q = 0; q < kPieces; ++q) {
+      const double t0 = static_cast<double>(q) / kPieces, t1 = static_cast<double>(q + 1) / kPieces;
+      const Vec3 oa = catmullRom(E0.outer, E1.outer, E2.outer, E3.outer, t0), ob = catmullRom(E0.outer, E1.outer, E2.outer, E3.outer, t1);
+      const Vec3 ia = catmullRom(E0.inner, E1.inner, E2.inner, E3.inner, t0), ib = catmullRom(E0.inner, E1.inner, E2.inner, E3.inner, t1);
+      // One quad a piece, facing the opening's middle (its winding to match).
+      Vec3 facing = unitOr((ob - oa).cross(side), Vec3::UnitY());
+      if (facing.dot(centre - 0.5 * (oa + ob)) < 0) facing = -facing;
+      const bool flip = (ob - oa).cross(ib - oa).dot(facing) < 0;
+      const auto base = static_cast<std::uint32_t>(inside.vertexCount());
+      for (const Vec3& p : {oa, ob, ib, ia}) {
+        inside.addVertex(p, facing);
+        for (int k = 0; k < 3; ++k) inside.colors.push_back(static_cast<float>(rim[k]));
+      }
+      if (!flip) inside.indices.insert(inside.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+      else inside.indices.insert(inside.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
+    }
+  }
+  inside.uvs.clear();
+}
+
+}  // namespace reel
