@@ -616,3 +616,24 @@ TEST_CASE("face: the collar's rim hugs the neck, the neck inside it all round, a
     CHECK(most < 0.0075);   // no wide dark band (the rim 6–10 mm off a squarer one measured more)
   }
 }
+
+TEST_CASE("face: a far gaze eases toward 30 degrees: the iris is not jammed into the lids' corner") {
+  // Targets 10°, 45° and 80° to the side of straight ahead (1 m away): the eyes turn 10°, then
+  // 20° + 10° tanh((θ − 20°)/10°): about 29.9° and 30°, never the old hard stop's 35°.
+  for (const double deg : {10.0, 45.0, 80.0}) {
+    const double x = 0.032 + std::tan(deg * kPi / 180.0);
+    World w = worldFromText(scene(R"(, "gaze": [{"time": 0, "target": [)" + std::to_string(x) + R"(, 0, 1]}])"));
+    run(w, 3);
+    const FaceBody& f = face(w);
+    const FaceBody::Eye ey = f.eye(0);
+    const Vec3 forward = f.rotation() * Vec3::UnitZ();
+    const double turned = std::acos(std::clamp(ey.ahead.dot(forward), -1.0, 1.0)) * 180.0 / kPi;
+    // (The target's angle as the eye's centre sees it.)
+    const double seen = std::acos(std::clamp((Vec3(x, 0, 1) - ey.center).normalized().dot(forward), -1.0, 1.0)) * 180.0 / kPi;
+    const double expected = seen <= 20.0 ? seen : 20.0 + 10.0 * std::tanh((seen - 20.0) / 10.0);
+    CAPTURE(deg);
+    CAPTURE(turned);
+    CHECK(turned == doctest::Approx(expected).epsilon(0.03));
+    CHECK(turned < 30.01);
+  }
+}

@@ -352,7 +352,7 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
   // (A shade darker and pinker than the skin: the skin round the eyes is thin; in the skin's
   // own tone the upper lids, catching the key, read as pale ovals stuck on.)
   const Vec3 lid_tone(0.48, 0.29, 0.24), lash_tone(0.07, 0.05, 0.04);
-  const Vec3 caruncle(0.52, 0.22, 0.2), rim(0.5, 0.27, 0.24);
+  const Vec3 caruncle(0.52, 0.22, 0.2), rim(0.44, 0.27, 0.23);  // (at 0.5, 0.27, 0.24 viewers saw sore, red-rimmed eyes)
   auto lids = std::make_shared<TriMesh>(), lashes = std::make_shared<TriMesh>();
   auto vertex = [&](const Vec3& p, const Vec3& normal, const Vec3& color) {
     lids->addVertex(world(p), R_ * normal);
@@ -475,16 +475,20 @@ FaceBody::Eye FaceBody::eye(int e) const {
   const Vec3 ahead = R_ * Vec3::UnitZ(), up = R_ * Vec3::UnitY();
   out.center = desc_.position + R_ * surface_.eye[static_cast<std::size_t>(e)];
   out.radius = surface_.eye_radius;
-  // The gaze: toward its target, at most 35° from straight ahead.
+  // The gaze: toward its target, straight up to 20° from ahead, then easing toward 30°
+  // (θ' = 20° + 10° tanh((θ − 20°)/10°)):
+  // eyes turned to a hard 35° stop jammed the iris into the lids' corner and bulged the white past
+  // them, which viewers read as glued-on marbles; a person turns the head before the eyes go so far.
   Vec3 look = ahead;
   if (!desc_.gaze.empty()) {
     const Vec3 target = keyedLinear(desc_.gaze, t_, [](const FaceGazeKey& k) { return k.time; },
                                     [](const FaceGazeKey& k) { return k.target; });
     look = unitOr(target - out.center, ahead);
-    const double angle = std::acos(std::clamp(look.dot(ahead), -1.0, 1.0)), most = 35.0 * kPi / 180.0;
-    if (angle > most) {
+    const double angle = std::acos(std::clamp(look.dot(ahead), -1.0, 1.0)), free = 20.0 * kPi / 180.0, ease = 10.0 * kPi / 180.0;
+    if (angle > free) {
+      const double eased = free + ease * std::tanh((angle - free) / ease);
       const Vec3 side = unitOr(look - look.dot(ahead) * ahead, up);
-      look = std::cos(most) * ahead + std::sin(most) * side;
+      look = std::cos(eased) * ahead + std::sin(eased) * side;
     }
   }
   out.ahead = look;
