@@ -141,7 +141,8 @@ double browHairs(double ax, double y) {
   const double tc = std::clamp(t, 0.0, 1.0);
   const double mid = 0.0195 + 0.0065 * t * (1.6 - t) - 0.0008 * tc * tc;
   const double half = 0.0041 * (1 - 0.8 * std::pow(tc, 1.6)) * std::sqrt(smoothstep(-0.1, 0.14, t));
-  const double soft = y > mid ? 0.0011 : 0.0006;
+  // (At 1.1 and 0.6 mm they read as painted decals: hairs thin out over 2 mm above, 1 below.)
+  const double soft = y > mid ? 0.002 : 0.001;
   const double band = smoothstep(half + soft, half - 0.5 * soft, std::abs(y - mid)) * smoothstep(-0.1, 0.0, t) * smoothstep(1.08, 0.95, t) *
                       (0.8 + 0.2 * smoothstep(0.0, 0.2, t));
   // Hairs: streaks along the brow (upward at its head, sideways along it).
@@ -414,9 +415,11 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   if (front) {
     // The vermilion, with a sharp border.
     const double lips = vermilion(X, Y, ym);
-    // (A muted rose, not a painted one: lips are skin with blood showing through.)
-    const Vec3 lip = Y < ym ? Vec3(0.46, 0.21, 0.18) : Vec3(0.42, 0.19, 0.17);
-    c = c + lips * (0.85 - 0.15 * male) * (lip * (0.95 + 0.1 * mottle) - c);
+    // (A muted rose, not a painted one: lips are skin with blood showing through; a shade deeper
+    // than the cheek's flush, the upper lip darker than the lower, which faces the light: at
+    // (0.46, 0.21, 0.18) and (0.42, 0.19, 0.17) viewers found them nearly skin-coloured and flat.)
+    const Vec3 lip = Y < ym ? Vec3(0.48, 0.19, 0.17) : Vec3(0.42, 0.16, 0.145);
+    c = c + lips * (0.9 - 0.1 * male) * (lip * (0.95 + 0.1 * mottle) - c);
     // Nostrils, under the nose.
     const double nostril = smoothstep(0.45, 0.9, gauss(ax, Y, kNostril[0], kNostril[1], kNostril[2], kNostril[3]));
     c = c + 0.8 * nostril * (Vec3(0.12, 0.05, 0.045) - c);
