@@ -106,13 +106,15 @@ vec2 spiral(int i, int n, float turn) {
   return r * vec2(cos(a), sin(a));
 }
 // The mean of a pixel's value and its two neighbours' in its 2 x 2 quad (read through the
-// derivatives, which the quad computes anyway; llvmpipe's are per row and column of the quad): the soft shadow's 12 taps, turned differently in
+// derivatives, which the quad computes anyway): the soft shadow's 12 taps, turned differently in
 // each pixel, become 36, and its noise, which read as hairs in a penumbra on skin, falls by 1.7.
+// llvmpipe's derivatives are per row and column of the quad; a driver's coarse ones (GLSL 3.30
+// allows them) give the bottom row the top's, so the result is clamped to a fraction.
 float quadMean(float v) {
   float dx = dFdx(v), dy = dFdy(v);
   float sx = mod(floor(gl_FragCoord.x), 2.0) < 0.5 ? 1.0 : -1.0;
   float sy = mod(floor(gl_FragCoord.y), 2.0) < 0.5 ? 1.0 : -1.0;
-  return v + (sx * dx + sy * dy) / 3.0;
+  return clamp(v + (sx * dx + sy * dy) / 3.0, 0.0, 1.0);
 }
 #define SHADOW_PCSS(MAP, RAW, S)                                                    \
   float shadowSoft##S(vec3 p, vec3 n, vec3 l) {                                     \

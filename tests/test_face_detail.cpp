@@ -1,7 +1,8 @@
 // reel's head drawn finer than it is simulated (SkinDetail): the fine skin holds the head's own
 // shape where the simulated mesh is too coarse (the nose's tip, the lips), keeps the skin's
 // topology (closed but for the lips' parting), and follows the tissue: carried rigidly with the
-// head, a uniform move kept, the tissue's grid-long ripples smoothed out.
+// head, a uniform move kept, the tissue's grid-long ripples smoothed out. And what is drawn around
+// the openings: the lips' rims on curves, the eyes' gaze and the lids that follow it.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -237,7 +238,7 @@ TEST_CASE("face: an open mouth's rims run on curves through the simulated vertic
       if (other.size() != 2 || std::abs(p.x()) > 0.8 * half) continue;
       const Vec3 a = Vec3(p.x() - other[0].x(), p.y() - other[0].y(), 0).normalized();
       const Vec3 b = Vec3(other[1].x() - p.x(), other[1].y() - p.y(), 0).normalized();
-      worst = std::max(worst, std::acos(std::clamp(std::abs(a.dot(b)), -1.0, 1.0)));
+      worst = std::max(worst, std::acos(std::clamp(a.dot(b), -1.0, 1.0)));
     }
     return worst * 180 / kPi;
   };
@@ -247,4 +248,51 @@ TEST_CASE("face: an open mouth's rims run on curves through the simulated vertic
   MESSAGE("the rims' sharpest turn from the front: " << curved << " deg in pieces on curves, " << polygon << " deg along the simulated edges");
   CHECK(polygon > 3.0);
   CHECK(curved < 0.7 * polygon);
+}
+
+TEST_CASE("face: a far gaze eases toward 30 degrees: the iris is not jammed into the lids' corner") {
+  // Targets 10°, 45° and 80° to the side of straight ahead (1 m away): the eyes turn 10°, then
+  // 20° + 10° tanh((θ − 20°)/10°): about 29.9° and 30°, never the old hard stop's 35°.
+  for (const double deg : {10.0, 45.0, 80.0}) {
+    const double x = 0.032 + std::tan(deg * kPi / 180.0);
+    World w = worldFromText(faceSceneText(R"(, "gaze": [{"time": 0, "target": [)" + std::to_string(x) + R"(, 0, 1]}])", 1.0, "[64, 40]", "1e-3"));
+    run(w, 3);
+    const FaceBody& f = face(w);
+    const FaceBody::Eye ey = f.eye(0);
+    const Vec3 forward = f.rotation() * Vec3::UnitZ();
+    const double turned = std::acos(std::clamp(ey.ahead.dot(forward), -1.0, 1.0)) * 180.0 / kPi;
+    // (The target's angle as the eye's centre sees it.)
+    const double seen = std::acos(std::clamp((Vec3(x, 0, 1) - ey.center).normalized().dot(forward), -1.0, 1.0)) * 180.0 / kPi;
+    const double expected = seen <= 20.0 ? seen : 20.0 + 10.0 * std::tanh((seen - 20.0) / 10.0);
+    CAPTURE(deg);
+    CAPTURE(turned);
+    CHECK(turned == doctest::Approx(expected).epsilon(0.03));
+    CHECK(turned < 30.01);
+  }
+}
+
+TEST_CASE("face: the lids follow the gaze up and down, the upper over the iris's top") {
+  // Looking ahead, then at targets 30° down, then 30° up (1 m away; the eyes turn about 27.6°).
+  World w = worldFromText(faceSceneText(R"(, "gaze": [{"time": 0, "target": [0.032, 0, 1]}, {"time": 0.3, "target": [0.032, -0.577, 1]},
+      {"time": 0.6, "target": [0.032, -0.577, 1]}, {"time": 0.9, "target": [0.032, 0.577, 1]}])", 1.0, "[64, 40]", "1e-3"));
+  const FaceBody& f = face(w);
+  auto state = [&] {
+    const FaceBody::Eye ey = f.eye(0);
+    const double gaze = std::asin(std::clamp(ey.ahead.dot(f.rotation() * Vec3::UnitY()), -1.0, 1.0));
+    return std::array<double, 3>{gaze, ey.upperEdge(0.0), ey.lowerEdge(0.0)};
+  };
+  const auto ahead = state();
+  run(w, 15);  // 0.5 s: looking down
+  const auto down = state();
+  run(w, 12);  // 0.9 s: looking up
+  const auto up = state();
+  MESSAGE("gaze " << ahead[0] << ", " << down[0] << ", " << up[0] << " rad: upper margin " << ahead[1] << ", " << down[1] << ", "
+                  << up[1] << "; lower " << ahead[2] << ", " << down[2] << ", " << up[2]);
+  REQUIRE(down[0] < -0.4);
+  REQUIRE(up[0] > 0.4);
+  // The upper margin keeps to the iris's top (18° above the gaze when ahead): within 12° of it
+  // looking down or up (a lid that stays leaves white above the iris, or covers the pupil).
+  for (const auto& st : {down, up}) CHECK(std::abs((st[1] - st[0]) - (ahead[1] - ahead[0])) < 0.21);
+  CHECK(down[2] < ahead[2]);
+  CHECK(up[2] > ahead[2]);
 }

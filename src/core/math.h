@@ -37,7 +37,6 @@ inline double smoothstep(double e0, double e1, double x) {
   return t * t * (3 - 2 * t);
 }
 
-// A unit vector perpendicular to unit d, fixed for each d.
 // Uniform Catmull–Rom between p1 (s = 0) and p2 (s = 1), p0 and p3 its neighbours:
 // p(s) = ½[2p1 + (p2 − p0)s + (2p0 − 5p1 + 4p2 − p3)s² + (3p1 − p0 − 3p2 + p3)s³].
 template <class T>
@@ -46,6 +45,7 @@ T catmullRom(const T& p0, const T& p1, const T& p2, const T& p3, double s) {
                 (3.0 * p1 - p0 - 3.0 * p2 + p3) * (s * s * s));
 }
 
+// A unit vector perpendicular to unit d, fixed for each d.
 inline Vec3 perpendicular(const Vec3& d) {
   const Vec3 a = std::abs(d.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
   return a.cross(d).normalized();

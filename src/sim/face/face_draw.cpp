@@ -484,9 +484,9 @@ FaceBody::Eye FaceBody::eye(int e) const {
     const Vec3 target = keyedLinear(desc_.gaze, t_, [](const FaceGazeKey& k) { return k.time; },
                                     [](const FaceGazeKey& k) { return k.target; });
     look = unitOr(target - out.center, ahead);
-    const double angle = std::acos(std::clamp(look.dot(ahead), -1.0, 1.0)), free = 20.0 * kPi / 180.0, ease = 10.0 * kPi / 180.0;
-    if (angle > free) {
-      const double eased = free + ease * std::tanh((angle - free) / ease);
+    const double angle = std::acos(std::clamp(look.dot(ahead), -1.0, 1.0)), straight = 20.0 * kPi / 180.0, ease = 10.0 * kPi / 180.0;
+    if (angle > straight) {
+      const double eased = straight + ease * std::tanh((angle - straight) / ease);
       const Vec3 side = unitOr(look - look.dot(ahead) * ahead, up);
       look = std::cos(eased) * ahead + std::sin(eased) * side;
     }

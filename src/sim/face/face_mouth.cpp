@@ -18,7 +18,7 @@ namespace reel {
 void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) const {
   const std::size_t n = surface_.size();
   if (!surface_.generated || inside.vertexCount() < n) return;
-  const auto open = openEdgeNeighbours(surface_.tris);
+  const auto open = openEdgeNeighbours(surface_.tris, relaxed.size());
   const Vec3 rim(0.42, 0.13, 0.12);
   const double near = 0.015 * surface_.scale;
   auto lining = [&](std::uint32_t v) {
@@ -31,23 +31,22 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
     Vec3 outer, inner, normal;
   };
   std::unordered_map<std::uint32_t, End> ends;
-  for (const auto& [v, next] : open) {
-    if (std::abs(surface_.skin[v].y() - surface_.mouth.y()) > near) continue;
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (open[v].empty() || std::abs(surface_.skin[v].y() - surface_.mouth.y()) > near) continue;
     const Vec3 nv = (relaxed[v] - lining(v)).normalized();
     ends[v] = {relaxed[v] - (detail_.dip[v] + 0.0003 * surface_.scale) * nv, lining(v), nv};
   }
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
-  Vec3 centre = Vec3::Zero();
-  for (const auto& [v, next] : open)
-    for (std::uint32_t u : next)
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;  // in the mesh's order
+  for (std::uint32_t v = 0; v < n; ++v)
+    for (std::uint32_t u : open[v])
       if (v < u && ends.count(v) && ends.count(u)) edges.emplace_back(v, u);
   if (edges.empty()) return;
-  std::sort(edges.begin(), edges.end());  // (in the mesh's order, not the map's)
+  Vec3 centre = Vec3::Zero();
   for (const auto& [a, b] : edges) centre += ends[a].outer + ends[b].outer;
   centre /= 2.0 * static_cast<double>(edges.size());  // the opening's middle
   // Along the opening a → b, the neighbour of a that is not b (a itself at a chain's end).
   auto beyond = [&](std::uint32_t a, std::uint32_t b) {
-    for (std::uint32_t c : open.at(a))
+    for (std::uint32_t c : open[a])
       if (c != b && ends.count(c)) return c;
     return a;
   };
@@ -57,8 +56,11 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
     constexpr int kPieces = 3;
     for (int q = 0; q < kPieces; ++q) {
       const double t0 = static_cast<double>(q) / kPieces, t1 = static_cast<double>(q + 1) / kPieces;
-      const Vec3 oa = catmullRom(E0.outer, E1.outer, E2.outer, E3.outer, t0), ob = catmullRom(E0.outer, E1.outer, E2.outer, E3.outer, t1);
-      const Vec3 ia = catmullRom(E0.inner, E1.inner, E2.inner, E3.inner, t0), ib = catmullRom(E0.inner, E1.inner, E2.inner, E3.inner, t1);
+      // (The ends exactly the vertices' points, so that neighbouring edges' rims meet.)
+      const Vec3 oa = q == 0 ? E1.outer : catmullRom(E0.outer, E1.outer, E2.outer, E3.outer, t0);
+      const Vec3 ob = q + 1 == kPieces ? E2.outer : catmullRom(E0.outer, E1.outer, E2.outer, E3.outer, t1);
+      const Vec3 ia = q == 0 ? E1.inner : catmullRom(E0.inner, E1.inner, E2.inner, E3.inner, t0);
+      const Vec3 ib = q + 1 == kPieces ? E2.inner : catmullRom(E0.inner, E1.inner, E2.inner, E3.inner, t1);
       // One quad a piece, facing the opening's middle (its winding to match).
       Vec3 facing = unitOr((ob - oa).cross(side), Vec3::UnitY());
       if (facing.dot(centre - 0.5 * (oa + ob)) < 0) facing = -facing;

@@ -8,7 +8,6 @@
 #include <memory>
 #include <span>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "core/error.h"
@@ -108,9 +107,10 @@ struct SkinDetail {
 };
 SkinDetail makeSkinDetail(const FaceSurface& s, int level);
 
-// A mesh's open edges (edges of one triangle only) as each vertex's neighbours along them (up to
-// two; more where open edges meet at a vertex, in which case the first two).
-std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> openEdgeNeighbours(const std::vector<std::uint32_t>& tris);
+// A mesh's open edges (edges of one triangle only) as each vertex's neighbours along them, in
+// increasing order (none for a vertex on no open edge; `vertices` at least the mesh's count)
+// (head_detail.cpp).
+std::vector<std::vector<std::uint32_t>> openEdgeNeighbours(const std::vector<std::uint32_t>& tris, std::size_t vertices);
 
 // The ears and the shoulders of reel's head at scale (height / 0.24), in the head's frame
 // (head_parts.cpp).

@@ -2,7 +2,6 @@
 // refined, its fine points on the head's own shape at rest, carried by the tissue's motion.
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
 #include "core/math.h"
 #include "core/mesh.h"
@@ -190,7 +189,7 @@ double SkinDetail::blend(const Point& p, std::span<const double> value) const {
   return v;
 }
 
-std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> openEdgeNeighbours(const std::vector<std::uint32_t>& tris) {
+std::vector<std::vector<std::uint32_t>> openEdgeNeighbours(const std::vector<std::uint32_t>& tris, std::size_t vertices) {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
   for (std::size_t k = 0; k + 2 < tris.size(); k += 3)
     for (int e = 0; e < 3; ++e) {
@@ -198,7 +197,7 @@ std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> openEdgeNeighbours
       edges.emplace_back(std::min(a, b), std::max(a, b));
     }
   std::sort(edges.begin(), edges.end());
-  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> out;
+  std::vector<std::vector<std::uint32_t>> out(vertices);
   for (std::size_t i = 0; i < edges.size(); ++i) {
     const bool shared = (i > 0 && edges[i - 1] == edges[i]) || (i + 1 < edges.size() && edges[i + 1] == edges[i]);
     const auto [a, b] = edges[i];

@@ -43,11 +43,6 @@ std::array<Section, 7> spine(const Vec3* x, const FishFrame& f) {
   return s;
 }
 
-Vec3 catmull(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3, double t) {
-  const double t2 = t * t, t3 = t2 * t;
-  return 0.5 * ((2 * p1) + (-p0 + p2) * t + (2 * p0 - 5 * p1 + 4 * p2 - p3) * t2 + (-p0 + 3 * p1 - 3 * p2 + p3) * t3);
-}
-
 // The body: sections along the spine (ellipses), the nose closed by a tip vertex and the tail root
 // by a cap. u runs nose to tail, v around from the back over the left flank.
 void addBody(TriMesh& m, const std::array<Section, 7>& s) {
@@ -58,7 +53,7 @@ void addBody(TriMesh& m, const std::array<Section, 7>& s) {
     const double t = static_cast<double>(k - span * kPerSpan) / kPerSpan;
     auto at = [&](int j) { return s[static_cast<std::size_t>(std::clamp(j, 0, 6))]; };
     const Section &a = at(span), &b = at(span + 1);
-    const Vec3 c = catmull(at(span - 1).c, a.c, b.c, at(span + 2).c, t);
+    const Vec3 c = catmullRom(at(span - 1).c, a.c, b.c, at(span + 2).c, t);
     const Vec3 up = unitOr((1 - t) * a.up + t * b.up, a.up), left = unitOr((1 - t) * a.left + t * b.left, a.left);
     // Radii: smooth between sections, the head rounded.
     const double e = 0.5 - 0.5 * std::cos(kPi * t);
