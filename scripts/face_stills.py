@@ -15,7 +15,7 @@ import tempfile
 
 EXPRESSIONS = ["happiness", "surprise", "sadness", "anger", "disgust", "fear"]
 LIGHTS = [{"type": "directional", "direction": [0.6, -0.33, -0.62], "color": [1.0, 0.93, 0.84], "intensity": 2.2,
-           "shadows": True, "angle_deg": 20},
+           "shadows": True, "angle_deg": 30},
           {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.95, 0.86, 0.8], "intensity": 0.28},
           {"type": "directional", "direction": [0.0, -0.4, 1.0], "color": [0.9, 0.9, 1.0], "intensity": 0.32},
           {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.12}]
