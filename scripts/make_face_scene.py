@@ -63,8 +63,10 @@ def activations():
 # where its eyes go (None: the camera), so the head performs the feeling rather than holding
 # still: the smile tilts, surprise pulls back, sadness drops the head and the eyes, anger lowers
 # the chin and stares, disgust turns away, fear pulls back and looks aside.
-CARRIAGE = {"happiness": ([-3, 16, 6], None), "surprise": ([-7, 10, 0], None), "sadness": ([9, 16, -3], [0.05, -0.45, 0.3]),
-            "anger": ([5, 8, 0], None), "disgust": ([-3, 27, -5], [0.4, -0.05, 0.25]), "fear": ([-5, 22, 3], [-0.35, 0.1, 0.35])}
+# (The eyes' targets within about 25 degrees of where the head points: turned further, with the
+# head one way and the eyes the other, the irises sat in the lids' corners, cross-eyed.)
+CARRIAGE = {"happiness": ([-3, 16, 6], None), "surprise": ([-7, 10, 0], None), "sadness": ([9, 16, -3], [0.05, -0.3, 0.4]),
+            "anger": ([5, 8, 0], None), "disgust": ([-3, 27, -5], [0.3, -0.05, 0.36]), "fear": ([-5, 22, 3], [0.0, 0.1, 0.45])}
 
 
 def head_keys():
