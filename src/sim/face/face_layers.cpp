@@ -174,9 +174,7 @@ void FaceBody::drawLayers(DrawList& out) const {
   // half-thickness and a little more above it; and that vertex's normal.
   const std::vector<float> skull_normal = bone->normals;
   auto onSkull = [&](const Vec3& p, Vec3* normal = nullptr) {
-    std::size_t best = 0;
-    for (std::size_t k = 1; k < n; ++k)
-      if ((skull[k] - p).squaredNorm() < (skull[best] - p).squaredNorm()) best = k;
+    const std::size_t best = nearestOf(std::span<const Vec3>(skull.data(), n), p).first;
     const Vec3 nk(skull_normal[3 * best], skull_normal[3 * best + 1], skull_normal[3 * best + 2]);
     if (normal) *normal = nk;
     return Vec3(p - (p - skull[best]).dot(nk) * nk + 0.0024 * s * nk);

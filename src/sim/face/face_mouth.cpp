@@ -2,7 +2,6 @@
 // in to the mouth's lining along the parting's open edges.
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
 #include "core/math.h"
 #include "sim/face/face_body.h"
@@ -28,18 +27,19 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
   // below where it dips deepest under the simulated skin), its inner end (the lining) and the
   // skin's outward direction there.
   struct End {
+    bool lip = false;  // on the parting's open edges
     Vec3 outer, inner, normal;
   };
-  std::unordered_map<std::uint32_t, End> ends;
+  std::vector<End> ends(n);
   for (std::uint32_t v = 0; v < n; ++v) {
     if (open[v].empty() || std::abs(surface_.skin[v].y() - surface_.mouth.y()) > near) continue;
     const Vec3 nv = (relaxed[v] - lining(v)).normalized();
-    ends[v] = {relaxed[v] - (detail_.dip[v] + 0.0003 * surface_.scale) * nv, lining(v), nv};
+    ends[v] = {true, relaxed[v] - (detail_.dip[v] + 0.0003 * surface_.scale) * nv, lining(v), nv};
   }
   std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;  // in the mesh's order
   for (std::uint32_t v = 0; v < n; ++v)
     for (std::uint32_t u : open[v])
-      if (v < u && ends.count(v) && ends.count(u)) edges.emplace_back(v, u);
+      if (v < u && ends[v].lip && ends[u].lip) edges.emplace_back(v, u);
   if (edges.empty()) return;
   Vec3 centre = Vec3::Zero();
   for (const auto& [a, b] : edges) centre += ends[a].outer + ends[b].outer;
@@ -47,7 +47,7 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
   // Along the opening a → b, the neighbour of a that is not b (a itself at a chain's end).
   auto beyond = [&](std::uint32_t a, std::uint32_t b) {
     for (std::uint32_t c : open[a])
-      if (c != b && ends.count(c)) return c;
+      if (c != b && ends[c].lip) return c;
     return a;
   };
   for (const auto& [a, b] : edges) {

@@ -7,10 +7,8 @@
 #include "core/math.h"
 
 namespace reel {
-namespace {
 
-// The nearest of `points` to p: its index and distance.
-std::pair<std::size_t, double> nearestOf(const std::vector<Vec3>& points, const Vec3& p) {
+std::pair<std::size_t, double> nearestOf(std::span<const Vec3> points, const Vec3& p) {
   std::size_t best = 0;
   double bd = 1e300;
   for (std::size_t k = 0; k < points.size(); ++k) {
@@ -19,6 +17,8 @@ std::pair<std::size_t, double> nearestOf(const std::vector<Vec3>& points, const 
   }
   return {best, std::sqrt(bd)};
 }
+
+namespace {
 
 }  // namespace
 

@@ -6,7 +6,9 @@
 // tissue.
 #pragma once
 
+#include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -25,6 +27,9 @@ struct FaceMuscle {
 
 // The muscles of reel's head (kFacePairedMuscles, kFaceMidlineMuscles) placed on its surface.
 std::vector<FaceMuscleDesc> defaultMuscles(const FaceSurface& s);
+
+// The nearest of `points` to p (the first of equals): its index and distance.
+std::pair<std::size_t, double> nearestOf(std::span<const Vec3> points, const Vec3& p);
 
 // A muscle's zone over the fascia nodes at rest (`fascia`: their head-frame positions); BadInput
 // (naming its path) when the attachment is not on the skull or the insertion not in the tissue,
