@@ -121,11 +121,15 @@ def main():
         # flat: the cheek toward the camera should turn into shadow; at a seventeenth, once the
         # shadow maps kept the nose's shadow, that shadow was near black under the wing), and a rim from
         # straight behind and above that lifts the head's outline off the background (from the side
-        # it lit a band down the cheek; at 0.5 its sheen on the temple read as a hot streak).
+        # it lit a band down the cheek; at 0.5 its sheen on the temple read as a hot streak), and a
+        # bounce from below and in front, as a portrait's reflector under the chin gives (without it
+        # the nose's underside and the wings' bottoms, lit by the ambient alone, joined into a dark
+        # bar across the nose's base that a smile widened).
         "lights": [{"type": "directional", "direction": [0.42, -0.36, -0.83], "color": [1.0, 0.93, 0.84],
                     "intensity": 2.3, "shadows": True, "angle_deg": 30},
                    {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.95, 0.86, 0.8], "intensity": 0.23},
                    {"type": "directional", "direction": [0.0, -0.4, 1.0], "color": [0.9, 0.9, 1.0], "intensity": 0.32},
+                   {"type": "directional", "direction": [0.15, 0.6, -0.78], "color": [1.0, 0.88, 0.8], "intensity": 0.3},
                    {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.1}],
         "bodies": [{
             "type": "face", "name": "face",

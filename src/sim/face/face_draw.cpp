@@ -508,11 +508,11 @@ FaceBody::Eye FaceBody::eye(int e) const {
   constexpr double deg = kPi / 180.0;
   out.closure = std::clamp(std::max(control("blink"), 0.45 * squeeze), 0.0, 1.0);
   const double gaze = std::asin(std::clamp(look.dot(up), -1.0, 1.0));  // the gaze's elevation in the head
-  out.upper = (18.0 + 11.0 * control("eyelid_raise")) * deg + 0.7 * gaze;
+  out.upper = (20.0 + 10.0 * control("eyelid_raise")) * deg + 0.7 * gaze;
   out.lower = (-24.0 + 16.0 * squeeze) * deg + 0.4 * gaze;
-  // The corners 61° to each side on the lids' shell (the opening about 23 mm wide at 0.24 m, a
+  // The corners 68° to each side on the lids' shell (the opening about 26 mm wide at 0.24 m, a
   // little short of Farkas 1994's palpebral fissure, 28-30 mm, whose inner end lies past the
-  // eyeball; the skin closes over the rest), the outer 8° above the inner.
+  // eyeball; at 61°, 23 mm, viewers found the eyes small), the outer 8° above the inner.
   out.corner = head::kEyeCorner;
   out.corners = head::kEyeCorners;
   out.tilt = head::kCanthalTilt;

@@ -59,7 +59,7 @@ std::shared_ptr<const TriMesh> makeHair(const FaceSurface& s) {
       // angle that flattens along the strand, its tip 0.5-4 mm off the cap (on the outline, a
       // soft fringe).
       const double length = (0.007 + 0.006 * rnd(4)) * (0.35 + 0.65 * cover), lift = 0.35 + 0.3 * rnd(5);
-      const double width = 0.00035;
+      const double width = 0.0005;
       const Vec3 start = root - 0.0015 * cover * n;  // (under the cap, never under the scalp)
       const Vec3 hair = head::skinColor(root, dir, s.parting_y, s.look) * (0.75 + 0.5 * rnd(6));
       const auto base = static_cast<std::uint32_t>(m->vertexCount());

@@ -75,9 +75,9 @@ const Curve kNoseWidth{{-0.05, 0.0075}, {-0.038, 0.0092}, {-0.03, 0.0074}, {-0.0
 // The hairline's height against the angle around the vertical from the front (rad): a soft peak
 // at the middle, receding at the temples, down to the sideburns just in front of the ears (whose
 // fronts are 1.69 rad round), over the ears, to the nape.
-const Curve kHairline{{0.0, 0.071},  {0.3, 0.072},  {0.5, 0.076},   {0.75, 0.07},   {0.95, 0.06},  {1.15, 0.047},
-                      {1.32, 0.037}, {1.42, 0.02},  {1.47, -0.012}, {1.6, -0.016},  {1.66, 0.01},  {1.72, 0.028},
-                      {2.0, 0.028},  {2.12, -0.01}, {2.3, -0.045},  {2.75, -0.064}, {3.1416, -0.066}};
+const Curve kHairline{{0.0, 0.064},  {0.25, 0.066}, {0.42, 0.071},  {0.55, 0.066},  {0.72, 0.052}, {0.9, 0.038},
+                      {1.08, 0.026}, {1.25, 0.012}, {1.38, -0.004}, {1.47, -0.018}, {1.6, -0.02},  {1.66, 0.01},
+                      {1.72, 0.02},  {2.0, 0.02},   {2.12, -0.01},  {2.3, -0.045},  {2.75, -0.064}, {3.1416, -0.066}};
 
 // Value noise on the integer lattice (smooth, 0..1), by a hash of the cell's corners.
 double lattice(std::int64_t x, std::int64_t y, std::int64_t z) {
@@ -159,11 +159,14 @@ struct HairAt {
   double around = 0, down = 0;  // the direction's angle round the vertical from the front, and from the crown (rad)
 };
 HairAt hairAt(const Vec3& p, const Vec3& d) {
-  const double cover = hairCover(p, d, 0.0035 + 0.0012 * noise(p * 1500.0));
+  const double cover = hairCover(p, d, 0.0045 + 0.002 * noise(p * 1500.0));
   const double around = std::atan2(d.x(), d.z()), down = std::acos(std::clamp(d.y(), -1.0, 1.0));
   const double wisps = noise(Vec3(around * 260.0, down * 30.0, 2.5));
+  // The strand's shade: fine streaks over locks about 4 mm across and 3 cm long (streaks alone,
+  // under a pixel at a portrait's distance, left the cap one smooth shell).
+  const double locks = noise(Vec3(around * 28.0, down * 3.5, 6.5));
   return {std::clamp(0.5 + 2.0 * (cover - 0.5) + 1.1 * (wisps - 0.5) * (1.0 - std::abs(2.0 * cover - 1.0)), 0.0, 1.0),
-          noise(Vec3(around * 160.0, down * 14.0, 0.5)), around, down};
+          std::clamp(0.55 * noise(Vec3(around * 160.0, down * 14.0, 0.5)) + 0.9 * (locks - 0.5) + 0.22, 0.0, 1.0), around, down};
 }
 
 // Pores (under a millimetre) and mottling (a few mm), value noise over the surface; none on the
@@ -299,7 +302,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   f.soft *= front;
   // The lids are skin lying on the eyeball: over the eye's opening and a band around it (up to
   // the upper lid's crease, down past the lower lid), the skin sinks to just behind the eyeball
-  // and the lids' shell over it, so the lids and the opening between them show out to the corners, 23 mm apart
+  // and the lids' shell over it, so the lids and the opening between them show out to the corners, 26 mm apart
   // (Farkas 1994: the palpebral fissure 28-30 mm). Over the flat socket alone, only the middle
   // 16 mm of the almond cleared the skin, and the eyes looked small.
   {
@@ -314,7 +317,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
       if (disc <= 0 || e.z() < 0.3) continue;
       const double most = -along + std::sqrt(disc);  // the displacement that reaches the shell
       const Vec3 h = p + most * e - c;
-      // The almond as drawn at rest (FaceBody::Eye), on the lids' shell: its corners 11.2 mm to
+      // The almond as drawn at rest (FaceBody::Eye), on the lids' shell: its corners 12.9 mm to
       // either side, the outer 0.9 mm above the middle's line, the inner as far below; the band
       // above reaching the lid's crease (9.5 mm above that line), the one below 2.5 mm past the
       // margin, both narrowing to 1.2 mm at the corners.
@@ -328,10 +331,12 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
       if (over > 0) f.bone -= over * w;
     }
   }
-  // Hair stands off the scalp, thin at its edges and fuller over the top (short hair, 4 mm at
-  // the hairline and 13 mm over the crown: at 4 mm all over it read as a painted helmet, at 9
-  // over the crown as a helmet still).
-  f.soft += (0.004 + 0.009 * smoothstep(0.03, 0.1, Y)) * hairCover(p, d, 0.012);
+  // Hair stands off the scalp, thin at its edges and fuller behind them and over the top (short
+  // hair, 3.5 mm at the hairline, about 10 mm 3 cm behind it and 17 mm over the crown: at 4 mm all
+  // over it read as a painted helmet, at 9 over the crown as a helmet still, and with the
+  // fullness from the height alone the forehead ran up to a bare dome).
+  const double above = Y - kHairline(std::abs(std::atan2(d.x(), d.z())));
+  f.soft += (0.0035 + smoothstep(0.0, 0.03, above) * (0.006 + 0.008 * smoothstep(0.02, 0.09, Y))) * hairCover(p, d, 0.012);
   return f;
 }
 
@@ -468,7 +473,7 @@ double skinRelief(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   const HairAt hair = hairAt(p, d);
   if (hair.cover > 0) {
     const double fine = noise(Vec3(hair.around * 700.0, hair.down * 25.0, 4.0));
-    h += hair.cover * (0.25 + 0.2 * (hair.strand - 0.5) + 0.25 * (fine - 0.5));
+    h += hair.cover * (0.25 + 0.35 * (hair.strand - 0.5) + 0.25 * (fine - 0.5));
   }
   return std::clamp(h, 0.0, 1.0);
 }

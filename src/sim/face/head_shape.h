@@ -32,12 +32,12 @@ inline double atIndex(const std::vector<double>& a, double f) {
 }
 
 // Landmarks at height 0.24 m.
-inline constexpr double kEyeX = 0.032, kEyeY = 0.0, kEyeRadius = 0.012;
+inline constexpr double kEyeX = 0.032, kEyeY = 0.0, kEyeRadius = 0.013;
 // The lids' shell about each eye (its radius over the eye's): the lids are drawn on it. Their
 // almond's corners lie kEyeCorner to either side of the eye's middle on it (rad), at a mean
 // elevation kEyeCorners, the outer kCanthalTilt higher than the inner (FaceBody::Eye).
 inline constexpr double kLidShell = 1.07;
-inline constexpr double kEyeCorner = 61.0 * kPi / 180.0, kEyeCorners = -4.0 * kPi / 180.0, kCanthalTilt = 8.0 * kPi / 180.0;
+inline constexpr double kEyeCorner = 68.0 * kPi / 180.0, kEyeCorners = -4.0 * kPi / 180.0, kCanthalTilt = 8.0 * kPi / 180.0;
 inline constexpr double kMouthY = -0.070, kMouthHalf = 0.025;
 
 // The neck: its axis (vertical, at this z) and where it is cut (inside the shoulders).
