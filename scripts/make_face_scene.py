@@ -9,9 +9,10 @@
                the eyes glancing about, with blinks: a smile of greeting, surprise, fear, anger,
                disgust, sadness;
   11.6-15.2 s  a spoken line's mouth shapes (visemes), the head nodding with it;
-  15.2-18 s    the camera glides round to the other side as the head turns to it and the skin
+  15.2-18.1 s  the camera glides round to the other side as the head turns to it and the skin
                dissolves into the layers: the lattice over the left half, the skull and the
-               muscles (red relaxed, glowing orange contracted) on the right, as the face smiles again.
+               muscles (red relaxed, a brighter red contracted) on the right, as the face smiles again;
+  18.1-19.6 s  the skin comes back over them and the face ends smiling at the camera.
 Run from the repository root: python3 scripts/make_face_scene.py
 """
 import json
@@ -35,7 +36,12 @@ LINE = [(0.0, "rest"), (0.15, "oh"), (0.4, "oh"), (0.5, "rest"), (0.62, "ee"), (
 CUT = SPEECH + 3.6  # 15.2 s: the skin starts to fade from the layers
 FADE = 1.8  # s (at 1.2 a viewer saw the layers simply appear)
 GLIDE_BEFORE, GLIDE_AFTER = 0.6, 1.2  # s: the camera's glide round to the layers' side, about CUT
-END = CUT + 2.8
+# The layers held, then the skin comes back over them and the face ends smiling at the camera (a
+# film that ended on the layers' figure ended on a debug view, viewers said).
+BACK = CUT + 2.9  # 18.1 s: the skin starts to come back
+BACK_FADE = 0.9  # s
+LAST = ([-0.225, 0.035, 0.475], [0.0, -0.004, 0.0])  # the camera at the end, the crown in frame
+END = BACK + 1.5  # 19.6 s
 
 
 def activations():
@@ -56,6 +62,8 @@ def activations():
     keys.append({"time": round(SPEECH + 0.3, 3), "preset": "happiness", "amount": 0.12})
     keys.append({"time": round(CUT - 0.2, 3), "preset": "happiness", "amount": 0.2})
     keys.append({"time": round(CUT + 0.9, 3), "preset": "happiness", "amount": 1.0})
+    keys.append({"time": round(BACK, 3), "preset": "happiness", "amount": 0.85})
+    keys.append({"time": round(END, 3), "preset": "happiness", "amount": 0.6})
     return keys
 
 
@@ -79,11 +87,11 @@ def head_keys():
     keys += [(SPEECH + 0.5, [3, 14, 0]), (SPEECH + 1.3, [-2, 10, -2]), (SPEECH + 2.2, [4, 15, 1]),
              (CUT - GLIDE_BEFORE, [0, 12, 0]),
              # As the camera glides round, the head turns to it: lattice on the left half, muscles on the right.
-             (CUT + GLIDE_AFTER, [2, -22, 0]), (END, [-2, -10, 0])]
+             (CUT + GLIDE_AFTER, [2, -22, 0]), (BACK, [-2, -10, 0]), (END, [-4, -13, 3])]
     return [{"time": round(t, 3), "rotation_deg": r} for t, r in keys]
 
 
-def gaze_keys(camera):
+def gaze_keys(camera, last):
     # The eyes lead the turn, then go where each expression sends them (the camera unless it says)
     # and glance away between expressions and while speaking.
     keys = [(0.0, [-0.3, 0.0, 0.3]), (0.8, camera)]
@@ -93,7 +101,9 @@ def gaze_keys(camera):
         keys += [(t0 + 0.2, look), (t0 + length - 0.4, look),
                  (t0 + length - 0.25, [0.15 * (-1) ** i, 0.05 - 0.08 * (i % 3 == 1), 0.4]), (t0 + length - 0.05, camera)]
     keys += [(SPEECH + 1.3, camera), (SPEECH + 1.45, [-0.12, 0.08, 0.4]), (SPEECH + 2.0, [-0.12, 0.08, 0.4]),
-             (SPEECH + 2.15, camera), (END, camera)]
+             (SPEECH + 2.15, camera), (CUT, camera),
+             # Round to the camera on the layers' side as the head turns to it.
+             (CUT + GLIDE_AFTER + 0.2, last), (END, last)]
     return [{"time": round(t, 3), "target": p} for t, p in keys]
 
 
@@ -111,7 +121,8 @@ def main():
                    "keys": [{"time": 0, "position": close[0], "target": close[1]},
                             {"time": round(CUT - GLIDE_BEFORE, 4), "position": close_end[0], "target": close_end[1]},
                             {"time": round(CUT + GLIDE_AFTER, 4), "position": layers[0], "target": layers[1]},
-                            {"time": round(END, 3), "position": [-0.23, 0.035, 0.47], "target": layers[1]}]},
+                            {"time": round(BACK, 3), "position": [-0.23, 0.035, 0.47], "target": layers[1]},
+                            {"time": round(END, 3), "position": LAST[0], "target": LAST[1]}]},
         # Loop lighting: the key 21 degrees up and 27 to the far side of the face (the nose's
         # shadow falls short, beside it: higher, it lay on the upper lip as a dark smear viewers
         # took for a moustache; at 44 degrees to the side it lay under the near wing, where a
@@ -122,23 +133,24 @@ def main():
         # shadow maps kept the nose's shadow, that shadow was near black under the wing), and a rim from
         # straight behind and above that lifts the head's outline off the background (from the side
         # it lit a band down the cheek; at 0.5 its sheen on the temple read as a hot streak), and a
-        # bounce from below and in front, as a portrait's reflector under the chin gives (without it
+        # bounce from below, steep, as a portrait's reflector under the chin gives (without it
         # the nose's underside and the wings' bottoms, lit by the ambient alone, joined into a dark
         # bar across the nose's base that a smile widened).
         "lights": [{"type": "directional", "direction": [0.42, -0.36, -0.83], "color": [1.0, 0.93, 0.84],
                     "intensity": 2.3, "shadows": True, "angle_deg": 30},
                    {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.95, 0.86, 0.8], "intensity": 0.23},
                    {"type": "directional", "direction": [0.0, -0.4, 1.0], "color": [0.9, 0.9, 1.0], "intensity": 0.32},
-                   {"type": "directional", "direction": [0.15, 0.6, -0.78], "color": [1.0, 0.88, 0.8], "intensity": 0.3},
+                   {"type": "directional", "direction": [0.1, 0.85, -0.5], "color": [1.0, 0.88, 0.8], "intensity": 0.25},
                    {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.1}],
         "bodies": [{
             "type": "face", "name": "face",
             "keys": head_keys(),
-            "gaze": gaze_keys(close[0]),
-            "blinks": [1.0, 3.3, 6.1, 8.9, 12.3, 14.15, 16.4],
+            "gaze": gaze_keys(close[0], LAST[0]),
+            "blinks": [1.0, 3.3, 6.1, 8.9, 12.3, 14.15, 16.4, 19.1],
             "activations": activations(),
             "visemes": [{"time": round(SPEECH + t, 3), "viseme": v} for t, v in LINE],
-            "draw": [{"time": 0, "mode": "skin"}, {"time": round(CUT, 3), "mode": "layers", "fade": FADE}],
+            "draw": [{"time": 0, "mode": "skin"}, {"time": round(CUT, 3), "mode": "layers", "fade": FADE},
+                     {"time": round(BACK, 3), "mode": "skin", "fade": BACK_FADE}],
         }],
     }
     header = ("// The muscle-driven face (Terzopoulos & Waters 1990; Lee, Terzopoulos & Waters 1995) in a three-quarter\n"

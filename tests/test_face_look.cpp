@@ -408,7 +408,7 @@ TEST_CASE("face: a draw key's fade dissolves the skin into the layers and back, 
   CHECK(half.lo == doctest::Approx(0.5));
   CHECK(half.hi == doctest::Approx(0.5));
   CHECK_FALSE(half.shadows);
-  CHECK(half.tubes > 3);  // the layers' lattice and muscles, solid
+  CHECK(half.tubes == 3);  // the layers' lattice (skin, fascia, the springs across), solid; the muscles are meshes
   run(w, 6);  // 0.5 s: the fade is over
   const Seen layers = look();
   CHECK(layers.blended == 0);
@@ -505,16 +505,20 @@ TEST_CASE("face: the layers' skull has orbits, a nasal aperture and teeth, where
   CHECK(nose_shade < 0.3);
   CHECK(crown_in == doctest::Approx(0.0).epsilon(1e-9));  // the vault is the bone layer's
   CHECK(crown_shade == 1.0);
-  // The linear muscles lie on the skull as bellies: one mesh each in the relaxed muscle's red,
-  // 95% of their vertices within 5 mm of the skull's surface, 3.5 mm on average (straight sticks
-  // from attachment to insertion stood up to 8.9 mm off it, passing in and out).
+  // The linear muscles lie on the skull as bellies: one mesh each in the relaxed muscle's red
+  // (13 rings of 16 and the ends' centres), 95% of their vertices within 5 mm of the skull's
+  // surface, 3.5 mm on average (straight sticks from attachment to insertion stood up to 8.9 mm off
+  // it, passing in and out); the sphincters are bands round their rings (24 rings of 16), in the
+  // tissue.
   std::size_t linear = 0;
   for (const FaceMuscle& mu : f.muscles()) linear += mu.desc.sphincter ? 0 : 1;
   auto vert = [&](const TriMesh& m, std::uint32_t v) { return Vec3(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]); };
   std::vector<double> off;
-  std::size_t bellies = 0;
+  std::size_t bellies = 0, bands = 0;
   for (const DrawMesh& m : list.meshes) {
     if (m.material.color != Vec3(0.42, 0.07, 0.06)) continue;  // not a relaxed muscle's
+    if (m.mesh->vertexCount() == 24 * 16) ++bands;
+    if (m.mesh->vertexCount() != 13 * 16 + 2) continue;
     ++bellies;
     for (std::uint32_t v = 0; v < m.mesh->vertexCount(); v += 3) {
       const Vec3 p = vert(*m.mesh, v);
@@ -535,6 +539,7 @@ TEST_CASE("face: the layers' skull has orbits, a nasal aperture and teeth, where
   MESSAGE(bellies << " bellies, " << off.size() << " points: 95% within " << p95 * 1000 << " mm of the skull, " << mean * 1000
                   << " mm on average, the farthest " << off.back() * 1000 << " mm");
   CHECK(bellies == linear);
+  CHECK(bands == f.muscles().size() - linear);
   CHECK(p95 < 0.005);
   CHECK(mean < 0.0035);
 }

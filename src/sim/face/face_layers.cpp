@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <span>
+#include <string>
 
 #include "core/math.h"
 #include "sim/draw_material.h"
@@ -18,37 +20,46 @@ void pushTube(DrawTubes& t, const Vec3& a, const Vec3& b) {
     for (int k = 0; k < 3; ++k) t.ends.push_back(static_cast<float>((*p)[k]));
 }
 
-// A muscle's belly along `path` (the skull's normals `up` under it): a flattened spindle, its
-// section an ellipse of half-width `wide` across the path and half-height `thick` off the skull at
-// its middle, tapering to 0.3 of that at its ends, which are closed.
-std::shared_ptr<TriMesh> muscleBelly(const std::array<Vec3, 13>& path, const std::array<Vec3, 13>& up, double wide, double thick) {
-  constexpr int kAround = 10;
-  const int rings = static_cast<int>(path.size());
+// A muscle's body swept along `path` (the surface's normals `up` under it), each ring an ellipse
+// of half-width `wide[i]` across the path and half-height `thick[i]` off the surface: a strap's
+// ends closed with fans, a ring's (closed) last ring joined to its first. Its fibres run along it:
+// the vertex colours alternate round each ring, so it is striped lengthwise as muscle is (flat
+// red read as a sausage).
+std::shared_ptr<TriMesh> muscleBody(std::span<const Vec3> path, std::span<const Vec3> up, std::span<const double> wide,
+                                    std::span<const double> thick, bool closed) {
+  constexpr int kAround = 16;
+  const std::size_t rings = path.size();
   auto m = std::make_shared<TriMesh>();
-  for (int i = 0; i < rings; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    const Vec3 along = unitOr(path[std::min(k + 1, path.size() - 1)] - path[k > 0 ? k - 1 : 0], Vec3::UnitY());
+  for (std::size_t k = 0; k < rings; ++k) {
+    const std::size_t next = closed ? (k + 1) % rings : std::min(k + 1, rings - 1), prev = closed ? (k + rings - 1) % rings : (k > 0 ? k - 1 : 0);
+    const Vec3 along = unitOr(path[next] - path[prev], Vec3::UnitY());
     const Vec3 across = unitOr(along.cross(up[k]), Vec3::UnitX()), off = across.cross(along);
-    const double t = static_cast<double>(i) / (rings - 1), spindle = 0.3 + 0.7 * std::pow(std::sin(kPi * t), 0.7);
     for (int j = 0; j < kAround; ++j) {
       const double a = 2 * kPi * j / kAround, c = std::cos(a), sn = std::sin(a);
-      const Vec3 normal = unitOr(c / wide * across + sn / thick * off, off);
-      m->addVertex(path[k] + spindle * (wide * c * across + thick * sn * off), normal);
+      const Vec3 normal = unitOr(c / wide[k] * across + sn / thick[k] * off, off);
+      m->addVertex(path[k] + wide[k] * c * across + thick[k] * sn * off, normal);
+      const float fibre = j % 2 == 0 ? 1.0f : 0.8f;
+      m->colors.insert(m->colors.end(), {fibre, fibre, fibre});
     }
   }
-  for (int i = 0; i + 1 < rings; ++i)
+  const std::size_t bands = closed ? rings : rings - 1;
+  for (std::size_t i = 0; i < bands; ++i)
     for (int j = 0; j < kAround; ++j) {
-      const auto a = static_cast<std::uint32_t>(i * kAround + j), b = static_cast<std::uint32_t>(i * kAround + (j + 1) % kAround);
-      const std::uint32_t c = a + kAround, d = b + kAround;
+      const auto a = static_cast<std::uint32_t>(i * kAround + static_cast<std::size_t>(j)),
+                 b = static_cast<std::uint32_t>(i * kAround + static_cast<std::size_t>((j + 1) % kAround));
+      const auto c = static_cast<std::uint32_t>(((i + 1) % rings) * kAround + static_cast<std::size_t>(j)),
+                 d = static_cast<std::uint32_t>(((i + 1) % rings) * kAround + static_cast<std::size_t>((j + 1) % kAround));
       m->indices.insert(m->indices.end(), {a, d, b, a, c, d});  // counter-clockwise from outside
     }
+  if (closed) return m;
   // The ends: a fan round each end's centre.
   for (int e = 0; e < 2; ++e) {
-    const std::size_t k = e == 0 ? 0 : path.size() - 1;
+    const std::size_t k = e == 0 ? 0 : rings - 1;
     const auto centre = static_cast<std::uint32_t>(m->vertexCount());
-    const Vec3 along = unitOr(path[path.size() - 1] - path[0], Vec3::UnitY());
+    const Vec3 along = unitOr(path[rings - 1] - path[0], Vec3::UnitY());
     m->addVertex(path[k], e == 0 ? Vec3(-along) : along);
-    const auto ring = static_cast<std::uint32_t>(e == 0 ? 0 : (rings - 1) * kAround);
+    m->colors.insert(m->colors.end(), {0.9f, 0.9f, 0.9f});
+    const auto ring = static_cast<std::uint32_t>(k * kAround);
     for (int j = 0; j < kAround; ++j) {
       const std::uint32_t a = ring + static_cast<std::uint32_t>(j), b = ring + static_cast<std::uint32_t>((j + 1) % kAround);
       if (e == 0) m->indices.insert(m->indices.end(), {centre, a, b});
@@ -56,6 +67,24 @@ std::shared_ptr<TriMesh> muscleBelly(const std::array<Vec3, 13>& path, const std
     }
   }
   return m;
+}
+
+// A linear muscle's half-widths at its attachment and at its insertion (m at 0.24 m; after the
+// plates of Gray's Anatomy: the frontalis a broad sheet, the depressor anguli oris a triangle on
+// the jaw, the risorius a fan from the cheek's side, the zygomatics straps); a user's muscle 4.5
+// mm all along.
+std::array<double, 2> bellyWidths(const std::string& name) {
+  struct Width {
+    const char* name;
+    double attach, insert;
+  };
+  static constexpr Width kWidths[] = {{"frontalis", 0.015, 0.016},       {"corrugator", 0.003, 0.0045},
+                                      {"zygomatic_major", 0.0045, 0.004}, {"zygomatic_minor", 0.003, 0.003},
+                                      {"levator_labii", 0.004, 0.006},    {"depressor_anguli_oris", 0.010, 0.003},
+                                      {"risorius", 0.007, 0.003},         {"mentalis", 0.005, 0.006}};
+  for (const Width& w : kWidths)
+    if (name.rfind(w.name, 0) == 0) return {w.attach, w.insert};
+  return {0.0045, 0.0045};
 }
 
 }  // namespace
@@ -188,8 +217,9 @@ void FaceBody::drawLayers(DrawList& out) const {
   for (std::size_t m = 0; m < muscles_.size(); ++m) {
     const FaceMuscle& mu = muscles_[m];
     const double a = std::clamp(act_[m], 0.0, 1.0);
-    // Muscle red relaxed, glowing orange as it contracts (yellow sticks read as a debug view).
-    const DrawMaterial red = plainMaterial((1 - a) * Vec3(0.42, 0.07, 0.06) + a * Vec3(1.0, 0.5, 0.1), 0.3);
+    // Muscle red relaxed, a brighter, warmer red as it contracts (yellow sticks read as a debug
+    // view; a glowing orange, with the lips' ring round bared teeth, as a clown's mask).
+    const DrawMaterial red = plainMaterial((1 - a) * Vec3(0.42, 0.07, 0.06) + a * Vec3(0.8, 0.2, 0.1), 0.3);
     if (!mu.desc.sphincter) {
       Vec3 mid = Vec3::Zero();
       for (std::size_t j = 0; j < mu.nodes.size(); ++j) mid += mu.weight[j] * x[n + static_cast<std::size_t>(mu.nodes[j])];
@@ -197,18 +227,23 @@ void FaceBody::drawLayers(DrawList& out) const {
       // From its attachment to the centre of the nodes it pulls, lying on the skull along twelve
       // pieces, smoothed (a straight stick stood off the cheek's curve and over the sculpted
       // orbits; laid on the nearest vertices' planes unsmoothed, it kinked from plane to plane),
-      // drawn as a flat, spindle-shaped belly (tubes read as worms).
+      // drawn flat, as wide as its kind is (bellyWidths), rounded at its ends (spindles of one
+      // width read as sausages).
       std::array<Vec3, 13> path, up;
       for (std::size_t i = 0; i < path.size(); ++i) path[i] = onSkull(att + (static_cast<double>(i) / 12.0) * (mid - att), &up[i]);
       for (int pass = 0; pass < 3; ++pass) {
         const std::array<Vec3, 13> was = path;
         for (std::size_t i = 1; i + 1 < path.size(); ++i) path[i] = 0.5 * was[i] + 0.25 * (was[i - 1] + was[i + 1]);
       }
-      out.meshes.push_back({muscleBelly(path, up, 0.0045 * s, 0.0016 * s), true, red});
+      const auto [w0, w1] = bellyWidths(mu.desc.name);
+      std::array<double, 13> wide, thick;
+      for (std::size_t i = 0; i < path.size(); ++i) {
+        const double t = static_cast<double>(i) / 12.0, round = std::pow(std::sin(kPi * (0.04 + 0.92 * t)), 0.35);
+        wide[i] = s * (w0 + (w1 - w0) * t) * round;
+        thick[i] = s * 0.0014 * (0.4 + 0.6 * std::pow(std::sin(kPi * t), 0.7));
+      }
+      out.meshes.push_back({muscleBody(path, up, wide, thick, false), true, red});
     } else {
-      DrawTubes t;
-      t.radius = static_cast<float>(0.0022 * s);
-      t.material = red;
       Vec3 u, v;
       sphincterAxes(mu.desc.normal.normalized(), u, v);
       // Its ring lies in the tissue: each point on the fascia node its nodes hold nearest to it
@@ -234,8 +269,15 @@ void FaceBody::drawLayers(DrawList& out) const {
         const std::array<Vec3, 24> was = ring;
         for (std::size_t i = 0; i < 24; ++i) ring[i] = 0.5 * was[i] + 0.25 * (was[(i + 23) % 24] + was[(i + 1) % 24]);
       }
-      for (std::size_t i = 0; i < 24; ++i) pushTube(t, ring[i], ring[(i + 1) % 24]);
-      out.tubes.push_back(std::move(t));
+      // A flat band round it, its fibres running round (a tube read as a rubber ring), as wide as
+      // eight tenths of the ring's smaller radius (the lips' 12 mm, the eyes' 10 mm).
+      const Vec3 facing = R_ * mu.desc.normal.normalized();
+      std::array<Vec3, 24> up;
+      up.fill(facing);
+      std::array<double, 24> wide, thick;
+      wide.fill(0.4 * 0.6 * std::min(mu.desc.radii[0], mu.desc.radii[1]) * shrink);
+      thick.fill(0.0012 * s);
+      out.meshes.push_back({muscleBody(ring, up, wide, thick, true), true, red});
     }
   }
 }
