@@ -77,13 +77,21 @@ CARRIAGE = {"happiness": ([-3, 16, 6], None), "surprise": ([-7, 10, 0], None), "
             "anger": ([5, 8, 0], None), "disgust": ([-3, 27, -5], [0.3, -0.05, 0.36]), "fear": ([-5, 22, 3], [0.0, 0.1, 0.45])}
 
 
+# How the head drifts while each expression holds (degrees, as CARRIAGE): a head that stops dead
+# for a second reads as a held pose (viewers saw frames a second apart as the same picture); the
+# drift carries on the feeling's motion (the smile tilts further, sadness sinks, disgust turns away).
+DRIFT = {"happiness": [-1, 3, 2], "surprise": [2, -2, 0], "fear": [1, 3, 0], "anger": [2, -2, 0],
+         "disgust": [-2, 3, -2], "sadness": [3, 2, -2]}
+
+
 def head_keys():
     # Turned away, then toward the camera; each expression's carriage as it rises and holds,
     # moving on into the next; nods while it speaks.
     keys = [(0.0, [6, -58, 0]), (0.3, [6, -58, 0]), (1.8, [0, 12, 0])]
     for i, name in enumerate(EXPRESSIONS):
         t0, length = STARTS[i], LENGTHS[i]
-        keys += [(t0 + 0.55, CARRIAGE[name][0]), (t0 + length - 0.45, CARRIAGE[name][0])]
+        held = [a + b for a, b in zip(CARRIAGE[name][0], DRIFT[name])]
+        keys += [(t0 + 0.55, CARRIAGE[name][0]), (t0 + length - 0.45, held)]
     keys += [(SPEECH + 0.5, [3, 14, 0]), (SPEECH + 1.3, [-2, 10, -2]), (SPEECH + 2.2, [4, 15, 1]),
              (CUT - GLIDE_BEFORE, [0, 12, 0]),
              # As the camera glides round, the head turns to it: lattice on the left half, muscles on the right.
@@ -108,9 +116,10 @@ def gaze_keys(camera, last):
 
 
 def main():
-    # (Far enough back that the crown stays in frame: cut off, the head read as cropped.)
-    close = ([0.185, 0.02, 0.545], [0.0, -0.015, 0.0])
-    close_end = ([0.155, 0.015, 0.515], [0.0, -0.015, 0.0])
+    # (Far enough back that the crown stays in frame: cut off, the head read as cropped; with the
+    # hair's fullness, 17 mm over the crown, a little farther and aimed higher.)
+    close = ([0.19, 0.02, 0.56], [0.0, -0.009, 0.0])
+    close_end = ([0.16, 0.015, 0.53], [0.0, -0.009, 0.0])
     layers = ([-0.27, 0.04, 0.52], [0.0, -0.02, 0.0])
     scene = {
         "format": "reel/1", "name": "face", "duration": round(END, 3), "fps": FPS, "substeps": 2,
