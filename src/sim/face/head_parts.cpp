@@ -37,7 +37,7 @@ void ringTriangles(TriMesh& m, std::uint32_t first, int rings, int segments, boo
     }
 }
 
-// One ear at height 0.24 m: 62 mm tall, 30 mm wide, its root in the skull behind the jaw's
+// One ear at height 0.24 m: 62 mm tall, 30 mm wide, leaning back 15°, its root in the skull behind the jaw's
 // hinge, its back edge 13 mm off the head. A closed shell, its rings from the middle of the front
 // out to the rim, round the rim and back in over the back: the front's relief (the helix's rolled
 // rim, the antihelix's ridge above, the bowl of the concha, the lobe flat) rolls over the rim
@@ -48,7 +48,10 @@ void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
   constexpr int kRings = 16, kRoll = 5, kSegments = 56;
   const auto first = static_cast<std::uint32_t>(m.vertexCount());
   const Vec3 origin(side * 0.0705, -0.012, -0.02), out(side, 0, 0), back(0, 0, -1), up(0, 1, 0);
-  const Vec3 rim_tone = skin + 0.3 * (Vec3(0.62, 0.3, 0.26) - skin);  // thin skin, redder
+  const Vec3 rim_tone = skin + 0.18 * (Vec3(0.62, 0.3, 0.26) - skin);  // thin skin, redder (at 0.3, a cut-out pink outline)
+  // The ear leans back 15° from upright, as ears do (upright, it read as a leaf stuck on).
+  const double lean_c = std::cos(0.26), lean_s = std::sin(0.26);
+  auto lean = [&](double u, double v) { return Vec3((u * lean_c + v * lean_s) * back + (v * lean_c - u * lean_s) * up); };
   // Where (u back, v up) a point of the outline at fraction r of the way out lies, its relief
   // off the ear's plane (front or back) and how far the ear stands off the skull there.
   struct At {
@@ -58,19 +61,24 @@ void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
     const double ca = std::cos(a), sa = std::sin(a);
     // The outline: wider at the back, the lobe narrower below.
     double rx = ca > 0 ? 0.0175 : 0.0115, ry = sa > 0 ? 0.031 : 0.03;
-    if (sa < 0) rx *= 1.0 - 0.3 * sq(sa);
+    if (sa < 0) rx *= 1.0 - 0.18 * sq(sa);  // (at 0.3 the lobe came to a point)
     At p;
     p.u = r * rx * ca, p.v = r * ry * sa + 0.002;
     const double upper = std::clamp(0.5 + sa, 0.0, 1.0);
     const double bowl = 0.006 * std::exp(-sq(p.u / 0.007) - sq((p.v + 0.002) / 0.009));
     double h = 0.0045 * std::exp(-sq((r - 0.9) / 0.075)) * (sa > -0.6 ? 1.0 : 0.3);
     h += 0.0028 * std::exp(-sq((r - 0.58) / 0.09)) * upper;
+    // The antihelix's upper crus, forking forward from its ridge; the tragus, a flap over the
+    // bowl's front; the ear's canal, a pit in the bowl behind it.
+    h += 0.0018 * std::exp(-sq(head::segmentDistance(p.u, p.v, 0.003, 0.008, -0.007, 0.019) / 0.0014));
+    h += 0.0035 * std::exp(-sq((p.u + 0.0085) / 0.0025) - sq((p.v + 0.003) / 0.004));
+    const double canal = 0.003 * std::exp(-sq((p.u + 0.0045) / 0.0025) - sq((p.v + 0.003) / 0.0025));
     const double stand = 0.5 * (p.u + 0.0115) - 0.0012;
-    p.front = stand + h - bowl;
+    p.front = stand + h - bowl - canal;
     p.back = stand - 0.7 * bowl - (0.002 + 0.002 * (1.0 - r * r)) + 0.3 * std::min(h, 0.0015);
     return p;
   };
-  auto place = [&](const At& p, double off) { return Vec3(scale * (origin + p.u * back + p.v * up + off * out)); };
+  auto place = [&](const At& p, double off) { return Vec3(scale * (origin + lean(p.u, p.v) + off * out)); };
   auto color = [&](const Vec3& c) {
     for (int k = 0; k < 3; ++k) m.colors.push_back(static_cast<float>(c[k]));
   };
@@ -82,7 +90,7 @@ void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
       m.addVertex(place(p, p.front), out);
       // Darker down in the bowl and the folds, redder toward the rim.
       const double shade = std::clamp(1.0 + 40.0 * std::min(p.front - (0.5 * (p.u + 0.0115) - 0.0012), 0.0), 0.55, 1.0);
-      color(shade * (skin + smoothstep(0.6, 1.0, r) * (rim_tone - skin) + 0.15 * (Vec3(0.62, 0.3, 0.26) - skin)));
+      color(shade * (skin + smoothstep(0.6, 1.0, r) * (rim_tone - skin) + 0.08 * (Vec3(0.62, 0.3, 0.26) - skin)));
     }
   // Round the rim: a half turn from the front's edge to the back's, out past the outline.
   for (int q = 1; q < kRoll; ++q)
@@ -90,7 +98,7 @@ void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
       const double a = 2 * kPi * i / kSegments, phi = kPi * q / kRoll;
       const At p = at(1.0, a);
       const double mid = 0.5 * (p.front + p.back), half = 0.5 * (p.front - p.back);
-      const Vec3 radial = Vec3(p.u * back + (p.v - 0.002) * up).normalized();
+      const Vec3 radial = lean(p.u, p.v - 0.002).normalized();
       m.addVertex(place(p, mid + half * std::cos(phi)) + scale * half * std::sin(phi) * radial, out);
       color(rim_tone);
     }

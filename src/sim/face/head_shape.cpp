@@ -118,12 +118,6 @@ constexpr double kNostril[4] = {0.0062, -0.0448, 0.0031, 0.0015};
 // x > 0): its ends (x, y).
 constexpr double kFoldTop[2] = {0.0195, -0.041}, kFoldEnd[2] = {0.031, -0.073};
 
-// The distance from (x, y) to the segment a–b in the plane.
-double segmentDistance(double x, double y, double ax, double ay, double bx, double by) {
-  const double vx = bx - ax, vy = by - ay;
-  const double t = std::clamp(((x - ax) * vx + (y - ay) * vy) / (vx * vx + vy * vy), 0.0, 1.0);
-  return std::hypot(x - ax - t * vx, y - ay - t * vy);
-}
 
 // The vermilion's cover at (x, y) (0..1, with a sharp border), on the face's front.
 double vermilion(double x, double y, double ym) {

@@ -31,6 +31,13 @@ inline double atIndex(const std::vector<double>& a, double f) {
   return a[i] + (c - static_cast<double>(i)) * (a[i + 1] - a[i]);
 }
 
+// The distance from (x, y) to the segment a–b in the plane.
+inline double segmentDistance(double x, double y, double ax, double ay, double bx, double by) {
+  const double vx = bx - ax, vy = by - ay;
+  const double t = std::clamp(((x - ax) * vx + (y - ay) * vy) / (vx * vx + vy * vy), 0.0, 1.0);
+  return std::hypot(x - ax - t * vx, y - ay - t * vy);
+}
+
 // Landmarks at height 0.24 m.
 inline constexpr double kEyeX = 0.032, kEyeY = 0.0, kEyeRadius = 0.013;
 // The lids' shell about each eye (its radius over the eye's): the lids are drawn on it. Their
