@@ -218,7 +218,7 @@ TEST_CASE("face: an open mouth's rims run on curves through the simulated vertic
     const TriMesh& t = *m.mesh;
     auto at = [&](std::size_t v) { return Vec3(t.positions[3 * v], t.positions[3 * v + 1], t.positions[3 * v + 2]); };
     for (std::size_t v = 0; v + 3 < t.vertexCount(); ++v)
-      if (std::abs(t.colors[3 * v] - 0.42f) < 1e-6f && std::abs(t.colors[3 * v + 1] - 0.13f) < 1e-6f) {
+      if (std::abs(t.colors[3 * v] - float(FaceBody::kLipRim.x())) < 1e-6f && std::abs(t.colors[3 * v + 1] - float(FaceBody::kLipRim.y())) < 1e-6f) {
         pieces.push_back({at(v), at(v + 1)});
         v += 3;
       }

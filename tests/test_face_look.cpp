@@ -121,14 +121,19 @@ TEST_CASE("face: the eyes stay behind the skin and the lids, looking anywhere, w
     CHECK(outside == 0);
     // The lips part with their thickness: wet red strips along the parting's edges (among the
     // points checked above), three quads an edge (on curves: addLipRims), on both lips, each
-    // facing the opening's middle.
+    // facing the opening's middle at its inner end (its outer end rolls out with the skin). A
+    // quad's vertices: its outer two in the rims' colour, then its inner two.
     std::vector<Vec3> rim, rim_normal;
     for (const DrawMesh& m : list.meshes)
       if ((m.material.color - FaceBody::kMouthInside).isZero(1e-9))
-        for (std::size_t v = 0; v < m.mesh->vertexCount(); ++v)
-          if (std::abs(m.mesh->colors[3 * v] - 0.42f) < 1e-6f && std::abs(m.mesh->colors[3 * v + 1] - 0.13f) < 1e-6f) {
-            rim.emplace_back(m.mesh->positions[3 * v], m.mesh->positions[3 * v + 1], m.mesh->positions[3 * v + 2]);
-            rim_normal.emplace_back(m.mesh->normals[3 * v], m.mesh->normals[3 * v + 1], m.mesh->normals[3 * v + 2]);
+        for (std::size_t v = 0; v + 3 < m.mesh->vertexCount(); ++v)
+          if (std::abs(m.mesh->colors[3 * v] - float(FaceBody::kLipRim.x())) < 1e-6f &&
+              std::abs(m.mesh->colors[3 * v + 1] - float(FaceBody::kLipRim.y())) < 1e-6f) {
+            for (std::size_t c = v; c < v + 4; ++c) {
+              rim.emplace_back(m.mesh->positions[3 * c], m.mesh->positions[3 * c + 1], m.mesh->positions[3 * c + 2]);
+              rim_normal.emplace_back(m.mesh->normals[3 * c + 0], m.mesh->normals[3 * c + 1], m.mesh->normals[3 * c + 2]);
+            }
+            v += 3;
           }
     REQUIRE(rim.size() % 4 == 0);
     Vec3 middle = Vec3::Zero();
@@ -138,7 +143,7 @@ TEST_CASE("face: the eyes stay behind the skin and the lids, looking anywhere, w
     for (std::size_t q = 0; q < rim.size(); q += 4) {
       const Vec3 mid = 0.25 * (rim[q] + rim[q + 1] + rim[q + 2] + rim[q + 3]);
       ++((f.rotation().transpose() * (mid - middle)).y() > 0 ? upper : lower);
-      if (rim_normal[q].dot(middle - mid) <= 0) ++away;
+      if (rim_normal[q + 2].dot(middle - mid) <= 0) ++away;
     }
     MESSAGE("the lips' rims: " << upper << " pieces above the opening's middle, " << lower << " below, " << away << " facing away");
     CHECK(upper >= 24);  // 8 edges or more across the mouth's 50 mm at about 4 mm a node, three pieces each

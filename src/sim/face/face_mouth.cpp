@@ -9,7 +9,8 @@
 namespace reel {
 
 // Along each open edge of the parted skin (an edge of one triangle only), a wet red strip from
-// just under the skin drawn in to the mouth's lining, facing the opening (without it the
+// just under the skin drawn in to the mouth's lining, turning from the skin's outward direction
+// to face the opening and darkening inward (without it the
 // opening's edge was a line, the lips rubber sheets and the mouth a flat black hole). Each edge
 // in three, on Catmull–Rom curves through its vertices and their neighbours along the opening:
 // straight from vertex to vertex, 4-7 mm apart, the rims were a polygon's facets round a
@@ -18,7 +19,7 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
   const std::size_t n = surface_.size();
   if (!surface_.generated || inside.vertexCount() < n) return;
   const auto open = openEdgeNeighbours(surface_.tris, relaxed.size());
-  const Vec3 rim(0.42, 0.13, 0.12);
+  const Vec3 rim = kLipRim;
   const double near = 0.015 * surface_.scale;
   auto lining = [&](std::uint32_t v) {
     return Vec3(inside.positions[3 * v], inside.positions[3 * v + 1], inside.positions[3 * v + 2]);
@@ -65,10 +66,16 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
       Vec3 facing = unitOr((ob - oa).cross(side), Vec3::UnitY());
       if (facing.dot(centre - 0.5 * (oa + ob)) < 0) facing = -facing;
       const bool flip = (ob - oa).cross(ib - oa).dot(facing) < 0;
+      // Rounded and wet: at its outer end it faces out with the skin and turns to face the
+      // opening going in, and darkens toward the mouth's dark inside (flat and of one colour, the
+      // strip read as a pink rubber seal round the opening).
+      const Vec3 rolled = unitOr(facing + 1.5 * side.normalized(), facing);
       const auto base = static_cast<std::uint32_t>(inside.vertexCount());
-      for (const Vec3& p : {oa, ob, ib, ia}) {
-        inside.addVertex(p, facing);
-        for (int k = 0; k < 3; ++k) inside.colors.push_back(static_cast<float>(rim[k]));
+      for (int c = 0; c < 4; ++c) {
+        const bool outer = c < 2;
+        inside.addVertex(c == 0 ? oa : c == 1 ? ob : c == 2 ? ib : ia, outer ? rolled : facing);
+        const Vec3 col = outer ? rim : Vec3(0.3 * rim);
+        for (int k = 0; k < 3; ++k) inside.colors.push_back(static_cast<float>(col[k]));
       }
       if (!flip) inside.indices.insert(inside.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
       else inside.indices.insert(inside.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
