@@ -72,9 +72,11 @@ def activations():
 # still: the smile tilts, surprise pulls back, sadness drops the head and the eyes, anger lowers
 # the chin and stares, disgust turns away, fear pulls back and looks aside.
 # (The eyes' targets within about 25 degrees of where the head points: turned further, with the
-# head one way and the eyes the other, the irises sat in the lids' corners, cross-eyed.)
+# head one way and the eyes the other, the irises sat in the lids' corners, cross-eyed; fear's
+# within 10 degrees, since with the wider eyes an iris 25 degrees over in its corner, white all
+# round the other, read as crossed.)
 CARRIAGE = {"happiness": ([-3, 16, 6], None), "surprise": ([-7, 10, 0], None), "sadness": ([9, 16, -3], [0.05, -0.3, 0.4]),
-            "anger": ([5, 8, 0], None), "disgust": ([-3, 27, -5], [0.3, -0.05, 0.36]), "fear": ([-5, 22, 3], [0.0, 0.1, 0.45])}
+            "anger": ([5, 8, 0], None), "disgust": ([-3, 27, -5], [0.3, -0.05, 0.36]), "fear": ([-5, 22, 3], [0.12, 0.08, 0.45])}
 
 
 # How the head drifts while each expression holds (degrees, as CARRIAGE): a head that stops dead

@@ -71,8 +71,8 @@ std::shared_ptr<TriMesh> muscleBody(std::span<const Vec3> path, std::span<const 
 
 // A linear muscle's half-widths at its attachment and at its insertion (m at 0.24 m; after the
 // plates of Gray's Anatomy: the frontalis a broad sheet, the depressor anguli oris a triangle on
-// the jaw, the risorius a fan from the cheek's side, the zygomatics straps); a user's muscle 4.5
-// mm all along.
+// the jaw, the risorius a fan from the cheek's side, the zygomatics straps, each of the mentalis'
+// pair a strap on the chin); a user's muscle 4.5 mm all along.
 std::array<double, 2> bellyWidths(const std::string& name) {
   struct Width {
     const char* name;
@@ -81,7 +81,7 @@ std::array<double, 2> bellyWidths(const std::string& name) {
   static constexpr Width kWidths[] = {{"frontalis", 0.015, 0.016},       {"corrugator", 0.003, 0.0045},
                                       {"zygomatic_major", 0.0045, 0.004}, {"zygomatic_minor", 0.003, 0.003},
                                       {"levator_labii", 0.004, 0.006},    {"depressor_anguli_oris", 0.010, 0.003},
-                                      {"risorius", 0.007, 0.003},         {"mentalis", 0.005, 0.006}};
+                                      {"risorius", 0.007, 0.003},         {"mentalis", 0.003, 0.0045}};
   for (const Width& w : kWidths)
     if (name.rfind(w.name, 0) == 0) return {w.attach, w.insert};
   return {0.0045, 0.0045};
@@ -229,20 +229,30 @@ void FaceBody::drawLayers(DrawList& out) const {
       // orbits; laid on the nearest vertices' planes unsmoothed, it kinked from plane to plane),
       // drawn flat, as wide as its kind is (bellyWidths), rounded at its ends (spindles of one
       // width read as sausages).
-      std::array<Vec3, 13> path, up;
-      for (std::size_t i = 0; i < path.size(); ++i) path[i] = onSkull(att + (static_cast<double>(i) / 12.0) * (mid - att), &up[i]);
-      for (int pass = 0; pass < 3; ++pass) {
-        const std::array<Vec3, 13> was = path;
-        for (std::size_t i = 1; i + 1 < path.size(); ++i) path[i] = 0.5 * was[i] + 0.25 * (was[i - 1] + was[i + 1]);
-      }
       const auto [w0, w1] = bellyWidths(mu.desc.name);
-      std::array<double, 13> wide, thick;
-      for (std::size_t i = 0; i < path.size(); ++i) {
-        const double t = static_cast<double>(i) / 12.0, round = std::pow(std::sin(kPi * (0.04 + 0.92 * t)), 0.35);
-        wide[i] = s * (w0 + (w1 - w0) * t) * round;
-        thick[i] = s * 0.0014 * (0.4 + 0.6 * std::pow(std::sin(kPi * t), 0.7));
+      auto belly = [&](const Vec3& from, const Vec3& to) {
+        std::array<Vec3, 13> path, up;
+        for (std::size_t i = 0; i < path.size(); ++i) path[i] = onSkull(from + (static_cast<double>(i) / 12.0) * (to - from), &up[i]);
+        for (int pass = 0; pass < 3; ++pass) {
+          const std::array<Vec3, 13> was = path;
+          for (std::size_t i = 1; i + 1 < path.size(); ++i) path[i] = 0.5 * was[i] + 0.25 * (was[i - 1] + was[i + 1]);
+        }
+        std::array<double, 13> wide, thick;
+        for (std::size_t i = 0; i < path.size(); ++i) {
+          const double t = static_cast<double>(i) / 12.0, round = std::pow(std::sin(kPi * (0.04 + 0.92 * t)), 0.35);
+          wide[i] = s * (w0 + (w1 - w0) * t) * round;
+          thick[i] = s * 0.0014 * (0.4 + 0.6 * std::pow(std::sin(kPi * t), 0.7));
+        }
+        out.meshes.push_back({muscleBody(path, up, wide, thick, false), true, red});
+      };
+      // A muscle on the midline (the mentalis) is a pair, drawn either side of it, parting as it
+      // goes (drawn as one lobe under the lips' band, the mentalis read as a tongue hanging out).
+      if (std::abs(mu.desc.attachment.x()) < 1e-3 * s && std::abs(mu.desc.insertion.x()) < 1e-3 * s) {
+        const Vec3 across = R_ * Vec3::UnitX();
+        for (double side : {-1.0, 1.0}) belly(att + side * 0.004 * s * across, mid + side * 0.008 * s * across);
+      } else {
+        belly(att, mid);
       }
-      out.meshes.push_back({muscleBody(path, up, wide, thick, false), true, red});
     } else {
       Vec3 u, v;
       sphincterAxes(mu.desc.normal.normalized(), u, v);

@@ -56,9 +56,9 @@ std::shared_ptr<const TriMesh> makeHair(const FaceSurface& s) {
       flow = unitOr(flow, side.cross(n));
       flow = (flow + 0.35 * (rnd(3) - 0.5) * side).normalized();
       // 7 to 13 mm long, shorter at the hairline; rising from under the cap's surface at an
-      // angle that flattens along the strand, its tip 0.5-4 mm off the cap (on the outline, a
-      // soft fringe).
-      const double length = (0.007 + 0.006 * rnd(4)) * (0.35 + 0.65 * cover), lift = 0.35 + 0.3 * rnd(5);
+      // angle that flattens along the strand, its tip 0-2 mm off the cap (on the outline, a
+      // soft fringe: with tips up to 4 mm off, viewers saw fuzz standing out all round).
+      const double length = (0.007 + 0.006 * rnd(4)) * (0.35 + 0.65 * cover), lift = 0.18 + 0.15 * rnd(5);
       const double width = 0.0005;
       const Vec3 start = root - 0.0015 * cover * n;  // (under the cap, never under the scalp)
       const Vec3 hair = head::skinColor(root, dir, s.parting_y, s.look) * (0.75 + 0.5 * rnd(6));

@@ -272,6 +272,9 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   // The glabella, over the nose's root: the profile dips from it into the nasion at the eyes'
   // level (a nose running straight up into the brow read as a statue's).
   f.bone += (0.0025 + 0.003 * male) * gauss(X, Y, 0, 0.022, 0.012, 0.007);
+  // The nasion itself sunk between the glabella and the bridge (with the glabella alone the
+  // profile still ran nearly straight from the forehead down the nose: a viewer's "plank").
+  f.bone -= 0.0016 * gauss(X, Y, 0, 0.007, 0.01, 0.0045);
   f.bone += (0.0065 + 0.002 * male) * gauss(X, Y, 0, -0.103, 0.013, 0.0075);  // chin
   f.bone += 0.004 * gauss(X, Y, 0, ym, 0.028, 0.014);                        // the teeth's arch under the lips
   // Nose: the ridge from the root to the tip and under it, the tip's lobule.
