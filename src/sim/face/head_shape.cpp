@@ -399,11 +399,14 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   Vec3 c(0.57, 0.36, 0.28);
   // Mottling and pores.
   const double mottle = noise(p * 320.0);
-  c *= 1.0 + skinDetail(Y) * (0.08 * (mottle - 0.5) - 0.07 * smoothstep(0.68, 0.9, poreAt(p)));
+  c *= 1.0 + skinDetail(Y) * (0.12 * (mottle - 0.5) - 0.07 * smoothstep(0.68, 0.9, poreAt(p)));
   // Blood under thin skin: cheeks, the nose's tip, the chin; shadow under the eyes.
   const double flush = 0.55 * gauss(ax, Y, 0.045, -0.028, 0.016, 0.013) + 0.45 * gauss(X, Y, 0, -0.036, 0.01, 0.008) +
                        0.2 * gauss(X, Y, 0, -0.1, 0.015, 0.01);
-  c = c + 0.35 * flush * (Vec3(0.6, 0.27, 0.24) - c);
+  // And uneven over the face in patches a few centimetres across (the capillaries' density
+  // varies): with only the flush's zones the skin read as one waxy peach.
+  const double patches = skinDetail(Y) * (noise(p * 45.0 + Vec3(3.7, 1.1, 5.3)) - 0.5);
+  c = c + (0.45 * flush + 0.35 * patches) * (Vec3(0.6, 0.27, 0.24) - c);
   // The forehead a shade more yellow, the temples and the sides of the face a shade paler: the
   // face's colour zones (a face in one tone read as wax).
   c = c.cwiseProduct(Vec3::Ones() + 0.06 * smoothstep(0.02, 0.05, Y) * Vec3(0.3, 0.2, -0.6));
