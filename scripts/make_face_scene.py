@@ -76,7 +76,7 @@ def activations():
 # within 10 degrees, since with the wider eyes an iris 25 degrees over in its corner, white all
 # round the other, read as crossed.)
 CARRIAGE = {"happiness": ([-3, 16, 6], None), "surprise": ([-7, 10, 0], None), "sadness": ([9, 16, -3], [0.05, -0.3, 0.4]),
-            "anger": ([5, 8, 0], None), "disgust": ([-3, 27, -5], [0.3, -0.05, 0.36]), "fear": ([-5, 22, 3], [0.12, 0.08, 0.45])}
+            "anger": ([5, 8, 0], None), "disgust": ([-3, 27, -5], [0.3, -0.05, 0.36]), "fear": ([-5, 22, 3], [0.14, 0.08, 0.45])}
 
 
 # How the head drifts while each expression holds (degrees, as CARRIAGE): a head that stops dead
@@ -119,7 +119,7 @@ def gaze_keys(camera, last):
 
 def main():
     # (Far enough back that the crown stays in frame: cut off, the head read as cropped; with the
-    # hair's fullness, 17 mm over the crown, a little farther and aimed higher.)
+    # hair's fullness, 17.5 mm over the crown, a little farther and aimed higher.)
     close = ([0.19, 0.02, 0.56], [0.0, -0.009, 0.0])
     close_end = ([0.16, 0.015, 0.53], [0.0, -0.009, 0.0])
     layers = ([-0.27, 0.04, 0.52], [0.0, -0.02, 0.0])

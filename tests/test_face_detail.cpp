@@ -290,9 +290,39 @@ TEST_CASE("face: the lids follow the gaze up and down, the upper over the iris's
                   << up[1] << "; lower " << ahead[2] << ", " << down[2] << ", " << up[2]);
   REQUIRE(down[0] < -0.4);
   REQUIRE(up[0] > 0.4);
-  // The upper margin keeps to the iris's top (18° above the gaze when ahead): within 12° of it
+  // The upper margin keeps to the iris's top (20° above the gaze when ahead): within 12° of it
   // looking down or up (a lid that stays leaves white above the iris, or covers the pupil).
   for (const auto& st : {down, up}) CHECK(std::abs((st[1] - st[0]) - (ahead[1] - ahead[0])) < 0.21);
   CHECK(down[2] < ahead[2]);
   CHECK(up[2] > ahead[2]);
+}
+
+TEST_CASE("face: reel's head has hair strands rooted on the cap and nowhere else, lying along it") {
+  World w = worldFromText(faceSceneText("", 1.0, "[64, 40]", "1e-3"));
+  const FaceSurface& s = face(w).surface();
+  REQUIRE(s.hair);
+  const TriMesh& hair = *s.hair;
+  const std::size_t strands = hair.vertexCount() / 8;  // four pairs of points along each
+  MESSAGE(strands << " strands");
+  CHECK(strands > 3000);
+  int bare = 0, standing = 0;
+  double highest = 0;
+  for (std::size_t v = 0; v < hair.vertexCount(); ++v) {
+    const Vec3 p = Vec3(hair.positions[3 * v], hair.positions[3 * v + 1], hair.positions[3 * v + 2]) / s.scale;
+    const Vec3 d = p.normalized();
+    // Each strand's root pair (its first two points) where the hair covers the skin.
+    if (v % 8 < 2 && head::hairCover(p, d, 0.004) < 0.01) ++bare;
+    // How far off the cap (the skin with the hair's thickness, along the same ray from the
+    // head's centre): the strands lie along it, their tips 0-2 mm off its surface, up to 8 mm as
+    // this measures on the coarse test mesh's sides (a straight strand leaves a curved cap; the
+    // ray is not the cap's normal there); one standing up would reach 11-15 mm, and the fuzz of
+    // tips lifted up to 4 mm off its surface passed 9.
+    const Vec3 base = head::baseRadius(d, s.look) * d;
+    const double off = p.norm() - head::skinPoint(base, d, s.parting_y, s.look).norm();
+    highest = std::max(highest, off);
+    if (off > 0.009) ++standing;
+  }
+  MESSAGE(bare << " roots on bare skin, " << standing << " points over 9 mm off the cap (the highest " << highest * 1e3 << " mm)");
+  CHECK(bare == 0);
+  CHECK(standing == 0);
 }

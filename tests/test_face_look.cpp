@@ -230,33 +230,6 @@ TEST_CASE("face: the ears are closed shells with a back: a line through one cros
   CHECK(lines >= 6);
 }
 
-TEST_CASE("face: reel's head has hair strands on the cap and nowhere else, lying along it") {
-  World w = worldFromText(scene(""));
-  const FaceSurface& s = face(w).surface();
-  REQUIRE(s.hair);
-  const TriMesh& hair = *s.hair;
-  const std::size_t strands = hair.vertexCount() / 8;  // four pairs of points along each
-  MESSAGE(strands << " strands");
-  CHECK(strands > 3000);
-  int on_face = 0, floating = 0;
-  double farthest = 0;
-  for (std::size_t v = 0; v < hair.vertexCount(); ++v) {
-    const Vec3 p(hair.positions[3 * v], hair.positions[3 * v + 1], hair.positions[3 * v + 2]);
-    // The face below the hairline, between the temples' hair.
-    if (p.z() > 0.04 && p.y() < 0.055 && std::abs(p.x()) < 0.045) ++on_face;
-    // How far off the scalp (the head's shape without its features and the hair's rise of
-    // 3.5-17.5 mm), along the ray from the head's centre.
-    const double off = p.norm() - s.scale * head::baseRadius(p.normalized(), s.look);
-    farthest = std::max(farthest, off);
-    if (off > 0.027) ++floating;
-  }
-  // (Strands are 7-13 mm long: one standing up off the cap would reach some 30 mm off the scalp.)
-  MESSAGE(on_face << " points on the face, " << floating << " over 27 mm off the scalp (the farthest "
-                  << farthest * 1e3 << " mm)");
-  CHECK(on_face == 0);
-  CHECK(floating == 0);
-}
-
 TEST_CASE("face: the profile keeps its measured order: nose ahead of the lips, the lips just ahead of the chin") {
   World w = worldFromText(scene(""));
   const FaceSurface& s = face(w).surface();

@@ -66,7 +66,7 @@ class FaceBody final : public SpringNetworkBody {
   // The albedo the mouth's inside is drawn with (its vertex colours shade it, red at the lips'
   // inner faces, near black past them); tests find its mesh by it.
   static inline const Vec3 kMouthInside{1.0, 0.999, 0.998};
-  // The lips' rims' colour at their outer ends (addLipRims; a third of it at their inner ends):
+  // The lips' rims' colour at their outer ends (addLipRims; 0.3 of it at their inner ends):
   // tests find the rims by it.
   static inline const Vec3 kLipRim{0.36, 0.1, 0.09};
   // The head-frame point q moved by the jaw now, taking `share` (0..1) of its motion.

@@ -494,7 +494,7 @@ FaceBody::Eye FaceBody::eye(int e) const {
   out.ahead = look;
   out.right = unitOr(up.cross(look), R_ * Vec3::UnitX());
   out.up = look.cross(out.right);
-  // The lids: open, the upper margin's top 18° above the centre, just over the iris's top (29°
+  // The lids: open, the upper margin's top 20° above the centre, just over the iris's top (30°
   // with eyelid_raise: white shows above it), the lower's bottom 24° below (higher as the
   // orbicularis oculi squeezes); both follow the gaze up and down, the upper 0.7 and the lower
   // 0.4 of its elevation (the levator and the lower lid's retractors move with the eye: with

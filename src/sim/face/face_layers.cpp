@@ -1,6 +1,6 @@
 // The face's layers mode: the classic figure of Terzopoulos & Waters (1990) and Lee, Terzopoulos
 // & Waters (1995), the lattice's layers, the skull sculpted from the bone layer with its teeth,
-// and the muscles coloured from muscle red (relaxed) to a glowing orange (fully contracted).
+// and the muscles coloured from muscle red (relaxed) to a brighter red (fully contracted).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -170,7 +170,7 @@ void FaceBody::drawLayers(DrawList& out) const {
   // hairline (over the scalp the hair's thickness stood the lattice off the skull as a bulge).
   auto shown = [&](std::size_t k) {
     const Vec3& p = surface_.skin[k];
-    return p.z() > -0.01 * s && p.x() > 0.012 * s && p.y() < 0.062 * s;
+    return p.z() > -0.01 * s && p.x() > 0.012 * s && head::hairCover(p / s, p.normalized(), 0.004) < 0.05;
   };
   DrawTubes skin, fascia, across;
   skin.radius = static_cast<float>(0.0004 * s);
@@ -248,8 +248,8 @@ void FaceBody::drawLayers(DrawList& out) const {
       // A muscle on the midline (the mentalis) is a pair, drawn either side of it, parting as it
       // goes (drawn as one lobe under the lips' band, the mentalis read as a tongue hanging out).
       if (std::abs(mu.desc.attachment.x()) < 1e-3 * s && std::abs(mu.desc.insertion.x()) < 1e-3 * s) {
-        const Vec3 across = R_ * Vec3::UnitX();
-        for (double side : {-1.0, 1.0}) belly(att + side * 0.004 * s * across, mid + side * 0.008 * s * across);
+        const Vec3 leftward = R_ * Vec3::UnitX();
+        for (double side : {-1.0, 1.0}) belly(att + side * 0.004 * s * leftward, mid + side * 0.008 * s * leftward);
       } else {
         belly(att, mid);
       }

@@ -75,7 +75,8 @@ void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
     const double canal = 0.003 * std::exp(-sq((p.u + 0.0045) / 0.0025) - sq((p.v + 0.003) / 0.0025));
     const double stand = 0.5 * (p.u + 0.0115) - 0.0012;
     p.front = stand + h - bowl - canal;
-    p.back = stand - 0.7 * bowl - (0.002 + 0.002 * (1.0 - r * r)) + 0.3 * std::min(h, 0.0015);
+    // (The back goes in with the canal: the shell there, 2.5 mm thick, would pass through itself.)
+    p.back = stand - 0.7 * bowl - canal - (0.002 + 0.002 * (1.0 - r * r)) + 0.3 * std::min(h, 0.0015);
     return p;
   };
   auto place = [&](const At& p, double off) { return Vec3(scale * (origin + lean(p.u, p.v) + off * out)); };

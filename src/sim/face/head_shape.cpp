@@ -315,23 +315,26 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
       const double most = -along + std::sqrt(disc);  // the displacement that reaches the shell
       const Vec3 h = p + most * e - c;
       // The almond as drawn at rest (FaceBody::Eye), on the lids' shell: its corners 12.9 mm to
-      // either side, the outer 0.9 mm above the middle's line, the inner as far below; the band
-      // above reaching the lid's crease (9.5 mm above that line), the one below 2.5 mm past the
-      // margin, both narrowing to 1.2 mm at the corners.
-      const double shell = kLidShell * kEyeRadius;
+      // either side, the outer 1 mm above the middle's line, the inner as far below; the band
+      // above reaching the lid's crease (43° above the eye's centre: 10.5 mm above that line), the
+      // one below 2.7 mm past the margin, both narrowing to 1.3 mm at the corners (the sizes of a
+      // 12 mm eye's, scaled to the eye).
+      const double shell = kLidShell * kEyeRadius, eye = kEyeRadius / 0.012;
       const double t = (k == 0 ? h.x() : -h.x()) / (shell * std::sin(kEyeCorner)), v = h.y();
       if (std::abs(t) >= 1.0) continue;
       const double lobe = std::pow(std::cos(0.5 * kPi * t), 0.65), mid = shell * std::sin(kEyeCorners + 0.5 * kCanthalTilt * t);
-      const double top = mid + 0.0012 + 0.0083 * lobe, bottom = mid - 0.0012 - 0.0066 * lobe;
+      const double crease = shell * (std::sin(43.0 * kPi / 180.0) - std::sin(kEyeCorners));  // above the middle's line
+      const double top = mid + eye * 0.0012 + (crease - eye * 0.0012) * lobe;
+      const double bottom = mid - eye * (0.0012 + 0.0066 * lobe);
       const double w = smoothstep(top, top - 0.003, v) * smoothstep(bottom, bottom + 0.0025, v) * smoothstep(1.0, 0.85, std::abs(t));
       const double over = f.bone + f.soft - most;
       if (over > 0) f.bone -= over * w;
     }
   }
   // Hair stands off the scalp, thin at its edges and fuller behind them and over the top (short
-  // hair, 3.5 mm at the hairline, about 10 mm 3 cm behind it and 17 mm over the crown: at 4 mm all
-  // over it read as a painted helmet, at 9 over the crown as a helmet still, and with the
-  // fullness from the height alone the forehead ran up to a bare dome).
+  // hair, 3.5 mm at the hairline, rising over 3 cm behind it to 9.5 mm at the sides and 17.5 mm
+  // over the top: at 4 mm all over it read as a painted helmet, at 9 over the crown as a helmet
+  // still, and with the fullness from the height alone the forehead ran up to a bare dome).
   const double above = Y - kHairline(std::abs(std::atan2(d.x(), d.z())));
   f.soft += (0.0035 + smoothstep(0.0, 0.03, above) * (0.006 + 0.008 * smoothstep(0.02, 0.09, Y))) * hairCover(p, d, 0.012);
   return f;
