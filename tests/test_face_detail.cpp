@@ -326,3 +326,51 @@ TEST_CASE("face: reel's head has hair strands rooted on the cap and nowhere else
   CHECK(bare == 0);
   CHECK(standing == 0);
 }
+
+TEST_CASE("face: the brows' hairs root on the skin drawn, lie along it, and rise with it as the frontalis lifts the brows") {
+  World w = worldFromText(test::faceSceneText(R"(, "activations": [{"time": 0, "preset": "surprise", "amount": 0}, {"time": 0.2, "preset": "surprise", "amount": 0}, {"time": 0.5, "preset": "surprise"}])",
+                                              0.7, "[48, 32]", "1e-3"));
+  const FaceBody& f = *w.first<FaceBody>();
+  // The brows' hairs: the strands' mesh past the hair's own (four pairs a strand), three pairs
+  // each: their roots' head-frame points, and how far each root lies from the skin drawn.
+  struct Seen {
+    std::size_t hairs = 0;
+    double mean_y = 0, farthest = 0, steepest = 0;  // m; the largest share of a hair's length off the skin's plane
+  };
+  auto look = [&] {
+    DrawList list;
+    f.draw(list);
+    const std::size_t own = f.surface().hair->vertexCount();
+    const auto skin = f.skinMesh();
+    Seen s;
+    for (const DrawMesh& m : list.meshes) {
+      if (m.mesh->vertexCount() <= own || !m.material.double_sided || m.mesh->vertexCount() - own < 6) continue;
+      const TriMesh& t = *m.mesh;
+      auto at = [&](const std::vector<float>& a, std::size_t v) { return Vec3(a[3 * v], a[3 * v + 1], a[3 * v + 2]); };
+      for (std::size_t v = own; v + 5 < t.vertexCount(); v += 6, ++s.hairs) {
+        const Vec3 root = 0.5 * (at(t.positions, v) + at(t.positions, v + 1)), tip = 0.5 * (at(t.positions, v + 4) + at(t.positions, v + 5));
+        double near = 1e9;
+        std::size_t k = 0;
+        for (std::size_t q = 0; q < skin->vertexCount(); ++q)
+          if ((at(skin->positions, q) - root).norm() < near) near = (at(skin->positions, q) - root).norm(), k = q;
+        const Vec3 n = at(skin->normals, k).normalized();
+        s.farthest = std::max(s.farthest, near);
+        s.steepest = std::max(s.steepest, std::abs((tip - root).normalized().dot(n)));
+        s.mean_y += (f.rotation().transpose() * root).y();
+      }
+    }
+    s.mean_y /= std::max<double>(1.0, static_cast<double>(s.hairs));
+    return s;
+  };
+  run(w, 3);
+  const Seen rest = look();
+  run(w, 15);  // 0.6 s: surprise held
+  const Seen raised = look();
+  MESSAGE(rest.hairs << " hairs; roots within " << rest.farthest * 1e3 << " mm of a point of the skin drawn, tips off its plane by at most "
+                     << rest.steepest << " of their length; the brows' mean height " << rest.mean_y * 1e3 << " -> " << raised.mean_y * 1e3 << " mm");
+  CHECK(rest.hairs > 200);  // (321 on this coarse head)
+  CHECK(raised.hairs == rest.hairs);
+  CHECK(rest.farthest < 0.0015);  // (each root within 0.7 mm of its point, on points 1.4 mm apart)
+  CHECK(rest.steepest < 0.45);    // lying along the skin, not standing off it
+  CHECK(raised.mean_y > rest.mean_y + 0.002);
+}

@@ -126,6 +126,17 @@ class FaceBody final : public SpringNetworkBody {
   void drawBust(DrawList& out) const;
   // The lips' thickness where they part, added to the mouth's lining `inside` (drawSkin).
   void addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) const;
+  // The brows' hairs, each on a point of the skin drawn (`skin`, drawSkin's), added to the hair's
+  // strands (face_brows.cpp); where they root and how they lie, made once.
+  struct BrowHair {
+    std::uint32_t vertex = 0;         // the point of the skin drawn it roots at
+    Vec3 offset{0, 0, 0};             // from that point, m in the head's frame (in the skin's plane)
+    Vec3 direction{0, 1, 0};          // how it lies, in the head's frame at rest (unit)
+    double length = 0.0, lift = 0.0;  // m; its tip's rise off the skin, a share of its length
+    float shade = 1.0f;
+  };
+  void addBrowHairs(TriMesh& strands, const TriMesh& skin) const;
+  const std::vector<BrowHair>& browHairs() const;
   // reel's head's finer skin (with its points at rest and their wrinkles' regions), made once.
   const SkinDetail& detail() const;
   void drawLayers(DrawList& out) const;
@@ -155,6 +166,8 @@ class FaceBody final : public SpringNetworkBody {
   mutable SkinDetail detail_;
   mutable std::vector<Vec3> detail_rest_;  // its points at rest, in the head's frame
   mutable std::vector<head::Wrinkles> detail_regions_;  // their wrinkles' regions (head::wrinkleRegions)
+  mutable std::once_flag brows_once_;
+  mutable std::vector<BrowHair> brows_;
   double t_ = 0.0;           // time of the last pose, s
   Mat3 R_ = Mat3::Identity();
   double jaw_ = 0.0;

@@ -269,6 +269,7 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     const Vec3 c = (surface_.generated ? Vec3::Ones() : surface_.color[k]) * crease;
     for (int i = 0; i < 3; ++i) mesh->colors.push_back(static_cast<float>(c[i]));
   }
+  const TriMesh& drawn = *mesh;  // (the brows' hairs root on it; the draw list keeps it)
   skin.mesh = std::move(mesh);
   skin.per_frame = true;
   out.meshes.push_back(std::move(skin));
@@ -288,6 +289,7 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
   if (surface_.hair && surface_.hair->vertexCount() > 0) {
     auto hair = std::make_shared<TriMesh>(*surface_.hair);
     hair->transform(R_, desc_.position);
+    addBrowHairs(*hair, drawn);
     // (Little Fresnel sheen: at 0.3 the strands on the outline, seen edge-on, made a grey rim.)
     DrawMaterial strands = plainMaterial(Vec3(1, 1, 1), 0.06);
     strands.roughness = 0.5;

@@ -128,21 +128,12 @@ double vermilion(double x, double y, double ym) {
 // Brows at (|x|, y) on the face's front: arched bands of hairs, thick inside, thinning to their
 // tails; the hairs' density there (0..1).
 double browHairs(double ax, double y) {
-  const double t = (ax - 0.012) / 0.042;
-  if (t <= -0.1 || t >= 1.1) return 0.0;
-  // The brow's head rounded, its tail tapering to a point; its edges soft (the hairs thin out),
-  // softer above than below. Cut square at both ends, they read as painted bands.
-  const double tc = std::clamp(t, 0.0, 1.0);
-  const double mid = 0.0195 + 0.0065 * t * (1.6 - t) - 0.0008 * tc * tc;
-  const double half = 0.0041 * (1 - 0.8 * std::pow(tc, 1.6)) * std::sqrt(smoothstep(-0.1, 0.14, t));
-  // (At 1.1 and 0.6 mm they read as painted decals: hairs thin out over 2 mm above, 1 below.)
-  const double soft = y > mid ? 0.002 : 0.001;
-  const double band = smoothstep(half + soft, half - 0.5 * soft, std::abs(y - mid)) * smoothstep(-0.1, 0.0, t) * smoothstep(1.08, 0.95, t) *
-                      (0.8 + 0.2 * smoothstep(0.0, 0.2, t));
+  const Brow b = browAt(ax, y);
+  if (b.density <= 0) return 0.0;
   // Hairs: streaks along the brow (upward at its head, sideways along it).
-  const double slant = t < 0.25 ? 0.3 : 1.0;  // hairs upright at the brow's head, lying along it after
+  const double slant = b.along < 0.25 ? 0.3 : 1.0;  // hairs upright at the brow's head, lying along it after
   const double hairs = noise(Vec3((ax - slant * 0.6 * y) * 4000.0, (y + slant * 0.25 * ax) * 1200.0, 3.0));
-  return band * std::clamp(0.62 + 0.45 * hairs, 0.0, 1.0);
+  return b.density * std::clamp(0.62 + 0.45 * hairs, 0.0, 1.0);
 }
 
 // The hair over the skin at p, direction d: its cover (0..1; the edge a band about 7 mm wide where
@@ -169,6 +160,21 @@ double poreAt(const Vec3& p) { return noise(p * 2400.0 + Vec3(7.1, 3.3, 1.7)); }
 double skinDetail(double y) { return smoothstep(-0.14, -0.115, y); }
 
 }  // namespace
+
+Brow browAt(double ax, double y) {
+  const double t = (ax - 0.012) / 0.042;
+  if (t <= -0.1 || t >= 1.1) return {0.0, t};
+  // The brow's head rounded, its tail tapering to a point; its edges soft (the hairs thin out),
+  // softer above than below. Cut square at both ends, they read as painted bands.
+  const double tc = std::clamp(t, 0.0, 1.0);
+  const double mid = 0.0195 + 0.0065 * t * (1.6 - t) - 0.0008 * tc * tc;
+  const double half = 0.0041 * (1 - 0.8 * std::pow(tc, 1.6)) * std::sqrt(smoothstep(-0.1, 0.14, t));
+  // (At 1.1 and 0.6 mm they read as painted decals: hairs thin out over 2 mm above, 1 below.)
+  const double soft = y > mid ? 0.002 : 0.001;
+  const double band = smoothstep(half + soft, half - 0.5 * soft, std::abs(y - mid)) * smoothstep(-0.1, 0.0, t) * smoothstep(1.08, 0.95, t) *
+                      (0.8 + 0.2 * smoothstep(0.0, 0.2, t));
+  return {band, t};
+}
 
 double baseShape(const Vec3& p, const FaceLook& look) {
   const double x = p.x(), y = p.y(), z = p.z();

@@ -82,6 +82,13 @@ inline Vec3 skinPoint(const Vec3& p, const Vec3& d, double ym, const FaceLook& l
   return p + (f.bone + f.soft) * featureDirection(d);
 }
 
+// The brows at (|x|, y) on the face's front (at 0.24 m): how densely their hairs grow there (0..1)
+// and where along the brow that is (0 at its head by the nose, 1 at its tail).
+struct Brow {
+  double density = 0, along = 0;
+};
+Brow browAt(double ax, double y);
+
 // The skin's albedo (linear rgb) at the base point p, direction d: skin with its redness, pores
 // and mottling, the lips' vermilion, brows, hair, nostrils.
 Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look);
