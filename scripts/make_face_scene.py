@@ -146,7 +146,8 @@ def main():
         # it lit a band down the cheek; at 0.5 its sheen on the temple read as a hot streak), and a
         # bounce from below, steep, as a portrait's reflector under the chin gives (without it
         # the nose's underside and the wings' bottoms, lit by the ambient alone, joined into a dark
-        # bar across the nose's base that a smile widened).
+        # bar across the nose's base that a smile widened; with it, the key at 2.3 burnt the
+        # forehead to near white).
         "lights": [{"type": "directional", "direction": [0.42, -0.36, -0.83], "color": [1.0, 0.93, 0.84],
                     "intensity": 2.05, "shadows": True, "angle_deg": 30},
                    {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.95, 0.86, 0.8], "intensity": 0.23},
