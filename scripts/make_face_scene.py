@@ -150,7 +150,7 @@ def main():
         # forehead to near white).
         "lights": [{"type": "directional", "direction": [0.42, -0.36, -0.83], "color": [1.0, 0.93, 0.84],
                     "intensity": 2.05, "shadows": True, "angle_deg": 30},
-                   {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.95, 0.86, 0.8], "intensity": 0.23},
+                   {"type": "directional", "direction": [-0.8, -0.15, -0.5], "color": [0.95, 0.86, 0.8], "intensity": 0.205},
                    {"type": "directional", "direction": [0.0, -0.4, 1.0], "color": [0.9, 0.9, 1.0], "intensity": 0.32},
                    {"type": "directional", "direction": [0.1, 0.85, -0.5], "color": [1.0, 0.88, 0.8], "intensity": 0.25},
                    {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.1}],

@@ -130,7 +130,7 @@ class FaceBody final : public SpringNetworkBody {
   // strands (face_brows.cpp); where they root and how they lie, made once.
   struct BrowHair {
     std::uint32_t vertex = 0;         // the point of the skin drawn it roots at
-    Vec3 offset{0, 0, 0};             // from that point, m in the head's frame (in the skin's plane)
+    Vec3 offset{0, 0, 0};             // from that point, m in the head's x-y plane (laid on the skin's plane when drawn)
     Vec3 direction{0, 1, 0};          // how it lies, in the head's frame at rest (unit)
     double length = 0.0, lift = 0.0;  // m; its tip's rise off the skin, a share of its length
     float shade = 1.0f;

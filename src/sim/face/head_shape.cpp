@@ -131,7 +131,7 @@ double browHairs(double ax, double y) {
   const Brow b = browAt(ax, y);
   if (b.density <= 0) return 0.0;
   // Hairs: streaks along the brow (upward at its head, sideways along it).
-  const double slant = b.along < 0.25 ? 0.3 : 1.0;  // hairs upright at the brow's head, lying along it after
+  const double slant = b.along < kBrowHead ? 0.3 : 1.0;  // hairs upright at the brow's head, lying along it after
   const double hairs = noise(Vec3((ax - slant * 0.6 * y) * 4000.0, (y + slant * 0.25 * ax) * 1200.0, 3.0));
   return b.density * std::clamp(0.62 + 0.45 * hairs, 0.0, 1.0);
 }

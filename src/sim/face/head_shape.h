@@ -88,6 +88,9 @@ struct Brow {
   double density = 0, along = 0;
 };
 Brow browAt(double ax, double y);
+// Up to this far along the brow (`Brow::along`), its head, the hairs stand upright; past it they lie
+// along the brow.
+inline constexpr double kBrowHead = 0.25;
 
 // The skin's albedo (linear rgb) at the base point p, direction d: skin with its redness, pores
 // and mottling, the lips' vermilion, brows, hair, nostrils.
