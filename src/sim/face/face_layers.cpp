@@ -10,6 +10,7 @@
 #include "core/math.h"
 #include "sim/draw_material.h"
 #include "sim/face/face_body.h"
+#include "sim/face/head.h"
 #include "sim/face/head_shape.h"
 
 namespace reel {
@@ -42,15 +43,7 @@ std::shared_ptr<TriMesh> muscleBody(std::span<const Vec3> path, std::span<const 
       m->colors.insert(m->colors.end(), {fibre, fibre, fibre});
     }
   }
-  const std::size_t bands = closed ? rings : rings - 1;
-  for (std::size_t i = 0; i < bands; ++i)
-    for (int j = 0; j < kAround; ++j) {
-      const auto a = static_cast<std::uint32_t>(i * kAround + static_cast<std::size_t>(j)),
-                 b = static_cast<std::uint32_t>(i * kAround + static_cast<std::size_t>((j + 1) % kAround));
-      const auto c = static_cast<std::uint32_t>(((i + 1) % rings) * kAround + static_cast<std::size_t>(j)),
-                 d = static_cast<std::uint32_t>(((i + 1) % rings) * kAround + static_cast<std::size_t>((j + 1) % kAround));
-      m->indices.insert(m->indices.end(), {a, d, b, a, c, d});  // counter-clockwise from outside
-    }
+  ringTriangles(*m, 0, static_cast<int>(closed ? rings : rings - 1), kAround, false, closed);
   if (closed) return m;
   // The ends: a fan round each end's centre.
   for (int e = 0; e < 2; ++e) {
@@ -85,6 +78,16 @@ std::array<double, 2> bellyWidths(const std::string& name) {
   for (const Width& w : kWidths)
     if (name.rfind(w.name, 0) == 0) return {w.attach, w.insert};
   return {0.0045, 0.0045};
+}
+
+// Relaxes the points of a polyline toward their neighbours' mean, halfway, `passes` times: its
+// ends held, or round a loop (`closed`).
+template <std::size_t N>
+void relax(std::array<Vec3, N>& p, int passes, bool closed) {
+  for (int pass = 0; pass < passes; ++pass) {
+    const std::array<Vec3, N> was = p;
+    for (std::size_t i = closed ? 0 : 1; i < (closed ? N : N - 1); ++i) p[i] = 0.5 * was[i] + 0.25 * (was[(i + N - 1) % N] + was[(i + 1) % N]);
+  }
 }
 
 }  // namespace
@@ -233,10 +236,7 @@ void FaceBody::drawLayers(DrawList& out) const {
       auto belly = [&](const Vec3& from, const Vec3& to) {
         std::array<Vec3, 13> path, up;
         for (std::size_t i = 0; i < path.size(); ++i) path[i] = onSkull(from + (static_cast<double>(i) / 12.0) * (to - from), &up[i]);
-        for (int pass = 0; pass < 3; ++pass) {
-          const std::array<Vec3, 13> was = path;
-          for (std::size_t i = 1; i + 1 < path.size(); ++i) path[i] = 0.5 * was[i] + 0.25 * (was[i - 1] + was[i + 1]);
-        }
+        relax(path, 3, false);
         std::array<double, 13> wide, thick;
         for (std::size_t i = 0; i < path.size(); ++i) {
           const double t = static_cast<double>(i) / 12.0, round = std::pow(std::sin(kPi * (0.04 + 0.92 * t)), 0.35);
@@ -275,10 +275,7 @@ void FaceBody::drawLayers(DrawList& out) const {
       // (Each point on its nearest node, the ring steps from node to node: smoothed, it runs round.)
       std::array<Vec3, 24> ring;
       for (int i = 0; i < 24; ++i) ring[static_cast<std::size_t>(i)] = at(i);
-      for (int pass = 0; pass < 4; ++pass) {
-        const std::array<Vec3, 24> was = ring;
-        for (std::size_t i = 0; i < 24; ++i) ring[i] = 0.5 * was[i] + 0.25 * (was[(i + 23) % 24] + was[(i + 1) % 24]);
-      }
+      relax(ring, 4, true);
       // A flat band round it, its fibres running round (a tube read as a rubber ring), as wide as
       // eight tenths of the ring's smaller radius (the lips' 12 mm, the eyes' 10 mm).
       const Vec3 facing = R_ * mu.desc.normal.normalized();

@@ -119,6 +119,11 @@ std::shared_ptr<const TriMesh> makeBust(double scale, const FaceLook& look);
 // The triangles of a ribbon whose points were added in pairs (one on each edge) from `base`,
 // `segments` long: each pair joined to the next.
 void ribbonTriangles(TriMesh& m, std::uint32_t base, int segments);
+// The triangles of a grid of rings of `segments` points each from `first` (each ring closing round),
+// ring j joined to ring j + 1 for j < `rings`: rings + 1 rings, or with `closed` `rings` rings, the
+// last joined to the first (a band round a loop); counter-clockwise from outside, or clockwise
+// with `flip`.
+void ringTriangles(TriMesh& m, std::uint32_t first, int rings, int segments, bool flip, bool closed = false);
 // reel's head's hair as strands rooted in the cap its skin paints, in the head's frame
 // (head_hair.cpp); empty for a user's mesh.
 std::shared_ptr<const TriMesh> makeHair(const FaceSurface& s);

@@ -26,16 +26,20 @@ void smoothNormals(TriMesh& m) {
   }
 }
 
-// A grid of (rings + 1) × segments vertices joined into triangles, the segments closing around.
-void ringTriangles(TriMesh& m, std::uint32_t first, int rings, int segments, bool flip) {
+}  // namespace
+
+void ringTriangles(TriMesh& m, std::uint32_t first, int rings, int segments, bool flip, bool closed) {
   for (int j = 0; j < rings; ++j)
     for (int i = 0; i < segments; ++i) {
+      const int next = closed ? (j + 1) % rings : j + 1;  // the ring after ring j
       const auto a = first + static_cast<std::uint32_t>(j * segments + i), b = first + static_cast<std::uint32_t>(j * segments + (i + 1) % segments);
-      const auto c = a + static_cast<std::uint32_t>(segments), d = b + static_cast<std::uint32_t>(segments);
+      const auto c = first + static_cast<std::uint32_t>(next * segments + i), d = first + static_cast<std::uint32_t>(next * segments + (i + 1) % segments);
       if (flip) m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
       else m.indices.insert(m.indices.end(), {a, d, b, a, c, d});
     }
 }
+
+namespace {
 
 // One ear at height 0.24 m: 62 mm tall, 30 mm wide, leaning back 15°, its root in the skull behind the jaw's
 // hinge, its back edge 13 mm off the head. A closed shell, its rings from the middle of the front
