@@ -10,6 +10,7 @@
 #include <set>
 
 #include "core/isosurface.h"
+#include "core/lanes.h"
 #include "core/math.h"
 #include "core/parallel.h"
 #include "core/random.h"
@@ -207,6 +208,20 @@ TEST_CASE("particles in a closed box stay inside and settle") {
   }
   CHECK(worst <= 1e-9);
   CHECK(kineticEnergy(fluid(w)) < 0.02 * e0);
+}
+
+TEST_CASE("a left-pack keeps the masked lanes first and in order, for each of the 16 masks") {
+  const Int4 v = {10, 11, 12, 13};
+  for (unsigned bits = 0; bits < 16; ++bits) {
+    const Mask4 mask = {bits & 1 ? -1LL : 0, bits & 2 ? -1LL : 0, bits & 4 ? -1LL : 0, bits & 8 ? -1LL : 0};
+    CHECK(maskBits(mask) == bits);
+    const Int4 packed = leftPack(v, bits);
+    std::vector<int> kept, want;
+    for (int l = 0; l < 4; ++l)
+      if (bits >> l & 1) want.push_back(v[l]);
+    for (int l = 0; l < __builtin_popcount(bits); ++l) kept.push_back(packed[l]);
+    CHECK(kept == want);
+  }
 }
 
 TEST_CASE("the grid's neighbour lists equal brute force on random sets") {

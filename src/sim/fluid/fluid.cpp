@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 
 #include "core/error.h"
@@ -120,6 +121,52 @@ void fluidById(Fluid& fl) {
   }
 }
 
+namespace {
+
+// One block of the row grid's rows [r0, r1): each particle's neighbours within `reach2` into the
+// block's buffer, four candidates at a time (the grid's coordinates are padded past the end), the
+// ones in reach kept by a left-pack (branch-free). Compiled for AVX2 and any x86-64 (core/lanes.h).
+REEL_CLONED
+void listRows(Fluid& fl, const RowGrid& g, double reach2, std::int64_t r0, std::int64_t r1, std::uint32_t block,
+              std::vector<std::int32_t>& out) {
+  const std::span<const std::int32_t> order = g.order();
+  const double *gx = g.x(), *gy = g.y(), *gz = g.z();
+  const Lane4 zero = {0, 0, 0, 0}, reach = zero + reach2;
+  std::size_t count = 0;
+  g.visitRows(r0, r1, [&](std::uint32_t e, std::span<const RowGrid::Run> runs) {
+    const Lane4 xi = zero + gx[e], yi = zero + gy[e], zi = zero + gz[e];
+    std::size_t need = count + 4;
+    for (const RowGrid::Run& run : runs) need += run[1] - run[0];
+    if (out.size() < need) out.resize(2 * need);
+    std::int32_t* w = out.data();
+    const std::size_t before = count;
+    for (const RowGrid::Run& run : runs)
+      for (std::uint32_t k = run[0]; k < run[1]; k += 4) {
+        Lane4 px, py, pz;
+        std::memcpy(&px, gx + k, sizeof px), std::memcpy(&py, gy + k, sizeof py), std::memcpy(&pz, gz + k, sizeof pz);
+        const Lane4 d0 = px - xi, d1 = py - yi, d2 = pz - zi;
+        const Mask4 at = Mask4{0, 1, 2, 3} + static_cast<long long>(k);
+        const Mask4 in = (d0 * d0 + d1 * d1 + d2 * d2 < reach) & (at < static_cast<long long>(run[1])) & (at != static_cast<long long>(e));
+        const unsigned bits = maskBits(in);
+        Int4 ids;
+        if (k + 4 <= order.size()) {
+          std::memcpy(&ids, order.data() + k, sizeof ids);
+        } else {
+          for (std::uint32_t l = 0; l < 4; ++l) ids[l] = order[k + l < order.size() ? k + l : k];
+        }
+        const Int4 kept = leftPack(ids, bits);
+        std::memcpy(w + count, &kept, sizeof kept);
+        count += static_cast<std::size_t>(__builtin_popcount(bits));
+      }
+    const auto i = static_cast<std::size_t>(order[e]);
+    fl.list_at[i] = {block, static_cast<std::uint32_t>(before)};
+    fl.nbr_start[i + 1] = static_cast<std::uint32_t>(count - before);
+  });
+  out.resize(count);  // (its size: what the block's rows hold now)
+}
+
+}  // namespace
+
 void buildNeighbours(Fluid& fl) {
   const auto n = static_cast<std::ptrdiff_t>(fl.x.size());
   if (!(fl.list_skin > 0)) fl.list_skin = fl.skin;
@@ -132,37 +179,15 @@ void buildNeighbours(Fluid& fl) {
   // are copied in particle order (the same lists for any thread count).
   RowGrid& g = fl.rows;
   g.build(fl.x, reach);
-  const std::span<const std::int32_t> order = g.order();
-  const double *gx = g.x(), *gy = g.y(), *gz = g.z();
   constexpr std::int64_t kRowsABlock = 16;
   const std::int64_t blocks = (g.rows() + kRowsABlock - 1) / kRowsABlock;
   fl.chunk_lists.resize(static_cast<std::size_t>(blocks));
   fl.list_at.resize(static_cast<std::size_t>(n));
   fl.nbr_start.assign(static_cast<std::size_t>(n) + 1, 0);
 #pragma omp parallel for schedule(dynamic, 4) if (n >= parallelMin())
-  for (std::int64_t c = 0; c < blocks; ++c) {
-    std::vector<std::int32_t>& out = fl.chunk_lists[static_cast<std::size_t>(c)];
-    std::size_t count = 0;
-    g.visitRows(c * kRowsABlock, std::min(g.rows(), (c + 1) * kRowsABlock), [&](std::uint32_t e, std::span<const RowGrid::Run> runs) {
-      const double xi = gx[e], yi = gy[e], zi = gz[e];
-      std::size_t need = count;
-      for (const RowGrid::Run& run : runs) need += run[1] - run[0];
-      if (out.size() < need) out.resize(2 * need);
-      std::int32_t* w = out.data();
-      const std::size_t before = count;
-      // Branch-free: every candidate is written, and kept (the count advances) when in reach.
-      for (const RowGrid::Run& run : runs)
-        for (std::uint32_t k = run[0]; k < run[1]; ++k) {
-          const double d0 = gx[k] - xi, d1 = gy[k] - yi, d2 = gz[k] - zi;
-          w[count] = order[k];
-          count += static_cast<std::size_t>((d0 * d0 + d1 * d1 + d2 * d2 < reach2) & (k != e));
-        }
-      const auto i = static_cast<std::size_t>(order[e]);
-      fl.list_at[i] = {static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(before)};
-      fl.nbr_start[i + 1] = static_cast<std::uint32_t>(count - before);
-    });
-    out.resize(count);  // (its size: what the block's rows hold now)
-  }
+  for (std::int64_t c = 0; c < blocks; ++c)
+    listRows(fl, g, reach2, c * kRowsABlock, std::min(g.rows(), (c + 1) * kRowsABlock), static_cast<std::uint32_t>(c),
+             fl.chunk_lists[static_cast<std::size_t>(c)]);
   for (std::ptrdiff_t i = 0; i < n; ++i) fl.nbr_start[static_cast<std::size_t>(i) + 1] += fl.nbr_start[static_cast<std::size_t>(i)];
   fl.nbr.resize(fl.nbr_start.back());
   parallelFor(n, [&](std::ptrdiff_t ii) {
@@ -277,10 +302,10 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
       const Lane4 d2 = xi2 - Lane4{q0.x[2], q1.x[2], q2.x[2], q3.x[2]};
       const Lane4 r2 = d0 * d0 + d1 * d1 + d2 * d2;
       const Mask4 in = (r2 < cut_max2) & (r2 > zero);
-      in_list[m] = j0, m -= static_cast<std::size_t>(in[0]);
-      in_list[m] = j1, m -= static_cast<std::size_t>(in[1]);
-      in_list[m] = j2, m -= static_cast<std::size_t>(in[2]);
-      in_list[m] = j3, m -= static_cast<std::size_t>(in[3]);
+      const unsigned bits = maskBits(in);
+      const Int4 kept = leftPack(Int4{j0, j1, j2, j3}, bits);
+      std::memcpy(in_list + m, &kept, sizeof kept);
+      m += static_cast<std::size_t>(__builtin_popcount(bits));
     }
     for (std::size_t k = 0; k < 3; ++k) in_list[m + k] = static_cast<std::int32_t>(i);
     // Pass 2: their forces, four at a time; a lane past the end reads the particle itself (masked).
