@@ -1,5 +1,5 @@
 // The particle fluid: the pair force against its formula, the force loop against brute force,
-// momentum, a closed box, the neighbour grid against brute force, determinism, adhesion on an
+// momentum, a closed box, the left-pack, the neighbour grid against brute force, determinism, adhesion on an
 // overhang, per-species surfaces, mixing and separation (scenes and bad input: test_fluid_scenes.cpp).
 #include <doctest/doctest.h>
 
@@ -215,6 +215,7 @@ TEST_CASE("a left-pack keeps the masked lanes first and in order, for each of th
   for (unsigned bits = 0; bits < 16; ++bits) {
     const Mask4 mask = {bits & 1 ? -1LL : 0, bits & 2 ? -1LL : 0, bits & 4 ? -1LL : 0, bits & 8 ? -1LL : 0};
     CHECK(maskBits(mask) == bits);
+    CHECK(keptCount(bits) == static_cast<unsigned>(__builtin_popcount(bits)));
     const Int4 packed = leftPack(v, bits);
     std::vector<int> kept, want;
     for (int l = 0; l < 4; ++l)
@@ -243,8 +244,17 @@ TEST_CASE("the grid's neighbour lists equal brute force on random sets") {
     buildNeighbours(fl);
     CHECK(fl.list_skin == fl.skin);  // (a first list: the default skin)
     const double reach = fl.cutoff_max + fl.list_skin;
+    // Each list in the search's order (its runs in row order, each run's entries by x): the order
+    // the force loop's lanes sum in, so a build that reordered them would change the bits.
+    std::vector<std::size_t> at(fl.size());
+    const auto order = fl.rows.order();
+    for (std::size_t k = 0; k < order.size(); ++k) at[static_cast<std::size_t>(order[k])] = k;
     std::size_t pairs = 0;
     for (std::size_t i = 0; i < fl.size(); ++i) {
+      bool in_order = true;
+      for (std::uint32_t e = fl.nbr_start[i] + 1; e < fl.nbr_start[i + 1]; ++e)
+        in_order = in_order && at[static_cast<std::size_t>(fl.nbr[e - 1])] < at[static_cast<std::size_t>(fl.nbr[e])];
+      CHECK(in_order);
       std::set<int> grid(fl.nbr.begin() + fl.nbr_start[i], fl.nbr.begin() + fl.nbr_start[i + 1]);
       CHECK(grid.size() == fl.nbr_start[i + 1] - fl.nbr_start[i]);  // no repeats
       std::set<int> brute;

@@ -123,9 +123,10 @@ void fluidById(Fluid& fl) {
 
 namespace {
 
-// One block of the row grid's rows [r0, r1): each particle's neighbours within `reach2` into the
-// block's buffer, four candidates at a time (the grid's coordinates are padded past the end), the
-// ones in reach kept by a left-pack (branch-free). Compiled for AVX2 and any x86-64 (core/lanes.h).
+// One block of the row grid's rows [r0, r1): each particle's neighbours within the reach (its
+// square `reach2`) into the block's buffer, four candidates at a time (the grid's coordinates are
+// padded past the end), the ones in reach kept by a left-pack (branch-free). Compiled for AVX2 and
+// any x86-64 (core/lanes.h).
 REEL_CLONED
 void listRows(Fluid& fl, const RowGrid& g, double reach2, std::int64_t r0, std::int64_t r1, std::uint32_t block,
               std::vector<std::int32_t>& out) {
@@ -156,7 +157,7 @@ void listRows(Fluid& fl, const RowGrid& g, double reach2, std::int64_t r0, std::
         }
         const Int4 kept = leftPack(ids, bits);
         std::memcpy(w + count, &kept, sizeof kept);
-        count += static_cast<std::size_t>(__builtin_popcount(bits));
+        count += keptCount(bits);
       }
     const auto i = static_cast<std::size_t>(order[e]);
     fl.list_at[i] = {block, static_cast<std::uint32_t>(before)};
@@ -305,7 +306,7 @@ void seedFormForces(const Fluid& fl, std::ptrdiff_t i0, std::ptrdiff_t i1, const
       const unsigned bits = maskBits(in);
       const Int4 kept = leftPack(Int4{j0, j1, j2, j3}, bits);
       std::memcpy(in_list + m, &kept, sizeof kept);
-      m += static_cast<std::size_t>(__builtin_popcount(bits));
+      m += keptCount(bits);
     }
     for (std::size_t k = 0; k < 3; ++k) in_list[m + k] = static_cast<std::int32_t>(i);
     // Pass 2: their forces, four at a time; a lane past the end reads the particle itself (masked).
