@@ -28,6 +28,8 @@ struct TriMesh {
   std::vector<std::uint32_t> indices;  // three per triangle, counter-clockwise seen from outside
   std::size_t vertexCount() const { return positions.size() / 3; }
   std::size_t triangleCount() const { return indices.size() / 3; }
+  Vec3 position(std::size_t v) const { return Vec3(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]); }
+  Vec3 normal(std::size_t v) const { return Vec3(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]); }
   void addVertex(const Vec3& p, const Vec3& n, double u = 0, double v = 0);
   // Applies x ↦ R·x + t to positions and R to normals.
   void transform(const Mat3& R, const Vec3& t);

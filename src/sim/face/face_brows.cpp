@@ -52,29 +52,17 @@ void FaceBody::addBrowHairs(TriMesh& strands, const TriMesh& skin) const {
   if (!surface_.generated) return;
   const double s = surface_.scale, width = 0.00011 * s;
   const Vec3 tone(0.035, 0.024, 0.018);  // the painted brows' colour
-  auto at = [](const std::vector<float>& a, std::uint32_t v) { return Vec3(a[3 * v], a[3 * v + 1], a[3 * v + 2]); };
   for (const BrowHair& h : browHairs()) {
     if (h.vertex >= skin.vertexCount()) continue;
-    const Vec3 n = unitOr(at(skin.normals, h.vertex), R_ * Vec3::UnitZ());
+    const Vec3 n = unitOr(skin.normal(h.vertex), R_ * Vec3::UnitZ());
     Vec3 dir = R_ * h.direction;
     dir = unitOr(dir - dir.dot(n) * n, R_ * Vec3::UnitY());
     const Vec3 side = unitOr(n.cross(dir), R_ * Vec3::UnitX());
     Vec3 offset = R_ * h.offset;
     offset -= offset.dot(n) * n;
-    const Vec3 root = at(skin.positions, h.vertex) + offset + 0.00005 * s * n;
-    const auto base = static_cast<std::uint32_t>(strands.vertexCount());
-    constexpr int kSegments = 2;
-    for (int j = 0; j <= kSegments; ++j) {
-      const double f = static_cast<double>(j) / kSegments;
-      const Vec3 p = root + h.length * (f * dir + h.lift * f * f * n);
-      const double w = 0.5 * width * (1.0 - 0.7 * f);
-      for (double e : {-1.0, 1.0}) {
-        strands.addVertex(p + e * w * side, n);
-        const Vec3 c = tone * h.shade;
-        for (int i = 0; i < 3; ++i) strands.colors.push_back(static_cast<float>(c[i]));
-      }
-    }
-    ribbonTriangles(strands, base, kSegments);
+    const Vec3 root = skin.position(h.vertex) + offset + 0.00005 * s * n;
+    addStrand(strands, 2, width, side, n, 1.0, [&](double f) { return Vec3(root + h.length * (f * dir + h.lift * f * f * n)); },
+              [&](double) { return Vec3(tone * h.shade); });
   }
 }
 

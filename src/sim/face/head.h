@@ -119,6 +119,24 @@ std::shared_ptr<const TriMesh> makeBust(double scale, const FaceLook& look);
 // The triangles of a ribbon whose points were added in pairs (one on each edge) from `base`,
 // `segments` long: each pair joined to the next.
 void ribbonTriangles(TriMesh& m, std::uint32_t base, int segments);
+// A hair as a ribbon of `segments` pieces: its middle at centre(f) (f from 0 at the root to 1 at
+// the tip), `width` wide at the root narrowing to 0.3 of it at the tip, across `side`, facing
+// `normal`, coloured colour(f); each point scaled by `scale` (the scalp's hair and the brows').
+template <class Centre, class Colour>
+void addStrand(TriMesh& m, int segments, double width, const Vec3& side, const Vec3& normal, double scale, Centre&& centre,
+               Colour&& colour) {
+  const auto base = static_cast<std::uint32_t>(m.vertexCount());
+  for (int j = 0; j <= segments; ++j) {
+    const double f = static_cast<double>(j) / segments;
+    const Vec3 p = centre(f), c = colour(f);
+    const double w = 0.5 * width * (1.0 - 0.7 * f);
+    for (double e : {-1.0, 1.0}) {
+      m.addVertex(scale * (p + e * w * side), normal);
+      for (int i = 0; i < 3; ++i) m.colors.push_back(static_cast<float>(c[i]));
+    }
+  }
+  ribbonTriangles(m, base, segments);
+}
 // The triangles of a grid of rings of `segments` points each from `first` (each ring closing round),
 // ring j joined to ring j + 1 for j < `rings`: rings + 1 rings, or with `closed` `rings` rings, the
 // last joined to the first (a band round a loop); counter-clockwise from outside, or clockwise

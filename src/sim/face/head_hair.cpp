@@ -62,18 +62,9 @@ std::shared_ptr<const TriMesh> makeHair(const FaceSurface& s) {
       const double width = 0.0005;
       const Vec3 start = root - 0.0015 * cover * n;  // (under the cap, never under the scalp)
       const Vec3 hair = head::skinColor(root, dir, s.parting_y, s.look) * (0.75 + 0.5 * rnd(6));
-      const auto base = static_cast<std::uint32_t>(m->vertexCount());
-      for (int j = 0; j <= kSegments; ++j) {
-        const double f = static_cast<double>(j) / kSegments;
-        const Vec3 p = start + length * (f * flow + (lift * f * (1.0 - 0.6 * f) + 0.15 * f) * n);
-        const double w = 0.5 * width * (1.0 - 0.7 * f);
-        for (double e : {-1.0, 1.0}) {
-          m->addVertex(k * (p + e * w * side), n);
-          const Vec3 col = hair * (0.85 + 0.3 * f);  // lighter toward the tips
-          for (int i = 0; i < 3; ++i) m->colors.push_back(static_cast<float>(col[i]));
-        }
-      }
-      ribbonTriangles(*m, base, kSegments);
+      addStrand(*m, kSegments, width, side, n, k,
+                [&](double f) { return Vec3(start + length * (f * flow + (lift * f * (1.0 - 0.6 * f) + 0.15 * f) * n)); },
+                [&](double f) { return Vec3(hair * (0.85 + 0.3 * f)); });  // lighter toward the tips
     }
   }
   return m;
