@@ -56,7 +56,7 @@ class Curve {
 // The sections' profiles against height y: half-width, the front's and the back's depth from the
 // centre (the face's midline before its features). Below the chin they close; above y = 0.03 the
 // crown is a dome.
-const Curve kWidth{{-0.124, 0.0},  {-0.118, 0.0175}, {-0.112, 0.03}, {-0.1, 0.0445}, {-0.085, 0.0555},
+const Curve kWidth{{-0.124, 0.0},  {-0.119, 0.0185}, {-0.112, 0.0325}, {-0.1, 0.048}, {-0.085, 0.0565},
                    {-0.07, 0.061},  {-0.05, 0.066},   {-0.02, 0.071}, {0.0, 0.0735}, {0.03, 0.075}};
 const Curve kFront{{-0.124, 0.0},  {-0.119, 0.04},  {-0.114, 0.066}, {-0.108, 0.08}, {-0.1, 0.086},
                    {-0.088, 0.087}, {-0.07, 0.09},  {-0.046, 0.092}, {0.005, 0.092}, {0.018, 0.095},
@@ -190,13 +190,21 @@ double baseShape(const Vec3& p, const FaceLook& look) {
   const double q = std::pow(std::pow(std::abs(x) / a, n) + std::pow(std::abs(z) / depth, n), 1.0 / n);
   // (Below its closing section the head is outside everywhere, its axis too, where the
   // superellipse of zero size would leave q = 0.)
-  const double head = std::max((q - dome) * 0.085, kHeadBottom - y);
+  double head = std::max((q - dome) * 0.085, kHeadBottom - y);
+  // The mandible's angle (gonion), flaring out over the neck below and in front of the ear, and
+  // the hollow behind the jaw's ramus under the ear: without them the cheek ran down into the neck
+  // as one plane, with no jaw.
+  const double side = smoothstep(0.02, 0.045, std::abs(x));
+  head -= side * (0.0045 + 0.002 * look.sex) * std::exp(-0.5 * (sq((y + 0.084) / 0.011) + sq((z + 0.004) / 0.013)));
+  head += side * 0.003 * std::exp(-0.5 * (sq((y + 0.062) / 0.01) + sq((z + 0.032) / 0.008)));
   // The neck: an elliptic cylinder, thicker with the build, from under the skull to the shoulders.
   const auto [nx, nz] = neckRadii(look);
   const double cyl = (std::sqrt(sq(x / nx) + sq((z - kNeckAxisZ) / nz)) - 1.0) * 0.055;
   const double neck = std::max({cyl, y + 0.04, kNeckCut - y});
   // Smooth minimum: the union with a fillet where the jaw meets the neck.
-  const double k = 0.024;
+  // (Tighter under the jaw, from its angles to the chin, than at the nape: with a 24 mm fillet all
+  // round the jaw ran into the neck without an edge, and the head read as a mannequin's.)
+  const double k = 0.024 - 0.014 * smoothstep(-0.045, 0.0, z);
   const double h = std::clamp(0.5 + 0.5 * (neck - head) / k, 0.0, 1.0);
   return neck * (1 - h) + head * h - k * h * (1 - h);
 }
@@ -257,6 +265,9 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     const double outer = s * (X - s * kEyeX) > 0 ? 0.0095 : 0.011;
     f.bone -= 0.0105 * gauss(X, Y, s * kEyeX, kEyeY + 0.0005, outer, 0.0065);
     f.bone += 0.004 * gauss(X, Y, s * 0.05, -0.016, 0.014, 0.009);                     // cheekbone
+    // The inner corner's recess (the medial canthus lies 7 to 8 mm behind the cornea, under the
+    // nose's side): without it the skin stood as a wall in front of the lids' inner tips.
+    f.bone -= 0.008 * gauss(X, Y, s * 0.018, kEyeY - 0.002, 0.0028, 0.0032);
     // The nose's wing (ala): a lobe beside the tip's base, ringed above and behind by the alar
     // groove where it meets the cheek (not below it, where it sits on the lip).
     const double wing = std::hypot((X - s * kWing[0]) / 0.0052, (Y - kWing[1]) / 0.0047);  // 1 at its rim
@@ -304,35 +315,49 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   f.bone *= front;
   f.soft *= front;
   // The lids are skin lying on the eyeball: over the eye's opening and a band around it (up to
-  // the upper lid's crease, down past the lower lid), the skin sinks to just behind the eyeball
-  // and the lids' shell over it, so the lids and the opening between them show out to the corners, 26 mm apart
+  // the upper lid's crease, down past the lower lid, round the corners), the skin sinks behind the
+  // lids' shell, so the lids and the opening between them show out to the corners, 26 mm apart
   // (Farkas 1994: the palpebral fissure 28-30 mm). Over the flat socket alone, only the middle
-  // 16 mm of the almond cleared the skin, and the eyes looked small.
+  // 16 mm of the almond cleared the skin, and the eyes looked small. Where the eye can show (the
+  // almond opened as wide as the lids go) it sinks to just behind the eyeball; elsewhere only to
+  // just behind the shell: sunk to the eyeball all over the band, the skin left a pit past the
+  // lids' inner ends that read as a bruise, and its ramp up out of the pit hid the lids' inner
+  // tips, so the opening ended cut off square.
   {
     const Vec3 e = featureDirection(d);
+    const double shell = kLidShell * kEyeRadius, eye = kEyeRadius / 0.012;
     for (int k = 0; k < 2; ++k) {
       const Vec3 c = eyeCentre(k, look);
-      // Where the skin's ray (from the base point along e) meets a sphere 0.4 mm inside the
-      // eyeball (the skin never covers the eye in the opening, nor crosses it at a graze).
-      const double r = kEyeRadius - 0.0004;
+      // The displacements along e that take the base point to just behind the lids' shell and to
+      // just inside the eyeball, met from outside (a ray past the eyeball's edge that meets the
+      // shell goes behind the shell alone: skipped, it left a wall at the eye's inner corner).
       const Vec3 m = p - c;
-      const double along = m.dot(e), disc = along * along - m.squaredNorm() + r * r;
+      const double along = m.dot(e), disc = along * along - m.squaredNorm() + sq(shell - 0.0003);
       if (disc <= 0 || e.z() < 0.3) continue;
-      const double most = -along + std::sqrt(disc);  // the displacement that reaches the shell
-      const Vec3 h = p + most * e - c;
+      const double behind = -along + std::sqrt(disc), ball = disc - sq(shell - 0.0003) + sq(kEyeRadius - 0.0004);
+      const double inside = ball > 0 ? -along + std::sqrt(ball) : behind;
+      const Vec3 h = p + behind * e - c;
       // The almond as drawn at rest (FaceBody::Eye), on the lids' shell: its corners 12.9 mm to
       // either side, the outer 1 mm above the middle's line, the inner as far below; the band
       // above reaching the lid's crease (43° above the eye's centre: 10.5 mm above that line), the
-      // one below 2.7 mm past the margin, both narrowing to 1.3 mm at the corners (the sizes of a
-      // 12 mm eye's, scaled to the eye).
-      const double shell = kLidShell * kEyeRadius, eye = kEyeRadius / 0.012;
+      // one below 2.7 mm past the margin, both narrowing to 2 mm round the corners (the sizes of a
+      // 12 mm eye's, scaled to the eye), to the lids' ends (80° round the shell).
       const double t = (k == 0 ? h.x() : -h.x()) / (shell * std::sin(kEyeCorner)), v = h.y();
-      if (std::abs(t) >= 1.0) continue;
-      const double lobe = std::pow(std::cos(0.5 * kPi * t), 0.65), mid = shell * std::sin(kEyeCorners + 0.5 * kCanthalTilt * t);
+      if (std::abs(t) >= 1.07) continue;
+      const double tc = std::clamp(t, -1.0, 1.0);
+      const double lobe = std::pow(std::cos(0.5 * kPi * tc), 0.65), mid = shell * std::sin(kEyeCorners + 0.5 * kCanthalTilt * tc);
       const double crease = shell * (std::sin(43.0 * kPi / 180.0) - std::sin(kEyeCorners));  // above the middle's line
-      const double top = mid + eye * 0.0012 + (crease - eye * 0.0012) * lobe;
-      const double bottom = mid - eye * (0.0012 + 0.0066 * lobe);
-      const double w = smoothstep(top, top - 0.003, v) * smoothstep(bottom, bottom + 0.0025, v) * smoothstep(1.0, 0.85, std::abs(t));
+      // (The crease's curve fuller than the margin's: following the margin's lobe, the band
+      // ended just above the inner half's margin, and the skin over it hid the lid there as if hooded.)
+      const double top = mid + eye * 0.002 + (crease - eye * 0.002) * std::pow(lobe, 0.4);
+      const double bottom = mid - eye * (0.002 + 0.0058 * lobe);
+      // (Its lower edge over 4 mm: over 2.5 the skin rose as a wall that the fine mesh cut into steps.)
+      const double w = smoothstep(top, top - 0.003, v) * smoothstep(bottom, bottom + 0.004, v) * smoothstep(1.07, 1.01, std::abs(t));
+      // The widest the opening gets: the upper margin 46° up (raised, looking up), the lower 34°
+      // down (looking down), with a millimetre to spare.
+      const double up = mid + (shell * std::sin(46.0 * kPi / 180.0) - mid) * lobe, down = mid + (shell * std::sin(-34.0 * kPi / 180.0) - mid) * lobe;
+      const double open = smoothstep(up + 0.001, up, v) * smoothstep(down - 0.001, down, v);
+      const double most = behind + open * (inside - std::max(behind, inside));
       const double over = f.bone + f.soft - most;
       if (over > 0) f.bone -= over * w;
     }
@@ -408,7 +433,7 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   Vec3 c(0.57, 0.36, 0.28);
   // Mottling and pores.
   const double mottle = noise(p * 320.0);
-  c *= 1.0 + skinDetail(Y) * (0.12 * (mottle - 0.5) - 0.07 * smoothstep(0.68, 0.9, poreAt(p)));
+  c *= 1.0 + skinDetail(Y) * (0.12 * (mottle - 0.5) - 0.04 * smoothstep(0.7, 0.9, poreAt(p)));
   // Blood under thin skin: cheeks, the nose's tip, the chin; shadow under the eyes.
   const double flush = 0.55 * gauss(ax, Y, 0.045, -0.028, 0.016, 0.013) + 0.45 * gauss(X, Y, 0, -0.036, 0.01, 0.008) +
                        0.2 * gauss(X, Y, 0, -0.1, 0.015, 0.01);
@@ -464,7 +489,10 @@ double skinRelief(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   const double aged = std::clamp((look.age - 20.0) / 50.0, 0.0, 1.4);
   // The grain: two octaves of noise, about 1.2 mm and 0.5 mm; coarser and deeper with age.
   const double grain = 0.65 * noise(p * (800.0 - 150.0 * aged) + Vec3(1.3, 5.1, 2.2)) + 0.35 * noise(p * 2000.0 + Vec3(4.4, 0.7, 9.2));
-  double h = 0.5 + skinDetail(Y) * ((0.22 + 0.1 * aged) * (grain - 0.5) - 0.3 * smoothstep(0.68, 0.9, poreAt(p)));
+  // Pores deepest over the nose and the cheeks beside it, where they are largest, shallow elsewhere
+  // (pits 0.12 mm deep all over, a texel or two wide, read as stucco in a close-up, viewers said).
+  const double porous = 0.07 + 0.07 * std::max(gauss(X, Y, 0, -0.03, 0.012, 0.014), gauss(ax, Y, 0.03, -0.03, 0.016, 0.012));
+  double h = 0.5 + skinDetail(Y) * ((0.13 + 0.08 * aged) * (grain - 0.5) - porous * smoothstep(0.7, 0.9, poreAt(p)));
   if (d.z() > 0.2) {
     // The lips' furrows, about 1.1 mm apart, wavering, deepest at the vermilion's middle.
     const double lips = vermilion(X, Y, ym);
