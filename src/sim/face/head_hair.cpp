@@ -61,7 +61,7 @@ std::shared_ptr<const TriMesh> makeHair(const FaceSurface& s) {
       const double length = (0.007 + 0.006 * rnd(4)) * (0.35 + 0.65 * cover), lift = 0.18 + 0.15 * rnd(5);
       const double width = 0.0005;
       const Vec3 start = root - 0.0015 * cover * n;  // (under the cap, never under the scalp)
-      const Vec3 hair = head::skinColor(root, dir, s.parting_y, s.look) * (0.75 + 0.5 * rnd(6));
+      const Vec3 hair = head::hairColor(root, dir, s.look) * (0.75 + 0.5 * rnd(6));
       addStrand(*m, kSegments, width, side, n, k,
                 [&](double f) { return Vec3(start + length * (f * flow + (lift * f * (1.0 - 0.6 * f) + 0.15 * f) * n)); },
                 [&](double f) { return Vec3(hair * (0.85 + 0.3 * f)); });  // lighter toward the tips

@@ -469,14 +469,17 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
     // Brows.
     c = c + 0.95 * browHairs(ax, Y) * (Vec3(0.035, 0.024, 0.018) - c);
   }
-  // Hair, greying with age.
+  // Hair.
   const HairAt hair = hairAt(p, d);
-  if (hair.cover > 0) {
-    Vec3 h = Vec3(0.05, 0.033, 0.022) * (0.6 + 0.8 * hair.strand);
-    h = h + std::clamp(aged - 0.6, 0.0, 1.0) * (Vec3(0.35, 0.34, 0.33) * (0.7 + 0.5 * hair.strand) - h);
-    c = c + hair.cover * (h - c);
-  }
+  if (hair.cover > 0) c = c + hair.cover * (hairColor(p, d, look) - c);
   return c.cwiseMax(Vec3::Zero()).cwiseMin(Vec3::Ones());
+}
+
+Vec3 hairColor(const Vec3& p, const Vec3& d, const FaceLook& look) {
+  // Dark brown in streaks and locks, greying with age.
+  const double strand = hairAt(p, d).strand, aged = std::clamp((look.age - 20.0) / 50.0, 0.0, 1.4);
+  const Vec3 h = Vec3(0.05, 0.033, 0.022) * (0.6 + 0.8 * strand);
+  return h + std::clamp(aged - 0.6, 0.0, 1.0) * (Vec3(0.35, 0.34, 0.33) * (0.7 + 0.5 * strand) - h);
 }
 
 // The skin's relief: what a bump map over the skin can show that the mesh, 1.4 mm at its finest,

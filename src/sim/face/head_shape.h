@@ -96,6 +96,10 @@ inline constexpr double kBrowHead = 0.25;
 // and mottling, the lips' vermilion, brows, hair, nostrils.
 Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look);
 
+// The hair's own albedo at the base point p, direction d (whatever its cover there): the strands'
+// colour (coloured as the skin under a thinning hairline, they read as pale stray hairs).
+Vec3 hairColor(const Vec3& p, const Vec3& d, const FaceLook& look);
+
 // The skin's sheen at the base point p (0..1, the drawn skin's per-vertex gloss): the skin's own,
 // more over the forehead, the nose and the chin (the oily T-zone) and on the moist lips, none on
 // the hair (rough and dull) or the brows.
