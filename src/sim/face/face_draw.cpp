@@ -50,9 +50,13 @@ std::shared_ptr<const TriMesh> eyeMesh(const Vec3& iris) {
   };
   for (std::size_t v = 0; v < m->vertexCount(); ++v) {
     const double x = m->positions[3 * v], y = m->positions[3 * v + 1], z = m->positions[3 * v + 2];
-    // The sclera: off-white, greying toward the back (less lit, veined).
+    // The sclera: off-white, greying toward the back (less lit, veined), warmer and pinker toward
+    // the corners, where the conjunctiva's vessels show (white all over, at 0.68, 0.64, 0.6, a
+    // viewer saw a doll's eyes).
     const double from = std::acos(std::clamp(z, -1.0, 1.0));
-    Vec3 c = Vec3(0.68, 0.64, 0.6) * (0.75 + 0.25 * std::clamp(z + 0.3, 0.0, 1.0));
+    Vec3 c = Vec3(0.6, 0.56, 0.52) * (0.75 + 0.25 * std::clamp(z + 0.3, 0.0, 1.0));
+    c = c + 0.35 * smoothstep(0.6, 1.3, from) * smoothstep(0.3, 0.9, std::abs(x) / std::max(std::hypot(x, y), 1e-9)) *
+                (Vec3(0.6, 0.4, 0.37) - c);
     if (from < 0.17) {
       c = Vec3(0.012, 0.012, 0.012);
     } else if (from < 0.5) {
@@ -211,9 +215,12 @@ void FaceBody::drawEyes(DrawList& out) const {
       const Vec3 q(ball->positions[3 * v], ball->positions[3 * v + 1], ball->positions[3 * v + 2]);
       const Vec3 d = B * q, h = R_.transpose() * d;  // the direction from the eye's centre, world and head
       const double el = std::asin(std::clamp(h.y(), -1.0, 1.0)), az = std::atan2(h.x(), h.z());
-      const double shade = (0.4 + 0.6 * smoothstep(0.0, 0.5, ey.upperEdge(az) - el)) *
-                           (0.75 + 0.25 * smoothstep(0.0, 0.3, el - ey.lowerEdge(az))) *
-                           (0.7 + 0.3 * smoothstep(ey.corner, ey.corner - 0.6, std::abs(az)));
+      // The lids' shadows on the eyeball: the upper lid's and its lashes' deepest (they overhang
+      // it), the lower's faint, and the corners' (at 0.4 under the upper lid and 0.7 in the
+      // corners the white ran bright to the lids, as if painted on).
+      const double shade = (0.25 + 0.75 * smoothstep(0.0, 0.6, ey.upperEdge(az) - el)) *
+                           (0.7 + 0.3 * smoothstep(0.0, 0.3, el - ey.lowerEdge(az))) *
+                           (0.5 + 0.5 * smoothstep(ey.corner, ey.corner - 0.7, std::abs(az)));
       for (int k = 0; k < 3; ++k) {
         ball->positions[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(ey.center[k] + ey.radius * d[k]);
         ball->normals[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(d[k]);

@@ -41,7 +41,7 @@ std::vector<FaceMuscleDesc> defaultMuscles(const FaceSurface& s) {
     double ax, ay, ix, iy, strength;
   };
   const Linear linear[] = {
-      {"zygomatic_major", 0.060, -0.012, corner + 0.001, ym, 16.0},
+      {"zygomatic_major", 0.060, -0.012, corner + 0.001, ym, 26.0},
       {"zygomatic_minor", 0.046, -0.008, 0.013, ym + 0.007, 2.5},
       {"levator_labii", 0.017, -0.006, 0.009, ym + 0.008, 4.5},
       {"depressor_anguli_oris", 0.040, ym - 0.040, corner + 0.002, ym + 0.0005, 11.0},
