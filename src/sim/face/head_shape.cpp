@@ -75,7 +75,7 @@ const Curve kNoseWidth{{-0.05, 0.0075}, {-0.038, 0.0092}, {-0.03, 0.0074}, {-0.0
 // The hairline's height against the angle around the vertical from the front (rad): a soft peak
 // at the middle, receding at the temples, down to the sideburns just in front of the ears (whose
 // fronts are 1.69 rad round), over the ears, to the nape.
-const Curve kHairline{{0.0, 0.064},  {0.25, 0.066}, {0.42, 0.071},  {0.55, 0.066},  {0.72, 0.052}, {0.9, 0.038},
+const Curve kHairline{{0.0, 0.075},  {0.22, 0.0765}, {0.4, 0.079},  {0.55, 0.071},  {0.72, 0.055}, {0.9, 0.039},
                       {1.08, 0.026}, {1.25, 0.012}, {1.38, -0.004}, {1.47, -0.018}, {1.6, -0.02},  {1.66, 0.01},
                       {1.72, 0.02},  {2.0, 0.02},   {2.12, -0.01},  {2.3, -0.045},  {2.75, -0.064}, {3.1416, -0.066}};
 
