@@ -363,11 +363,12 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     }
   }
   // Hair stands off the scalp, thin at its edges and fuller behind them and over the top (short
-  // hair, 3.5 mm at the hairline, rising over 3 cm behind it to 9.5 mm at the sides and 17.5 mm
-  // over the top: at 4 mm all over it read as a painted helmet, at 9 over the crown as a helmet
-  // still, and with the fullness from the height alone the forehead ran up to a bare dome).
+  // hair, a millimetre or two at the hairline, rising over 3 cm behind it to 9.5 mm at the sides
+  // and 17.5 mm over the top: at 4 mm all over it read as a painted helmet, at 9 over the crown as
+  // a helmet still, and with the fullness from the height alone the forehead ran up to a bare
+  // dome; 3.5 mm at the hairline stood as the helmet's rim).
   const double above = Y - kHairline(std::abs(std::atan2(d.x(), d.z())));
-  f.soft += (0.0035 + smoothstep(0.0, 0.03, above) * (0.006 + 0.008 * smoothstep(0.02, 0.09, Y))) * hairCover(p, d, 0.012);
+  f.soft += (0.0012 + smoothstep(-0.004, 0.03, above) * (0.0083 + 0.008 * smoothstep(0.02, 0.09, Y))) * hairCover(p, d, 0.012);
   return f;
 }
 
