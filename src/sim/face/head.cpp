@@ -254,7 +254,10 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
   out.mouth = out.skin[ring(jm, C / 2)];  // the midline: column C/2 faces +z
   out.mouth_width = 2 * head::kMouthHalf * s;
   out.jaw_hinge = s * Vec3(0, -0.02, -0.015);
-  out.ears = makeEars(s, head::skinColor(Vec3(0.07, -0.012, -0.02), Vec3(1, 0, 0), ym, look));
+  // The ears in the skin's colour below the sideburn, in front of the ear (at the ear's own root the
+  // sideburn's hair covers the skin, and its brown made the ears leather).
+  const Vec3 cheek = Vec3(0.6, -0.35, 0.2).normalized();
+  out.ears = makeEars(s, head::skinColor(head::baseRadius(cheek, look) * cheek, cheek, ym, look));
   out.bust = makeBust(s, look);
   // The teeth behind the lips' parting: the upper 8.5 mm behind, their edges 4.5 mm below it (as
   // lips part, a few mm of the upper incisors show: with their edges 1.5 mm below it, the upper

@@ -49,7 +49,7 @@ namespace {
 // toward the head behind the bowl. (A single sheet read as a blade from behind and flat from the
 // side.)
 void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
-  constexpr int kRings = 16, kRoll = 5, kSegments = 56;
+  constexpr int kRings = 40, kRoll = 5, kSegments = 112;  // (16 and 56 cut the antihelix's ridge, across the rings, into steps)
   const auto first = static_cast<std::uint32_t>(m.vertexCount());
   const Vec3 origin(side * 0.0705, -0.012, -0.02), out(side, 0, 0), back(0, 0, -1), up(0, 1, 0);
   const Vec3 rim_tone = skin + 0.18 * (Vec3(0.62, 0.3, 0.26) - skin);  // thin skin, redder (at 0.3, a cut-out pink outline)
@@ -68,13 +68,23 @@ void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
     if (sa < 0) rx *= 1.0 - 0.18 * sq(sa);  // (at 0.3 the lobe came to a point)
     At p;
     p.u = r * rx * ca, p.v = r * ry * sa + 0.002;
-    const double upper = std::clamp(0.5 + sa, 0.0, 1.0);
     const double bowl = 0.006 * std::exp(-sq(p.u / 0.007) - sq((p.v + 0.002) / 0.009));
-    double h = 0.0045 * std::exp(-sq((r - 0.9) / 0.075)) * (sa > -0.6 ? 1.0 : 0.3);
-    h += 0.0028 * std::exp(-sq((r - 0.58) / 0.09)) * upper;
-    // The antihelix's upper crus, forking forward from its ridge; the tragus, a flap over the
-    // bowl's front; the ear's canal, a pit in the bowl behind it.
-    h += 0.0018 * std::exp(-sq(head::segmentDistance(p.u, p.v, 0.003, 0.008, -0.007, 0.019) / 0.0014));
+    // The helix: a rolled rim over the top and down the back to the lobe, none along the front
+    // below the top, where the ear joins the head (rolled all round, with the antihelix a ring
+    // inside it, the ear read as a dish of concentric rings); its crus, the rim's front end,
+    // running down and back into the bowl.
+    const double rim = std::max(smoothstep(-0.55, -0.1, ca), smoothstep(0.45, 0.75, sa)) * (sa > -0.6 ? 1.0 : 0.3);
+    double h = 0.0045 * std::exp(-sq((r - 0.9) / 0.075)) * rim;
+    auto ridge = [&](double height, double width, double au, double av, double bu, double bv) {
+      return height * std::exp(-sq(head::segmentDistance(p.u, p.v, au, av, bu, bv) / width));
+    };
+    h += ridge(0.002, 0.0016, -0.0095, 0.02, -0.002, 0.006);
+    // The antihelix: a ridge inside the back rim, up from above the lobe, forking at the top into
+    // its upper crus (up and forward) and its lower (forward, over the bowl).
+    h += ridge(0.003, 0.0022, 0.0075, -0.016, 0.006, 0.005);
+    h += ridge(0.0022, 0.0016, 0.006, 0.005, 0.002, 0.021);
+    h += ridge(0.0018, 0.0014, 0.006, 0.005, -0.005, 0.012);
+    // The tragus, a flap over the bowl's front; the ear's canal, a pit in the bowl behind it.
     h += 0.0035 * std::exp(-sq((p.u + 0.0085) / 0.0025) - sq((p.v + 0.003) / 0.004));
     const double canal = 0.003 * std::exp(-sq((p.u + 0.0045) / 0.0025) - sq((p.v + 0.003) / 0.0025));
     const double stand = 0.5 * (p.u + 0.0115) - 0.0012;
