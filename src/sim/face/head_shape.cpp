@@ -70,7 +70,7 @@ constexpr double kHeadBottom = -0.124;  // where the sections close
 // against height, from the root between the eyes to the tip and under it to the upper lip.
 const Curve kNose{{-0.05, 0.0},     {-0.047, 0.002},  {-0.0445, 0.0095}, {-0.041, 0.0185}, {-0.037, 0.0215},
                   {-0.033, 0.021},  {-0.026, 0.0175}, {-0.01, 0.011},    {0.006, 0.003},   {0.012, 0.0}};
-const Curve kNoseWidth{{-0.05, 0.0075}, {-0.038, 0.0092}, {-0.03, 0.0074}, {-0.01, 0.0049}, {0.014, 0.0046}};
+const Curve kNoseWidth{{-0.05, 0.007}, {-0.038, 0.0082}, {-0.03, 0.0068}, {-0.01, 0.0047}, {0.014, 0.0044}};
 
 // The hairline's height against the angle around the vertical from the front (rad): a soft peak
 // at the middle, receding at the temples, down to the sideburns just in front of the ears (whose
@@ -111,7 +111,7 @@ double vermilionTop(double x, double ym) {
 double vermilionBottom(double x, double ym) { return ym - 0.0095 + 0.0093 * std::pow(std::min(std::abs(x) / 0.026, 1.0), 1.8); }
 
 // The middle of the nose's left wing (x, y), and its nostril's (x, y, and its half-sizes).
-constexpr double kWing[2] = {0.0145, -0.0412};
+constexpr double kWing[2] = {0.0137, -0.0412};
 constexpr double kNostril[4] = {0.0062, -0.0448, 0.0031, 0.0015};
 
 // The nasolabial fold, from beside the nose's wing to beside the mouth's corner (the left side's,
@@ -273,9 +273,9 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     const double wing = std::hypot((X - s * kWing[0]) / 0.0052, (Y - kWing[1]) / 0.0047);  // 1 at its rim
     // (Sloping gently out to the cheek: a lobe as steep outside as in reads as a ball stuck on,
     // its far side dark.)
-    const double outside = s * (X - s * kWing[0]) > 0 ? 0.0085 : 0.0064;
+    const double outside = s * (X - s * kWing[0]) > 0 ? 0.0068 : 0.0058;
     f.soft += 0.0046 * std::exp(-0.5 * (sq((X - s * kWing[0]) / outside) + sq((Y - kWing[1]) / 0.0047)));
-    f.soft -= 0.0019 * std::exp(-0.5 * sq((wing - 1.45) / 0.22)) * smoothstep(kWing[1] - 0.005, kWing[1] - 0.001, Y);
+    f.soft -= 0.0024 * std::exp(-0.5 * sq((wing - 1.4) / 0.16)) * smoothstep(kWing[1] - 0.005, kWing[1] - 0.001, Y);
     f.soft -= 0.0018 * gauss(X, Y, s * kNostril[0], kNostril[1], kNostril[2], kNostril[3]);  // nostril
     f.soft += 0.0008 * gauss(X, Y, s * 0.0045, -0.054, 0.0016, 0.005);                 // philtrum's ridge
     // The fold from the nose's wing to beside the mouth's corner (deeper with age), and the
