@@ -231,7 +231,12 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
     // The parting's own row (by index): its upper lip stays with the skull, its lower copy goes
     // with the jaw.
     const bool parting = lower_lip || (k >= ring(jm, 0) && k < ring(jm, 0) + static_cast<std::size_t>(C));
-    if (parting && std::abs(X) < head::kMouthHalf && p.z() > 0) w = lower_lip ? 1.0 : 0.0;
+    // (Toward the corners the lower lip goes less far, half as far as the middle at the corner
+    // itself: with all of it going with the jaw, an open mouth's sides stood as upright walls 4 to
+    // 7 mm tall from the corner to the next column, a hexagon, where a mouth's opening tapers to
+    // its corners, held by the modiolus.)
+    if (parting && std::abs(X) < head::kMouthHalf && p.z() > 0)
+      w = lower_lip ? 0.5 + 0.5 * smoothstep(head::kMouthHalf + 0.002, head::kMouthHalf - 0.013, std::abs(X)) : 0.0;
     // The corners of the mouth (where the parting ends) go half as far as the lower lip: the
     // stretch of an opening mouth is shared by the triangles above and below them. (Only near
     // the corner: a parting row that goes further than the rows below it folds into a crease.)
