@@ -71,18 +71,20 @@ def activations():
 # where its eyes go (None: the camera), so the head performs the feeling rather than holding
 # still: the smile tilts, surprise pulls back, sadness drops the head and the eyes, anger lowers
 # the chin and stares, disgust turns away, fear pulls back and looks aside.
+# (The smile's tilt 2 degrees: at 6, in three-quarter view the far corner sank, and the smile read
+# as a smirk.)
 # (The eyes' targets within about 25 degrees of where the head points: turned further, with the
 # head one way and the eyes the other, the irises sat in the lids' corners, cross-eyed; fear's
 # within 10 degrees, since with the wider eyes an iris 25 degrees over in its corner, white all
 # round the other, read as crossed.)
-CARRIAGE = {"happiness": ([-3, 16, 6], None), "surprise": ([-7, 10, 0], None), "sadness": ([9, 16, -3], [0.05, -0.3, 0.4]),
+CARRIAGE = {"happiness": ([-3, 16, 2], None), "surprise": ([-7, 10, 0], None), "sadness": ([9, 16, -3], [0.05, -0.3, 0.4]),
             "anger": ([5, 8, 0], None), "disgust": ([-3, 27, -5], [0.3, -0.05, 0.36]), "fear": ([-5, 22, 3], [0.14, 0.08, 0.45])}
 
 
 # How the head drifts while each expression holds (degrees, as CARRIAGE): a head that stops dead
 # for a second reads as a held pose (viewers saw frames a second apart as the same picture); the
 # drift carries on the feeling's motion (the smile tilts further, sadness sinks, disgust turns away).
-DRIFT = {"happiness": [-1, 3, 2], "surprise": [2, -2, 0], "fear": [1, 3, 0], "anger": [2, -2, 0],
+DRIFT = {"happiness": [-1, 3, 1], "surprise": [2, -2, 0], "fear": [1, 3, 0], "anger": [2, -2, 0],
          "disgust": [-2, 3, -2], "sadness": [3, 2, -2]}
 
 
