@@ -488,14 +488,27 @@ TEST_CASE("face: the layers' skull has orbits, a nasal aperture and teeth, where
   // surface, 3.5 mm on average (straight sticks from attachment to insertion stood up to 8.9 mm off
   // it, passing in and out); the sphincters are bands round their rings (24 rings of 16), in the
   // tissue.
-  std::size_t linear = 0, midline = 0;  // (a linear muscle on the midline, the mentalis, is drawn as a pair)
+  // The frontalis is one sheet over the forehead (41 columns of 15), not four bellies.
+  std::size_t linear = 0, midline = 0, frontalis = 0;  // (a linear muscle on the midline, the mentalis, is drawn as a pair)
   for (const FaceMuscle& mu : f.muscles()) {
-    linear += mu.desc.sphincter ? 0 : 1;
+    frontalis += mu.desc.name.rfind("frontalis", 0) == 0 ? 1 : 0;
+    linear += mu.desc.sphincter || mu.desc.name.rfind("frontalis", 0) == 0 ? 0 : 1;
     midline += !mu.desc.sphincter && std::abs(mu.desc.attachment.x()) < 1e-3 * s && std::abs(mu.desc.insertion.x()) < 1e-3 * s ? 1 : 0;
   }
   auto vert = [&](const TriMesh& m, std::uint32_t v) { return Vec3(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]); };
   std::vector<double> off;
   std::size_t bellies = 0, bands = 0;
+  const TriMesh* sheet = nullptr;
+  for (const DrawMesh& m : list.meshes)
+    if (m.mesh->vertexCount() == 41 * 15 && m.mesh->colors.size() == 3 * 41 * 15) sheet = m.mesh.get();
+  REQUIRE(sheet);
+  double left = -1e9, right = 1e9;
+  for (std::uint32_t v = 0; v < sheet->vertexCount(); ++v) {
+    const double across = (f.rotation().transpose() * vert(*sheet, v)).x() / s;  // (plus a constant: the head's position)
+    left = std::max(left, across), right = std::min(right, across);
+    CHECK(sheet->colors[3 * v] > 2 * sheet->colors[3 * v + 1]);  // muscle red
+  }
+  CHECK(left - right > 0.09);  // across the forehead, m at 0.24 m
   for (const DrawMesh& m : list.meshes) {
     if (m.material.color != Vec3(0.42, 0.07, 0.06)) continue;  // not a relaxed muscle's
     if (m.mesh->vertexCount() == 24 * 16) ++bands;
@@ -521,7 +534,8 @@ TEST_CASE("face: the layers' skull has orbits, a nasal aperture and teeth, where
                   << " mm on average, the farthest " << off.back() * 1000 << " mm");
   CHECK(midline == 1);
   CHECK(bellies == linear + midline);
-  CHECK(bands == f.muscles().size() - linear);
+  CHECK(frontalis == 4);
+  CHECK(bands == f.muscles().size() - linear - frontalis);
   CHECK(p95 < 0.005);
   CHECK(mean < 0.0035);
 }

@@ -4,6 +4,7 @@
 // (face_draw.cpp).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -140,6 +141,9 @@ class FaceBody final : public SpringNetworkBody {
   // reel's head's finer skin (with its points at rest and their wrinkles' regions), made once.
   const SkinDetail& detail() const;
   void drawLayers(DrawList& out) const;
+  // The layers' frontalis, one sheet over the forehead; onSkull lays a world point on the skull
+  // drawn (and gives its normal there).
+  void drawFrontalis(DrawList& out, const std::function<Vec3(const Vec3&, Vec3*)>& onSkull) const;
   // The layers' skull: the bone layer sculpted as a skull, its points at rest in the head frame
   // and their shades (made once, face_layers.cpp).
   void sculptSkull() const;

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <span>
+#include <functional>
 #include <string>
 
 #include "core/math.h"
@@ -89,6 +90,8 @@ void relax(std::array<Vec3, N>& p, int passes, bool closed) {
     for (std::size_t i = closed ? 0 : 1; i < (closed ? N : N - 1); ++i) p[i] = 0.5 * was[i] + 0.25 * (was[(i + N - 1) % N] + was[(i + 1) % N]);
   }
 }
+
+bool frontalis(const std::string& name) { return name.rfind("frontalis", 0) == 0; }
 
 }  // namespace
 
@@ -223,6 +226,7 @@ void FaceBody::drawLayers(DrawList& out) const {
     // Muscle red relaxed, a brighter, warmer red as it contracts (yellow sticks read as a debug
     // view; a glowing orange, with the lips' ring round bared teeth, as a clown's mask).
     const DrawMaterial red = plainMaterial((1 - a) * Vec3(0.42, 0.07, 0.06) + a * Vec3(0.8, 0.2, 0.1), 0.3);
+    if (!mu.desc.sphincter && frontalis(mu.desc.name) && surface_.generated) continue;  // drawn as a sheet, below
     if (!mu.desc.sphincter) {
       Vec3 mid = Vec3::Zero();
       for (std::size_t j = 0; j < mu.nodes.size(); ++j) mid += mu.weight[j] * x[n + static_cast<std::size_t>(mu.nodes[j])];
@@ -287,6 +291,62 @@ void FaceBody::drawLayers(DrawList& out) const {
       out.meshes.push_back({muscleBody(ring, up, wide, thick, true), true, red});
     }
   }
+  if (surface_.generated) drawFrontalis(out, onSkull);
+}
+
+// The frontalis as the sheet it is (Gray's Anatomy, plate 378): one thin layer over the forehead
+// from the brows up to the scalp's aponeurosis, its two bellies parted low over the nose, its
+// fibres running up; each column coloured by the nearest of the four frontalis muscles' pull (as
+// four separate bellies it read as four pads on an egg). Its lower edge rides on the fascia
+// under the brows, so it rises as they do; its upper edge lies on the skull.
+void FaceBody::drawFrontalis(DrawList& out, const std::function<Vec3(const Vec3&, Vec3*)>& onSkull) const {
+  const std::size_t n = surface_.size();
+  const auto& x = net_.state.x;
+  const double s = surface_.scale;
+  constexpr int kAcross = 40, kUp = 14;
+  // Its edges (m at 0.24 m): the lower along the brows, rising into the notch between the
+  // bellies; the upper curving down to the temples.
+  auto low = [](double X) { return 0.026 + 0.014 * std::exp(-0.5 * head::sq(X / 0.009)); };
+  auto top = [](double X) { return 0.09 - 0.014 * head::sq(X / 0.064); };
+  auto onBase = [&](double X, double Y) {
+    const Vec3 d = Vec3(X, Y, 0.09).normalized();
+    return Vec3(s * head::baseRadius(d, surface_.look) * d);
+  };
+  // Each column's pull: the activation of the frontalis muscle nearest it across the forehead.
+  std::vector<std::pair<double, double>> pulls;  // (x at 0.24 m, activation)
+  for (std::size_t m = 0; m < muscles_.size(); ++m)
+    if (frontalis(muscles_[m].desc.name)) pulls.emplace_back(muscles_[m].desc.insertion.x() / s, std::clamp(act_[m], 0.0, 1.0));
+  auto pull = [&](double X) {
+    double best = 1e9, a = 0.0;
+    for (const auto& [px, pa] : pulls)
+      if (std::abs(px - X) < best) best = std::abs(px - X), a = pa;
+    return a;
+  };
+  auto sheet = std::make_shared<TriMesh>();
+  for (int j = 0; j <= kUp; ++j)
+    for (int i = 0; i <= kAcross; ++i) {
+      const double X = 0.064 * (2.0 * i / kAcross - 1.0), f = static_cast<double>(j) / kUp;
+      const double y0 = low(X), Y = y0 + f * (top(X) - y0);
+      // The lower rows carried by the skin over them as it moves from rest (that of the vertex
+      // nearest at rest), the upper on the skull.
+      const std::size_t k = nearestOf(std::span<const Vec3>(surface_.skin.data(), n), onBase(X, y0)).first;
+      const Vec3 moved = x[k] - boneToWorld(k, surface_.skin[k]);
+      Vec3 normal;
+      const Vec3 p = onSkull(desc_.position + R_ * onBase(X, Y) + (1.0 - smoothstep(0.0, 0.7, f)) * moved, &normal);
+      // Thinning to nothing at its edges, down onto the bone, and darker there as the bone shows
+      // through.
+      const double edges = smoothstep(0.0, 0.12, f) * smoothstep(1.0, 0.8, f) * smoothstep(0.064, 0.054, std::abs(X));
+      sheet->addVertex(p - 0.0016 * s * (1.0 - edges) * normal, normal);
+      const double a = pull(X), fibre = i % 2 == 0 ? 1.0 : 0.82;
+      const Vec3 c = fibre * (0.55 + 0.45 * edges) * ((1 - a) * Vec3(0.42, 0.07, 0.06) + a * Vec3(0.8, 0.2, 0.1));
+      sheet->colors.insert(sheet->colors.end(), {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])});
+    }
+  for (int j = 0; j < kUp; ++j)
+    for (int i = 0; i < kAcross; ++i) {
+      const auto a = static_cast<std::uint32_t>(j * (kAcross + 1) + i), b = a + 1, c = a + kAcross + 1, d = c + 1;
+      sheet->indices.insert(sheet->indices.end(), {a, b, d, a, d, c});
+    }
+  out.meshes.push_back({std::move(sheet), true, plainMaterial(Vec3(1, 1, 1), 0.3)});
 }
 
 }  // namespace reel
