@@ -170,14 +170,14 @@ TEST_CASE("face: the skin's sheen: none on the hair, the lips glossiest, the nos
   CHECK(cheek > 0.1);
 }
 
-TEST_CASE("face: wrinkles fold in as their muscles pull: the forehead in surprise, between the brows in anger, crow's feet in a smile") {
+TEST_CASE("face: wrinkles fold in as their muscles pull: the forehead in surprise, between the brows in anger, crow's feet in a smile, the nose in disgust") {
   // The deepest fold of the skin drawn in a region of the head's rest frame (x, y in m, at 0.24 m).
   struct Region {
     const char* name;
     double x0, x1, y0, y1;
   };
   const Region forehead{"forehead", -0.04, 0.04, 0.035, 0.065}, glabella{"glabella", -0.008, 0.008, 0.008, 0.03},
-      crows{"crow's feet", 0.05, 0.065, -0.01, 0.012};
+      crows{"crow's feet", 0.05, 0.065, -0.01, 0.012}, nose{"nose's side", 0.004, 0.014, -0.016, 0.0};
   auto deepest = [](const std::string& preset, const Region& r) {
     World w = worldFromText(test::faceSceneText(R"(, "activations": [{"time": 0, "preset": ")" + preset +
                                                     R"(", "amount": 0}, {"time": 0.4, "preset": ")" + preset + R"("}])",
@@ -198,10 +198,12 @@ TEST_CASE("face: wrinkles fold in as their muscles pull: the forehead in surpris
   CHECK(deepest("surprise", forehead) > 0.7);
   CHECK(deepest("anger", glabella) > 0.7);
   CHECK(deepest("happiness", crows) > 0.7);
+  CHECK(deepest("disgust", nose) > 0.7);
   // None where no muscle pulls and the skin has not shrunk: the forehead in a smile, between the
   // brows in surprise.
   CHECK(deepest("happiness", forehead) < 0.05);
   CHECK(deepest("surprise", glabella) < 0.1);
+  CHECK(deepest("surprise", nose) < 0.1);
 }
 
 TEST_CASE("face: an open mouth's rims run on curves through the simulated vertices, not along a polygon of its edges") {

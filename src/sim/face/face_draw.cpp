@@ -186,13 +186,14 @@ std::vector<double> FaceBody::wrinkleDepth(const std::vector<double>& lost) cons
     pull[static_cast<std::size_t>(side)] = {std::max(control("frontalis_inner" + s), control("frontalis_outer" + s)),
                                             std::max(control("corrugator_left"), control("corrugator_right")),
                                             std::max(control("orbicularis_oculi" + s), control("zygomatic_major" + s)),
-                                            std::max(control("zygomatic_major" + s), control("levator_labii" + s))};
+                                            std::max(control("zygomatic_major" + s), control("levator_labii" + s)),
+                                            control("levator_labii" + s)};
   }
   std::vector<double> out(detail_regions_.size(), 0.0);
   for (std::size_t k = 0; k < out.size(); ++k) {
     const head::Wrinkles& w = detail_regions_[k];
     const head::Wrinkles& a = pull[detail_rest_[k].x() >= 0 ? 0 : 1];
-    out[k] = std::max({w.forehead * a.forehead, w.glabella * a.glabella, w.crows * a.crows, w.fold * a.fold,
+    out[k] = std::max({w.forehead * a.forehead, w.glabella * a.glabella, w.crows * a.crows, w.fold * a.fold, w.nose * a.nose,
                        w.most() * smoothstep(0.02, 0.15, lost[k])});
   }
   return out;

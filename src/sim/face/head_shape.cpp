@@ -394,7 +394,8 @@ Wrinkles wrinkleRegions(const Vec3& p) {
   const double cx = ax - 0.047, r = std::hypot(cx, Y - 0.001), fan = std::atan2(Y - 0.001, cx);
   const double crows = cx > -0.002 ? smoothstep(0.004, 0.008, r) * smoothstep(0.02, 0.012, r) * smoothstep(1.1, 0.7, std::abs(fan)) : 0.0;
   const double fold = std::exp(-0.5 * sq(segmentDistance(ax, Y, kFoldTop[0], kFoldTop[1], kFoldEnd[0], kFoldEnd[1]) / 0.004));
-  return {forehead, glabella, crows, fold};
+  const double nose = smoothstep(0.002, 0.0045, ax) * smoothstep(0.015, 0.01, ax) * smoothstep(-0.021, -0.015, Y) * smoothstep(0.007, 0.002, Y);
+  return {forehead, glabella, crows, fold, nose};
 }
 
 Wrinkles wrinkleLines(const Vec3& p) {
@@ -413,7 +414,10 @@ Wrinkles wrinkleLines(const Vec3& p) {
   const double crows = 0.35 * region.crows * std::pow(0.5 + 0.5 * std::cos(fan * 12.0 + 0.25 * std::sin(r * 900.0)), 1.6);
   // The nasolabial fold, from the nose's wing to beside the mouth's corner.
   const double fold = std::exp(-0.5 * sq(segmentDistance(ax, Y, kFoldTop[0], kFoldTop[1], kFoldEnd[0], kFoldEnd[1]) / 0.0012));
-  return {region.forehead * furrows, glabella, crows, fold};
+  // The nose's wrinkles: three or four lines about 2.6 mm apart across the sides of its upper half,
+  // slanting down and out from its root (the "bunny lines").
+  const double nose = region.nose * std::pow(0.5 + 0.5 * std::cos(2 * kPi * (Y + 0.55 * ax) / 0.0026), 5.0);
+  return {region.forehead * furrows, glabella, crows, fold, nose};
 }
 
 double skinGloss(const Vec3& p, const Vec3& d, double ym) {

@@ -112,12 +112,13 @@ double skinRelief(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
 // Where the skin folds into lines when it is squeezed (0..1 at the rest point p): the forehead's
 // horizontal furrows (the frontalis raising the brows), the two vertical lines between the brows
 // (the corrugator), crow's feet fanning from each eye's outer corner (the orbicularis oculi, a
-// smile's raised cheeks) and the nasolabial fold. A wrinkle map (Oat 2007, "Animated wrinkle
+// smile's raised cheeks), the nasolabial fold, and the nose's wrinkles, slanting down its sides
+// from its root (the levator labii's nose wrinkler, disgust's AU9). A wrinkle map (Oat 2007, "Animated wrinkle
 // maps"): the drawn skin shows each as the muscle that makes it pulls, or where its area has
 // shrunk.
 struct Wrinkles {
-  double forehead = 0, glabella = 0, crows = 0, fold = 0;
-  double most() const { return std::max({forehead, glabella, crows, fold}); }
+  double forehead = 0, glabella = 0, crows = 0, fold = 0, nose = 0;
+  double most() const { return std::max({forehead, glabella, crows, fold, nose}); }
 };
 Wrinkles wrinkleLines(const Vec3& p);
 // The regions those lines lie in (0..1 at the rest point p, smooth over millimetres): how deep
