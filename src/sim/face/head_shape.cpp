@@ -150,8 +150,12 @@ HairAt hairAt(const Vec3& p, const Vec3& d) {
   // The strand's shade: fine streaks over locks about 4 mm across and 3 cm long (streaks alone,
   // under a pixel at a portrait's distance, left the cap one smooth shell).
   const double locks = noise(Vec3(around * 28.0, down * 3.5, 6.5));
+  // (Dark partings between the locks, where the scalp's shadow shows: locks of one shade read as a
+  // painted shell.)
+  const double parting = smoothstep(0.3, 0.18, locks);
   return {std::clamp(0.5 + 2.0 * (cover - 0.5) + 1.1 * (wisps - 0.5) * (1.0 - std::abs(2.0 * cover - 1.0)), 0.0, 1.0),
-          std::clamp(0.55 * noise(Vec3(around * 160.0, down * 14.0, 0.5)) + 0.9 * (locks - 0.5) + 0.22, 0.0, 1.0), around, down};
+          std::clamp(0.55 * noise(Vec3(around * 160.0, down * 14.0, 0.5)) + 1.1 * (locks - 0.5) + 0.22 - 0.25 * parting, 0.0, 1.0), around,
+          down};
 }
 
 // Pores (under a millimetre) and mottling (a few mm), value noise over the surface; none on the
@@ -250,7 +254,10 @@ Vec3 eyeCentre(int e, const FaceLook& look) {
 
 double hairCover(const Vec3& p, const Vec3& d, double soft) {
   const double around = std::abs(std::atan2(d.x(), d.z()));
-  return smoothstep(-soft, soft, p.y() - kHairline(around));
+  // The hairline uneven, in tufts a centimetre or so across, up to 3 mm either way (a smooth
+  // curve read as drawn with a compass, the hair as a helmet).
+  const double tufts = 0.006 * (noise(Vec3(around * 9.0, 1.5, 4.5)) - 0.5) + 0.003 * (noise(Vec3(around * 23.0, 7.5, 2.5)) - 0.5);
+  return smoothstep(-soft, soft, p.y() - kHairline(around) - tufts);
 }
 
 Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
@@ -367,8 +374,11 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   // and 17.5 mm over the top: at 4 mm all over it read as a painted helmet, at 9 over the crown as
   // a helmet still, and with the fullness from the height alone the forehead ran up to a bare
   // dome; 3.5 mm at the hairline stood as the helmet's rim).
-  const double above = Y - kHairline(std::abs(std::atan2(d.x(), d.z())));
-  f.soft += (0.0012 + smoothstep(-0.004, 0.03, above) * (0.0083 + 0.008 * smoothstep(0.02, 0.09, Y))) * hairCover(p, d, 0.012);
+  const double around = std::atan2(d.x(), d.z()), above = Y - kHairline(std::abs(around));
+  // Over it, locks about 7 mm across and 3 cm long, combed down from the crown, standing up to 1.2 mm
+  // proud of each other (a smooth shell, however its colour was streaked, read as a helmet).
+  const double locks = noise(Vec3(std::abs(around) * 14.0, std::acos(std::clamp(d.y(), -1.0, 1.0)) * 3.0, 11.5)) - 0.5;  // (mirrored: the head symmetric)
+  f.soft += (0.0012 + smoothstep(-0.004, 0.03, above) * (0.0083 + 0.008 * smoothstep(0.02, 0.09, Y) + 0.0024 * locks)) * hairCover(p, d, 0.012);
   return f;
 }
 
