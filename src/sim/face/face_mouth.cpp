@@ -45,6 +45,14 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
   Vec3 centre = Vec3::Zero();
   for (const auto& [a, b] : edges) centre += ends[a].outer + ends[b].outer;
   centre /= 2.0 * static_cast<double>(edges.size());  // the opening's middle
+  // Each outer end tucked 0.8 mm under the lip, away from the opening along the skin (at the
+  // skin's edge, the mouth's dark inside showed between the skin drawn, curving between the
+  // vertices, and the rim, as a dark outline round the lips).
+  for (End& e : ends)
+    if (e.lip) {
+      const Vec3 away = e.outer - centre;
+      e.outer += 0.0008 * surface_.scale * unitOr(away - away.dot(e.normal) * e.normal, Vec3::Zero());
+    }
   // Along the opening a → b, the neighbour of a that is not b (a itself at a chain's end).
   auto beyond = [&](std::uint32_t a, std::uint32_t b) {
     for (std::uint32_t c : open[a])
@@ -74,7 +82,7 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
       for (int c = 0; c < 4; ++c) {
         const bool outer = c < 2;
         inside.addVertex(c == 0 ? oa : c == 1 ? ob : c == 2 ? ib : ia, outer ? rolled : facing);
-        const Vec3 col = outer ? rim : Vec3(0.3 * rim);
+        const Vec3 col = outer ? rim : Vec3(0.65 * rim);  // (at 0.3, seen from in front the strip read as a dark outline round the lips)
         for (int k = 0; k < 3; ++k) inside.colors.push_back(static_cast<float>(col[k]));
       }
       if (!flip) inside.indices.insert(inside.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
