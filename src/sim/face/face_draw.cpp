@@ -522,7 +522,7 @@ FaceBody::Eye FaceBody::eye(int e) const {
   const double gaze = std::asin(std::clamp(look.dot(up), -1.0, 1.0));  // the gaze's elevation in the head
   out.upper = (20.0 + 10.0 * control("eyelid_raise")) * deg + 0.7 * gaze;
   out.lower = (-24.0 + 16.0 * squeeze) * deg + 0.4 * gaze;
-  // The corners 68° to each side on the lids' shell (the opening about 26 mm wide at 0.24 m, a
+  // The corners 72° to each side on the lids' shell (the opening about 26.4 mm wide at 0.24 m, a
   // little short of Farkas 1994's palpebral fissure, 28-30 mm, whose inner end lies past the
   // eyeball; at 61°, 23 mm, viewers found the eyes small), the outer 8° above the inner.
   out.corner = head::kEyeCorner;

@@ -274,7 +274,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     f.bone += 0.004 * gauss(X, Y, s * 0.05, -0.016, 0.014, 0.009);                     // cheekbone
     // The inner corner's recess (the medial canthus lies 7 to 8 mm behind the cornea, under the
     // nose's side): without it the skin stood as a wall in front of the lids' inner tips.
-    f.bone -= 0.008 * gauss(X, Y, s * 0.018, kEyeY - 0.002, 0.0028, 0.0032);
+    f.bone -= 0.008 * gauss(X, Y, s * (kEyeX - 0.014), kEyeY - 0.002, 0.0028, 0.0032);
     // The nose's wing (ala): a lobe beside the tip's base, ringed above and behind by the alar
     // groove where it meets the cheek (not below it, where it sits on the lip).
     const double wing = std::hypot((X - s * kWing[0]) / 0.0052, (Y - kWing[1]) / 0.0047);  // 1 at its rim
@@ -344,7 +344,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
       const double behind = -along + std::sqrt(disc), ball = disc - sq(shell - 0.0003) + sq(kEyeRadius - 0.0004);
       const double inside = ball > 0 ? -along + std::sqrt(ball) : behind;
       const Vec3 h = p + behind * e - c;
-      // The almond as drawn at rest (FaceBody::Eye), on the lids' shell: its corners 12.9 mm to
+      // The almond as drawn at rest (FaceBody::Eye), on the lids' shell: its corners 13.2 mm to
       // either side, the outer 1 mm above the middle's line, the inner as far below; the band
       // above reaching the lid's crease (43° above the eye's centre: 10.5 mm above that line), the
       // one below 2.7 mm past the margin, both narrowing to 2 mm round the corners (the sizes of a

@@ -3,7 +3,7 @@
 // it, the features of the skull and of the soft tissue as displacements, and the skin's colours.
 // Everything is at a height of 0.24 m (chin to crown) in the head's own frame (origin at its
 // centre, +y up, +z out of the face, +x its left), in metres. Proportions are adult averages
-// (Farkas 1994, "Anthropometry of the head and face"): the eyes at half the head's height, 63 mm
+// (Farkas 1994, "Anthropometry of the head and face"): the eyes at half the head's height, 62 mm
 // apart; the nose's base a third of the way from the brows to the chin, the lips' parting a third
 // of the way from the nose's base to the chin; mouth 50 mm wide, nose 35 mm.
 #pragma once
@@ -39,12 +39,12 @@ inline double segmentDistance(double x, double y, double ax, double ay, double b
 }
 
 // Landmarks at height 0.24 m.
-inline constexpr double kEyeX = 0.032, kEyeY = 0.0, kEyeRadius = 0.013;
+inline constexpr double kEyeX = 0.031, kEyeY = 0.0, kEyeRadius = 0.013;
 // The lids' shell about each eye (its radius over the eye's): the lids are drawn on it. Their
 // almond's corners lie kEyeCorner to either side of the eye's middle on it (rad), at a mean
 // elevation kEyeCorners, the outer kCanthalTilt higher than the inner (FaceBody::Eye).
 inline constexpr double kLidShell = 1.07;
-inline constexpr double kEyeCorner = 68.0 * kPi / 180.0, kEyeCorners = -4.0 * kPi / 180.0, kCanthalTilt = 8.0 * kPi / 180.0;
+inline constexpr double kEyeCorner = 72.0 * kPi / 180.0, kEyeCorners = -4.0 * kPi / 180.0, kCanthalTilt = 8.0 * kPi / 180.0;
 inline constexpr double kMouthY = -0.070, kMouthHalf = 0.025;
 
 // The neck: its axis (vertical, at this z) and where it is cut (inside the shoulders).
