@@ -177,7 +177,8 @@ TEST_CASE("face: wrinkles fold in as their muscles pull: the forehead in surpris
     double x0, x1, y0, y1;
   };
   const Region forehead{"forehead", -0.04, 0.04, 0.035, 0.065}, glabella{"glabella", -0.008, 0.008, 0.008, 0.03},
-      crows{"crow's feet", 0.05, 0.065, -0.01, 0.012}, nose{"nose's side", 0.004, 0.014, -0.016, 0.0};
+      crows{"crow's feet", 0.05, 0.065, -0.01, 0.012}, nose{"nose's side", 0.004, 0.014, -0.016, 0.0},
+      nose_right{"nose's right side", -0.014, -0.004, -0.016, 0.0};
   auto deepest = [](const std::string& preset, const Region& r) {
     World w = worldFromText(test::faceSceneText(R"(, "activations": [{"time": 0, "preset": ")" + preset +
                                                     R"(", "amount": 0}, {"time": 0.4, "preset": ")" + preset + R"("}])",
@@ -199,11 +200,33 @@ TEST_CASE("face: wrinkles fold in as their muscles pull: the forehead in surpris
   CHECK(deepest("anger", glabella) > 0.7);
   CHECK(deepest("happiness", crows) > 0.7);
   CHECK(deepest("disgust", nose) > 0.7);
+  CHECK(deepest("disgust", nose_right) > 0.7);
   // None where no muscle pulls and the skin has not shrunk: the forehead in a smile, between the
   // brows in surprise.
   CHECK(deepest("happiness", forehead) < 0.05);
   CHECK(deepest("surprise", glabella) < 0.1);
   CHECK(deepest("surprise", nose) < 0.1);
+}
+
+TEST_CASE("face: the nose's wrinkle lines: five or six down each side of its upper half, slanting, the same on both sides") {
+  // Down a line on the nose's side (x = 8 mm, at 0.24 m, on its front) the lines' map peaks every
+  // 2.6 mm: count the peaks above half depth, and compare with the mirrored side.
+  int peaks = 0;
+  bool above = false;
+  double asymmetry = 0.0;
+  for (double y = -0.022; y <= 0.008; y += 0.0001) {
+    const double v = head::wrinkleLines(Vec3(0.008, y, 0.1)).nose;
+    asymmetry = std::max(asymmetry, std::abs(v - head::wrinkleLines(Vec3(-0.008, y, 0.1)).nose));
+    if (v > 0.5 && !above) ++peaks;
+    above = v > 0.5;
+  }
+  MESSAGE(peaks << " lines down the nose's side");
+  CHECK(peaks >= 4);
+  CHECK(peaks <= 7);
+  CHECK(asymmetry < 1e-12);
+  // None off the nose: on the cheek, and on the midline's ridge.
+  CHECK(head::wrinkleLines(Vec3(0.03, -0.01, 0.09)).nose == 0.0);
+  CHECK(head::wrinkleLines(Vec3(0.0, -0.01, 0.1)).nose == 0.0);
 }
 
 TEST_CASE("face: an open mouth's rims run on curves through the simulated vertices, not along a polygon of its edges") {

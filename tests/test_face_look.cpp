@@ -499,9 +499,10 @@ TEST_CASE("face: the layers' skull has orbits, a nasal aperture and teeth, where
   std::vector<double> off;
   std::size_t bellies = 0, bands = 0;
   const TriMesh* sheet = nullptr;
+  int sheets = 0;
   for (const DrawMesh& m : list.meshes)
-    if (m.mesh->vertexCount() == 41 * 15 && m.mesh->colors.size() == 3 * 41 * 15) sheet = m.mesh.get();
-  REQUIRE(sheet);
+    if (m.mesh->vertexCount() == 41 * 15 && m.mesh->colors.size() == 3 * 41 * 15) sheet = m.mesh.get(), ++sheets;
+  REQUIRE(sheets == 1);
   double left = -1e9, right = 1e9;
   for (std::uint32_t v = 0; v < sheet->vertexCount(); ++v) {
     const double across = (f.rotation().transpose() * vert(*sheet, v)).x() / s;  // (plus a constant: the head's position)

@@ -516,8 +516,8 @@ FaceBody::Eye FaceBody::eye(int e) const {
   };
   const double squeeze = control(e == 0 ? "orbicularis_oculi_left" : "orbicularis_oculi_right");
   constexpr double deg = kPi / 180.0;
-  // (The squeeze brings the upper lid down a fifth as far as the lower comes up: at 0.45, a smile's
-  // eyes, narrowed from above as much as from below, read as a wince.)
+  // (The squeeze brings the upper lid a fifth of the way to shut: at 0.45, a smile's eyes, narrowed
+  // from above as much as from below, read as a wince.)
   out.closure = std::clamp(std::max(control("blink"), 0.2 * squeeze), 0.0, 1.0);
   const double gaze = std::asin(std::clamp(look.dot(up), -1.0, 1.0));  // the gaze's elevation in the head
   out.upper = (20.0 + 10.0 * control("eyelid_raise")) * deg + 0.7 * gaze;

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <span>
 #include <functional>
+#include <span>
 #include <string>
 
 #include "core/math.h"
@@ -92,6 +92,11 @@ void relax(std::array<Vec3, N>& p, int passes, bool closed) {
 }
 
 bool frontalis(const std::string& name) { return name.rfind("frontalis", 0) == 0; }
+
+// A muscle's red at activation a (0..1): muscle red relaxed, a brighter, warmer red as it
+// contracts (yellow sticks read as a debug view; a glowing orange, with the lips' ring round bared
+// teeth, as a clown's mask).
+Vec3 muscleRed(double a) { return (1 - a) * Vec3(0.42, 0.07, 0.06) + a * Vec3(0.8, 0.2, 0.1); }
 
 }  // namespace
 
@@ -223,9 +228,7 @@ void FaceBody::drawLayers(DrawList& out) const {
   for (std::size_t m = 0; m < muscles_.size(); ++m) {
     const FaceMuscle& mu = muscles_[m];
     const double a = std::clamp(act_[m], 0.0, 1.0);
-    // Muscle red relaxed, a brighter, warmer red as it contracts (yellow sticks read as a debug
-    // view; a glowing orange, with the lips' ring round bared teeth, as a clown's mask).
-    const DrawMaterial red = plainMaterial((1 - a) * Vec3(0.42, 0.07, 0.06) + a * Vec3(0.8, 0.2, 0.1), 0.3);
+    const DrawMaterial red = plainMaterial(muscleRed(a), 0.3);
     if (!mu.desc.sphincter && frontalis(mu.desc.name) && surface_.generated) continue;  // drawn as a sheet, below
     if (!mu.desc.sphincter) {
       Vec3 mid = Vec3::Zero();
@@ -300,45 +303,58 @@ void FaceBody::drawLayers(DrawList& out) const {
 // four separate bellies it read as four pads on an egg). Its lower edge rides on the fascia
 // under the brows, so it rises as they do; its upper edge lies on the skull.
 void FaceBody::drawFrontalis(DrawList& out, const std::function<Vec3(const Vec3&, Vec3*)>& onSkull) const {
+  // Each frontalis muscle's place across the forehead (x at 0.24 m) and its pull now.
+  std::vector<std::pair<double, double>> pulls;
+  for (std::size_t m = 0; m < muscles_.size(); ++m)
+    if (frontalis(muscles_[m].desc.name)) pulls.emplace_back(muscles_[m].desc.insertion.x() / surface_.scale, std::clamp(act_[m], 0.0, 1.0));
+  if (pulls.empty()) return;  // (a head made without the default muscles)
   const std::size_t n = surface_.size();
   const auto& x = net_.state.x;
   const double s = surface_.scale;
+  // The sheet: 41 columns across (fibres of alternate shades, 82% and 100%, so it is striped as
+  // muscle is) and 15 rows up, 64 mm to either side of the midline (m at 0.24 m).
   constexpr int kAcross = 40, kUp = 14;
-  // Its edges (m at 0.24 m): the lower along the brows, rising into the notch between the
-  // bellies; the upper curving down to the temples.
+  constexpr double kHalf = 0.064, kSunk = 0.0016;  // its edges sink kSunk onto the bone
+  // Its edges: the lower along the brows, rising into the notch between the bellies; the upper
+  // curving down to the temples.
   auto low = [](double X) { return 0.026 + 0.014 * std::exp(-0.5 * head::sq(X / 0.009)); };
-  auto top = [](double X) { return 0.09 - 0.014 * head::sq(X / 0.064); };
+  auto top = [](double X) { return 0.09 - 0.014 * head::sq(X / kHalf); };
+  // The head's base surface where the ray toward (X, Y) on the face's front meets it.
   auto onBase = [&](double X, double Y) {
     const Vec3 d = Vec3(X, Y, 0.09).normalized();
     return Vec3(s * head::baseRadius(d, surface_.look) * d);
   };
-  // Each column's pull: the activation of the frontalis muscle nearest it across the forehead.
-  std::vector<std::pair<double, double>> pulls;  // (x at 0.24 m, activation)
-  for (std::size_t m = 0; m < muscles_.size(); ++m)
-    if (frontalis(muscles_[m].desc.name)) pulls.emplace_back(muscles_[m].desc.insertion.x() / s, std::clamp(act_[m], 0.0, 1.0));
+  // A column's pull: the muscles' pulls blended by their nearness across the forehead (12 mm), so
+  // the midline, as near one side's as the other's, takes both.
   auto pull = [&](double X) {
-    double best = 1e9, a = 0.0;
-    for (const auto& [px, pa] : pulls)
-      if (std::abs(px - X) < best) best = std::abs(px - X), a = pa;
-    return a;
+    double sum = 0.0, weight = 0.0;
+    for (const auto& [px, pa] : pulls) {
+      const double w = std::exp(-0.5 * head::sq((px - X) / 0.012));
+      sum += w * pa, weight += w;
+    }
+    return weight > 0 ? sum / weight : 0.0;
   };
   auto sheet = std::make_shared<TriMesh>();
+  std::vector<Vec3> moved(kAcross + 1);
+  for (int i = 0; i <= kAcross; ++i) {
+    // The lower edge carried by the skin over it as it moves from rest (that of the vertex nearest
+    // at rest).
+    const double X = kHalf * (2.0 * i / kAcross - 1.0);
+    const std::size_t k = nearestOf(std::span<const Vec3>(surface_.skin.data(), n), onBase(X, low(X))).first;
+    moved[static_cast<std::size_t>(i)] = x[k] - boneToWorld(k, surface_.skin[k]);
+  }
   for (int j = 0; j <= kUp; ++j)
     for (int i = 0; i <= kAcross; ++i) {
-      const double X = 0.064 * (2.0 * i / kAcross - 1.0), f = static_cast<double>(j) / kUp;
+      const double X = kHalf * (2.0 * i / kAcross - 1.0), f = static_cast<double>(j) / kUp;
       const double y0 = low(X), Y = y0 + f * (top(X) - y0);
-      // The lower rows carried by the skin over them as it moves from rest (that of the vertex
-      // nearest at rest), the upper on the skull.
-      const std::size_t k = nearestOf(std::span<const Vec3>(surface_.skin.data(), n), onBase(X, y0)).first;
-      const Vec3 moved = x[k] - boneToWorld(k, surface_.skin[k]);
+      // The lower rows carried with the skin, the upper lying on the skull.
       Vec3 normal;
-      const Vec3 p = onSkull(desc_.position + R_ * onBase(X, Y) + (1.0 - smoothstep(0.0, 0.7, f)) * moved, &normal);
+      const Vec3 p = onSkull(desc_.position + R_ * onBase(X, Y) + (1.0 - smoothstep(0.0, 0.7, f)) * moved[static_cast<std::size_t>(i)], &normal);
       // Thinning to nothing at its edges, down onto the bone, and darker there as the bone shows
       // through.
-      const double edges = smoothstep(0.0, 0.12, f) * smoothstep(1.0, 0.8, f) * smoothstep(0.064, 0.054, std::abs(X));
-      sheet->addVertex(p - 0.0016 * s * (1.0 - edges) * normal, normal);
-      const double a = pull(X), fibre = i % 2 == 0 ? 1.0 : 0.82;
-      const Vec3 c = fibre * (0.55 + 0.45 * edges) * ((1 - a) * Vec3(0.42, 0.07, 0.06) + a * Vec3(0.8, 0.2, 0.1));
+      const double edges = smoothstep(0.0, 0.12, f) * smoothstep(1.0, 0.8, f) * smoothstep(kHalf, kHalf - 0.01, std::abs(X));
+      sheet->addVertex(p - kSunk * s * (1.0 - edges) * normal, normal);
+      const Vec3 c = (i % 2 == 0 ? 1.0 : 0.82) * (0.55 + 0.45 * edges) * muscleRed(pull(X));
       sheet->colors.insert(sheet->colors.end(), {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])});
     }
   for (int j = 0; j < kUp; ++j)

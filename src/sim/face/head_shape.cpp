@@ -101,6 +101,21 @@ double noise(const Vec3& p) {
   return v;
 }
 
+// How far past youth a look is: 0 at 20 years, 1 at 70, at most 1.4.
+double agedness(const FaceLook& look) { return std::clamp((look.age - 20.0) / 50.0, 0.0, 1.4); }
+
+// The hair's locks as they stand off the scalp (-0.5..0.5 in direction d): about 7 mm across and
+// 3 cm long, combed down from the crown; mirrored about the midline, as the head is.
+double hairLocks(const Vec3& d) {
+  return noise(Vec3(std::abs(std::atan2(d.x(), d.z())) * 14.0, std::acos(std::clamp(d.y(), -1.0, 1.0)) * 3.0, 11.5)) - 0.5;
+}
+
+// The hair's albedo at a strand's shade (0..1): dark brown, greying with age.
+Vec3 hairTone(double strand, const FaceLook& look) {
+  const Vec3 h = Vec3(0.05, 0.033, 0.022) * (0.6 + 0.8 * strand);
+  return h + std::clamp(agedness(look) - 0.6, 0.0, 1.0) * (Vec3(0.35, 0.34, 0.33) * (0.7 + 0.5 * strand) - h);
+}
+
 // The lips' vermilion: its upper border (with Cupid's bow) and lower border at x, against the
 // parting's height ym; the corners at |x| = 0.026.
 double vermilionTop(double x, double ym) {
@@ -150,9 +165,9 @@ HairAt hairAt(const Vec3& p, const Vec3& d) {
   // The strand's shade: fine streaks over locks about 4 mm across and 3 cm long (streaks alone,
   // under a pixel at a portrait's distance, left the cap one smooth shell).
   const double locks = noise(Vec3(around * 28.0, down * 3.5, 6.5));
-  // (Dark partings between the locks, where the scalp's shadow shows: locks of one shade read as a
-  // painted shell.)
-  const double parting = smoothstep(0.3, 0.18, locks);
+  // (Dark partings between the locks standing off the scalp, in their grooves, where the scalp's
+  // shadow shows: locks of one shade read as a painted shell.)
+  const double parting = smoothstep(-0.2, -0.32, hairLocks(d));
   return {std::clamp(0.5 + 2.0 * (cover - 0.5) + 1.1 * (wisps - 0.5) * (1.0 - std::abs(2.0 * cover - 1.0)), 0.0, 1.0),
           std::clamp(0.55 * noise(Vec3(around * 160.0, down * 14.0, 0.5)) + 1.1 * (locks - 0.5) + 0.22 - 0.25 * parting, 0.0, 1.0), around,
           down};
@@ -254,8 +269,8 @@ Vec3 eyeCentre(int e, const FaceLook& look) {
 
 double hairCover(const Vec3& p, const Vec3& d, double soft) {
   const double around = std::abs(std::atan2(d.x(), d.z()));
-  // The hairline uneven, in tufts a centimetre or so across, up to 3 mm either way (a smooth
-  // curve read as drawn with a compass, the hair as a helmet).
+  // The hairline uneven, in tufts a centimetre or so across, mostly within 3 mm either way and at
+  // most 4.5 (a smooth curve read as drawn with a compass, the hair as a helmet).
   const double tufts = 0.006 * (noise(Vec3(around * 9.0, 1.5, 4.5)) - 0.5) + 0.003 * (noise(Vec3(around * 23.0, 7.5, 2.5)) - 0.5);
   return smoothstep(-soft, soft, p.y() - kHairline(around) - tufts);
 }
@@ -264,7 +279,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   const double X = p.x(), Y = p.y();
   const double front = smoothstep(0.15, 0.6, d.z());
   const double male = std::clamp(look.sex, 0.0, 1.0), heavy = std::clamp(look.build, 0.0, 1.0);
-  const double aged = std::clamp((look.age - 20.0) / 50.0, 0.0, 1.4);
+  const double aged = agedness(look);
   Features f;
   for (double s : {-1.0, 1.0}) {
     f.bone += (0.0015 + 0.004 * male) * gauss(X, Y, s * 0.028, 0.02, 0.018, 0.006);  // brow ridge
@@ -347,10 +362,13 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
       // The almond as drawn at rest (FaceBody::Eye), on the lids' shell: its corners 13.2 mm to
       // either side, the outer 1 mm above the middle's line, the inner as far below; the band
       // above reaching the lid's crease (43° above the eye's centre: 10.5 mm above that line), the
-      // one below 2.7 mm past the margin, both narrowing to 2 mm round the corners (the sizes of a
-      // 12 mm eye's, scaled to the eye), to the lids' ends (80° round the shell).
+      // one below about 4 mm past the margin, both narrowing to 2 mm round the corners (the sizes
+      // of a 12 mm eye's, scaled to the eye), fading out from 76° round the shell to the lids' ends
+      // at 80° (t as h's across the shell, h being just inside it).
       const double t = (k == 0 ? h.x() : -h.x()) / (shell * std::sin(kEyeCorner)), v = h.y();
-      if (std::abs(t) >= 1.07) continue;
+      const double across = (shell - 0.0003) / (shell * std::sin(kEyeCorner));
+      const double fade = across * std::sin(76.0 * kPi / 180.0), end = across * std::sin(80.0 * kPi / 180.0);
+      if (std::abs(t) >= end) continue;
       const double tc = std::clamp(t, -1.0, 1.0);
       const double lobe = std::pow(std::cos(0.5 * kPi * tc), 0.65), mid = shell * std::sin(kEyeCorners + 0.5 * kCanthalTilt * tc);
       const double crease = shell * (std::sin(43.0 * kPi / 180.0) - std::sin(kEyeCorners));  // above the middle's line
@@ -359,7 +377,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
       const double top = mid + eye * 0.002 + (crease - eye * 0.002) * std::pow(lobe, 0.4);
       const double bottom = mid - eye * (0.002 + 0.0058 * lobe);
       // (Its lower edge over 4 mm: over 2.5 the skin rose as a wall that the fine mesh cut into steps.)
-      const double w = smoothstep(top, top - 0.003, v) * smoothstep(bottom, bottom + 0.004, v) * smoothstep(1.07, 1.01, std::abs(t));
+      const double w = smoothstep(top, top - 0.003, v) * smoothstep(bottom, bottom + 0.004, v) * smoothstep(end, fade, std::abs(t));
       // The widest the opening gets: the upper margin 46° up (raised, looking up), the lower 34°
       // down (looking down), with a millimetre to spare.
       const double up = mid + (shell * std::sin(46.0 * kPi / 180.0) - mid) * lobe, down = mid + (shell * std::sin(-34.0 * kPi / 180.0) - mid) * lobe;
@@ -374,11 +392,11 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   // and 17.5 mm over the top: at 4 mm all over it read as a painted helmet, at 9 over the crown as
   // a helmet still, and with the fullness from the height alone the forehead ran up to a bare
   // dome; 3.5 mm at the hairline stood as the helmet's rim).
-  const double around = std::atan2(d.x(), d.z()), above = Y - kHairline(std::abs(around));
-  // Over it, locks about 7 mm across and 3 cm long, combed down from the crown, standing up to 1.2 mm
-  // proud of each other (a smooth shell, however its colour was streaked, read as a helmet).
-  const double locks = noise(Vec3(std::abs(around) * 14.0, std::acos(std::clamp(d.y(), -1.0, 1.0)) * 3.0, 11.5)) - 0.5;  // (mirrored: the head symmetric)
-  f.soft += (0.0012 + smoothstep(-0.004, 0.03, above) * (0.0083 + 0.008 * smoothstep(0.02, 0.09, Y) + 0.0024 * locks)) * hairCover(p, d, 0.012);
+  const double above = Y - kHairline(std::abs(std::atan2(d.x(), d.z())));
+  // Over it, its locks (hairLocks) stand up to 1.2 mm proud of each other (a smooth shell, however
+  // its colour was streaked, read as a helmet).
+  f.soft += (0.0012 + smoothstep(-0.004, 0.03, above) * (0.0083 + 0.008 * smoothstep(0.02, 0.09, Y) + 0.0024 * hairLocks(d))) *
+            hairCover(p, d, 0.012);
   return f;
 }
 
@@ -404,7 +422,7 @@ Wrinkles wrinkleRegions(const Vec3& p) {
   const double cx = ax - 0.047, r = std::hypot(cx, Y - 0.001), fan = std::atan2(Y - 0.001, cx);
   const double crows = cx > -0.002 ? smoothstep(0.004, 0.008, r) * smoothstep(0.02, 0.012, r) * smoothstep(1.1, 0.7, std::abs(fan)) : 0.0;
   const double fold = std::exp(-0.5 * sq(segmentDistance(ax, Y, kFoldTop[0], kFoldTop[1], kFoldEnd[0], kFoldEnd[1]) / 0.004));
-  const double nose = smoothstep(0.002, 0.0045, ax) * smoothstep(0.015, 0.01, ax) * smoothstep(-0.021, -0.015, Y) * smoothstep(0.007, 0.002, Y);
+  const double nose = smoothstep(0.002, 0.0045, ax) * smoothstep(0.015, 0.01, ax) * smoothstep(-0.017, -0.012, Y) * smoothstep(0.004, 0.0, Y);
   return {forehead, glabella, crows, fold, nose};
 }
 
@@ -424,8 +442,8 @@ Wrinkles wrinkleLines(const Vec3& p) {
   const double crows = 0.35 * region.crows * std::pow(0.5 + 0.5 * std::cos(fan * 12.0 + 0.25 * std::sin(r * 900.0)), 1.6);
   // The nasolabial fold, from the nose's wing to beside the mouth's corner.
   const double fold = std::exp(-0.5 * sq(segmentDistance(ax, Y, kFoldTop[0], kFoldTop[1], kFoldEnd[0], kFoldEnd[1]) / 0.0012));
-  // The nose's wrinkles: three or four lines about 2.6 mm apart across the sides of its upper half,
-  // slanting down and out from its root (the "bunny lines").
+  // The nose's wrinkles: five or six lines 2.3 mm apart (2.6 mm down the nose) across the sides of
+  // its upper half, slanting down and out from its root (the "bunny lines").
   const double nose = region.nose * std::pow(0.5 + 0.5 * std::cos(2 * kPi * (Y + 0.55 * ax) / 0.0026), 5.0);
   return {region.forehead * furrows, glabella, crows, fold, nose};
 }
@@ -444,7 +462,7 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   const double X = p.x(), Y = p.y(), ax = std::abs(X);
   const bool front = d.z() > 0.2;
   const double male = std::clamp(look.sex, 0.0, 1.0);
-  const double aged = std::clamp((look.age - 20.0) / 50.0, 0.0, 1.4);
+  const double aged = agedness(look);
   Vec3 c(0.57, 0.36, 0.28);
   // Mottling and pores.
   const double mottle = noise(p * 320.0);
@@ -486,16 +504,11 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   }
   // Hair.
   const HairAt hair = hairAt(p, d);
-  if (hair.cover > 0) c = c + hair.cover * (hairColor(p, d, look) - c);
+  if (hair.cover > 0) c = c + hair.cover * (hairTone(hair.strand, look) - c);
   return c.cwiseMax(Vec3::Zero()).cwiseMin(Vec3::Ones());
 }
 
-Vec3 hairColor(const Vec3& p, const Vec3& d, const FaceLook& look) {
-  // Dark brown in streaks and locks, greying with age.
-  const double strand = hairAt(p, d).strand, aged = std::clamp((look.age - 20.0) / 50.0, 0.0, 1.4);
-  const Vec3 h = Vec3(0.05, 0.033, 0.022) * (0.6 + 0.8 * strand);
-  return h + std::clamp(aged - 0.6, 0.0, 1.0) * (Vec3(0.35, 0.34, 0.33) * (0.7 + 0.5 * strand) - h);
-}
+Vec3 hairColor(const Vec3& p, const Vec3& d, const FaceLook& look) { return hairTone(hairAt(p, d).strand, look); }
 
 // The skin's relief: what a bump map over the skin can show that the mesh, 1.4 mm at its finest,
 // cannot (skin without it reads as plastic at close range). Skin's surface has a fine grain of
@@ -504,7 +517,7 @@ Vec3 hairColor(const Vec3& p, const Vec3& d, const FaceLook& look) {
 // appearance of human skin: a survey", for the scales); brows and hair stand off it in strands.
 double skinRelief(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   const double X = p.x(), Y = p.y(), ax = std::abs(X);
-  const double aged = std::clamp((look.age - 20.0) / 50.0, 0.0, 1.4);
+  const double aged = agedness(look);
   // The grain: two octaves of noise, about 1.2 mm and 0.5 mm; coarser and deeper with age.
   const double grain = 0.65 * noise(p * (800.0 - 150.0 * aged) + Vec3(1.3, 5.1, 2.2)) + 0.35 * noise(p * 2000.0 + Vec3(4.4, 0.7, 9.2));
   // Pores deepest over the nose and the cheeks beside it, where they are largest, shallow elsewhere
