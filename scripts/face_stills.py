@@ -8,6 +8,7 @@
 Run from the repository root after building: python3 scripts/face_stills.py [build/release/reel]
 """
 import json
+import math
 import os
 import subprocess
 import sys
@@ -23,9 +24,10 @@ RENDER = {"samples": 4, "ao": {"radius": 0.025, "strength": 1.2},
           "background": {"top": [0.13, 0.15, 0.19], "bottom": [0.035, 0.04, 0.05]}}
 
 
-def face(name, position, preset, draw="skin", turn=18, shoulders=True):
+def face(name, position, preset, draw="skin", turn=18, shoulders=True, look=None):
+    look = look or [position[0] + 0.3, position[1], 0.8]
     return {"type": "face", "name": name, "position": position, "rotation_deg": [0, turn, 0], "shoulders": shoulders,
-            "gaze": [{"time": 0, "target": [position[0] + 0.3, position[1], 0.8]}],
+            "gaze": [{"time": 0, "target": look}],
             "activations": [{"time": 0, "preset": preset, "amount": 0}, {"time": 0.6, "preset": preset}],
             "draw": draw}
 
@@ -47,8 +49,13 @@ def still(reel, spec, out):
 
 def main():
     reel = sys.argv[1] if len(sys.argv) > 1 else "build/release/reel"
-    row = [face(e, [0.22 * (i - 2.5), 0, 0], e, shoulders=False) for i, e in enumerate(EXPRESSIONS)]
-    still(reel, scene(row, {"position": [0.0, 0.0, 1.05], "target": [0.0, -0.01, 0], "fov_deg": 17}, 1400, 320),
+    # Each head of the row turned 15 degrees from the camera, looking at it (turned alike, the heads
+    # at the row's ends were seen nearly in profile, their eyes off to the side, and a viewer could
+    # not name the last).
+    eye = [0.0, 0.0, 1.05]
+    row = [face(e, [0.22 * (i - 2.5), 0, 0], e, shoulders=False, look=eye,
+                turn=15 + math.degrees(math.atan2(-0.22 * (i - 2.5), eye[2]))) for i, e in enumerate(EXPRESSIONS)]
+    still(reel, scene(row, {"position": eye, "target": [0.0, -0.01, 0], "fov_deg": 17}, 1400, 320),
           "docs/images/face_expressions.png")
     pair = [face("smile", [-0.15, 0, 0], "happiness"), face("layers", [0.15, 0, 0], "happiness", "layers", 35)]
     still(reel, scene(pair, {"position": [0.03, -0.01, 0.62], "target": [0.0, -0.02, 0], "fov_deg": 26}, 960, 400),

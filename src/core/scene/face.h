@@ -163,7 +163,7 @@ inline constexpr std::array<FacePreset, 7> kFacePresets = {{
     // AU1 + AU2 + AU5 + AU26
     {"surprise", {{{"frontalis_inner", 1.0}, {"frontalis_outer", 1.0}, {"jaw_open", 0.8}, {"eyelid_raise", 1.0}}}},
     // AU4 + AU5 + AU7 + AU23 (+ AU17)
-    {"anger", {{{"corrugator", 1.0}, {"eyelid_raise", 0.45}, {"orbicularis_oculi", 0.5}, {"orbicularis_oris", 0.9}, {"mentalis", 0.5}, {"levator_labii", 0.2}}}},
+    {"anger", {{{"corrugator", 1.0}, {"eyelid_raise", 0.8}, {"orbicularis_oculi", 0.5}, {"orbicularis_oris", 1.0}, {"mentalis", 0.5}, {"levator_labii", 0.2}}}},
     // AU9 + AU10 + AU15 (+ AU17)
     {"disgust", {{{"levator_labii", 1.0}, {"corrugator", 0.45}, {"depressor_anguli_oris", 0.5}, {"orbicularis_oculi", 0.45}, {"mentalis", 0.5}}}},
     // AU1 + AU2 + AU4 + AU5 + AU20 + AU26
