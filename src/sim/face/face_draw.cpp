@@ -369,13 +369,6 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     for (int k = 0; k < 3; ++k) lids->colors.push_back(static_cast<float>(color[k]));
   };
   auto lash = [&](const Vec3& p, const Vec3& normal) { lashes->addVertex(world(p), R_ * normal); };
-  auto quads = [&](std::uint32_t base, int rows, int cols) {
-    for (int j = 0; j < rows; ++j)
-      for (int i = 0; i < cols; ++i) {
-        const std::uint32_t a = base + static_cast<std::uint32_t>(j * (cols + 1) + i), b = a + 1, cc = a + cols + 1, d = cc + 1;
-        lids->indices.insert(lids->indices.end(), {a, b, d, a, d, cc});
-      }
-  };
   for (int e = 0; e < 2; ++e) {
     const Eye ey = eye(e);
     const double r = ey.lid_radius, span = ey.lid_azimuth;
@@ -405,7 +398,7 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
           vertex(c + r * at(el, az), at(el, az), tone + (1.0 - inner) * line * (lash_tone - tone));
         }
       }
-      quads(base, kE, kA);
+      gridTriangles(*lids, base, kE, kA);
       // The lid's margin: its thickness, from the shell down to the eyeball (a strip facing the
       // opening), dark under the upper lashes, the lower lid's wet rim pink. Without it the
       // lids were paper-thin and the eye read as painted on.
@@ -417,7 +410,7 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
                                     : Vec3(std::sin(el) * std::sin(az), -std::cos(el), std::sin(el) * std::cos(az));
           vertex(c + rq * at(el, az), facing, lower ? rim : lash_tone);
         }
-      quads(base, 1, kA);
+      gridTriangles(*lids, base, 1, kA);
       // The lashes, one by one: ribbons tapering from 0.17 mm at the root (0.12 below) along the
       // margin, curving out and then up (down below), longer in the middle and toward the outer
       // corner, each its own length and slant; 5.2 mm above and 2.2 mm below (real lashes are 8-12
@@ -530,7 +523,7 @@ FaceBody::Eye FaceBody::eye(int e) const {
   out.tilt = head::kCanthalTilt;
   out.outward = e == 0 ? 1.0 : -1.0;
   out.lid_radius = head::kLidShell * surface_.eye_radius;
-  out.lid_azimuth = 80.0 * kPi / 180.0;
+  out.lid_azimuth = head::kLidAzimuth;
   return out;
 }
 

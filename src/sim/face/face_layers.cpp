@@ -228,8 +228,8 @@ void FaceBody::drawLayers(DrawList& out) const {
   for (std::size_t m = 0; m < muscles_.size(); ++m) {
     const FaceMuscle& mu = muscles_[m];
     const double a = std::clamp(act_[m], 0.0, 1.0);
-    const DrawMaterial red = plainMaterial(muscleRed(a), 0.3);
     if (!mu.desc.sphincter && frontalis(mu.desc.name) && surface_.generated) continue;  // drawn as a sheet, below
+    const DrawMaterial red = plainMaterial(muscleRed(a), 0.3);
     if (!mu.desc.sphincter) {
       Vec3 mid = Vec3::Zero();
       for (std::size_t j = 0; j < mu.nodes.size(); ++j) mid += mu.weight[j] * x[n + static_cast<std::size_t>(mu.nodes[j])];
@@ -299,9 +299,9 @@ void FaceBody::drawLayers(DrawList& out) const {
 
 // The frontalis as the sheet it is (Gray's Anatomy, plate 378): one thin layer over the forehead
 // from the brows up to the scalp's aponeurosis, its two bellies parted low over the nose, its
-// fibres running up; each column coloured by the nearest of the four frontalis muscles' pull (as
-// four separate bellies it read as four pads on an egg). Its lower edge rides on the fascia
-// under the brows, so it rises as they do; its upper edge lies on the skull.
+// fibres running up; each column coloured by the pull of the frontalis muscles nearest it (as
+// four separate bellies it read as four pads on an egg). Its lower edge rides on the skin under
+// the brows, so it rises as they do; its upper edge lies on the skull.
 void FaceBody::drawFrontalis(DrawList& out, const std::function<Vec3(const Vec3&, Vec3*)>& onSkull) const {
   // Each frontalis muscle's place across the forehead (x at 0.24 m) and its pull now.
   std::vector<std::pair<double, double>> pulls;
@@ -357,11 +357,7 @@ void FaceBody::drawFrontalis(DrawList& out, const std::function<Vec3(const Vec3&
       const Vec3 c = (i % 2 == 0 ? 1.0 : 0.82) * (0.55 + 0.45 * edges) * muscleRed(pull(X));
       sheet->colors.insert(sheet->colors.end(), {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2])});
     }
-  for (int j = 0; j < kUp; ++j)
-    for (int i = 0; i < kAcross; ++i) {
-      const auto a = static_cast<std::uint32_t>(j * (kAcross + 1) + i), b = a + 1, c = a + kAcross + 1, d = c + 1;
-      sheet->indices.insert(sheet->indices.end(), {a, b, d, a, d, c});
-    }
+  gridTriangles(*sheet, 0, kUp, kAcross);
   out.meshes.push_back({std::move(sheet), true, plainMaterial(Vec3(1, 1, 1), 0.3)});
 }
 

@@ -119,6 +119,9 @@ std::shared_ptr<const TriMesh> makeBust(double scale, const FaceLook& look);
 // The triangles of a ribbon whose points were added in pairs (one on each edge) from `base`,
 // `segments` long: each pair joined to the next.
 void ribbonTriangles(TriMesh& m, std::uint32_t base, int segments);
+// The triangles of a grid of points added row by row from `base`, `rows` + 1 rows of `cols` + 1:
+// each cell two triangles.
+void gridTriangles(TriMesh& m, std::uint32_t base, int rows, int cols);
 // A hair as a ribbon of `segments` pieces: its middle at centre(f) (f from 0 at the root to 1 at
 // the tip), `width` wide at the root narrowing to 0.3 of it at the tip, across `side`, facing
 // `normal`, coloured colour(f); each point scaled by `scale` (the scalp's hair and the brows').

@@ -137,6 +137,14 @@ void ribbonTriangles(TriMesh& m, std::uint32_t base, int segments) {
   }
 }
 
+void gridTriangles(TriMesh& m, std::uint32_t base, int rows, int cols) {
+  for (int j = 0; j < rows; ++j)
+    for (int i = 0; i < cols; ++i) {
+      const std::uint32_t a = base + static_cast<std::uint32_t>(j * (cols + 1) + i), b = a + 1, c = a + static_cast<std::uint32_t>(cols) + 1, d = c + 1;
+      m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
+    }
+}
+
 std::shared_ptr<const TriMesh> makeEars(double scale, const Vec3& skin) {
   auto m = std::make_shared<TriMesh>();
   addEar(*m, scale, 1.0, skin);

@@ -338,7 +338,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   f.soft *= front;
   // The lids are skin lying on the eyeball: over the eye's opening and a band around it (up to
   // the upper lid's crease, down past the lower lid, round the corners), the skin sinks behind the
-  // lids' shell, so the lids and the opening between them show out to the corners, 26 mm apart
+  // lids' shell, so the lids and the opening between them show out to the corners, 26.4 mm apart
   // (Farkas 1994: the palpebral fissure 28-30 mm). Over the flat socket alone, only the middle
   // 16 mm of the almond cleared the skin, and the eyes looked small. Where the eye can show (the
   // almond opened as wide as the lids go) it sinks to just behind the eyeball; elsewhere only to
@@ -354,9 +354,10 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
       // just inside the eyeball, met from outside (a ray past the eyeball's edge that meets the
       // shell goes behind the shell alone: skipped, it left a wall at the eye's inner corner).
       const Vec3 m = p - c;
-      const double along = m.dot(e), disc = along * along - m.squaredNorm() + sq(shell - 0.0003);
+      const double under = shell - 0.0003, ball_in = kEyeRadius - 0.0004;  // the two spheres' radii
+      const double along = m.dot(e), disc = along * along - m.squaredNorm() + sq(under);
       if (disc <= 0 || e.z() < 0.3) continue;
-      const double behind = -along + std::sqrt(disc), ball = disc - sq(shell - 0.0003) + sq(kEyeRadius - 0.0004);
+      const double behind = -along + std::sqrt(disc), ball = disc - sq(under) + sq(ball_in);
       const double inside = ball > 0 ? -along + std::sqrt(ball) : behind;
       const Vec3 h = p + behind * e - c;
       // The almond as drawn at rest (FaceBody::Eye), on the lids' shell: its corners 13.2 mm to
@@ -366,8 +367,8 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
       // of a 12 mm eye's, scaled to the eye), fading out from 76° round the shell to the lids' ends
       // at 80° (t as h's across the shell, h being just inside it).
       const double t = (k == 0 ? h.x() : -h.x()) / (shell * std::sin(kEyeCorner)), v = h.y();
-      const double across = (shell - 0.0003) / (shell * std::sin(kEyeCorner));
-      const double fade = across * std::sin(76.0 * kPi / 180.0), end = across * std::sin(80.0 * kPi / 180.0);
+      const double across = under / (shell * std::sin(kEyeCorner));
+      const double fade = across * std::sin(kLidAzimuth - 4.0 * kPi / 180.0), end = across * std::sin(kLidAzimuth);
       if (std::abs(t) >= end) continue;
       const double tc = std::clamp(t, -1.0, 1.0);
       const double lobe = std::pow(std::cos(0.5 * kPi * tc), 0.65), mid = shell * std::sin(kEyeCorners + 0.5 * kCanthalTilt * tc);

@@ -44,6 +44,8 @@ inline constexpr double kEyeX = 0.031, kEyeY = 0.0, kEyeRadius = 0.013;
 // almond's corners lie kEyeCorner to either side of the eye's middle on it (rad), at a mean
 // elevation kEyeCorners, the outer kCanthalTilt higher than the inner (FaceBody::Eye).
 inline constexpr double kLidShell = 1.07;
+// How far round the lids' shell they reach to either side of the eye's middle (rad).
+inline constexpr double kLidAzimuth = 80.0 * kPi / 180.0;
 inline constexpr double kEyeCorner = 72.0 * kPi / 180.0, kEyeCorners = -4.0 * kPi / 180.0, kCanthalTilt = 8.0 * kPi / 180.0;
 inline constexpr double kMouthY = -0.070, kMouthHalf = 0.025;
 
