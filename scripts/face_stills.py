@@ -21,7 +21,7 @@ LIGHTS = [{"type": "directional", "direction": [0.6, -0.33, -0.62], "color": [1.
           {"type": "directional", "direction": [0.0, -0.4, 1.0], "color": [0.9, 0.9, 1.0], "intensity": 0.32},
           {"type": "ambient", "color": [0.62, 0.6, 0.6], "intensity": 0.12}]
 RENDER = {"samples": 4, "ao": {"radius": 0.025, "strength": 1.2},
-          "background": {"top": [0.13, 0.15, 0.19], "bottom": [0.035, 0.04, 0.05]}}
+          "background": {"top": [0.075, 0.085, 0.11], "bottom": [0.018, 0.02, 0.026]}}
 
 
 def face(name, position, preset, draw="skin", turn=18, shoulders=True, look=None):

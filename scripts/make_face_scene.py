@@ -129,7 +129,7 @@ def main():
         "format": "reel/1", "name": "face", "duration": round(END, 3), "fps": FPS, "substeps": 2,
         "integrator": "implicit_euler", "implicit": {"cg_tolerance": 1e-3},
         "render": {"width": 1280, "height": 720, "samples": 4, "ao": {"radius": 0.025, "strength": 1.2},
-                   "background": {"top": [0.13, 0.15, 0.19], "bottom": [0.035, 0.04, 0.05]}},
+                   "background": {"top": [0.075, 0.085, 0.11], "bottom": [0.018, 0.02, 0.026]}},
         "camera": {"position": close[0], "target": close[1], "fov_deg": 30,
                    "keys": [{"time": 0, "position": close[0], "target": close[1]},
                             {"time": round(CUT - GLIDE_BEFORE, 4), "position": close_end[0], "target": close_end[1]},

@@ -40,7 +40,10 @@ uniform float u_roughness;  // 0..1, α = roughness²
 uniform float u_checker_size;  // CHECKER: m
 uniform float u_metallic;   // 0..1
 uniform float u_sheen;      // SHEEN: 0..1
-uniform float u_wrap;       // WRAP: 0..1
+uniform float u_scatter;    // SCATTER: the profile's scale (1: skin at the scene's metres)
+uniform sampler2D u_skin;   // SCATTER: pre-integrated skin, D by (n·l, √(curvature / its table's most))
+uniform float u_skin_max_curvature;  // SCATTER: the table's most curvature, m⁻¹
+uniform float u_translucency;        // TRANSLUCENT: 0..1
 uniform float u_opacity;
 uniform sampler2D u_texture;
 uniform sampler2D u_bump;         // BUMPED: a height map over the UVs (its luminance, 0..1)
@@ -192,6 +195,8 @@ vec3 g_comp = vec3(1.0);   // multiple-scattering compensation of the specular l
 float g_alpha, g_nv;
 float g_ao = 1.0;          // AO: how much of the surroundings this point sees
 vec3 g_sheen = vec3(0.0);  // SHEEN: its colour
+vec3 g_geo;                // the surface's own normal (without its relief)
+float g_curv = 0.0;        // SCATTER: the skin table's row for this pixel's curvature
 
 // GGX distribution (Walter et al. 2007) and height-correlated Smith visibility G₂/(4 n·l n·v)
 // (Heitz 2014): the same functions as core/brdf.cpp.
@@ -208,16 +213,21 @@ float smithV(float nl, float nv, float a) {
 // Diffuse plus specular from a light of radiance `radiance` arriving along l.
 vec3 shade(vec3 n, vec3 view, vec3 l, vec3 radiance) {
   float ndl = max(dot(n, l), 0.0);
-#ifdef WRAP
-  // Wrap lighting (Green 2004, "Real-time approximations to subsurface scattering", GPU Gems):
-  // the diffuse term reaches past the terminator, as light scattered under skin does, each colour
-  // as far as it travels in skin: red farthest, then green, then blue (in the order of the widths
-  // of d'Eon & Luebke's 2007 diffusion profile of skin, tempered: at their ratios, 1 : 0.55 : 0.4,
-  // a light grazing the cheek drew a red band down it), so the terminator turns warm as on a face.
-  vec3 w = u_wrap * vec3(1.0, 0.75, 0.6);
-  vec3 c = g_kd * max((vec3(dot(n, l)) + w) / (1.0 + w), 0.0);
+#ifdef SCATTER
+  // Pre-integrated skin (Penner & Borshukov 2011): each colour's diffuse term from the table at
+  // this pixel's curvature. Light scattered under skin also blurs its fine relief, red most (it
+  // travels farthest): each colour sees the relief's normal blended toward the smooth one, red
+  // 80%, green 45%, blue 25% (after Penner's per-colour blurred normals).
+  float nl_r = dot(normalize(mix(n, g_geo, 0.8)), l), nl_g = dot(normalize(mix(n, g_geo, 0.45)), l);
+  float nl_b = dot(normalize(mix(n, g_geo, 0.25)), l);
+  vec3 c = g_kd * vec3(texture(u_skin, vec2(0.5 * nl_r + 0.5, g_curv)).r, texture(u_skin, vec2(0.5 * nl_g + 0.5, g_curv)).g,
+                       texture(u_skin, vec2(0.5 * nl_b + 0.5, g_curv)).b);
 #else
   vec3 c = g_kd * ndl;
+#endif
+#ifdef TRANSLUCENT
+  // A thin sheet lit from behind: a share of the light passes through, reddened by the tissue.
+  c += g_kd * (u_translucency * max(-dot(g_geo, l), 0.0)) * vec3(1.0, 0.4, 0.25);
 #endif
 #if defined(SPECULAR) || defined(SHEEN)
   vec3 h = normalize(l + view);
@@ -247,10 +257,10 @@ vec3 irradiance(vec3 n) {  // Ramamoorthi & Hanrahan 2001: irradiance / π from 
 #endif
 
 #define DIRECTIONAL(I) shade(n, view, -normalize(u_light_vec[I]), u_light_radiance[I])
-#ifdef WRAP
-// Skin: light wrapped past the terminator is what scattered under it, which the head's shadow of
-// itself there does not stop; the shadow map counts only where the surface faces the light (a
-// nose's shadow on the cheek stays), else its edge draws a seam along the terminator.
+#ifdef SCATTER
+// Skin: light past the terminator is what scattered under it, which the head's shadow of itself
+// there does not stop; the shadow map counts only where the surface faces the light (a nose's
+// shadow on the cheek stays), else its edge draws a seam along the terminator.
 // A shadow's edge on skin is warm: red light, scattered farthest under it, reaches furthest into
 // the shadow, blue least (the penumbra reddens, as in d'Eon & Luebke's renders, 2007): each
 // colour takes the shadow's fraction to a power below 1 in the order of the profile's widths.
@@ -294,6 +304,14 @@ void main() {
   // The surface's own normal, which the shadow maps are read along: the relief's tilt would move
   // each pixel's lookup by its pore, and speckle a penumbra.
   vec3 geo = n;
+  g_geo = geo;
+#ifdef SCATTER
+  // The curvature 1/r at this pixel, |∂n| / |∂p| across the pixel (for a sphere of radius r, 1/r),
+  // scaled by the material's profile scale, as the table's row.
+  vec3 dnx = dFdx(geo), dny = dFdy(geo), dpx = dFdx(v_world), dpy = dFdy(v_world);
+  float curv = sqrt((dot(dnx, dnx) + dot(dny, dny)) / max(dot(dpx, dpx) + dot(dpy, dpy), 1e-14));
+  g_curv = sqrt(clamp(u_scatter * curv / u_skin_max_curvature, 0.0, 1.0));
+#endif
 #if defined(BUMPED) || defined(WRINKLED)
   // (A plain back has neither the front's texture nor its relief.)
   if (!plain) n = from_back ? -tilted : tilted;

@@ -1,10 +1,13 @@
-// Skin's shading in the renderer: wrap lighting per colour and a shadow's warm penumbra on skin.
+// Skin's shading: pre-integrated scattering per colour (the table and the renderer), a shadow's
+// warm penumbra on skin, and light through a thin sheet.
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 
+#include "core/brdf.h"
 #include "core/math.h"
 #include "core/mesh.h"
 #include "render_helpers.h"
@@ -12,39 +15,113 @@
 using namespace reel;
 using namespace reel::test;
 
-TEST_CASE("wrap lighting: the diffuse term (n·l + w)/(1 + w) per colour (w, 0.75 w, 0.6 w), lit past the terminator; w = 0 is Lambert") {
+TEST_CASE("pre-integrated skin: the table is Lambert on flat skin, conserves energy, and reaches past the terminator red first") {
+  for (const double c : {0.0, 0.05, 0.3, 1.0}) {
+    CAPTURE(c);
+    // ∫ D(θ) dθ over [0, π] is ∫ cos⁺θ dθ = 1 at every curvature: the profile moves light, it makes none.
+    Vec3 e = Vec3::Zero();
+    const int n = 720;
+    for (int k = 0; k < n; ++k) e += brdf::preintegratedSkin(std::cos((k + 0.5) * kPi / n), c) * (kPi / n);
+    for (int ch = 0; ch < 3; ++ch) CHECK(e[ch] == doctest::Approx(1.0).epsilon(2e-3));
+  }
+  for (const double theta : {0.0, 45.0, 89.0, 95.0}) {
+    const double ct = std::cos(theta * kPi / 180.0);
+    const Vec3 flat = brdf::preintegratedSkin(ct, 0.0);
+    for (int ch = 0; ch < 3; ++ch) CHECK(flat[ch] == doctest::Approx(std::max(ct, 0.0)));
+  }
+  // At the terminator (θ = 90°, where Lambert gives 0): red, which travels farthest under skin,
+  // leads green and blue, and more on curvier skin (an ear's rim against a cheek).
+  const Vec3 nose = brdf::preintegratedSkin(0.0, 0.1), rim = brdf::preintegratedSkin(0.0, 0.5);
+  CHECK(nose[0] > nose[1]);
+  CHECK(nose[1] > nose[2]);
+  CHECK(rim[0] > 2.0 * nose[0]);
+  CHECK(rim[0] > 0.03);
+  // The table the shader reads holds the same values at its texel centres and between them.
+  const brdf::SkinTable t = brdf::integrateSkin(64);
+  for (const auto& [ct, c] : {std::pair{0.0, 0.5}, std::pair{0.5, 0.1}, std::pair{-0.2, 0.8}, std::pair{0.9, 0.02}}) {
+    CAPTURE(ct);
+    CAPTURE(c);
+    const Vec3 want = brdf::preintegratedSkin(ct, c), got = t.at(ct, c);
+    for (int ch = 0; ch < 3; ++ch) CHECK(got[ch] == doctest::Approx(want[ch]).epsilon(0.03).scale(1.0));
+  }
+}
+
+TEST_CASE("pre-integrated skin in the renderer: a flat sheet is Lambert, a ball lit from beside is lit past its terminator as the table says") {
   const int W = 64, H = 48;
   DirectRenderer dr(W, H, 1);
   const double rho = 0.6;
-  for (const auto& row : {std::pair{60.0, 0.5}, std::pair{100.0, 0.5}, std::pair{100.0, 0.0}, std::pair{30.0, 0.2}}) {
-    const double theta = row.first, wrap = row.second;
+  // A flat sheet: curvature 0, exactly Lambert in every colour.
+  for (const double theta : {30.0, 60.0, 100.0}) {
     CAPTURE(theta);
-    CAPTURE(wrap);
     const double t = theta * kPi / 180.0;
     DrawList list = sunlit(Vec3(0, 3, 0.001), Vec3(std::sin(t), -std::cos(t), 0));
     DrawMesh d;
     d.mesh = std::make_shared<const TriMesh>(makeQuad(4, 4));
     d.material.color = Vec3(rho, rho, rho);
-    d.material.wrap = wrap;
+    d.material.scatter = 1.0;
     list.meshes = {d};
     const Image img = dr.draw(list);
     const std::uint8_t* p = img.pixel(W / 2, H / 2);
-    const double share[3] = {1.0, 0.75, 0.6};  // red travels farthest under skin
-    for (int c = 0; c < 3; ++c) {
-      const double w = wrap * share[c];
-      const double lin = rho * std::max(0.0, (std::cos(t) + w) / (1.0 + w));
-      const int want = static_cast<int>(std::lround(255.0 * srgb(lin)));
-      CHECK(std::abs(int(p[c]) - want) <= 1);
+    const int want = static_cast<int>(std::lround(255.0 * srgb(rho * std::max(0.0, std::cos(t)))));
+    for (int c = 0; c < 3; ++c) CHECK(std::abs(int(p[c]) - want) <= 1);
+  }
+  // A ball of radius 1 m with its profile scaled 400 times (1/r = 0.4 mm⁻¹ in the table), seen
+  // from +z and lit at θ from its facing point: the pixel facing the camera has the table's value
+  // (as the shader reads it: bilinear between its texels).
+  const brdf::SkinTable table = brdf::integrateSkin(64);
+  for (const double theta : {60.0, 90.0, 100.0}) {
+    CAPTURE(theta);
+    const double t = theta * kPi / 180.0;
+    DrawList list = sunlit(Vec3(0, 0, 4), -Vec3(std::sin(t), 0, std::cos(t)));
+    DrawMesh d;
+    d.mesh = std::make_shared<const TriMesh>(makeIcosphere(1.0, 5));
+    d.material.color = Vec3(rho, rho, rho);
+    d.material.scatter = 400.0;
+    list.meshes = {d};
+    const Image img = dr.draw(list);
+    const std::uint8_t* p = img.pixel(W / 2, H / 2);
+    // The normal where the centre pixel's ray meets the ball (the pixel's centre is half a pixel
+    // off the ball's, which at the terminator matters).
+    const double half = std::tan(20.0 * kPi / 180.0);
+    const Vec3 ray = Vec3((2.0 * (W / 2 + 0.5) / W - 1.0) * half * W / H, (1.0 - 2.0 * (H / 2 + 0.5) / H) * half, -1.0).normalized();
+    const Vec3 eye(0, 0, 4);
+    const double b = eye.dot(ray), hit = -b - std::sqrt(b * b - (eye.squaredNorm() - 1.0));
+    const Vec3 normal = (eye + hit * ray).normalized();
+    const Vec3 D = table.at(normal.dot(Vec3(std::sin(t), 0, std::cos(t))), 0.4);
+    MESSAGE("theta " << theta << ": " << int(p[0]) << " " << int(p[1]) << " " << int(p[2]) << " want " << 255 * srgb(rho * D[0]) << " " << 255 * srgb(rho * D[1]) << " " << 255 * srgb(rho * D[2]));
+    for (int c = 0; c < 3; ++c) CHECK(std::abs(p[c] - 255.0 * srgb(rho * D[c])) <= 2.0);
+    if (theta >= 90.0) CHECK(int(p[0]) > int(p[2]) + 10);  // past the terminator: lit, and red
+  }
+}
+
+TEST_CASE("translucency: a thin sheet lit from behind shows red light through it; without translucency it stays dark") {
+  const int W = 64, H = 48;
+  DirectRenderer dr(W, H, 1);
+  for (const double tr : {0.5, 0.0}) {
+    CAPTURE(tr);
+    // The camera above the sheet, the sun shining up at it from below.
+    DrawList list = sunlit(Vec3(0, 3, 0.001), Vec3(0, 1, 0));
+    DrawMesh d;
+    d.mesh = std::make_shared<const TriMesh>(makeQuad(4, 4));
+    d.material.color = Vec3(0.6, 0.6, 0.6);
+    d.material.double_sided = true;
+    d.material.translucency = tr;
+    list.meshes = {d};
+    const std::uint8_t* p = dr.draw(list).pixel(W / 2, H / 2);
+    if (tr > 0) {
+      for (int c = 0; c < 3; ++c) CHECK(std::abs(p[c] - 255.0 * srgb(0.6 * tr * std::array{1.0, 0.4, 0.25}[c])) <= 1.5);
+    } else {
+      for (int c = 0; c < 3; ++c) CHECK(int(p[c]) == 0);
     }
   }
 }
 
-TEST_CASE("wrap lighting: a shadow's penumbra on skin reddens (red reaches furthest into it), a plain surface's stays grey") {
+TEST_CASE("skin: a shadow's penumbra on skin reddens (red reaches furthest into it), a plain surface's stays grey") {
   // A grey floor lit from above by a sun of some size, a box held over it: across the shadow's soft
   // edge, red keeps more of its light than blue on skin, and the same on a plain surface.
   const int W = 160, H = 96;
   DirectRenderer dr(W, H, 1);
-  auto draw = [&](double wrap) {
+  auto draw = [&](double scatter) {
     DrawList list = ambientList(Vec3(0, 3, 0.01), Vec3(0, 0, 0));
     list.lights[0].intensity = 0.0;
     LightDesc sun;
@@ -54,7 +131,7 @@ TEST_CASE("wrap lighting: a shadow's penumbra on skin reddens (red reaches furth
     list.lights.push_back(sun);
     DrawMesh floor{std::make_shared<const TriMesh>(makeQuad(6, 6)), false, DrawMaterial{}};
     floor.material.color = Vec3(0.5, 0.5, 0.5);
-    floor.material.wrap = wrap;
+    floor.material.scatter = scatter;
     list.meshes.push_back(floor);
     DrawInstances above;
     above.mesh = std::make_shared<const TriMesh>(makeBox(Vec3(1, 0.1, 1)));
@@ -62,9 +139,9 @@ TEST_CASE("wrap lighting: a shadow's penumbra on skin reddens (red reaches furth
     list.instances.push_back(above);
     return dr.draw(list);
   };
-  for (const double wrap : {0.5, 0.0}) {
-    CAPTURE(wrap);
-    const Image img = draw(wrap);
+  for (const double scatter : {1.0, 0.0}) {
+    CAPTURE(scatter);
+    const Image img = draw(scatter);
     // Along the row through the middle: the lit floor's values at the right edge, the umbra's
     // under the box; the largest lead of red's share of its light over blue's in between.
     const int y = H / 2;
@@ -78,7 +155,7 @@ TEST_CASE("wrap lighting: a shadow's penumbra on skin reddens (red reaches furth
     }
     MESSAGE("penumbra " << penumbra << " px, red's share ahead of blue's by up to " << lead);
     REQUIRE(penumbra >= 3);
-    if (wrap > 0) CHECK(lead > 0.1);
+    if (scatter > 0) CHECK(lead > 0.1);
     else CHECK(lead < 0.03);
   }
 }

@@ -77,6 +77,112 @@ DfgTable integrateDfg(int size, int samples) {
   return t;
 }
 
+namespace {
+
+// d'Eon & Luebke 2007, table 14-1: variance (mm²), then the red, green and blue weights.
+constexpr double kSkinGaussians[6][4] = {{0.0064, 0.233, 0.455, 0.649}, {0.0484, 0.100, 0.336, 0.344},
+                                         {0.187, 0.118, 0.198, 0.0},     {0.567, 0.113, 0.007, 0.007},
+                                         {1.99, 0.358, 0.004, 0.0},      {7.41, 0.078, 0.0, 0.0}};
+
+double gaussian2d(double v, double r) { return std::exp(-r * r / (2.0 * v)) / (2.0 * kPi * v); }
+
+// One Gaussian of the profile around a ring of radius r (mm): its samples x_k ∈ [−X, X] (X eight
+// of its angular widths, at most π) by the midpoint rule, with the weights G(v, 2r·sin(|x|/2))·dx.
+struct RingKernel {
+  std::vector<double> cos_x, sin_x, weight;
+  double total = 0.0;
+};
+RingKernel ringKernel(double v, double r) {
+  constexpr int kSteps = 128;
+  const double X = std::min(kPi, 8.0 * std::sqrt(v) / r), dx = 2.0 * X / kSteps;
+  RingKernel k;
+  for (int s = 0; s < kSteps; ++s) {
+    const double x = -X + (s + 0.5) * dx;
+    const double w = gaussian2d(v, 2.0 * r * std::sin(0.5 * std::abs(x))) * dx;
+    k.cos_x.push_back(std::cos(x));
+    k.sin_x.push_back(std::sin(x));
+    k.weight.push_back(w);
+    k.total += w;
+  }
+  return k;
+}
+
+// ∫ cos⁺(θ + x)·kernel over the kernel's samples: cos(θ + x) = cos θ cos x − sin θ sin x.
+double ringIntegral(const RingKernel& k, double cos_t, double sin_t) {
+  double sum = 0.0;
+  for (std::size_t s = 0; s < k.weight.size(); ++s) sum += std::max(0.0, cos_t * k.cos_x[s] - sin_t * k.sin_x[s]) * k.weight[s];
+  return sum;
+}
+
+// D for each column's cos θ at one curvature (the kernels are the same across a row).
+void skinRow(double curvature, const std::vector<double>& cos_t, Vec3* out) {
+  if (curvature <= 0.0) {
+    for (std::size_t i = 0; i < cos_t.size(); ++i) out[i] = Vec3::Constant(std::max(0.0, cos_t[i]));
+    return;
+  }
+  std::vector<RingKernel> kernels;
+  for (const auto& g : kSkinGaussians) kernels.push_back(ringKernel(g[0], 1.0 / curvature));
+  for (std::size_t i = 0; i < cos_t.size(); ++i) {
+    const double ct = std::clamp(cos_t[i], -1.0, 1.0), st = std::sqrt(1.0 - ct * ct);
+    Vec3 num = Vec3::Zero(), den = Vec3::Zero();
+    for (std::size_t g = 0; g < kernels.size(); ++g) {
+      const double j = ringIntegral(kernels[g], ct, st);
+      for (int c = 0; c < 3; ++c) {
+        num[c] += kSkinGaussians[g][1 + c] * j;
+        den[c] += kSkinGaussians[g][1 + c] * kernels[g].total;
+      }
+    }
+    out[i] = num.cwiseQuotient(den);
+  }
+}
+
+}  // namespace
+
+Vec3 skinProfile(double r_mm) {
+  Vec3 R = Vec3::Zero();
+  for (const auto& g : kSkinGaussians) R += gaussian2d(g[0], r_mm) * Vec3(g[1], g[2], g[3]);
+  return R;
+}
+
+Vec3 preintegratedSkin(double n_dot_l, double curvature_per_mm) {
+  Vec3 d;
+  skinRow(curvature_per_mm, {n_dot_l}, &d);
+  return d;
+}
+
+SkinTable integrateSkin(int size) {
+  SkinTable t;
+  t.size = size;
+  t.rgb.assign(static_cast<std::size_t>(3 * size * size), 0.0f);
+  std::vector<double> cos_t(static_cast<std::size_t>(size));
+  for (int i = 0; i < size; ++i) cos_t[static_cast<std::size_t>(i)] = 2.0 * (i + 0.5) / size - 1.0;
+  std::vector<Vec3> row(static_cast<std::size_t>(size));
+  for (int j = 0; j < size; ++j) {
+    const double f = (j + 0.5) / size;
+    skinRow(kSkinMaxCurvature * f * f, cos_t, row.data());
+    for (int i = 0; i < size; ++i)
+      for (int c = 0; c < 3; ++c) t.rgb[static_cast<std::size_t>(3 * (j * size + i) + c)] = static_cast<float>(row[static_cast<std::size_t>(i)][c]);
+  }
+  return t;
+}
+
+Vec3 SkinTable::at(double n_dot_l, double curvature_per_mm) const {
+  auto coord = [&](double x, int& i0, double& f) {
+    const double p = std::clamp(x * size - 0.5, 0.0, size - 1.0);
+    i0 = std::min(static_cast<int>(p), size - 2);
+    f = p - i0;
+  };
+  int i, j;
+  double fi, fj;
+  coord(0.5 * n_dot_l + 0.5, i, fi);
+  coord(std::sqrt(std::clamp(curvature_per_mm / kSkinMaxCurvature, 0.0, 1.0)), j, fj);
+  auto v = [&](int x, int y) {
+    const std::size_t k = static_cast<std::size_t>(3 * (y * size + x));
+    return Vec3(rgb[k], rgb[k + 1], rgb[k + 2]);
+  };
+  return (1 - fj) * ((1 - fi) * v(i, j) + fi * v(i + 1, j)) + fj * ((1 - fi) * v(i, j + 1) + fi * v(i + 1, j + 1));
+}
+
 Vec2 DfgTable::at(double n_dot_v, double roughness) const {
   auto coord = [&](double x, int& i0, double& f) {
     const double p = std::clamp(x * size - 0.5, 0.0, size - 1.0);

@@ -37,6 +37,32 @@ struct DfgTable {
 };
 DfgTable integrateDfg(int size, int samples);
 
+// Skin's diffusion profile (d'Eon & Luebke 2007, "Advanced Techniques for Realistic Real-Time
+// Skin Rendering", GPU Gems 3 ch. 14, table 14-1): R(r) = Σ w_i·G(v_i, r), six Gaussians
+// G(v, r) = e^(−r²/2v)/(2πv) of variances 0.0064 to 7.41 mm², their red, green and blue weights
+// (red reaches farthest). r in mm; R in mm⁻² per colour.
+Vec3 skinProfile(double r_mm);
+
+// Pre-integrated skin (Penner & Borshukov 2011, "Pre-Integrated Skin Shading", GPU Pro 2): the
+// diffuse response of skin lit at angle θ from the normal, on a ring of radius r (the surface's
+// curvature 1/r): D(θ, r) = ∫ cos⁺(θ + x)·R(2r·sin(|x|/2)) dx / ∫ R(2r·sin(|x|/2)) dx over
+// x ∈ [−π, π] (the light reaching the ring's points, carried under the skin by the profile to the
+// point at x = 0). Flat skin (1/r = 0) is Lambert, cos⁺θ; the curvier, the further past the
+// terminator each colour reaches (red farthest). Each Gaussian is integrated over its own width,
+// so the narrow ones are not lost between samples.
+// The table: cos θ = 2(i+½)/size − 1 across, the curvature 1/r = kSkinMaxCurvature·((j+½)/size)²
+// down (more rows where skin is nearly flat), rgb interleaved: rgb[3·(j·size + i)].
+inline constexpr double kSkinMaxCurvature = 1.0;  // mm⁻¹: a ring 1 mm round (an ear's rim is ~2 mm)
+struct SkinTable {
+  int size = 0;
+  std::vector<float> rgb;
+  // Bilinear lookup, clamped to the texel centres, as the shader's texture does.
+  Vec3 at(double n_dot_l, double curvature_per_mm) const;
+};
+SkinTable integrateSkin(int size);
+// D(θ, 1/r) itself (cos θ = n_dot_l), integrated for one (θ, r).
+Vec3 preintegratedSkin(double n_dot_l, double curvature_per_mm);
+
 // The k-th of n Hammersley points in [0,1)² (van der Corput radical inverse in base 2).
 Vec2 hammersley(unsigned k, unsigned n);
 // The half vector of a GGX-distributed microfacet for the uniform point u, around +z

@@ -44,10 +44,16 @@ struct DrawMaterial {
   // absorbed along the depth of the body: light keeps albedo^(depth / absorption_depth) of itself.
   double transmission = 0.0, absorption_depth = 0.1;  // —, m
   double roughnessValue() const;
-  // Wrap lighting, 0..1 (a cheap stand-in for light scattered under skin): each colour's diffuse
-  // term (n·l + w_c)/(1 + w_c), w_c = w, 0.55 w, 0.4 w for red, green, blue, reaches past the
-  // terminator, and shadows count only where the surface faces the light; 0 is Lambert.
-  double wrap = 0.0;
+  // Skin: light scattered under the surface (pre-integrated skin shading, Penner & Borshukov
+  // 2011, with d'Eon & Luebke's 2007 diffusion profile of skin; brdf::integrateSkin). Each
+  // colour's diffuse term is the table's D(n·l, scatter·1/r) for the surface's curvature 1/r at
+  // the pixel: 1 is skin at the scene's metres, larger widens the profile by that factor (a
+  // stylised or enlarged body), 0 is Lambert. Such a surface takes a light's shadow only where it
+  // faces the light, and the shadow's penumbra reddens.
+  double scatter = 0.0;
+  // 0..1: of the light arriving from behind a thin sheet (an ear), the share that passes through
+  // it, reddened by the tissue (skin lets red through, absorbs blue); needs double_sided.
+  double translucency = 0.0;
   bool double_sided = false;  // sheets: lit from both sides
   // double_sided: the back's albedo (the side the normal points away from), plain (no texture);
   // none: the back looks like the front.

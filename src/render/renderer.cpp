@@ -51,6 +51,15 @@ Status Renderer::Impl::init(const std::string& dir) {
   gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  // Pre-integrated skin: 64 x 64 (n·l, curvature), a few milliseconds.
+  const brdf::SkinTable skin = brdf::integrateSkin(64);
+  skin_tex = gl::makeTexture(*gl);
+  gl->BindTexture(GL_TEXTURE_2D, skin_tex.id());
+  gl->TexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, skin.size, skin.size, 0, GL_RGB, GL_FLOAT, skin.rgb.data());
+  gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   env_tex = gl::makeTexture(*gl);
   empty_vao = gl::makeVertexArray(*gl);
   inst.buffer = gl::makeBuffer(*gl);
@@ -389,6 +398,8 @@ Status Renderer::Impl::mainPass(const DrawList& list, const Mat4f& view_proj, co
   }
   gl->ActiveTexture(GL_TEXTURE0 + kDfgUnit);
   gl->BindTexture(GL_TEXTURE_2D, dfg_tex.id());
+  gl->ActiveTexture(GL_TEXTURE0 + kSkinUnit);
+  gl->BindTexture(GL_TEXTURE_2D, skin_tex.id());
   uploadEnvironment(list);
   gl->ActiveTexture(GL_TEXTURE0);
   if (Status st = drawGeometry(list, Pass{true, Layer::Opaque}); !st) return st;

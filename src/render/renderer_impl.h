@@ -30,7 +30,7 @@ struct Renderer::Impl {
   gl::Program shadow, shadow_instanced;
   std::map<std::string, gl::Program> backgrounds;  // by #defines: ACES, ENVIRONMENT
   // The split-sum table (core/brdf.h) and the scene's environment, uploaded once.
-  gl::Texture dfg_tex, env_tex;
+  gl::Texture dfg_tex, skin_tex, env_tex;
   std::weak_ptr<const Environment> env_owner;
   const Environment* env_uploaded = nullptr;
   gl::VertexArray empty_vao;  // the background's full-screen triangle needs no attributes

@@ -1,5 +1,7 @@
 #include "render/surfaces.h"
 
+#include "core/brdf.h"
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -21,7 +23,8 @@ Status SurfaceShaders::compileRichest() {
   probe.double_sided = probe.checker = true;
   probe.texture = probe.bump = probe.wrinkles = std::make_shared<const Image>(2, 2);
   probe.bump_depth = probe.wrinkle_depth = 1e-3;
-  probe.wrap = 0.5;
+  probe.scatter = 1;
+  probe.translucency = 0.5;
   TextureCache textures(*gl_);  // the probe's texture, gone with it
   return use(probe, textures);
 }
@@ -83,7 +86,8 @@ Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures, bool i
   if (bumped) key += "#define BUMPED\n";
   const bool wrinkled = m.wrinkles && m.wrinkle_depth != 0;
   if (wrinkled) key += "#define WRINKLED\n";
-  if (m.wrap > 0) key += "#define WRAP\n";
+  if (m.scatter > 0) key += "#define SCATTER\n";
+  if (m.translucency > 0) key += "#define TRANSLUCENT\n";
   auto it = variants_.find(key);
   if (it == variants_.end()) {
     auto p = gl::buildProgram(*gl_, shader_dir_, "surface.vert", "surface.frag", true, key);
@@ -114,7 +118,8 @@ Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures, bool i
     gl_->Uniform1f(loc("u_absorption_depth"), float(m.absorption_depth));
   }
   gl_->Uniform1f(loc("u_opacity"), float(m.opacity));
-  if (m.wrap > 0) gl_->Uniform1f(loc("u_wrap"), float(m.wrap));
+  if (m.scatter > 0) gl_->Uniform1f(loc("u_scatter"), float(m.scatter));
+  if (m.translucency > 0) gl_->Uniform1f(loc("u_translucency"), float(m.translucency));
   if (m.checker) gl_->Uniform1f(loc("u_checker_size"), float(m.checker_size));
   if (bumped) gl_->Uniform1f(loc("u_bump_depth"), float(m.bump_depth));
   if (wrinkled) {
@@ -150,6 +155,8 @@ void SurfaceShaders::setFrameUniforms(GLuint prog) {
   gl_->Uniform1f(loc("u_fog_density"), fu_.fog_density);
   gl_->Uniform1f(loc("u_exposure"), fu_.exposure);
   gl_->Uniform1i(loc("u_dfg"), kDfgUnit);
+  gl_->Uniform1i(loc("u_skin"), kSkinUnit);
+  gl_->Uniform1f(loc("u_skin_max_curvature"), float(1000.0 * brdf::kSkinMaxCurvature));  // mm⁻¹ → m⁻¹
   gl_->Uniform1i(loc("u_env"), kEnvUnit);
   gl_->Uniform1f(loc("u_env_lod"), fu_.env_lod);
   gl_->Uniform3fv(loc("u_sh"), 9, fu_.sh.data());

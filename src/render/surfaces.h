@@ -24,6 +24,8 @@ inline constexpr int kDfgUnit = 3, kEnvUnit = 4, kAoUnit = 5, kRawShadowUnit = 6
 inline constexpr int kSceneColorUnit = 8, kSceneDepthUnit = 9, kBackDepthUnit = 10;
 // 11 and 12: the material's bump map and wrinkle map.
 inline constexpr int kBumpUnit = 11, kWrinkleUnit = 12;
+// 13: the pre-integrated skin table (brdf::integrateSkin).
+inline constexpr int kSkinUnit = 13;
 // ACES's input gain: middle grey 0.18 comes out 0.18 (shaders/surface.frag's aces()).
 inline constexpr double kAcesGreyGain = 1.4617;
 // What the frame's linear colours are multiplied by before tone mapping: 2^exposure, with ACES's gain.

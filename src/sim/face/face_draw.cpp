@@ -24,8 +24,11 @@ double lidLobe(double v) { return std::abs(v) >= 1.0 ? 0.0 : std::pow(std::cos(0
 // v for the position u across the opening (-1 inner corner .. 1 outer), the lobe's peak at `peak`.
 double acrossLobe(double u, double peak) { return u < peak ? (u - peak) / (1.0 + peak) : (u - peak) / (1.0 - peak); }
 
-// Skin is lit with wrap lighting: light scattered beneath it softens the terminator.
-constexpr double kSkinWrap = 0.4;
+// Skin scatters light beneath it (pre-integrated skin shading, DrawMaterial::scatter), with skin's
+// own profile at the head's scale.
+constexpr double kSkinScatter = 1.0;
+// The ears are thin enough that light from behind shows through them, red.
+constexpr double kEarTranslucency = 0.25;
 // How finely reel's head is drawn: each quad of the simulated skin split 3 x 3 (about 1.4 mm on
 // the face at the default resolution; 4 x 4 looked the same and drew 17% slower).
 constexpr int kSkinDetailLevel = 3;
@@ -239,7 +242,7 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
   const bool fine = surface_.generated;
   DrawMesh skin;
   skin.material = drawMaterial(material_);
-  skin.material.wrap = kSkinWrap;
+  skin.material.scatter = kSkinScatter * surface_.scale;
   const std::size_t nv = mesh->vertexCount();
   if (surface_.generated) {
     // reel's head: its skin's texture and relief, made once when first drawn.
@@ -292,6 +295,7 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     ear.bump.reset();
     ear.wrinkles.reset();
     ear.double_sided = true;
+    ear.translucency = kEarTranslucency;
     out.meshes.push_back({std::move(ears), true, ear});
   }
   if (surface_.hair && surface_.hair->vertexCount() > 0) {
@@ -461,7 +465,7 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     }
   }
   DrawMaterial lid = drawMaterial(material_);
-  lid.wrap = kSkinWrap;
+  lid.scatter = kSkinScatter * surface_.scale;
   lid.double_sided = true;
   out.meshes.push_back({std::move(lids), true, lid});
   // The lashes: dark, matt and with no Fresnel sheen (seen edge-on a ribbon's grazing reflection

@@ -464,7 +464,7 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   const bool front = d.z() > 0.2;
   const double male = std::clamp(look.sex, 0.0, 1.0);
   const double aged = agedness(look);
-  Vec3 c(0.57, 0.36, 0.28);
+  Vec3 c(0.6, 0.34, 0.25);
   // Mottling and pores.
   const double mottle = noise(p * 320.0);
   c *= 1.0 + skinDetail(Y) * (0.12 * (mottle - 0.5) - 0.04 * smoothstep(0.7, 0.9, poreAt(p)));
