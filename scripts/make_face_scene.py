@@ -12,7 +12,7 @@
   15.2-18.1 s  the camera glides round to the other side as the head turns to it and the skin
                dissolves into the layers: the lattice over the left half, the skull and the
                muscles (red relaxed, a brighter red contracted) on the right, as the face smiles again;
-  18.1-19.6 s  the skin comes back over them and the face ends smiling at the camera.
+  18.1-20.3 s  the skin comes back over them and the face ends smiling at the camera.
 Run from the repository root: python3 scripts/make_face_scene.py
 """
 import json
@@ -39,9 +39,9 @@ GLIDE_BEFORE, GLIDE_AFTER = 0.6, 1.2  # s: the camera's glide round to the layer
 # The layers held, then the skin comes back over them and the face ends smiling at the camera (a
 # film that ended on the layers' figure ended on a debug view, viewers said).
 BACK = CUT + 2.9  # 18.1 s: the skin starts to come back
-BACK_FADE = 0.9  # s
+BACK_FADE = 1.0  # s
 LAST = ([-0.225, 0.035, 0.475], [0.0, -0.004, 0.0])  # the camera at the end, the crown in frame
-END = BACK + 1.5  # 19.6 s
+END = BACK + 2.2  # 20.3 s
 
 
 def activations():
@@ -77,7 +77,7 @@ def activations():
 # head one way and the eyes the other, the irises sat in the lids' corners, cross-eyed; fear's
 # within 10 degrees, since with the wider eyes an iris 25 degrees over in its corner, white all
 # round the other, read as crossed.)
-CARRIAGE = {"happiness": ([-3, 16, 2], None), "surprise": ([-7, 10, 0], None), "sadness": ([9, 16, -3], [0.05, -0.3, 0.4]),
+CARRIAGE = {"happiness": ([-3, 16, 2], None), "surprise": ([-7, 10, 0], None), "sadness": ([6, 16, -3], [0.05, -0.3, 0.4]),
             "anger": ([5, 8, 0], None), "disgust": ([-3, 27, -5], [0.3, -0.05, 0.36]), "fear": ([-5, 22, 3], [0.14, 0.08, 0.45])}
 
 
@@ -85,7 +85,7 @@ CARRIAGE = {"happiness": ([-3, 16, 2], None), "surprise": ([-7, 10, 0], None), "
 # for a second reads as a held pose (viewers saw frames a second apart as the same picture); the
 # drift carries on the feeling's motion (the smile tilts further, sadness sinks, disgust turns away).
 DRIFT = {"happiness": [-1, 3, 1], "surprise": [2, -2, 0], "fear": [1, 3, 0], "anger": [2, -2, 0],
-         "disgust": [-2, 3, -2], "sadness": [3, 2, -2]}
+         "disgust": [-2, 3, -2], "sadness": [2, 2, -2]}
 
 
 def head_keys():
@@ -123,7 +123,7 @@ def main():
     # (Far enough back that the crown stays in frame: cut off, the head read as cropped; with the
     # hair's fullness, 17.5 mm over the crown, a little farther and aimed higher.)
     close = ([0.19, 0.02, 0.56], [0.0, -0.009, 0.0])
-    close_end = ([0.16, 0.015, 0.53], [0.0, -0.009, 0.0])
+    close_end = ([0.16, 0.02, 0.55], [0.0, -0.004, 0.0])
     layers = ([-0.27, 0.04, 0.52], [0.0, -0.02, 0.0])
     scene = {
         "format": "reel/1", "name": "face", "duration": round(END, 3), "fps": FPS, "substeps": 2,

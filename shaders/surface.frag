@@ -331,12 +331,18 @@ void main() {
 #endif
   // The material (docs/rendering.md): a metal reflects in its albedo's colour and has no
   // diffuse term; a wet sheen (per-vertex gloss g) adds reflectance and smooths the surface.
-  float rough = clamp(mix(u_roughness, min(u_roughness, 0.2), v_gloss), 0.03, 1.0);
+  // A negative gloss dulls it instead (hair over a scalp): rougher, its reflection in its own
+  // colour and faint at grazing, as a fibre's sheen is light that went through it and came back
+  // tinted (Marschner et al. 2003, the TRT lobe), not a white Fresnel rim round the head.
+  float gloss = max(v_gloss, 0.0), dull = clamp(-v_gloss, 0.0, 1.0);
+  float rough = clamp(mix(u_roughness, min(u_roughness, 0.2), gloss) + 0.3 * dull, 0.03, 1.0);
   g_alpha = rough * rough;
   g_nv = max(dot(n, view), 1e-4);
   g_kd = albedo * (1.0 - u_metallic);
-  g_f0 = mix(vec3(u_f0 + 0.04 * v_gloss), albedo, u_metallic);
+  g_f0 = mix(vec3(u_f0 + 0.04 * gloss), albedo, u_metallic);
   g_f90 = clamp(50.0 * dot(g_f0, vec3(0.3333)), 0.0, 1.0);
+  g_f0 *= mix(vec3(1.0), albedo / max(max(albedo.r, max(albedo.g, albedo.b)), 1e-3), dull);
+  g_f90 *= 1.0 - dull;
 #ifdef SPECULAR
   // Split sum (Karis 2013): E_s = F0·A + F90·B. The single-scattering lobe loses 1 − A − B of
   // the light at high roughness; it is given back in F0's colour (Fdez-Agüera 2019, as Filament).

@@ -513,3 +513,32 @@ TEST_CASE("per-vertex gloss adds a wet sheen where it is 1 and changes nothing w
   const auto [cx, cy] = pixelOf(list, W, H, Vec3::Zero());
   CHECK(int(wet.pixel(cx, cy)[0]) > int(dry.pixel(cx, cy)[0]) + 60);
 }
+
+TEST_CASE("per-vertex gloss below 0 dulls a surface: at grazing its highlight is faint and in its own colour, not white") {
+  const int W = 64, H = 48;
+  DirectRenderer dr(W, H, 1);
+  // Seen at 80 degrees from the normal, a sun mirrored into the camera: a Fresnel rim's angle.
+  const double a = 80.0 * kPi / 180.0;
+  DrawList list = sunlit(Vec3(0, std::cos(a), std::sin(a)) * 2.0, Vec3(0, -std::cos(a), std::sin(a)));
+  TriMesh quad = makeQuad(4, 4);
+  const Vec3 brown(0.2, 0.1, 0.05);
+  auto drawWith = [&](float gloss) {
+    TriMesh m = quad;
+    m.gloss.assign(m.vertexCount(), gloss);
+    DrawMesh d;
+    d.mesh = std::make_shared<const TriMesh>(std::move(m));
+    d.material.color = brown;
+    d.material.specular = 0.5;
+    list.meshes = {d};
+    return dr.draw(list);
+  };
+  const Image plain = drawWith(0.0f), dull = drawWith(-1.0f);
+  const auto [cx, cy] = pixelOf(list, W, H, Vec3::Zero());
+  const std::uint8_t *p = plain.pixel(cx, cy), *q = dull.pixel(cx, cy);
+  MESSAGE("gloss 0: " << int(p[0]) << " " << int(p[1]) << " " << int(p[2]) << "; gloss -1: " << int(q[0]) << " " << int(q[1]) << " " << int(q[2]));
+  // The plain surface's grazing highlight is near white (blue as bright as red, nearly);
+  // the dulled one's is fainter, and its blue well under its red (the brown's own colour).
+  CHECK(int(p[2]) > int(0.8 * p[0]));
+  CHECK(int(q[0]) < int(p[0]) - 30);
+  CHECK(int(q[2]) < int(0.6 * q[0]));
+}

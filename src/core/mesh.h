@@ -18,7 +18,7 @@ struct TriMesh {
   std::vector<float> normals;    // xyz per vertex, unit
   std::vector<float> uvs;        // uv per vertex (may be empty)
   std::vector<float> colors;     // linear rgb per vertex, multiplied into the albedo (may be empty)
-  std::vector<float> gloss;      // per vertex 0..1: a wet sheen added to the material's highlight (may be empty)
+  std::vector<float> gloss;      // per vertex −1..1: a wet sheen added to the material's highlight; below 0, dulled (hair) (may be empty)
   // per vertex 0..1: the share of the material's transmission that passes here (a liquid's clear
   // and opaque species in one surface); empty: all of it
   std::vector<float> clarity;

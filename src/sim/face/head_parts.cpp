@@ -216,8 +216,11 @@ std::shared_ptr<const TriMesh> makeBust(double scale, const FaceLook& look) {
   // The collar's rim turns in to the neck's own ellipse (head::neckRadii), so no gap shows
   // between them (at 6–10 mm wider than the neck, a dark band ran round it; at 1.5 mm the neck
   // poked through as the head turned).
+  // Above the rim it rolls in over the neck, 4 mm up and to 3 mm inside it (hidden in the neck):
+  // as the head turns, its ellipse and the collar's part at the sides, and the gap showed the
+  // collar's dark inside as a wedge; now it shows the roll's top.
   const auto [nx, nz] = head::neckRadii(look);
-  const Section sections[] = {{head::kCollarY, nx + 0.0045, nz + 0.005}, {-0.134, nx + 0.01, nz + 0.012},
+  const Section sections[] = {{head::kCollarY + 0.004, nx - 0.003, nz - 0.003}, {head::kCollarY, nx + 0.0045, nz + 0.005}, {-0.134, nx + 0.01, nz + 0.012},
                               {-0.16, nx + 0.016, nz + 0.019},
                               {-0.185, 0.1 * broad, 0.08},         {-0.215, 0.16 * broad, 0.1},
                               {-0.25, 0.195 * broad, 0.11},        {-0.285, 0.21 * broad, 0.118},

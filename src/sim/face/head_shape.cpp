@@ -69,8 +69,8 @@ constexpr double kHeadBottom = -0.124;  // where the sections close
 // The nose along the midline: how far it stands out (m) and its half-width (the Gaussian's σ)
 // against height, from the root between the eyes to the tip and under it to the upper lip.
 const Curve kNose{{-0.05, 0.0},     {-0.047, 0.002},  {-0.0445, 0.0095}, {-0.041, 0.0185}, {-0.037, 0.0215},
-                  {-0.033, 0.021},  {-0.026, 0.0175}, {-0.01, 0.011},    {0.006, 0.003},   {0.012, 0.0}};
-const Curve kNoseWidth{{-0.05, 0.007}, {-0.038, 0.0082}, {-0.03, 0.0068}, {-0.01, 0.0047}, {0.014, 0.0044}};
+                  {-0.033, 0.021},  {-0.026, 0.0175}, {-0.01, 0.011},    {0.006, 0.0042},  {0.012, 0.0}};
+const Curve kNoseWidth{{-0.05, 0.007}, {-0.038, 0.0078}, {-0.03, 0.0063}, {-0.01, 0.0042}, {0.014, 0.0037}};
 
 // The hairline's height against the angle around the vertical from the front (rad): a soft peak
 // at the middle, receding at the temples, down to the sideburns just in front of the ears (whose
@@ -126,7 +126,7 @@ double vermilionTop(double x, double ym) {
 double vermilionBottom(double x, double ym) { return ym - 0.0095 + 0.0093 * std::pow(std::min(std::abs(x) / 0.026, 1.0), 1.8); }
 
 // The middle of the nose's left wing (x, y), and its nostril's (x, y, and its half-sizes).
-constexpr double kWing[2] = {0.0137, -0.0412};
+constexpr double kWing[2] = {0.013, -0.0412};
 constexpr double kNostril[4] = {0.0062, -0.0448, 0.0031, 0.0015};
 
 // The nasolabial fold, from beside the nose's wing to beside the mouth's corner (the left side's,
@@ -290,12 +290,15 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     // The inner corner's recess (the medial canthus lies 7 to 8 mm behind the cornea, under the
     // nose's side): without it the skin stood as a wall in front of the lids' inner tips.
     f.bone -= 0.008 * gauss(X, Y, s * (kEyeX - 0.014), kEyeY - 0.002, 0.0028, 0.0032);
+    // Either side of the bridge, between it and the inner corners, the skin falls away to the
+    // orbits' inner walls (without it the bridge spread flat from eye to eye, viewers said).
+    f.bone -= 0.0012 * gauss(X, Y, s * 0.0115, kEyeY + 0.002, 0.0035, 0.009);
     // The nose's wing (ala): a lobe beside the tip's base, ringed above and behind by the alar
     // groove where it meets the cheek (not below it, where it sits on the lip).
     const double wing = std::hypot((X - s * kWing[0]) / 0.0052, (Y - kWing[1]) / 0.0047);  // 1 at its rim
     // (Sloping gently out to the cheek: a lobe as steep outside as in reads as a ball stuck on,
     // its far side dark.)
-    const double outside = s * (X - s * kWing[0]) > 0 ? 0.0068 : 0.0058;
+    const double outside = s * (X - s * kWing[0]) > 0 ? 0.006 : 0.0058;
     f.soft += 0.0046 * std::exp(-0.5 * (sq((X - s * kWing[0]) / outside) + sq((Y - kWing[1]) / 0.0047)));
     f.soft -= 0.0024 * std::exp(-0.5 * sq((wing - 1.4) / 0.16)) * smoothstep(kWing[1] - 0.005, kWing[1] - 0.001, Y);
     f.soft -= 0.0018 * gauss(X, Y, s * kNostril[0], kNostril[1], kNostril[2], kNostril[3]);  // nostril
@@ -445,7 +448,7 @@ Wrinkles wrinkleLines(const Vec3& p) {
   const double fold = std::exp(-0.5 * sq(segmentDistance(ax, Y, kFoldTop[0], kFoldTop[1], kFoldEnd[0], kFoldEnd[1]) / 0.0012));
   // The nose's wrinkles: five or six lines 2.3 mm apart (2.6 mm down the nose) across the sides of
   // its upper half, slanting down and out from its root (the "bunny lines").
-  const double nose = region.nose * std::pow(0.5 + 0.5 * std::cos(2 * kPi * (Y + 0.55 * ax) / 0.0026), 5.0);
+  const double nose = 0.6 * region.nose * std::pow(0.5 + 0.5 * std::cos(2 * kPi * (Y + 0.55 * ax) / 0.0026), 2.5);
   return {region.forehead * furrows, glabella, crows, fold, nose};
 }
 
@@ -456,7 +459,10 @@ double skinGloss(const Vec3& p, const Vec3& d, double ym) {
   const double lips = front * vermilion(X, Y, ym);
   const double brows = front * gauss(ax, Y, 0.034, 0.022, 0.02, 0.005);
   const double g = 0.15 + 0.15 * front * tzone + 0.3 * lips;
-  return std::clamp(g * (1.0 - hairCover(p, d, 0.004)) * (1.0 - 0.8 * brows), 0.0, 1.0);
+  // Hair dulled (−1): its sheen in its own colour, none white at grazing (a grey band round the
+  // crown, lit from behind, read as a headband).
+  const double hair = hairCover(p, d, 0.004);
+  return std::clamp(g * (1.0 - hair) * (1.0 - 0.8 * brows) - hair, -1.0, 1.0);
 }
 
 Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {

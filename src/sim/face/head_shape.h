@@ -102,9 +102,9 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look);
 // colour (coloured as the skin under a thinning hairline, they read as pale stray hairs).
 Vec3 hairColor(const Vec3& p, const Vec3& d, const FaceLook& look);
 
-// The skin's sheen at the base point p (0..1, the drawn skin's per-vertex gloss): the skin's own,
-// more over the forehead, the nose and the chin (the oily T-zone) and on the moist lips, none on
-// the hair (rough and dull) or the brows.
+// The skin's sheen at the base point p (−1..1, the drawn skin's per-vertex gloss): the skin's own,
+// more over the forehead, the nose and the chin (the oily T-zone) and on the moist lips, little on
+// the brows, and −1 (dulled, its sheen in its own colour) on the hair.
 double skinGloss(const Vec3& p, const Vec3& d, double ym);
 
 // The skin's relief at the base point p, direction d (0..1, about 0.5 on bare skin; a bump map's
