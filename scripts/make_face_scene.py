@@ -40,7 +40,7 @@ GLIDE_BEFORE, GLIDE_AFTER = 0.6, 1.2  # s: the camera's glide round to the layer
 # film that ended on the layers' figure ended on a debug view, viewers said).
 BACK = CUT + 2.9  # 18.1 s: the skin starts to come back
 BACK_FADE = 1.0  # s
-LAST = ([-0.225, 0.035, 0.475], [0.0, -0.004, 0.0])  # the camera at the end, the crown in frame
+LAST = ([-0.245, 0.035, 0.52], [0.0, -0.004, 0.0])  # the camera at the end, the crown and the collar in frame
 END = BACK + 2.2  # 20.3 s
 
 

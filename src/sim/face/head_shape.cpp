@@ -292,7 +292,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     f.bone -= 0.008 * gauss(X, Y, s * (kEyeX - 0.014), kEyeY - 0.002, 0.0028, 0.0032);
     // Either side of the bridge, between it and the inner corners, the skin falls away to the
     // orbits' inner walls (without it the bridge spread flat from eye to eye, viewers said).
-    f.bone -= 0.0012 * gauss(X, Y, s * 0.0115, kEyeY + 0.002, 0.0035, 0.009);
+    f.bone -= 0.001 * gauss(X, Y, s * 0.0118, kEyeY + 0.002, 0.005, 0.009);
     // The nose's wing (ala): a lobe beside the tip's base, ringed above and behind by the alar
     // groove where it meets the cheek (not below it, where it sits on the lip).
     const double wing = std::hypot((X - s * kWing[0]) / 0.0052, (Y - kWing[1]) / 0.0047);  // 1 at its rim
@@ -378,7 +378,10 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
       const double crease = shell * (std::sin(43.0 * kPi / 180.0) - std::sin(kEyeCorners));  // above the middle's line
       // (The crease's curve fuller than the margin's: following the margin's lobe, the band
       // ended just above the inner half's margin, and the skin over it hid the lid there as if hooded.)
-      const double top = mid + eye * 0.002 + (crease - eye * 0.002) * std::pow(lobe, 0.4);
+      // (Toward the outer corner it hugs the margin closer, the crease's curve as full as the
+      // margin's: as full as on the inner side, it bared a triangle of the lid's shell above the
+      // outer corner that viewers saw as a pink notch, a seam through to the socket.)
+      const double top = mid + eye * 0.002 + (crease - eye * 0.002) * std::pow(lobe, t > 0 ? 0.8 : 0.4);
       const double bottom = mid - eye * (0.002 + 0.0058 * lobe);
       // (Its lower edge over 4 mm: over 2.5 the skin rose as a wall that the fine mesh cut into steps.)
       const double w = smoothstep(top, top - 0.003, v) * smoothstep(bottom, bottom + 0.004, v) * smoothstep(end, fade, std::abs(t));
