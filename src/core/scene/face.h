@@ -157,7 +157,7 @@ struct FacePreset {
 inline constexpr std::array<FacePreset, 7> kFacePresets = {{
     // AU6 + AU12 (+ AU13, AU20, AU25/26): the lips a little apart showing the upper teeth.
     {"happiness",
-     {{{"zygomatic_major", 1.0}, {"orbicularis_oculi", 0.6}, {"jaw_open", 0.15}, {"risorius", 0.3}, {"zygomatic_minor", 0.1}}}},
+     {{{"zygomatic_major", 1.0}, {"orbicularis_oculi", 1.0}, {"jaw_open", 0.15}, {"risorius", 0.3}, {"zygomatic_minor", 0.1}}}},
     // AU1 + AU4 + AU15 (+ AU17)
     {"sadness", {{{"frontalis_inner", 1.0}, {"corrugator", 0.35}, {"depressor_anguli_oris", 1.0}, {"mentalis", 0.2}, {"orbicularis_oculi", 0.15}}}},
     // AU1 + AU2 + AU5 + AU26
