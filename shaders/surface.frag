@@ -212,16 +212,14 @@ float smithV(float nl, float nv, float a) {
 
 // Diffuse plus specular from a light of radiance `radiance` arriving along l.
 vec3 shade(vec3 n, vec3 view, vec3 l, vec3 radiance) {
-  float ndl = max(dot(n, l), 0.0);
+  float ndl_raw = dot(n, l), ndl = max(ndl_raw, 0.0);
 #ifdef SCATTER
   // Pre-integrated skin (Penner & Borshukov 2011): each colour's diffuse term from the table at
   // this pixel's curvature. Light scattered under skin also blurs its fine relief, red most (it
-  // travels farthest): each colour sees the relief's normal blended toward the smooth one, red
-  // 80%, green 45%, blue 25% (after Penner's per-colour blurred normals).
-  float nl_r = dot(normalize(mix(n, g_geo, 0.8)), l), nl_g = dot(normalize(mix(n, g_geo, 0.45)), l);
-  float nl_b = dot(normalize(mix(n, g_geo, 0.25)), l);
-  vec3 c = g_kd * vec3(texture(u_skin, vec2(0.5 * nl_r + 0.5, g_curv)).r, texture(u_skin, vec2(0.5 * nl_g + 0.5, g_curv)).g,
-                       texture(u_skin, vec2(0.5 * nl_b + 0.5, g_curv)).b);
+  // travels farthest): red sees n·l blended 80% toward the smooth normal's, green and blue 35%
+  // (after Penner's per-colour blurred normals; two reads of the table, not three).
+  float nl_geo = dot(g_geo, l), nl_r = mix(ndl_raw, nl_geo, 0.8), nl_gb = mix(ndl_raw, nl_geo, 0.35);
+  vec3 c = g_kd * vec3(texture(u_skin, vec2(0.5 * nl_r + 0.5, g_curv)).r, texture(u_skin, vec2(0.5 * nl_gb + 0.5, g_curv)).gb);
 #else
   vec3 c = g_kd * ndl;
 #endif

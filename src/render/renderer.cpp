@@ -55,7 +55,7 @@ Status Renderer::Impl::init(const std::string& dir) {
   const brdf::SkinTable skin = brdf::integrateSkin(64);
   skin_tex = gl::makeTexture(*gl);
   gl->BindTexture(GL_TEXTURE_2D, skin_tex.id());
-  gl->TexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, skin.size, skin.size, 0, GL_RGB, GL_FLOAT, skin.rgb.data());
+  gl->TexImage2D(GL_TEXTURE_2D, 0, GL_RGB16F, skin.size, skin.size, 0, GL_RGB, GL_FLOAT, skin.rgb.data());
   gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
