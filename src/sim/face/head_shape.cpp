@@ -168,7 +168,9 @@ HairAt hairAt(const Vec3& p, const Vec3& d) {
   // (Dark partings between the locks standing off the scalp, in their grooves, where the scalp's
   // shadow shows: locks of one shade read as a painted shell.)
   const double parting = smoothstep(-0.2, -0.32, hairLocks(d));
-  return {std::clamp(0.5 + 2.0 * (cover - 0.5) + 1.1 * (wisps - 0.5) * (1.0 - std::abs(2.0 * cover - 1.0)), 0.0, 1.0),
+  // (The cover's ramp steepened 1.3 times, its streaks across it: steepened twice, the hairline
+  // read as a swim cap's edge.)
+  return {std::clamp(0.5 + 1.3 * (cover - 0.5) + 1.1 * (wisps - 0.5) * (1.0 - std::abs(2.0 * cover - 1.0)), 0.0, 1.0),
           std::clamp(0.55 * noise(Vec3(around * 160.0, down * 14.0, 0.5)) + 1.1 * (locks - 0.5) + 0.22 - 0.25 * parting, 0.0, 1.0), around,
           down};
 }
