@@ -277,6 +277,14 @@ vec3 irradiance(vec3 n) {  // Ramamoorthi & Hanrahan 2001: irradiance / π from 
 
 void main() {
   vec3 n = normalize(v_normal);
+#ifdef SCATTER
+  // The curvature 1/r at this pixel, |∂n| / |∂p| across the pixel (for a sphere of radius r, 1/r),
+  // scaled by the material's profile scale, as the table's row. Of the normal before a double-
+  // sided sheet's back flips it: a quad with both sides in it would read a jump of 2 / |∂p|.
+  vec3 dnx = dFdx(n), dny = dFdy(n), dpx = dFdx(v_world), dpy = dFdy(v_world);
+  float curv = sqrt((dot(dnx, dnx) + dot(dny, dny)) / max(dot(dpx, dpx) + dot(dpy, dpy), 1e-14));
+  g_curv = sqrt(clamp(u_scatter * curv / u_skin_max_curvature, 0.0, 1.0));
+#endif
   vec3 view = normalize(u_eye - v_world);
   vec3 albedo = u_color * v_color;
   bool plain = false;
@@ -303,13 +311,6 @@ void main() {
   // each pixel's lookup by its pore, and speckle a penumbra.
   vec3 geo = n;
   g_geo = geo;
-#ifdef SCATTER
-  // The curvature 1/r at this pixel, |∂n| / |∂p| across the pixel (for a sphere of radius r, 1/r),
-  // scaled by the material's profile scale, as the table's row.
-  vec3 dnx = dFdx(geo), dny = dFdy(geo), dpx = dFdx(v_world), dpy = dFdy(v_world);
-  float curv = sqrt((dot(dnx, dnx) + dot(dny, dny)) / max(dot(dpx, dpx) + dot(dpy, dpy), 1e-14));
-  g_curv = sqrt(clamp(u_scatter * curv / u_skin_max_curvature, 0.0, 1.0));
-#endif
 #if defined(BUMPED) || defined(WRINKLED)
   // (A plain back has neither the front's texture nor its relief.)
   if (!plain) n = from_back ? -tilted : tilted;

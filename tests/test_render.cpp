@@ -534,11 +534,29 @@ TEST_CASE("per-vertex gloss below 0 dulls a surface: at grazing its highlight is
   };
   const Image plain = drawWith(0.0f), dull = drawWith(-1.0f);
   const auto [cx, cy] = pixelOf(list, W, H, Vec3::Zero());
-  const std::uint8_t *p = plain.pixel(cx, cy), *q = dull.pixel(cx, cy);
-  MESSAGE("gloss 0: " << int(p[0]) << " " << int(p[1]) << " " << int(p[2]) << "; gloss -1: " << int(q[0]) << " " << int(q[1]) << " " << int(q[2]));
-  // The plain surface's grazing highlight is near white (blue as bright as red, nearly);
-  // the dulled one's is fainter, and its blue well under its red (the brown's own colour).
-  CHECK(int(p[2]) > int(0.8 * p[0]));
-  CHECK(int(q[0]) < int(p[0]) - 30);
-  CHECK(int(q[2]) < int(0.6 * q[0]));
+  auto linear = [](const std::uint8_t* px) {
+    Vec3 v;
+    for (int c = 0; c < 3; ++c) v[c] = std::pow(px[c] / 255.0, 2.2);
+    return v;
+  };
+  // The diffuse term alone (no specular): what each highlight is measured over.
+  DrawList bare = list;
+  const Vec3 p = linear(plain.pixel(cx, cy)), q = linear(dull.pixel(cx, cy));
+  Vec3 base;
+  {
+    TriMesh m = quad;
+    DrawMesh d;
+    d.mesh = std::make_shared<const TriMesh>(std::move(m));
+    d.material.color = brown;
+    bare.meshes = {d};
+    base = linear(dr.draw(bare).pixel(cx, cy));
+  }
+  const Vec3 hp = p - base, hq = q - base;  // the highlights
+  MESSAGE("highlight, gloss 0: " << hp.transpose() << "; gloss -1: " << hq.transpose() << " over " << base.transpose());
+  // The plain surface's grazing highlight is white and strong; the dulled one's is there, far
+  // fainter, and in the brown's own colour (blue well under red, as the albedo's 0.25).
+  CHECK(hp[2] > 0.8 * hp[0]);
+  CHECK(hq[0] > 0.005);
+  CHECK(hq[0] < 0.3 * hp[0]);
+  CHECK(hq[2] < 0.5 * hq[0]);
 }

@@ -166,38 +166,35 @@ SkinTable integrateSkin(int size) {
   return t;
 }
 
-Vec3 SkinTable::at(double n_dot_l, double curvature_per_mm) const {
-  auto coord = [&](double x, int& i0, double& f) {
-    const double p = std::clamp(x * size - 0.5, 0.0, size - 1.0);
+namespace {
+
+// A size × size table of N interleaved channels read bilinearly at (x, y) in [0, 1]², clamped to
+// the texel centres, as the shader's texture is.
+template <int N>
+Eigen::Matrix<double, N, 1> bilinear(const std::vector<float>& data, int size, double x, double y) {
+  auto coord = [&](double u, int& i0, double& f) {
+    const double p = std::clamp(u * size - 0.5, 0.0, size - 1.0);
     i0 = std::min(static_cast<int>(p), size - 2);
     f = p - i0;
   };
   int i, j;
   double fi, fj;
-  coord(0.5 * n_dot_l + 0.5, i, fi);
-  coord(std::sqrt(std::clamp(curvature_per_mm / kSkinMaxCurvature, 0.0, 1.0)), j, fj);
-  auto v = [&](int x, int y) {
-    const std::size_t k = static_cast<std::size_t>(3 * (y * size + x));
-    return Vec3(rgb[k], rgb[k + 1], rgb[k + 2]);
+  coord(x, i, fi);
+  coord(y, j, fj);
+  auto v = [&](int c, int r) {
+    Eigen::Matrix<double, N, 1> out;
+    for (int k = 0; k < N; ++k) out[k] = data[static_cast<std::size_t>(N * (r * size + c) + k)];
+    return out;
   };
   return (1 - fj) * ((1 - fi) * v(i, j) + fi * v(i + 1, j)) + fj * ((1 - fi) * v(i, j + 1) + fi * v(i + 1, j + 1));
 }
 
-Vec2 DfgTable::at(double n_dot_v, double roughness) const {
-  auto coord = [&](double x, int& i0, double& f) {
-    const double p = std::clamp(x * size - 0.5, 0.0, size - 1.0);
-    i0 = std::min(static_cast<int>(p), size - 2);
-    f = p - i0;
-  };
-  int i, j;
-  double fi, fj;
-  coord(n_dot_v, i, fi);
-  coord(roughness, j, fj);
-  auto v = [&](int x, int y) {
-    const std::size_t k = static_cast<std::size_t>(2 * (y * size + x));
-    return Vec2(ab[k], ab[k + 1]);
-  };
-  return (1 - fj) * ((1 - fi) * v(i, j) + fi * v(i + 1, j)) + fj * ((1 - fi) * v(i, j + 1) + fi * v(i + 1, j + 1));
+}  // namespace
+
+Vec3 SkinTable::at(double n_dot_l, double curvature_per_mm) const {
+  return bilinear<3>(rgb, size, 0.5 * n_dot_l + 0.5, std::sqrt(std::clamp(curvature_per_mm / kSkinMaxCurvature, 0.0, 1.0)));
 }
+
+Vec2 DfgTable::at(double n_dot_v, double roughness) const { return bilinear<2>(ab, size, n_dot_v, roughness); }
 
 }  // namespace reel::brdf

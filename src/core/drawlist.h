@@ -51,8 +51,9 @@ struct DrawMaterial {
   // stylised or enlarged body), 0 is Lambert. Such a surface takes a light's shadow only where it
   // faces the light, and the shadow's penumbra reddens.
   double scatter = 0.0;
-  // 0..1: of the light arriving from behind a thin sheet (an ear), the share that passes through
-  // it, reddened by the tissue (skin lets red through, absorbs blue); needs double_sided.
+  // 0..1: of the light arriving from behind a thin sheet of skin (an ear), the share that passes
+  // through it, reddened by the tissue (skin lets red through, absorbs blue), unshadowed; needs
+  // double_sided and scatter (ignored without them).
   double translucency = 0.0;
   bool double_sided = false;  // sheets: lit from both sides
   // double_sided: the back's albedo (the side the normal points away from), plain (no texture);

@@ -87,7 +87,8 @@ Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures, bool i
   const bool wrinkled = m.wrinkles && m.wrinkle_depth != 0;
   if (wrinkled) key += "#define WRINKLED\n";
   if (m.scatter > 0) key += "#define SCATTER\n";
-  if (m.translucency > 0) key += "#define TRANSLUCENT\n";
+  const bool translucent = m.translucency > 0 && m.double_sided && m.scatter > 0;
+  if (translucent) key += "#define TRANSLUCENT\n";
   auto it = variants_.find(key);
   if (it == variants_.end()) {
     auto p = gl::buildProgram(*gl_, shader_dir_, "surface.vert", "surface.frag", true, key);
@@ -119,7 +120,7 @@ Status SurfaceShaders::use(const DrawMaterial& m, TextureCache& textures, bool i
   }
   gl_->Uniform1f(loc("u_opacity"), float(m.opacity));
   if (m.scatter > 0) gl_->Uniform1f(loc("u_scatter"), float(m.scatter));
-  if (m.translucency > 0) gl_->Uniform1f(loc("u_translucency"), float(m.translucency));
+  if (translucent) gl_->Uniform1f(loc("u_translucency"), float(m.translucency));
   if (m.checker) gl_->Uniform1f(loc("u_checker_size"), float(m.checker_size));
   if (bumped) gl_->Uniform1f(loc("u_bump_depth"), float(m.bump_depth));
   if (wrinkled) {

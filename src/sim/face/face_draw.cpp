@@ -255,9 +255,9 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     skin.material.bump = skin_relief_;
     skin.material.bump_depth = kSkinReliefDepth * surface_.scale;
   }
-  // reel's head: rough and dull where hair covers it (the material's roughness, 0.7 unless the
-  // scene says), a sheen over the skin, more on the T-zone and the lips (per-vertex gloss smooths
-  // the surface and adds to its reflectance).
+  // reel's head: a sheen over the skin, more on the T-zone and the lips (per-vertex gloss smooths
+  // the surface and adds to its reflectance), and where hair covers it dulled (gloss −1: rougher,
+  // 1 with the material's 0.7, its reflection in its own colour).
   if (fine) {
     mesh->gloss.resize(nv);
     for (std::size_t k = 0; k < nv; ++k) mesh->gloss[k] = static_cast<float>(detail_.blend(detail_.points[k], surface_.gloss));

@@ -21,7 +21,7 @@ struct FaceSurface {
   std::vector<Vec3> skin;   // surface vertices
   std::vector<Vec3> bone;   // the skull point under each
   std::vector<Vec3> color;  // linear rgb per vertex (skin, lips, brows, hair)
-  std::vector<double> gloss;  // reel's head: the skin's sheen per vertex, 0..1 (head::skinGloss)
+  std::vector<double> gloss;  // reel's head: the skin's sheen per vertex, −1..1 (head::skinGloss; −1 the hair, dulled)
   std::vector<double> jaw;  // 0..1: how much of the jaw's rotation the bone point takes
   std::vector<std::uint8_t> held;  // 1: the tissue here is held to the skull (reel's head: the neck's cut end)
   std::vector<std::uint32_t> tris;  // three per triangle, counter-clockwise from outside
