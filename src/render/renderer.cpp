@@ -34,22 +34,6 @@ std::string findShaderDir() {
 }
 
 
-namespace {
-
-// A size × size table of floats the shaders read filtered and clamped at its edges.
-gl::Texture tableTexture(const gl::GlApi& gl, GLint internal, GLenum format, int size, const float* data) {
-  gl::Texture t = gl::makeTexture(gl);
-  gl.BindTexture(GL_TEXTURE_2D, t.id());
-  gl.TexImage2D(GL_TEXTURE_2D, 0, internal, size, size, 0, format, GL_FLOAT, data);
-  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  return t;
-}
-
-}  // namespace
-
 Status Renderer::Impl::init(const std::string& dir) {
   if (Status st = surfaces.compileRichest(); !st) return st;
   auto sh = gl::buildProgram(*gl, dir, "shadow.vert", "shadow.frag", true);
@@ -60,10 +44,10 @@ Status Renderer::Impl::init(const std::string& dir) {
   shadow_instanced = std::move(sh.value());
   // The split-sum table: 32 x 32 (n·v, roughness), 256 samples each, a few milliseconds.
   const brdf::DfgTable dfg = brdf::integrateDfg(32, 256);
-  dfg_tex = tableTexture(*gl, GL_RG32F, GL_RG, dfg.size, dfg.ab.data());
+  dfg_tex = gl::makeTargetTexture(*gl, dfg.size, dfg.size, GL_RG32F, GL_RG, GL_FLOAT, GL_LINEAR, dfg.ab.data());
   // Pre-integrated skin: 64 x 64 (n·l, curvature), a few milliseconds.
   const brdf::SkinTable skin = brdf::integrateSkin(64);
-  skin_tex = tableTexture(*gl, GL_RGB16F, GL_RGB, skin.size, skin.rgb.data());
+  skin_tex = gl::makeTargetTexture(*gl, skin.size, skin.size, GL_RGB16F, GL_RGB, GL_FLOAT, GL_LINEAR, skin.rgb.data());
   env_tex = gl::makeTexture(*gl);
   empty_vao = gl::makeVertexArray(*gl);
   inst.buffer = gl::makeBuffer(*gl);

@@ -30,10 +30,11 @@ Renderbuffer makeRenderbuffer(const GlApi& gl) { return generated<Renderbuffer>(
 Texture makeTexture(const GlApi& gl) { return generated<Texture>(gl, gl.GenTextures); }
 Sampler makeSampler(const GlApi& gl) { return generated<Sampler>(gl, gl.GenSamplers); }
 
-Texture makeTargetTexture(const GlApi& gl, int w, int h, GLint internal, GLenum format, GLenum type, GLint filter) {
+Texture makeTargetTexture(const GlApi& gl, int w, int h, GLint internal, GLenum format, GLenum type, GLint filter,
+                          const void* data) {
   Texture t = makeTexture(gl);
   gl.BindTexture(GL_TEXTURE_2D, t.id());
-  gl.TexImage2D(GL_TEXTURE_2D, 0, internal, w, h, 0, format, type, nullptr);
+  gl.TexImage2D(GL_TEXTURE_2D, 0, internal, w, h, 0, format, type, data);
   gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
   gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
   gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);

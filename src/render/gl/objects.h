@@ -68,9 +68,11 @@ Framebuffer makeFramebuffer(const GlApi& gl);
 Renderbuffer makeRenderbuffer(const GlApi& gl);
 Texture makeTexture(const GlApi& gl);
 Sampler makeSampler(const GlApi& gl);
-// A w x h texture of one level, `internal` format, no pixels, `filter` both ways, clamped at the
-// edges (render targets: depths, occlusion, copies of the picture). Left bound to GL_TEXTURE_2D.
-Texture makeTargetTexture(const GlApi& gl, int w, int h, GLint internal, GLenum format, GLenum type, GLint filter);
+// A w x h texture of one level, `internal` format, `filter` both ways, clamped at the edges:
+// without `data` a render target (depths, occlusion, copies of the picture), with it a table the
+// shaders read (`data` in `format` and `type`). Left bound to GL_TEXTURE_2D.
+Texture makeTargetTexture(const GlApi& gl, int w, int h, GLint internal, GLenum format, GLenum type, GLint filter,
+                          const void* data = nullptr);
 // A framebuffer drawing into these textures (0: none; without colour it draws depth only),
 // checked complete; the error names `what`. Left bound.
 Result<Framebuffer> makeTargetFramebuffer(const GlApi& gl, GLuint color, GLuint depth, const std::string& what);

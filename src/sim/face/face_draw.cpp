@@ -368,12 +368,9 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
   const Vec3 lid_tone(0.48, 0.29, 0.24), lash_tone(0.07, 0.05, 0.04);
   const Vec3 caruncle(0.52, 0.22, 0.2), rim(0.44, 0.27, 0.23);  // (at 0.5, 0.27, 0.24 viewers saw sore, red-rimmed eyes)
   auto lids = std::make_shared<TriMesh>(), lashes = std::make_shared<TriMesh>();
-  // Gloss as the skin's (0.15), the margins wet: the lower's rim, where tears lie, glossiest (a
-  // matt rim read as dry, dead eyes).
-  auto vertex = [&](const Vec3& p, const Vec3& normal, const Vec3& color, double wet = 0.15) {
+  auto vertex = [&](const Vec3& p, const Vec3& normal, const Vec3& color) {
     lids->addVertex(world(p), R_ * normal);
     for (int k = 0; k < 3; ++k) lids->colors.push_back(static_cast<float>(color[k]));
-    lids->gloss.push_back(static_cast<float>(wet));
   };
   auto lash = [&](const Vec3& p, const Vec3& normal) { lashes->addVertex(world(p), R_ * normal); };
   for (int e = 0; e < 2; ++e) {
@@ -415,7 +412,7 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
           const double az = azimuth(i), el = from(az), rq = q == 0 ? r : 1.004 * surface_.eye_radius;
           const Vec3 facing = lower ? Vec3(-std::sin(el) * std::sin(az), std::cos(el), -std::sin(el) * std::cos(az))
                                     : Vec3(std::sin(el) * std::sin(az), -std::cos(el), std::sin(el) * std::cos(az));
-          vertex(c + rq * at(el, az), facing, lower ? rim : lash_tone, lower ? 1.0 : 0.5);
+          vertex(c + rq * at(el, az), facing, lower ? rim : lash_tone);
         }
       gridTriangles(*lids, base, 1, kA);
       // The lashes, one by one: ribbons tapering from 0.17 mm at the root (0.12 below) along the
