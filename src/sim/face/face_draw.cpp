@@ -208,8 +208,10 @@ std::vector<double> FaceBody::wrinkleDepth(const std::vector<double>& lost) cons
 void FaceBody::drawEyes(DrawList& out) const {
   static const std::shared_ptr<const TriMesh> kEye = eyeMesh(Vec3(0.12, 0.22, 0.35));
   const std::shared_ptr<const TriMesh> eye_mesh = desc_.iris_color == Vec3(0.12, 0.22, 0.35) ? kEye : eyeMesh(desc_.iris_color);
+  // The tear film over the cornea is a mirror: a small, crisp catchlight (at roughness 0.4, a
+  // Blinn–Phong 80, the highlight spread over the pupil as a grey haze a viewer read as cataracts).
   DrawMaterial wet_eye = plainMaterial(Vec3(1, 1, 1), 0.6);
-  wet_eye.shininess = 80;
+  wet_eye.roughness = 0.12;
   for (int e = 0; e < 2; ++e) {
     const Eye ey = eye(e);
     Mat3 B;
