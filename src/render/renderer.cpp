@@ -42,11 +42,12 @@ Status Renderer::Impl::init(const std::string& dir) {
   sh = gl::buildProgram(*gl, dir, "shadow.vert", "shadow.frag", true, "#define INSTANCED\n");
   if (!sh.ok()) return sh.error();
   shadow_instanced = std::move(sh.value());
-  // The split-sum table: 32 x 32 (n·v, roughness), 256 samples each, a few milliseconds.
-  const brdf::DfgTable dfg = brdf::integrateDfg(32, 256);
+  // The split-sum table: 32 x 32 (n·v, roughness), 256 samples each, a few milliseconds, once a
+  // process (every renderer reads the same table).
+  static const brdf::DfgTable dfg = brdf::integrateDfg(32, 256);
   dfg_tex = gl::makeTargetTexture(*gl, dfg.size, dfg.size, GL_RG32F, GL_RG, GL_FLOAT, GL_LINEAR, dfg.ab.data());
-  // Pre-integrated skin: 64 x 64 (n·l, curvature), a few milliseconds.
-  const brdf::SkinTable skin = brdf::integrateSkin(64);
+  // Pre-integrated skin: 64 x 64 (n·l, curvature), 7 ms, once a process.
+  static const brdf::SkinTable skin = brdf::integrateSkin(64);
   skin_tex = gl::makeTargetTexture(*gl, skin.size, skin.size, GL_RGB16F, GL_RGB, GL_FLOAT, GL_LINEAR, skin.rgb.data());
   env_tex = gl::makeTexture(*gl);
   empty_vao = gl::makeVertexArray(*gl);
