@@ -170,6 +170,29 @@ TEST_CASE("face: the skin's sheen: dulled on the hair, the lips glossiest, the n
   CHECK(cheek > 0.1);
 }
 
+
+TEST_CASE("face: the lips are rose against the skin, the nostrils dark, the philtrum's ridges stand out") {
+  const double ym = -0.07;
+  const FaceLook look{};
+  auto color = [&](double x, double y) {
+    const Vec3 d = Vec3(x, y, 0.09).normalized();
+    return head::skinColor(head::baseRadius(d, look) * d, d, ym, look);
+  };
+  // Green over red: how rose a tone is (skin about 0.55, lips under 0.36: at 0.43 viewers found the
+  // lips skin-coloured, and the upper lip read as long and bare).
+  const Vec3 upper = color(0.0, ym + 0.003), lower = color(0.0, ym - 0.005), cheek = color(0.045, -0.03), lip_skin = color(0.0, -0.055);
+  MESSAGE("g/r: upper lip " << upper.y() / upper.x() << ", lower " << lower.y() / lower.x() << ", cheek " << cheek.y() / cheek.x());
+  CHECK(upper.y() / upper.x() < 0.36);
+  CHECK(lower.y() / lower.x() < 0.36);
+  CHECK(cheek.y() / cheek.x() > 0.48);
+  CHECK(lip_skin.y() / lip_skin.x() > 0.48);
+  // The nostril's middle under 0.3 of the skin's brightness beside the wing (at 0.34 it read as a smudge).
+  CHECK(color(0.0062, -0.0448).sum() < 0.3 * color(0.03, -0.04).sum());  // (head_shape.cpp: kNostril)
+  // The philtrum: its ridges stand a millimetre proud of the groove between them.
+  const Vec3 d_groove = Vec3(0, -0.056, 0.09).normalized(), d_ridge = Vec3(0.0045, -0.056, 0.09).normalized();
+  auto relief = [&](const Vec3& d) { return head::features(head::baseRadius(d, look) * d, d, ym, look).soft; };
+  CHECK(relief(d_ridge) - relief(d_groove) > 0.001);
+}
 TEST_CASE("face: wrinkles fold in as their muscles pull: the forehead in surprise, between the brows in anger, crow's feet in a smile, the nose in disgust") {
   // The deepest fold of the skin drawn in a region of the head's rest frame (x, y in m, at 0.24 m).
   struct Region {

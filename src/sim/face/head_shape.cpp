@@ -301,10 +301,10 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     // (Sloping gently out to the cheek: a lobe as steep outside as in reads as a ball stuck on,
     // its far side dark.)
     const double outside = s * (X - s * kWing[0]) > 0 ? 0.006 : 0.0058;
-    f.soft += 0.0046 * std::exp(-0.5 * (sq((X - s * kWing[0]) / outside) + sq((Y - kWing[1]) / 0.0047)));
+    f.soft += 0.0038 * std::exp(-0.5 * (sq((X - s * kWing[0]) / outside) + sq((Y - kWing[1]) / 0.0047)));
     f.soft -= 0.0024 * std::exp(-0.5 * sq((wing - 1.4) / 0.16)) * smoothstep(kWing[1] - 0.005, kWing[1] - 0.001, Y);
-    f.soft -= 0.0018 * gauss(X, Y, s * kNostril[0], kNostril[1], kNostril[2], kNostril[3]);  // nostril
-    f.soft += 0.0008 * gauss(X, Y, s * 0.0045, -0.054, 0.0016, 0.005);                 // philtrum's ridge
+    f.soft -= 0.0028 * gauss(X, Y, s * kNostril[0], kNostril[1], kNostril[2], kNostril[3]);  // nostril
+    f.soft += 0.0013 * gauss(X, Y, s * 0.0045, -0.056, 0.0015, 0.0055);                // philtrum's ridge
     // The fold from the nose's wing to beside the mouth's corner (deeper with age), and the
     // cheek's fat beside it (fuller with the build).
     const double fold = segmentDistance(X, Y, s * kFoldTop[0], kFoldTop[1], s * kFoldEnd[0], kFoldEnd[1]);
@@ -463,7 +463,7 @@ double skinGloss(const Vec3& p, const Vec3& d, double ym) {
   const double tzone = std::max({gauss(X, Y, 0, 0.035, 0.03, 0.02), gauss(X, Y, 0, -0.03, 0.008, 0.02), gauss(X, Y, 0, -0.1, 0.012, 0.008)});
   const double lips = front * vermilion(X, Y, ym);
   const double brows = front * gauss(ax, Y, 0.034, 0.022, 0.02, 0.005);
-  const double g = 0.15 + 0.15 * front * tzone + 0.3 * lips;
+  const double g = 0.15 + 0.15 * front * tzone + 0.15 * lips;
   // Hair dulled (−1): its sheen in its own colour, none white at grazing (a grey band round the
   // crown, lit from behind, read as a headband).
   const double hair = hairCover(p, d, 0.004);
@@ -502,11 +502,11 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
     // (A muted rose, not a painted one: lips are skin with blood showing through; a shade deeper
     // than the cheek's flush, the upper lip darker than the lower, which faces the light: at
     // (0.46, 0.21, 0.18) and (0.42, 0.19, 0.17) viewers found them nearly skin-coloured and flat.)
-    const Vec3 lip = Y < ym ? Vec3(0.48, 0.19, 0.17) : Vec3(0.42, 0.16, 0.145);
+    const Vec3 lip = Y < ym ? Vec3(0.36, 0.1, 0.095) : Vec3(0.34, 0.09, 0.085);
     c = c + lips * (0.9 - 0.1 * male) * (lip * (0.95 + 0.1 * mottle) - c);
     // Nostrils, under the nose.
-    const double nostril = smoothstep(0.45, 0.9, gauss(ax, Y, kNostril[0], kNostril[1], kNostril[2], kNostril[3]));
-    c = c + 0.8 * nostril * (Vec3(0.12, 0.05, 0.045) - c);
+    const double nostril = smoothstep(0.3, 0.85, gauss(ax, Y, kNostril[0], kNostril[1], kNostril[2], kNostril[3]));
+    c = c + 0.9 * nostril * (Vec3(0.12, 0.05, 0.045) - c);
     // The alar groove's shade, and the wing a touch redder than the cheek.
     const double wing = std::hypot((ax - kWing[0]) / 0.0052, (Y - kWing[1]) / 0.0047);
     c = c.cwiseProduct(Vec3::Ones() - 0.12 * std::exp(-0.5 * sq((wing - 1.5) / 0.3)) * smoothstep(kWing[1] - 0.005, kWing[1] - 0.001, Y) * Vec3(0.8, 1.0, 1.0));
