@@ -128,8 +128,11 @@ def main():
     scene = {
         "format": "reel/1", "name": "face", "duration": round(END, 3), "fps": FPS, "substeps": 2,
         "integrator": "implicit_euler", "implicit": {"cg_tolerance": 1e-3},
-        "render": {"width": 1280, "height": 720, "samples": 4, "ao": {"radius": 0.025, "strength": 1.2},
-                   "background": {"top": [0.075, 0.085, 0.11], "bottom": [0.018, 0.02, 0.026]}},
+        # Half a stop under (the background raised to match): at full exposure the key lit 40% of
+        # the skin's pixels past 1 in red, and the clipped skin ran flat and yellow-peach, its form
+        # gone (viewers: "uniform peach plastic"). Not ACES: its curve bleached the skin to a pale pink.
+        "render": {"width": 1280, "height": 720, "samples": 4, "ao": {"radius": 0.025, "strength": 1.2}, "exposure": -0.5,
+                   "background": {"top": [0.106, 0.12, 0.156], "bottom": [0.025, 0.028, 0.037]}},
         "camera": {"position": close[0], "target": close[1], "fov_deg": 30,
                    "keys": [{"time": 0, "position": close[0], "target": close[1]},
                             {"time": round(CUT - GLIDE_BEFORE, 4), "position": close_end[0], "target": close_end[1]},

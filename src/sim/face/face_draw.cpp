@@ -57,7 +57,7 @@ std::shared_ptr<const TriMesh> eyeMesh(const Vec3& iris) {
     // the corners, where the conjunctiva's vessels show (white all over, at 0.68, 0.64, 0.6, a
     // viewer saw a doll's eyes).
     const double from = std::acos(std::clamp(z, -1.0, 1.0));
-    Vec3 c = Vec3(0.6, 0.56, 0.52) * (0.75 + 0.25 * std::clamp(z + 0.3, 0.0, 1.0));
+    Vec3 c = Vec3(0.74, 0.71, 0.68) * (0.75 + 0.25 * std::clamp(z + 0.3, 0.0, 1.0));
     c = c + 0.35 * smoothstep(0.6, 1.3, from) * smoothstep(0.3, 0.9, std::abs(x) / std::max(std::hypot(x, y), 1e-9)) *
                 (Vec3(0.6, 0.4, 0.37) - c);
     if (from < 0.17) {
