@@ -142,7 +142,7 @@ inline constexpr std::array<const char*, 9> kFacePairedMuscles = {
     "zygomatic_major", "zygomatic_minor", "levator_labii", "depressor_anguli_oris",
     "frontalis_inner", "frontalis_outer", "corrugator", "orbicularis_oculi", "risorius"};
 // ... and these on the midline.
-inline constexpr std::array<const char*, 2> kFaceMidlineMuscles = {"orbicularis_oris", "mentalis"};
+inline constexpr std::array<const char*, 3> kFaceMidlineMuscles = {"orbicularis_oris", "mentalis", "procerus"};
 
 // An expression preset: controls (paired muscles by their name without side) and their amounts
 // at full expression. Ekman's six universal expressions, by the action units FACS gives for them
@@ -163,9 +163,9 @@ inline constexpr std::array<FacePreset, 7> kFacePresets = {{
     // AU1 + AU2 + AU5 + AU26
     {"surprise", {{{"frontalis_inner", 1.0}, {"frontalis_outer", 1.0}, {"jaw_open", 0.8}, {"eyelid_raise", 1.0}}}},
     // AU4 + AU5 + AU7 + AU23 (+ AU17)
-    {"anger", {{{"corrugator", 1.0}, {"eyelid_raise", 0.8}, {"orbicularis_oculi", 0.5}, {"orbicularis_oris", 1.0}, {"mentalis", 0.5}, {"levator_labii", 0.2}}}},
+    {"anger", {{{"corrugator", 1.0}, {"procerus", 1.0}, {"eyelid_raise", 0.8}, {"orbicularis_oculi", 0.5}, {"orbicularis_oris", 1.0}, {"mentalis", 0.5}, {"levator_labii", 0.2}}}},
     // AU9 + AU10 + AU15 (+ AU17)
-    {"disgust", {{{"levator_labii", 1.0}, {"corrugator", 0.45}, {"depressor_anguli_oris", 0.5}, {"orbicularis_oculi", 0.45}, {"mentalis", 0.5}}}},
+    {"disgust", {{{"levator_labii", 1.0}, {"procerus", 0.6}, {"corrugator", 0.45}, {"depressor_anguli_oris", 0.5}, {"orbicularis_oculi", 0.45}, {"mentalis", 0.5}}}},
     // AU1 + AU2 + AU4 + AU5 + AU20 + AU26
     {"fear", {{{"frontalis_inner", 1.0}, {"frontalis_outer", 0.6}, {"corrugator", 0.6}, {"eyelid_raise", 1.0}, {"risorius", 1.0}, {"jaw_open", 0.35}}}},
     {"blink", {{{"blink", 1.0}}}},

@@ -75,7 +75,8 @@ std::array<double, 2> bellyWidths(const std::string& name) {
   static constexpr Width kWidths[] = {{"frontalis", 0.015, 0.016},       {"corrugator", 0.003, 0.0045},
                                       {"zygomatic_major", 0.0045, 0.004}, {"zygomatic_minor", 0.003, 0.003},
                                       {"levator_labii", 0.004, 0.006},    {"depressor_anguli_oris", 0.010, 0.003},
-                                      {"risorius", 0.007, 0.003},         {"mentalis", 0.003, 0.0045}};
+                                      {"risorius", 0.007, 0.003},         {"mentalis", 0.003, 0.0045},
+                                      {"procerus", 0.003, 0.005}};
   for (const Width& w : kWidths)
     if (name.rfind(w.name, 0) == 0) return {w.attach, w.insert};
   return {0.0045, 0.0045};

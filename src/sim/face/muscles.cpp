@@ -85,6 +85,16 @@ std::vector<FaceMuscleDesc> defaultMuscles(const FaceSurface& s) {
   mentalis.angle_deg = 45;
   mentalis.strength = 4.0 * k * k;
   out.push_back(mentalis);
+  // The procerus: from the nasal bones up into the skin between the brows, which it pulls down
+  // with the brows' heads (AU4 with the corrugator; AU9). Without it anger's brows drew together
+  // but barely lowered, and viewers read the frown as puzzled.
+  FaceMuscleDesc procerus;
+  procerus.name = "procerus";
+  procerus.attachment = bone(0.0, -0.014);
+  procerus.insertion = tissue(0.0, 0.018);
+  procerus.angle_deg = 45;
+  procerus.strength = 10.0 * k * k;
+  out.push_back(procerus);
   return out;
 }
 
