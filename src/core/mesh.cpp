@@ -330,11 +330,27 @@ std::vector<Vec3> areaNormals(std::span<const Vec3> points, const std::vector<st
   return normal;
 }
 
+std::vector<Vec3> angleNormals(std::span<const Vec3> points, const std::vector<std::uint32_t>& tris) {
+  std::vector<Vec3> normal(points.size(), Vec3::Zero());
+  for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
+    const std::uint32_t v[3] = {tris[t], tris[t + 1], tris[t + 2]};
+    const Vec3 an = (points[v[1]] - points[v[0]]).cross(points[v[2]] - points[v[0]]);
+    const double len = an.norm();
+    if (!(len > 0)) continue;
+    for (int c = 0; c < 3; ++c) {
+      const Vec3 a = points[v[(c + 1) % 3]] - points[v[c]], b = points[v[(c + 2) % 3]] - points[v[c]];
+      normal[v[c]] += std::atan2(a.cross(b).norm(), a.dot(b)) / len * an;
+    }
+  }
+  for (Vec3& n : normal) n = unitOr(n, Vec3::UnitY());
+  return normal;
+}
+
 std::shared_ptr<TriMesh> smoothMesh(std::span<const Vec3> points, std::size_t first, std::size_t n,
                                     const std::vector<std::uint32_t>& tris) {
-  const std::vector<Vec3> normal = areaNormals(points.subspan(first, n), tris);
+  const std::vector<Vec3> normal = angleNormals(points.subspan(first, n), tris);
   auto mesh = std::make_shared<TriMesh>();
-  for (std::size_t k = 0; k < n; ++k) mesh->addVertex(points[first + k], unitOr(normal[k], Vec3::UnitY()));
+  for (std::size_t k = 0; k < n; ++k) mesh->addVertex(points[first + k], normal[k]);
   mesh->indices = tris;
   return mesh;
 }

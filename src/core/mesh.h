@@ -43,8 +43,14 @@ TriMesh placeMesh(const TriMesh& m, const Vec3& scale, const Mat3& R, const Vec3
 // normals; not unit, zero where no triangle touches the point), over `points` with `tris`.
 std::vector<Vec3> areaNormals(std::span<const Vec3> points, const std::vector<std::uint32_t>& tris);
 
+// Each point's normal weighted by its triangles' angles there (Thürmer & Wüthrich 1998): unlike the
+// area-weighted sum, the same for any triangulation of the same surface (unit; +y where no
+// triangle touches the point).
+std::vector<Vec3> angleNormals(std::span<const Vec3> points, const std::vector<std::uint32_t>& tris);
+
 // A surface through points[first + k] (k < n) with the triangles `tris` (indices from `first`),
-// its normals the area-weighted means of its triangles' (a face's skin, a jelly's).
+// its normals weighted by angle (angleNormals: a face's skin, a jelly's; area weights bent the
+// normals along a face's midline, where its mirrored diagonals meet, and drew a seam down the chin).
 std::shared_ptr<TriMesh> smoothMesh(std::span<const Vec3> points, std::size_t first, std::size_t n,
                                     const std::vector<std::uint32_t>& tris);
 
