@@ -154,7 +154,7 @@ TEST_CASE("face: the skin drawn follows the tissue: rigidly with the head, a uni
   CHECK(smooth < raw / 5);
 }
 
-TEST_CASE("face: the skin's sheen: dulled on the hair, the lips glossiest, the nose more than the cheek") {
+TEST_CASE("face: the skin's sheen: dulled on the hair and in the eyes' inner corners, the lips glossiest, the nose more than the cheek") {
   const double ym = -0.07;
   auto at = [&](double x, double y) {
     // The base point of the default head straight out from its centre toward (x, y, front).
@@ -166,6 +166,12 @@ TEST_CASE("face: the skin's sheen: dulled on the hair, the lips glossiest, the n
   MESSAGE("gloss: crown " << crown << ", lips " << lips << ", nose " << nose << ", cheek " << cheek);
   CHECK(crown == -1.0);
   CHECK(lips > nose);
+  // The inner corners' pits dulled (their sheen at grazing flashed white beside the eye), and the
+  // nose's sides, where disgust's lines fold, duller than its ridge.
+  const double canthus = at(head::kEyeX - 0.0135, -0.002), side = at(0.008, -0.006), ridge = at(0.0, -0.006);
+  MESSAGE("gloss: inner corner " << canthus << ", nose's side " << side << ", its ridge " << ridge);
+  CHECK(canthus < -0.3);
+  CHECK(side < 0.5 * ridge);
   CHECK(nose > cheek + 0.05);
   CHECK(cheek > 0.1);
 }

@@ -217,6 +217,7 @@ void FaceBody::drawEyes(DrawList& out) const {
     Mat3 B;
     B << ey.right, ey.up, ey.ahead;
     auto ball = std::make_shared<TriMesh>(*eye_mesh);
+    ball->gloss.assign(ball->vertexCount(), 0.0f);
     for (std::size_t v = 0; v < ball->vertexCount(); ++v) {
       const Vec3 q(ball->positions[3 * v], ball->positions[3 * v + 1], ball->positions[3 * v + 2]);
       const Vec3 d = B * q, h = R_.transpose() * d;  // the direction from the eye's centre, world and head
@@ -224,9 +225,14 @@ void FaceBody::drawEyes(DrawList& out) const {
       // The lids' shadows on the eyeball: the upper lid's and its lashes' deepest (they overhang
       // it), the lower's faint, and the corners' (at 0.4 under the upper lid and 0.7 in the
       // corners the white ran bright to the lids, as if painted on).
+      const double cornered = smoothstep(ey.corner - 0.7, ey.corner, std::abs(az));  // 0 mid-eye, 1 in a corner
       const double shade = (0.25 + 0.75 * smoothstep(0.0, 0.6, ey.upperEdge(az) - el)) *
-                           (0.7 + 0.3 * smoothstep(0.0, 0.3, el - ey.lowerEdge(az))) *
-                           (0.5 + 0.5 * smoothstep(ey.corner, ey.corner - 0.7, std::abs(az)));
+                           (0.7 + 0.3 * smoothstep(0.0, 0.3, el - ey.lowerEdge(az))) * (1.0 - 0.5 * cornered);
+      // The corners keep the lights' reflections off the eyeball, too: dulled there (a negative
+      // gloss; not under the upper lid, where the catchlight is), the inner corner's wet white no
+      // longer flashes as a white streak beside the nose, lit by the rim and the bounce where the
+      // eye turns away from the camera.
+      ball->gloss[v] = static_cast<float>(-cornered);
       for (int k = 0; k < 3; ++k) {
         ball->positions[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(ey.center[k] + ey.radius * d[k]);
         ball->normals[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(d[k]);

@@ -449,8 +449,12 @@ Wrinkles wrinkleLines(const Vec3& p) {
   // (A third as deep as the others and soft: at full depth their lit edges read as whiskers, at
   // half depth and sharper as scratches.)
   const double crows = 0.35 * region.crows * std::pow(0.5 + 0.5 * std::cos(fan * 12.0 + 0.25 * std::sin(r * 900.0)), 1.6);
-  // The nasolabial fold, from the nose's wing to beside the mouth's corner.
-  const double fold = std::exp(-0.5 * sq(segmentDistance(ax, Y, kFoldTop[0], kFoldTop[1], kFoldEnd[0], kFoldEnd[1]) / 0.0012));
+  // The nasolabial fold, from the nose's wing to beside the mouth's corner: steep on the cheek's
+  // side, which a smile bunches over it, shelving over 3.5 mm toward the lips (a line 1.2 mm
+  // across each way drew a scratch, and the smile lifted no cheek).
+  const double gap = segmentDistance(ax, Y, kFoldTop[0], kFoldTop[1], kFoldEnd[0], kFoldEnd[1]);
+  const double cheekward = (kFoldEnd[0] - kFoldTop[0]) * (Y - kFoldTop[1]) - (kFoldEnd[1] - kFoldTop[1]) * (ax - kFoldTop[0]);
+  const double fold = std::exp(-0.5 * sq(gap / (cheekward > 0 ? 0.0015 : 0.0035)));
   // The nose's wrinkles: five or six lines 2.3 mm apart (2.6 mm down the nose) across the sides of
   // its upper half, slanting down and out from its root (the "bunny lines").
   const double nose = 0.6 * region.nose * std::pow(0.5 + 0.5 * std::cos(2 * kPi * (Y + 0.55 * ax) / 0.0026), 2.5);
@@ -467,7 +471,14 @@ double skinGloss(const Vec3& p, const Vec3& d, double ym) {
   // Hair dulled (−1): its sheen in its own colour, none white at grazing (a grey band round the
   // crown, lit from behind, read as a headband).
   const double hair = hairCover(p, d, 0.004);
-  return std::clamp(g * (1.0 - hair) * (1.0 - 0.8 * brows) - hair, -1.0, 1.0);
+  // The inner corners' pits, where the skin sinks behind the lids: dulled (their walls face across
+  // the face, and at grazing on the far side of the nose their sheen flashed as a white streak
+  // beside the eye).
+  const double canthus = gauss(ax, Y, kEyeX - 0.0135, kEyeY - 0.002, 0.004, 0.004);
+  // The nose's sides, where disgust's lines fold, less wet than its ridge: with the ridge's sheen
+  // the lines' edges caught the rim at grazing as white stripes.
+  const double sides = wrinkleRegions(p).nose;
+  return std::clamp(g * (1.0 - hair) * (1.0 - 0.8 * brows) * (1.0 - canthus) * (1.0 - 0.8 * sides) - hair - 0.7 * canthus - 0.3 * sides, -1.0, 1.0);
 }
 
 Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
@@ -494,7 +505,11 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   // A man's shaved beard: a faint grey-blue over the chin, jaw and upper lip.
   if (male > 0.5) {
     const double beard = smoothstep(-0.048, -0.058, Y) * smoothstep(0.3, 0.6, d.z()) * (1 - 0.8 * smoothstep(-0.13, -0.15, Y));
+    // As stubble: the cut hairs' dark dots, half a millimetre or so apart, over the grey (an even grey read as
+    // a smudge of make-up).
+    const double stubble = smoothstep(0.55, 0.8, noise(p * 2500.0 + Vec3(2.9, 8.3, 4.1)));
     c = c + 0.35 * (male - 0.5) * beard * (Vec3(0.3, 0.27, 0.27) - c);
+    c = c + 0.5 * (male - 0.5) * beard * stubble * (Vec3(0.06, 0.05, 0.045) - c);
   }
   if (front) {
     // The vermilion, with a sharp border.
