@@ -55,15 +55,28 @@ std::shared_ptr<const TriMesh> makeHair(const FaceSurface& s) {
       const Vec3 side = unitOr(n.cross(flow), Vec3::UnitX());
       flow = unitOr(flow, side.cross(n));
       flow = (flow + 0.35 * (rnd(3) - 0.5) * side).normalized();
-      // 7 to 13 mm long, shorter at the hairline; rising from under the cap's surface at an
-      // angle that flattens along the strand, its tip 0-2 mm off the cap (on the outline, a
-      // soft fringe: with tips up to 4 mm off, viewers saw fuzz standing out all round).
-      const double length = (0.007 + 0.006 * rnd(4)) * (0.35 + 0.65 * cover), lift = 0.18 + 0.15 * rnd(5);
+      // 12 to 22 mm long, shorter at the hairline; rising from under the cap's surface at an
+      // angle that flattens along the strand, and bending round the head as combed hair lies
+      // (a 7.5 cm sphere's sag), its tip about a millimetre off the cap. (Straight strands 7 to
+      // 13 mm long with tips up to 2 mm off drew the outline as a fringe of spikes, "stubble"
+      // round a helmet, viewers said; up to 4 mm off, as fuzz standing out all round.)
+      double length = (0.012 + 0.01 * rnd(4)) * (0.35 + 0.65 * cover);
+      const double lift = 0.1 + 0.08 * rnd(5);
+      // No tip over bare skin: a strand combed past the hairline (forward over a temple, down past
+      // a sideburn) is cut back until its tip lies in the hair (they hung in the air off the
+      // sideburns, 10 mm out over the skin).
+      for (int cut = 0; cut < 4; ++cut) {
+        const Vec3 tip = root + length * flow;
+        if (head::hairCover(tip, tip.normalized(), 0.004) > 0.97) break;
+        length *= 0.6;
+      }
       const double width = 0.0005;
       const Vec3 start = root - 0.0015 * cover * n;  // (under the cap, never under the scalp)
       const Vec3 hair = head::hairColor(root, dir, s.look) * (0.75 + 0.5 * rnd(6));
-      addStrand(*m, kSegments, width, side, n, k,
-                [&](double f) { return Vec3(start + length * (f * flow + (lift * f * (1.0 - 0.6 * f) + 0.15 * f) * n)); },
+      addStrand(*m, kSegments + 2, width, side, n, k, [&](double f) {
+        const double sag = head::sq(length * f) / (2 * 0.075);
+        return Vec3(start + length * f * flow + (length * (lift * f * (1.0 - 0.6 * f) + 0.05 * f) - sag) * n);
+      },
                 [&](double f) { return Vec3(hair * (0.85 + 0.3 * f)); });  // lighter toward the tips
     }
   }
