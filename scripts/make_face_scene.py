@@ -132,7 +132,10 @@ def main():
         # the skin's pixels past 1 in red, and the clipped skin ran flat and yellow-peach, its form
         # gone (viewers: "uniform peach plastic"). Not ACES: its curve bleached the skin to a pale pink.
         "render": {"width": 1280, "height": 720, "samples": 4, "ao": {"radius": 0.025, "strength": 1.2}, "exposure": -0.5,
-                   "background": {"top": [0.106, 0.12, 0.156], "bottom": [0.025, 0.028, 0.037]}},
+                   # A warm pool of light on the backdrop behind the head (a portrait's background
+                   # light: a plain gradient read as a default render's void).
+                   "background": {"top": [0.106, 0.12, 0.156], "bottom": [0.025, 0.028, 0.037],
+                                  "glow": {"color": [0.11, 0.09, 0.07], "x": 0.52, "y": 0.62, "radius": 0.4}}},
         "camera": {"position": close[0], "target": close[1], "fov_deg": 30,
                    "keys": [{"time": 0, "position": close[0], "target": close[1]},
                             {"time": round(CUT - GLIDE_BEFORE, 4), "position": close_end[0], "target": close_end[1]},

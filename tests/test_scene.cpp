@@ -250,3 +250,13 @@ TEST_CASE("a runaway state stops with the frame, time, body, node and quantity")
   CHECK(st.error().kind == ErrorKind::Unstable);
   CHECK(st.error().headline().find("unstable at frame 1 (t = 0.00333 s): body 'rocket' node 1 speed") == 0);
 }
+
+TEST_CASE("a background's glow: bad keys and values refused with their paths") {
+  const auto e = errorsOf(R"({"format": "reel/1", "duration": 0.1, "render": {"background": {"top": [0, 0, 0],
+      "glow": {"color": [0.5, -0.5, 0.5], "radius": 0, "size": 1}}}})");
+  CHECK(contains(e, "/render/background/glow/color"));
+  CHECK(contains(e, "/render/background/glow/radius"));
+  CHECK(contains(e, "/render/background/glow/size"));
+  CHECK(errorsOf(R"({"format": "reel/1", "duration": 0.1, "render": {"background": {"top": [0, 0, 0],
+      "glow": {"color": [0.5, 0.5, 0.5], "x": 0.2, "y": 0.9, "radius": 0.3}}}})").empty());
+}

@@ -178,6 +178,29 @@ TEST_CASE("ACES keeps middle grey, compresses white to 0.73 and exposure doubles
   CHECK(std::abs(int(plane(0.09, R"(, "exposure": 1)")) - int(std::lround(255 * srgb(0.18)))) <= 1);
 }
 
+TEST_CASE("a background's glow: a Gaussian pool of light on the gradient, where the scene puts it") {
+  // A black backdrop with a glow of 0.5 about (0.25, 0.75) of the frame, σ 0.2 of its height: the
+  // pixels are 0.5·exp(−r²/2σ²) (linear, no tone mapping), r measured in frame heights.
+  constexpr int W = 64, H = 32;
+  const Image img = renderScene(R"({"format": "reel/1", "duration": 0.1,
+      "render": {"width": 64, "height": 32, "samples": 1, "background": {"top": [0, 0, 0], "bottom": [0, 0, 0],
+                 "glow": {"color": [0.5, 0.25, 0], "x": 0.25, "y": 0.75, "radius": 0.2}}},
+      "camera": {"position": [0, 3, 0], "target": [0, 4, 0]}})");
+  double worst = 0;
+  for (int y = 0; y < H; y += 3)
+    for (int x = 0; x < W; x += 3) {
+      const double u = (x + 0.5) / W - 0.25, v = (H - y - 0.5) / H - 0.75;  // (rows run down)
+      const double r2 = (u * W / H) * (u * W / H) + v * v, want = 0.5 * std::exp(-0.5 * r2 / (0.2 * 0.2));
+      worst = std::max(worst, std::abs(img.pixel(x, y)[0] - 255.0 * srgb(want)));
+      CHECK(std::abs(img.pixel(x, y)[1] - 255.0 * srgb(0.5 * want)) <= 2.0);
+      CHECK(img.pixel(x, y)[2] == 0);
+    }
+  MESSAGE("the glow within " << worst << " levels of the Gaussian");
+  CHECK(worst <= 2.0);
+  CHECK(img.pixel(W / 4, H / 4)[0] > 180);  // its middle bright, the far corner black
+  CHECK(img.pixel(W - 1, H - 1)[0] <= 1);
+}
+
 TEST_CASE("environment files: Radiance .hdr (run-length and flat), OpenEXR and PNG") {
   const fs::path dir = freshDir("envfiles");
   // 8 x 2: a run-length scanline of (128, 64, 32 | e 129), then a flat one of (128, 128, 128 | 128).

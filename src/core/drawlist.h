@@ -142,6 +142,7 @@ struct DrawList {
   DrawCamera camera;
   std::vector<LightDesc> lights;  // exactly these shine
   Vec3 background_top{0.8, 0.85, 0.9}, background_bottom{0.8, 0.85, 0.9};
+  BackgroundGlow background_glow;
   Vec3 fog_color{0.5, 0.6, 0.7};
   double fog_density = 0.0;
   std::string tonemap = "none";  // none | aces

@@ -17,4 +17,13 @@ struct LightDesc {
   double size = 0.0;
 };
 
+// A pool of light on the backdrop behind the subject, as a portrait's background light throws
+// (added to the background's gradient where nothing covers the picture): a Gaussian of linear
+// colour `color` about (x, y), fractions of the frame's width and height from its bottom left,
+// `radius` (its σ) a fraction of the frame's height. Black: none.
+struct BackgroundGlow {
+  Vec3 color{0, 0, 0};
+  double x = 0.5, y = 0.5, radius = 0.3;
+};
+
 }  // namespace reel

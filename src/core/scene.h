@@ -75,6 +75,7 @@ struct EnvironmentDesc {
 struct RenderDesc {
   int width = 1280, height = 720, samples = 4;
   Vec3 background_top{0.8, 0.85, 0.9}, background_bottom{0.8, 0.85, 0.9};  // linear colours
+  BackgroundGlow background_glow;
   std::string tonemap = "none";  // none | aces
   double exposure = 0.0;         // EV
   EnvironmentDesc environment;

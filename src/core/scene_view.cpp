@@ -25,6 +25,7 @@ void setSceneView(const SceneDesc& scene, double t, DrawList& out, const CameraR
   out.lights = scene.has_lights ? scene.lights : defaultLights();
   out.background_top = r.background_top;
   out.background_bottom = r.background_bottom;
+  out.background_glow = r.background_glow;
   out.fog_color = r.fog_color;
   out.fog_density = r.fog_density;
   out.tonemap = r.tonemap;

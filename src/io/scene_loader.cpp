@@ -90,6 +90,15 @@ void readRender(const Json& j, RenderDesc& r, Diagnostics& d) {
       Obj g(*bg, "/render/background", d);
       r.background_top = g.vec3("top", r.background_top, kNonNeg);
       r.background_bottom = g.vec3("bottom", r.background_bottom, kNonNeg);
+      if (const Json* gl = g.raw("glow")) {
+        Obj w(*gl, "/render/background/glow", d);
+        BackgroundGlow& b = r.background_glow;
+        b.color = w.vec3("color", b.color, kNonNeg);
+        b.x = w.number("x", b.x, Range{-1.0, 2.0});
+        b.y = w.number("y", b.y, Range{-1.0, 2.0});
+        b.radius = w.number("radius", b.radius, Range{0.0, 10.0, true, false});
+        w.finish();
+      }
       g.finish();
     } else if (auto c = readVec3(*bg, "/render/background", d, kNonNeg)) {
       r.background_top = r.background_bottom = *c;

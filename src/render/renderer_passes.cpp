@@ -104,6 +104,10 @@ Status Renderer::Impl::drawBackground(const DrawList& list, const Mat4f& view_pr
   const Vec3& bb = list.background_bottom;
   gl->Uniform3f(loc(prog, "u_top"), float(bt.x()), float(bt.y()), float(bt.z()));
   gl->Uniform3f(loc(prog, "u_bottom"), float(bb.x()), float(bb.y()), float(bb.z()));
+  const BackgroundGlow& glow = list.background_glow;
+  gl->Uniform3f(loc(prog, "u_glow"), float(glow.color.x()), float(glow.color.y()), float(glow.color.z()));
+  gl->Uniform3f(loc(prog, "u_glow_at"), float(2 * glow.x - 1), float(2 * glow.y - 1), float(2 * glow.radius));
+  gl->Uniform1f(loc(prog, "u_aspect"), float(set.width) / float(set.height));
   gl->Uniform1f(loc(prog, "u_exposure"), float(exposureScale(list)));
   const Mat4f inv = view_proj.inverse();
   gl->UniformMatrix4fv(loc(prog, "u_inv_view_proj"), 1, GL_FALSE, inv.data());
