@@ -304,7 +304,7 @@ TEST_CASE("a PLY header line that is not PLY's (a Blender export's \"Created by\
   CHECK(m.value().triangleCount() == 1);
 }
 
-TEST_CASE("smooth normals are the surface's whatever the triangulation: a dome with mirrored diagonals") {
+TEST_CASE("smooth normals follow the surface, not its triangulation: a dome with mirrored diagonals") {
   // A dome z = −(x² + y²)/2R over a grid whose diagonals mirror about x = 0, as a face's skin's do:
   // the angle-weighted normals (Thürmer & Wüthrich 1998) stay within half a degree of the
   // dome's on the mirror line; the area-weighted ones bend there (the seam down a face's chin).

@@ -44,8 +44,8 @@ TriMesh placeMesh(const TriMesh& m, const Vec3& scale, const Mat3& R, const Vec3
 std::vector<Vec3> areaNormals(std::span<const Vec3> points, const std::vector<std::uint32_t>& tris);
 
 // Each point's normal weighted by its triangles' angles there (Thürmer & Wüthrich 1998): unlike the
-// area-weighted sum, the same for any triangulation of the same surface (unit; +y where no
-// triangle touches the point).
+// area-weighted sum, unchanged when a flat patch of the fan is split differently, so nearly the
+// same for any fine triangulation of a smooth surface (unit; +y where no triangle touches the point).
 std::vector<Vec3> angleNormals(std::span<const Vec3> points, const std::vector<std::uint32_t>& tris);
 
 // A surface through points[first + k] (k < n) with the triangles `tris` (indices from `first`),

@@ -96,7 +96,7 @@ void readRender(const Json& j, RenderDesc& r, Diagnostics& d) {
         b.color = w.vec3("color", b.color, kNonNeg);
         b.x = w.number("x", b.x, Range{-1.0, 2.0});
         b.y = w.number("y", b.y, Range{-1.0, 2.0});
-        b.radius = w.number("radius", b.radius, Range{0.0, 10.0, true, false});
+        b.radius = w.number("radius", b.radius, Range::closed(1e-3, 10.0));
         w.finish();
       }
       g.finish();

@@ -229,7 +229,8 @@ void FaceBody::drawEyes(DrawList& out) const {
       const double shade = (0.25 + 0.75 * smoothstep(0.0, 0.6, ey.upperEdge(az) - el)) *
                            (0.7 + 0.3 * smoothstep(0.0, 0.3, el - ey.lowerEdge(az))) * (1.0 - 0.5 * cornered);
       // The corners keep the lights' reflections off the eyeball, too: dulled there (a negative
-      // gloss; not under the upper lid, where the catchlight is), the inner corner's wet white no
+      // gloss; by the corners alone, not the lids' shade, which would dull the catchlight under
+      // the upper lid), the inner corner's wet white no
       // longer flashes as a white streak beside the nose, lit by the rim and the bounce where the
       // eye turns away from the camera.
       ball->gloss[v] = static_cast<float>(-cornered);

@@ -253,7 +253,7 @@ void FaceBody::drawLayers(DrawList& out) const {
         }
         out.meshes.push_back({muscleBody(path, up, wide, thick, false), true, red});
       };
-      // A muscle on the midline (the mentalis) is a pair, drawn either side of it, parting as it
+      // A muscle on the midline (the mentalis, the procerus) is a pair, drawn either side of it, parting as it
       // goes (drawn as one lobe under the lips' band, the mentalis read as a tongue hanging out).
       if (std::abs(mu.desc.attachment.x()) < 1e-3 * s && std::abs(mu.desc.insertion.x()) < 1e-3 * s) {
         const Vec3 leftward = R_ * Vec3::UnitX();

@@ -57,7 +57,8 @@ std::shared_ptr<const TriMesh> makeHair(const FaceSurface& s) {
       flow = (flow + 0.35 * (rnd(3) - 0.5) * side).normalized();
       // 12 to 22 mm long, shorter at the hairline; rising from under the cap's surface at an
       // angle that flattens along the strand, and bending round the head as combed hair lies
-      // (a 7.5 cm sphere's sag), its tip about a millimetre off the cap. (Straight strands 7 to
+      // (a 7.5 cm sphere's sag), its tip within about a millimetre of the cap's surface (a little
+      // under it where the cap is flatter than that sphere). (Straight strands 7 to
       // 13 mm long with tips up to 2 mm off drew the outline as a fringe of spikes, "stubble"
       // round a helmet, viewers said; up to 4 mm off, as fuzz standing out all round.)
       double length = (0.012 + 0.01 * rnd(4)) * (0.35 + 0.65 * cover);

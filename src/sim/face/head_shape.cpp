@@ -73,11 +73,10 @@ const Curve kNose{{-0.05, 0.0},     {-0.047, 0.002},  {-0.0445, 0.0095}, {-0.041
 const Curve kNoseWidth{{-0.05, 0.007}, {-0.038, 0.0078}, {-0.03, 0.0063}, {-0.01, 0.0042}, {0.014, 0.0037}};
 
 // The hairline's height against the angle around the vertical from the front (rad): a soft peak
-// at the middle, receding a little at the temples (a man's of 35; receding further, to 55 mm
-// above the eyes at 0.72 rad, viewers saw a hard M, a swim cap's edge), down to the sideburns just
-// in front of the ears (whose fronts are 1.69 rad round), over the ears, to the nape.
-const Curve kHairline{{0.0, 0.075},  {0.22, 0.0765}, {0.4, 0.0775}, {0.55, 0.074},  {0.72, 0.064}, {0.9, 0.05},
-                      {1.08, 0.034}, {1.25, 0.017}, {1.38, -0.002}, {1.47, -0.018}, {1.6, -0.02},  {1.66, 0.01},
+// at the middle, receding at the temples, down to the sideburns just in front of the ears (whose
+// fronts are 1.69 rad round), over the ears, to the nape.
+const Curve kHairline{{0.0, 0.075},  {0.22, 0.0765}, {0.4, 0.079},  {0.55, 0.071},  {0.72, 0.055}, {0.9, 0.039},
+                      {1.08, 0.026}, {1.25, 0.012}, {1.38, -0.004}, {1.47, -0.018}, {1.6, -0.02},  {1.66, 0.01},
                       {1.72, 0.02},  {2.0, 0.02},   {2.12, -0.01},  {2.3, -0.045},  {2.75, -0.064}, {3.1416, -0.066}};
 
 // Value noise on the integer lattice (smooth, 0..1), by a hash of the cell's corners.
@@ -517,7 +516,8 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
     const double lips = vermilion(X, Y, ym);
     // (A muted rose, not a painted one: lips are skin with blood showing through; a shade deeper
     // than the cheek's flush, the upper lip darker than the lower, which faces the light: at
-    // (0.46, 0.21, 0.18) and (0.42, 0.19, 0.17) viewers found them nearly skin-coloured and flat.)
+    // (0.46, 0.21, 0.18) and (0.42, 0.19, 0.17), then at (0.48, 0.19, 0.17) and (0.42, 0.16, 0.145), viewers
+    // found them nearly skin-coloured and flat, and the upper lip long and bare.)
     const Vec3 lip = Y < ym ? Vec3(0.36, 0.1, 0.095) : Vec3(0.34, 0.09, 0.085);
     c = c + lips * (0.9 - 0.1 * male) * (lip * (0.95 + 0.1 * mottle) - c);
     // Nostrils, under the nose.
