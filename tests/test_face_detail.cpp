@@ -193,7 +193,7 @@ TEST_CASE("face: the lips are rose against the skin, the nostrils dark, the phil
   CHECK(cheek.y() / cheek.x() > 0.48);
   CHECK(lip_skin.y() / lip_skin.x() > 0.48);
   // The nostril's middle under 0.3 of the skin's brightness beside the wing (at 0.34 it read as a smudge).
-  CHECK(color(0.0062, -0.0448).sum() < 0.3 * color(0.03, -0.04).sum());  // (head_shape.cpp: kNostril)
+  CHECK(color(head::kNostril[0], head::kNostril[1]).sum() < 0.3 * color(0.03, -0.04).sum());
   // The philtrum: its ridges stand a millimetre proud of the groove between them.
   const Vec3 d_groove = Vec3(0, -0.056, 0.09).normalized(), d_ridge = Vec3(0.0045, -0.056, 0.09).normalized();
   auto relief = [&](const Vec3& d) { return head::features(head::baseRadius(d, look) * d, d, ym, look).soft; };

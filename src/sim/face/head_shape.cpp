@@ -125,9 +125,8 @@ double vermilionTop(double x, double ym) {
 }
 double vermilionBottom(double x, double ym) { return ym - 0.0095 + 0.0093 * std::pow(std::min(std::abs(x) / 0.026, 1.0), 1.8); }
 
-// The middle of the nose's left wing (x, y), and its nostril's (x, y, and its half-sizes).
+// The middle of the nose's left wing (x, y) (its nostril: head_shape.h).
 constexpr double kWing[2] = {0.013, -0.0412};
-constexpr double kNostril[4] = {0.0062, -0.0448, 0.0031, 0.0015};
 
 // The nasolabial fold, from beside the nose's wing to beside the mouth's corner (the left side's,
 // x > 0): its ends (x, y).

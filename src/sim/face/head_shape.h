@@ -48,6 +48,8 @@ inline constexpr double kLidShell = 1.07;
 inline constexpr double kLidAzimuth = 80.0 * kPi / 180.0;
 inline constexpr double kEyeCorner = 72.0 * kPi / 180.0, kEyeCorners = -4.0 * kPi / 180.0, kCanthalTilt = 8.0 * kPi / 180.0;
 inline constexpr double kMouthY = -0.070, kMouthHalf = 0.025;
+// The left nostril: its middle (x, y) and half-sizes across and up (the skin's dip and dark there).
+inline constexpr double kNostril[4] = {0.0062, -0.0448, 0.0031, 0.0015};
 
 // The neck: its axis (vertical, at this z) and where it is cut (inside the shoulders).
 inline constexpr double kNeckAxisZ = -0.016, kNeckCut = -0.32;
