@@ -120,33 +120,63 @@ inline void dots3x3(const double* const R[3], const double* const C[3], int n, d
 // Node by node (the three rows of a node share their envelope's first column): for each block
 // column J of node row I, L_IJ = (A_IJ − Σ_K L_IK L_JKᵀ) L_JJ⁻ᵀ, then L_II = chol(A_II − Σ_K L_IK
 // L_IKᵀ). (Each pivot's reciprocal is kept in `inv`: a multiplication instead of a division.)
+// Within a block the nine entries are worked in registers, the three rows side by side: stored
+// and read back one by one, each waited on the last (the factor's time in a school of fish went
+// mostly to those stalls). The operations and their order are those of the plain recurrence
+// L_{r,c0+b} = (A − S_ab − Σ_{b' < b} L_{r,c0+b'} L_{c0+b,c0+b'}) / L_{c0+b,c0+b}: the same bits.
 REEL_CLONED
 bool factorEnvelope(double* v, double* inv, const std::ptrdiff_t* offset, const int* first, int rows) {
   for (int I = 0; I < rows / 3; ++I) {
     const int r0 = 3 * I, fr = first[r0];
     double* L[3] = {v + offset[r0], v + offset[r0 + 1], v + offset[r0 + 2]};
-    for (int c0 = fr; c0 <= r0; c0 += 3) {
+    double S[3][3];
+    for (int c0 = fr; c0 < r0; c0 += 3) {
       const double* C[3] = {v + offset[c0], v + offset[c0 + 1], v + offset[c0 + 2]};
       const int k0 = std::max(fr, first[c0]);
       const double* Rk[3] = {L[0] + k0, L[1] + k0, L[2] + k0};
       const double* Ck[3] = {C[0] + k0, C[1] + k0, C[2] + k0};
-      double S[3][3];
       dots3x3(Rk, Ck, c0 - k0, S);
-      // Within the block: L_{r,c0+b} = (A − S_ab − Σ_{b' < b} L_{r,c0+b'} L_{c0+b,c0+b'}) / L_{c0+b,c0+b}.
+      const double j10 = C[1][c0], j20 = C[2][c0], j21 = C[2][c0 + 1];
+      const double i0 = inv[c0], i1 = inv[c0 + 1], i2 = inv[c0 + 2];
       for (int a = 0; a < 3; ++a) {
-        const int bmax = c0 < r0 ? 3 : a + 1;
-        for (int b = 0; b < bmax; ++b) {
-          double t = L[a][c0 + b] - S[a][b];
-          for (int bb = 0; bb < b; ++bb) t -= L[a][c0 + bb] * C[b][c0 + bb];
-          if (c0 < r0 || b < a) {
-            L[a][c0 + b] = t * inv[c0 + b];
-          } else {
-            if (!(t > 0.0) || !std::isfinite(t)) return false;
-            L[a][c0 + a] = std::sqrt(t);
-            inv[c0 + a] = 1.0 / L[a][c0 + a];
-          }
-        }
+        double* l = L[a] + c0;
+        const double x0 = (l[0] - S[a][0]) * i0;
+        double t1 = l[1] - S[a][1];
+        t1 -= x0 * j10;
+        const double x1 = t1 * i1;
+        double t2 = l[2] - S[a][2];
+        t2 -= x0 * j20;
+        t2 -= x1 * j21;
+        l[0] = x0, l[1] = x1, l[2] = t2 * i2;
       }
+    }
+    // The diagonal block: chol(A_II − S).
+    {
+      const int k0 = fr;
+      const double* Rk[3] = {L[0] + k0, L[1] + k0, L[2] + k0};
+      dots3x3(Rk, Rk, r0 - k0, S);
+      double* l0 = L[0] + r0;
+      double* l1 = L[1] + r0;
+      double* l2 = L[2] + r0;
+      const double t00 = l0[0] - S[0][0];
+      if (!(t00 > 0.0) || !std::isfinite(t00)) return false;
+      const double d0 = std::sqrt(t00), i0 = 1.0 / d0;
+      const double x10 = (l1[0] - S[1][0]) * i0;
+      double t11 = l1[1] - S[1][1];
+      t11 -= x10 * x10;
+      if (!(t11 > 0.0) || !std::isfinite(t11)) return false;
+      const double d1 = std::sqrt(t11), i1 = 1.0 / d1;
+      const double x20 = (l2[0] - S[2][0]) * i0;
+      double t21 = l2[1] - S[2][1];
+      t21 -= x20 * x10;
+      const double x21 = t21 * i1;
+      double t22 = l2[2] - S[2][2];
+      t22 -= x20 * x20;
+      t22 -= x21 * x21;
+      if (!(t22 > 0.0) || !std::isfinite(t22)) return false;
+      const double d2 = std::sqrt(t22);
+      l0[0] = d0, l1[0] = x10, l1[1] = d1, l2[0] = x20, l2[1] = x21, l2[2] = d2;
+      inv[r0] = i0, inv[r0 + 1] = i1, inv[r0 + 2] = 1.0 / d2;
     }
   }
   return true;
