@@ -52,6 +52,32 @@ inline double hsum(const Lane4& a) { return (a[0] + a[1]) + (a[2] + a[3]); }
 #endif
 }
 
+// Three coordinates of four points or vectors, a Lane4 each (the rigid solver's wide contacts, the
+// springs' linearisation). Helpers that take and return lanes are always inlined into the clones
+// that call them: no call passes a vector across the ABI, whatever the -Wpsabi note says. Four
+// lanes are 32-byte aligned where AVX is on and 16 where it is not: every structure that holds
+// them in memory is aligned to 32, so that both clones agree on where they lie.
+#pragma GCC diagnostic ignored "-Wpsabi"  // (for the including file: GCC reports it at its end)
+struct alignas(32) L3 {
+  alignas(32) Lane4 x{}, y{}, z{};
+};
+// (a.x b.x + a.y b.y) + a.z b.z: the order of a Vec3's dot product.
+[[gnu::always_inline]] inline Lane4 dot(const L3& a, const L3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+[[gnu::always_inline]] inline L3 operator+(const L3& a, const L3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+[[gnu::always_inline]] inline L3 operator-(const L3& a, const L3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+[[gnu::always_inline]] inline L3 operator*(const Lane4& k, const L3& a) { return {k * a.x, k * a.y, k * a.z}; }
+[[gnu::always_inline]] inline Lane4 splat(double v) { return Lane4{v, v, v, v}; }
+// Lane by lane: a where m is set, b elsewhere.
+[[gnu::always_inline]] inline Lane4 select(const Mask4& m, const Lane4& a, const Lane4& b) { return m ? a : b; }
+[[gnu::always_inline]] inline L3 select(const Mask4& m, const L3& a, const L3& b) {
+  return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)};
+}
+// Lane-wise square roots (IEEE, correctly rounded: the bits of std::sqrt; -fno-math-errno lets
+// the compiler take them together).
+[[gnu::always_inline]] inline Lane4 sqrt4(const Lane4& a) {
+  return Lane4{__builtin_sqrt(a[0]), __builtin_sqrt(a[1]), __builtin_sqrt(a[2]), __builtin_sqrt(a[3])};
+}
+
 }  // namespace reel
 
 // Building with -DREEL_TARGET_CLONES=OFF (REEL_NO_CLONES) leaves only the plain version: a dump

@@ -62,10 +62,19 @@ void perceive(const FishDesc& d, const FishFrame& self, int self_body, int self_
       fish.push_back(s);
     });
   }
-  std::sort(fish.begin(), fish.end(), nearer);
+  // The nearest first: only as many are ordered as the loop below may take (a school's fish see a
+  // hundred others and keep 11); should hidden ones leave room, the rest are ordered then.
+  // (`nearer` is a total order: the same sequence as sorting them all.)
   const double step = 0.25 * d.length;
-  for (const Seen& s : fish) {
-    if (out.seen.size() >= kMaxSeen - kMaxFood - 1) break;
+  const std::size_t keep = kMaxSeen - kMaxFood - 1;
+  std::size_t sorted = std::min(fish.size(), keep);
+  std::partial_sort(fish.begin(), fish.begin() + static_cast<std::ptrdiff_t>(sorted), fish.end(), nearer);
+  for (std::size_t k = 0; k < fish.size() && out.seen.size() < keep; ++k) {
+    if (k == sorted) {
+      std::sort(fish.begin() + static_cast<std::ptrdiff_t>(sorted), fish.end(), nearer);
+      sorted = fish.size();
+    }
+    const Seen& s = fish[k];
     if (!w.obstacles || !segmentBlocked(*w.obstacles, eye, shortOf(eye, s.x, 0.5 * s.length), step)) out.seen.push_back(s);
   }
   std::vector<Seen> food;

@@ -68,21 +68,9 @@ struct Contact {
 // of one colour solved at once, a lane each, their points side by side (a contact's k-th point in
 // slot k; slots past a contact's points, and lanes with no contact, hold zeros, whose impulses are
 // zero). The arithmetic is lane-wise IEEE: the same bits in every clone and on any number of threads.
-// (Helpers that take and return four lanes are always inlined into the clones that call them:
-// no call passes a vector across the ABI, whatever the -Wpsabi note says.)
-// Four lanes are 32-byte aligned where AVX is on and 16 where it is not: every structure that holds
-// them in memory is aligned to 32, so that both clones agree on where they lie.
-#pragma GCC diagnostic ignored "-Wpsabi"  // (for the including file: GCC reports it at its end)
-struct alignas(32) L3 {
-  alignas(32) Lane4 x{}, y{}, z{};
-};
-[[gnu::always_inline]] inline Lane4 dot(const L3& a, const L3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-[[gnu::always_inline]] inline L3 operator+(const L3& a, const L3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-[[gnu::always_inline]] inline L3 operator-(const L3& a, const L3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-[[gnu::always_inline]] inline L3 operator*(const Lane4& k, const L3& a) { return {k * a.x, k * a.y, k * a.z}; }
+// (L3 and its helpers: core/lanes.h.)
 [[gnu::always_inline]] inline void setLane(L3& a, int l, const Vec3& v) { a.x[l] = v.x(), a.y[l] = v.y(), a.z[l] = v.z(); }
 [[gnu::always_inline]] inline Vec3 lane(const L3& a, int l) { return {a.x[l], a.y[l], a.z[l]}; }
-[[gnu::always_inline]] inline Lane4 splat(double v) { return Lane4{v, v, v, v}; }
 
 struct alignas(32) WideAxis {
   L3 ja, jb, ia, ib;  // as in Axis
