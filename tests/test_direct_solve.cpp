@@ -99,6 +99,66 @@ TEST_CASE("envelope Cholesky: a sparse positive definite system solved as a dens
   CHECK_FALSE(G.factor());
 }
 
+TEST_CASE("envelope Cholesky, four pieces of one envelope side by side: the same bits as one by one; a failed lane named alone") {
+  // Five chains of 6 nodes with a coupling 3 apart, then a chain of 4: pieces 0-3 go together,
+  // piece 4 (fifth of its kind) and piece 5 (another envelope) alone.
+  std::vector<std::array<int, 2>> edges;
+  auto chain = [&](int base, int n) {
+    for (int i = 0; i + 1 < n; ++i) edges.push_back({base + i, base + i + 1});
+    if (n >= 6) edges.push_back({base + 1, base + 4});
+  };
+  for (int c = 0; c < 5; ++c) chain(6 * c, 6);
+  chain(30, 4);
+  const int n = 34;
+  const Incidence g = graph(n, edges);
+  const std::vector<std::uint8_t> fixed(n, 0);
+  SkylinePlan plan;
+  plan.build(n, g.start.data(), g.other.data(), fixed.data());
+  REQUIRE(plan.pieces() == 6);
+  CHECK(plan.batch_start == std::vector<int>{0, 4, 5, 6});
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto fill = [&](std::size_t p, SkylineFactor& F, bool broken) {
+    F.begin(plan, p);
+    const int k0 = plan.piece_start[p], size = plan.piece_start[p + 1] - k0;
+    for (auto [a, b] : edges) {
+      if (plan.local[static_cast<std::size_t>(a)] < 0 || a < plan.nodes[static_cast<std::size_t>(k0)] ||
+          a > plan.nodes[static_cast<std::size_t>(k0 + size - 1)])
+        continue;
+      Mat3 C;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) C(r, c) = u(rng);
+      F.add(std::max(plan.local[static_cast<std::size_t>(a)], plan.local[static_cast<std::size_t>(b)]),
+            std::min(plan.local[static_cast<std::size_t>(a)], plan.local[static_cast<std::size_t>(b)]), C);
+    }
+    for (int i = 0; i < size; ++i) F.add(i, i, (broken && i == 3 ? -1.0 : 8.0) * Mat3::Identity());
+  };
+  for (const int broken : {-1, 2}) {
+    CAPTURE(broken);
+    SkylineFactor one[4];
+    SkylineBatch four;
+    std::vector<std::vector<double>> b(4, std::vector<double>(18));
+    std::vector<LaneSlot> b4(18);
+    for (int l = 0; l < 4; ++l) {
+      fill(static_cast<std::size_t>(l), one[l], l == broken);
+      four.load(l, one[l]);
+      for (int r = 0; r < 18; ++r) b[static_cast<std::size_t>(l)][static_cast<std::size_t>(r)] = b4[static_cast<std::size_t>(r)].v[l] = u(rng);
+    }
+    const unsigned bad = four.factor();
+    CHECK(bad == (broken < 0 ? 0u : 1u << broken));
+    if (broken >= 0) {
+      CHECK_FALSE(one[broken].factor());
+      continue;
+    }
+    four.solve(b4.data());
+    for (int l = 0; l < 4; ++l) {
+      REQUIRE(one[l].factor());
+      one[l].solve(b[static_cast<std::size_t>(l)].data());
+      for (int r = 0; r < 18; ++r) CHECK(b[static_cast<std::size_t>(l)][static_cast<std::size_t>(r)] == b4[static_cast<std::size_t>(r)].v[l]);
+    }
+  }
+}
+
 TEST_CASE("direct solve: the pieces are the free nodes joined by couplings; a fixed node splits a chain") {
   // A chain 0-1-2-3-4 with node 2 fixed, a pair 5-6, and node 7 alone.
   const Incidence g = graph(8, {{{0, 1}}, {{1, 2}}, {{2, 3}}, {{3, 4}}, {{5, 6}}});

@@ -479,48 +479,90 @@ bool MassSpringSystem::solveDirect(const Vec3* rhs, Vec3* dv) {
   const Index pieces = static_cast<Index>(plan_.pieces());
   failed_.assign(static_cast<std::size_t>(pieces), 0);
   auto& failed = failed_;
-  parallelBlocks(pieces, 1, [&](Index p0, Index p1) {
-    thread_local SkylineFactor F;
-    thread_local std::vector<double> b;
-    for (Index p = p0; p < p1; ++p) {
-      F.begin(plan_, static_cast<std::size_t>(p));
-      const int k0 = plan_.piece_start[static_cast<std::size_t>(p)], k1 = plan_.piece_start[static_cast<std::size_t>(p) + 1];
-      b.resize(static_cast<std::size_t>(3 * (k1 - k0)));
-      // A's blocks: (m + hγ) I + h D_i + Σ B on the diagonal, −B to the other end of each spring.
-      for (int k = k0; k < k1; ++k) {
-        const auto i = static_cast<std::size_t>(plan_.nodes[static_cast<std::size_t>(k)]);
-        const int li = k - k0;
-        double* R[3] = {F.row(3 * li), F.row(3 * li + 1), F.row(3 * li + 2)};
-        double d[6] = {own_[i], own_[i], own_[i], 0.0, 0.0, 0.0};  // xx, yy, zz, xy, xz, yz
-        for (int e = inc.start[i]; e < inc.start[i + 1]; ++e) {
-          const double* B = B_[static_cast<std::size_t>(inc.entries[static_cast<std::size_t>(e)] >> 1)].m;
-          for (int c = 0; c < 6; ++c) d[c] += B[c];
-          const int lj = plan_.local[static_cast<std::size_t>(inc.other[static_cast<std::size_t>(e)])];
-          if (lj < 0 || lj >= li) continue;  // (fixed, or added from the other end)
-          double* x = R[0] + 3 * lj;
-          double* y = R[1] + 3 * lj;
-          double* z = R[2] + 3 * lj;
-          x[0] -= B[0], x[1] -= B[3], x[2] -= B[4];
-          y[0] -= B[3], y[1] -= B[1], y[2] -= B[5];
-          z[0] -= B[4], z[1] -= B[5], z[2] -= B[2];
-        }
-        Mat3 D{{d[0], d[3], d[4]}, {d[3], d[1], d[5]}, {d[4], d[5], d[2]}};
-        if (node_drag_) D += h_ * node_drag_[i];
-        F.add(li, li, D);
-        for (int c = 0; c < 3; ++c) b[static_cast<std::size_t>(3 * li + c)] = rhs[i][c];
+  // The spring blocks of piece p asked for ahead of their use: linearize() wrote them all, far
+  // out of cache by the time they are read here (the loads' waits were half of this loop's time).
+  auto prefetch = [&](Index p) {
+    if (p >= pieces) return;
+    for (int k = plan_.piece_start[static_cast<std::size_t>(p)]; k < plan_.piece_start[static_cast<std::size_t>(p) + 1]; ++k) {
+      const auto i = static_cast<std::size_t>(plan_.nodes[static_cast<std::size_t>(k)]);
+      for (int e = inc.start[i]; e < inc.start[i + 1]; ++e)
+        __builtin_prefetch(B_[static_cast<std::size_t>(inc.entries[static_cast<std::size_t>(e)] >> 1)].m);
+    }
+  };
+  // Piece p's A into F: (m + hγ) I + h D_i + Σ B on the diagonal blocks, −B to the other end of
+  // each spring.
+  auto assemble = [&](Index p, SkylineFactor& F) {
+    F.begin(plan_, static_cast<std::size_t>(p));
+    const int k0 = plan_.piece_start[static_cast<std::size_t>(p)], k1 = plan_.piece_start[static_cast<std::size_t>(p) + 1];
+    for (int k = k0; k < k1; ++k) {
+      const auto i = static_cast<std::size_t>(plan_.nodes[static_cast<std::size_t>(k)]);
+      const int li = k - k0;
+      double* R[3] = {F.row(3 * li), F.row(3 * li + 1), F.row(3 * li + 2)};
+      double d[6] = {own_[i], own_[i], own_[i], 0.0, 0.0, 0.0};  // xx, yy, zz, xy, xz, yz
+      for (int e = inc.start[i]; e < inc.start[i + 1]; ++e) {
+        const double* B = B_[static_cast<std::size_t>(inc.entries[static_cast<std::size_t>(e)] >> 1)].m;
+        for (int c = 0; c < 6; ++c) d[c] += B[c];
+        const int lj = plan_.local[static_cast<std::size_t>(inc.other[static_cast<std::size_t>(e)])];
+        if (lj < 0 || lj >= li) continue;  // (fixed, or added from the other end)
+        double* x = R[0] + 3 * lj;
+        double* y = R[1] + 3 * lj;
+        double* z = R[2] + 3 * lj;
+        x[0] -= B[0], x[1] -= B[3], x[2] -= B[4];
+        y[0] -= B[3], y[1] -= B[1], y[2] -= B[5];
+        z[0] -= B[4], z[1] -= B[5], z[2] -= B[2];
       }
-      if (!F.factor()) {
-        failed[static_cast<std::size_t>(p)] = 1;
-        F.release(kDirectKeepDoubles);
+      Mat3 D{{d[0], d[3], d[4]}, {d[3], d[1], d[5]}, {d[4], d[5], d[2]}};
+      if (node_drag_) D += h_ * node_drag_[i];
+      F.add(li, li, D);
+    }
+  };
+  const Index batches = static_cast<Index>(plan_.batch_start.size()) - 1;
+  parallelBlocks(batches, 1, [&](Index q0, Index q1) {
+    thread_local SkylineFactor F;
+    thread_local SkylineBatch F4;
+    thread_local std::vector<double> b;
+    thread_local std::vector<LaneSlot> b4;
+    for (Index q = q0; q < q1; ++q) {
+      const Index p0 = plan_.batch_start[static_cast<std::size_t>(q)], p1 = plan_.batch_start[static_cast<std::size_t>(q) + 1];
+      // (A thread's batches are consecutive: its next piece is most likely p1.)
+      prefetch(p1);
+      const int n = 3 * (plan_.piece_start[static_cast<std::size_t>(p0) + 1] - plan_.piece_start[static_cast<std::size_t>(p0)]);
+      auto rhsOf = [&](Index p, int r) {
+        return rhs[plan_.nodes[static_cast<std::size_t>(plan_.piece_start[static_cast<std::size_t>(p)] + r / 3)]][r % 3];
+      };
+      auto result = [&](Index p, int li) -> Vec3& { return dv[plan_.nodes[static_cast<std::size_t>(plan_.piece_start[static_cast<std::size_t>(p)] + li)]]; };
+      if (p1 - p0 == 4) {  // four pieces of one envelope side by side
+        b4.resize(static_cast<std::size_t>(n));
+        for (int l = 0; l < 4; ++l) {
+          if (l > 0) prefetch(p0 + l + 1);
+          assemble(p0 + l, F);
+          F4.load(l, F);
+          for (int r = 0; r < n; ++r) b4[static_cast<std::size_t>(r)].v[l] = rhsOf(p0 + l, r);
+        }
+        if (const unsigned bad = F4.factor()) {
+          for (int l = 0; l < 4; ++l)
+            if (bad >> l & 1) failed[static_cast<std::size_t>(p0 + l)] = 1;
+          continue;
+        }
+        F4.solve(b4.data());
+        for (int l = 0; l < 4; ++l)
+          for (int li = 0; li < n / 3; ++li)
+            result(p0 + l, li) = Vec3(b4[static_cast<std::size_t>(3 * li)].v[l], b4[static_cast<std::size_t>(3 * li + 1)].v[l],
+                                      b4[static_cast<std::size_t>(3 * li + 2)].v[l]);
         continue;
       }
-      F.solve(b.data());
+      assemble(p0, F);
+      b.resize(static_cast<std::size_t>(n));
+      for (int r = 0; r < n; ++r) b[static_cast<std::size_t>(r)] = rhsOf(p0, r);
+      const bool ok = F.factor();
+      if (ok) F.solve(b.data());
       F.release(kDirectKeepDoubles);  // (a large piece's factor is not kept by the thread)
-      for (int k = k0; k < k1; ++k) {
-        const int li = k - k0;
-        dv[plan_.nodes[static_cast<std::size_t>(k)]] = Vec3(b[static_cast<std::size_t>(3 * li)], b[static_cast<std::size_t>(3 * li + 1)],
-                                                           b[static_cast<std::size_t>(3 * li + 2)]);
+      if (!ok) {
+        failed[static_cast<std::size_t>(p0)] = 1;
+        continue;
       }
+      for (int li = 0; li < n / 3; ++li)
+        result(p0, li) = Vec3(b[static_cast<std::size_t>(3 * li)], b[static_cast<std::size_t>(3 * li + 1)], b[static_cast<std::size_t>(3 * li + 2)]);
     }
   }, static_cast<Index>(plan_.factor_cost / 64.0));
   // A piece that is not positive definite to rounding (never expected) sends the whole solve to CG.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 #include "core/lanes.h"
 #include "core/union_find.h"
@@ -63,6 +64,21 @@ void SkylinePlan::build(std::size_t n, const int* start, const int* other, const
     }
     largest = std::max(largest, size);
   }
+  // Runs of four pieces alike: the same size and the same first columns, counted from each one's
+  // first node.
+  auto alike = [&](std::size_t p, std::size_t q) {
+    const int size = piece_start[p + 1] - piece_start[p];
+    if (piece_start[q + 1] - piece_start[q] != size) return false;
+    for (int k = 0; k < size; ++k)
+      if (first[static_cast<std::size_t>(piece_start[p] + k)] != first[static_cast<std::size_t>(piece_start[q] + k)]) return false;
+    return true;
+  };
+  batch_start.assign(1, 0);
+  for (std::size_t p = 0; p < pieces();) {
+    const bool four = p + 4 <= pieces() && alike(p, p + 1) && alike(p, p + 2) && alike(p, p + 3);
+    p += four ? 4 : 1;
+    batch_start.push_back(static_cast<int>(p));
+  }
 }
 
 void SkylineFactor::begin(const SkylinePlan& plan, std::size_t p) {
@@ -89,7 +105,7 @@ namespace {
 
 // Σ a[k]·b[k] over [0, n): four lanes, then the lanes and the rest in a fixed order (the same bits
 // with or without AVX2; core/lanes.h).
-inline double dotLanes(const double* a, const double* b, int n) {
+[[gnu::always_inline]] inline double dotLanes(const double* a, const double* b, int n) {
   Lane4 acc = {0, 0, 0, 0};
   int k = 0;
   for (; k + 4 <= n; k += 4) {
@@ -103,13 +119,32 @@ inline double dotLanes(const double* a, const double* b, int n) {
   return s;
 }
 
-// The nine sums S_ab = Σ_k R_a[k]·C_b[k] over [0, n) of three rows R against three rows C, four
-// lanes each (nine independent chains: a single dot product's latency bound the row-by-row loop).
-inline void dots3x3(const double* const R[3], const double* const C[3], int n, double S[3][3]) {
-  double s00 = 0, s01 = 0, s02 = 0, s10 = 0, s11 = 0, s12 = 0, s20 = 0, s21 = 0, s22 = 0;
-  const double *r0 = R[0], *r1 = R[1], *r2 = R[2], *c0 = C[0], *c1 = C[1], *c2 = C[2];
+// The same sum of four pieces side by side (a lane each), in the same order for each lane.
+[[gnu::always_inline]] inline Lane4 dotLanes(const Lane4* a, const Lane4* b, int n) {
+  Lane4 acc[4] = {};
+  int k = 0;
+  for (; k + 4 <= n; k += 4)
+    for (int j = 0; j < 4; ++j) acc[j] += a[k + j] * b[k + j];
+  Lane4 s = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+  for (; k < n; ++k) s += a[k] * b[k];
+  return s;
+}
+
+inline double sqrtOf(double a) { return std::sqrt(a); }
+inline Lane4 sqrtOf(const Lane4& a) { return sqrt4(a); }
+
+// Whether a pivot's square is not positive or not finite (for four: the lanes' bits).
+inline bool badPivot(double t) { return !(t > 0.0) || !std::isfinite(t); }
+inline unsigned badPivot(const Lane4& t) { return maskBits(~(t > 0.0) | ~((t - t) == 0.0)); }
+
+// The nine sums S_ab = Σ_k R_a[k]·C_b[k] over [0, n) of three rows R against three rows C (nine
+// independent chains: a single dot product's latency bound the row-by-row loop).
+template <class T>
+[[gnu::always_inline]] inline void dots3x3(const T* const R[3], const T* const C[3], int n, T S[3][3]) {
+  T s00{}, s01{}, s02{}, s10{}, s11{}, s12{}, s20{}, s21{}, s22{};
+  const T *r0 = R[0], *r1 = R[1], *r2 = R[2], *c0 = C[0], *c1 = C[1], *c2 = C[2];
   for (int k = 0; k < n; ++k) {
-    const double x0 = r0[k], x1 = r1[k], x2 = r2[k], y0 = c0[k], y1 = c1[k], y2 = c2[k];
+    const T x0 = r0[k], x1 = r1[k], x2 = r2[k], y0 = c0[k], y1 = c1[k], y2 = c2[k];
     s00 += x0 * y0, s01 += x0 * y1, s02 += x0 * y2;
     s10 += x1 * y0, s11 += x1 * y1, s12 += x1 * y2;
     s20 += x2 * y0, s21 += x2 * y1, s22 += x2 * y2;
@@ -123,85 +158,107 @@ inline void dots3x3(const double* const R[3], const double* const C[3], int n, d
 // Within a block the nine entries are worked in registers, the three rows side by side: stored
 // and read back one by one, each waited on the last (the factor's time in a school of fish went
 // mostly to those stalls). The operations and their order are those of the plain recurrence
-// L_{r,c0+b} = (A − S_ab − Σ_{b' < b} L_{r,c0+b'} L_{c0+b,c0+b'}) / L_{c0+b,c0+b}: the same bits.
-REEL_CLONED
-bool factorEnvelope(double* v, double* inv, const std::ptrdiff_t* offset, const int* first, int rows) {
+// L_{r,c0+b} = (A − S_ab − Σ_{b' < b} L_{r,c0+b'} L_{c0+b,c0+b'}) / L_{c0+b,c0+b}. T is a double,
+// or a Lane4 for four pieces of one envelope: the same operations lane by lane. Returns the bits
+// of the pieces with a pivot that is not positive (one piece stops at it; four go on, the failed
+// lane's numbers thrown away).
+// (Always inlined: compiled inside each clone of its callers, AVX2 included.)
+template <class T>
+[[gnu::always_inline]] inline unsigned factorEnvelope(T* v, T* inv, const std::ptrdiff_t* offset, const int* first, int rows) {
+  unsigned failed = 0;
+  const T one = T{} + 1.0;
   for (int I = 0; I < rows / 3; ++I) {
     const int r0 = 3 * I, fr = first[r0];
-    double* L[3] = {v + offset[r0], v + offset[r0 + 1], v + offset[r0 + 2]};
-    double S[3][3];
+    T* L[3] = {v + offset[r0], v + offset[r0 + 1], v + offset[r0 + 2]};
+    T S[3][3];
     for (int c0 = fr; c0 < r0; c0 += 3) {
-      const double* C[3] = {v + offset[c0], v + offset[c0 + 1], v + offset[c0 + 2]};
+      const T* C[3] = {v + offset[c0], v + offset[c0 + 1], v + offset[c0 + 2]};
       const int k0 = std::max(fr, first[c0]);
-      const double* Rk[3] = {L[0] + k0, L[1] + k0, L[2] + k0};
-      const double* Ck[3] = {C[0] + k0, C[1] + k0, C[2] + k0};
+      const T* Rk[3] = {L[0] + k0, L[1] + k0, L[2] + k0};
+      const T* Ck[3] = {C[0] + k0, C[1] + k0, C[2] + k0};
       dots3x3(Rk, Ck, c0 - k0, S);
-      const double j10 = C[1][c0], j20 = C[2][c0], j21 = C[2][c0 + 1];
-      const double i0 = inv[c0], i1 = inv[c0 + 1], i2 = inv[c0 + 2];
+      const T j10 = C[1][c0], j20 = C[2][c0], j21 = C[2][c0 + 1];
+      const T i0 = inv[c0], i1 = inv[c0 + 1], i2 = inv[c0 + 2];
       for (int a = 0; a < 3; ++a) {
-        double* l = L[a] + c0;
-        const double x0 = (l[0] - S[a][0]) * i0;
-        double t1 = l[1] - S[a][1];
+        T* l = L[a] + c0;
+        const T x0 = (l[0] - S[a][0]) * i0;
+        T t1 = l[1] - S[a][1];
         t1 -= x0 * j10;
-        const double x1 = t1 * i1;
-        double t2 = l[2] - S[a][2];
+        const T x1 = t1 * i1;
+        T t2 = l[2] - S[a][2];
         t2 -= x0 * j20;
         t2 -= x1 * j21;
         l[0] = x0, l[1] = x1, l[2] = t2 * i2;
       }
     }
     // The diagonal block: chol(A_II − S).
-    {
-      const int k0 = fr;
-      const double* Rk[3] = {L[0] + k0, L[1] + k0, L[2] + k0};
-      dots3x3(Rk, Rk, r0 - k0, S);
-      double* l0 = L[0] + r0;
-      double* l1 = L[1] + r0;
-      double* l2 = L[2] + r0;
-      const double t00 = l0[0] - S[0][0];
-      if (!(t00 > 0.0) || !std::isfinite(t00)) return false;
-      const double d0 = std::sqrt(t00), i0 = 1.0 / d0;
-      const double x10 = (l1[0] - S[1][0]) * i0;
-      double t11 = l1[1] - S[1][1];
-      t11 -= x10 * x10;
-      if (!(t11 > 0.0) || !std::isfinite(t11)) return false;
-      const double d1 = std::sqrt(t11), i1 = 1.0 / d1;
-      const double x20 = (l2[0] - S[2][0]) * i0;
-      double t21 = l2[1] - S[2][1];
-      t21 -= x20 * x10;
-      const double x21 = t21 * i1;
-      double t22 = l2[2] - S[2][2];
-      t22 -= x20 * x20;
-      t22 -= x21 * x21;
-      if (!(t22 > 0.0) || !std::isfinite(t22)) return false;
-      const double d2 = std::sqrt(t22);
-      l0[0] = d0, l1[0] = x10, l1[1] = d1, l2[0] = x20, l2[1] = x21, l2[2] = d2;
-      inv[r0] = i0, inv[r0 + 1] = i1, inv[r0 + 2] = 1.0 / d2;
-    }
+    const T* Rk[3] = {L[0] + fr, L[1] + fr, L[2] + fr};
+    dots3x3(Rk, Rk, r0 - fr, S);
+    T* l0 = L[0] + r0;
+    T* l1 = L[1] + r0;
+    T* l2 = L[2] + r0;
+    const T t00 = l0[0] - S[0][0];
+    if ((failed |= badPivot(t00)) && std::is_same_v<T, double>) return failed;
+    const T d0 = sqrtOf(t00), i0 = one / d0;
+    const T x10 = (l1[0] - S[1][0]) * i0;
+    T t11 = l1[1] - S[1][1];
+    t11 -= x10 * x10;
+    if ((failed |= badPivot(t11)) && std::is_same_v<T, double>) return failed;
+    const T d1 = sqrtOf(t11), i1 = one / d1;
+    const T x20 = (l2[0] - S[2][0]) * i0;
+    T t21 = l2[1] - S[2][1];
+    t21 -= x20 * x10;
+    const T x21 = t21 * i1;
+    T t22 = l2[2] - S[2][2];
+    t22 -= x20 * x20;
+    t22 -= x21 * x21;
+    if ((failed |= badPivot(t22)) && std::is_same_v<T, double>) return failed;
+    const T d2 = sqrtOf(t22);
+    l0[0] = d0, l1[0] = x10, l1[1] = d1, l2[0] = x20, l2[1] = x21, l2[2] = d2;
+    inv[r0] = i0, inv[r0 + 1] = i1, inv[r0 + 2] = one / d2;
   }
-  return true;
+  return failed;
+}
+
+REEL_CLONED bool factorOne(double* v, double* inv, const std::ptrdiff_t* offset, const int* first, int rows) {
+  return factorEnvelope(v, inv, offset, first, rows) == 0;
+}
+REEL_CLONED unsigned factorFour(Lane4* v, Lane4* inv, const std::ptrdiff_t* offset, const int* first, int rows) {
+  return factorEnvelope(v, inv, offset, first, rows);
+}
+
+// b := (L Lᵀ)⁻¹ b.
+template <class T>
+[[gnu::always_inline]] inline void solveEnvelope(const T* v, const T* inv, const std::ptrdiff_t* offset, const int* first, int rows, T* b) {
+  for (int r = 0; r < rows; ++r) {  // L y = b
+    const T* Lr = v + offset[r];
+    const int f = first[r];
+    b[r] = (b[r] - dotLanes(Lr + f, b + f, r - f)) * inv[r];
+  }
+  for (int r = rows - 1; r >= 0; --r) {  // Lᵀ x = y, column by column
+    const T* Lr = v + offset[r];
+    const T x = b[r] * inv[r];
+    b[r] = x;
+    for (int k = first[r]; k < r; ++k) b[k] -= Lr[k] * x;
+  }
+}
+
+REEL_CLONED void solveOne(const double* v, const double* inv, const std::ptrdiff_t* offset, const int* first, int rows, double* b) {
+  solveEnvelope(v, inv, offset, first, rows, b);
+}
+REEL_CLONED void solveFour(const Lane4* v, const Lane4* inv, const std::ptrdiff_t* offset, const int* first, int rows, Lane4* b) {
+  solveEnvelope(v, inv, offset, first, rows, b);
 }
 
 }  // namespace
 
 bool SkylineFactor::factor() {
   inv_.resize(static_cast<std::size_t>(rows_));
-  return factorEnvelope(value_.data(), inv_.data(), offset_.data(), first_.data(), rows_);
+  return factorOne(value_.data(), inv_.data(), offset_.data(), first_.data(), rows_);
 }
 
 void SkylineFactor::solve(double* b) const {
-  const double* v = value_.data();
-  for (int r = 0; r < rows_; ++r) {  // L y = b
-    const double* Lr = v + offset_[static_cast<std::size_t>(r)];
-    const int f = first_[static_cast<std::size_t>(r)];
-    b[r] = (b[r] - dotLanes(Lr + f, b + f, r - f)) * inv_[static_cast<std::size_t>(r)];
-  }
-  for (int r = rows_ - 1; r >= 0; --r) {  // Lᵀ x = y, column by column
-    const double* Lr = v + offset_[static_cast<std::size_t>(r)];
-    const double x = b[r] * inv_[static_cast<std::size_t>(r)];
-    b[r] = x;
-    for (int k = first_[static_cast<std::size_t>(r)]; k < r; ++k) b[k] -= Lr[k] * x;
-  }
+  solveOne(value_.data(), inv_.data(), offset_.data(), first_.data(), rows_, b);
 }
 
 void SkylineFactor::release(std::size_t keep) {
@@ -210,6 +267,26 @@ void SkylineFactor::release(std::size_t keep) {
   offset_ = {};
   first_ = {};
   inv_ = {};
+}
+
+void SkylineBatch::load(int lane, const SkylineFactor& f) {
+  if (lane == 0) {
+    rows_ = f.rows_;
+    offset_ = f.offset_;
+    first_ = f.first_;
+    value_.resize(f.value_.size());
+  }
+  for (std::size_t e = 0; e < f.value_.size(); ++e) value_[e].v[lane] = f.value_[e];
+}
+
+unsigned SkylineBatch::factor() {
+  inv_.resize(static_cast<std::size_t>(rows_));
+  static_assert(sizeof(LaneSlot) == sizeof(Lane4));
+  return factorFour(&value_.data()->v, &inv_.data()->v, offset_.data(), first_.data(), rows_);
+}
+
+void SkylineBatch::solve(LaneSlot* b) const {
+  solveFour(&value_.data()->v, &inv_.data()->v, offset_.data(), first_.data(), rows_, &b->v);
 }
 
 }  // namespace reel

@@ -8,12 +8,16 @@
 // method). Nodes numbered along a body (a rope's chain, a fish's rings) keep the envelope a few
 // nodes wide, so a piece of n nodes costs O(n·w²) multiply-adds, and no iteration count at all.
 // Each piece is solved on one thread in a fixed order: the same bits for any thread count.
+// Four pieces of one envelope (the fish of a school, the stalks of a kelp bed) are factorised and
+// solved side by side, a Lane4 lane each, by the same operations in the same order: the same bits
+// as one by one, four times the work per instruction.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "core/lanes.h"
 #include "core/types.h"
 
 namespace reel {
@@ -28,6 +32,8 @@ struct SkylinePlan {
   double factor_cost = 0.0;      // multiply-adds of one factorisation and its two substitutions, all pieces
   std::size_t largest = 0;       // the largest piece's factor, doubles
   std::size_t free_ends = 0;     // couplings at free nodes, counted at each end
+  std::vector<int> batch_start;  // runs of pieces solved together: 4 of one envelope, or 1
+
 
   // From the coupling graph in compressed rows (node i is coupled to other[start[i] .. start[i+1])).
   void build(std::size_t n, const int* start, const int* other, const std::uint8_t* fixed);
@@ -37,6 +43,7 @@ struct SkylinePlan {
 // One piece's factor: fill with add(), then factor() and solve().
 class SkylineFactor {
  public:
+  friend class SkylineBatch;
   // Sizes and zeroes the factor for piece p of the plan.
   void begin(const SkylinePlan& plan, std::size_t p);
   // Adds block A_ij (local nodes, j ≤ i; for j = i only its lower triangle is read).
@@ -58,6 +65,30 @@ class SkylineFactor {
   std::vector<double> inv_;  // per row: 1 / L_rr
   int rows_ = 0;
   double& at(int r, int c) { return value_[static_cast<std::size_t>(offset_[static_cast<std::size_t>(r)] + c)]; }
+};
+
+// Four doubles, a lane each, aligned for a Lane4 in every clone (core/lanes.h).
+struct alignas(32) LaneSlot {
+  Lane4 v{};
+};
+
+// Four pieces of one envelope side by side: load() each piece's filled (unfactorised) factor
+// into its lane, then factor() and solve().
+class SkylineBatch {
+ public:
+  // Takes f's entries (as begun and filled, all four alike) into `lane`.
+  void load(int lane, const SkylineFactor& f);
+  // L Lᵀ = A lane by lane; the bits of the lanes whose pivots were not all positive (0: none).
+  unsigned factor();
+  // b := A⁻¹ b lane by lane, b holding per local dof a slot (lane l: piece l).
+  void solve(LaneSlot* b) const;
+
+ private:
+  std::vector<std::ptrdiff_t> offset_;
+  std::vector<int> first_;
+  std::vector<LaneSlot> value_;  // per entry
+  std::vector<LaneSlot> inv_;    // per row
+  int rows_ = 0;
 };
 
 }  // namespace reel

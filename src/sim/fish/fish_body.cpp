@@ -195,7 +195,8 @@ void FishBody::waterDrag(const StepContext& ctx) {
       const double ahead = std::clamp(2.0 * n.dot(f.forward), 0.0, 1.0);  // 0 on the flanks, 1 facing 60° or less off ahead
       const Vec3 ns = n - (1.0 - kFrontDrag) * (ahead * ahead * (3.0 - 2.0 * ahead)) * n.dot(f.forward) * f.forward;
       const Mat3 Dt = (rho * 0.5 * len / count) * (ns * ns.transpose());
-      for (int c = 0; c < count; ++c) D[fc[static_cast<std::size_t>(c)]] += Dt, Du[fc[static_cast<std::size_t>(c)]] += Dt * u;
+      const Vec3 Dtu = Dt * u;
+      for (int c = 0; c < count; ++c) D[fc[static_cast<std::size_t>(c)]] += Dt, Du[fc[static_cast<std::size_t>(c)]] += Dtu;
     }
     // Each fin: a plate whose normal is the body's up pitched by the fin angle; opened toward the
     // flow (the left for a positive yaw, both as brakes) by an angle a, it is taken as that plate
