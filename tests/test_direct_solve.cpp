@@ -118,8 +118,7 @@ TEST_CASE("envelope Cholesky, four pieces of one envelope side by side: the same
   CHECK(plan.batch_start == std::vector<int>{0, 4, 5, 6});
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  auto fill = [&](std::size_t p, SkylineFactor& F, bool broken) {
-    F.begin(plan, p);
+  auto fill = [&](std::size_t p, bool broken, auto&& add) {
     const int k0 = plan.piece_start[p], size = plan.piece_start[p + 1] - k0;
     for (auto [a, b] : edges) {
       if (plan.local[static_cast<std::size_t>(a)] < 0 || a < plan.nodes[static_cast<std::size_t>(k0)] ||
@@ -128,20 +127,24 @@ TEST_CASE("envelope Cholesky, four pieces of one envelope side by side: the same
       Mat3 C;
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) C(r, c) = u(rng);
-      F.add(std::max(plan.local[static_cast<std::size_t>(a)], plan.local[static_cast<std::size_t>(b)]),
-            std::min(plan.local[static_cast<std::size_t>(a)], plan.local[static_cast<std::size_t>(b)]), C);
+      add(std::max(plan.local[static_cast<std::size_t>(a)], plan.local[static_cast<std::size_t>(b)]),
+          std::min(plan.local[static_cast<std::size_t>(a)], plan.local[static_cast<std::size_t>(b)]), C);
     }
-    for (int i = 0; i < size; ++i) F.add(i, i, (broken && i == 3 ? -1.0 : 8.0) * Mat3::Identity());
+    for (int i = 0; i < size; ++i) add(i, i, (broken && i == 3 ? -1.0 : 8.0) * Mat3::Identity());
   };
   for (const int broken : {-1, 2}) {
     CAPTURE(broken);
     SkylineFactor one[4];
     SkylineBatch four;
+    four.begin(plan, 0);
     std::vector<std::vector<double>> b(4, std::vector<double>(18));
     std::vector<LaneSlot> b4(18);
     for (int l = 0; l < 4; ++l) {
-      fill(static_cast<std::size_t>(l), one[l], l == broken);
-      four.load(l, one[l]);
+      const std::mt19937 at = rng;
+      one[l].begin(plan, static_cast<std::size_t>(l));
+      fill(static_cast<std::size_t>(l), l == broken, [&](int i, int j, const Mat3& C) { one[l].add(i, j, C); });
+      rng = at;  // (the same blocks again, into the lane)
+      fill(static_cast<std::size_t>(l), l == broken, [&](int i, int j, const Mat3& C) { four.add(l, i, j, C); });
       for (int r = 0; r < 18; ++r) b[static_cast<std::size_t>(l)][static_cast<std::size_t>(r)] = b4[static_cast<std::size_t>(r)].v[l] = u(rng);
     }
     const unsigned bad = four.factor();

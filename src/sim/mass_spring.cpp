@@ -489,31 +489,32 @@ bool MassSpringSystem::solveDirect(const Vec3* rhs, Vec3* dv) {
         __builtin_prefetch(B_[static_cast<std::size_t>(inc.entries[static_cast<std::size_t>(e)] >> 1)].m);
     }
   };
-  // Piece p's A into F: (m + hγ) I + h D_i + Σ B on the diagonal blocks, −B to the other end of
-  // each spring.
-  auto assemble = [&](Index p, SkylineFactor& F) {
-    F.begin(plan_, static_cast<std::size_t>(p));
+  // Piece p's A, (m + hγ) I + h D_i + Σ B on the diagonal blocks and −B to the other end of each
+  // spring, into a zeroed envelope whose row r is row(r), entry c at row(r)[S c] (S = 4: a lane
+  // of a batch).
+  auto assemble = [&](Index p, auto&& row, int S) {
     const int k0 = plan_.piece_start[static_cast<std::size_t>(p)], k1 = plan_.piece_start[static_cast<std::size_t>(p) + 1];
     for (int k = k0; k < k1; ++k) {
       const auto i = static_cast<std::size_t>(plan_.nodes[static_cast<std::size_t>(k)]);
       const int li = k - k0;
-      double* R[3] = {F.row(3 * li), F.row(3 * li + 1), F.row(3 * li + 2)};
+      double* R[3] = {row(3 * li), row(3 * li + 1), row(3 * li + 2)};
       double d[6] = {own_[i], own_[i], own_[i], 0.0, 0.0, 0.0};  // xx, yy, zz, xy, xz, yz
       for (int e = inc.start[i]; e < inc.start[i + 1]; ++e) {
         const double* B = B_[static_cast<std::size_t>(inc.entries[static_cast<std::size_t>(e)] >> 1)].m;
         for (int c = 0; c < 6; ++c) d[c] += B[c];
         const int lj = plan_.local[static_cast<std::size_t>(inc.other[static_cast<std::size_t>(e)])];
         if (lj < 0 || lj >= li) continue;  // (fixed, or added from the other end)
-        double* x = R[0] + 3 * lj;
-        double* y = R[1] + 3 * lj;
-        double* z = R[2] + 3 * lj;
-        x[0] -= B[0], x[1] -= B[3], x[2] -= B[4];
-        y[0] -= B[3], y[1] -= B[1], y[2] -= B[5];
-        z[0] -= B[4], z[1] -= B[5], z[2] -= B[2];
+        double* x = R[0] + S * 3 * lj;
+        double* y = R[1] + S * 3 * lj;
+        double* z = R[2] + S * 3 * lj;
+        x[0] -= B[0], x[S] -= B[3], x[2 * S] -= B[4];
+        y[0] -= B[3], y[S] -= B[1], y[2 * S] -= B[5];
+        z[0] -= B[4], z[S] -= B[5], z[2 * S] -= B[2];
       }
       Mat3 D{{d[0], d[3], d[4]}, {d[3], d[1], d[5]}, {d[4], d[5], d[2]}};
       if (node_drag_) D += h_ * node_drag_[i];
-      F.add(li, li, D);
+      for (int r = 0; r < 3; ++r)  // (the diagonal block's lower triangle, nothing added to it before)
+        for (int c = 0; c <= r; ++c) R[r][S * (3 * li + c)] += D(r, c);
     }
   };
   const Index batches = static_cast<Index>(plan_.batch_start.size()) - 1;
@@ -524,19 +525,18 @@ bool MassSpringSystem::solveDirect(const Vec3* rhs, Vec3* dv) {
     thread_local std::vector<LaneSlot> b4;
     for (Index q = q0; q < q1; ++q) {
       const Index p0 = plan_.batch_start[static_cast<std::size_t>(q)], p1 = plan_.batch_start[static_cast<std::size_t>(q) + 1];
-      // (A thread's batches are consecutive: its next piece is most likely p1.)
-      prefetch(p1);
       const int n = 3 * (plan_.piece_start[static_cast<std::size_t>(p0) + 1] - plan_.piece_start[static_cast<std::size_t>(p0)]);
       auto rhsOf = [&](Index p, int r) {
         return rhs[plan_.nodes[static_cast<std::size_t>(plan_.piece_start[static_cast<std::size_t>(p)] + r / 3)]][r % 3];
       };
       auto result = [&](Index p, int li) -> Vec3& { return dv[plan_.nodes[static_cast<std::size_t>(plan_.piece_start[static_cast<std::size_t>(p)] + li)]]; };
+      // (A thread's batches are consecutive: its next piece is most likely the one after.)
       if (p1 - p0 == 4) {  // four pieces of one envelope side by side
+        F4.begin(plan_, static_cast<std::size_t>(p0));
         b4.resize(static_cast<std::size_t>(n));
         for (int l = 0; l < 4; ++l) {
-          if (l > 0) prefetch(p0 + l + 1);
-          assemble(p0 + l, F);
-          F4.load(l, F);
+          prefetch(p0 + l + 1);
+          assemble(p0 + l, [&](int r) { return F4.row(l, r); }, 4);
           for (int r = 0; r < n; ++r) b4[static_cast<std::size_t>(r)].v[l] = rhsOf(p0 + l, r);
         }
         if (const unsigned bad = F4.factor()) {
@@ -551,7 +551,9 @@ bool MassSpringSystem::solveDirect(const Vec3* rhs, Vec3* dv) {
                                       b4[static_cast<std::size_t>(3 * li + 2)].v[l]);
         continue;
       }
-      assemble(p0, F);
+      prefetch(p1);
+      F.begin(plan_, static_cast<std::size_t>(p0));
+      assemble(p0, [&](int r) { return F.row(r); }, 1);
       b.resize(static_cast<std::size_t>(n));
       for (int r = 0; r < n; ++r) b[static_cast<std::size_t>(r)] = rhsOf(p0, r);
       const bool ok = F.factor();

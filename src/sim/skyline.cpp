@@ -81,19 +81,30 @@ void SkylinePlan::build(std::size_t n, const int* start, const int* other, const
   }
 }
 
-void SkylineFactor::begin(const SkylinePlan& plan, std::size_t p) {
+namespace {
+
+// Piece p's rows: where each starts in the storage (less its first column) and its first column;
+// returns the entries in all.
+std::size_t envelopeOf(const SkylinePlan& plan, std::size_t p, std::vector<std::ptrdiff_t>& offset, std::vector<int>& first) {
   const int k0 = plan.piece_start[p], k1 = plan.piece_start[p + 1];
-  rows_ = 3 * (k1 - k0);
-  offset_.resize(static_cast<std::size_t>(rows_));
-  first_.resize(static_cast<std::size_t>(rows_));
+  const int rows = 3 * (k1 - k0);
+  offset.resize(static_cast<std::size_t>(rows));
+  first.resize(static_cast<std::size_t>(rows));
   std::ptrdiff_t base = 0;
-  for (int r = 0; r < rows_; ++r) {
+  for (int r = 0; r < rows; ++r) {
     const int f = 3 * plan.first[static_cast<std::size_t>(k0 + r / 3)];
-    first_[static_cast<std::size_t>(r)] = f;
-    offset_[static_cast<std::size_t>(r)] = base - f;
+    first[static_cast<std::size_t>(r)] = f;
+    offset[static_cast<std::size_t>(r)] = base - f;
     base += r - f + 1;
   }
-  value_.assign(static_cast<std::size_t>(base), 0.0);
+  return static_cast<std::size_t>(base);
+}
+
+}  // namespace
+
+void SkylineFactor::begin(const SkylinePlan& plan, std::size_t p) {
+  rows_ = 3 * (plan.piece_start[p + 1] - plan.piece_start[p]);
+  value_.assign(envelopeOf(plan, p, offset_, first_), 0.0);
 }
 
 void SkylineFactor::add(int i, int j, const Mat3& block) {
@@ -269,14 +280,14 @@ void SkylineFactor::release(std::size_t keep) {
   inv_ = {};
 }
 
-void SkylineBatch::load(int lane, const SkylineFactor& f) {
-  if (lane == 0) {
-    rows_ = f.rows_;
-    offset_ = f.offset_;
-    first_ = f.first_;
-    value_.resize(f.value_.size());
-  }
-  for (std::size_t e = 0; e < f.value_.size(); ++e) value_[e].v[lane] = f.value_[e];
+void SkylineBatch::begin(const SkylinePlan& plan, std::size_t p) {
+  rows_ = 3 * (plan.piece_start[p + 1] - plan.piece_start[p]);
+  value_.assign(envelopeOf(plan, p, offset_, first_), LaneSlot{});
+}
+
+void SkylineBatch::add(int lane, int i, int j, const Mat3& block) {
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < (i == j ? a + 1 : 3); ++b) row(lane, 3 * i + a)[4 * (3 * j + b)] += block(a, b);
 }
 
 unsigned SkylineBatch::factor() {

@@ -43,7 +43,6 @@ struct SkylinePlan {
 // One piece's factor: fill with add(), then factor() and solve().
 class SkylineFactor {
  public:
-  friend class SkylineBatch;
   // Sizes and zeroes the factor for piece p of the plan.
   void begin(const SkylinePlan& plan, std::size_t p);
   // Adds block A_ij (local nodes, j ≤ i; for j = i only its lower triangle is read).
@@ -72,12 +71,16 @@ struct alignas(32) LaneSlot {
   Lane4 v{};
 };
 
-// Four pieces of one envelope side by side: load() each piece's filled (unfactorised) factor
-// into its lane, then factor() and solve().
+// Four pieces of one envelope side by side, a lane each: begin() with the first of them, fill
+// each lane with add() or through row(), then factor() and solve().
 class SkylineBatch {
  public:
-  // Takes f's entries (as begun and filled, all four alike) into `lane`.
-  void load(int lane, const SkylineFactor& f);
+  // Sizes and zeroes the four lanes for the envelope of piece p (and of the three after it).
+  void begin(const SkylinePlan& plan, std::size_t p);
+  // Adds block A_ij into `lane` (as SkylineFactor::add).
+  void add(int lane, int i, int j, const Mat3& block);
+  // Row r of `lane`: row(lane, r)[4 c] is entry (r, c), for c from the row's first column to r.
+  double* row(int lane, int r) { return &value_.data()->v[0] + 4 * offset_[static_cast<std::size_t>(r)] + lane; }
   // L Lᵀ = A lane by lane; the bits of the lanes whose pivots were not all positive (0: none).
   unsigned factor();
   // b := A⁻¹ b lane by lane, b holding per local dof a slot (lane l: piece l).
