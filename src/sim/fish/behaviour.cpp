@@ -48,10 +48,14 @@ void perceive(const FishDesc& d, const FishFrame& self, int self_body, int self_
     w.fish_grid->forEachNear(self.center, [&](std::int32_t k) {
       const FishSighting& f = (*w.fish)[static_cast<std::size_t>(k)];
       if (f.body == self_body && f.index == self_index) return;
+      const double size = std::clamp(f.length / d.length, 0.5, 2.0);  // the object-size factor
+      // (Most of the grid's candidates are far past the reach: refused on the squared distance,
+      // with a margin that leaves the exact test below to decide near the edge.)
+      const double reach = d.vision_radius * size;
+      if ((f.center - eye).squaredNorm() > 1.000001 * reach * reach) return;
       double dist;
       if (!inCone(f.center, dist)) return;
-      const double size = std::clamp(f.length / d.length, 0.5, 2.0);  // the object-size factor
-      if (dist > d.vision_radius * size) return;
+      if (dist > reach) return;
       Seen s;
       s.kind = Seen::Kind::Fish;
       s.body = f.body, s.index = f.index, s.x = f.center, s.v = f.velocity, s.distance = dist, s.length = f.length;
