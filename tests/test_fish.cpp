@@ -235,6 +235,36 @@ TEST_CASE("the swim controller reaches the speed the behaviour asks") {
   CHECK(speed == doctest::Approx(0.3).epsilon(0.3));  // 0.6 lengths a second of 0.5 m
 }
 
+TEST_CASE("perception: another fish is seen out to the vision radius from the mouth, wherever the grid's cells fall") {
+  // The viewer (0.3 m, radius 2 m) at the origin heading +z; one fish whose centre (the rings'
+  // mean, 9 cm behind the position given, its centre of mass) is 1.94 m ahead of the viewer's
+  // mouth (2.07 m from the viewer's centre), one 2.13 m ahead and to the side. The whole scene shifted along z in steps, so that the perception grid's cells fall
+  // differently about the viewer each time.
+  const FishTemplate t = makeFishTemplate(0.3, 1000.0);
+  const double nose_to_centre = (t.x[0] - t.center_of_mass).norm();  // the position is the nose
+  for (double shift = 0.0; shift < 2.5; shift += 0.35) {
+    CAPTURE(shift);
+    auto at = [&](double x, double z) {
+      return "[" + std::to_string(x) + ", 0, " + std::to_string(z + shift) + "]";
+    };
+    World w = worldFromText(R"({"format": "reel/1", "fps": 30, "substeps": 4, "duration": 1, "integrator": "implicit_euler", "bodies": [
+        {"type": "fish", "name": "viewer", "species": "pacifist", "position": )" + at(0, 0) +
+                            R"(, "heading": [0, 0, 1], "perception": {"vision_radius": 2}, "mental": {"hunger": 0, "libido": 0}},
+        {"type": "fish", "name": "near", "species": "pacifist", "behaviour": "none", "position": )" + at(0, 2.03 + nose_to_centre) +
+                            R"(, "heading": [0, 0, 1]},
+        {"type": "fish", "name": "far", "species": "pacifist", "behaviour": "none", "position": )" + at(1.2, 1.85 + nose_to_centre) +
+                            R"(, "heading": [0, 0, 1]}]})");
+    run(w, 4);
+    bool near = false, far = false;
+    for (const Seen& s : fishOf(w, "viewer").percept(0).seen) {
+      near = near || (s.kind == Seen::Kind::Fish && s.body == 1);
+      far = far || (s.kind == Seen::Kind::Fish && s.body == 2);
+    }
+    CHECK(near);
+    CHECK(!far);
+  }
+}
+
 TEST_CASE("perception: a fish behind an object or in the blind angle is not seen") {
   auto scene = [](bool wall) {
     return std::string(R"({"format": "reel/1", "fps": 30, "substeps": 4, "duration": 1, "integrator": "implicit_euler",

@@ -26,17 +26,18 @@ bool ContactLayer::nearPieces(std::uint32_t pieces) {
   if (counted < 2 || !(mean > 0.0 && mean < 1e300)) return false;
   const double cell = 2.0 * mean / counted;
   // 0: they do not meet; kPlain: by the layer's own law; kHooked: by a hook's.
+  // (Symmetric in a and b. The boxes first: most candidates of the grid fail there.)
   auto may = [&](std::uint32_t a, std::uint32_t b) -> std::uint8_t {
-    const std::uint32_t sa = piece_slot_[a], sb = piece_slot_[b];
-    if (!touches_points_[sa] || !touches_points_[sb]) return 0;
-    std::uint8_t how = kPlain;
-    if (sa == sb ? !self_meet_[sa] : skipped(p_.body[sa], p_.body[sb])) {
-      if (sa == sb || (hookOf(sa, sb) < 0 && hookOf(sb, sa) < 0)) return 0;
-      how = kHooked;
-    }
     const bool overlap =
         (piece_lo_[a].array() <= piece_hi_[b].array()).all() && (piece_lo_[b].array() <= piece_hi_[a].array()).all();
-    return overlap ? how : 0;
+    if (!overlap) return 0;
+    const std::uint32_t sa = piece_slot_[a], sb = piece_slot_[b];
+    if (!touches_points_[sa] || !touches_points_[sb]) return 0;
+    if (sa == sb ? !self_meet_[sa] : skipped(p_.body[sa], p_.body[sb])) {
+      if (sa == sb || (hookOf(sa, sb) < 0 && hookOf(sb, sa) < 0)) return 0;
+      return kHooked;
+    }
+    return kPlain;
   };
   // Small pieces in the grid; large ones (and empty ones) not listed.
   big_.clear();
@@ -50,15 +51,20 @@ bool ContactLayer::nearPieces(std::uint32_t pieces) {
     if (!small) BoxGrid::unlist(lo_[q], hi_[q]);
   }
   point_grid_.build(lo_, hi_, cell);
-  bool any = false;
-  for (std::uint32_t q = 0; q < pieces; ++q) {
-    if (!BoxGrid::listed(lo_[q], hi_[q])) continue;
+  // Each small piece from its own search, in parallel: two small pieces whose boxes overlap find
+  // each other (each box lies within half a cell of its centre, so the other box reaches a cell
+  // next to that centre's), and `may` is symmetric, so a piece's own search sets all its flags.
+  parallelFor(static_cast<std::ptrdiff_t>(pieces), [&](std::ptrdiff_t qi) {
+    const auto q = static_cast<std::uint32_t>(qi);
+    if (!BoxGrid::listed(lo_[q], hi_[q])) return;
+    std::uint8_t flags = 0;
     point_grid_.forEachNear(0.5 * (piece_lo_[q] + piece_hi_[q]), [&](int o) {
       const auto ou = static_cast<std::uint32_t>(o);
-      if (ou == q) return;
-      if (const std::uint8_t how = may(q, ou)) near_[q] |= how, near_[ou] |= how, any = true;
+      if (ou != q) flags |= may(q, ou);
     });
-  }
+    near_[q] = flags;
+  });
+  bool any = std::find_if(near_.begin(), near_.end(), [](std::uint8_t f) { return f != 0; }) != near_.end();
   for (std::uint32_t b : big_)
     for (std::uint32_t q = 0; q < pieces; ++q) {
       if (q == b) continue;

@@ -88,8 +88,14 @@ void FishBody::addPatterns(double t, FishMotor& m) const {
 void FishBody::decide(StepContext& ctx, int self) {
   everyone_.clear();
   std::vector<FishWorldView::Food> food;
-  double reach = desc_.vision_radius * 2.0;
   for (const SharedView::Fish& f : ctx.shown->fish) everyone_.insert(everyone_.end(), f.sightings->begin(), f.sightings->end());
+  // The grid's cells as large as the farthest sight: the vision radius times the largest fish's
+  // object-size factor (up to 2; a school of one size sees only its radius), and a length more,
+  // since a fish looks from its mouth and searches the cells around its centre. (They were twice
+  // the radius: the 27 cells around a fish of a school held about 6 times the candidates.)
+  double longest = 0.0;
+  for (const FishSighting& f : everyone_) longest = std::max(longest, f.length);
+  const double reach = desc_.vision_radius * std::clamp(longest / desc_.length, 0.5, 2.0) + desc_.length;
   for (const SharedView::Food& fd : ctx.shown->food) food.push_back({fd.body, fd.x, fd.id});
   std::vector<Vec3> lo(everyone_.size()), hi(everyone_.size());
   for (std::size_t k = 0; k < everyone_.size(); ++k) lo[k] = hi[k] = everyone_[k].center;
