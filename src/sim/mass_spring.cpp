@@ -256,6 +256,23 @@ bool MassSpringSystem::planDirect() {
     plan_.build(m_.nodes(), inc.start.data(), inc.other.data(), m_.fixed.data());
     plan_generation_ = inc.generation;
     plan_fixed_ = m_.fixed;
+    // Each piece's springs (a spring's free ends lie in one piece), in index order.
+    std::vector<int> piece_of(m_.nodes(), -1);
+    for (std::size_t p = 0; p < plan_.pieces(); ++p)
+      for (int k = plan_.piece_start[p]; k < plan_.piece_start[p + 1]; ++k) piece_of[static_cast<std::size_t>(plan_.nodes[static_cast<std::size_t>(k)])] = static_cast<int>(p);
+    const Springs& sp = m_.springs;
+    auto pieceOf = [&](std::size_t s) {
+      const int pa = piece_of[static_cast<std::size_t>(sp.a[s])];
+      return pa >= 0 ? pa : piece_of[static_cast<std::size_t>(sp.b[s])];
+    };
+    piece_spring_start_.assign(plan_.pieces() + 1, 0);
+    for (std::size_t s = 0; s < sp.size(); ++s)
+      if (const int p = pieceOf(s); p >= 0) ++piece_spring_start_[static_cast<std::size_t>(p) + 1];
+    for (std::size_t p = 0; p < plan_.pieces(); ++p) piece_spring_start_[p + 1] += piece_spring_start_[p];
+    piece_springs_.resize(static_cast<std::size_t>(piece_spring_start_.back()));
+    std::vector<int> fill(piece_spring_start_.begin(), piece_spring_start_.end() - 1);
+    for (std::size_t s = 0; s < sp.size(); ++s)
+      if (const int p = pieceOf(s); p >= 0) piece_springs_[static_cast<std::size_t>(fill[static_cast<std::size_t>(p)]++)] = static_cast<int>(s);
   }
   if (plan_.largest > kDirectMaxDoubles) return false;
   if (solver_ == LinearSolver::Direct) return true;
@@ -475,47 +492,60 @@ void MassSpringSystem::applySystem(const Vec3* p, Vec3* out) {
 bool MassSpringSystem::solveDirect(const Vec3* rhs, Vec3* dv) {
   if (!direct_) return false;
   const std::size_t nodes = m_.nodes();
-  const auto& inc = m_.incidence;
   const Index pieces = static_cast<Index>(plan_.pieces());
   failed_.assign(static_cast<std::size_t>(pieces), 0);
   auto& failed = failed_;
   // The spring blocks of piece p asked for ahead of their use: linearize() wrote them all, far
-  // out of cache by the time they are read here (the loads' waits were half of this loop's time).
+  // out of cache by the time they are read here.
   auto prefetch = [&](Index p) {
     if (p >= pieces) return;
-    for (int k = plan_.piece_start[static_cast<std::size_t>(p)]; k < plan_.piece_start[static_cast<std::size_t>(p) + 1]; ++k) {
-      const auto i = static_cast<std::size_t>(plan_.nodes[static_cast<std::size_t>(k)]);
-      for (int e = inc.start[i]; e < inc.start[i + 1]; ++e)
-        __builtin_prefetch(B_[static_cast<std::size_t>(inc.entries[static_cast<std::size_t>(e)] >> 1)].m);
-    }
+    for (int k = piece_spring_start_[static_cast<std::size_t>(p)]; k < piece_spring_start_[static_cast<std::size_t>(p) + 1]; k += 4)
+      __builtin_prefetch(B_[static_cast<std::size_t>(piece_springs_[static_cast<std::size_t>(k)])].m);
   };
   // Piece p's A, (m + hγ) I + h D_i + Σ B on the diagonal blocks and −B to the other end of each
   // spring, into a zeroed envelope whose row r is row(r), entry c at row(r)[S c] (S = 4: a lane
-  // of a batch).
+  // of a batch). Spring by spring in index order, the blocks read in the order they lie: each
+  // entry takes its terms in the order a node's springs are listed (by index), so the same sums
+  // as node by node through the incidence, whose scattered reads waited on memory.
+  const Springs& sp = m_.springs;
   auto assemble = [&](Index p, auto&& row, int S) {
     const int k0 = plan_.piece_start[static_cast<std::size_t>(p)], k1 = plan_.piece_start[static_cast<std::size_t>(p) + 1];
     for (int k = k0; k < k1; ++k) {
-      const auto i = static_cast<std::size_t>(plan_.nodes[static_cast<std::size_t>(k)]);
       const int li = k - k0;
-      double* R[3] = {row(3 * li), row(3 * li + 1), row(3 * li + 2)};
-      double d[6] = {own_[i], own_[i], own_[i], 0.0, 0.0, 0.0};  // xx, yy, zz, xy, xz, yz
-      for (int e = inc.start[i]; e < inc.start[i + 1]; ++e) {
-        const double* B = B_[static_cast<std::size_t>(inc.entries[static_cast<std::size_t>(e)] >> 1)].m;
-        for (int c = 0; c < 6; ++c) d[c] += B[c];
-        const int lj = plan_.local[static_cast<std::size_t>(inc.other[static_cast<std::size_t>(e)])];
-        if (lj < 0 || lj >= li) continue;  // (fixed, or added from the other end)
-        double* x = R[0] + S * 3 * lj;
-        double* y = R[1] + S * 3 * lj;
-        double* z = R[2] + S * 3 * lj;
-        x[0] -= B[0], x[S] -= B[3], x[2 * S] -= B[4];
-        y[0] -= B[3], y[S] -= B[1], y[2 * S] -= B[5];
-        z[0] -= B[4], z[S] -= B[5], z[2 * S] -= B[2];
-      }
-      Mat3 D{{d[0], d[3], d[4]}, {d[3], d[1], d[5]}, {d[4], d[5], d[2]}};
-      if (node_drag_) D += h_ * node_drag_[i];
-      for (int r = 0; r < 3; ++r)  // (the diagonal block's lower triangle, nothing added to it before)
-        for (int c = 0; c <= r; ++c) R[r][S * (3 * li + c)] += D(r, c);
+      const double own = own_[static_cast<std::size_t>(plan_.nodes[static_cast<std::size_t>(k)])];
+      for (int a = 0; a < 3; ++a) row(3 * li + a)[S * (3 * li + a)] = own;
     }
+    // The lower triangle of a diagonal block: xx, yx, yy, zx, zy, zz.
+    auto addDiagonal = [&](int li, const double* B) {
+      double* x = row(3 * li) + S * 3 * li;
+      double* y = row(3 * li + 1) + S * 3 * li;
+      double* z = row(3 * li + 2) + S * 3 * li;
+      x[0] += B[0];
+      y[0] += B[3], y[S] += B[1];
+      z[0] += B[4], z[S] += B[5], z[2 * S] += B[2];
+    };
+    for (int e = piece_spring_start_[static_cast<std::size_t>(p)]; e < piece_spring_start_[static_cast<std::size_t>(p) + 1]; ++e) {
+      const auto s = static_cast<std::size_t>(piece_springs_[static_cast<std::size_t>(e)]);
+      const double* B = B_[s].m;
+      const int la = plan_.local[static_cast<std::size_t>(sp.a[s])], lb = plan_.local[static_cast<std::size_t>(sp.b[s])];
+      if (la >= 0) addDiagonal(la, B);
+      if (lb >= 0) addDiagonal(lb, B);
+      if (la < 0 || lb < 0) continue;
+      const int li = std::max(la, lb), lj = std::min(la, lb);
+      double* x = row(3 * li) + S * 3 * lj;
+      double* y = row(3 * li + 1) + S * 3 * lj;
+      double* z = row(3 * li + 2) + S * 3 * lj;
+      x[0] -= B[0], x[S] -= B[3], x[2 * S] -= B[4];
+      y[0] -= B[3], y[S] -= B[1], y[2 * S] -= B[5];
+      z[0] -= B[4], z[S] -= B[5], z[2 * S] -= B[2];
+    }
+    if (node_drag_)
+      for (int k = k0; k < k1; ++k) {
+        const int li = k - k0;
+        const Mat3 hD = h_ * node_drag_[plan_.nodes[static_cast<std::size_t>(k)]];
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c <= r; ++c) row(3 * li + r)[S * (3 * li + c)] += hD(r, c);
+      }
   };
   const Index batches = static_cast<Index>(plan_.batch_start.size()) - 1;
   parallelBlocks(batches, 1, [&](Index q0, Index q1) {

@@ -189,6 +189,8 @@ class MassSpringSystem final : public OdeSystem {
   SkylinePlan plan_;                        // the pieces, for the direct solve
   std::uint64_t plan_generation_ = 0;       // the incidence it was made from
   std::vector<std::uint8_t> plan_fixed_;    // and the fixed nodes
+  std::vector<int> piece_spring_start_;     // (pieces + 1) into piece_springs_
+  std::vector<int> piece_springs_;          // per piece, the springs with a free end in it, in index order
   std::vector<std::uint8_t> failed_;        // per piece: its factorisation failed (this step)
   bool predict_ = false;
   std::uint64_t spring_evals_ = 0;
