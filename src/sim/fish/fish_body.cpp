@@ -146,11 +146,13 @@ void FishBody::decide(StepContext& ctx, int self) {
 void FishBody::rollBalance() {
   const auto& x = net_.state.x;
   const auto& v = net_.state.v;
-  external_.assign(x.size(), Vec3::Zero());
+  external_.resize(x.size());
   const double arm = 0.06 * desc_.length, inertia = tmpl_.total_mass * arm * arm, w = 4 * kPi;
-  for (std::size_t i = 0; i < count(); ++i) {
+  parallelFor(static_cast<Index>(count()), [&](Index fi) {
+    const auto i = static_cast<std::size_t>(fi);
     const FishFrame& f = frames_[i];  // of this state, from the motor pass
     const std::size_t o = kFishNodes * i;
+    std::fill_n(external_.begin() + static_cast<std::ptrdiff_t>(o), kFishNodes, Vec3::Zero());
     const double roll = std::asin(std::clamp(f.left.y(), -1.0, 1.0));  // left side up: > 0
     const double rate = ((v[o + 5] + v[o + 8] + v[o + 9] + v[o + 12]) - (v[o + 6] + v[o + 7] + v[o + 10] + v[o + 11])).dot(f.up) /
                         (4 * 2 * arm);
@@ -158,7 +160,7 @@ void FishBody::rollBalance() {
     const Vec3 force = (torque / (2 * arm) / 4) * f.up;
     for (int k : {5, 8, 9, 12}) external_[o + static_cast<std::size_t>(k)] += force;
     for (int k : {6, 7, 10, 11}) external_[o + static_cast<std::size_t>(k)] -= force;
-  }
+  });
 }
 
 // Tu & Terzopoulos 1994, eq. (3): each surface face moving into the water feels
@@ -225,14 +227,15 @@ void FishBody::waterDrag(const StepContext& ctx) {
 
 void FishBody::publishSightings(int self) {
   sightings_.resize(count());
-  for (std::size_t i = 0; i < count(); ++i) {
+  parallelFor(static_cast<Index>(count()), [&](Index fi) {
+    const auto i = static_cast<std::size_t>(fi);
     const FishFrame f = frame(i);
     FishSighting& s = sightings_[i];
     s.center = f.center, s.mouth = f.mouth, s.velocity = f.velocity, s.forward = f.forward;
     s.length = desc_.length, s.body = self, s.index = static_cast<int>(i), s.species = desc_.species;
     s.hunts = desc_.habits.hunts, s.mates = desc_.habits.mates, s.caught = caught_[i] != 0;
     s.biting = mind_[i].intention == static_cast<int>(Intention::Eat);
-  }
+  });
 }
 
 void FishBody::show(SharedView& out, int self) {
