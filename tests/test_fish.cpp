@@ -235,33 +235,49 @@ TEST_CASE("the swim controller reaches the speed the behaviour asks") {
   CHECK(speed == doctest::Approx(0.3).epsilon(0.3));  // 0.6 lengths a second of 0.5 m
 }
 
-TEST_CASE("perception: another fish is seen out to the vision radius from the mouth, wherever the grid's cells fall") {
-  // The viewer (0.3 m, radius 2 m) at the origin heading +z; one fish whose centre (the rings'
-  // mean, 9 cm behind the position given, its centre of mass) is 1.94 m ahead of the viewer's
-  // mouth (2.07 m from the viewer's centre), one 2.13 m ahead and to the side. The whole scene shifted along z in steps, so that the perception grid's cells fall
-  // differently about the viewer each time.
-  const FishTemplate t = makeFishTemplate(0.3, 1000.0);
-  const double nose_to_centre = (t.x[0] - t.center_of_mass).norm();  // the position is the nose
-  for (double shift = 0.0; shift < 2.5; shift += 0.35) {
+TEST_CASE("perception: another fish is seen out to its reach from the mouth (twice the radius for one twice as long), wherever the grid's cells fall") {
+  // The viewer (0.3 m, radius 2 m) at the origin heading +z. A fish's position is its centre of
+  // mass; it looks from its mouth (the nose) and is seen at its rings' mean. In sight: one of its
+  // size 1.95 m ahead of the mouth, one twice as long (reach 4 m) 3.95 m ahead and 1 m aside; out
+  // of sight: one of its size 2.1 m away, ahead and aside. The scene is shifted along z in steps,
+  // so that the perception grid's cells fall differently about the viewer each time.
+  // Offsets from a fish's position (heading +z): its mouth, and the centre it is seen at.
+  const FishTemplate small = makeFishTemplate(0.3, 1000.0), large = makeFishTemplate(0.6, 1000.0);
+  auto seenCentre = [](const FishTemplate& t) {
+    Vec3 rings = Vec3::Zero();
+    for (int i = 1; i <= 20; ++i) rings += t.x[static_cast<std::size_t>(i)] / 20.0;
+    return Vec3(rings - t.center_of_mass);
+  };
+  const Vec3 mouth = small.x[0] - small.center_of_mass, small_centre = seenCentre(small), big_centre = seenCentre(large);
+  for (double shift = 0.0; shift < 4.0; shift += 0.45) {
     CAPTURE(shift);
-    auto at = [&](double x, double z) {
-      return "[" + std::to_string(x) + ", 0, " + std::to_string(z + shift) + "]";
+    // The position that puts a fish's seen centre at `at` from the viewer's mouth.
+    auto place = [&](const Vec3& at, const Vec3& centre) {
+      const Vec3 p = mouth + at - centre + Vec3(0, 0, shift);
+      return "[" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ", " + std::to_string(p.z()) + "]";
     };
+    const double aside = std::sqrt(2.1 * 2.1 - 1.2 * 1.2), big = std::sqrt(3.95 * 3.95 - 1.0);
     World w = worldFromText(R"({"format": "reel/1", "fps": 30, "substeps": 4, "duration": 1, "integrator": "implicit_euler", "bodies": [
-        {"type": "fish", "name": "viewer", "species": "pacifist", "position": )" + at(0, 0) +
+        {"type": "fish", "name": "viewer", "species": "pacifist", "length": 0.3, "position": )" + place(-mouth, Vec3::Zero()) +
                             R"(, "heading": [0, 0, 1], "perception": {"vision_radius": 2}, "mental": {"hunger": 0, "libido": 0}},
-        {"type": "fish", "name": "near", "species": "pacifist", "behaviour": "none", "position": )" + at(0, 2.03 + nose_to_centre) +
-                            R"(, "heading": [0, 0, 1]},
-        {"type": "fish", "name": "far", "species": "pacifist", "behaviour": "none", "position": )" + at(1.2, 1.85 + nose_to_centre) +
-                            R"(, "heading": [0, 0, 1]}]})");
+        {"type": "fish", "name": "near", "species": "pacifist", "length": 0.3, "behaviour": "none", "position": )" +
+                            place(Vec3(0, 0, 1.95), small_centre) + R"(, "heading": [0, 0, 1]},
+        {"type": "fish", "name": "far", "species": "pacifist", "length": 0.3, "behaviour": "none", "position": )" +
+                            place(Vec3(1.2, 0, aside), small_centre) + R"(, "heading": [0, 0, 1]},
+        {"type": "fish", "name": "big", "species": "pacifist", "length": 0.6, "behaviour": "none", "position": )" +
+                            place(Vec3(1.0, 0, big), big_centre) + R"(, "heading": [0, 0, 1]}]})");
     run(w, 4);
-    bool near = false, far = false;
-    for (const Seen& s : fishOf(w, "viewer").percept(0).seen) {
-      near = near || (s.kind == Seen::Kind::Fish && s.body == 1);
-      far = far || (s.kind == Seen::Kind::Fish && s.body == 2);
-    }
-    CHECK(near);
-    CHECK(!far);
+    bool seen[4] = {false, false, false, false};
+    for (const Seen& s : fishOf(w, "viewer").percept(0).seen)
+      if (s.kind == Seen::Kind::Fish) {
+        CAPTURE(s.body);
+        CAPTURE(s.distance);
+        seen[s.body] = true;
+        CHECK(s.distance < (s.body == 3 ? 4.0 : 2.0));
+      }
+    CHECK(seen[1]);
+    CHECK(!seen[2]);
+    CHECK(seen[3]);
   }
 }
 

@@ -1,6 +1,7 @@
 // Four doubles processed together (GCC's vector extension), for the hot loops that gather from
-// neighbour lists: the fluid's pair forces and list builds, a school's zones and the springs'
-// products in implicit Euler.
+// neighbour lists: the fluid's pair forces and list builds, a school's zones, the springs'
+// products and linearisation in implicit Euler, four pieces' envelope factors side by side and
+// the rigid solver's wide contacts.
 //
 // Every operation on a Lane4 is lane-wise IEEE arithmetic (no fused multiply-add: the build
 // has -ffp-contract=off), so a loop written with them gives the same bits whether the compiler

@@ -141,12 +141,12 @@ namespace {
   return s;
 }
 
-inline double sqrtOf(double a) { return std::sqrt(a); }
-inline Lane4 sqrtOf(const Lane4& a) { return sqrt4(a); }
+[[gnu::always_inline]] inline double sqrtOf(double a) { return std::sqrt(a); }
+[[gnu::always_inline]] inline Lane4 sqrtOf(const Lane4& a) { return sqrt4(a); }
 
 // Whether a pivot's square is not positive or not finite (for four: the lanes' bits).
-inline bool badPivot(double t) { return !(t > 0.0) || !std::isfinite(t); }
-inline unsigned badPivot(const Lane4& t) { return maskBits(~(t > 0.0) | ~((t - t) == 0.0)); }
+[[gnu::always_inline]] inline bool badPivot(double t) { return !(t > 0.0) || !std::isfinite(t); }
+[[gnu::always_inline]] inline unsigned badPivot(const Lane4& t) { return maskBits(~(t > 0.0) | ~((t - t) == 0.0)); }
 
 // The nine sums S_ab = Σ_k R_a[k]·C_b[k] over [0, n) of three rows R against three rows C (nine
 // independent chains: a single dot product's latency bound the row-by-row loop).
@@ -209,12 +209,16 @@ template <class T>
     T* l1 = L[1] + r0;
     T* l2 = L[2] + r0;
     const T t00 = l0[0] - S[0][0];
-    if ((failed |= badPivot(t00)) && std::is_same_v<T, double>) return failed;
+    failed |= badPivot(t00);
+    if constexpr (std::is_same_v<T, double>)
+      if (failed) return failed;
     const T d0 = sqrtOf(t00), i0 = one / d0;
     const T x10 = (l1[0] - S[1][0]) * i0;
     T t11 = l1[1] - S[1][1];
     t11 -= x10 * x10;
-    if ((failed |= badPivot(t11)) && std::is_same_v<T, double>) return failed;
+    failed |= badPivot(t11);
+    if constexpr (std::is_same_v<T, double>)
+      if (failed) return failed;
     const T d1 = sqrtOf(t11), i1 = one / d1;
     const T x20 = (l2[0] - S[2][0]) * i0;
     T t21 = l2[1] - S[2][1];
@@ -223,7 +227,9 @@ template <class T>
     T t22 = l2[2] - S[2][2];
     t22 -= x20 * x20;
     t22 -= x21 * x21;
-    if ((failed |= badPivot(t22)) && std::is_same_v<T, double>) return failed;
+    failed |= badPivot(t22);
+    if constexpr (std::is_same_v<T, double>)
+      if (failed) return failed;
     const T d2 = sqrtOf(t22);
     l0[0] = d0, l1[0] = x10, l1[1] = d1, l2[0] = x20, l2[1] = x21, l2[2] = d2;
     inv[r0] = i0, inv[r0 + 1] = i1, inv[r0 + 2] = one / d2;
@@ -290,14 +296,30 @@ void SkylineBatch::add(int lane, int i, int j, const Mat3& block) {
     for (int b = 0; b < (i == j ? a + 1 : 3); ++b) row(lane, 3 * i + a)[4 * (3 * j + b)] += block(a, b);
 }
 
+namespace {
+
+// An array of slots as Lane4s (the same 32 bytes; a vector type may alias its element type).
+Lane4* lanes(LaneSlot* s) { return reinterpret_cast<Lane4*>(s); }
+const Lane4* lanes(const LaneSlot* s) { return reinterpret_cast<const Lane4*>(s); }
+
+}  // namespace
+
 unsigned SkylineBatch::factor() {
   inv_.resize(static_cast<std::size_t>(rows_));
-  static_assert(sizeof(LaneSlot) == sizeof(Lane4));
-  return factorFour(&value_.data()->v, &inv_.data()->v, offset_.data(), first_.data(), rows_);
+  static_assert(sizeof(LaneSlot) == sizeof(Lane4) && alignof(LaneSlot) >= alignof(Lane4));
+  return factorFour(lanes(value_.data()), lanes(inv_.data()), offset_.data(), first_.data(), rows_);
 }
 
 void SkylineBatch::solve(LaneSlot* b) const {
-  solveFour(&value_.data()->v, &inv_.data()->v, offset_.data(), first_.data(), rows_, &b->v);
+  solveFour(lanes(value_.data()), lanes(inv_.data()), offset_.data(), first_.data(), rows_, lanes(b));
+}
+
+void SkylineBatch::release(std::size_t keep) {
+  if (4 * value_.capacity() <= keep) return;
+  value_ = {};
+  offset_ = {};
+  first_ = {};
+  inv_ = {};
 }
 
 }  // namespace reel

@@ -17,7 +17,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/lanes.h"
 #include "core/types.h"
 
 namespace reel {
@@ -33,7 +32,6 @@ struct SkylinePlan {
   std::size_t largest = 0;       // the largest piece's factor, doubles
   std::size_t free_ends = 0;     // couplings at free nodes, counted at each end
   std::vector<int> batch_start;  // runs of pieces solved together: 4 of one envelope, or 1
-
 
   // From the coupling graph in compressed rows (node i is coupled to other[start[i] .. start[i+1])).
   void build(std::size_t n, const int* start, const int* other, const std::uint8_t* fixed);
@@ -66,9 +64,10 @@ class SkylineFactor {
   double& at(int r, int c) { return value_[static_cast<std::size_t>(offset_[static_cast<std::size_t>(r)] + c)]; }
 };
 
-// Four doubles, a lane each, aligned for a Lane4 in every clone (core/lanes.h).
+// Four doubles, a lane each, aligned as a Lane4 is in every clone (core/lanes.h): the kernels
+// read an array of them as Lane4s.
 struct alignas(32) LaneSlot {
-  Lane4 v{};
+  double v[4] = {0, 0, 0, 0};
 };
 
 // Four pieces of one envelope side by side, a lane each: begin() with the first of them, fill
@@ -80,11 +79,13 @@ class SkylineBatch {
   // Adds block A_ij into `lane` (as SkylineFactor::add).
   void add(int lane, int i, int j, const Mat3& block);
   // Row r of `lane`: row(lane, r)[4 c] is entry (r, c), for c from the row's first column to r.
-  double* row(int lane, int r) { return &value_.data()->v[0] + 4 * offset_[static_cast<std::size_t>(r)] + lane; }
+  double* row(int lane, int r) { return value_.data()->v + 4 * offset_[static_cast<std::size_t>(r)] + lane; }
   // L Lᵀ = A lane by lane; the bits of the lanes whose pivots were not all positive (0: none).
   unsigned factor();
   // b := A⁻¹ b lane by lane, b holding per local dof a slot (lane l: piece l).
   void solve(LaneSlot* b) const;
+  // Gives the storage back when it holds more than `keep` doubles (as SkylineFactor::release).
+  void release(std::size_t keep);
 
  private:
   std::vector<std::ptrdiff_t> offset_;
