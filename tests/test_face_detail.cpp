@@ -169,9 +169,13 @@ TEST_CASE("face: the skin's sheen: dulled on the hair and in the eyes' inner cor
   // The inner corners' pits dulled (their sheen at grazing flashed white beside the eye), and the
   // nose's sides, where disgust's lines fold, duller than its ridge.
   const double canthus = at(head::kEyeX - 0.0135, -0.002), side = at(0.008, -0.006), ridge = at(0.0, -0.006);
-  MESSAGE("gloss: inner corner " << canthus << ", nose's side " << side << ", its ridge " << ridge);
+  // Down to the wings too (their sheen under a rim light read as a white patch on a turned
+  // head's nose), but not the tip.
+  const double wing = at(0.012, -0.03), tip = at(0.0, -0.036);
+  MESSAGE("gloss: inner corner " << canthus << ", nose's side " << side << ", its ridge " << ridge << ", wing " << wing << ", tip " << tip);
   CHECK(canthus < -0.3);
   CHECK(side < 0.5 * ridge);
+  CHECK(wing < 0.5 * tip);
   CHECK(nose > cheek + 0.05);
   CHECK(cheek > 0.1);
 }

@@ -475,8 +475,11 @@ double skinGloss(const Vec3& p, const Vec3& d, double ym) {
   // beside the eye).
   const double canthus = gauss(ax, Y, kEyeX - 0.0135, kEyeY - 0.002, 0.004, 0.004);
   // The nose's sides, where disgust's lines fold, less wet than its ridge: with the ridge's sheen
-  // the lines' edges caught the rim at grazing as white stripes.
-  const double sides = wrinkleRegions(p).nose;
+  // the lines' edges caught the rim at grazing as white stripes. And down to the wings: seen at
+  // grazing on the far side of a turned head, their sheen under the rim light read as a white
+  // patch on the nose (happiness and disgust in the docs' row).
+  const double lower = smoothstep(0.003, 0.006, ax) * smoothstep(0.021, 0.016, ax) * smoothstep(-0.047, -0.041, Y) * smoothstep(-0.008, -0.015, Y);
+  const double sides = std::max(wrinkleRegions(p).nose, front * lower);
   return std::clamp(g * (1.0 - hair) * (1.0 - 0.8 * brows) * (1.0 - canthus) * (1.0 - 0.8 * sides) - hair - 0.7 * canthus - 0.3 * sides, -1.0, 1.0);
 }
 
