@@ -178,6 +178,11 @@ template <class T>
 [[gnu::always_inline]] inline unsigned factorEnvelope(T* v, T* inv, const std::ptrdiff_t* offset, const int* first, int rows) {
   unsigned failed = 0;
   const T one = T{} + 1.0;
+  // A pivot's square taken in: whether to stop (one piece stops at its first bad pivot).
+  auto stop = [&](const T& t) {
+    failed |= badPivot(t);
+    return std::is_same_v<T, double> && failed != 0;
+  };
   for (int I = 0; I < rows / 3; ++I) {
     const int r0 = 3 * I, fr = first[r0];
     T* L[3] = {v + offset[r0], v + offset[r0 + 1], v + offset[r0 + 2]};
@@ -209,16 +214,12 @@ template <class T>
     T* l1 = L[1] + r0;
     T* l2 = L[2] + r0;
     const T t00 = l0[0] - S[0][0];
-    failed |= badPivot(t00);
-    if constexpr (std::is_same_v<T, double>)
-      if (failed) return failed;
+    if (stop(t00)) return failed;
     const T d0 = sqrtOf(t00), i0 = one / d0;
     const T x10 = (l1[0] - S[1][0]) * i0;
     T t11 = l1[1] - S[1][1];
     t11 -= x10 * x10;
-    failed |= badPivot(t11);
-    if constexpr (std::is_same_v<T, double>)
-      if (failed) return failed;
+    if (stop(t11)) return failed;
     const T d1 = sqrtOf(t11), i1 = one / d1;
     const T x20 = (l2[0] - S[2][0]) * i0;
     T t21 = l2[1] - S[2][1];
@@ -227,9 +228,7 @@ template <class T>
     T t22 = l2[2] - S[2][2];
     t22 -= x20 * x20;
     t22 -= x21 * x21;
-    failed |= badPivot(t22);
-    if constexpr (std::is_same_v<T, double>)
-      if (failed) return failed;
+    if (stop(t22)) return failed;
     const T d2 = sqrtOf(t22);
     l0[0] = d0, l1[0] = x10, l1[1] = d1, l2[0] = x20, l2[1] = x21, l2[2] = d2;
     inv[r0] = i0, inv[r0 + 1] = i1, inv[r0 + 2] = one / d2;
