@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "core/lanes.h"
 #include "core/types.h"
 
 namespace reel {
@@ -45,6 +46,31 @@ inline SpringJacobians springJacobians(const Vec3& xa, const Vec3& xb, double re
   j.u = r * (1.0 / len);
   j.t = std::fmax(0.0, 1.0 - rest / len);
   return j;
+}
+
+// springJacobians() and springForce() of four springs, a lane each (core/lanes.h): the same
+// operations in the same order, so each lane has the bits of the one-spring form (coincident ends:
+// û = 0, t = 0, no force). For the loops that take four springs at a time.
+struct SpringJacobians4 {
+  L3 u;
+  Lane4 t;
+};
+
+[[gnu::always_inline]] inline SpringJacobians4 springJacobians4(const L3& xa, const L3& xb, const Lane4& rest) {
+  const L3 r = xb - xa;
+  const Lane4 len = sqrt4(dot(r, r)), one = splat(1.0);
+  const Mask4 ok = len > 1e-300;
+  const Lane4 safe = select(ok, len, one), t = one - rest / safe;
+  return {select(ok, (one / safe) * r, L3{}), select(ok & (t > 0.0), t, splat(0.0))};
+}
+
+[[gnu::always_inline]] inline L3 springForce4(const L3& xa, const L3& xb, const L3& va, const L3& vb, const Lane4& k,
+                                              const Lane4& d, const Lane4& rest) {
+  const L3 r = xb - xa;
+  const Lane4 len = sqrt4(dot(r, r)), one = splat(1.0);
+  const Mask4 ok = len > 1e-300;
+  const L3 u = select(ok, (one / select(ok, len, one)) * r, L3{});
+  return select(ok, k * (len - rest) + d * dot(vb - va, u), splat(0.0)) * u;
 }
 
 }  // namespace reel

@@ -123,62 +123,40 @@ namespace {
   return {Lane4{a.x(), b.x(), c.x(), d.x()}, Lane4{a.y(), b.y(), c.y(), d.y()}, Lane4{a.z(), b.z(), c.z(), d.z()}};
 }
 
-// springForce() of four springs (Lane4 by Lane4 the same operations in the same order: the same
-// bits as one at a time; coincident ends give no force).
-[[gnu::always_inline]] inline L3 springForce4(const L3& xa, const L3& xb, const L3& dv, const Lane4& k, const Lane4& d,
-                                              const Lane4& rest) {
-  const L3 r = xb - xa;
-  const Lane4 len = sqrt4(dot(r, r));
-  const Mask4 ok = len > 1e-300;
-  const Lane4 one = splat(1.0);
-  const L3 u = select(ok, (one / select(ok, len, one)) * r, L3{});
-  return select(ok, k * (len - rest) + d * dot(dv, u), splat(0.0)) * u;
-}
-
-// linearize()'s springs [s0, s1), s1 − s0 a multiple of four, four side by side: per spring end
-// a's share of the force at the step's end as linearised and B = h²K + hD (6 doubles: xx, yy, zz,
-// xy, xz, yz). The same operations in the same order as springJacobians(), springForce() and
-// SpringJacobians::K() one spring at a time, so the same bits; the square roots and divisions of
-// four springs go together (they bound the loop one at a time).
+// linearize()'s springs [s0, s1), four side by side (s0 a multiple of four; the last group may
+// be short: its missing lanes repeat its last spring and are not stored): per spring end a's share
+// of the force at the step's end as linearised, f₀ + h K w (Baraff & Witkin), or with `predict`
+// for a compressed spring the force at the predicted positions x + h w (setPredictor); and B =
+// h²K + hD (6 doubles: xx, yy, zz, xy, xz, yz). Lane by lane the operations of springJacobians(),
+// springForce() and SpringJacobians::K() (sim/forces.h), so the same bits as one spring at a time;
+// the square roots and divisions of four springs go together (they bound the loop one at a time).
 REEL_CLONED
 void linearizeFour(const Springs& sp, const Vec3* x, const Vec3* v, const Vec3* w, double h, bool predict, std::ptrdiff_t s0,
                    std::ptrdiff_t s1, Vec3* fs, double* B) {
-  const Lane4 one = splat(1.0), zero = splat(0.0);
+  const Lane4 one = splat(1.0), hk = splat(h);
   for (std::ptrdiff_t s = s0; s < s1; s += 4) {
-    const int* ia = sp.a.data() + s;
-    const int* ib = sp.b.data() + s;
+    const int n = static_cast<int>(std::min<std::ptrdiff_t>(4, s1 - s));
+    int ia[4], ib[4];
     Lane4 k, d, rest;
-    std::memcpy(&k, sp.stiffness.data() + s, sizeof k);
-    std::memcpy(&d, sp.damping.data() + s, sizeof d);
-    std::memcpy(&rest, sp.rest.data() + s, sizeof rest);
-    const L3 xa = gather4(x, ia), xb = gather4(x, ib), dv = gather4(v, ib) - gather4(v, ia);
-    const L3 wa = gather4(w, ia), wb = gather4(w, ib);
-    // The Jacobians' direction û and t = max(0, 1 − l/L) (0 and 0 for coincident ends).
-    const L3 r = xb - xa;
-    const Lane4 len = sqrt4(dot(r, r));
-    const Mask4 ok = len > 1e-300;
-    const Lane4 safe = select(ok, len, one);
-    const L3 u = select(ok, (one / safe) * r, L3{});
-    const Lane4 t1 = one - rest / safe;
-    const Lane4 t = select(ok & (t1 > 0.0), t1, zero);
-    // f₀ + h K w.
-    const Lane4 c = select(ok, k * (len - rest) + d * dot(dv, u), zero);
-    const L3 dw = wb - wa;
-    const Lane4 a = (one - t) * dot(u, dw);
-    const Lane4 hk = splat(h);
-    L3 f = c * u + hk * (k * (a * u + t * dw));
-    // A compressed spring under the predictor: its force at the predicted positions x + h w.
-    const Mask4 predicted = predict ? Mask4(t == 0.0) : Mask4{0, 0, 0, 0};
-    if (maskBits(predicted)) {
-      const L3 fp = springForce4(xa + hk * wa, xb + hk * wb, dv, k, d, rest);
-      f = select(predicted, fp, f);
+    for (int l = 0; l < 4; ++l) {
+      const auto q = static_cast<std::size_t>(s + std::min(l, n - 1));
+      ia[l] = sp.a[q], ib[l] = sp.b[q], k[l] = sp.stiffness[q], d[l] = sp.damping[q], rest[l] = sp.rest[q];
     }
+    const L3 xa = gather4(x, ia), xb = gather4(x, ib), va = gather4(v, ia), vb = gather4(v, ib);
+    const L3 wa = gather4(w, ia), wb = gather4(w, ib);
+    const SpringJacobians4 J = springJacobians4(xa, xb, rest);
+    const L3 dw = wb - wa;
+    const Lane4 a = (one - J.t) * dot(J.u, dw);
+    L3 f = springForce4(xa, xb, va, vb, k, d, rest) + hk * (k * (a * J.u + J.t * dw));
+    const Mask4 predicted = predict ? Mask4(J.t == 0.0) : Mask4{0, 0, 0, 0};
+    if (maskBits(predicted)) f = select(predicted, springForce4(xa + hk * wa, xb + hk * wb, va, vb, k, d, rest), f);
     // B = h²K + hD = c1·I + c2·û ûᵀ.
     const Lane4 hhk = (h * h) * k;
-    const Lane4 c1 = hhk * t, c2 = hhk * (one - t) + h * d;
+    const Lane4 c1 = hhk * J.t, c2 = hhk * (one - J.t) + h * d;
+    const L3& u = J.u;
     const Lane4 bxx = c1 + (c2 * u.x) * u.x, byy = c1 + (c2 * u.y) * u.y, bzz = c1 + (c2 * u.z) * u.z;
     const Lane4 bxy = (c2 * u.x) * u.y, bxz = (c2 * u.x) * u.z, byz = (c2 * u.y) * u.z;
-    for (int l = 0; l < 4; ++l) {
+    for (int l = 0; l < n; ++l) {
       fs[s + l] = Vec3(f.x[l], f.y[l], f.z[l]);
       double* b = B + 6 * (s + l);
       b[0] = bxx[l], b[1] = byy[l], b[2] = bzz[l], b[3] = bxy[l], b[4] = bxz[l], b[5] = byz[l];
@@ -194,28 +172,9 @@ void MassSpringSystem::linearize(const Vec3* x, const Vec3* v, const Vec3* w, do
   const Index ns = static_cast<Index>(sp.size());
   fs_.resize(sp.size());
   B_.resize(sp.size());
-  // Per spring: end a's share of the force at the step's end as the system is linearised,
-  // f₀ + h K w (Baraff & Witkin), or with predict_ for a compressed spring the force at the
-  // predicted positions x + h w (setPredictor); and B = h²K + hD.
-  // Four at a time, the last few (under four) one by one.
-  const Index fours = ns / 4 * 4;
+  // Per spring, four at a time (linearizeFour).
   static_assert(sizeof(Sym3) == 6 * sizeof(double));
-  parallelBlocks(fours, 256, [&](Index s0, Index s1) {
-    linearizeFour(sp, x, v, w, h, predict_, s0, s1, fs_.data(), B_.data()->m);
-  });
-  for (Index s = fours; s < ns; ++s) {
-    const int ia = sp.a[s], ib = sp.b[s];
-    const double k = sp.stiffness[s], d = sp.damping[s];
-    const SpringJacobians J = springJacobians(x[ia], x[ib], sp.rest[s]);
-    fs_[s] = predict_ && J.t == 0
-                 ? springForce(x[ia] + h * w[ia], x[ib] + h * w[ib], v[ia], v[ib], k, d, sp.rest[s])
-                 : springForce(x[ia], x[ib], v[ia], v[ib], k, d, sp.rest[s]) + h * J.K(k, w[ib] - w[ia]);
-    // B = h²K + hD = c1·I + c2·û ûᵀ.
-    const double c1 = h * h * k * J.t, c2 = h * h * k * (1.0 - J.t) + h * d;
-    const Vec3& u = J.u;
-    B_[s] = Sym3{{c1 + c2 * u.x() * u.x(), c1 + c2 * u.y() * u.y(), c1 + c2 * u.z() * u.z(), c2 * u.x() * u.y(),
-                  c2 * u.x() * u.z(), c2 * u.y() * u.z()}};
-  }
+  parallelBlocks(ns, 256, [&](Index s0, Index s1) { linearizeFour(sp, x, v, w, h, predict_, s0, s1, fs_.data(), B_.data()->m); });
   spring_evals_ += sp.size();
   // Per node: rhs = h (m g − γ v + Σ w + the force term's f − h H w), and for CG (cgNode) the
   // springs' blocks copied in the node's entry order and the preconditioner's blocks; a direct
