@@ -63,7 +63,7 @@ struct Renderer::Impl {
   // The frame's camera, for the level of detail.
   double px_per_m_at_1m = 1.0;  // pixels per metre at 1 m from the camera
   Vec3 eye{0, 0, 0};
-  std::vector<std::uint8_t> readback;  // RGB8, bottom row first
+  std::vector<std::uint8_t> readback;  // RGBA8, bottom row first
 
   std::string shader_dir;
 
