@@ -14,6 +14,7 @@
 #include "core/environment.h"
 #include "core/math.h"
 #include "io/environment_file.h"
+#include "render/projection.h"
 #include "render_helpers.h"
 
 using namespace reel;
@@ -449,4 +450,55 @@ TEST_CASE("a small object's shadow on a small scene is kept: the lookup moves of
   CHECK(green(-13) > 100);               // open floor, lit
   CHECK(green(20) > 100);                // past the shadow, lit
   CHECK(green(13) + 60 < green(-13));    // in the plate's shadow
+}
+
+TEST_CASE("a flat ground is left out of a shadow map only where it can hide nothing in view") {
+  // The test of flatness: a floor 400 m wide is a ground, one with a vertex lifted 1 m is not,
+  // nor is a 6 m quad.
+  TriMesh floor = makeQuad(400, 400, 4);
+  const GroundPlane g = groundPlane(floor);
+  CHECK(g.flat);
+  CHECK(std::abs(std::abs(g.normal.y()) - 1.0) < 1e-9);
+  CHECK_FALSE(groundPlane(makeQuad(6, 6)).flat);
+  floor.positions[1] += 1.0f;
+  CHECK_FALSE(groundPlane(floor).flat);
+  // A box 0.1 m over an unbounded floor, seen from above, sunlit from below: the floor stands
+  // between the sun and all the camera sees, so the sun adds nothing (the ground is in the map);
+  // without the floor the sun lights the box's faces turned down and to the camera's side.
+  auto scene = [](bool ground, bool sun, const char* direction, bool shadows = true) {
+    char b[1200];
+    std::snprintf(b, sizeof b, R"({"format": "reel/1", "duration": 0.1,
+      "render": {"width": 96, "height": 64, "samples": 1, "background": [0, 0, 0]},
+      "camera": {"position": [-3, 2, 3], "target": [0, 0.4, 0], "fov_deg": 40},
+      "lights": [%s{"type": "ambient", "intensity": 0.2}],
+      "objects": [%s{"type": "box", "center": [0, 0.6, 0], "size": [1, 1, 1]}]})",
+                  sun ? (std::string(R"({"type": "directional", "direction": )") + direction + R"(, "intensity": 2, "shadows": )" +
+                         (shadows ? "true" : "false") + "},")
+                            .c_str()
+                      : "",
+                  ground ? R"({"type": "plane", "color": [0.8, 0.8, 0.8]},)" : "");
+    return renderScene(b);
+  };
+  auto difference = [](const Image& a, const Image& b, int& largest) {
+    long sum = 0;
+    largest = 0;
+    for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+      const int d = std::abs(int(a.rgb[i]) - int(b.rgb[i]));
+      sum += d, largest = std::max(largest, d);
+    }
+    return sum;
+  };
+  int largest = 0;
+  const long blocked = difference(scene(true, true, "[0.6, 1, 0.3]"), scene(true, false, ""), largest);
+  CAPTURE(blocked);
+  CHECK(largest <= 2);
+  const long open = difference(scene(false, true, "[0.6, 1, 0.3]"), scene(false, false, ""), largest);
+  CAPTURE(open);
+  CHECK(largest > 60);
+  // Sunlit from above, the camera and the sun on one side: the ground is left out, and the box's
+  // shadow still falls on it (shadows on and off differ there by the sun's light).
+  const long shadow = difference(scene(true, true, "[0.3, -1, 0.2]"), scene(true, true, "[0.3, -1, 0.2]", false), largest);
+  CAPTURE(shadow);
+  CHECK(largest > 60);
+  CHECK(shadow > 20000);
 }

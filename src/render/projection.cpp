@@ -87,7 +87,7 @@ void sceneBounds(const DrawList& list, Vec3& center, double& radius) {
       mlo = mlo.cwiseMin(q);
       mhi = mhi.cwiseMax(q);
     }
-    if ((mhi - mlo).norm() > 100.0) continue;  // a ground plane: it receives, it does not bound
+    if ((mhi - mlo).norm() > kGroundExtent) continue;  // a ground: it receives, it does not bound
     lo = lo.cwiseMin(mlo);
     hi = hi.cwiseMax(mhi);
   }
@@ -103,6 +103,30 @@ void sceneBounds(const DrawList& list, Vec3& center, double& radius) {
   }
   center = (lo + hi) / 2;
   radius = std::max(0.5 * (hi - lo).norm(), 0.1) * 1.05;
+}
+
+GroundPlane groundPlane(const TriMesh& m) {
+  GroundPlane g;
+  const auto& pos = m.positions;
+  if (pos.size() < 9) return g;
+  auto at = [&](std::size_t v) { return Vec3(pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]); };
+  const std::size_t nv = pos.size() / 3;
+  Vec3 lo = at(0), hi = at(0);
+  for (std::size_t v = 1; v < nv; ++v) lo = lo.cwiseMin(at(v)), hi = hi.cwiseMax(at(v));
+  const double width = (hi - lo).norm();
+  if (!(width > kGroundExtent)) return g;
+  // The plane of the largest triangle (a thin sliver's normal is poorly defined).
+  double best = 0;
+  for (std::size_t k = 0; k + 2 < m.indices.size(); k += 3) {
+    const Vec3 a = at(m.indices[k]), n = (at(m.indices[k + 1]) - a).cross(at(m.indices[k + 2]) - a);
+    if (n.norm() > best) best = n.norm(), g.point = a, g.normal = n;
+  }
+  if (!(best > 0)) return g;
+  g.normal /= best;
+  for (std::size_t v = 0; v < nv; ++v)
+    if (std::abs((at(v) - g.point).dot(g.normal)) > 1e-6 * width) return g;
+  g.flat = true;
+  return g;
 }
 
 }  // namespace reel

@@ -19,8 +19,19 @@ Mat4f perspective(double fovy_deg, double aspect, double n, double f);
 // View → clip for a symmetric box of half-size r.
 Mat4f ortho(double r, double n, double f);
 
-// The scene's bounding sphere from everything but unbounded planes; around the camera's target
-// with radius 5 when there is nothing to bound.
+// A mesh wider than this (m) is a ground: it receives shadows and does not bound the scene.
+inline constexpr double kGroundExtent = 100.0;
+
+// The scene's bounding sphere from everything but grounds; around the camera's target with
+// radius 5 when there is nothing to bound.
 void sceneBounds(const DrawList& list, Vec3& center, double& radius);
+
+// A flat ground: a mesh wider than kGroundExtent whose vertices all lie on one plane (within a
+// millionth of its width), that plane (a point on it, its unit normal) in `g`.
+struct GroundPlane {
+  bool flat = false;
+  Vec3 point{0, 0, 0}, normal{0, 0, 0};
+};
+GroundPlane groundPlane(const TriMesh& m);
 
 }  // namespace reel

@@ -138,11 +138,24 @@ Status Renderer::Impl::initShadowMaps() {
   return {};
 }
 
+// Whether a flat ground can hide anything the camera sees from the shadow map's light. An opaque
+// ground hides what lies on its far side from the camera, and a ray from a point on the camera's
+// side to a light on that side stays on it (a half-space is convex): with the light and the
+// camera on one side, the ground shadows nothing in view. Left out of the map there, its fill,
+// the largest in most films' maps, is saved; the picture is the same.
+bool Renderer::Impl::shadowHides(const GroundPlane& g, const DrawMaterial& m) const {
+  if (!g.flat || !shadow_light || m.opacity < 1.0 || m.transmission > 0.0) return true;
+  const double camera_side = (eye - g.point).dot(g.normal);
+  const double light_side = shadow_light->point ? (shadow_light->v - g.point).dot(g.normal) : -shadow_light->v.dot(g.normal);
+  return !(camera_side * light_side > 0);
+}
+
 Status Renderer::Impl::drawGeometry(const DrawList& list, Pass pass) {
   for (std::size_t i = 0; i < list.meshes.size(); ++i) {
     const DrawMesh& m = list.meshes[i];
     const GpuMesh* g = meshes.slot(i);
     if (!g || !pass.wants(m.material)) continue;
+    if (!pass.fromCamera() && !shadowHides(g->ground, m.material)) continue;
     if (Status st = bind(m.material, pass); !st) return st;
     gl->Uniform1i(loc(program(pass), "u_mode"), 0);
     gl->BindVertexArray(g->vao.id());
@@ -342,7 +355,10 @@ Status Renderer::Impl::shadowPasses(const DrawList& list, const Vec3& center, do
     gl->UniformMatrix4fv(loc(shadow.id(), "u_view_proj"), 1, GL_FALSE, vp.data());
     gl->Enable(GL_POLYGON_OFFSET_FILL);
     gl->PolygonOffset(1.5f, 2.0f);
-    if (Status st = drawGeometry(list, Pass{false, Layer::All}); !st) return st;
+    shadow_light = ShadowLight{l.kind != LightKind::Directional, l.kind == LightKind::Directional ? l.direction : l.position};
+    Status drawn = drawGeometry(list, Pass{false, Layer::All});
+    shadow_light.reset();
+    if (!drawn) return drawn;
     gl->Disable(GL_POLYGON_OFFSET_FILL);
     Mat4f bias = Mat4f::Identity();  // clip space [-1, 1] → texture space [0, 1]
     bias.block<3, 3>(0, 0) *= 0.5f;

@@ -7,6 +7,7 @@
 #include <deque>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -110,6 +111,13 @@ struct Renderer::Impl {
   gl::Texture scene_color_tex, scene_depth_tex, back_depth_tex;
   gl::Framebuffer copy_fbo, back_fbo;
   Status initTransmission();
+  // The light of the shadow map being drawn: its direction of travel, or its position (point).
+  struct ShadowLight {
+    bool point = false;
+    Vec3 v{0, 0, 0};
+  };
+  std::optional<ShadowLight> shadow_light;
+  bool shadowHides(const GroundPlane& g, const DrawMaterial& m) const;
   Status drawGeometry(const DrawList& list, Pass pass);
   Status drawSpheres(const DrawSpheres& s, Pass pass);
   Status drawSphereSet(const DrawSpheres& s, const GpuMesh& proto, const std::vector<float>& centers,

@@ -45,6 +45,7 @@ void perVertexFloat(const gl::GlApi& gl, const gl::Buffer& vbo, std::size_t& cap
 
 void upload(const gl::GlApi& gl, GpuMesh& m, const TriMesh& t) {
   if (!m.vao) makeMeshObjects(gl, m);
+  m.ground = groundPlane(t);
   gl.BindVertexArray(m.vao.id());
   const std::size_t nv = t.vertexCount();
   std::vector<float> uv_fallback;

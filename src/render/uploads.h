@@ -12,6 +12,7 @@
 
 #include "core/drawlist.h"
 #include "render/gl/objects.h"
+#include "render/projection.h"
 
 namespace reel {
 
@@ -23,6 +24,7 @@ struct GpuMesh {
   GLsizei count = 0;  // indices
   // vertices, indices, coloured, glossy, clarity, wrinkle
   std::size_t capacity_v = 0, capacity_i = 0, capacity_c = 0, capacity_g = 0, capacity_k = 0, capacity_w = 0;
+  GroundPlane ground;  // the mesh as a flat ground, found at upload (the shadow maps leave it out where it hides nothing)
 };
 
 // Copies `t` into `m`: makes the VAO and buffers on first use, grows them when `t` is larger,
