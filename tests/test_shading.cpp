@@ -453,30 +453,42 @@ TEST_CASE("a small object's shadow on a small scene is kept: the lookup moves of
 }
 
 TEST_CASE("a flat ground is left out of a shadow map only where it can hide nothing in view") {
-  // The test of flatness: a floor 400 m wide is a ground, one with a vertex lifted 1 m is not,
-  // nor is a 6 m quad.
+  // The test of a ground: a floor 400 m wide is one; one with a vertex lifted 1 m is not, nor a
+  // 6 m quad, a strip 400 m long and 1 m wide, or two 400 m floors side by side with a gap.
   TriMesh floor = makeQuad(400, 400, 4);
   const GroundPlane g = groundPlane(floor);
   CHECK(g.flat);
   CHECK(std::abs(std::abs(g.normal.y()) - 1.0) < 1e-9);
   CHECK_FALSE(groundPlane(makeQuad(6, 6)).flat);
+  CHECK_FALSE(groundPlane(makeQuad(400, 1)).flat);
+  TriMesh two = makeQuad(400, 400), right = makeQuad(400, 400);
+  right.transform(Mat3::Identity(), Vec3(401, 0, 0));
+  for (const std::uint32_t k : right.indices) two.indices.push_back(k + 4);
+  two.positions.insert(two.positions.end(), right.positions.begin(), right.positions.end());
+  CHECK_FALSE(groundPlane(two).flat);
+  TriMesh tilted = makeQuad(400, 400);
+  tilted.transform(rotationFromUp(Vec3(1, 2, 0.5).normalized()), Vec3(3, -1, 2));
+  CHECK(groundPlane(tilted).flat);
   floor.positions[1] += 1.0f;
   CHECK_FALSE(groundPlane(floor).flat);
-  // A box 0.1 m over an unbounded floor, seen from above, sunlit from below: the floor stands
-  // between the sun and all the camera sees, so the sun adds nothing (the ground is in the map);
-  // without the floor the sun lights the box's faces turned down and to the camera's side.
-  auto scene = [](bool ground, bool sun, const char* direction, bool shadows = true) {
-    char b[1200];
+  // A box 0.1 m over an unbounded floor at y = −10 (the world's origin under it, where a test of
+  // sides that forgot the plane's point would put the camera), seen from above, lit from below (a
+  // sun, a point light): the floor stands between the light and all the camera sees, so the light
+  // adds nothing (the ground is in the map); without the floor it lights the box's faces turned
+  // down and to the camera's side. (A pebble under the floor, out of sight, takes the scene's
+  // bounds, which the maps are fitted to, down to where the floor meets the point light's rays: a
+  // ground, left out of the bounds, is cut off by a map's near plane where it lies farther toward
+  // the light than they reach, with or without this change.)
+  auto scene = [](bool ground, const std::string& light) {
+    char b[1400];
     std::snprintf(b, sizeof b, R"({"format": "reel/1", "duration": 0.1,
       "render": {"width": 96, "height": 64, "samples": 1, "background": [0, 0, 0]},
-      "camera": {"position": [-3, 2, 3], "target": [0, 0.4, 0], "fov_deg": 40},
+      "camera": {"position": [-3, -8, 3], "target": [0, -9.6, 0], "fov_deg": 40},
       "lights": [%s{"type": "ambient", "intensity": 0.2}],
-      "objects": [%s{"type": "box", "center": [0, 0.6, 0], "size": [1, 1, 1]}]})",
-                  sun ? (std::string(R"({"type": "directional", "direction": )") + direction + R"(, "intensity": 2, "shadows": )" +
-                         (shadows ? "true" : "false") + "},")
-                            .c_str()
-                      : "",
-                  ground ? R"({"type": "plane", "color": [0.8, 0.8, 0.8]},)" : "");
+      "objects": [%s{"type": "box", "center": [0, -9.4, 0], "size": [1, 1, 1]},
+                  {"type": "sphere", "center": [-1, -10.8, 0.5], "radius": 0.05}]})",
+                  light.empty() ? "" : (light + ",").c_str(),
+                  ground ? R"({"type": "plane", "point": [0, -10, 0], "color": [0.8, 0.8, 0.8]},)" : "");
     return renderScene(b);
   };
   auto difference = [](const Image& a, const Image& b, int& largest) {
@@ -488,16 +500,22 @@ TEST_CASE("a flat ground is left out of a shadow map only where it can hide noth
     }
     return sum;
   };
-  int largest = 0;
-  const long blocked = difference(scene(true, true, "[0.6, 1, 0.3]"), scene(true, false, ""), largest);
-  CAPTURE(blocked);
-  CHECK(largest <= 2);
-  const long open = difference(scene(false, true, "[0.6, 1, 0.3]"), scene(false, false, ""), largest);
-  CAPTURE(open);
-  CHECK(largest > 60);
-  // Sunlit from above, the camera and the sun on one side: the ground is left out, and the box's
+  for (const std::string below : {R"({"type": "directional", "direction": [0.6, 1, 0.3], "intensity": 2, "shadows": true})",
+                                  R"({"type": "point", "position": [-2, -11.5, 1], "intensity": 12, "shadows": true})"}) {
+    CAPTURE(below);
+    int largest = 0;
+    const long blocked = difference(scene(true, below), scene(true, ""), largest);
+    CAPTURE(blocked);
+    CHECK(largest <= 2);
+    const long open = difference(scene(false, below), scene(false, ""), largest);
+    CAPTURE(open);
+    CHECK(largest > 60);
+  }
+  // Lit from above, the camera and the sun on one side: the ground is left out, and the box's
   // shadow still falls on it (shadows on and off differ there by the sun's light).
-  const long shadow = difference(scene(true, true, "[0.3, -1, 0.2]"), scene(true, true, "[0.3, -1, 0.2]", false), largest);
+  int largest = 0;
+  const std::string above = R"({"type": "directional", "direction": [0.3, -1, 0.2], "intensity": 2, "shadows": )";
+  const long shadow = difference(scene(true, above + "true}"), scene(true, above + "false}"), largest);
   CAPTURE(shadow);
   CHECK(largest > 60);
   CHECK(shadow > 20000);

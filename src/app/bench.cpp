@@ -152,7 +152,7 @@ int benchPasses(gl::Context& ctx, double seconds) {
   cam.fov_deg = 50;
   auto mesh = std::make_shared<const TriMesh>(wavySheet(100000));
   const auto sky = prefilterEnvironment(proceduralSky(Vec3(0.3, 0.4, 0.6), Vec3(0.8, 0.8, 0.8), Vec3(0.3, 0.28, 0.25)), 0.7, 0);
-  // The process's first second of drawing runs at half speed (the allocator's threshold for
+  // The process's first two seconds of drawing run at half speed (the allocator's threshold for
   // mapping large blocks rises only as llvmpipe frees them): drawn once untimed.
   if (auto warm = r.value()->bareDrawSeconds(*mesh, cam, 30); !warm.ok()) return report(warm.error());
   auto bare = r.value()->bareDrawSeconds(*mesh, cam, std::max(3, static_cast<int>(20 * seconds)));

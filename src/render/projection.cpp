@@ -107,25 +107,40 @@ void sceneBounds(const DrawList& list, Vec3& center, double& radius) {
 
 GroundPlane groundPlane(const TriMesh& m) {
   GroundPlane g;
-  const auto& pos = m.positions;
-  if (pos.size() < 9) return g;
-  auto at = [&](std::size_t v) { return Vec3(pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]); };
-  const std::size_t nv = pos.size() / 3;
-  Vec3 lo = at(0), hi = at(0);
-  for (std::size_t v = 1; v < nv; ++v) lo = lo.cwiseMin(at(v)), hi = hi.cwiseMax(at(v));
-  const double width = (hi - lo).norm();
-  if (!(width > kGroundExtent)) return g;
-  // The plane of the largest triangle (a thin sliver's normal is poorly defined).
+  const std::size_t nv = m.vertexCount();
+  if (nv < 3 || m.indices.size() < 3) return g;
+  // The plane and its axes from the largest triangle: its normal, and its shortest edge as the
+  // first axis (a side of a rectangle split along its diagonal).
   double best = 0;
+  Vec3 u{0, 0, 0};
+  double area = 0;  // all the triangles', m²
   for (std::size_t k = 0; k + 2 < m.indices.size(); k += 3) {
-    const Vec3 a = at(m.indices[k]), n = (at(m.indices[k + 1]) - a).cross(at(m.indices[k + 2]) - a);
-    if (n.norm() > best) best = n.norm(), g.point = a, g.normal = n;
+    const Vec3 a = m.position(m.indices[k]), b = m.position(m.indices[k + 1]), c = m.position(m.indices[k + 2]);
+    const Vec3 n = (b - a).cross(c - a);
+    area += 0.5 * n.norm();
+    if (n.norm() <= best) continue;
+    best = n.norm(), g.point = a, g.normal = n;
+    u = (b - a).squaredNorm() <= (c - b).squaredNorm() && (b - a).squaredNorm() <= (a - c).squaredNorm() ? Vec3(b - a)
+        : (c - b).squaredNorm() <= (a - c).squaredNorm()                                               ? Vec3(c - b)
+                                                                                                       : Vec3(a - c);
   }
   if (!(best > 0)) return g;
   g.normal /= best;
-  for (std::size_t v = 0; v < nv; ++v)
-    if (std::abs((at(v) - g.point).dot(g.normal)) > 1e-6 * width) return g;
-  g.flat = true;
+  u.normalize();
+  const Vec3 v = g.normal.cross(u);
+  // Every vertex on the plane, the mesh at least kGroundExtent along both axes, and its triangles
+  // covering the rectangle that bounds it on the plane (no holes, no strip, no scattered tiles):
+  // only such a ground hides everything beyond it from a camera on its other side.
+  double ulo = INFINITY, uhi = -INFINITY, vlo = INFINITY, vhi = -INFINITY, off = 0;
+  for (std::size_t k = 0; k < nv; ++k) {
+    const Vec3 r = m.position(k) - g.point;
+    off = std::max(off, std::abs(r.dot(g.normal)));
+    ulo = std::min(ulo, r.dot(u)), uhi = std::max(uhi, r.dot(u));
+    vlo = std::min(vlo, r.dot(v)), vhi = std::max(vhi, r.dot(v));
+  }
+  const double eu = uhi - ulo, ev = vhi - vlo;
+  if (!(eu > kGroundExtent && ev > kGroundExtent) || off > 1e-6 * std::hypot(eu, ev)) return g;
+  g.flat = std::abs(area - eu * ev) <= 1e-4 * eu * ev;
   return g;
 }
 

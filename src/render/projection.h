@@ -26,8 +26,10 @@ inline constexpr double kGroundExtent = 100.0;
 // radius 5 when there is nothing to bound.
 void sceneBounds(const DrawList& list, Vec3& center, double& radius);
 
-// A flat ground: a mesh wider than kGroundExtent whose vertices all lie on one plane (within a
-// millionth of its width), that plane (a point on it, its unit normal) in `g`.
+// A flat ground: a mesh whose vertices all lie on one plane (within a millionth of its width),
+// at least kGroundExtent along both axes of its largest triangle's shortest edge and across, and
+// whose triangles cover the rectangle that bounds it there (no holes); that plane (a point on it,
+// its unit normal).
 struct GroundPlane {
   bool flat = false;
   Vec3 point{0, 0, 0}, normal{0, 0, 0};

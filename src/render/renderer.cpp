@@ -143,10 +143,10 @@ Status Renderer::Impl::initShadowMaps() {
 // side to a light on that side stays on it (a half-space is convex): with the light and the
 // camera on one side, the ground shadows nothing in view. Left out of the map there, its fill,
 // the largest in most films' maps, is saved; the picture is the same.
-bool Renderer::Impl::shadowHides(const GroundPlane& g, const DrawMaterial& m) const {
-  if (!g.flat || !shadow_light || m.opacity < 1.0 || m.transmission > 0.0) return true;
+bool Renderer::Impl::shadowHides(const GroundPlane& g, const DrawMaterial& m, const ShadowLight& light) const {
+  if (!g.flat || m.opacity < 1.0 || m.transmission > 0.0) return true;
   const double camera_side = (eye - g.point).dot(g.normal);
-  const double light_side = shadow_light->point ? (shadow_light->v - g.point).dot(g.normal) : -shadow_light->v.dot(g.normal);
+  const double light_side = light.point ? (light.v - g.point).dot(g.normal) : -light.v.dot(g.normal);
   return !(camera_side * light_side > 0);
 }
 
@@ -155,7 +155,7 @@ Status Renderer::Impl::drawGeometry(const DrawList& list, Pass pass) {
     const DrawMesh& m = list.meshes[i];
     const GpuMesh* g = meshes.slot(i);
     if (!g || !pass.wants(m.material)) continue;
-    if (!pass.fromCamera() && !shadowHides(g->ground, m.material)) continue;
+    if (pass.light && !shadowHides(g->ground, m.material, *pass.light)) continue;
     if (Status st = bind(m.material, pass); !st) return st;
     gl->Uniform1i(loc(program(pass), "u_mode"), 0);
     gl->BindVertexArray(g->vao.id());
@@ -355,11 +355,10 @@ Status Renderer::Impl::shadowPasses(const DrawList& list, const Vec3& center, do
     gl->UniformMatrix4fv(loc(shadow.id(), "u_view_proj"), 1, GL_FALSE, vp.data());
     gl->Enable(GL_POLYGON_OFFSET_FILL);
     gl->PolygonOffset(1.5f, 2.0f);
-    shadow_light = ShadowLight{l.kind != LightKind::Directional, l.kind == LightKind::Directional ? l.direction : l.position};
-    Status drawn = drawGeometry(list, Pass{false, Layer::All});
-    shadow_light.reset();
-    if (!drawn) return drawn;
+    const ShadowLight from{l.kind != LightKind::Directional, l.kind == LightKind::Directional ? l.direction : l.position};
+    Status drawn = drawGeometry(list, Pass{false, Layer::All, &from});
     gl->Disable(GL_POLYGON_OFFSET_FILL);
+    if (!drawn) return drawn;
     Mat4f bias = Mat4f::Identity();  // clip space [-1, 1] → texture space [0, 1]
     bias.block<3, 3>(0, 0) *= 0.5f;
     bias.block<3, 1>(0, 3) = Vec3f::Constant(0.5f);

@@ -7,7 +7,6 @@
 #include <deque>
 #include <map>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -90,9 +89,15 @@ struct Renderer::Impl {
   // The items of a pass: all that cast shadows (shadow maps), the opaque ones, the see-through ones (transmission) or
   // the blended ones (opacity below 1).
   enum class Layer { All, Opaque, Transmissive, Transparent };
+  // The light of a shadow map: its direction of travel, or its position (point).
+  struct ShadowLight {
+    bool point = false;
+    Vec3 v{0, 0, 0};
+  };
   struct Pass {
     bool with_material;
     Layer layer;
+    const ShadowLight* light = nullptr;  // a shadow map's (grounds that hide nothing from it are left out)
     bool wants(const DrawMaterial& m) const {
       switch (layer) {
         case Layer::All: return m.casts_shadow;
@@ -111,13 +116,7 @@ struct Renderer::Impl {
   gl::Texture scene_color_tex, scene_depth_tex, back_depth_tex;
   gl::Framebuffer copy_fbo, back_fbo;
   Status initTransmission();
-  // The light of the shadow map being drawn: its direction of travel, or its position (point).
-  struct ShadowLight {
-    bool point = false;
-    Vec3 v{0, 0, 0};
-  };
-  std::optional<ShadowLight> shadow_light;
-  bool shadowHides(const GroundPlane& g, const DrawMaterial& m) const;
+  bool shadowHides(const GroundPlane& g, const DrawMaterial& m, const ShadowLight& light) const;
   Status drawGeometry(const DrawList& list, Pass pass);
   Status drawSpheres(const DrawSpheres& s, Pass pass);
   Status drawSphereSet(const DrawSpheres& s, const GpuMesh& proto, const std::vector<float>& centers,
