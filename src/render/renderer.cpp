@@ -143,10 +143,11 @@ Status Renderer::Impl::initShadowMaps() {
 // side to a light on that side stays on it (a half-space is convex): with the light and the
 // camera on one side, the ground shadows nothing in view. Left out of the map there, its fill,
 // the largest in most films' maps, is saved; the picture is the same.
-bool Renderer::Impl::shadowHides(const GroundPlane& g, const DrawMaterial& m, const ShadowLight& light) const {
+bool Renderer::Impl::shadowHides(const GroundPlane& g, const DrawMaterial& m, const LightDesc& light) const {
   if (!g.flat || m.opacity < 1.0 || m.transmission > 0.0) return true;
   const double camera_side = (eye - g.point).dot(g.normal);
-  const double light_side = light.point ? (light.v - g.point).dot(g.normal) : -light.v.dot(g.normal);
+  const double light_side = light.kind == LightKind::Directional ? -light.direction.dot(g.normal)
+                                                                 : (light.position - g.point).dot(g.normal);
   return !(camera_side * light_side > 0);
 }
 
@@ -355,8 +356,7 @@ Status Renderer::Impl::shadowPasses(const DrawList& list, const Vec3& center, do
     gl->UniformMatrix4fv(loc(shadow.id(), "u_view_proj"), 1, GL_FALSE, vp.data());
     gl->Enable(GL_POLYGON_OFFSET_FILL);
     gl->PolygonOffset(1.5f, 2.0f);
-    const ShadowLight from{l.kind != LightKind::Directional, l.kind == LightKind::Directional ? l.direction : l.position};
-    Status drawn = drawGeometry(list, Pass{false, Layer::All, &from});
+    Status drawn = drawGeometry(list, Pass{false, Layer::All, &l});
     gl->Disable(GL_POLYGON_OFFSET_FILL);
     if (!drawn) return drawn;
     Mat4f bias = Mat4f::Identity();  // clip space [-1, 1] → texture space [0, 1]
@@ -426,16 +426,13 @@ Status Renderer::Impl::readBack(Image& out) {
   gl->BlitFramebuffer(0, 0, W, H, 0, 0, W, H, GL_COLOR_BUFFER_BIT, GL_NEAREST);
   gl->BindFramebuffer(GL_READ_FRAMEBUFFER, resolve_fbo.id());
   gl->PixelStorei(GL_PACK_ALIGNMENT, 1);
-  readback.resize(static_cast<std::size_t>(W) * H * 4);
-  gl->ReadPixels(0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, readback.data());
+  readback.resize(static_cast<std::size_t>(W) * H * 3);
+  gl->ReadPixels(0, 0, W, H, GL_RGB, GL_UNSIGNED_BYTE, readback.data());
   if (GLenum e = gl->GetError(); e != GL_NO_ERROR)
     return Error(ErrorKind::Internal, "OpenGL error " + std::to_string(e) + " while drawing");
   if (out.width != W || out.height != H) out = Image(W, H);
-  for (int y = 0; y < H; ++y) {  // GL's rows run from the bottom
-    const std::uint8_t* src = &readback[static_cast<std::size_t>(H - 1 - y) * W * 4];
-    std::uint8_t* dst = out.pixel(0, y);
-    for (int x = 0; x < W; ++x) dst[3 * x] = src[4 * x], dst[3 * x + 1] = src[4 * x + 1], dst[3 * x + 2] = src[4 * x + 2];
-  }
+  for (int y = 0; y < H; ++y)  // GL's rows run from the bottom
+    std::copy_n(&readback[static_cast<std::size_t>(H - 1 - y) * W * 3], static_cast<std::size_t>(W) * 3, out.pixel(0, y));
   return {};
 }
 

@@ -63,7 +63,7 @@ struct Renderer::Impl {
   // The frame's camera, for the level of detail.
   double px_per_m_at_1m = 1.0;  // pixels per metre at 1 m from the camera
   Vec3 eye{0, 0, 0};
-  std::vector<std::uint8_t> readback;  // RGBA8, bottom row first
+  std::vector<std::uint8_t> readback;  // RGB8, bottom row first
 
   std::string shader_dir;
 
@@ -89,15 +89,10 @@ struct Renderer::Impl {
   // The items of a pass: all that cast shadows (shadow maps), the opaque ones, the see-through ones (transmission) or
   // the blended ones (opacity below 1).
   enum class Layer { All, Opaque, Transmissive, Transparent };
-  // The light of a shadow map: its direction of travel, or its position (point).
-  struct ShadowLight {
-    bool point = false;
-    Vec3 v{0, 0, 0};
-  };
   struct Pass {
     bool with_material;
     Layer layer;
-    const ShadowLight* light = nullptr;  // a shadow map's (grounds that hide nothing from it are left out)
+    const LightDesc* light = nullptr;  // a shadow map's (grounds that hide nothing from it are left out)
     bool wants(const DrawMaterial& m) const {
       switch (layer) {
         case Layer::All: return m.casts_shadow;
@@ -116,7 +111,7 @@ struct Renderer::Impl {
   gl::Texture scene_color_tex, scene_depth_tex, back_depth_tex;
   gl::Framebuffer copy_fbo, back_fbo;
   Status initTransmission();
-  bool shadowHides(const GroundPlane& g, const DrawMaterial& m, const ShadowLight& light) const;
+  bool shadowHides(const GroundPlane& g, const DrawMaterial& m, const LightDesc& light) const;
   Status drawGeometry(const DrawList& list, Pass pass);
   Status drawSpheres(const DrawSpheres& s, Pass pass);
   Status drawSphereSet(const DrawSpheres& s, const GpuMesh& proto, const std::vector<float>& centers,
