@@ -109,6 +109,11 @@ GroundPlane groundPlane(const TriMesh& m) {
   GroundPlane g;
   const std::size_t nv = m.vertexCount();
   if (nv < 3 || m.indices.size() < 3) return g;
+  // No wider than kGroundExtent on the diagonal, none of its sides is (a sheet, a liquid's
+  // surface, uploaded every frame, stop here).
+  Vec3 lo = m.position(0), hi = lo;
+  for (std::size_t k = 1; k < nv; ++k) lo = lo.cwiseMin(m.position(k)), hi = hi.cwiseMax(m.position(k));
+  if (!((hi - lo).norm() > kGroundExtent)) return g;
   // The plane and its axes from the largest triangle: its normal, and its shortest edge as the
   // first axis (a side of a rectangle split along its diagonal).
   double best = 0;
@@ -117,9 +122,10 @@ GroundPlane groundPlane(const TriMesh& m) {
   for (std::size_t k = 0; k + 2 < m.indices.size(); k += 3) {
     const Vec3 a = m.position(m.indices[k]), b = m.position(m.indices[k + 1]), c = m.position(m.indices[k + 2]);
     const Vec3 n = (b - a).cross(c - a);
-    area += 0.5 * n.norm();
-    if (n.norm() <= best) continue;
-    best = n.norm(), g.point = a, g.normal = n;
+    const double twice = n.norm();
+    area += 0.5 * twice;
+    if (twice <= best) continue;
+    best = twice, g.point = a, g.normal = n;
     u = (b - a).squaredNorm() <= (c - b).squaredNorm() && (b - a).squaredNorm() <= (a - c).squaredNorm() ? Vec3(b - a)
         : (c - b).squaredNorm() <= (a - c).squaredNorm()                                               ? Vec3(c - b)
                                                                                                        : Vec3(a - c);
