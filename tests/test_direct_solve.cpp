@@ -8,6 +8,7 @@
 
 #include "helpers.h"
 #include "sim/fish/fish.h"
+#include "sim/forces.h"
 #include "sim/grid.h"
 #include "sim/skyline.h"
 
@@ -229,7 +230,8 @@ TEST_CASE("direct solve: fish four at a time, their springs linearised four at a
   // Five fish: one batch of four and one alone. Fish 2 has a spring with coincident ends (no
   // force, no direction); the predictor is on (a compressed spring's force at the predicted
   // positions). In the school a fish's 91 springs fall into the groups of four at another
-  // offset than alone (91 = 4·22 + 3), so the lanes and the one-by-one tail both serve each.
+  // offset than alone (91 = 4·22 + 3), so a spring takes another lane, or the last group padded
+  // with its last spring, in the school than alone.
   MassSpringDesc d = school(5);
   d.nodes[2 * kFishNodes + 2].position = d.nodes[2 * kFishNodes + 1].position;  // ring 0's first two corners
   const double h = 1.0 / 300.0;
@@ -356,4 +358,35 @@ TEST_CASE("implicit.solver: auto, cg or direct; anything else is named with its 
   CHECK(sceneFromText(base + R"(, "implicit": {"solver": "cg"}})").implicit.solver == LinearSolver::Cg);
   CHECK(sceneFromText(base + R"(, "implicit": {"solver": "direct"}})").implicit.solver == LinearSolver::Direct);
   checkHas(badInputError(base + R"(, "implicit": {"solver": "gauss"}})"), "/implicit/solver");
+}
+
+TEST_CASE("the four-lane spring force and Jacobians give each lane the bits of the one-spring forms") {
+  // Stretched, compressed, coincident ends and an arbitrary spring, one a lane.
+  const Vec3 xa[4] = {Vec3(0, 0, 0), Vec3(1, 2, 3), Vec3(0.5, 0.5, 0.5), Vec3(-0.3, 0.7, 0.11)};
+  const Vec3 xb[4] = {Vec3(0.3, 1.2, -0.4), Vec3(1.01, 2.02, 2.97), Vec3(0.5, 0.5, 0.5), Vec3(0.9, -0.2, 0.35)};
+  const Vec3 va[4] = {Vec3(0.1, 0, 0), Vec3(0, -1, 0.5), Vec3(1, 1, 1), Vec3(0.2, 0.3, -0.4)};
+  const Vec3 vb[4] = {Vec3(0, 0.2, 0), Vec3(0.3, 0, 0), Vec3(-1, 0, 2), Vec3(-0.5, 0.1, 0.9)};
+  const double k[4] = {100, 2500, 40, 7.5}, damp[4] = {0.5, 3, 0.1, 0}, rest[4] = {0.9, 0.1, 0.2, 1.3};
+  auto lanes = [](const Vec3* v) {
+    L3 l;
+    for (int i = 0; i < 4; ++i) l.x[i] = v[i].x(), l.y[i] = v[i].y(), l.z[i] = v[i].z();
+    return l;
+  };
+  auto lane4 = [](const double* v) { return Lane4{v[0], v[1], v[2], v[3]}; };
+  const SpringJacobians4 j4 = springJacobians4(lanes(xa), lanes(xb), lane4(rest));
+  const L3 f4 = springForce4(lanes(xa), lanes(xb), lanes(va), lanes(vb), lane4(k), lane4(damp), lane4(rest));
+  for (int i = 0; i < 4; ++i) {
+    CAPTURE(i);
+    const SpringJacobians j = springJacobians(xa[i], xb[i], rest[i]);
+    const Vec3 f = springForce(xa[i], xb[i], va[i], vb[i], k[i], damp[i], rest[i]);
+    CHECK(j4.u.x[i] == j.u.x());
+    CHECK(j4.u.y[i] == j.u.y());
+    CHECK(j4.u.z[i] == j.u.z());
+    CHECK(j4.t[i] == j.t);
+    CHECK(f4.x[i] == f.x());
+    CHECK(f4.y[i] == f.y());
+    CHECK(f4.z[i] == f.z());
+  }
+  CHECK(springJacobians(xa[2], xb[2], rest[2]).u == Vec3::Zero());  // coincident: no direction, no force
+  CHECK(springForce(xa[2], xb[2], va[2], vb[2], k[2], damp[2], rest[2]) == Vec3::Zero());
 }

@@ -12,6 +12,7 @@
 #include "capture.h"
 #include "core/brdf.h"
 #include "core/environment.h"
+#include "core/image_compare.h"
 #include "core/math.h"
 #include "io/environment_file.h"
 #include "render/projection.h"
@@ -492,13 +493,9 @@ TEST_CASE("a flat ground is left out of a shadow map only where it can hide noth
     return renderScene(b);
   };
   auto difference = [](const Image& a, const Image& b, int& largest) {
-    long sum = 0;
-    largest = 0;
-    for (std::size_t i = 0; i < a.rgb.size(); ++i) {
-      const int d = std::abs(int(a.rgb[i]) - int(b.rgb[i]));
-      sum += d, largest = std::max(largest, d);
-    }
-    return sum;
+    const ImageDiff d = compareImages(a, b, 0);
+    largest = d.max_abs;
+    return std::lround(d.mean_abs * static_cast<double>(a.rgb.size()));  // the sum of the differences
   };
   for (const std::string below : {R"({"type": "directional", "direction": [0.6, 1, 0.3], "intensity": 2, "shadows": true})",
                                   R"({"type": "point", "position": [-2, -11.5, 1], "intensity": 12, "shadows": true})"}) {
