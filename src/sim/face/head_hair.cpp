@@ -45,7 +45,9 @@ std::shared_ptr<const TriMesh> makeHair(const FaceSurface& s) {
       const Vec3 dir = root.normalized();
       // Fewer strands toward the hairline (they thin out over the skin, as painted).
       const double cover = head::hairCover(root, dir, 0.004);
-      if (rnd(2) > cover) continue;
+      // (None where the hair has all but thinned out: at the sideburn's steep front edge a root
+      // there, its ribbon a quarter of a millimetre to either side, lay on bare skin.)
+      if (rnd(2) > cover || cover < 0.15) continue;
       const Vec3 n = unitOr(normals[s.tris[t]] + normals[s.tris[t + 1]] + normals[s.tris[t + 2]], dir);
       // Combed away from the whorl along the head, a little wayward; over the forehead, up and
       // back from the hairline (combed forward, the strands hung over the brow as a fringe).
@@ -66,11 +68,13 @@ std::shared_ptr<const TriMesh> makeHair(const FaceSurface& s) {
       // No tip over bare skin: a strand combed past the hairline (forward over a temple, down past
       // a sideburn) is cut back until its tip lies in the hair (they hung in the air off the
       // sideburns, 10 mm out over the skin).
-      for (int cut = 0; cut < 4; ++cut) {
+      bool inside = false;
+      for (int cut = 0; cut < 4 && !inside; ++cut) {
         const Vec3 tip = root + length * flow;
-        if (head::hairCover(tip, tip.normalized(), 0.004) > 0.97) break;
-        length *= 0.6;
+        inside = head::hairCover(tip, tip.normalized(), 0.004) > 0.97;
+        if (!inside) length *= 0.6;
       }
+      if (!inside) continue;  // (a root at the hair's edge combed straight out of it)
       const double width = 0.0005;
       const Vec3 start = root - 0.0015 * cover * n;  // (under the cap, never under the scalp)
       const Vec3 hair = head::hairColor(root, dir, s.look) * (0.75 + 0.5 * rnd(6));

@@ -75,8 +75,8 @@ const Curve kNoseWidth{{-0.05, 0.007}, {-0.038, 0.0078}, {-0.03, 0.0063}, {-0.01
 // The hairline's height against the angle around the vertical from the front (rad): a soft peak
 // at the middle, receding at the temples, down to the sideburns just in front of the ears (whose
 // fronts are 1.69 rad round), over the ears, to the nape.
-const Curve kHairline{{0.0, 0.075},  {0.22, 0.0765}, {0.4, 0.079},  {0.55, 0.071},  {0.72, 0.055}, {0.9, 0.039},
-                      {1.08, 0.026}, {1.25, 0.012}, {1.38, -0.004}, {1.47, -0.018}, {1.6, -0.02},  {1.66, 0.01},
+const Curve kHairline{{0.0, 0.075},  {0.22, 0.0765}, {0.4, 0.079},  {0.55, 0.071},  {0.72, 0.057}, {0.9, 0.045},
+                      {1.08, 0.037}, {1.22, 0.028}, {1.32, 0.012}, {1.4, -0.012}, {1.45, -0.02}, {1.6, -0.022},  {1.66, 0.01},
                       {1.72, 0.02},  {2.0, 0.02},   {2.12, -0.01},  {2.3, -0.045},  {2.75, -0.064}, {3.1416, -0.066}};
 
 // Value noise on the integer lattice (smooth, 0..1), by a hash of the cell's corners.
@@ -403,7 +403,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   const double above = Y - kHairline(std::abs(std::atan2(d.x(), d.z())));
   // Over it, its locks (hairLocks) stand up to 1.2 mm proud of each other (a smooth shell, however
   // its colour was streaked, read as a helmet).
-  f.soft += (0.0012 + smoothstep(-0.004, 0.03, above) * (0.0083 + 0.008 * smoothstep(0.02, 0.09, Y) + 0.0024 * hairLocks(d))) *
+  f.soft += (0.0012 + smoothstep(-0.004, 0.016, above) * (0.0083 + 0.013 * smoothstep(0.02, 0.09, Y) + 0.0024 * hairLocks(d))) *
             hairCover(p, d, 0.012);
   return f;
 }
@@ -521,7 +521,11 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
     // (0.46, 0.21, 0.18) and (0.42, 0.19, 0.17), then at (0.48, 0.19, 0.17) and (0.42, 0.16, 0.145), viewers
     // found them nearly skin-coloured and flat, and the upper lip long and bare.)
     const Vec3 lip = Y < ym ? Vec3(0.36, 0.1, 0.095) : Vec3(0.34, 0.09, 0.085);
-    c = c + lips * (0.9 - 0.1 * male) * (lip * (0.95 + 0.1 * mottle) - c);
+    // Darker where the vermilion turns in to the parting and into the corners, where it lies in
+    // the lips' own shade (in one colour to its border, a viewer saw lips pasted on).
+    const double inward = std::exp(-0.5 * sq((Y - ym) / 0.0016)), corner = smoothstep(0.012, 0.026, ax);
+    const double deep = 1.0 - 0.3 * inward - 0.3 * corner * (1.0 - 0.5 * inward);
+    c = c + lips * (0.9 - 0.1 * male) * (lip * (0.95 + 0.1 * mottle) * deep - c);
     // Nostrils, under the nose.
     const double nostril = smoothstep(0.3, 0.85, gauss(ax, Y, kNostril[0], kNostril[1], kNostril[2], kNostril[3]));
     c = c + 0.9 * nostril * (Vec3(0.12, 0.05, 0.045) - c);
