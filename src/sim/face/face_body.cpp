@@ -66,7 +66,8 @@ void FaceBody::pose(double t) {
 }
 
 // Each muscle's pull, shared by the fascia nodes of its zone by their weights (Waters 1987's
-// fall-offs, as forces: Lee, Terzopoulos & Waters 1995, section 5).
+// fall-offs, as forces: Lee, Terzopoulos & Waters 1995, section 5), and a linear muscle's bulge,
+// its belly thickening as it shortens, as a push off the skull (defaultMuscles).
 void FaceBody::muscleForces() {
   const std::size_t n = surface_.size();
   const auto& x = net_.state.x;
@@ -87,6 +88,8 @@ void FaceBody::muscleForces() {
       Vec3 pull = musclePull(mu, x[n + k], att, center, uw, vw);
       pull -= pull.dot(o) * o;
       ext_[n + k] += (a * d.strength * mu.weight[j]) * pull;
+      // And off the skull, where its belly thickens (linear muscles with a bulge).
+      if (!d.sphincter) ext_[n + k] += (d.bulge * a * d.strength * mu.weight[j]) * o;
     }
   }
 }
