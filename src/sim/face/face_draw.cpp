@@ -348,7 +348,7 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     // box, and the head's inside seen through the lips as a maroon wall).
     inside->colors.resize(3 * inside->vertexCount());
     for (std::size_t v = 0; v < inside->vertexCount(); ++v) {
-      const Vec3 c = Vec3(0.05, 0.012, 0.012) + lip[v] * (Vec3(0.4, 0.12, 0.11) - Vec3(0.05, 0.012, 0.012));
+      const Vec3 c = Vec3(0.08, 0.016, 0.015) + lip[v] * (Vec3(0.4, 0.12, 0.11) - Vec3(0.08, 0.016, 0.015));
       for (int k = 0; k < 3; ++k) inside->colors[3 * v + static_cast<std::size_t>(k)] = static_cast<float>(c[k]);
     }
     addLipRims(*inside, relaxed);
@@ -365,8 +365,10 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     const Vec3 centre(0.0, ym - 0.0115 * k, front - 0.027 * k);
     auto tongue = std::make_shared<TriMesh>(
         placeMesh(makeUvSphere(1.0, 24, 12), k * Vec3(0.019, 0.0045, 0.024), jawRotation(1.0), world(jawMoved(1.0, centre))));
-    DrawMaterial wet = plainMaterial(lit * Vec3(0.3, 0.08, 0.08), 0.01);
-    wet.roughness = 0.35;
+    // (Its papillae break a wet sheen up: as a smooth 0.35 the key's highlight lay over the tip as a
+    // grey-white film, and the tongue read as plastic.)
+    DrawMaterial wet = plainMaterial(lit * Vec3(0.36, 0.085, 0.08), 0.01);
+    wet.roughness = 0.55;
     wet.casts_shadow = false;
     out.meshes.push_back({std::move(tongue), true, wet});
   }
