@@ -463,15 +463,7 @@ TEST_CASE("face: a user's mesh with an inset and a muscle of the scene") {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / "reel_test_face";
   fs::create_directories(dir);
-  {
-    // A ball of radius 0.1 m (its seam and poles welded by the reader).
-    const TriMesh ball = makeUvSphere(0.1, 32, 24);
-    std::ofstream obj(dir / "ball.obj");
-    for (std::size_t v = 0; v < ball.vertexCount(); ++v)
-      obj << "v " << ball.positions[3 * v] << " " << ball.positions[3 * v + 1] << " " << ball.positions[3 * v + 2] << "\n";
-    for (std::size_t t = 0; t < ball.triangleCount(); ++t)
-      obj << "f " << ball.indices[3 * t] + 1 << " " << ball.indices[3 * t + 1] + 1 << " " << ball.indices[3 * t + 2] + 1 << "\n";
-  }
+  writeBallObj((dir / "ball.obj").string());
   // The looks shape reel's own head: a user's mesh has none.
   {
     auto r = app::parseScene(R"({"format": "reel/1", "duration": 1, "bodies": [{"type": "face", "name": "f", "mesh": "ball.obj",

@@ -31,14 +31,7 @@ TEST_CASE("face: a muscle's bulge pushes the tissue over it off the skull, and i
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / "reel_test_face_bulge";
   fs::create_directories(dir);
-  {
-    const TriMesh ball = makeUvSphere(0.1, 32, 24);
-    std::ofstream obj(dir / "ball.obj");
-    for (std::size_t v = 0; v < ball.vertexCount(); ++v)
-      obj << "v " << ball.positions[3 * v] << " " << ball.positions[3 * v + 1] << " " << ball.positions[3 * v + 2] << "\n";
-    for (std::size_t t = 0; t < ball.triangleCount(); ++t)
-      obj << "f " << ball.indices[3 * t] + 1 << " " << ball.indices[3 * t + 1] + 1 << " " << ball.indices[3 * t + 2] + 1 << "\n";
-  }
+  writeBallObj((dir / "ball.obj").string());
   const Vec3 att = 0.092 * Vec3(0, 0.5, 1).normalized(), ins = 0.096 * Vec3(0, -0.3, 1).normalized();
   auto num = [](const Vec3& p) { return "[" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ", " + std::to_string(p.z()) + "]"; };
   auto scene = [&](const std::string& bulge) {

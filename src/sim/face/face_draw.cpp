@@ -311,7 +311,10 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
     auto hair = std::make_shared<TriMesh>(*surface_.hair);
     hair->transform(R_, desc_.position);
     addBrowHairs(*hair, drawn);
-    // (Little Fresnel sheen: at 0.3 the strands on the outline, seen edge-on, made a grey rim.)
+    // Dulled as the cap is (gloss −1): their sheen in their own colour, none white at grazing (with a
+    // white Fresnel sheen, at 0.3 the strands on the outline, seen edge-on, made a grey rim; at 0.06
+    // they glinted there as white specks a viewer saw as a blotchy patch on the crown).
+    hair->gloss.assign(hair->vertexCount(), -1.0f);
     DrawMaterial strands = plainMaterial(Vec3(1, 1, 1), 0.06);
     strands.roughness = 0.5;
     strands.double_sided = true;
