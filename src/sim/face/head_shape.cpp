@@ -504,6 +504,9 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   c = c.cwiseProduct(Vec3::Ones() + 0.06 * smoothstep(0.02, 0.05, Y) * Vec3(0.3, 0.2, -0.6));
   c = c.cwiseProduct(Vec3::Ones() + 0.08 * smoothstep(0.03, 0.06, ax) * smoothstep(0.02, -0.02, Y) * smoothstep(-0.09, -0.06, Y) * Vec3(0.6, -0.3, -0.4));
   c = c.cwiseProduct(Vec3::Ones() - (0.1 + 0.08 * aged) * gauss(ax, Y, kEyeX, -0.0125, 0.012, 0.004) * Vec3(0.7, 1.0, 0.8));
+  // And over the upper lid's fold, under the brow, where the skin is thin and darker (an orbit in
+  // the face's tone read as flat, the eyes as glued onto it, a viewer said).
+  c = c.cwiseProduct(Vec3::Ones() - 0.16 * gauss(ax, Y, kEyeX - 0.001, kEyeY + 0.0115, 0.014, 0.0045) * Vec3(0.75, 1.0, 0.9));
   // A man's shaved beard: a faint grey-blue over the chin, jaw and upper lip.
   if (male > 0.5) {
     const double beard = smoothstep(-0.048, -0.058, Y) * smoothstep(0.3, 0.6, d.z()) * (1 - 0.8 * smoothstep(-0.13, -0.15, Y));
