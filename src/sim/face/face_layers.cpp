@@ -144,6 +144,12 @@ void FaceBody::sculptSkull() const {
       // (the canine fossa).
       rise = 0.005 * std::exp(-0.5 * (head::sq((ax - 0.05) / 0.012) + head::sq((y + 0.022) / 0.008)));
       sink = std::max(sink, 0.003 * std::exp(-0.5 * (head::sq((ax - 0.026) / 0.008) + head::sq((y + 0.045) / 0.007))));
+      // The cheeks' hollows under the cheekbones, down to the jaw's body: the maxilla and the
+      // mandible's ramus lie well inside the cheek's fat and the masseter (with the bone layer's
+      // full cheeks, the skull kept the face's fleshy outline and read as a mannequin's head).
+      const double buccal = smoothstep(0.026, 0.042, ax) * std::exp(-0.5 * (head::sq((ax - 0.056) / 0.016) + head::sq((y + 0.06) / 0.017)));
+      sink = std::max(sink, 0.008 * buccal);
+      shade = std::min(shade, 1.0 - 0.2 * buccal);
     }
     if (surface_.generated) {
       // The temples' hollows (the temporal fossae), above the cheekbones' arches on the sides.
