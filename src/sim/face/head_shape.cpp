@@ -438,8 +438,12 @@ Wrinkles wrinkleLines(const Vec3& p) {
   const double X = p.x(), Y = p.y(), ax = std::abs(X);
   if (p.z() < 0.02) return {};
   const Wrinkles region = wrinkleRegions(p);
-  // The forehead: four or five furrows 7.5 mm apart, wavering across it.
-  const double furrows = std::pow(0.5 + 0.5 * std::cos(2 * kPi * (Y - 0.0335) / 0.0075 + 0.9 * std::sin(X * 45.0)), 6.0);
+  // The forehead: four or five furrows about 7.5 mm apart, wavering across it, each breaking and
+  // fading along its length, some deeper than others (evenly spaced and deep all across, they
+  // read as parallel stripes painted on, a viewer said).
+  const double phase = 2 * kPi * (Y - 0.0335) / 0.0075 + 0.9 * std::sin(X * 45.0) + 1.2 * (noise(Vec3(X * 40.0, 2.5, 8.5)) - 0.5);
+  const double furrows = std::pow(0.5 + 0.5 * std::cos(phase), 4.0) *
+                         std::clamp(-0.6 + 2.6 * noise(Vec3(X * 90.0, std::floor(phase / (2 * kPi) + 0.5) * 3.7, 5.5)), 0.0, 1.0);
   // Between the brows: two short vertical lines.
   const double glabella = std::exp(-0.5 * sq((ax - 0.0045) / 0.0009)) * smoothstep(0.006, 0.012, Y) * smoothstep(0.032, 0.025, Y);
   // Crow's feet: four or five fine lines fanning out from the outer corner of each eye, fading
