@@ -41,7 +41,7 @@ struct FaceMuscleDesc {
   std::array<double, 2> radii{0.03, 0.02};  // m
   double strength = 0.5;  // N, the muscle's pull at full contraction, shared by the nodes it moves
   // Linear: how much its belly thickens as it contracts, as the push it gives the tissue off the
-  // skull at each node per newton of its pull there (0: none).
+  // skull at each node, a fraction (0 to 2) of its pull there (0: none).
   double bulge = 0.0;
   std::string path;       // JSON path (messages)
 };

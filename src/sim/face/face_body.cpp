@@ -88,7 +88,8 @@ void FaceBody::muscleForces() {
       Vec3 pull = musclePull(mu, x[n + k], att, center, uw, vw);
       pull -= pull.dot(o) * o;
       ext_[n + k] += (a * d.strength * mu.weight[j]) * pull;
-      // And off the skull, where its belly thickens (linear muscles with a bulge).
+      // And off the skull, where its belly thickens as it shortens, its fibres keeping their
+      // volume (Kähler, Haber & Seidel 2001, "Geometry-based muscle modeling for facial animation").
       if (!d.sphincter) ext_[n + k] += (d.bulge * a * d.strength * mu.weight[j]) * o;
     }
   }
