@@ -323,8 +323,10 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   // Nose: the ridge from the root to the tip and under it, the tip's lobule.
   const double nose = 0.92 + 0.16 * male;
   // (Across it, flatter on top and steeper at the sides than a Gaussian, most so up the bridge:
-  // a Gaussian's soft shoulders read as a wide, flat bridge.)
-  const double sides = 2.0 + 1.2 * smoothstep(-0.034, -0.018, Y);
+  // a Gaussian's soft shoulders read as a wide, flat bridge; at an exponent of 3.2 up the bridge
+  // its side turned from the key along a hard line from the brow to the wing, a nose of folded
+  // card, two viewers said: 2.5.)
+  const double sides = 2.0 + 0.5 * smoothstep(-0.034, -0.018, Y);
   f.soft += nose * kNose(Y) * std::exp(-0.5 * std::pow(std::abs(X) / kNoseWidth(Y), sides));
   // The tip's lobule: two domes either side of the midline (the lower lateral cartilages'
   // domes), which give a tip its highlight and its notch; one round ball read as a blob.
