@@ -536,8 +536,10 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
     const double deep = 1.0 - 0.3 * inward - 0.3 * corner * (1.0 - 0.5 * inward);
     c = c + lips * (0.9 - 0.1 * male) * (lip * (0.95 + 0.1 * mottle) * deep - c);
     // Nostrils, under the nose.
-    const double nostril = smoothstep(0.3, 0.85, gauss(ax, Y, kNostril[0], kNostril[1], kNostril[2], kNostril[3]));
-    c = c + 0.9 * nostril * (Vec3(0.12, 0.05, 0.045) - c);
+    // (Edged and dark at their core, the openings under the nose's tip; with a soft edge and a
+    // mid-brown core they read as one smudge, viewers said.)
+    const double nostril = smoothstep(0.4, 0.8, gauss(ax, Y, kNostril[0], kNostril[1], kNostril[2], kNostril[3]));
+    c = c + 0.95 * nostril * (Vec3(0.08, 0.033, 0.03) - c);
     // The alar groove's shade, and the wing a touch redder than the cheek.
     const double wing = std::hypot((ax - kWing[0]) / 0.0052, (Y - kWing[1]) / 0.0047);
     c = c.cwiseProduct(Vec3::Ones() - 0.12 * std::exp(-0.5 * sq((wing - 1.5) / 0.3)) * smoothstep(kWing[1] - 0.005, kWing[1] - 0.001, Y) * Vec3(0.8, 1.0, 1.0));
