@@ -90,7 +90,8 @@ void FaceBody::muscleForces() {
       ext_[n + k] += (a * d.strength * mu.weight[j]) * pull;
       // And off the skull, where its belly thickens as it shortens, its fibres keeping their
       // volume (Kähler, Haber & Seidel 2001, "Geometry-based muscle modeling for facial animation").
-      if (!d.sphincter) ext_[n + k] += (d.bulge * a * d.strength * mu.weight[j]) * o;
+      // (Only linear muscles have a bulge: a sphincter's is refused with its path.)
+      if (d.bulge > 0) ext_[n + k] += (d.bulge * a * d.strength * mu.weight[j]) * o;
     }
   }
 }
