@@ -473,7 +473,19 @@ TEST_CASE("face: the layers' skull has orbits, a nasal aperture and teeth, where
     const Vec3 p(skull->positions[3 * best], skull->positions[3 * best + 1], skull->positions[3 * best + 2]);
     return std::pair{(p - x[2 * n + best]).norm() / s, double(skull->colors[3 * best])};
   };
-  const auto [orbit_in, orbit_shade] = at(Vec3(head::kEyeX, head::kEyeY, 0.09));
+  // The orbit's: the front vertex nearest the eye's axis (the one nearest a point in front of the
+  // eye may be the brow's rim, which stands out over a deep-set eye).
+  const auto [orbit_in, orbit_shade] = [&] {
+    std::size_t best = 0;
+    double d2 = 1e9;
+    for (std::size_t k = 0; k < n; ++k) {
+      const Vec3 p = f.surface().bone[k] / s;
+      const double e = head::sq(p.x() - head::kEyeX) + head::sq(p.y() - head::kEyeY);
+      if (p.z() > 0.02 && e < d2) d2 = e, best = k;
+    }
+    const Vec3 p(skull->positions[3 * best], skull->positions[3 * best + 1], skull->positions[3 * best + 2]);
+    return std::pair{(p - x[2 * n + best]).norm() / s, double(skull->colors[3 * best])};
+  }();
   const auto [nose_in, nose_shade] = at(Vec3(0, -0.04, 0.11));
   const auto [crown_in, crown_shade] = at(Vec3(0, 0.12, 0));
   MESSAGE("orbit " << orbit_in << " m in, shade " << orbit_shade << "; nasal aperture " << nose_in << " m in, shade " << nose_shade);

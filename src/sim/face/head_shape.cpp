@@ -264,8 +264,8 @@ Vec3 eyeCentre(int e, const FaceLook& look) {
     front = baseRadius(d, look) * d.z();
     last = look;
   }
-  // (At 2.5 mm behind, the lids around them stood out of the face like caps, and a shut eye as a dome.)
-  return Vec3(e == 0 ? kEyeX : -kEyeX, kEyeY, front - 0.004 - kEyeRadius);
+  // (At 2.5 mm behind, the lids stood out like caps, a shut eye as a dome; at 4, level with the brow.)
+  return Vec3(e == 0 ? kEyeX : -kEyeX, kEyeY, front - 0.0065 - kEyeRadius);
 }
 
 double hairCover(const Vec3& p, const Vec3& d, double soft) {
@@ -288,6 +288,10 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     const double outer = s * (X - s * kEyeX) > 0 ? 0.0095 : 0.011;
     f.bone -= 0.0105 * gauss(X, Y, s * kEyeX, kEyeY + 0.0005, outer, 0.0065);
     f.bone += 0.004 * gauss(X, Y, s * 0.05, -0.016, 0.014, 0.009);                     // cheekbone
+    // The orbit's upper rim over the eye's middle and outer half, overhanging the lid's crease
+    // (without it the eyes lay level with the forehead, "stuck on", with no fold over the lid).
+    const double u = (X - s * kEyeX) / 0.016, arc = kEyeY + 0.0135 - 0.004 * u * u;
+    f.bone += 0.0045 * smoothstep(-1.0, -0.35, s * u) * std::exp(-0.5 * sq(u / 0.9)) * std::exp(-0.5 * sq((Y - arc) / 0.0042));
     // The inner corner's recess (the medial canthus lies 7 to 8 mm behind the cornea, under the
     // nose's side): without it the skin stood as a wall in front of the lids' inner tips.
     f.bone -= 0.008 * gauss(X, Y, s * (kEyeX - 0.014), kEyeY - 0.002, 0.0028, 0.0032);

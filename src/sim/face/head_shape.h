@@ -64,7 +64,7 @@ double baseRadius(const Vec3& d, const FaceLook& look);
 double baseDistance(const Vec3& o, const Vec3& d, const FaceLook& look);
 // The head's outward normal at a point of its base surface (the shape's gradient, unit).
 Vec3 baseNormal(const Vec3& p, const FaceLook& look);
-// The centre of eye e (0: left, +x; 1: right) in the socket: its front 4 mm behind where the
+// The centre of eye e (0: left, +x; 1: right) in the socket: its front 6.5 mm behind where the
 // face would be without the features.
 Vec3 eyeCentre(int e, const FaceLook& look);
 
