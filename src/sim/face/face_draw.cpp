@@ -516,7 +516,8 @@ FaceBody::Eye FaceBody::eye(int e) const {
   out.right = unitOr(up.cross(look), R_ * Vec3::UnitX());
   out.up = look.cross(out.right);
   // The lids: open, the upper margin's top 20° above the centre, just over the iris's top (30°
-  // with eyelid_raise: white shows above it), the lower's bottom 24° below (higher as the
+  // with eyelid_raise: white shows above it), the lower's bottom 21° below, just over the iris's
+  // bottom (at 24° white showed under the iris, a stare; higher as the
   // orbicularis oculi squeezes); both follow the gaze up and down, the upper 0.7 and the lower
   // 0.4 of its elevation (the levator and the lower lid's retractors move with the eye: with
   // lids that stayed, eyes looking down showed a band of white above the iris, as if rolled
@@ -532,7 +533,7 @@ FaceBody::Eye FaceBody::eye(int e) const {
   out.closure = std::clamp(std::max(control("blink"), 0.2 * squeeze), 0.0, 1.0);
   const double gaze = std::asin(std::clamp(look.dot(up), -1.0, 1.0));  // the gaze's elevation in the head
   out.upper = (20.0 + 10.0 * control("eyelid_raise")) * deg + 0.7 * gaze;
-  out.lower = (-24.0 + 16.0 * squeeze) * deg + 0.4 * gaze;
+  out.lower = (-21.0 + 14.0 * squeeze) * deg + 0.4 * gaze;
   // The corners 72° to each side on the lids' shell (the opening about 26.4 mm wide at 0.24 m, a
   // little short of Farkas 1994's palpebral fissure, 28-30 mm, whose inner end lies past the
   // eyeball; at 61°, 23 mm, viewers found the eyes small), the outer 8° above the inner.
