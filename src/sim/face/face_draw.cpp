@@ -286,7 +286,8 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
   }
   for (std::size_t k = 0; k < nv; ++k) {
     const double crease = 1.0 - 0.15 * smoothstep(0.06, 0.3, lost[k]);
-    const Vec3 c = (surface_.generated ? Vec3::Ones() : surface_.color[k]) * crease;
+    // (reel's head: its tint, which differs from side to side where the texture is mirrored.)
+    const Vec3 c = (fine ? Vec3(detail_.points[k].tint[0], detail_.points[k].tint[1], detail_.points[k].tint[2]) : surface_.color[k]) * crease;
     for (int i = 0; i < 3; ++i) mesh->colors.push_back(static_cast<float>(c[i]));
   }
   const TriMesh& drawn = *mesh;  // (the brows' hairs root on it; the draw list keeps it)

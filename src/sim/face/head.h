@@ -85,6 +85,7 @@ struct SkinDetail {
     std::array<double, 4> w{};            // their weights (sum 1)
     Vec3 offset{0, 0, 0};                 // in the head's rest frame, m
     std::array<float, 2> uv{};
+    std::array<float, 3> tint{1, 1, 1};  // head::skinTint at its rest point
   };
   std::vector<Point> points;
   std::vector<std::uint32_t> tris;  // counter-clockwise from outside

@@ -82,6 +82,8 @@ SkinDetail makeSkinDetail(const FaceSurface& s, int level) {
     // Over the rays' rings the head's shape; below them (the neck's rings, hidden by the collar
     // but for their top) the blend.
     if (J > 0 && J <= (R - 1) * m) p.offset = shape(static_cast<double>(J) / m, static_cast<double>(I) / m) - blend;
+    const Vec3 tint = head::skinTint((blend + p.offset) / s.scale);
+    p.tint = {static_cast<float>(tint.x()), static_cast<float>(tint.y()), static_cast<float>(tint.z())};
     return p;
   };
   // The fine points' places first (cheap), then their offsets in parallel (each on its own).

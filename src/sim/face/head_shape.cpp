@@ -79,28 +79,6 @@ const Curve kHairline{{0.0, 0.075},  {0.22, 0.0765}, {0.4, 0.079},  {0.55, 0.071
                       {1.08, 0.037}, {1.22, 0.028}, {1.32, 0.012}, {1.4, -0.012}, {1.45, -0.02}, {1.6, -0.022},  {1.66, 0.01},
                       {1.72, 0.02},  {2.0, 0.02},   {2.12, -0.01},  {2.3, -0.045},  {2.75, -0.064}, {3.1416, -0.066}};
 
-// Value noise on the integer lattice (smooth, 0..1), by a hash of the cell's corners.
-double lattice(std::int64_t x, std::int64_t y, std::int64_t z) {
-  std::uint64_t h = static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4Full ^
-                    static_cast<std::uint64_t>(z) * 0x165667B19E3779F9ull;
-  h ^= h >> 31;
-  h *= 0xD6E8FEB86659FD93ull;
-  h ^= h >> 29;
-  return static_cast<double>(h >> 11) / static_cast<double>(1ull << 53);
-}
-double noise(const Vec3& p) {
-  const Vec3 f(std::floor(p.x()), std::floor(p.y()), std::floor(p.z()));
-  Vec3 t = p - f;
-  t = t.cwiseProduct(t).cwiseProduct(Vec3(3, 3, 3) - 2 * t);
-  const auto X = static_cast<std::int64_t>(f.x()), Y = static_cast<std::int64_t>(f.y()), Z = static_cast<std::int64_t>(f.z());
-  double v = 0.0;
-  for (int c = 0; c < 8; ++c) {
-    const int i = c & 1, j = (c >> 1) & 1, k = (c >> 2) & 1;
-    v += (i ? t.x() : 1 - t.x()) * (j ? t.y() : 1 - t.y()) * (k ? t.z() : 1 - t.z()) * lattice(X + i, Y + j, Z + k);
-  }
-  return v;
-}
-
 // How far past youth a look is: 0 at 20 years, 1 at 70, at most 1.4.
 double agedness(const FaceLook& look) { return std::clamp((look.age - 20.0) / 50.0, 0.0, 1.4); }
 
@@ -331,7 +309,11 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   // its side turned from the key along a hard line from the brow to the wing, a nose of folded
   // card, two viewers said: 2.5.)
   const double sides = 2.0 + 0.5 * smoothstep(-0.034, -0.018, Y);
-  f.soft += nose * kNose(Y) * std::exp(-0.5 * std::pow(std::abs(X) / kNoseWidth(Y), sides));
+  // Up the bridge, 45% of its height as a base 2.2 times as wide, over which the sidewalls flatten
+  // into the cheeks (with the ridge alone its sidewall turned from the key as one dark band from the
+  // brow to the wing, "a cardboard fin").
+  const double broad = 0.45 * smoothstep(-0.036, -0.026, Y);
+  f.soft += nose * kNose(Y) * ((1 - broad) * std::exp(-0.5 * std::pow(std::abs(X) / kNoseWidth(Y), sides)) + broad * std::exp(-0.5 * sq(X / (2.2 * kNoseWidth(Y)))));
   // The tip's lobule: two domes either side of the midline (the lower lateral cartilages'
   // domes), which give a tip its highlight and its notch; one round ball read as a blob.
   for (double s : {-1.0, 1.0}) f.soft += 0.0019 * gauss(X, Y, s * 0.0036, -0.0368, 0.0046, 0.0045);
@@ -505,10 +487,8 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   // Blood under thin skin: cheeks, the nose's tip, the chin; shadow under the eyes.
   const double flush = 0.55 * gauss(ax, Y, 0.045, -0.028, 0.016, 0.013) + 0.45 * gauss(X, Y, 0, -0.036, 0.01, 0.008) +
                        0.2 * gauss(X, Y, 0, -0.1, 0.015, 0.01);
-  // And uneven over the face in patches a few centimetres across (the capillaries' density
-  // varies): with only the flush's zones the skin read as one waxy peach.
-  const double patches = skinDetail(Y) * (noise(p * 45.0 + Vec3(3.7, 1.1, 5.3)) - 0.5);
-  c = c + (0.45 * flush + 0.35 * patches) * (Vec3(0.6, 0.27, 0.24) - c);
+  // (Its patches, uneven from side to side: skinTint.)
+  c = c + 0.45 * flush * (Vec3(0.6, 0.27, 0.24) - c);
   // The forehead a shade more yellow, the temples and the sides of the face a shade paler: the
   // face's colour zones (a face in one tone read as wax).
   c = c.cwiseProduct(Vec3::Ones() + 0.06 * smoothstep(0.02, 0.05, Y) * Vec3(0.3, 0.2, -0.6));
