@@ -95,13 +95,15 @@ Vec3 hairTone(double strand, const FaceLook& look) {
 }
 
 // The lips' vermilion: its upper border (with Cupid's bow) and lower border at x, against the
-// parting's height ym; the corners at |x| = 0.026.
+// parting's height ym; the corners at |x| = 0.026, which the borders turn into over their last few
+// millimetres (tapering from the middle, as powers 2.2 and 1.8, the lips read as a pointed leaf
+// and the corners as spikes).
 double vermilionTop(double x, double ym) {
   const double a = std::abs(x);
   return ym + 0.0078 + 0.0013 * std::exp(-0.5 * sq((a - 0.0052) / 0.0028)) - 0.0007 * std::exp(-0.5 * sq(a / 0.0018)) -
-         0.0078 * std::pow(std::min(a / 0.026, 1.0), 2.2);
+         0.0078 * std::pow(std::min(a / 0.026, 1.0), 3.5);
 }
-double vermilionBottom(double x, double ym) { return ym - 0.0095 + 0.0093 * std::pow(std::min(std::abs(x) / 0.026, 1.0), 1.8); }
+double vermilionBottom(double x, double ym) { return ym - 0.0095 + 0.0093 * std::pow(std::min(std::abs(x) / 0.026, 1.0), 3.0); }
 
 // The middle of the nose's left wing (x, y) (its nostril: head_shape.h).
 constexpr double kWing[2] = {0.013, -0.0412};
@@ -318,10 +320,11 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   // domes), which give a tip its highlight and its notch; one round ball read as a blob.
   for (double s : {-1.0, 1.0}) f.soft += 0.0019 * gauss(X, Y, s * 0.0036, -0.0368, 0.0046, 0.0045);
   // Lips: the upper lip's skin slopes out from under the nose to the vermilion; the vermilion
-  // of each lip rolls out (fuller for a woman); the parting and the fold under the lower lip.
+  // of each lip rolls out (fuller for a woman), as full nearly to the corners as in the middle;
+  // the parting and the fold under the lower lip.
   const double full = 1.08 - 0.16 * male;
   f.soft += 0.004 * smoothstep(-0.047, -0.06, Y) * smoothstep(ym - 0.002, ym + 0.003, Y) * std::exp(-0.5 * sq(X / 0.02));
-  const double wu = std::pow(std::max(0.0, 1 - sq(X / 0.028)), 0.7), wl = std::pow(std::max(0.0, 1 - sq(X / 0.026)), 0.7);
+  const double wu = std::pow(std::max(0.0, 1 - std::pow(std::abs(X) / 0.028, 3.5)), 0.7), wl = std::pow(std::max(0.0, 1 - std::pow(std::abs(X) / 0.026, 3.5)), 0.7);
   f.soft += full * 0.0045 * wu * std::exp(-0.5 * sq((Y - (ym + 0.0045)) / 0.0038));
   f.soft += full * 0.0065 * wl * std::exp(-0.5 * sq((Y - (ym - 0.0055)) / 0.0048));
   f.soft -= 0.0018 * gauss(X, Y, 0, ym, 0.026, 0.0013) * smoothstep(0.03, 0.022, std::abs(X));  // the parting, the mouth's width
