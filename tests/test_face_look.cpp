@@ -348,16 +348,21 @@ TEST_CASE("face: a draw key's fade dissolves the skin into the layers and back, 
                                               {"time": 0.6, "mode": "skin", "fade": 0.2}])"));
   const FaceBody& f = face(w);
   struct Seen {
-    int blended = 0, casting = 0, outer = 0, tubes = 0, shoulders = 0;  // shoulders: solid wool
-    double lo = 1.0, hi = 0.0;
+    int meshes = 0, blended = 0, casting = 0, outer = 0, tubes = 0, shoulders = 0;  // shoulders: solid wool
+    double lo = 1.0, hi = 0.0, radius = 0.0;  // radius: the lattice's thickest strand
     bool shadows = false;  // a blended mesh casts a shadow
+    bool front_only = true;  // every blended mesh blends its nearest surface alone
   };
   auto look = [&] {
     DrawList list;
     f.draw(list);
     Seen s;
     s.tubes = static_cast<int>(list.tubes.size());
-    for (const DrawTubes& t : list.tubes) CHECK(t.material.opacity == 1.0);
+    for (const DrawTubes& t : list.tubes) {
+      CHECK(t.material.opacity == 1.0);
+      s.radius = std::max(s.radius, double(t.radius));
+    }
+    s.meshes = static_cast<int>(list.meshes.size());
     for (const DrawMesh& m : list.meshes) {
       if (m.material.casts_shadow) ++s.casting;
       // (What lies inside the mouth casts no shadow and is not a sheet as the hair's strands and
@@ -368,8 +373,27 @@ TEST_CASE("face: a draw key's fade dissolves the skin into the layers and back, 
       ++s.blended;
       s.lo = std::min(s.lo, m.material.opacity), s.hi = std::max(s.hi, m.material.opacity);
       s.shadows = s.shadows || m.material.casts_shadow;
+      s.front_only = s.front_only && m.material.front_only;
     }
     return s;
+  };
+  // How far the lattice's skin layer (its first tubes) lies from `frac` of the way from the
+  // fascia to the skin (the most over every tenth end, each against its nearest such point).
+  const std::size_t n = f.surface().size();
+  auto lifted = [&](double frac) {
+    DrawList list;
+    f.draw(list);
+    REQUIRE(!list.tubes.empty());
+    const auto& x = f.network().state.x;
+    const std::vector<float>& ends = list.tubes.front().ends;
+    double worst = 0.0;
+    for (std::size_t e = 0; e + 2 < ends.size(); e += 30) {
+      const Vec3 p(ends[e], ends[e + 1], ends[e + 2]);
+      double best = 1e9;
+      for (std::size_t k = 0; k < n; ++k) best = std::min(best, (x[n + k] + frac * (x[k] - x[n + k]) - p).norm());
+      worst = std::max(worst, best);
+    }
+    return worst;
   };
   const Seen skin = look();  // 0 s: the skin alone
   CHECK(skin.blended == 0);
@@ -380,17 +404,27 @@ TEST_CASE("face: a draw key's fade dissolves the skin into the layers and back, 
   CHECK(skin.outer == skin.casting + 2);
   run(w, 9);  // 0.3 s: halfway into the layers (smoothstep(½) = ½)
   const Seen half = look();
-  CHECK(half.blended == skin.outer - 1);  // the skin's parts but those inside it and the shoulders
+  // Every part of the skin but the shoulders, the mouth's inside too (left out, the lips' rims went
+  // with it and the mouth gaped open as the fade began), each blended as one solid: its nearest
+  // surface alone (not the lids' shells under the skin, nor the mouth's lining behind the cheek).
+  CHECK(half.blended == skin.meshes - 1);
+  CHECK(half.front_only);
   CHECK(skin.shoulders == 1);
   CHECK(half.shoulders == 1);  // solid through the dissolve
   CHECK(half.lo == doctest::Approx(0.5));
   CHECK(half.hi == doctest::Approx(0.5));
   CHECK_FALSE(half.shadows);
   CHECK(half.tubes == 3);  // the layers' lattice (skin, fascia, the springs across), solid; the muscles are meshes
+  // Its skin layer halfway up from the fascia, under the half-faded skin (at the skin all through
+  // the fade, it popped through the skin in one frame as the fade began).
+  CHECK(lifted(0.5) < 1e-6);  // (the ends are floats)
+  CHECK(lifted(1.0) > 1e-4 * f.surface().scale);
   run(w, 6);  // 0.5 s: the fade is over
   const Seen layers = look();
   CHECK(layers.blended == 0);
   CHECK(layers.tubes == half.tubes);
+  CHECK(half.radius == layers.radius);
+  CHECK(lifted(1.0) < 1e-6);  // at the skin once the skin is gone
   CHECK(layers.shoulders == 1);  // the layers' head on its shoulders, not a bare pole
   run(w, 6);  // 0.7 s: halfway back to the skin, the skin fading in over the solid layers
   const Seen back = look();

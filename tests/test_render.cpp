@@ -560,3 +560,29 @@ TEST_CASE("per-vertex gloss below 0 dulls a surface: at grazing its highlight is
   CHECK(hq[0] < 0.3 * hp[0]);
   CHECK(hq[2] < 0.5 * hq[0]);
 }
+
+TEST_CASE("a fading solid drawn front_only blends its nearest surface alone: a ball inside it does not show through") {
+  DirectRenderer dr(64, 64, 1);
+  const DrawList base = ambientList(Vec3(0, 0, 3), Vec3::Zero());
+  auto ball = [](double r, const Vec3& color, bool front_only) {
+    DrawMaterial m;
+    m.color = color;
+    m.opacity = 0.5;
+    m.front_only = front_only;
+    return DrawMesh{std::make_shared<const TriMesh>(makeUvSphere(r, 32, 16)), false, m};
+  };
+  auto draw = [&](bool front_only, bool inner) {
+    DrawList list = base;
+    list.meshes.push_back(ball(0.5, Vec3(0.9, 0.9, 0.9), front_only));  // the skin, fading
+    if (inner) list.meshes.push_back(ball(0.3, Vec3(0.9, 0.05, 0.05), front_only));  // what lies inside it
+    return dr.draw(list);
+  };
+  const Image alone = draw(true, false), front = draw(true, true), every = draw(false, true);
+  const std::uint8_t *a = alone.pixel(32, 32), *f = front.pixel(32, 32), *e = every.pixel(32, 32);
+  MESSAGE("the middle: white alone " << int(a[0]) << " " << int(a[1]) << ", front only " << int(f[0]) << " " << int(f[1])
+                                      << ", every surface " << int(e[0]) << " " << int(e[1]));
+  CHECK(std::abs(int(f[1]) - int(a[1])) <= 1);  // the inner ball hidden
+  CHECK(std::abs(int(f[0]) - int(a[0])) <= 1);
+  CHECK(int(e[1]) < int(a[1]) - 20);  // blended through without it
+  CHECK(compareImages(alone, dr.draw(base), 16).over > 100);  // the fading ball is there at all
+}

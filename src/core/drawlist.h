@@ -63,6 +63,10 @@ struct DrawMaterial {
   double checker_size = 0.5;  // m
   // false: left out of the shadow maps (specks whose shadows no one sees: foam, spray's streaks).
   bool casts_shadow = true;
+  // With opacity below 1: blended as one solid fading, only its nearest surface (the renderer lays
+  // down the depth of every such surface first). Without it every surface is blended, the far
+  // ones and those inside too (a fading head showed its eyes' lid shells through its skin).
+  bool front_only = false;
 };
 
 inline double DrawMaterial::roughnessValue() const { return roughness ? *roughness : brdf::roughnessOfShininess(shininess); }

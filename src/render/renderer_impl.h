@@ -88,7 +88,8 @@ struct Renderer::Impl {
   // surface variant for the opaque or the transparent items.
   // The items of a pass: all that cast shadows (shadow maps), the opaque ones, the see-through ones (transmission) or
   // the blended ones (opacity below 1).
-  enum class Layer { All, Opaque, Transmissive, Transparent };
+  // FrontOnly: the transparent that are blended as one solid (DrawMaterial::front_only).
+  enum class Layer { All, Opaque, Transmissive, Transparent, FrontOnly };
   struct Pass {
     bool with_material;
     Layer layer;
@@ -99,6 +100,7 @@ struct Renderer::Impl {
         case Layer::Opaque: return m.opacity >= 1.0 && m.transmission <= 0.0;
         case Layer::Transmissive: return m.opacity >= 1.0 && m.transmission > 0.0;
         case Layer::Transparent: return m.opacity < 1.0;
+        case Layer::FrontOnly: return m.opacity < 1.0 && m.front_only;
       }
       return false;
     }

@@ -25,6 +25,7 @@ namespace reel::gl {
   X(Clear, PFNGLCLEARPROC)                                                \
   X(DepthFunc, PFNGLDEPTHFUNCPROC)                                        \
   X(DepthMask, PFNGLDEPTHMASKPROC)                                        \
+  X(ColorMask, PFNGLCOLORMASKPROC)                                        \
   X(CullFace, PFNGLCULLFACEPROC)                                          \
   X(BlendFunc, PFNGLBLENDFUNCPROC)                                        \
   X(PolygonOffset, PFNGLPOLYGONOFFSETPROC)                                \

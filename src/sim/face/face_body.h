@@ -116,10 +116,9 @@ class FaceBody final : public SpringNetworkBody {
   // the skull: mass 0; a posed node, the bone and the held tissue: its motion over the step, from
   // `posed`, its positions before the step's pose).
   void contactState(const std::vector<Vec3>& posed, double h);
-  // The skin and what goes with it (ears, hair, shoulders, eyes, lids and lashes), and with
-  // `mouth_inside` the mouth's cavity, teeth and tongue (left out of a dissolve's skin: they
-  // would show through it as it fades).
-  void drawSkin(DrawList& out, bool mouth_inside = true) const;
+  // The skin and what goes with it (ears, hair, shoulders, eyes, lids and lashes, the mouth's
+  // cavity, teeth and tongue).
+  void drawSkin(DrawList& out) const;
   void drawEyes(DrawList& out) const;
   // The teeth, both rows, their shade times `lit` (0..1: little light reaches into a closed mouth).
   void drawTeeth(DrawList& out, double lit) const;
@@ -140,7 +139,12 @@ class FaceBody final : public SpringNetworkBody {
   const std::vector<BrowHair>& browHairs() const;
   // reel's head's finer skin (with its points at rest and their wrinkles' regions), made once.
   const SkinDetail& detail() const;
-  void drawLayers(DrawList& out) const;
+  // The layers and muscles cut away over the skull; `reveal` (0..1) how far a dissolve from or to
+  // the skin has gone: what lies at the skin or outside it grows in with it (the lattice's skin
+  // layer rises to the skin from the fascia, the sphincters' bands widen) and the teeth come out
+  // of the mouth's dark, so the skin over them at nearly full opacity hides them (all at once,
+  // they popped through it in one frame).
+  void drawLayers(DrawList& out, double reveal = 1.0) const;
   // The layers' frontalis, one sheet over the forehead; onSkull lays a world point on the skull
   // drawn (and gives its normal there).
   void drawFrontalis(DrawList& out, const std::function<Vec3(const Vec3&, Vec3*)>& onSkull) const;

@@ -109,15 +109,19 @@ void FaceBody::draw(DrawList& out) const {
   }
   // A dissolve: the layers drawn solid and the skin over them, blended (the renderer draws the
   // blended after the solid, depth-tested: the layers fading over a solid skin would hide
-  // behind it), fading out into the layers or in from them; the skin's share casts no shadow
-  // and leaves out what lies inside it (the mouth's cavity, teeth and tongue).
-  drawLayers(out);
-  DrawList skin;
-  drawSkin(skin, false);
+  // behind it), fading out into the layers or in from them, the layers growing in as it fades
+  // (drawLayers' reveal). The skin's share casts no shadow, and is blended as one solid, its
+  // nearest surface alone: every surface blended, what lies under the skin showed through it as
+  // the fade began (the lids' shells round the eyes as skin-coloured balls, the mouth's cavity),
+  // and with the mouth's inside left out the lips' rims went with it and the mouth gaped open.
   const double s = smoothstep(0.0, 1.0, since / fade), opacity = layers ? 1.0 - s : s;
+  drawLayers(out, 1.0 - opacity);
+  DrawList skin;
+  drawSkin(skin);
   for (DrawMesh& m : skin.meshes) {
     m.material.opacity *= opacity;
     m.material.casts_shadow = false;
+    m.material.front_only = true;
     out.meshes.push_back(std::move(m));
   }
 }
@@ -244,7 +248,7 @@ void FaceBody::drawEyes(DrawList& out) const {
   }
 }
 
-void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
+void FaceBody::drawSkin(DrawList& out) const {
   std::vector<Vec3> relaxed;
   std::vector<double> lost;
   std::shared_ptr<TriMesh> mesh = skinMesh(&relaxed, &lost);
@@ -325,7 +329,7 @@ void FaceBody::drawSkin(DrawList& out, bool mouth_inside) const {
   // The mouth's inside, seen through the parted lips: the skin's inner side, drawn near black
   // but red at the lips, so whatever one sees past the lips is the mouth's cavity; the teeth, the upper row on the
   // skull, the lower on the jaw; and the tongue.
-  if (mouth_inside) {
+  {
     // (The simulated skin's triangles, not the nine times as many drawn: 1.5 mm in, and
     // further where the skin drawn dips below them, so it never shows through the skin.)
     auto inside = smoothMesh(relaxed, 0, relaxed.size(), surface_.tris);

@@ -178,7 +178,7 @@ void FaceBody::drawTeeth(DrawList& out, double lit) const {
   }
 }
 
-void FaceBody::drawLayers(DrawList& out) const {
+void FaceBody::drawLayers(DrawList& out, double reveal) const {
   const std::size_t n = surface_.size();
   const auto& x = net_.state.x;
   const double s = surface_.scale;
@@ -194,6 +194,11 @@ void FaceBody::drawLayers(DrawList& out) const {
   skin.radius = static_cast<float>(0.0004 * s);
   fascia.radius = skin.radius;
   across.radius = static_cast<float>(0.0003 * s);
+  // The lattice's skin layer lies at the skin: as the reveal goes it rises to it from the fascia,
+  // under the skin until the skin has faded (its tubes thinned, the renderer's least width left
+  // them showing at once).
+  reveal = std::clamp(reveal, 0.0, 1.0);
+  auto lifted = [&](std::size_t k) { return Vec3(x[n + k] + reveal * (x[k] - x[n + k])); };
   skin.material = plainMaterial(Vec3(0.9, 0.62, 0.45));
   // (The layers below the skin in muted tones: saturated red and blue, their edges at the cut
   // read as zig-zags and a checkered pattern.)
@@ -203,9 +208,9 @@ void FaceBody::drawLayers(DrawList& out) const {
   for (std::size_t q = 0; q < sp.size(); ++q) {
     const auto a = static_cast<std::size_t>(sp.a[q]), b = static_cast<std::size_t>(sp.b[q]);
     if (!shown(a % n) || !shown(b % n)) continue;
-    if (a < n && b < n) pushTube(skin, x[a], x[b]);
+    if (a < n && b < n) pushTube(skin, lifted(a), lifted(b));
     else if (a >= n && b >= n && a < 2 * n && b < 2 * n) pushTube(fascia, x[a], x[b]);
-    else if (b == a + n) pushTube(across, x[a], x[b]);
+    else if (b == a + n) pushTube(across, lifted(a), x[b]);
   }
   out.tubes.push_back(std::move(skin));
   out.tubes.push_back(std::move(fascia));
@@ -229,7 +234,7 @@ void FaceBody::drawLayers(DrawList& out) const {
   out.meshes.push_back({std::move(bone), true, plainMaterial(Vec3(0.55, 0.5, 0.42), 0.2)});
   if (surface_.generated) {
     drawEyes(out);
-    drawTeeth(out, 1.0);
+    drawTeeth(out, reveal);
   }
   // Muscles: attachment to the centre of the nodes they pull (sphincters: their ellipse).
   for (std::size_t m = 0; m < muscles_.size(); ++m) {
@@ -296,9 +301,9 @@ void FaceBody::drawLayers(DrawList& out) const {
       std::array<Vec3, 24> up;
       up.fill(facing);
       std::array<double, 24> wide, thick;
-      wide.fill(0.4 * 0.6 * std::min(mu.desc.radii[0], mu.desc.radii[1]) * shrink);
-      thick.fill(0.0012 * s);
-      out.meshes.push_back({muscleBody(ring, up, wide, thick, true), true, red});
+      wide.fill(0.4 * 0.6 * std::min(mu.desc.radii[0], mu.desc.radii[1]) * shrink * reveal);
+      thick.fill(0.0012 * s * reveal);
+      if (reveal > 0.0) out.meshes.push_back({muscleBody(ring, up, wide, thick, true), true, red});
     }
   }
   if (surface_.generated) drawFrontalis(out, onSkull);
