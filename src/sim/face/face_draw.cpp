@@ -382,9 +382,10 @@ void FaceBody::drawSkin(DrawList& out) const {
   }
   drawEyes(out);
   // The lids' colours: the skin's tone, a shade darker, and the lash line at their edges.
-  // (A shade darker and pinker than the skin: the skin round the eyes is thin; in the skin's
-  // own tone the upper lids, catching the key, read as pale ovals stuck on.)
-  const Vec3 lid_tone(0.41, 0.24, 0.2), lash_tone(0.07, 0.05, 0.04);
+  // (A shade darker and warmer than the skin: the skin round the eyes is thin; in the skin's
+  // own tone the upper lids, catching the key, read as pale ovals stuck on; greyer, at (0.41,
+  // 0.24, 0.2), a shut lid read as a grey disc pasted on.)
+  const Vec3 lid_tone(0.47, 0.26, 0.2), lash_tone(0.07, 0.05, 0.04);
   const Vec3 caruncle(0.52, 0.22, 0.2), rim(0.44, 0.27, 0.23);  // (at 0.5, 0.27, 0.24 viewers saw sore, red-rimmed eyes)
   auto lids = std::make_shared<TriMesh>(), lashes = std::make_shared<TriMesh>();
   auto vertex = [&](const Vec3& p, const Vec3& normal, const Vec3& color) {
