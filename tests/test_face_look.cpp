@@ -378,7 +378,7 @@ TEST_CASE("face: a draw key's fade dissolves the skin into the layers and back, 
     return s;
   };
   // How far the lattice's skin layer (its first tubes) lies from `frac` of the way from the
-  // fascia to the skin (the most over every tenth end, each against its nearest such point).
+  // bone to the skin (the most over every tenth end, each against its nearest such point).
   const std::size_t n = f.surface().size();
   auto lifted = [&](double frac) {
     DrawList list;
@@ -390,7 +390,7 @@ TEST_CASE("face: a draw key's fade dissolves the skin into the layers and back, 
     for (std::size_t e = 0; e + 2 < ends.size(); e += 30) {
       const Vec3 p(ends[e], ends[e + 1], ends[e + 2]);
       double best = 1e9;
-      for (std::size_t k = 0; k < n; ++k) best = std::min(best, (x[n + k] + frac * (x[k] - x[n + k]) - p).norm());
+      for (std::size_t k = 0; k < n; ++k) best = std::min(best, (x[2 * n + k] + frac * (x[k] - x[2 * n + k]) - p).norm());
       worst = std::max(worst, best);
     }
     return worst;
@@ -415,7 +415,7 @@ TEST_CASE("face: a draw key's fade dissolves the skin into the layers and back, 
   CHECK(half.hi == doctest::Approx(0.5));
   CHECK_FALSE(half.shadows);
   CHECK(half.tubes == 3);  // the layers' lattice (skin, fascia, the springs across), solid; the muscles are meshes
-  // Its skin layer halfway up from the fascia, under the half-faded skin (at the skin all through
+  // Its skin layer halfway up from the bone, under the half-faded skin (at the skin all through
   // the fade, it popped through the skin in one frame as the fade began).
   CHECK(lifted(0.5) < 1e-6);  // (the ends are floats)
   CHECK(lifted(1.0) > 1e-4 * f.surface().scale);

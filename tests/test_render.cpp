@@ -571,13 +571,16 @@ TEST_CASE("a fading solid drawn front_only blends its nearest surface alone: a b
     m.front_only = front_only;
     return DrawMesh{std::make_shared<const TriMesh>(makeUvSphere(r, 32, 16)), false, m};
   };
-  auto draw = [&](bool front_only, bool inner) {
+  auto draw = [&](bool front_only, bool inner, bool inner_front_only) {
     DrawList list = base;
     list.meshes.push_back(ball(0.5, Vec3(0.9, 0.9, 0.9), front_only));  // the skin, fading
-    if (inner) list.meshes.push_back(ball(0.3, Vec3(0.9, 0.05, 0.05), front_only));  // what lies inside it
+    if (inner) list.meshes.push_back(ball(0.3, Vec3(0.9, 0.05, 0.05), inner_front_only));  // what lies inside it
     return dr.draw(list);
   };
-  const Image alone = draw(true, false), front = draw(true, true), every = draw(false, true);
+  const Image alone = draw(true, false, true), front = draw(true, true, true), every = draw(false, true, false);
+  // A ball blended whole inside the fading one still shows through it (drawn before it).
+  const Image mixed = draw(true, true, false);
+  CHECK(int(mixed.pixel(32, 32)[0]) > int(alone.pixel(32, 32)[0]) + 20);  // (over a black background: redder)
   const std::uint8_t *a = alone.pixel(32, 32), *f = front.pixel(32, 32), *e = every.pixel(32, 32);
   MESSAGE("the middle: white alone " << int(a[0]) << " " << int(a[1]) << ", front only " << int(f[0]) << " " << int(f[1])
                                       << ", every surface " << int(e[0]) << " " << int(e[1]));

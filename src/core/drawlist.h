@@ -63,9 +63,9 @@ struct DrawMaterial {
   double checker_size = 0.5;  // m
   // false: left out of the shadow maps (specks whose shadows no one sees: foam, spray's streaks).
   bool casts_shadow = true;
-  // With opacity below 1: blended as one solid fading, only its nearest surface (the renderer lays
-  // down the depth of every such surface first). Without it every surface is blended, the far
-  // ones and those inside too (a fading head showed its eyes' lid shells through its skin).
+  // With opacity below 1: blended as one solid turned translucent, only the nearest of all such
+  // surfaces at a pixel (the renderer lays down their depth first, after the other blended ones).
+  // Without it every surface is blended, the far ones and those inside a body too.
   bool front_only = false;
 };
 

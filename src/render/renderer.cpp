@@ -409,30 +409,33 @@ Status Renderer::Impl::mainPass(const DrawList& list, const Mat4f& view_proj, co
   if (Status st = drawGeometry(list, Pass{true, Layer::Opaque}); !st) return st;
   if (Status st = drawBackground(list, view_proj); !st) return st;
   if (Status st = transmissionPass(list, view_proj); !st) return st;
-  // Transparent surfaces after the opaque ones, blended, without writing depth; those blended as
-  // one solid first lay down their nearest surfaces' depth (pushed a hair back, so those surfaces
-  // pass the test again and what lies behind them does not).
+  // Transparent surfaces after the opaque ones, blended, without writing depth: first those
+  // blended whole, then those blended as one solid, which lay down their nearest surfaces' depth
+  // before they are drawn (pushed a hair back, so those surfaces pass the test again and what lies
+  // behind them does not).
+  gl->DepthMask(GL_FALSE);
+  gl->DepthFunc(GL_LESS);
+  gl->Enable(GL_BLEND);
+  gl->BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  Status tr = drawGeometry(list, Pass{true, Layer::Transparent});
   const Pass front_only{false, Layer::FrontOnly};
   auto fading = [&](const auto& items) {
     return std::any_of(items.begin(), items.end(), [&](const auto& item) { return front_only.wants(item.material); });
   };
-  if (fading(list.meshes) || fading(list.spheres) || fading(list.tubes) || fading(list.instances)) {
+  if (tr && (fading(list.meshes) || fading(list.spheres) || fading(list.tubes) || fading(list.instances))) {
+    gl->Disable(GL_BLEND);
     gl->ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     gl->DepthMask(GL_TRUE);
-    gl->DepthFunc(GL_LESS);
     gl->Enable(GL_POLYGON_OFFSET_FILL);
     gl->PolygonOffset(1.0f, 2.0f);
-    Status st = depthOnly(list, view_proj, Layer::FrontOnly);
+    tr = depthOnly(list, view_proj, Layer::FrontOnly);
     gl->Disable(GL_POLYGON_OFFSET_FILL);
     gl->ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     gl->DepthMask(GL_FALSE);
-    gl->DepthFunc(GL_LEQUAL);
+    gl->Enable(GL_BLEND);
     surfaces.programChanged();
-    if (!st) return st;
+    if (tr) tr = drawGeometry(list, Pass{true, Layer::FrontOnly});
   }
-  gl->Enable(GL_BLEND);
-  gl->BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-  Status tr = drawGeometry(list, Pass{true, Layer::Transparent});
   gl->DepthMask(GL_TRUE);
   gl->Disable(GL_BLEND);
   return tr;

@@ -88,7 +88,7 @@ struct Renderer::Impl {
   // surface variant for the opaque or the transparent items.
   // The items of a pass: all that cast shadows (shadow maps), the opaque ones, the see-through ones (transmission) or
   // the blended ones (opacity below 1).
-  // FrontOnly: the transparent that are blended as one solid (DrawMaterial::front_only).
+  // Transparent: blended, every surface; FrontOnly: blended as one solid (DrawMaterial::front_only).
   enum class Layer { All, Opaque, Transmissive, Transparent, FrontOnly };
   struct Pass {
     bool with_material;
@@ -99,7 +99,7 @@ struct Renderer::Impl {
         case Layer::All: return m.casts_shadow;
         case Layer::Opaque: return m.opacity >= 1.0 && m.transmission <= 0.0;
         case Layer::Transmissive: return m.opacity >= 1.0 && m.transmission > 0.0;
-        case Layer::Transparent: return m.opacity < 1.0;
+        case Layer::Transparent: return m.opacity < 1.0 && !m.front_only;
         case Layer::FrontOnly: return m.opacity < 1.0 && m.front_only;
       }
       return false;

@@ -140,8 +140,8 @@ class FaceBody final : public SpringNetworkBody {
   // reel's head's finer skin (with its points at rest and their wrinkles' regions), made once.
   const SkinDetail& detail() const;
   // The layers and muscles cut away over the skull; `reveal` (0..1) how far a dissolve from or to
-  // the skin has gone: what lies at the skin or outside it grows in with it (the lattice's skin
-  // layer rises to the skin from the fascia, the sphincters' bands widen) and the teeth come out
+  // the skin has gone: what lies at the skin or outside it grows in with it (the lattice's layers
+  // rise to their places from the bone, the sphincters' bands widen) and the teeth come out
   // of the mouth's dark, so the skin over them at nearly full opacity hides them (all at once,
   // they popped through it in one frame).
   void drawLayers(DrawList& out, double reveal = 1.0) const;

@@ -194,11 +194,12 @@ void FaceBody::drawLayers(DrawList& out, double reveal) const {
   skin.radius = static_cast<float>(0.0004 * s);
   fascia.radius = skin.radius;
   across.radius = static_cast<float>(0.0003 * s);
-  // The lattice's skin layer lies at the skin: as the reveal goes it rises to it from the fascia,
-  // under the skin until the skin has faded (its tubes thinned, the renderer's least width left
-  // them showing at once).
+  // The lattice's skin layer lies at the skin, its fascia just under it: as the reveal goes they
+  // rise to their places from the bone, under the skin and the mouth's lining until the skin has
+  // faded (risen from the fascia, the lips' strands showed in the parting as the fade began; its
+  // tubes thinned instead, the renderer's least width left them showing at once).
   reveal = std::clamp(reveal, 0.0, 1.0);
-  auto lifted = [&](std::size_t k) { return Vec3(x[n + k] + reveal * (x[k] - x[n + k])); };
+  auto lifted = [&](std::size_t k) { return Vec3(x[2 * n + k % n] + reveal * (x[k] - x[2 * n + k % n])); };
   skin.material = plainMaterial(Vec3(0.9, 0.62, 0.45));
   // (The layers below the skin in muted tones: saturated red and blue, their edges at the cut
   // read as zig-zags and a checkered pattern.)
@@ -209,8 +210,8 @@ void FaceBody::drawLayers(DrawList& out, double reveal) const {
     const auto a = static_cast<std::size_t>(sp.a[q]), b = static_cast<std::size_t>(sp.b[q]);
     if (!shown(a % n) || !shown(b % n)) continue;
     if (a < n && b < n) pushTube(skin, lifted(a), lifted(b));
-    else if (a >= n && b >= n && a < 2 * n && b < 2 * n) pushTube(fascia, x[a], x[b]);
-    else if (b == a + n) pushTube(across, lifted(a), x[b]);
+    else if (a >= n && b >= n && a < 2 * n && b < 2 * n) pushTube(fascia, lifted(a), lifted(b));
+    else if (b == a + n) pushTube(across, lifted(a), lifted(b));
   }
   out.tubes.push_back(std::move(skin));
   out.tubes.push_back(std::move(fascia));

@@ -10,6 +10,7 @@
 #include "core/mesh.h"
 #include "core/parallel.h"
 #include "sim/face/head_shape.h"
+#include "sim/face/head_tone.h"
 #include "sim/geometry.h"
 
 namespace reel {
@@ -262,7 +263,16 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
   // The ears in the skin's colour below the sideburn, in front of the ear (at the ear's own root the
   // sideburn's hair covers the skin, and its brown made the ears leather).
   const Vec3 cheek = Vec3(0.6, -0.35, 0.2).normalized();
-  out.ears = makeEars(s, head::skinColor(head::baseRadius(cheek, look) * cheek, cheek, ym, look));
+  {
+    // (And the skin's tint where each ear is, which differs from side to side as the skin's does:
+    // the skin beside an ear's root is tinted.)
+    auto ears = std::make_shared<TriMesh>(*makeEars(s, head::skinColor(head::baseRadius(cheek, look) * cheek, cheek, ym, look)));
+    for (std::size_t v = 0; v < ears->vertexCount(); ++v) {
+      const Vec3 tint = head::skinTint(Vec3(ears->positions[3 * v], ears->positions[3 * v + 1], ears->positions[3 * v + 2]) / s);
+      for (int k = 0; k < 3; ++k) ears->colors[3 * v + static_cast<std::size_t>(k)] *= static_cast<float>(tint[k]);
+    }
+    out.ears = std::move(ears);
+  }
   out.bust = makeBust(s, look);
   // The teeth behind the lips' parting: the upper 8.5 mm behind, their edges 4.5 mm below it (as
   // lips part, a few mm of the upper incisors show: with their edges 1.5 mm below it, the upper

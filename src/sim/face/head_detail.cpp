@@ -8,6 +8,7 @@
 #include "core/parallel.h"
 #include "sim/face/head.h"
 #include "sim/face/head_shape.h"
+#include "sim/face/head_tone.h"
 
 namespace reel {
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "sim/face/head_tone.h"
 
 namespace reel::head {
 namespace {
@@ -85,7 +86,7 @@ double agedness(const FaceLook& look) { return std::clamp((look.age - 20.0) / 50
 // The hair's locks as they stand off the scalp (-0.5..0.5 in direction d): about 7 mm across and
 // 3 cm long, combed down from the crown; mirrored about the midline, as the head is.
 double hairLocks(const Vec3& d) {
-  return noise(Vec3(std::abs(std::atan2(d.x(), d.z())) * 14.0, std::acos(std::clamp(d.y(), -1.0, 1.0)) * 3.0, 11.5)) - 0.5;
+  return valueNoise(Vec3(std::abs(std::atan2(d.x(), d.z())) * 14.0, std::acos(std::clamp(d.y(), -1.0, 1.0)) * 3.0, 11.5)) - 0.5;
 }
 
 // The hair's albedo at a strand's shade (0..1): dark brown, greying with age.
@@ -126,7 +127,7 @@ double browHairs(double ax, double y) {
   if (b.density <= 0) return 0.0;
   // Hairs: streaks along the brow (upward at its head, sideways along it).
   const double slant = b.along < kBrowHead ? 0.3 : 1.0;  // hairs upright at the brow's head, lying along it after
-  const double hairs = noise(Vec3((ax - slant * 0.6 * y) * 4000.0, (y + slant * 0.25 * ax) * 1200.0, 3.0));
+  const double hairs = valueNoise(Vec3((ax - slant * 0.6 * y) * 4000.0, (y + slant * 0.25 * ax) * 1200.0, 3.0));
   return b.density * std::clamp(0.62 + 0.45 * hairs, 0.0, 1.0);
 }
 
@@ -138,25 +139,25 @@ struct HairAt {
   double around = 0, down = 0;  // the direction's angle round the vertical from the front, and from the crown (rad)
 };
 HairAt hairAt(const Vec3& p, const Vec3& d) {
-  const double cover = hairCover(p, d, 0.0045 + 0.002 * noise(p * 1500.0));
+  const double cover = hairCover(p, d, 0.0045 + 0.002 * valueNoise(p * 1500.0));
   const double around = std::atan2(d.x(), d.z()), down = std::acos(std::clamp(d.y(), -1.0, 1.0));
-  const double wisps = noise(Vec3(around * 260.0, down * 30.0, 2.5));
+  const double wisps = valueNoise(Vec3(around * 260.0, down * 30.0, 2.5));
   // The strand's shade: fine streaks over locks about 4 mm across and 3 cm long (streaks alone,
   // under a pixel at a portrait's distance, left the cap one smooth shell).
-  const double locks = noise(Vec3(around * 28.0, down * 3.5, 6.5));
+  const double locks = valueNoise(Vec3(around * 28.0, down * 3.5, 6.5));
   // (Dark partings between the locks standing off the scalp, in their grooves, where the scalp's
   // shadow shows: locks of one shade read as a painted shell.)
   const double parting = smoothstep(-0.2, -0.32, hairLocks(d));
   // (The cover's ramp steepened 1.3 times, its streaks across it: steepened twice, the hairline
   // read as a swim cap's edge.)
   return {std::clamp(0.5 + 1.3 * (cover - 0.5) + 1.1 * (wisps - 0.5) * (1.0 - std::abs(2.0 * cover - 1.0)), 0.0, 1.0),
-          std::clamp(0.55 * noise(Vec3(around * 160.0, down * 14.0, 0.5)) + 1.1 * (locks - 0.5) + 0.22 - 0.25 * parting, 0.0, 1.0), around,
+          std::clamp(0.55 * valueNoise(Vec3(around * 160.0, down * 14.0, 0.5)) + 1.1 * (locks - 0.5) + 0.22 - 0.25 * parting, 0.0, 1.0), around,
           down};
 }
 
 // Pores (under a millimetre) and mottling (a few mm), value noise over the surface; none on the
 // neck, whose few rows of the mesh would stretch them into streaks.
-double poreAt(const Vec3& p) { return noise(p * 2400.0 + Vec3(7.1, 3.3, 1.7)); }
+double poreAt(const Vec3& p) { return valueNoise(p * 2400.0 + Vec3(7.1, 3.3, 1.7)); }
 double skinDetail(double y) { return smoothstep(-0.14, -0.115, y); }
 
 }  // namespace
@@ -252,7 +253,7 @@ double hairCover(const Vec3& p, const Vec3& d, double soft) {
   const double around = std::abs(std::atan2(d.x(), d.z()));
   // The hairline uneven, in tufts a centimetre or so across, mostly within 3 mm either way and at
   // most 4.5 (a smooth curve read as drawn with a compass, the hair as a helmet).
-  const double tufts = 0.006 * (noise(Vec3(around * 9.0, 1.5, 4.5)) - 0.5) + 0.003 * (noise(Vec3(around * 23.0, 7.5, 2.5)) - 0.5);
+  const double tufts = 0.006 * (valueNoise(Vec3(around * 9.0, 1.5, 4.5)) - 0.5) + 0.003 * (valueNoise(Vec3(around * 23.0, 7.5, 2.5)) - 0.5);
   return smoothstep(-soft, soft, p.y() - kHairline(around) - tufts);
 }
 
@@ -432,9 +433,9 @@ Wrinkles wrinkleLines(const Vec3& p) {
   // The forehead: four or five furrows about 7.5 mm apart, wavering across it, each breaking and
   // fading along its length, some deeper than others (evenly spaced and deep all across, they
   // read as parallel stripes painted on, a viewer said).
-  const double phase = 2 * kPi * (Y - 0.0335) / 0.0075 + 0.9 * std::sin(X * 45.0) + 1.2 * (noise(Vec3(X * 40.0, 2.5, 8.5)) - 0.5);
+  const double phase = 2 * kPi * (Y - 0.0335) / 0.0075 + 0.9 * std::sin(X * 45.0) + 1.2 * (valueNoise(Vec3(X * 40.0, 2.5, 8.5)) - 0.5);
   const double furrows = std::pow(0.5 + 0.5 * std::cos(phase), 4.0) *
-                         std::clamp(-0.6 + 2.6 * noise(Vec3(X * 90.0, std::floor(phase / (2 * kPi) + 0.5) * 3.7, 5.5)), 0.0, 1.0);
+                         std::clamp(-0.6 + 2.6 * valueNoise(Vec3(X * 90.0, std::floor(phase / (2 * kPi) + 0.5) * 3.7, 5.5)), 0.0, 1.0);
   // Between the brows: two short vertical lines.
   const double glabella = std::exp(-0.5 * sq((ax - 0.0045) / 0.0009)) * smoothstep(0.006, 0.012, Y) * smoothstep(0.032, 0.025, Y);
   // Crow's feet: four or five fine lines fanning out from the outer corner of each eye, fading
@@ -485,7 +486,7 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
   const double aged = agedness(look);
   Vec3 c(0.6, 0.34, 0.25);
   // Mottling and pores.
-  const double mottle = noise(p * 320.0);
+  const double mottle = valueNoise(p * 320.0);
   c *= 1.0 + skinDetail(Y) * (0.12 * (mottle - 0.5) - 0.04 * smoothstep(0.7, 0.9, poreAt(p)));
   // Blood under thin skin: cheeks, the nose's tip, the chin; shadow under the eyes.
   const double flush = 0.55 * gauss(ax, Y, 0.045, -0.028, 0.016, 0.013) + 0.45 * gauss(X, Y, 0, -0.036, 0.01, 0.008) +
@@ -505,7 +506,7 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
     const double beard = smoothstep(-0.048, -0.058, Y) * smoothstep(0.3, 0.6, d.z()) * (1 - 0.8 * smoothstep(-0.13, -0.15, Y));
     // As stubble: the cut hairs' dark dots, half a millimetre or so apart, over the grey (an even grey read as
     // a smudge of make-up).
-    const double stubble = smoothstep(0.55, 0.8, noise(p * 2500.0 + Vec3(2.9, 8.3, 4.1)));
+    const double stubble = smoothstep(0.55, 0.8, valueNoise(p * 2500.0 + Vec3(2.9, 8.3, 4.1)));
     c = c + 0.35 * (male - 0.5) * beard * (Vec3(0.3, 0.27, 0.27) - c);
     c = c + 0.5 * (male - 0.5) * beard * stubble * (Vec3(0.06, 0.05, 0.045) - c);
   }
@@ -551,7 +552,7 @@ double skinRelief(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   const double X = p.x(), Y = p.y(), ax = std::abs(X);
   const double aged = agedness(look);
   // The grain: two octaves of noise, about 1.2 mm and 0.5 mm; coarser and deeper with age.
-  const double grain = 0.65 * noise(p * (800.0 - 150.0 * aged) + Vec3(1.3, 5.1, 2.2)) + 0.35 * noise(p * 2000.0 + Vec3(4.4, 0.7, 9.2));
+  const double grain = 0.65 * valueNoise(p * (800.0 - 150.0 * aged) + Vec3(1.3, 5.1, 2.2)) + 0.35 * valueNoise(p * 2000.0 + Vec3(4.4, 0.7, 9.2));
   // Pores deepest over the nose and the cheeks beside it, where they are largest, shallow elsewhere
   // (pits 0.12 mm deep all over, a texel or two wide, read as stucco in a close-up, viewers said).
   const double porous = 0.07 + 0.07 * std::max(gauss(X, Y, 0, -0.03, 0.012, 0.014), gauss(ax, Y, 0.03, -0.03, 0.016, 0.012));
@@ -560,10 +561,10 @@ double skinRelief(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     // The lips' furrows, about 1.1 mm apart, wavering, deepest at the vermilion's middle.
     const double lips = vermilion(X, Y, ym);
     if (lips > 0) {
-      const double wave = 2 * kPi * (X + 0.0004 * std::sin(Y * 900.0)) / 0.0011 + 3.0 * noise(Vec3(X * 600.0, Y * 150.0, 7.0));
+      const double wave = 2 * kPi * (X + 0.0004 * std::sin(Y * 900.0)) / 0.0011 + 3.0 * valueNoise(Vec3(X * 600.0, Y * 150.0, 7.0));
       const double across = std::abs(Y - ym) / std::max(Y > ym ? vermilionTop(X, ym) - ym : ym - vermilionBottom(X, ym), 1e-4);
       // (Each furrow its own depth: all alike and 0.35 deep they read as corduroy.)
-      const double depth = 0.08 + 0.22 * noise(Vec3(X * 900.0, 5.0, Y > ym ? 1.0 : 9.0));
+      const double depth = 0.08 + 0.22 * valueNoise(Vec3(X * 900.0, 5.0, Y > ym ? 1.0 : 9.0));
       h -= depth * lips * std::pow(0.5 + 0.5 * std::cos(wave), 3.0) * smoothstep(0.05, 0.3, across) * smoothstep(1.0, 0.7, across);
     }
     // The vermilion's border, the "white roll": a ridge about a millimetre wide where lip meets
@@ -574,7 +575,7 @@ double skinRelief(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   }
   const HairAt hair = hairAt(p, d);
   if (hair.cover > 0) {
-    const double fine = noise(Vec3(hair.around * 700.0, hair.down * 25.0, 4.0));
+    const double fine = valueNoise(Vec3(hair.around * 700.0, hair.down * 25.0, 4.0));
     h += hair.cover * (0.25 + 0.35 * (hair.strand - 0.5) + 0.25 * (fine - 0.5));
   }
   return std::clamp(h, 0.0, 1.0);

@@ -100,15 +100,6 @@ inline constexpr double kBrowHead = 0.25;
 // and mottling, the lips' vermilion, brows, hair, nostrils.
 Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look);
 
-// Value noise on the unit lattice (smooth, 0..1), by a hash of the cell's corners (head_tone.cpp).
-double noise(const Vec3& p);
-
-// The skin's tone unevenly over the face, a factor on its albedo (about 1) at the base point p:
-// patches a few centimetres across where the capillaries are denser or the skin paler, different
-// on the two sides. The skin's texture (skinColor) is shared by the two halves of the head, so
-// it is mirrored; this is drawn on the skin's vertices (head_tone.cpp).
-Vec3 skinTint(const Vec3& p);
-
 // The hair's own albedo at the base point p, direction d (whatever its cover there): the strands'
 // colour (coloured as the skin under a thinning hairline, they read as pale stray hairs).
 Vec3 hairColor(const Vec3& p, const Vec3& d, const FaceLook& look);

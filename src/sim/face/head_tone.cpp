@@ -1,10 +1,10 @@
-// The skin's tone from side to side (head_shape.h): value noise, and the uneven patches of colour
+// The skin's tone from side to side (head_tone.h): value noise, and the uneven patches of colour
 // that make the two halves of a face differ.
 #include <cmath>
 #include <cstdint>
 
 #include "core/math.h"
-#include "sim/face/head_shape.h"
+#include "sim/face/head_tone.h"
 
 namespace reel::head {
 
@@ -22,7 +22,7 @@ double lattice(std::int64_t x, std::int64_t y, std::int64_t z) {
 
 }  // namespace
 
-double noise(const Vec3& p) {
+double valueNoise(const Vec3& p) {
   const Vec3 f(std::floor(p.x()), std::floor(p.y()), std::floor(p.z()));
   Vec3 t = p - f;
   t = t.cwiseProduct(t).cwiseProduct(Vec3(3, 3, 3) - 2 * t);
@@ -42,7 +42,7 @@ Vec3 skinTint(const Vec3& p) {
   // Redder patches 2-3 cm across (the capillaries' density varies: with only the flush's zones the
   // skin read as one waxy peach), and the skin paler or darker over 4-5 cm; as the texture's
   // patches were, mirrored, a viewer saw "a mirrored skin texture".
-  const double red = face * (noise(p * 45.0 + Vec3(3.7, 1.1, 5.3)) - 0.5), tone = face * (noise(p * 24.0 + Vec3(8.2, 4.4, 0.6)) - 0.5);
+  const double red = face * (valueNoise(p * 45.0 + Vec3(3.7, 1.1, 5.3)) - 0.5), tone = face * (valueNoise(p * 24.0 + Vec3(8.2, 4.4, 0.6)) - 0.5);
   return Vec3(1.0, 1.0 - 0.16 * red, 1.0 - 0.06 * red) * (1.0 + 0.12 * tone);
 }
 
