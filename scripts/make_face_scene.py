@@ -12,7 +12,8 @@
   15.2-18.1 s  the camera glides round to the other side as the head turns to it and the skin
                dissolves into the layers: the lattice over the left half, the skull and the
                muscles (red relaxed, a brighter red contracted) on the right, as the face smiles again;
-  18.1-20.3 s  the skin comes back over them and the face ends smiling at the camera.
+  18.1-20.3 s  the skin comes back over them and the face ends smiling at the camera, the head and
+               the camera at rest for the last 0.8 s.
 Run from the repository root: python3 scripts/make_face_scene.py
 """
 import json
@@ -42,6 +43,7 @@ BACK = CUT + 2.9  # 18.1 s: the skin starts to come back
 BACK_FADE = 1.0  # s
 LAST = ([-0.245, 0.035, 0.52], [0.0, -0.004, 0.0])  # the camera at the end, the crown and the collar in frame
 END = BACK + 2.2  # 20.3 s
+SETTLE = 0.8  # s: the head and the camera come to rest this long before the end
 
 
 def activations():
@@ -95,11 +97,18 @@ def head_keys():
     for i, name in enumerate(EXPRESSIONS):
         t0, length = STARTS[i], LENGTHS[i]
         held = [a + b for a, b in zip(CARRIAGE[name][0], DRIFT[name])]
-        keys += [(t0 + 0.55, CARRIAGE[name][0]), (t0 + length - 0.45, held)]
+        keys.append((t0 + 0.55, CARRIAGE[name][0]))
+        # (Not over a hold under half a second: surprise's drift over its 0.1 s jerked the head in
+        # two frames, a viewer saw.)
+        if length - 1.0 >= 0.5:
+            keys.append((t0 + length - 0.45, held))
     keys += [(SPEECH + 0.5, [3, 14, 0]), (SPEECH + 1.3, [-2, 10, -2]), (SPEECH + 2.2, [4, 15, 1]),
              (CUT - GLIDE_BEFORE, [0, 12, 0]),
              # As the camera glides round, the head turns to it: lattice on the left half, muscles on the right.
-             (CUT + GLIDE_AFTER, [2, -22, 0]), (BACK, [-2, -10, 0]), (END, [-4, -13, 3])]
+             (CUT + GLIDE_AFTER, [2, -22, 0]), (BACK, [-2, -10, 0]),
+             # Settled for the last moments, barely drifting (still moving into the last frame, the
+             # film ended mid-move, a viewer said).
+             (END - SETTLE, [-4, -13, 3]), (END, [-4.5, -13.5, 3])]
     return [{"time": round(t, 3), "rotation_deg": r} for t, r in keys]
 
 
@@ -141,6 +150,7 @@ def main():
                             {"time": round(CUT - GLIDE_BEFORE, 4), "position": close_end[0], "target": close_end[1]},
                             {"time": round(CUT + GLIDE_AFTER, 4), "position": layers[0], "target": layers[1]},
                             {"time": round(BACK, 3), "position": [-0.23, 0.035, 0.47], "target": layers[1]},
+                            {"time": round(END - SETTLE, 3), "position": LAST[0], "target": LAST[1]},
                             {"time": round(END, 3), "position": LAST[0], "target": LAST[1]}]},
         # Loop lighting: the key 21 degrees up and 27 to the far side of the face (the nose's
         # shadow falls short, beside it: higher, it lay on the upper lip as a dark smear viewers
