@@ -418,11 +418,7 @@ Status Renderer::Impl::mainPass(const DrawList& list, const Mat4f& view_proj, co
   gl->Enable(GL_BLEND);
   gl->BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   Status tr = drawGeometry(list, Pass{true, Layer::Transparent});
-  const Pass front_only{false, Layer::FrontOnly};
-  auto fading = [&](const auto& items) {
-    return std::any_of(items.begin(), items.end(), [&](const auto& item) { return front_only.wants(item.material); });
-  };
-  if (tr && (fading(list.meshes) || fading(list.spheres) || fading(list.tubes) || fading(list.instances))) {
+  if (tr && Pass{false, Layer::FrontOnly}.wantsAny(list)) {
     gl->Disable(GL_BLEND);
     gl->ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     gl->DepthMask(GL_TRUE);

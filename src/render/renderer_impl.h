@@ -3,6 +3,8 @@
 // the background). Private to render/.
 #pragma once
 
+#include <algorithm>
+
 #include <array>
 #include <deque>
 #include <map>
@@ -105,6 +107,13 @@ struct Renderer::Impl {
       return false;
     }
     bool fromCamera() const { return with_material || layer != Layer::All; }  // not a shadow map
+    // Whether anything in the list is drawn in this pass.
+    bool wantsAny(const DrawList& list) const {
+      auto some = [&](const auto& items) {
+        return std::any_of(items.begin(), items.end(), [&](const auto& item) { return wants(item.material); });
+      };
+      return some(list.meshes) || some(list.spheres) || some(list.tubes) || some(list.instances);
+    }
   };
   Status depthOnly(const DrawList& list, const Mat4f& view_proj, Layer layer = Layer::Opaque);
   Status transmissionPass(const DrawList& list, const Mat4f& view_proj);

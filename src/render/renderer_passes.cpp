@@ -29,10 +29,7 @@ Status Renderer::Impl::initTransmission() {
 // the TRANSMISSIVE variant, which reads all three (shaders/surface.frag).
 Status Renderer::Impl::transmissionPass(const DrawList& list, const Mat4f& view_proj) {
   const Pass see_through{true, Layer::Transmissive};
-  auto some = [&](const auto& items) {
-    return std::any_of(items.begin(), items.end(), [&](const auto& item) { return see_through.wants(item.material); });
-  };
-  if (!some(list.meshes) && !some(list.spheres) && !some(list.tubes) && !some(list.instances)) return {};
+  if (!see_through.wantsAny(list)) return {};
   if (!copy_fbo.id())
     if (Status st = initTransmission(); !st) return st;
   const int W = set.width, H = set.height;
