@@ -59,7 +59,7 @@ void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
   // Where (u back, v up) a point of the outline at fraction r of the way out lies, its relief
   // off the ear's plane (front or back) and how far the ear stands off the skull there.
   struct At {
-    double u, v, front, back;
+    double u, v, front, back, sunk;
   };
   auto at = [&](double r, double a) {
     const double ca = std::cos(a), sa = std::sin(a);
@@ -68,7 +68,7 @@ void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
     if (sa < 0) rx *= 1.0 - 0.18 * sq(sa);  // (at 0.3 the lobe came to a point)
     At p;
     p.u = r * rx * ca, p.v = r * ry * sa + 0.002;
-    const double bowl = 0.006 * std::exp(-sq(p.u / 0.007) - sq((p.v + 0.002) / 0.009));
+    const double bowl = 0.009 * std::exp(-sq(p.u / 0.007) - sq((p.v + 0.002) / 0.009));
     // The helix: a rolled rim over the top and down the back to the lobe, none along the front
     // below the top, where the ear joins the head (rolled all round, with the antihelix a ring
     // inside it, the ear read as a dish of concentric rings); its crus, the rim's front end,
@@ -88,7 +88,11 @@ void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
     h += 0.0035 * std::exp(-sq((p.u + 0.0085) / 0.0025) - sq((p.v + 0.003) / 0.004));
     const double canal = 0.003 * std::exp(-sq((p.u + 0.0045) / 0.0025) - sq((p.v + 0.003) / 0.0025));
     const double stand = 0.5 * (p.u + 0.0115) - 0.0012;
-    p.front = stand + h - bowl - canal;
+    // How far the front sinks below its stand (the bowl's floor, darker: the concha is a cavity
+    // the light reaches little of); its floor 0.5 mm off the ear's plane (sunk below it, the
+    // bowl's floor passed under the head's skin, which showed through it as a pale crescent).
+    p.sunk = std::min(h - bowl - canal, 0.0);
+    p.front = std::max(stand + h - bowl - canal, 0.0005);
     // (The back goes in with the canal: the shell there, 2.5 mm thick, would pass through itself.)
     p.back = stand - 0.7 * bowl - canal - (0.002 + 0.002 * (1.0 - r * r)) + 0.3 * std::min(h, 0.0015);
     return p;
@@ -104,7 +108,7 @@ void addEar(TriMesh& m, double scale, double side, const Vec3& skin) {
       const At p = at(r, 2 * kPi * i / kSegments);
       m.addVertex(place(p, p.front), out);
       // Darker down in the bowl and the folds, redder toward the rim.
-      const double shade = std::clamp(1.0 + 40.0 * std::min(p.front - (0.5 * (p.u + 0.0115) - 0.0012), 0.0), 0.55, 1.0);
+      const double shade = std::clamp(1.0 + 70.0 * p.sunk, 0.3, 1.0);
       color(shade * (skin + smoothstep(0.6, 1.0, r) * (rim_tone - skin) + 0.08 * (Vec3(0.62, 0.3, 0.26) - skin)));
     }
   // Round the rim: a half turn from the front's edge to the back's, out past the outline.
