@@ -67,14 +67,17 @@ TEST_CASE("face: a muscle's bulge pushes the tissue over it off the skull, and i
   CHECK(rises[1] < 0.003);  // a thickening belly, not a balloon
   CHECK(pulls[1] > 0.5 * pulls[0]);
   CHECK(pulls[0] > 0.001);
-  // 0 and 2 are taken; a bulge below 0 or past 2, or on a sphincter (which has no belly to
-  // thicken), is refused, naming it.
+  // 0 and 2 are taken, on a sphincter too (its ring thickening pushes out what it squeezes, as
+  // puckered lips); a bulge below 0 or past 2 is refused, naming it.
+  CHECK(app::parseScene(faceSceneText(R"(, "muscles": [{"name": "m", "type": "sphincter", "center": [0, 0, 0.09], "bulge": 1}])", 1.0, "[48, 32]", "1e-5"),
+                        "s.json")
+            .ok());
   for (const char* fine : {"0", "2"})
     CHECK(app::parseScene(faceSceneText(std::string(R"(, "muscles": [{"name": "m", "attachment": [0, 0, 0.05], "insertion": [0, 0, 0.09], "bulge": )") + fine + "}]",
                                         1.0, "[48, 32]", "1e-5"),
                           "s.json")
               .ok());
-  checkHas(badInputErrors(faceSceneText(R"(, "muscles": [{"name": "m", "type": "sphincter", "center": [0, 0, 0.09], "bulge": 1}])", 1.0, "[48, 32]", "1e-5")),
+  checkHas(badInputErrors(faceSceneText(R"(, "muscles": [{"name": "m", "type": "sphincter", "center": [0, 0, 0.09], "bulge": 2.5}])", 1.0, "[48, 32]", "1e-5")),
            "/bodies/0/muscles/0/bulge");
   for (const char* bad : {"-0.5", "3"})
     checkHas(badInputErrors(faceSceneText(std::string(R"(, "muscles": [{"name": "m", "attachment": [0, 0, 0.05], "insertion": [0, 0, 0.09], "bulge": )") + bad + "}]",

@@ -40,8 +40,9 @@ struct FaceMuscleDesc {
   Vec3 center{0, 0, 0}, normal{0, 0, 1};
   std::array<double, 2> radii{0.03, 0.02};  // m
   double strength = 0.5;  // N, the muscle's pull at full contraction, shared by the nodes it moves
-  // Linear: how much its belly thickens as it contracts, as the push it gives the tissue off the
-  // skull at each node, a fraction (0 to 2) of its pull there (0: none).
+  // How much its belly thickens as it contracts, as the push it gives the tissue off the skull at
+  // each node, a fraction (0 to 2) of its pull there (0: none; a sphincter's ring pushes the
+  // tissue it squeezes out, as puckered lips).
   double bulge = 0.0;
   std::string path;       // JSON path (messages)
 };
@@ -145,14 +146,14 @@ inline constexpr std::array<const char*, 9> kFacePairedMuscles = {
     "zygomatic_major", "zygomatic_minor", "levator_labii", "depressor_anguli_oris",
     "frontalis_inner", "frontalis_outer", "corrugator", "orbicularis_oculi", "risorius"};
 // ... and these on the midline.
-inline constexpr std::array<const char*, 3> kFaceMidlineMuscles = {"orbicularis_oris", "mentalis", "procerus"};
+inline constexpr std::array<const char*, 4> kFaceMidlineMuscles = {"orbicularis_oris", "mentalis", "procerus", "incisivii"};
 
 // An expression preset: controls (paired muscles by their name without side) and their amounts
 // at full expression. Ekman's six universal expressions, by the action units FACS gives for them
 // (Ekman & Friesen 1978; Ekman, Friesen & Hager 2002), each unit by the muscle that makes it:
 // AU1 frontalis inner, AU2 frontalis outer, AU4 corrugator, AU5 eyelid raise, AU6 and AU7
 // orbicularis oculi, AU9 and AU10 levator labii, AU12 zygomatic major, AU15 depressor anguli oris,
-// AU17 mentalis, AU20 risorius, AU23 and AU24 orbicularis oris, AU26 jaw open. And a blink.
+// AU17 mentalis, AU18 incisivii, AU20 risorius, AU23 and AU24 orbicularis oris, AU26 jaw open. And a blink.
 struct FacePreset {
   const char* name;
   std::array<std::pair<const char*, double>, 7> controls;  // unused slots: nullptr
@@ -181,8 +182,8 @@ inline constexpr std::array<FacePreset, 7> kFacePresets = {{
 inline constexpr std::array<FacePreset, 7> kFaceVisemes = {{
     {"aa", {{{"jaw_open", 0.65}, {"zygomatic_minor", 0.15}}}},
     {"ee", {{{"risorius", 0.8}, {"zygomatic_major", 0.3}, {"jaw_open", 0.18}}}},
-    {"oo", {{{"orbicularis_oris", 1.0}, {"jaw_open", 0.18}}}},
-    {"oh", {{{"orbicularis_oris", 0.65}, {"jaw_open", 0.45}}}},
+    {"oo", {{{"orbicularis_oris", 1.0}, {"jaw_open", 0.18}, {"incisivii", 1.0}}}},
+    {"oh", {{{"orbicularis_oris", 0.65}, {"jaw_open", 0.45}, {"incisivii", 0.6}}}},
     {"mbp", {{{"mentalis", 0.6}, {"orbicularis_oris", 0.35}}}},
     {"fv", {{{"mentalis", 0.8}, {"levator_labii", 0.3}, {"jaw_open", 0.06}}}},
     {"th", {{{"jaw_open", 0.3}, {"risorius", 0.2}}}},

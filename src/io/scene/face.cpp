@@ -52,13 +52,13 @@ void readMuscle(Obj& mo, FaceMuscleDesc& m) {
   m.name = mo.string("name", true).value_or("");
   m.sphincter = mo.choice("type", "linear", {"linear", "sphincter"}) == "sphincter";
   m.strength = mo.number("strength", m.strength, Range{0.0, 1e4, true, false});
+  m.bulge = mo.number("bulge", m.bulge, Range::closed(0.0, 2.0));
   if (!m.sphincter) {
     m.attachment = mo.vec3("attachment", Range::any(), true).value_or(Vec3::Zero());
     m.insertion = mo.vec3("insertion", Range::any(), true).value_or(Vec3::Zero());
     m.angle_deg = mo.number("angle_deg", m.angle_deg, Range{0.0, 90.0, true, false});
     m.falloff_start = mo.number("falloff_start", m.falloff_start, kPos);
     m.falloff_end = mo.number("falloff_end", m.falloff_end, kPos);
-    m.bulge = mo.number("bulge", m.bulge, Range::closed(0.0, 2.0));
     if (m.falloff_end <= m.falloff_start) d.error(childPath(m.path, "falloff_end"), "must be greater than falloff_start");
   } else {
     m.center = mo.vec3("center", Range::any(), true).value_or(Vec3::Zero());

@@ -90,7 +90,7 @@ void FaceBody::muscleForces() {
       ext_[n + k] += (a * d.strength * mu.weight[j]) * pull;
       // And off the skull, where its belly thickens as it shortens, its fibres keeping their
       // volume (Kähler, Haber & Seidel 2001, "Geometry-based muscle modeling for facial animation").
-      // (Only linear muscles have a bulge: a sphincter's is refused with its path.)
+      // (A sphincter's too: the lips' pucker, a ring thickening, pushes them off the teeth.)
       if (d.bulge > 0) ext_[n + k] += (d.bulge * a * d.strength * mu.weight[j]) * o;
     }
   }

@@ -242,6 +242,9 @@ void FaceBody::drawLayers(DrawList& out, double reveal) const {
     const FaceMuscle& mu = muscles_[m];
     const double a = std::clamp(act_[m], 0.0, 1.0);
     if (!mu.desc.sphincter && frontalis(mu.desc.name) && surface_.generated) continue;  // drawn as a sheet, below
+    // (The lips' pucker lies deep in the orbicularis oris' band: its ring drawn too, the two bands
+    // overlapped round the mouth.)
+    if (mu.desc.sphincter && mu.desc.name == "incisivii" && surface_.generated) continue;
     const DrawMaterial red = plainMaterial(muscleRed(a), 0.3);
     if (!mu.desc.sphincter) {
       Vec3 mid = Vec3::Zero();
