@@ -42,7 +42,7 @@ struct FaceMuscleDesc {
   double strength = 0.5;  // N, the muscle's pull at full contraction, shared by the nodes it moves
   // How much its belly thickens as it contracts, as the push it gives the tissue off the skull at
   // each node, a fraction (0 to 2) of its pull there (0: none; a sphincter's ring pushes the
-  // tissue it squeezes out, as puckered lips).
+  // tissue it squeezes forward along its normal, as puckered lips).
   double bulge = 0.0;
   std::string path;       // JSON path (messages)
 };
@@ -182,7 +182,7 @@ inline constexpr std::array<FacePreset, 7> kFacePresets = {{
 inline constexpr std::array<FacePreset, 7> kFaceVisemes = {{
     {"aa", {{{"jaw_open", 0.65}, {"zygomatic_minor", 0.15}}}},
     {"ee", {{{"risorius", 0.8}, {"zygomatic_major", 0.3}, {"jaw_open", 0.18}}}},
-    {"oo", {{{"orbicularis_oris", 1.0}, {"jaw_open", 0.18}, {"incisivii", 1.0}}}},
+    {"oo", {{{"orbicularis_oris", 1.0}, {"jaw_open", 0.06}, {"incisivii", 1.0}}}},
     {"oh", {{{"orbicularis_oris", 0.65}, {"jaw_open", 0.45}, {"incisivii", 0.6}}}},
     {"mbp", {{{"mentalis", 0.6}, {"orbicularis_oris", 0.35}}}},
     {"fv", {{{"mentalis", 0.8}, {"levator_labii", 0.3}, {"jaw_open", 0.06}}}},

@@ -90,8 +90,10 @@ void FaceBody::muscleForces() {
       ext_[n + k] += (a * d.strength * mu.weight[j]) * pull;
       // And off the skull, where its belly thickens as it shortens, its fibres keeping their
       // volume (Kähler, Haber & Seidel 2001, "Geometry-based muscle modeling for facial animation").
-      // (A sphincter's too: the lips' pucker, a ring thickening, pushes them off the teeth.)
-      if (d.bulge > 0) ext_[n + k] += (d.bulge * a * d.strength * mu.weight[j]) * o;
+      // A sphincter's ring thickening pushes what it squeezes out along its axis (the lips'
+      // pucker pushes them forward off the teeth: pushed off the skull, the upper lip rose and
+      // the lower fell, and "oo" bared the teeth).
+      if (d.bulge > 0) ext_[n + k] += (d.bulge * a * d.strength * mu.weight[j]) * (d.sphincter ? Vec3(R_ * d.normal.normalized()) : o);
     }
   }
 }

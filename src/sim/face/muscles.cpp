@@ -90,18 +90,20 @@ std::vector<FaceMuscleDesc> defaultMuscles(const FaceSurface& s) {
   oris.strength = 6.0 * k * k;
   out.push_back(oris);
   // The lips' pucker (AU18 lip pucker with AU22 funneler; the incisivii and the orbicularis oris'
-  // deep fibres): a ring a little inside the orbicularis oris' that draws the lips in and, as
-  // it thickens, pushes them out off the teeth (its bulge). The orbicularis oris alone pulls
-  // toward its centre in the face's plane: "oo" narrowed the mouth by 3 mm and pushed the lips
-  // out by under 1, a slot, viewers said (now 9 and 5 mm). (As a pair of linear muscles from beside the midline to the
-  // corners, the corners see-sawed in and out as the pull's direction flipped over them.)
+  // deep fibres): a ring over the orbicularis oris' zone that draws the lips in and, as it
+  // thickens, pushes them forward off the teeth (its bulge, along its axis). The orbicularis oris
+  // alone pulls toward its centre in the face's plane: "oo" narrowed the mouth by 3 mm and pushed
+  // the lips out by under 1, a slot, viewers said (now 10 and 5 mm at the default head). (Twice as
+  // strong on a ring 26 by 18 mm, the lower lip folded into a V at the midline; as a pair of
+  // linear muscles from beside the midline to the corners, the corners see-sawed in and out as
+  // the pull's direction flipped over them.)
   FaceMuscleDesc pucker;
   pucker.name = "incisivii";
   pucker.sphincter = true;
   pucker.center = oris.center;
-  pucker.radii = {0.026 * k, 0.018 * k};
-  pucker.strength = 20.0 * k * k;
-  pucker.bulge = 1.2;
+  pucker.radii = {0.03 * k, 0.02 * k};
+  pucker.strength = 10.0 * k * k;
+  pucker.bulge = 2.0;
   out.push_back(pucker);
   FaceMuscleDesc mentalis;
   mentalis.name = "mentalis";
