@@ -66,8 +66,9 @@ void FaceBody::pose(double t) {
 }
 
 // Each muscle's pull, shared by the fascia nodes of its zone by their weights (Waters 1987's
-// fall-offs, as forces: Lee, Terzopoulos & Waters 1995, section 5), and a linear muscle's bulge,
-// its belly thickening as it shortens, as a push off the skull (defaultMuscles).
+// fall-offs, as forces: Lee, Terzopoulos & Waters 1995, section 5), and its bulge: a linear
+// muscle's belly thickening as it shortens, as a push off the skull; a sphincter's ring
+// thickening, as a push along its axis (defaultMuscles).
 void FaceBody::muscleForces() {
   const std::size_t n = surface_.size();
   const auto& x = net_.state.x;

@@ -240,7 +240,11 @@ void FaceBody::drawLayers(DrawList& out, double reveal) const {
   // Muscles: attachment to the centre of the nodes they pull (sphincters: their ellipse).
   for (std::size_t m = 0; m < muscles_.size(); ++m) {
     const FaceMuscle& mu = muscles_[m];
-    const double a = std::clamp(act_[m], 0.0, 1.0);
+    double a = std::clamp(act_[m], 0.0, 1.0);
+    // (The orbicularis oris' band shows the lips' pucker's contraction too: the pucker lies in it.)
+    if (mu.desc.name == "orbicularis_oris" && surface_.generated)
+      for (std::size_t p = 0; p < muscles_.size(); ++p)
+        if (muscles_[p].desc.name == "incisivii") a = std::max(a, std::clamp(act_[p], 0.0, 1.0));
     if (!mu.desc.sphincter && frontalis(mu.desc.name) && surface_.generated) continue;  // drawn as a sheet, below
     // (The lips' pucker lies deep in the orbicularis oris' band: its ring drawn too, the two bands
     // overlapped round the mouth.)

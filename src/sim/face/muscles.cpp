@@ -89,22 +89,6 @@ std::vector<FaceMuscleDesc> defaultMuscles(const FaceSurface& s) {
   oris.radii = {0.036 * k, 0.026 * k};
   oris.strength = 6.0 * k * k;
   out.push_back(oris);
-  // The lips' pucker (AU18 lip pucker with AU22 funneler; the incisivii and the orbicularis oris'
-  // deep fibres): a ring over the orbicularis oris' zone that draws the lips in and, as it
-  // thickens, pushes them forward off the teeth (its bulge, along its axis). The orbicularis oris
-  // alone pulls toward its centre in the face's plane: "oo" narrowed the mouth by 3 mm and pushed
-  // the lips out by under 1, a slot, viewers said (now 10 and 5 mm at the default head). (Twice as
-  // strong on a ring 26 by 18 mm, the lower lip folded into a V at the midline; as a pair of
-  // linear muscles from beside the midline to the corners, the corners see-sawed in and out as
-  // the pull's direction flipped over them.)
-  FaceMuscleDesc pucker;
-  pucker.name = "incisivii";
-  pucker.sphincter = true;
-  pucker.center = oris.center;
-  pucker.radii = {0.03 * k, 0.02 * k};
-  pucker.strength = 10.0 * k * k;
-  pucker.bulge = 2.0;
-  out.push_back(pucker);
   FaceMuscleDesc mentalis;
   mentalis.name = "mentalis";
   mentalis.attachment = bone(0.0, ym - 0.022);
@@ -122,6 +106,24 @@ std::vector<FaceMuscleDesc> defaultMuscles(const FaceSurface& s) {
   procerus.angle_deg = 45;
   procerus.strength = 10.0 * k * k;
   out.push_back(procerus);
+  // The lips' pucker (AU18 lip pucker with AU22 funneler; the incisivii and the orbicularis oris'
+  // deep fibres): a ring over the orbicularis oris' zone that draws the lips in, which then bulge
+  // forward as the tissue keeps its volume, and, as it thickens, pushes them a little further
+  // forward off the teeth (its bulge, along its axis). The orbicularis oris alone pulls toward its
+  // centre in the face's plane: "oo" narrowed the mouth by 3 mm and pushed the lips out by under
+  // 1, a slot, viewers said (now 10 and 5.6 mm at the default head). (At a bulge of 2 the lower
+  // lip's middle stood out in a V that viewers read as a sneer, and stronger still the lips
+  // parted in jagged edges; as a pair of linear muscles from beside the midline to the corners,
+  // the corners see-sawed in and out as the pull's direction flipped over them.) Listed last, so
+  // the muscles and controls before it keep their indices in a dump.
+  FaceMuscleDesc pucker;
+  pucker.name = "incisivii";
+  pucker.sphincter = true;
+  pucker.center = s.mouth - Vec3(0, 0, 0.004 * k);  // the orbicularis oris' centre
+  pucker.radii = {0.03 * k, 0.02 * k};
+  pucker.strength = 20.0 * k * k;
+  pucker.bulge = 0.4;
+  out.push_back(pucker);
   return out;
 }
 
