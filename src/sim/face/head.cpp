@@ -193,8 +193,12 @@ FaceSurface makeHead(double height, std::array<int, 2> resolution, double thickn
     for (int i = 0; i < C; ++i) {
       std::uint32_t a = ring(j, i), b = ring(j, i + 1), c = ring(j + 1, i), d = ring(j + 1, i + 1);
       if (j == jm) a = low(a), b = low(b);  // the band below the parting takes the lower lip
-      // Diagonals mirrored about the midline, so the mesh (and every spring) is symmetric.
-      if (i < C / 2) {
+      // Diagonals in a checkerboard, so the mesh (and every spring) is symmetric about the
+      // midline (its mirror turns each diagonal into the other, as the next column's is) with no
+      // line along which the diagonals meet. (Mirrored about the midline, the diagonals met there
+      // in a chevron whose spine folded when the lips and the chin were drawn together: a seam of
+      // light and shade down the chin in speech, viewers saw.)
+      if ((i + j) % 2 == 0) {
         tri(a, d, b);
         tri(a, c, d);
       } else {

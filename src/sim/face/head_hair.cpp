@@ -68,20 +68,21 @@ std::shared_ptr<const TriMesh> makeHair(const FaceSurface& s) {
       // No tip over bare skin: a strand combed past the hairline (forward over a temple, down past
       // a sideburn) is cut back until its tip lies in the hair (they hung in the air off the
       // sideburns, 10 mm out over the skin).
+      const Vec3 start = root - 0.0015 * cover * n;  // (under the cap, never under the scalp)
+      auto along = [&](double f) {
+        const double sag = head::sq(length * f) / (2 * 0.075);
+        return Vec3(start + length * f * flow + (length * (lift * f * (1.0 - 0.6 * f) + 0.05 * f) - sag) * n);
+      };
       bool inside = false;
       for (int cut = 0; cut < 4 && !inside; ++cut) {
-        const Vec3 tip = root + length * flow;
+        const Vec3 tip = along(1.0);  // (where the strand drawn ends, lifted and bent round the head)
         inside = head::hairCover(tip, tip.normalized(), 0.004) > 0.97;
         if (!inside) length *= 0.6;
       }
       if (!inside) continue;  // (a root at the hair's edge combed straight out of it)
       const double width = 0.0005;
-      const Vec3 start = root - 0.0015 * cover * n;  // (under the cap, never under the scalp)
       const Vec3 hair = head::hairColor(root, dir, s.look) * (0.75 + 0.5 * rnd(6));
-      addStrand(*m, kSegments + 2, width, side, n, k, [&](double f) {
-        const double sag = head::sq(length * f) / (2 * 0.075);
-        return Vec3(start + length * f * flow + (length * (lift * f * (1.0 - 0.6 * f) + 0.05 * f) - sag) * n);
-      },
+      addStrand(*m, kSegments + 2, width, side, n, k, along,
                 [&](double f) { return Vec3(hair * (0.85 + 0.3 * f)); });  // lighter toward the tips
     }
   }
