@@ -183,9 +183,36 @@ void FaceBody::contactState(const std::vector<Vec3>& posed, double h) {
   }
 }
 
+// The tissue is solved in the head's moving frame: each step first carries the free nodes (their
+// positions, velocities and the integrator's history) through the head's turn since the last
+// step, so the springs and the solve see only the tissue's motion over the skull. Facial tissue
+// is bound to the skull by its retaining ligaments and barely lags a head's turn; solved in the
+// world instead, the skin trailed the skull as the head turned (the fixed bone nodes carry no
+// velocity, so the springs' damping held it back too): by up to 4 mm at the fastest of the
+// film's 70° turn, where the skin sunk under the lids slid out over the eyeball's white.
+void FaceBody::carryWithHead(const Mat3& before) {
+  const Mat3 turn = R_ * before.transpose();
+  if ((turn - Mat3::Identity()).cwiseAbs().maxCoeff() < 1e-15) return;
+  const std::size_t n = surface_.size();
+  const Vec3 o = desc_.position;
+  auto carry = [&](std::vector<Vec3>& x, std::vector<Vec3>* v) {
+    for (std::size_t i = 0; i < 2 * n && i < x.size(); ++i) {
+      if (!surface_.held.empty() && surface_.held[i % n]) continue;
+      x[i] = o + turn * (x[i] - o);
+      if (v != nullptr && i < v->size()) (*v)[i] = turn * (*v)[i];
+    }
+  };
+  carry(net_.state.x, &net_.state.v);
+  IntegratorWorkspace& ws = net_.workspace;
+  if (ws.x_prev.size() == net_.state.x.size()) carry(ws.x_prev, ws.v_prev.size() == ws.x_prev.size() ? &ws.v_prev : nullptr);
+  for (std::size_t i = 0; i < 2 * n && i < ws.dv.size(); ++i) ws.dv[i] = turn * ws.dv[i];
+}
+
 void FaceBody::step(StepContext& ctx) {
   posed_before_ = net_.state.x;
+  const Mat3 before = R_;
   pose(ctx.t1);
+  carryWithHead(before);
   ext_.assign(net_.model.nodes(), Vec3::Zero());
   muscleForces();
   phaseSprings(tissue_, net_.model, net_.state.x);

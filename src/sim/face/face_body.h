@@ -100,6 +100,8 @@ class FaceBody final : public SpringNetworkBody {
  private:
   // Poses the skull at time t: the activations, the head's rotation, the jaw, the bone nodes.
   void pose(double t);
+  // Carries the free tissue through the head's turn from `before` to now (step).
+  void carryWithHead(const Mat3& before);
   // The skull's frame at bone vertex k: where the head frame's point q under it goes (world).
   Vec3 boneToWorld(std::size_t k, const Vec3& q) const;
   Mat3 boneRotation(std::size_t k) const;
