@@ -71,7 +71,7 @@ constexpr double kHeadBottom = -0.124;  // where the sections close
 // against height, from the root between the eyes to the tip and under it to the upper lip.
 const Curve kNose{{-0.05, 0.0},     {-0.047, 0.002},  {-0.0445, 0.0095}, {-0.041, 0.0185}, {-0.037, 0.0215},
                   {-0.033, 0.021},  {-0.026, 0.0175}, {-0.01, 0.011},    {0.006, 0.0042},  {0.012, 0.0}};
-const Curve kNoseWidth{{-0.05, 0.007}, {-0.038, 0.0078}, {-0.03, 0.0063}, {-0.01, 0.0042}, {0.014, 0.0037}};
+const Curve kNoseWidth{{-0.05, 0.007}, {-0.038, 0.0076}, {-0.03, 0.0058}, {-0.01, 0.0034}, {0.014, 0.003}};
 
 // The hairline's height against the angle around the vertical from the front (rad): a soft peak
 // at the middle, receding at the temples, down to the sideburns just in front of the ears (whose
@@ -108,6 +108,15 @@ double vermilionBottom(double x, double ym) { return ym - 0.0095 + 0.0093 * std:
 
 // The middle of the nose's left wing (x, y) (its nostril: head_shape.h).
 constexpr double kWing[2] = {0.013, -0.0412};
+
+// How much of the alar crease runs at (u, v) from the wing's middle (u outward, v up): the
+// alar-facial groove round its back and top, and over toward the tip as the shallower crease
+// between the wing and the lobule, fading before the tip (a ring all round read as a disc stuck
+// on the cheek).
+double alarCrease(double u, double v) {
+  const double a = std::atan2(v, u);
+  return smoothstep(-1.4, -0.6, a) * (0.45 + 0.55 * smoothstep(2.5, 1.6, a)) * smoothstep(2.9, 2.5, a);
+}
 
 // The nasolabial fold, from beside the nose's wing to beside the mouth's corner (the left side's,
 // x > 0): its ends (x, y).
@@ -278,15 +287,15 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     f.bone -= 0.008 * gauss(X, Y, s * (kEyeX - 0.014), kEyeY - 0.002, 0.0028, 0.0032);
     // Either side of the bridge, between it and the inner corners, the skin falls away to the
     // orbits' inner walls (without it the bridge spread flat from eye to eye, viewers said).
-    f.bone -= 0.001 * gauss(X, Y, s * 0.0118, kEyeY + 0.002, 0.005, 0.009);
+    f.bone -= 0.0028 * gauss(X, Y, s * 0.0125, kEyeY - 0.001, 0.0045, 0.011);
     // The nose's wing (ala): a lobe beside the tip's base, ringed above and behind by the alar
     // groove where it meets the cheek (not below it, where it sits on the lip).
     const double wing = std::hypot((X - s * kWing[0]) / 0.0052, (Y - kWing[1]) / 0.0047);  // 1 at its rim
     // (Sloping gently out to the cheek: a lobe as steep outside as in reads as a ball stuck on,
     // its far side dark.)
     const double outside = s * (X - s * kWing[0]) > 0 ? 0.006 : 0.0058;
-    f.soft += 0.0038 * std::exp(-0.5 * (sq((X - s * kWing[0]) / outside) + sq((Y - kWing[1]) / 0.0047)));
-    f.soft -= 0.0024 * std::exp(-0.5 * sq((wing - 1.4) / 0.16)) * smoothstep(kWing[1] - 0.005, kWing[1] - 0.001, Y);
+    f.soft += 0.0046 * std::exp(-0.5 * (sq((X - s * kWing[0]) / outside) + sq((Y - kWing[1]) / 0.0047)));
+    f.soft -= 0.0026 * std::exp(-0.5 * sq((wing - 1.4) / 0.16)) * alarCrease(s * (X - s * kWing[0]), Y - kWing[1]);
     f.soft -= 0.0028 * gauss(X, Y, s * kNostril[0], kNostril[1], kNostril[2], kNostril[3]);  // nostril
     f.soft += 0.0013 * gauss(X, Y, s * 0.0045, -0.056, 0.0015, 0.0055);                // philtrum's ridge
     // The fold from the nose's wing to beside the mouth's corner (deeper with age), and the
@@ -311,15 +320,17 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   // a Gaussian's soft shoulders read as a wide, flat bridge; at an exponent of 3.2 up the bridge
   // its side turned from the key along a hard line from the brow to the wing, a nose of folded
   // card, two viewers said: 2.5.)
-  const double sides = 2.0 + 0.5 * smoothstep(-0.034, -0.018, Y);
+  const double sides = 2.0 + 0.4 * smoothstep(-0.034, -0.018, Y);
   // Up the bridge, 45% of its height as a base 2.2 times as wide, over which the sidewalls flatten
   // into the cheeks (with the ridge alone its sidewall turned from the key as one dark band from the
   // brow to the wing, "a cardboard fin").
-  const double broad = 0.45 * smoothstep(-0.036, -0.026, Y);
-  f.soft += nose * kNose(Y) * ((1 - broad) * std::exp(-0.5 * std::pow(std::abs(X) / kNoseWidth(Y), sides)) + broad * std::exp(-0.5 * sq(X / (2.2 * kNoseWidth(Y)))));
+  const double broad = 0.32 * smoothstep(-0.036, -0.026, Y);
+  f.soft += nose * kNose(Y) * ((1 - broad) * std::exp(-0.5 * std::pow(std::abs(X) / kNoseWidth(Y), sides)) + broad * std::exp(-0.5 * sq(X / (1.9 * kNoseWidth(Y)))));
   // The tip's lobule: two domes either side of the midline (the lower lateral cartilages'
-  // domes), which give a tip its highlight and its notch; one round ball read as a blob.
-  for (double s : {-1.0, 1.0}) f.soft += 0.0019 * gauss(X, Y, s * 0.0036, -0.0368, 0.0046, 0.0045);
+  // domes), which give a tip its highlight and its notch; one round ball read as a blob. Above
+  // them the supratip break, where the ridge dips a little before the lobule.
+  for (double s : {-1.0, 1.0}) f.soft += 0.0026 * gauss(X, Y, s * 0.0036, -0.0366, 0.0037, 0.0038);
+  f.soft -= 0.0008 * gauss(X, Y, 0.0, -0.029, 0.005, 0.0028);
   // Lips: the upper lip's skin slopes out from under the nose to the vermilion; the vermilion
   // of each lip rolls out (fuller for a woman), as full nearly to the corners as in the middle;
   // the parting and the fold under the lower lip.
@@ -354,7 +365,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
       const double along = m.dot(e), disc = along * along - m.squaredNorm() + sq(under);
       if (disc <= 0 || e.z() < 0.3) continue;
       const double behind = -along + std::sqrt(disc), ball = disc - sq(under) + sq(ball_in);
-      const double inside = ball > 0 ? -along + std::sqrt(ball) : behind;
+      const double inside = -along + std::sqrt(std::max(ball, 0.0));
       const Vec3 h = p + behind * e - c;
       // The almond as drawn at rest (FaceBody::Eye), on the lids' shell: its corners 13.2 mm to
       // either side, the outer 1 mm above the middle's line, the inner as far below; the band
@@ -530,7 +541,7 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
     c = c + 0.95 * nostril * (Vec3(0.08, 0.033, 0.03) - c);
     // The alar groove's shade, and the wing a touch redder than the cheek.
     const double wing = std::hypot((ax - kWing[0]) / 0.0052, (Y - kWing[1]) / 0.0047);
-    c = c.cwiseProduct(Vec3::Ones() - 0.12 * std::exp(-0.5 * sq((wing - 1.5) / 0.3)) * smoothstep(kWing[1] - 0.005, kWing[1] - 0.001, Y) * Vec3(0.8, 1.0, 1.0));
+    c = c.cwiseProduct(Vec3::Ones() - 0.12 * std::exp(-0.5 * sq((wing - 1.5) / 0.3)) * alarCrease(ax - kWing[0], Y - kWing[1]) * Vec3(0.8, 1.0, 1.0));
     c = c + 0.12 * std::exp(-0.5 * sq(wing)) * (Vec3(0.58, 0.3, 0.25) - c);
     // Brows.
     c = c + 0.95 * browHairs(ax, Y) * (Vec3(0.035, 0.024, 0.018) - c);
