@@ -442,3 +442,29 @@ TEST_CASE("face: the brows' hairs root on the skin drawn, lie along it, and rise
   CHECK(rest.steepest < 0.3);     // lying along the skin (their tips lifted a quarter of their length at most)
   CHECK(raised.mean_y > rest.mean_y + 0.002);
 }
+
+TEST_CASE("face: the lips' rims are dim in a slit and lit in full when the mouth opens") {
+  // In lips not quite closed the rims, lit in full, showed as a dotted line of bright flecks
+  // (addLipRims): their colour goes from a quarter of kLipRim at 1 mm open to all of it at 6 mm.
+  auto rimRed = [](const std::string& keys, int frames) {
+    World w = worldFromText(faceSceneText(keys, 1.0, "[48, 32]", "1e-3"));
+    run(w, frames);
+    const FaceBody& f = face(w);
+    DrawList list;
+    f.draw(list);
+    float red = -1.0f;
+    for (const DrawMesh& m : list.meshes) {
+      if (!(m.material.color - FaceBody::kMouthInside).isZero(1e-9)) continue;
+      // The rims' quads follow the lining's vertices (one per skin vertex): outer two, inner two.
+      for (std::size_t v = f.surface().size(); v + 3 < m.mesh->vertexCount(); v += 4) red = std::max(red, m.mesh->colors[3 * v]);
+    }
+    return std::pair{red, f.mouthOpening()};
+  };
+  const auto [closed, closed_gap] = rimRed("", 3);
+  const auto [open, open_gap] = rimRed(R"(, "activations": [{"time": 0, "muscles": {"jaw_open": 0}}, {"time": 0.3, "muscles": {"jaw_open": 1}}])", 12);
+  MESSAGE("rims' red " << closed << " at " << closed_gap * 1e3 << " mm open, " << open << " at " << open_gap * 1e3 << " mm");
+  CHECK(closed_gap < 0.001);
+  CHECK(open_gap > 0.006);
+  CHECK(closed == doctest::Approx(0.25 * FaceBody::kLipRim.x()).epsilon(1e-4));
+  CHECK(open == doctest::Approx(FaceBody::kLipRim.x()).epsilon(1e-4));
+}

@@ -19,7 +19,11 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
   const std::size_t n = surface_.size();
   if (!surface_.generated || inside.vertexCount() < n) return;
   const auto open = openEdgeNeighbours(surface_.tris, relaxed.size());
-  const Vec3 rim = kLipRim;
+  // Dimmer as the lips close, as the teeth are (FaceBody::draw): in a slit little light reaches
+  // them (lit in full, where the skin drawn between the vertices bared them they showed in the
+  // slit of lips not quite closed as a dotted line of bright flecks).
+  const double gap = mouthOpening() / surface_.scale;
+  const Vec3 rim = (0.25 + 0.75 * std::clamp((gap - 0.001) / 0.005, 0.0, 1.0)) * kLipRim;
   const double near = 0.015 * surface_.scale;
   auto lining = [&](std::uint32_t v) {
     return Vec3(inside.positions[3 * v], inside.positions[3 * v + 1], inside.positions[3 * v + 2]);
@@ -61,27 +65,37 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
   };
   for (const auto& [a, b] : edges) {
     const End &E0 = ends[beyond(a, b)], &E1 = ends[a], &E2 = ends[b], &E3 = ends[beyond(b, a)];
-    const Vec3 side = E1.normal + E2.normal;
+    auto outerAt = [&](double t) { return t <= 0 ? E1.outer : t >= 1 ? E2.outer : catmullRom(E0.outer, E1.outer, E2.outer, E3.outer, t); };
+    auto innerAt = [&](double t) { return t <= 0 ? E1.inner : t >= 1 ? E2.inner : catmullRom(E0.inner, E1.inner, E2.inner, E3.inner, t); };
+    // Its normals at t along the edge: facing the opening's middle, across the curve's tangent
+    // and the skin's outward direction there (the vertices' blended), so they run on smoothly
+    // from piece to piece and edge to edge (a normal per flat piece shaded the pieces in turn
+    // light and dark: lips not quite closed showed a dotted line of bright flecks in the slit).
+    auto facingAt = [&](double t) {
+      const Vec3 tangent = catmullRom(E0.outer, E1.outer, E2.outer, E3.outer, std::min(t + 0.02, 1.0)) -
+                           catmullRom(E0.outer, E1.outer, E2.outer, E3.outer, std::max(t - 0.02, 0.0));
+      const Vec3 side = (1 - t) * E1.normal + t * E2.normal;
+      Vec3 facing = unitOr(tangent.cross(side), Vec3::UnitY());
+      if (facing.dot(centre - outerAt(t)) < 0) facing = -facing;
+      return facing;
+    };
     constexpr int kPieces = 3;
     for (int q = 0; q < kPieces; ++q) {
       const double t0 = static_cast<double>(q) / kPieces, t1 = static_cast<double>(q + 1) / kPieces;
       // (The ends exactly the vertices' points, so that neighbouring edges' rims meet.)
-      const Vec3 oa = q == 0 ? E1.outer : catmullRom(E0.outer, E1.outer, E2.outer, E3.outer, t0);
-      const Vec3 ob = q + 1 == kPieces ? E2.outer : catmullRom(E0.outer, E1.outer, E2.outer, E3.outer, t1);
-      const Vec3 ia = q == 0 ? E1.inner : catmullRom(E0.inner, E1.inner, E2.inner, E3.inner, t0);
-      const Vec3 ib = q + 1 == kPieces ? E2.inner : catmullRom(E0.inner, E1.inner, E2.inner, E3.inner, t1);
-      // One quad a piece, facing the opening's middle (its winding to match).
-      Vec3 facing = unitOr((ob - oa).cross(side), Vec3::UnitY());
-      if (facing.dot(centre - 0.5 * (oa + ob)) < 0) facing = -facing;
-      const bool flip = (ob - oa).cross(ib - oa).dot(facing) < 0;
+      const Vec3 oa = outerAt(t0), ob = outerAt(t1), ia = innerAt(t0), ib = innerAt(t1);
+      const Vec3 fa = facingAt(t0), fb = facingAt(t1);
+      // One quad a piece, wound to face the opening.
+      const bool flip = (ob - oa).cross(ib - oa).dot(fa + fb) < 0;
       // Rounded and wet: at its outer end it faces out with the skin and turns to face the
       // opening going in, and darkens toward the mouth's dark inside (flat and of one colour, the
       // strip read as a pink rubber seal round the opening).
-      const Vec3 rolled = unitOr(facing + 1.5 * side.normalized(), facing);
+      auto rolled = [&](const Vec3& facing, double t) { return unitOr(facing + 1.5 * ((1 - t) * E1.normal + t * E2.normal).normalized(), facing); };
       const auto base = static_cast<std::uint32_t>(inside.vertexCount());
       for (int c = 0; c < 4; ++c) {
         const bool outer = c < 2;
-        inside.addVertex(c == 0 ? oa : c == 1 ? ob : c == 2 ? ib : ia, outer ? rolled : facing);
+        const Vec3 normal = c == 0 ? rolled(fa, t0) : c == 1 ? rolled(fb, t1) : c == 2 ? fb : fa;
+        inside.addVertex(c == 0 ? oa : c == 1 ? ob : c == 2 ? ib : ia, normal);
         const Vec3 col = outer ? rim : Vec3(0.65 * rim);  // (at 0.3, seen from in front the strip read as a dark outline round the lips)
         for (int k = 0; k < 3; ++k) inside.colors.push_back(static_cast<float>(col[k]));
       }

@@ -532,7 +532,11 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
     // Darker where the vermilion turns in to the parting and into the corners, where it lies in
     // the lips' own shade (in one colour to its border, a viewer saw lips pasted on).
     const double inward = std::exp(-0.5 * sq((Y - ym) / 0.0016)), corner = smoothstep(0.012, 0.026, ax);
-    const double deep = 1.0 - 0.3 * inward - 0.3 * corner * (1.0 - 0.5 * inward);
+    // And darkest along the line where they meet, as closed lips shade each other there: a line
+    // continuous along the parting (without it the gap of lips not quite closed, a fraction of a
+    // pixel, showed the mouth's dark inside as broken dark fragments).
+    const double meet = std::exp(-0.5 * sq((Y - ym) / 0.0006));
+    const double deep = (1.0 - 0.3 * inward - 0.3 * corner * (1.0 - 0.5 * inward)) * (1.0 - 0.4 * meet);
     c = c + lips * (0.9 - 0.1 * male) * (lip * (0.95 + 0.1 * mottle) * deep - c);
     // Nostrils, under the nose.
     // (Edged and dark at their core, the openings under the nose's tip; with a soft edge and a
