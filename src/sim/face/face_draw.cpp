@@ -411,7 +411,10 @@ void FaceBody::drawSkin(DrawList& out) const {
           // The upper lid's fold (the supratarsal crease, where the lid tucks under the skin
           // above it when open), a shade darker at a fixed height, 43° above the eye's centre;
           // a fainter one under the lower lid.
-          const double fold = lower ? 0.12 * std::exp(-0.5 * std::pow((el + 0.75) / 0.1, 2)) : 0.3 * std::exp(-0.5 * std::pow((el - 0.75) / 0.07, 2));
+          // (Shut, the upper lid's skin is drawn down smooth over the eye and its fold all but
+          // goes: kept, it ringed a shut eye with a dark outline, a cap set on the face.)
+          const double fold = lower ? 0.12 * std::exp(-0.5 * std::pow((el + 0.75) / 0.1, 2))
+                                    : 0.3 * (1.0 - 0.8 * ey.closure) * std::exp(-0.5 * std::pow((el - 0.75) / 0.07, 2));
           // The upper lid's skin in its lashes' shade, darkest at their roots.
           const double shade = lower ? 0.0 : 0.3 * std::exp(-std::abs(el - from(az)) / 0.2);
           Vec3 tone = (1.0 - fold) * (1.0 - shade) * lid_tone;
