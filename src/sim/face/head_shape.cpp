@@ -295,7 +295,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     // its far side dark.)
     const double outside = s * (X - s * kWing[0]) > 0 ? 0.006 : 0.0058;
     f.soft += 0.0046 * std::exp(-0.5 * (sq((X - s * kWing[0]) / outside) + sq((Y - kWing[1]) / 0.0047)));
-    f.soft -= 0.0026 * std::exp(-0.5 * sq((wing - 1.4) / 0.16)) * alarCrease(s * (X - s * kWing[0]), Y - kWing[1]);
+    f.soft -= 0.0019 * std::exp(-0.5 * sq((wing - 1.4) / 0.22)) * alarCrease(s * (X - s * kWing[0]), Y - kWing[1]);
     f.soft -= 0.0028 * gauss(X, Y, s * kNostril[0], kNostril[1], kNostril[2], kNostril[3]);  // nostril
     f.soft += 0.0013 * gauss(X, Y, s * 0.0045, -0.056, 0.0015, 0.0055);                // philtrum's ridge
     // The fold from the nose's wing to beside the mouth's corner (deeper with age), and the
