@@ -126,3 +126,28 @@ TEST_CASE("face: the layers' skull has orbits, a nasal aperture and teeth, where
   CHECK(p95 < 0.005);
   CHECK(mean < 0.0035);
 }
+
+TEST_CASE("face: in a dissolve back to the skin the teeth keep the skin's shade, not the layers' dark") {
+  // The same teeth are in both views; in a dissolve the layers' are drawn solid and hide the
+  // skin's. Lit by the reveal alone they showed as near-black bars as the skin faded back in.
+  const std::string jaw = R"(, "activations": [{"time": 0, "muscles": {"jaw_open": 0}}, {"time": 0.3, "muscles": {"jaw_open": 0.5}}])";
+  World dissolve = worldFromText(scene(jaw + R"(, "draw": [{"time": 0, "mode": "layers"}, {"time": 0.1, "mode": "skin", "fade": 0.5}])"));
+  World skin = worldFromText(scene(jaw));
+  run(dissolve, 15);  // 0.5 s: 80% of the way back to the skin
+  run(skin, 15);
+  auto teethShades = [](const World& w) {
+    DrawList list;
+    face(w).draw(list);
+    std::vector<double> shade;  // each teeth mesh's brightest vertex colour
+    for (const DrawMesh& m : list.meshes)
+      if (m.material.color == Vec3(1, 1, 1) && m.material.roughness == 0.3)
+        shade.push_back(*std::max_element(m.mesh->colors.begin(), m.mesh->colors.end()));
+    return shade;
+  };
+  const std::vector<double> fading = teethShades(dissolve), plain = teethShades(skin);
+  REQUIRE(plain.size() == 2);
+  REQUIRE(fading.size() == 4);  // the layers' two rows, then the skin's
+  MESSAGE("teeth's brightest: skin view " << plain[0] << ", dissolve " << fading[0] << " " << fading[1] << " (mouth " << face(skin).mouthOpening() * 1e3 << " mm open)");
+  CHECK(face(skin).mouthOpening() > 0.008);  // the teeth in the skin's view in full light
+  for (double s : fading) CHECK(s >= plain[0] - 1e-6);
+}

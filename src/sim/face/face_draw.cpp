@@ -248,6 +248,12 @@ void FaceBody::drawEyes(DrawList& out) const {
   }
 }
 
+double FaceBody::mouthLight() const {
+  // (Dimmer as the lips close: little light reaches into a closed mouth.)
+  const double open = mouthOpening() / surface_.scale;
+  return 0.15 + 0.85 * std::clamp((open - 0.002) / 0.006, 0.0, 1.0);
+}
+
 void FaceBody::drawSkin(DrawList& out) const {
   std::vector<Vec3> relaxed;
   std::vector<double> lost;
@@ -365,8 +371,7 @@ void FaceBody::drawSkin(DrawList& out) const {
     out.meshes.push_back({std::move(inside), true, dark});
     const double k = surface_.scale, ym = surface_.mouth.y();
     const double front = surface_.mouth.z() - 0.0085 * k;
-    const double open = mouthOpening() / k, lit = 0.15 + 0.85 * std::clamp((open - 0.002) / 0.006, 0.0, 1.0);
-    // (Dimmer as the lips close: little light reaches into a closed mouth.)
+    const double lit = mouthLight();
     drawTeeth(out, lit);
     // The tongue: a flattened ellipsoid on the mouth's floor behind the lower teeth, its back
     // about 6 mm below their edges, with the jaw; wet, but with little to reflect inside a mouth.

@@ -235,7 +235,11 @@ void FaceBody::drawLayers(DrawList& out, double reveal) const {
   out.meshes.push_back({std::move(bone), true, plainMaterial(Vec3(0.55, 0.5, 0.42), 0.2)});
   if (surface_.generated) {
     drawEyes(out);
-    drawTeeth(out, reveal);
+    // (From the skin's shade to the layers' full light as they are revealed: the same teeth are
+    // in both views, and in a dissolve these, drawn solid, hide the skin's; lit by the reveal
+    // alone, the teeth showed as near-black bars as the skin faded back in.)
+    const double lit = mouthLight();
+    drawTeeth(out, lit + reveal * (1.0 - lit));
   }
   // Muscles: attachment to the centre of the nodes they pull (sphincters: their ellipse).
   for (std::size_t m = 0; m < muscles_.size(); ++m) {
