@@ -337,8 +337,21 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
   const double full = 1.08 - 0.16 * male;
   f.soft += 0.004 * smoothstep(-0.047, -0.06, Y) * smoothstep(ym - 0.002, ym + 0.003, Y) * std::exp(-0.5 * sq(X / 0.02));
   const double wu = std::pow(std::max(0.0, 1 - std::pow(std::abs(X) / 0.028, 3.5)), 0.7), wl = std::pow(std::max(0.0, 1 - std::pow(std::abs(X) / 0.026, 3.5)), 0.7);
-  f.soft += full * 0.0045 * wu * std::exp(-0.5 * sq((Y - (ym + 0.0045)) / 0.0038));
-  f.soft += full * 0.0065 * wl * std::exp(-0.5 * sq((Y - (ym - 0.0055)) / 0.0048));
+  // Each lip's section leans: the upper lip stands out most near its border and slopes back down
+  // to the parting, so it faces down and lies in its own shade; the lower lip stands out most
+  // above its middle and curves long down to the fold under it, facing up into the light. (As
+  // symmetric Gaussians, two even tubes, viewers said.) The upper lip's tubercle swells its
+  // middle over the parting.
+  auto lean = [](double y, double c, double below, double above) { return std::exp(-0.5 * sq((y - c) / (y < c ? below : above))); };
+  f.soft += full * 0.0048 * wu * lean(Y, ym + 0.0058, 0.005, 0.0024);
+  f.soft += full * 0.0013 * gauss(X, Y, 0.0, ym + 0.0018, 0.0045, 0.0017);
+  f.soft += full * 0.0068 * wl * lean(Y, ym - 0.004, 0.006, 0.0032);
+  // The corners tuck in, and the modiolus beside them bulges (lips that ran on full to blunt ends
+  // read as a tube laid across the face).
+  for (double s : {-1.0, 1.0}) {
+    f.soft -= 0.0009 * gauss(X, Y, s * 0.0262, ym, 0.0022, 0.0022);
+    f.soft += 0.0007 * gauss(X, Y, s * 0.0315, ym + 0.001, 0.0035, 0.005);
+  }
   f.soft -= 0.0018 * gauss(X, Y, 0, ym, 0.026, 0.0013) * smoothstep(0.03, 0.022, std::abs(X));  // the parting, the mouth's width
   f.soft -= 0.0022 * gauss(X, Y, 0, ym - 0.0165, 0.015, 0.004);
   f.bone *= front;
@@ -528,7 +541,7 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
     // than the cheek's flush, the upper lip darker than the lower, which faces the light: at
     // (0.46, 0.21, 0.18) and (0.42, 0.19, 0.17), then at (0.48, 0.19, 0.17) and (0.42, 0.16, 0.145), viewers
     // found them nearly skin-coloured and flat, and the upper lip long and bare.)
-    const Vec3 lip = Y < ym ? Vec3(0.36, 0.1, 0.095) : Vec3(0.34, 0.09, 0.085);
+    const Vec3 lip = Y < ym ? Vec3(0.36, 0.1, 0.095) : Vec3(0.28, 0.075, 0.07);
     // Darker where the vermilion turns in to the parting and into the corners, where it lies in
     // the lips' own shade (in one colour to its border, a viewer saw lips pasted on).
     const double inward = std::exp(-0.5 * sq((Y - ym) / 0.0016)), corner = smoothstep(0.012, 0.026, ax);
