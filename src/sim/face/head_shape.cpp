@@ -284,7 +284,7 @@ Features features(const Vec3& p, const Vec3& d, double ym, const FaceLook& look)
     f.bone += 0.0045 * smoothstep(-1.0, -0.35, s * u) * std::exp(-0.5 * sq(u / 0.9)) * std::exp(-0.5 * sq((Y - arc) / 0.0042));
     // The inner corner's recess (the medial canthus lies 7 to 8 mm behind the cornea, under the
     // nose's side): without it the skin stood as a wall in front of the lids' inner tips.
-    f.bone -= 0.008 * gauss(X, Y, s * (kEyeX - 0.014), kEyeY - 0.002, 0.0028, 0.0032);
+    f.bone -= 0.0065 * gauss(X, Y, s * (kEyeX - 0.0138), kEyeY - 0.001, 0.0027, 0.0052);
     // Either side of the bridge, between it and the inner corners, the skin falls away to the
     // orbits' inner walls (without it the bridge spread flat from eye to eye, viewers said).
     f.bone -= 0.0028 * gauss(X, Y, s * 0.0125, kEyeY - 0.001, 0.0045, 0.011);
