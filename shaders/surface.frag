@@ -225,7 +225,10 @@ vec3 shade(vec3 n, vec3 view, vec3 l, vec3 radiance) {
   // this pixel's curvature. Light scattered under skin also blurs its fine relief, red most (it
   // travels farthest): red sees n·l blended 80% toward the smooth normal's, green and blue 35%
   // (after Penner's per-colour blurred normals; two reads of the table, not three).
-  float nl_geo = dot(g_geo, l), nl_r = mix(ndl_raw, nl_geo, 0.8), nl_gb = mix(ndl_raw, nl_geo, 0.35);
+  // (Red never sees less light than green and blue: scattered farthest, it brightens a crease's
+  // shaded side, but taken darker on a lit side that tilts toward the light, it tinted the lit
+  // walls of deep wrinkles cyan, a colour fringe along the brows' furrows.)
+  float nl_geo = dot(g_geo, l), nl_gb = mix(ndl_raw, nl_geo, 0.35), nl_r = max(mix(ndl_raw, nl_geo, 0.8), nl_gb);
   vec3 c = g_kd * vec3(texture(u_skin, vec2(0.5 * nl_r + 0.5, g_curv)).r, texture(u_skin, vec2(0.5 * nl_gb + 0.5, g_curv)).gb);
 #else
   vec3 c = g_kd * ndl;

@@ -474,9 +474,13 @@ Wrinkles wrinkleLines(const Vec3& p) {
   const double gap = segmentDistance(ax, Y, kFoldTop[0], kFoldTop[1], kFoldEnd[0], kFoldEnd[1]);
   const double cheekward = (kFoldEnd[0] - kFoldTop[0]) * (Y - kFoldTop[1]) - (kFoldEnd[1] - kFoldTop[1]) * (ax - kFoldTop[0]);
   const double fold = std::exp(-0.5 * sq(gap / (cheekward > 0 ? 0.0015 : 0.0035)));
-  // The nose's wrinkles: five or six lines 2.3 mm apart (2.6 mm down the nose) across the sides of
-  // its upper half, slanting down and out from its root (the "bunny lines").
-  const double nose = 0.6 * region.nose * std::pow(0.5 + 0.5 * std::cos(2 * kPi * (Y + 0.55 * ax) / 0.0026), 2.5);
+  // The nose's wrinkles: three or four lines about 3.4 mm apart down the nose, across the sides of
+  // its upper half, slanting down and out from its root (the "bunny lines"), each wavering and of
+  // its own depth (six alike, evenly spaced, read as a ladder, a texture's glitch, viewers said).
+  const double wander = Y + 0.55 * ax + 0.0006 * (valueNoise(Vec3(ax * 400.0, Y * 150.0, 2.5)) - 0.5);
+  const double line = std::floor(wander / 0.0034 + 0.5);
+  const double nose = (0.35 + 0.35 * valueNoise(Vec3(line * 1.7, 0.5, 6.5))) * region.nose *
+                      std::pow(0.5 + 0.5 * std::cos(2 * kPi * wander / 0.0034), 3.0);
   return {region.forehead * furrows, glabella, crows, fold, nose};
 }
 
