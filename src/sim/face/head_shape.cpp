@@ -555,6 +555,14 @@ Vec3 skinColor(const Vec3& p, const Vec3& d, double ym, const FaceLook& look) {
     const double meet = std::exp(-0.5 * sq((Y - ym) / 0.0006));
     const double deep = (1.0 - 0.3 * inward - 0.3 * corner * (1.0 - 0.5 * inward)) * (1.0 - 0.4 * meet);
     c = c + lips * (0.9 - 0.1 * male) * (lip * (0.95 + 0.1 * mottle) * deep - c);
+    // Just outside the border the white roll's skin is paler, a fine light line that draws the
+    // lips' outline (without it the vermilion's edge was only a change of colour, and at a film's
+    // distance the lips read as two even tubes with no border, viewers said).
+    const double top = vermilionTop(X, ym), bottom = vermilionBottom(X, ym);
+    const double pale = (smoothstep(top - 0.0002, top + 0.0003, Y) * std::exp(-0.5 * sq((Y - top - 0.0006) / 0.0005)) +
+                         0.6 * smoothstep(bottom + 0.0002, bottom - 0.0003, Y) * std::exp(-0.5 * sq((Y - bottom + 0.0006) / 0.0005))) *
+                        smoothstep(0.027, 0.021, ax);
+    c = c + 0.22 * pale * (Vec3(0.72, 0.52, 0.42) - c);
     // Nostrils, under the nose.
     // (Edged and dark at their core, the openings under the nose's tip; with a soft edge and a
     // mid-brown core they read as one smudge, viewers said.)
