@@ -256,6 +256,7 @@ TEST_CASE("face: the nose's wrinkle lines: three to five down each side of its u
     if (!(v > 0.2) && above) heights.push_back(top), top = 0.0;
     above = v > 0.2;
   }
+  REQUIRE(!heights.empty());
   const double high = *std::max_element(heights.begin(), heights.end()), low = *std::min_element(heights.begin(), heights.end());
   MESSAGE(heights.size() << " lines down the nose's side, their depths " << low << " to " << high);
   CHECK(heights.size() >= 3);

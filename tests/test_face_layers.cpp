@@ -130,7 +130,7 @@ TEST_CASE("face: the layers' skull has orbits, a nasal aperture and teeth, where
 TEST_CASE("face: in a dissolve back to the skin the teeth keep the skin's shade, not the layers' dark") {
   // The same teeth are in both views; in a dissolve the layers' are drawn solid and hide the
   // skin's. Lit by the reveal alone they showed as near-black bars as the skin faded back in.
-  const std::string jaw = R"(, "activations": [{"time": 0, "muscles": {"jaw_open": 0}}, {"time": 0.3, "muscles": {"jaw_open": 0.5}}])";
+  const std::string jaw = R"(, "activations": [{"time": 0, "muscles": {"jaw_open": 0}}, {"time": 0.3, "muscles": {"jaw_open": 0.08}}])";
   World dissolve = worldFromText(scene(jaw + R"(, "draw": [{"time": 0, "mode": "layers"}, {"time": 0.1, "mode": "skin", "fade": 0.5}])"));
   World skin = worldFromText(scene(jaw));
   run(dissolve, 15);  // 0.5 s: 80% of the way back to the skin
@@ -148,6 +148,11 @@ TEST_CASE("face: in a dissolve back to the skin the teeth keep the skin's shade,
   REQUIRE(plain.size() == 2);
   REQUIRE(fading.size() == 4);  // the layers' two rows, then the skin's
   MESSAGE("teeth's brightest: skin view " << plain[0] << ", dissolve " << fading[0] << " " << fading[1] << " (mouth " << face(skin).mouthOpening() * 1e3 << " mm open)");
-  CHECK(face(skin).mouthOpening() > 0.008);  // the teeth in the skin's view in full light
+  // The mouth a few millimetres open: the skin's view's teeth in part shade (FaceBody::mouthLight),
+  // the layers' a fifth of the way from it to full light (the reveal at 80% of the dissolve).
+  CHECK(face(skin).mouthOpening() > 0.002);
+  CHECK(face(skin).mouthOpening() < 0.008);
+  CHECK(plain[0] < 0.9 * 0.768f);
   for (double s : fading) CHECK(s >= plain[0] - 1e-6);
+  CHECK(fading[0] > plain[0] + 0.01);
 }

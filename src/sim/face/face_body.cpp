@@ -164,8 +164,11 @@ void FaceBody::holdScalp(MassSpringDesc& ms) {
 
 void FaceBody::importContacts(std::span<const Vec3> x, std::span<const Vec3> v) {
   SpringNetworkBody::importContacts(x, v);
+  // The layer works in the world: back over the skull (less the head's turn it was handed).
+  const bool framed = frame_v_.size() == net_.state.v.size();
   for (std::size_t i = 0; i < net_.state.v.size(); ++i)
     if (net_.model.fixed[i]) net_.state.v[i].setZero();
+    else if (framed) net_.state.v[i] -= frame_v_[i];
 }
 
 void FaceBody::contactState(const std::vector<Vec3>& posed, double h) {
@@ -173,9 +176,20 @@ void FaceBody::contactState(const std::vector<Vec3>& posed, double h) {
   const auto& x = net_.state.x;
   // The posed nodes carry no velocity in the state, but they move with the head and the jaw: the
   // layer sees them move (a rope on the crown of a turning head is carried by its friction).
+  // The free nodes' state velocities are over the skull (carryWithHead): the layer sees them in
+  // the world, with the head's turn over the step added (a turning cheek is moving).
   contact_v_ = net_.state.v;
-  for (std::size_t i = 0; i < x.size(); ++i)
-    if (net_.model.fixed[i] && h > 0) contact_v_[i] = (x[i] - posed[i]) / h;
+  frame_v_.assign(x.size(), Vec3::Zero());
+  const Vec3 o = desc_.position;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!(h > 0)) break;
+    if (net_.model.fixed[i]) {
+      contact_v_[i] = (x[i] - posed[i]) / h;
+    } else {
+      frame_v_[i] = (o + step_turn_ * (posed[i] - o) - posed[i]) / h;
+      contact_v_[i] += frame_v_[i];
+    }
+  }
   contact_w_ = net_.model.inv_mass;
   for (std::size_t k = 0; k < n; ++k) {
     const double d = (x[k] - x[2 * n + k]).dot(boneRotation(k) * tissue_.out[k]);
@@ -186,18 +200,20 @@ void FaceBody::contactState(const std::vector<Vec3>& posed, double h) {
 // The tissue is solved in the head's moving frame: each step first carries the free nodes (their
 // positions, velocities and the integrator's history) through the head's turn since the last
 // step, so the springs and the solve see only the tissue's motion over the skull. Facial tissue
-// is bound to the skull by its retaining ligaments and barely lags a head's turn; solved in the
+// is bound to the skull by its retaining ligaments (Furnas 1989, "The retaining ligaments of the
+// cheek", Plast. Reconstr. Surg. 83(1)) and barely lags a head's turn; solved in the
 // world instead, the skin trailed the skull as the head turned (the fixed bone nodes carry no
 // velocity, so the springs' damping held it back too): by up to 4 mm at the fastest of the
 // film's 70° turn, where the skin sunk under the lids slid out over the eyeball's white.
 void FaceBody::carryWithHead(const Mat3& before) {
   const Mat3 turn = R_ * before.transpose();
+  step_turn_ = turn;
   if ((turn - Mat3::Identity()).cwiseAbs().maxCoeff() < 1e-15) return;
   const std::size_t n = surface_.size();
   const Vec3 o = desc_.position;
   auto carry = [&](std::vector<Vec3>& x, std::vector<Vec3>* v) {
     for (std::size_t i = 0; i < 2 * n && i < x.size(); ++i) {
-      if (!surface_.held.empty() && surface_.held[i % n]) continue;
+      if (net_.model.fixed[i]) continue;  // posed (the held scalp, the neck's cut end)
       x[i] = o + turn * (x[i] - o);
       if (v != nullptr && i < v->size()) (*v)[i] = turn * (*v)[i];
     }
@@ -270,6 +286,14 @@ double FaceBody::mouthOpening() const {
 
 bool FaceBody::view(BodyView& out) const {
   SpringNetworkBody::view(out);
+  // In the world, as every body's are: the free nodes' velocities over the skull plus the head's
+  // turn (contactState), the posed nodes' their motion over the step.
+  if (frame_v_.size() == out.velocities.size() && contact_v_.size() == out.velocities.size()) {
+    view_v_.resize(out.velocities.size());
+    for (std::size_t i = 0; i < view_v_.size(); ++i)
+      view_v_[i] = net_.model.fixed[i] ? contact_v_[i] : Vec3(net_.state.v[i] + frame_v_[i]);
+    out.velocities = view_v_;
+  }
   out.masses = net_.model.mass;
   out.fields.push_back({"muscles", 1, act_});
   return true;

@@ -168,6 +168,11 @@ class FaceBody final : public SpringNetworkBody {
   std::vector<Vec3> ext_;    // muscle and tissue forces, N (nodes)
   std::vector<double> contact_w_;  // 1/kg (nodes) as the contact layer sees them, found at the end of each step
   std::vector<Vec3> contact_v_;    // m/s (nodes), likewise
+  // m/s (nodes): what the head's turn over the last step moved each free node at, which the
+  // state's velocities (over the skull, carryWithHead) leave out; zero on posed nodes.
+  std::vector<Vec3> frame_v_;
+  Mat3 step_turn_ = Mat3::Identity();  // the head's turn over the last step (carryWithHead)
+  mutable std::vector<Vec3> view_v_;   // the nodes' world velocities, for view()
   std::vector<Vec3> posed_before_;  // the nodes' positions at the start of the step (scratch)
   // reel's head's skin, made once when first drawn (drawing is const; the flag makes it once).
   mutable std::once_flag skin_once_;

@@ -19,7 +19,8 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
   const std::size_t n = surface_.size();
   if (!surface_.generated || inside.vertexCount() < n) return;
   const auto open = openEdgeNeighbours(surface_.tris, relaxed.size());
-  // Dimmer as the lips close, as the teeth are (FaceBody::draw): in a slit little light reaches
+  // Dimmer as the lips close, as the teeth are (FaceBody::mouthLight), but from a narrower opening
+  // (the rims lie at the lips, the teeth 8.5 mm behind them): in a slit little light reaches
   // them (lit in full, where the skin drawn between the vertices bared them they showed in the
   // slit of lips not quite closed as a dotted line of bright flecks).
   const double gap = mouthOpening() / surface_.scale;
