@@ -50,6 +50,9 @@ inline constexpr double kEyeCorner = 72.0 * kPi / 180.0, kEyeCorners = -4.0 * kP
 inline constexpr double kMouthY = -0.070, kMouthHalf = 0.025;
 // The left nostril: its middle (x, y) and half-sizes across and up (the skin's dip and dark there).
 inline constexpr double kNostril[4] = {0.0062, -0.0448, 0.0031, 0.0015};
+// The nasolabial fold, from beside the nose's wing to beside the mouth's corner (the left side's,
+// x > 0): its ends (x, y).
+inline constexpr double kFoldTop[2] = {0.0195, -0.041}, kFoldEnd[2] = {0.031, -0.073};
 
 // The neck: its axis (vertical, at this z) and where it is cut (inside the shoulders).
 inline constexpr double kNeckAxisZ = -0.016, kNeckCut = -0.32;
