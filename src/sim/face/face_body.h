@@ -124,9 +124,10 @@ class FaceBody final : public SpringNetworkBody {
   void drawEyes(DrawList& out) const;
   // The teeth, both rows, their shade times `lit` (0..1: little light reaches into a closed mouth).
   void drawTeeth(DrawList& out, double lit) const;
-  // How much light reaches into the mouth as open as it is now (0.15 closed, 1 from 8 mm open):
-  // the teeth's and the tongue's shade in the skin's view.
-  double mouthLight() const;
+  // How much light reaches into the mouth as open as it is now: `closed` shut, rising from `from`
+  // open (m at a head 0.24 m high) to 1 over `over` more. By default the teeth's and the tongue's
+  // shade in the skin's view (0.15 closed, 1 from 8 mm open).
+  double mouthLight(double closed = 0.15, double from = 0.002, double over = 0.006) const;
   // The shoulders in their sweater (reel's head, `shoulders`), in every mode.
   void drawBust(DrawList& out) const;
   // The lips' thickness where they part, added to the mouth's lining `inside` (drawSkin).

@@ -248,10 +248,10 @@ void FaceBody::drawEyes(DrawList& out) const {
   }
 }
 
-double FaceBody::mouthLight() const {
+double FaceBody::mouthLight(double closed, double from, double over) const {
   // (Dimmer as the lips close: little light reaches into a closed mouth.)
   const double open = mouthOpening() / surface_.scale;
-  return 0.15 + 0.85 * std::clamp((open - 0.002) / 0.006, 0.0, 1.0);
+  return closed + (1.0 - closed) * std::clamp((open - from) / over, 0.0, 1.0);
 }
 
 void FaceBody::drawSkin(DrawList& out) const {

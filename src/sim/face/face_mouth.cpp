@@ -23,8 +23,7 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
   // (the rims lie at the lips, the teeth 8.5 mm behind them): in a slit little light reaches
   // them (lit in full, where the skin drawn between the vertices bared them they showed in the
   // slit of lips not quite closed as a dotted line of bright flecks).
-  const double gap = mouthOpening() / surface_.scale;
-  const Vec3 rim = (0.25 + 0.75 * std::clamp((gap - 0.001) / 0.005, 0.0, 1.0)) * kLipRim;
+  const Vec3 rim = mouthLight(0.25, 0.001, 0.005) * kLipRim;
   const double near = 0.015 * surface_.scale;
   auto lining = [&](std::uint32_t v) {
     return Vec3(inside.positions[3 * v], inside.positions[3 * v + 1], inside.positions[3 * v + 2]);
@@ -72,11 +71,12 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
     // and the skin's outward direction there (the vertices' blended), so they run on smoothly
     // from piece to piece and edge to edge (a normal per flat piece shaded the pieces in turn
     // light and dark: lips not quite closed showed a dotted line of bright flecks in the slit).
+    // The skin's outward direction at t, the two vertices' blended.
+    auto sideAt = [&](double t) { return Vec3((1 - t) * E1.normal + t * E2.normal); };
     auto facingAt = [&](double t) {
       const Vec3 tangent = catmullRom(E0.outer, E1.outer, E2.outer, E3.outer, std::min(t + 0.02, 1.0)) -
                            catmullRom(E0.outer, E1.outer, E2.outer, E3.outer, std::max(t - 0.02, 0.0));
-      const Vec3 side = (1 - t) * E1.normal + t * E2.normal;
-      Vec3 facing = unitOr(tangent.cross(side), Vec3::UnitY());
+      Vec3 facing = unitOr(tangent.cross(sideAt(t)), Vec3::UnitY());
       if (facing.dot(centre - outerAt(t)) < 0) facing = -facing;
       return facing;
     };
@@ -91,7 +91,7 @@ void FaceBody::addLipRims(TriMesh& inside, const std::vector<Vec3>& relaxed) con
       // Rounded and wet: at its outer end it faces out with the skin and turns to face the
       // opening going in, and darkens toward the mouth's dark inside (flat and of one colour, the
       // strip read as a pink rubber seal round the opening).
-      auto rolled = [&](const Vec3& facing, double t) { return unitOr(facing + 1.5 * ((1 - t) * E1.normal + t * E2.normal).normalized(), facing); };
+      auto rolled = [&](const Vec3& facing, double t) { return unitOr(facing + 1.5 * sideAt(t).normalized(), facing); };
       const auto base = static_cast<std::uint32_t>(inside.vertexCount());
       for (int c = 0; c < 4; ++c) {
         const bool outer = c < 2;
